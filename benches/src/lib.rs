@@ -1,0 +1,1 @@
+//! Criterion benchmarks for the workspace live in `benches/`; this library is empty.

@@ -1,0 +1,23 @@
+//! Generic case-based reasoning vocabulary.
+//!
+//! This crate names the concepts every CBR application here shares and nothing more:
+//! [`Component`]s and the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
+//! an append-only [`CaseBase`], [`Retriever`]s (with [`LinearRetriever`] as the reference)
+//! kept in step with the base by [`CaseMemory`], and [`Searcher`]s. It knows nothing of
+//! trust, robots or experiments; those live in the `trust` and `domains` crates.
+
+pub mod behavior;
+pub mod case;
+pub mod component;
+pub mod memory;
+pub mod retrieve;
+pub mod search;
+pub mod similarity;
+
+pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
+pub use case::{Case, CaseBase, CaseBaseError, CaseId, write_atomically};
+pub use component::{Component, ComponentError, Values};
+pub use memory::CaseMemory;
+pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
+pub use search::{Proposal, Searcher};
+pub use similarity::SimilarityMeasure;

@@ -1,0 +1,372 @@
+//! `TrustAdapter`: the online state machine a robot embeds (and the experiment runner drives).
+//!
+//! Report every command's outcome with [`TrustAdapter::record`]; the answer says whether to
+//! keep the current behavior, switch to another, or that the episode is over (a trustworthy
+//! behavior was found, or every behavior was tried). The adapter owns the episode (the
+//! evaluated pairs `E_past`), the case memory and the search strategy, and retains a case at
+//! the end of an episode as SPEC section 3 says.
+
+use crate::estimate::{Outcome, OutcomeError, ThresholdError, Thresholds, TrustEstimate, Verdict};
+use crate::evaluated::{LambdaError, validate_lambda};
+use crate::retrieval::RetrieverKind;
+use crate::search::{RandomWalk, TrustSearcher};
+use crate::select::{Selection, select_behavior};
+use crate::{Evaluated, TrustCaseBase, TrustMemory};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Which search strategy proposes behaviors when no case helps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SearchKind {
+    /// The paper's random walk ([`RandomWalk`]).
+    #[default]
+    RandomWalk,
+}
+
+impl SearchKind {
+    /// A fresh searcher of this kind.
+    pub fn build(self) -> Box<TrustSearcher> {
+        match self {
+            SearchKind::RandomWalk => Box::new(RandomWalk::new()),
+        }
+    }
+}
+
+/// The adapter's parameters; the defaults are the paper's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdapterConfig {
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
+    pub lambda: f64,
+    /// Reuse cases (Algorithm 1) before searching; `false` is the search strategy alone.
+    pub reuse_cases: bool,
+    /// The retriever that answers Algorithm 1's queries.
+    pub retriever: RetrieverKind,
+    /// The search strategy.
+    pub search: SearchKind,
+}
+
+impl Default for AdapterConfig {
+    fn default() -> Self {
+        Self {
+            thresholds: Thresholds::default(),
+            lambda: 0.95,
+            reuse_cases: true,
+            retriever: RetrieverKind::default(),
+            search: SearchKind::default(),
+        }
+    }
+}
+
+/// An adapter configuration that cannot be used.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// Bad thresholds.
+    #[error("thresholds: {0}")]
+    Thresholds(#[from] ThresholdError),
+    /// Bad lambda.
+    #[error("lambda: {0}")]
+    Lambda(#[from] LambdaError),
+}
+
+impl AdapterConfig {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.thresholds.validate()?;
+        validate_lambda(self.lambda)?;
+        Ok(())
+    }
+}
+
+/// Where a new behavior came from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "source")]
+pub enum Source {
+    /// Reused from a case (Algorithm 1).
+    Case {
+        /// The case reused.
+        case: CaseId,
+        /// Its similarity to the episode.
+        similarity: f64,
+    },
+    /// Proposed by the search strategy.
+    Search,
+}
+
+/// How an episode ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeReport {
+    /// The behavior the robot settles on.
+    pub settled: Behavior,
+    /// Whether it was found trustworthy (otherwise every behavior was tried).
+    pub found_trustworthy: bool,
+    /// Distinct behaviors evaluated, the final one counted.
+    pub behaviors_evaluated: u64,
+    /// Commands recorded in the episode.
+    pub commands: u64,
+    /// Adaptations that came from the search strategy.
+    pub searched: u32,
+    /// Adaptations that reused a case.
+    pub reused: u32,
+    /// The case retained at the end of the episode, if any.
+    pub retained: Option<CaseId>,
+    /// The evaluated pairs `E_past`, in order.
+    pub evaluated: Vec<Evaluated>,
+}
+
+/// What the robot should do after a recorded outcome.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Decision {
+    /// Keep the current behavior and go on.
+    Keep,
+    /// The current behavior is untrustworthy: use `to` from now on.
+    Switch {
+        /// The next behavior.
+        to: Behavior,
+        /// Where it came from.
+        source: Source,
+    },
+    /// The episode is over.
+    Settled(EpisodeReport),
+}
+
+/// Why an adapter call was refused. The adapter's state is unchanged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AdapterError {
+    /// `record` was called with no episode under way.
+    #[error("no episode is under way: begin one first")]
+    NoEpisode,
+    /// `begin_episode` was called while one is under way.
+    #[error("an episode is already under way")]
+    EpisodeUnderWay,
+    /// The outcome's numbers are unusable.
+    #[error("invalid outcome: {0}")]
+    Outcome(#[from] OutcomeError),
+    /// The behavior does not belong to the adapter's space.
+    #[error("the behavior does not belong to this behavior space")]
+    ForeignBehavior,
+}
+
+#[derive(Clone, Debug)]
+struct Episode {
+    current: Behavior,
+    estimate: TrustEstimate,
+    evaluated: Vec<Evaluated>,
+    commands: u64,
+    searched: u32,
+    reused: u32,
+}
+
+/// A read-only view of the episode under way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EpisodeView<'a> {
+    /// The behavior in use.
+    pub current: Behavior,
+    /// Its trust estimate so far.
+    pub estimate: TrustEstimate,
+    /// The pairs evaluated so far.
+    pub evaluated: &'a [Evaluated],
+    /// Commands recorded in the episode.
+    pub commands: u64,
+}
+
+/// The online trust-guided adapter.
+pub struct TrustAdapter {
+    space: Arc<BehaviorSpace>,
+    config: AdapterConfig,
+    memory: TrustMemory,
+    searcher: Box<TrustSearcher>,
+    rng: ChaCha8Rng,
+    episode: Option<Episode>,
+}
+
+impl TrustAdapter {
+    /// An adapter over `space` with `config`, starting from the case base `cases`; its
+    /// search randomness comes from `seed`.
+    pub fn new(
+        space: Arc<BehaviorSpace>,
+        config: AdapterConfig,
+        cases: TrustCaseBase,
+        seed: u64,
+    ) -> Result<Self, ConfigError> {
+        config.validate()?;
+        let retriever = config.retriever.build(space.clone(), config.lambda)?;
+        let searcher = config.search.build();
+        Ok(Self::with_parts(
+            space,
+            config,
+            TrustMemory::new(cases, retriever),
+            searcher,
+            ChaCha8Rng::seed_from_u64(seed),
+        ))
+    }
+
+    /// An adapter from ready-made parts (a custom retriever or search strategy). The
+    /// config's `retriever` and `search` fields are then informational only.
+    pub fn with_parts(
+        space: Arc<BehaviorSpace>,
+        config: AdapterConfig,
+        memory: TrustMemory,
+        searcher: Box<TrustSearcher>,
+        rng: ChaCha8Rng,
+    ) -> Self {
+        Self {
+            space,
+            config,
+            memory,
+            searcher,
+            rng,
+            episode: None,
+        }
+    }
+
+    /// Restarts the search randomness from `seed` (the experiment runner gives every
+    /// trial its own stream).
+    pub fn reseed(&mut self, seed: u64) {
+        self.rng = ChaCha8Rng::seed_from_u64(seed);
+    }
+
+    /// Starts an episode (a new operator, a new mission) with `initial` in use.
+    pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        if self.episode.is_some() {
+            return Err(AdapterError::EpisodeUnderWay);
+        }
+        if !self.space.contains(&initial) {
+            return Err(AdapterError::ForeignBehavior);
+        }
+        self.episode = Some(Episode {
+            current: initial,
+            estimate: TrustEstimate::default(),
+            evaluated: Vec::new(),
+            commands: 0,
+            searched: 0,
+            reused: 0,
+        });
+        Ok(())
+    }
+
+    /// Records one command's outcome for the behavior in use and decides what to do next.
+    pub fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
+        outcome.validate()?;
+        let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
+        episode.estimate.record(outcome);
+        episode.commands += 1;
+        self.searcher.observe(&episode.current, outcome);
+        match episode.estimate.verdict(&self.config.thresholds) {
+            Verdict::Undecided => Ok(Decision::Keep),
+            Verdict::Trustworthy => Ok(Decision::Settled(self.finish(true))),
+            Verdict::Untrustworthy => {
+                episode.evaluated.push(Evaluated {
+                    behavior: episode.current,
+                    time: episode.estimate.elapsed_s,
+                });
+                let memory = self.config.reuse_cases.then_some(&self.memory);
+                let selection = select_behavior(
+                    &episode.evaluated,
+                    memory,
+                    self.searcher.as_mut(),
+                    &self.space,
+                    &mut self.rng,
+                );
+                let (to, source) = match selection {
+                    Selection::Reuse {
+                        case,
+                        similarity,
+                        behavior,
+                    } => {
+                        episode.reused += 1;
+                        (behavior, Source::Case { case, similarity })
+                    }
+                    Selection::Search(Proposal::Next(behavior)) => {
+                        episode.searched += 1;
+                        (behavior, Source::Search)
+                    }
+                    Selection::Search(Proposal::Exhausted { keep }) => {
+                        episode.current = keep;
+                        return Ok(Decision::Settled(self.finish(false)));
+                    }
+                };
+                episode.current = to;
+                episode.estimate = TrustEstimate::default();
+                Ok(Decision::Switch { to, source })
+            }
+        }
+    }
+
+    /// Ends the episode under way without a trustworthy behavior and without retaining a
+    /// case (the operator left). Returns its report, or `None` if none was under way.
+    pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        self.episode.as_ref()?;
+        Some(self.finish(false))
+    }
+
+    fn finish(&mut self, found_trustworthy: bool) -> EpisodeReport {
+        let episode = self.episode.take().expect("an episode is under way");
+        // SPEC section 3: retain when a trustworthy behavior was found and the search
+        // strategy contributed at least one adaptation.
+        let retained = (found_trustworthy && episode.searched > 0).then(|| {
+            self.memory.retain(Case {
+                problem: episode.evaluated.clone(),
+                solution: episode.current,
+            })
+        });
+        let settled = if found_trustworthy {
+            Some(&episode.current)
+        } else {
+            None
+        };
+        self.searcher.end_episode(&episode.evaluated, settled);
+        let mut distinct: Vec<Behavior> = episode.evaluated.iter().map(|e| e.behavior).collect();
+        if found_trustworthy {
+            distinct.push(episode.current);
+        }
+        distinct.sort_unstable();
+        distinct.dedup();
+        EpisodeReport {
+            settled: episode.current,
+            found_trustworthy,
+            behaviors_evaluated: distinct.len() as u64,
+            commands: episode.commands,
+            searched: episode.searched,
+            reused: episode.reused,
+            retained,
+            evaluated: episode.evaluated,
+        }
+    }
+
+    /// The episode under way, if any.
+    pub fn episode(&self) -> Option<EpisodeView<'_>> {
+        self.episode.as_ref().map(|e| EpisodeView {
+            current: e.current,
+            estimate: e.estimate,
+            evaluated: &e.evaluated,
+            commands: e.commands,
+        })
+    }
+
+    /// The behavior space.
+    pub fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &AdapterConfig {
+        &self.config
+    }
+
+    /// The case base (every retained case, in order).
+    pub fn cases(&self) -> &TrustCaseBase {
+        self.memory.base()
+    }
+
+    /// The search strategy's name.
+    pub fn searcher_name(&self) -> &str {
+        self.searcher.name()
+    }
+}

@@ -1,0 +1,41 @@
+//! Trust-guided behavior adaptation (Floyd, Drinkwater & Aha, ICCBR 2014), generic over
+//! any domain.
+//!
+//! - [`estimate`]: outcomes, the inverse trust estimate, thresholds and verdicts.
+//! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
+//! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
+//! - [`search`]: search strategies, starting with the paper's random walk.
+//! - [`retrieval`]: the retrievers a config can name.
+//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
+//! - [`domain`]: the contract a task domain implements.
+//!
+//! This crate knows nothing of any particular robot or simulator.
+
+pub mod adapter;
+pub mod domain;
+pub mod estimate;
+pub mod evaluated;
+pub mod retrieval;
+pub mod search;
+pub mod select;
+
+pub use adapter::{
+    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, SearchKind,
+    Source, TrustAdapter,
+};
+pub use domain::Domain;
+pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
+pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
+pub use retrieval::RetrieverKind;
+pub use select::{Selection, select_behavior};
+
+use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};
+
+/// A trust case: the evaluated pairs of an episode and the trustworthy behavior found.
+pub type TrustCase = Case<Vec<Evaluated>, cbr_core::Behavior>;
+/// The trust case base.
+pub type TrustCaseBase = CaseBase<Vec<Evaluated>, Behavior>;
+/// The trust case base with its retriever.
+pub type TrustMemory = CaseMemory<Vec<Evaluated>, Behavior>;
+/// A retriever over the trust case base.
+pub type TrustRetriever = dyn Retriever<Vec<Evaluated>, Behavior>;

@@ -1,0 +1,323 @@
+//! The online adapter: hand-computed episodes and invariants.
+
+use cbr_core::{
+    Behavior, BehaviorSpace, Case, CaseBase, CaseId, CaseMemory, Component, LinearRetriever,
+};
+use proptest::prelude::*;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use std::sync::Arc;
+use trust::search::RandomWalk;
+use trust::{
+    AdapterConfig, AdapterError, Cause, Decision, Evaluated, Outcome, Selection, SetSimilarity,
+    Source, TrustAdapter, TrustCaseBase, select_behavior,
+};
+
+fn grid(sizes: &[u16]) -> Arc<BehaviorSpace> {
+    Arc::new(
+        BehaviorSpace::new(
+            sizes
+                .iter()
+                .enumerate()
+                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
+                .collect(),
+        )
+        .unwrap(),
+    )
+}
+
+fn interrupt(duration: f64) -> Outcome {
+    Outcome::interrupted(1.0, Cause::Collision, duration)
+}
+
+fn adapter(space: &Arc<BehaviorSpace>, config: AdapterConfig) -> TrustAdapter {
+    TrustAdapter::new(space.clone(), config, TrustCaseBase::new(), 7).unwrap()
+}
+
+#[test]
+fn an_episode_by_hand() {
+    let space = grid(&[3, 3]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    // Four interruptions of weight 1: trust -4 > -5, keep.
+    for _ in 0..4 {
+        assert_eq!(a.record(&interrupt(2.0)).unwrap(), Decision::Keep);
+    }
+    // The fifth: -5 <= -5, untrustworthy after 5 x 2 s = 10 s. Empty case base: search.
+    let Decision::Switch { to: b1, source } = a.record(&interrupt(2.0)).unwrap() else {
+        panic!("expected a switch");
+    };
+    assert_eq!(source, Source::Search);
+    assert_eq!(
+        space.changes(&b0, &b1),
+        1,
+        "the walk moves one change from E_max"
+    );
+    assert_eq!(
+        a.episode().unwrap().evaluated,
+        &[Evaluated {
+            behavior: b0,
+            time: 10.0
+        }]
+    );
+    // The new behavior starts from 0: five completions reach +5.
+    for _ in 0..4 {
+        assert_eq!(
+            a.record(&Outcome::completed(1.0, 3.0)).unwrap(),
+            Decision::Keep
+        );
+    }
+    let Decision::Settled(report) = a.record(&Outcome::completed(1.0, 3.0)).unwrap() else {
+        panic!("expected the episode to end");
+    };
+    assert!(report.found_trustworthy);
+    assert_eq!(report.settled, b1);
+    assert_eq!(report.behaviors_evaluated, 2);
+    assert_eq!(report.commands, 10);
+    // One search adaptation and a trustworthy behavior: the case is retained.
+    assert_eq!(report.retained, Some(CaseId(0)));
+    assert_eq!(a.cases().len(), 1);
+    assert_eq!(a.cases().cases()[0].solution, b1);
+
+    // The next operator behaves alike: after b0 fails in 10 s again, E_past = [(b0, 10)].
+    // Case 0's E_past is [(b0, 10)]: identical behavior, time similarity 1 - 0/10 = 1 > 0,
+    // and its final behavior b1 is unevaluated, so it is reused.
+    a.begin_episode(b0).unwrap();
+    for _ in 0..4 {
+        a.record(&interrupt(2.0)).unwrap();
+    }
+    assert_eq!(
+        a.record(&interrupt(2.0)).unwrap(),
+        Decision::Switch {
+            to: b1,
+            source: Source::Case {
+                case: CaseId(0),
+                similarity: 1.0
+            }
+        }
+    );
+    for _ in 0..4 {
+        a.record(&Outcome::completed(1.0, 3.0)).unwrap();
+    }
+    let Decision::Settled(report) = a.record(&Outcome::completed(1.0, 3.0)).unwrap() else {
+        panic!("expected the episode to end");
+    };
+    // Solved by the case base alone: nothing new is retained.
+    assert_eq!(
+        (report.reused, report.searched, report.retained),
+        (1, 0, None)
+    );
+    assert_eq!(a.cases().len(), 1);
+}
+
+#[test]
+fn search_only_ignores_cases() {
+    let space = grid(&[3, 3]);
+    let b0 = Behavior::new(&[1, 1]);
+    let mut cases = TrustCaseBase::new();
+    cases.push(Case {
+        problem: vec![Evaluated {
+            behavior: b0,
+            time: 10.0,
+        }],
+        solution: Behavior::new(&[2, 2]),
+    });
+    let config = AdapterConfig {
+        reuse_cases: false,
+        ..AdapterConfig::default()
+    };
+    let mut a = TrustAdapter::new(space, config, cases, 1).unwrap();
+    a.begin_episode(b0).unwrap();
+    for _ in 0..4 {
+        a.record(&interrupt(2.0)).unwrap();
+    }
+    let Decision::Switch { to, source } = a.record(&interrupt(2.0)).unwrap() else {
+        panic!("expected a switch");
+    };
+    assert_eq!(source, Source::Search);
+    assert_ne!(to, Behavior::new(&[2, 2]), "(2,2) is two changes away");
+}
+
+#[test]
+fn exhausting_the_space_keeps_e_max() {
+    let space = grid(&[2]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    a.begin_episode(Behavior::new(&[0])).unwrap();
+    // Behavior 0 fails after 5 commands of 1 s (t = 5).
+    for _ in 0..5 {
+        a.record(&interrupt(1.0)).unwrap();
+    }
+    // Behavior 1 fails after 5 commands of 3 s (t = 15): every behavior is evaluated and
+    // E_max is behavior 1.
+    for _ in 0..4 {
+        a.record(&interrupt(3.0)).unwrap();
+    }
+    let Decision::Settled(report) = a.record(&interrupt(3.0)).unwrap() else {
+        panic!("expected the episode to end");
+    };
+    assert!(!report.found_trustworthy);
+    assert_eq!(report.settled, Behavior::new(&[1]));
+    assert_eq!(report.behaviors_evaluated, 2);
+    assert_eq!(report.retained, None);
+}
+
+#[test]
+fn refused_calls_leave_the_state_alone() {
+    let space = grid(&[3]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    assert_eq!(a.record(&interrupt(1.0)), Err(AdapterError::NoEpisode));
+    assert_eq!(
+        a.begin_episode(Behavior::new(&[7])),
+        Err(AdapterError::ForeignBehavior)
+    );
+    a.begin_episode(Behavior::new(&[0])).unwrap();
+    a.record(&interrupt(1.0)).unwrap();
+    let before = a.episode().unwrap().estimate;
+    assert!(matches!(
+        a.record(&Outcome::completed(f64::NAN, 1.0)),
+        Err(AdapterError::Outcome(_))
+    ));
+    assert!(a.record(&Outcome::completed(-1.0, 1.0)).is_err());
+    assert_eq!(a.episode().unwrap().estimate, before);
+    assert_eq!(
+        a.begin_episode(Behavior::new(&[1])),
+        Err(AdapterError::EpisodeUnderWay)
+    );
+}
+
+#[test]
+fn bad_configs_are_rejected() {
+    let space = grid(&[3]);
+    let bad_lambda = AdapterConfig {
+        lambda: 1.5,
+        ..AdapterConfig::default()
+    };
+    assert!(TrustAdapter::new(space.clone(), bad_lambda, TrustCaseBase::new(), 0).is_err());
+    let mut reversed = AdapterConfig::default();
+    reversed.thresholds.trustworthy = -5.0;
+    reversed.thresholds.untrustworthy = 5.0;
+    assert!(TrustAdapter::new(space, reversed, TrustCaseBase::new(), 0).is_err());
+}
+
+fn arbitrary_case_base(space: Arc<BehaviorSpace>) -> impl Strategy<Value = TrustCaseBase> {
+    let size = space.size();
+    prop::collection::vec(
+        (
+            prop::collection::vec((0..size, 0.0f64..60.0), 1..5),
+            0..size,
+        ),
+        0..12,
+    )
+    .prop_map(move |cases| {
+        let mut base = TrustCaseBase::new();
+        for (problem, solution) in cases {
+            base.push(Case {
+                problem: problem
+                    .into_iter()
+                    .map(|(r, t)| Evaluated {
+                        behavior: space.unrank(r),
+                        time: t,
+                    })
+                    .collect(),
+                solution: space.unrank(solution),
+            });
+        }
+        base
+    })
+}
+
+proptest! {
+    #[test]
+    fn select_never_returns_an_evaluated_behavior(
+        base in arbitrary_case_base(grid(&[3, 4])),
+        picks in prop::collection::vec((0u64..12, 0.0f64..60.0), 1..11),
+        seed in any::<u64>(),
+    ) {
+        let space = grid(&[3, 4]);
+        let mut e_past: Vec<Evaluated> = Vec::new();
+        for (r, t) in picks {
+            let behavior = space.unrank(r);
+            if e_past.iter().all(|e| e.behavior != behavior) {
+                e_past.push(Evaluated { behavior, time: t });
+            }
+        }
+        prop_assume!((e_past.len() as u64) < space.size());
+        let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
+        let memory = CaseMemory::new(base, Box::new(LinearRetriever::new(measure)));
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let chosen = match select_behavior(&e_past, Some(&memory), &mut RandomWalk::new(), &space, &mut rng) {
+            Selection::Reuse { behavior, similarity, .. } => {
+                prop_assert!(similarity > 0.0);
+                behavior
+            }
+            Selection::Search(cbr_core::Proposal::Next(b)) => b,
+            Selection::Search(other) => return Err(TestCaseError::fail(format!("stopped early: {other:?}"))),
+        };
+        prop_assert!(e_past.iter().all(|e| e.behavior != chosen));
+    }
+
+    #[test]
+    fn the_adapter_never_drops_a_retained_case(
+        outcomes in prop::collection::vec((0u8..3, 0.0f64..1.0, 0.1f64..30.0), 1..400),
+        seed in any::<u64>(),
+    ) {
+        let space = grid(&[3, 3]);
+        let mut a = TrustAdapter::new(space.clone(), AdapterConfig::default(), TrustCaseBase::new(), seed).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut retained = Vec::new();
+        a.begin_episode(space.draw(&mut rng)).unwrap();
+        for (kind, weight, duration) in outcomes {
+            let outcome = match kind {
+                0 => Outcome::completed(weight * 2.0, duration),
+                1 => Outcome::failed(weight * 2.0, Cause::Stuck, duration),
+                _ => Outcome::interrupted(weight * 2.0, Cause::Deadline, duration),
+            };
+            if let Decision::Settled(report) = a.record(&outcome).unwrap() {
+                if let Some(id) = report.retained {
+                    retained.push((id, report.evaluated.clone(), report.settled));
+                }
+                a.begin_episode(space.draw(&mut rng)).unwrap();
+            }
+        }
+        prop_assert_eq!(a.cases().len(), retained.len());
+        for (id, evaluated, settled) in retained {
+            let case = a.cases().get(id).unwrap();
+            prop_assert_eq!(&case.problem, &evaluated);
+            prop_assert_eq!(case.solution, settled);
+        }
+    }
+
+    #[test]
+    fn a_case_base_round_trips_through_ron(base in arbitrary_case_base(grid(&[4, 5, 2]))) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        base.save_ron(&path).unwrap();
+        let back: CaseBase<Vec<Evaluated>, Behavior> = CaseBase::load_ron(&path).unwrap();
+        prop_assert_eq!(back, base);
+    }
+
+    #[test]
+    fn set_similarity_stays_in_unit_interval_and_self_similarity_is_one(
+        picks in prop::collection::vec((0u64..40, 0.0f64..60.0), 1..8),
+        other in prop::collection::vec((0u64..40, 0.0f64..60.0), 0..8),
+    ) {
+        let space = grid(&[4, 5, 2]);
+        let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
+        let mut e1: Vec<Evaluated> = Vec::new();
+        for (r, t) in picks {
+            let behavior = space.unrank(r);
+            if e1.iter().all(|e| e.behavior != behavior) {
+                e1.push(Evaluated { behavior, time: t });
+            }
+        }
+        let e2: Vec<Evaluated> = other.into_iter().map(|(r, t)| Evaluated { behavior: space.unrank(r), time: t }).collect();
+        let s = measure.compare(&e1, &e2);
+        prop_assert!((0.0..=1.0).contains(&s));
+        let s = measure.compare(&e2, &e1);
+        prop_assert!((0.0..=1.0).contains(&s));
+        if e1.iter().any(|e| e.time > 0.0) {
+            prop_assert_eq!(measure.compare(&e1, &e1), 1.0);
+        }
+    }
+}
