@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 /// Which search strategy proposes behaviors when no case helps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[serde(rename_all = "snake_case")]
 pub enum SearchKind {
     /// The paper's random walk ([`RandomWalk`]).
     #[default]

@@ -1,0 +1,87 @@
+//! Summary statistics for experiment results: mean with a 95% confidence interval, and the
+//! paired t-test between two strategies' per-trial counts.
+
+use statrs::distribution::{ContinuousCDF, StudentsT};
+
+/// Mean and the half-width of its 95% confidence interval (Student's t).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeanCi {
+    /// Sample mean.
+    pub mean: f64,
+    /// Half-width of the 95% confidence interval (0 for fewer than two values).
+    pub ci95: f64,
+}
+
+/// The mean of `values` with its 95% confidence interval; `None` for no values.
+pub fn mean_ci95(values: &[f64]) -> Option<MeanCi> {
+    let n = values.len();
+    if n == 0 {
+        return None;
+    }
+    let mean = values.iter().sum::<f64>() / n as f64;
+    if n < 2 {
+        return Some(MeanCi { mean, ci95: 0.0 });
+    }
+    let sd = sample_sd(values, mean);
+    let t = StudentsT::new(0.0, 1.0, (n - 1) as f64)
+        .expect("degrees of freedom >= 1")
+        .inverse_cdf(0.975);
+    Some(MeanCi {
+        mean,
+        ci95: t * sd / (n as f64).sqrt(),
+    })
+}
+
+fn sample_sd(values: &[f64], mean: f64) -> f64 {
+    let n = values.len() as f64;
+    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+}
+
+/// Two-sided p-value of the paired t-test of `a[i] - b[i]` against a mean difference of 0.
+///
+/// With no variation in the differences the test degenerates: 1 when they are all 0 and 0
+/// otherwise. `None` if the slices differ in length or hold fewer than two pairs.
+pub fn paired_t_test(a: &[f64], b: &[f64]) -> Option<f64> {
+    if a.len() != b.len() || a.len() < 2 {
+        return None;
+    }
+    let differences: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+    let n = differences.len() as f64;
+    let mean = differences.iter().sum::<f64>() / n;
+    let sd = sample_sd(&differences, mean);
+    if sd == 0.0 {
+        return Some(if mean == 0.0 { 1.0 } else { 0.0 });
+    }
+    let t = mean / (sd / n.sqrt());
+    let distribution = StudentsT::new(0.0, 1.0, n - 1.0).expect("degrees of freedom >= 1");
+    Some((2.0 * distribution.cdf(-t.abs())).clamp(0.0, 1.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mean_and_interval_by_hand() {
+        // Values 2, 4, 4, 4, 5, 5, 7, 9: mean 5, sample variance 32/7, sd 2.13809.
+        // t(0.975, 7) = 2.36462, half-width 2.36462 * 2.13809 / sqrt(8) = 1.78749.
+        let m = mean_ci95(&[2.0, 4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0]).unwrap();
+        assert!((m.mean - 5.0).abs() < 1e-12);
+        assert!((m.ci95 - 1.78749).abs() < 1e-4, "{}", m.ci95);
+        assert_eq!(mean_ci95(&[]), None);
+        assert_eq!(mean_ci95(&[3.0]).unwrap().ci95, 0.0);
+    }
+
+    #[test]
+    fn paired_t_test_by_hand() {
+        // a - b = [2, 1, 3, 2, 2] -> mean 2, sd sqrt(0.5),
+        // t = 2 / (0.70711 / sqrt(5)) = 6.32456 with 4 degrees of freedom: two-sided p = 0.003198.
+        let a = [12.0, 11.0, 13.0, 12.0, 12.0];
+        let b = [10.0, 10.0, 10.0, 10.0, 10.0];
+        let p = paired_t_test(&a, &b).unwrap();
+        assert!((p - 0.003198).abs() < 1e-5, "{p}");
+        assert_eq!(paired_t_test(&a, &a), Some(1.0));
+        assert_eq!(paired_t_test(&[1.0, 1.0], &[0.0, 0.0]), Some(0.0));
+        assert_eq!(paired_t_test(&[1.0], &[0.0]), None);
+    }
+}
