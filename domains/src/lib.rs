@@ -1,4 +1,26 @@
 //! Built-in domain plug-ins for the trust machinery: the paper's movement and patrol
 //! scenarios over a 2-D UGV world, with operator models as data.
+//!
+//! A run is simulated into a time-ordered [`Trace`] (collisions, objects missed or
+//! labelled, detonations, arrival or a stuck robot); an [`OperatorModel`], loaded from
+//! RON, reads the trace and decides the [`trust::Outcome`]. The world and the robot are
+//! documented, with the reasons for every number, in `docs/simulation.md`.
 
+pub mod detector;
+pub mod drive;
+pub mod geometry;
+pub mod operator;
+pub mod patrol;
+pub mod planner;
+pub mod profile;
+pub mod scenario;
 pub mod spaces;
+pub mod trace;
+pub mod ugv;
+pub mod world;
+
+pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators};
+pub use scenario::{Scenario, UnknownScenario};
+pub use trace::{Event, EventKind, Trace};
+pub use ugv::{Run, Settings, UgvDomain};
+pub use world::World;

@@ -1,0 +1,184 @@
+//! Driving a planned path: the speed profile (commanded speed, acceleration limits, corner
+//! slow-downs, stops) and the non-deterministic part, the cross-track error.
+//!
+//! The cross-track error is an Ornstein-Uhlenbeck process in arc length: correlated over
+//! [`Robot::error_correlation`] metres, with a spread that grows with speed
+//! ([`Robot::cross_track_sd`]). It is sampled exactly at the plan's clearance samples; where
+//! it exceeds the gap to an obstacle the robot touches it, stops, backs off and goes on
+//! (losing [`Robot::collision_pause`] plus the time to brake and accelerate again).
+
+use crate::geometry::Vec2;
+use crate::planner::Plan;
+use crate::profile::{Profile, Station};
+use crate::trace::{EventKind, Trace};
+use crate::world::Robot;
+use rand::{Rng, RngCore};
+use rand_distr::StandardNormal;
+
+/// A point of interest along the path: the robot either passes it or stops there for
+/// `dwell` seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mark {
+    /// Arc length (m).
+    pub s: f64,
+    /// Seconds spent stopped there (0: drive past without stopping).
+    pub dwell: f64,
+}
+
+/// What the drive produced besides the events it wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drive {
+    /// When the robot reached each mark (s), in the order given.
+    pub mark_times: Vec<f64>,
+    /// When it arrived at the goal (s).
+    pub arrival: f64,
+    /// Where it stopped.
+    pub end: Vec2,
+}
+
+/// Drives `plan` at commanded `speed`, stopping at the marks with a dwell, writing
+/// collisions and the arrival into `trace`. `marks` must be sorted by `s`. When `track` is
+/// given, the driven positions (planned point plus cross-track error) are appended to it.
+pub fn drive(
+    plan: &Plan,
+    robot: &Robot,
+    speed: f64,
+    marks: &[Mark],
+    rng: &mut dyn RngCore,
+    trace: &mut Trace,
+    mut track: Option<&mut Vec<Vec2>>,
+) -> Drive {
+    let profile = profile(plan, robot, speed, marks);
+    let mut mark_times = Vec::with_capacity(marks.len());
+    let mut next_mark = 0;
+    let mut delay = 0.0;
+    let mut error = robot.localisation_sd * rng.sample::<f64, _>(StandardNormal);
+    let mut previous = (0.0, robot.localisation_sd);
+    let mut end = plan.points[0];
+    for sample in &plan.samples {
+        while next_mark < marks.len() && marks[next_mark].s <= sample.s {
+            mark_times.push(profile.time_at(marks[next_mark].s) + delay);
+            delay += marks[next_mark].dwell;
+            next_mark += 1;
+        }
+        let v = profile.stretch_peak(sample.s);
+        let sd = robot.cross_track_sd(v);
+        let rho = (-(sample.s - previous.0) / robot.error_correlation).exp();
+        let z: f64 = rng.sample(StandardNormal);
+        error = rho * error * (sd / previous.1) + sd * (1.0 - rho * rho).sqrt() * z;
+        previous = (sample.s, sd);
+        let at = sample.at + sample.left * error;
+        if error > sample.gap_left || -error > sample.gap_right {
+            trace.push(
+                profile.time_at(sample.s) + delay,
+                EventKind::Collision { at },
+            );
+            delay += robot.collision_pause + v / (2.0 * robot.decel) + v / (2.0 * robot.accel);
+            error = 0.0;
+        }
+        if let Some(track) = track.as_deref_mut() {
+            track.push(at);
+        }
+        end = at;
+    }
+    while next_mark < marks.len() {
+        mark_times.push(profile.total() + delay);
+        delay += marks[next_mark].dwell;
+        next_mark += 1;
+    }
+    let arrival = profile.total() + delay;
+    trace.push(arrival, EventKind::Arrived { at: end });
+    Drive {
+        mark_times,
+        arrival,
+        end,
+    }
+}
+
+/// The speed profile: standstill at both ends and at every mark with a dwell, corners
+/// taken no faster than the lateral-acceleration limit allows on the rounding arc.
+fn profile(plan: &Plan, robot: &Robot, speed: f64, marks: &[Mark]) -> Profile {
+    let angles = plan.turn_angles();
+    let last = plan.points.len() - 1;
+    let corners = plan
+        .arc
+        .iter()
+        .zip(&angles)
+        .enumerate()
+        .map(|(i, (&s, &theta))| {
+            let limit = if i == 0 || i == last {
+                0.0
+            } else if theta > 0.0 {
+                (robot.lateral_accel * robot.corner_arc / theta).sqrt()
+            } else {
+                f64::INFINITY
+            };
+            Station { s, limit }
+        });
+    let stops = marks
+        .iter()
+        .filter(|m| m.dwell > 0.0)
+        .map(|m| Station { s: m.s, limit: 0.0 });
+    let mut stations: Vec<Station> = corners.chain(stops).collect();
+    stations.sort_by(|a, b| a.s.total_cmp(&b.s));
+    Profile::new(&stations, speed, robot.accel, robot.decel)
+}
+
+/// Duration of the drive along `plan` at `speed` with no collisions and no stops (s).
+pub fn nominal_duration(plan: &Plan, robot: &Robot, speed: f64) -> f64 {
+    profile(plan, robot, speed, &[]).total()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn straight(length: f64) -> Plan {
+        Plan::new(
+            vec![Vec2::new(10.0, 10.0), Vec2::new(10.0 + length, 10.0)],
+            &[],
+            0.45,
+            Vec2::new(1000.0, 1000.0),
+        )
+    }
+
+    #[test]
+    fn an_open_straight_drive_takes_the_trapezoid_time() {
+        let robot = Robot::wheeled_ugv();
+        let plan = straight(40.0);
+        let mut trace = Trace::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let d = drive(&plan, &robot, 4.0, &[], &mut rng, &mut trace, None);
+        // 4 m/s: 2 s up (4 m), 4/3 s down (8/3 m), the rest cruising.
+        let expected = 2.0 + 4.0 / 3.0 + (40.0 - 4.0 - 8.0 / 3.0) / 4.0;
+        assert!((d.arrival - expected).abs() < 1e-9);
+        assert_eq!(trace.collisions(), 0);
+        assert_eq!(trace.events.len(), 1);
+    }
+
+    #[test]
+    fn a_dwell_adds_its_time_and_the_stop() {
+        let robot = Robot::wheeled_ugv();
+        let plan = straight(40.0);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let marks = [Mark {
+            s: 20.0,
+            dwell: 3.0,
+        }];
+        let d = drive(
+            &plan,
+            &robot,
+            4.0,
+            &marks,
+            &mut rng,
+            &mut Trace::default(),
+            None,
+        );
+        // Two 20 m drives from standstill to standstill, plus 3 s.
+        let leg = 2.0 + 4.0 / 3.0 + (20.0 - 4.0 - 8.0 / 3.0) / 4.0;
+        assert!((d.arrival - (2.0 * leg + 3.0)).abs() < 1e-9);
+        assert!((d.mark_times[0] - leg).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,302 @@
+//! Plane geometry for the 2-D world: points, segments, and obstacle shapes (circles and
+//! convex polygons) with the distances the planner and the motion model need.
+//!
+//! Not a general geometry library: it holds exactly the queries the simulator makes.
+
+use serde::{Deserialize, Serialize};
+use std::ops::{Add, Mul, Sub};
+
+/// A point or vector in metres; `x` east, `y` north.
+#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize, Deserialize)]
+pub struct Vec2 {
+    /// East coordinate (m).
+    pub x: f64,
+    /// North coordinate (m).
+    pub y: f64,
+}
+
+impl Vec2 {
+    /// The point `(x, y)`.
+    pub const fn new(x: f64, y: f64) -> Self {
+        Self { x, y }
+    }
+    /// Dot product.
+    pub fn dot(self, o: Vec2) -> f64 {
+        self.x * o.x + self.y * o.y
+    }
+    /// The z component of the cross product: positive when `o` is to the left of `self`.
+    pub fn cross(self, o: Vec2) -> f64 {
+        self.x * o.y - self.y * o.x
+    }
+    /// Euclidean length.
+    pub fn norm(self) -> f64 {
+        self.x.hypot(self.y)
+    }
+    /// Distance to `o`.
+    pub fn dist(self, o: Vec2) -> f64 {
+        (self - o).norm()
+    }
+    /// The unit vector in this direction (zero stays zero).
+    pub fn unit(self) -> Vec2 {
+        let n = self.norm();
+        if n > 0.0 { self * (1.0 / n) } else { self }
+    }
+    /// This vector turned 90 degrees counter-clockwise (the left normal of a heading).
+    pub fn left(self) -> Vec2 {
+        Vec2::new(-self.y, self.x)
+    }
+}
+
+impl Add for Vec2 {
+    type Output = Vec2;
+    fn add(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x + o.x, self.y + o.y)
+    }
+}
+
+impl Sub for Vec2 {
+    type Output = Vec2;
+    fn sub(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x - o.x, self.y - o.y)
+    }
+}
+
+impl Mul<f64> for Vec2 {
+    type Output = Vec2;
+    fn mul(self, k: f64) -> Vec2 {
+        Vec2::new(self.x * k, self.y * k)
+    }
+}
+
+/// The point of segment `a`-`b` nearest to `p`.
+pub fn closest_on_segment(p: Vec2, a: Vec2, b: Vec2) -> Vec2 {
+    let ab = b - a;
+    let len2 = ab.dot(ab);
+    if len2 == 0.0 {
+        return a;
+    }
+    let t = ((p - a).dot(ab) / len2).clamp(0.0, 1.0);
+    a + ab * t
+}
+
+/// Distance from `p` to segment `a`-`b`.
+pub fn point_segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    p.dist(closest_on_segment(p, a, b))
+}
+
+/// Whether the closed segments `a`-`b` and `c`-`d` intersect.
+fn segments_intersect(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
+    let d1 = (b - a).cross(c - a);
+    let d2 = (b - a).cross(d - a);
+    let d3 = (d - c).cross(a - c);
+    let d4 = (d - c).cross(b - c);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && point_segment_distance(c, a, b) == 0.0)
+        || (d2 == 0.0 && point_segment_distance(d, a, b) == 0.0)
+        || (d3 == 0.0 && point_segment_distance(a, c, d) == 0.0)
+        || (d4 == 0.0 && point_segment_distance(b, c, d) == 0.0)
+}
+
+/// Distance between segments `a`-`b` and `c`-`d` (0 when they cross).
+pub fn segment_segment_distance(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> f64 {
+    if segments_intersect(a, b, c, d) {
+        return 0.0;
+    }
+    point_segment_distance(a, c, d)
+        .min(point_segment_distance(b, c, d))
+        .min(point_segment_distance(c, a, b))
+        .min(point_segment_distance(d, a, b))
+}
+
+/// The outline of an obstacle.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Shape {
+    /// A disc: a person, a traffic cone.
+    Circle {
+        /// Centre.
+        center: Vec2,
+        /// Radius (m).
+        radius: f64,
+    },
+    /// A convex polygon with vertices in counter-clockwise order: a house, a vehicle,
+    /// a barrier.
+    Polygon(Vec<Vec2>),
+}
+
+impl Shape {
+    /// An axis-aligned rectangle `[x0, x1] x [y0, y1]`.
+    pub fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Self {
+        Shape::Polygon(vec![
+            Vec2::new(x0, y0),
+            Vec2::new(x1, y0),
+            Vec2::new(x1, y1),
+            Vec2::new(x0, y1),
+        ])
+    }
+
+    /// A disc.
+    pub fn circle(x: f64, y: f64, radius: f64) -> Self {
+        Shape::Circle {
+            center: Vec2::new(x, y),
+            radius,
+        }
+    }
+
+    fn edges(vertices: &[Vec2]) -> impl Iterator<Item = (Vec2, Vec2)> + '_ {
+        (0..vertices.len()).map(move |i| (vertices[i], vertices[(i + 1) % vertices.len()]))
+    }
+
+    fn contains(vertices: &[Vec2], p: Vec2) -> bool {
+        Self::edges(vertices).all(|(a, b)| (b - a).cross(p - a) >= 0.0)
+    }
+
+    /// Distance from `p` to the shape (0 inside).
+    pub fn distance_to_point(&self, p: Vec2) -> f64 {
+        match self {
+            Shape::Circle { center, radius } => (p.dist(*center) - radius).max(0.0),
+            Shape::Polygon(v) => {
+                if Self::contains(v, p) {
+                    return 0.0;
+                }
+                Self::edges(v)
+                    .map(|(a, b)| point_segment_distance(p, a, b))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// Distance from segment `a`-`b` to the shape (0 when they touch).
+    pub fn distance_to_segment(&self, a: Vec2, b: Vec2) -> f64 {
+        match self {
+            Shape::Circle { center, radius } => {
+                (point_segment_distance(*center, a, b) - radius).max(0.0)
+            }
+            Shape::Polygon(v) => {
+                if Self::contains(v, a) || Self::contains(v, b) {
+                    return 0.0;
+                }
+                Self::edges(v)
+                    .map(|(c, d)| segment_segment_distance(a, b, c, d))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// The point of the shape nearest to `p` (`p` itself when inside).
+    pub fn nearest_point(&self, p: Vec2) -> Vec2 {
+        match self {
+            Shape::Circle { center, radius } => {
+                let d = p - *center;
+                if d.norm() <= *radius {
+                    p
+                } else {
+                    *center + d.unit() * *radius
+                }
+            }
+            Shape::Polygon(v) => {
+                if Self::contains(v, p) {
+                    return p;
+                }
+                Self::edges(v)
+                    .map(|(a, b)| closest_on_segment(p, a, b))
+                    .min_by(|x, y| p.dist(*x).total_cmp(&p.dist(*y)))
+                    .unwrap_or(p)
+            }
+        }
+    }
+
+    /// Way-points around the shape grown by `margin`: the corners of a polygon whose
+    /// edges are tangent to the grown outline, so a path bending at them keeps `margin`.
+    /// A disc gets the eight corners of the circumscribed octagon; a polygon corner turning
+    /// by `phi` gets `ceil(phi / 45 deg)` corners on its rounded grown arc, which lets a
+    /// path squeeze past two corners as closely as the true grown shapes allow.
+    pub fn inflated_vertices(&self, margin: f64, out: &mut Vec<Vec2>) {
+        use std::f64::consts::FRAC_PI_4;
+        match self {
+            Shape::Circle { center, radius } => {
+                let r = (radius + margin) / (FRAC_PI_4 / 2.0).cos();
+                for k in 0..8 {
+                    let a = FRAC_PI_4 * f64::from(k);
+                    out.push(*center + Vec2::new(a.cos(), a.sin()) * r);
+                }
+            }
+            Shape::Polygon(v) => {
+                let n = v.len();
+                for i in 0..n {
+                    let prev = v[(i + n - 1) % n];
+                    let next = v[(i + 1) % n];
+                    // Outward normals of a counter-clockwise polygon point to the right.
+                    let n1 = (v[i] - prev).unit().left() * -1.0;
+                    let n2 = (next - v[i]).unit().left() * -1.0;
+                    let from = n1.y.atan2(n1.x);
+                    let turn = n1.cross(n2).atan2(n1.dot(n2)).max(0.0);
+                    let pieces = (turn / FRAC_PI_4).ceil().max(1.0);
+                    let step = turn / pieces;
+                    let r = margin / (step / 2.0).cos();
+                    for j in 0..pieces as usize {
+                        let a = from + step * (j as f64 + 0.5);
+                        out.push(v[i] + Vec2::new(a.cos(), a.sin()) * r);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn point_segment_distance_by_hand() {
+        let (a, b) = (Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0));
+        assert_eq!(point_segment_distance(Vec2::new(2.0, 3.0), a, b), 3.0);
+        assert_eq!(point_segment_distance(Vec2::new(7.0, 4.0), a, b), 5.0);
+    }
+
+    #[test]
+    fn segment_distances_by_hand() {
+        let square = Shape::rect(0.0, 0.0, 2.0, 2.0);
+        // A horizontal segment 1 m above the square.
+        let d = square.distance_to_segment(Vec2::new(-1.0, 3.0), Vec2::new(3.0, 3.0));
+        assert!((d - 1.0).abs() < 1e-12);
+        // A segment crossing it.
+        assert_eq!(
+            square.distance_to_segment(Vec2::new(-1.0, 1.0), Vec2::new(3.0, 1.0)),
+            0.0
+        );
+        let disc = Shape::circle(0.0, 0.0, 1.0);
+        let d = disc.distance_to_segment(Vec2::new(-5.0, 3.0), Vec2::new(5.0, 3.0));
+        assert!((d - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn inflated_rectangle_corners_keep_the_margin_and_hug_the_corner() {
+        let rect = Shape::rect(0.0, 0.0, 2.0, 1.0);
+        let mut out = Vec::new();
+        rect.inflated_vertices(0.5, &mut out);
+        // Two way-points per right-angle corner, 0.5 / cos(22.5 deg) from it.
+        assert_eq!(out.len(), 8);
+        let r = 0.5 / (std::f64::consts::PI / 8.0).cos();
+        assert!((out[0].dist(Vec2::new(0.0, 0.0)) - r).abs() < 1e-12);
+        for i in 0..8 {
+            let (a, b) = (out[i], out[(i + 1) % 8]);
+            assert!(rect.distance_to_segment(a, b) >= 0.5 - 1e-9);
+        }
+    }
+
+    #[test]
+    fn inflated_circle_vertices_keep_the_margin() {
+        let disc = Shape::circle(1.0, 1.0, 0.3);
+        let mut out = Vec::new();
+        disc.inflated_vertices(0.7, &mut out);
+        for i in 0..8 {
+            let (a, b) = (out[i], out[(i + 1) % 8]);
+            assert!(disc.distance_to_segment(a, b) >= 0.7 - 1e-9);
+        }
+    }
+}

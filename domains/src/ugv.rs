@@ -1,0 +1,314 @@
+//! `UgvDomain`: the movement and patrol tasks over the urban block, behind the trust
+//! crate's `Domain` contract.
+//!
+//! A run draws which people are standing around, looks up the plan for the behavior's
+//! padding (planned once per padding and set of people, then cached), drives it, and for
+//! patrol places, spots, scans and labels the suspicious objects. The result is a
+//! [`Trace`]; the operator model turns it into an [`Outcome`].
+
+use crate::detector::Detector;
+use crate::drive::{Mark, drive};
+use crate::geometry::{Shape, Vec2};
+use crate::operator::OperatorModel;
+use crate::patrol::{PatrolSetup, SuspiciousObject};
+use crate::planner::{Plan, Problem};
+use crate::profile::point_to_point;
+use crate::scenario::Scenario;
+use crate::trace::{EventKind, Trace};
+use crate::world::World;
+use cbr_core::{Behavior, BehaviorSpace};
+use rand::{Rng, RngCore};
+use std::sync::{Arc, OnceLock};
+use trust::{Domain, Outcome};
+
+/// The behavior's settings in physical units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Commanded speed (m/s).
+    pub speed: f64,
+    /// Obstacle padding (m).
+    pub padding: f64,
+    /// Scan time (s); patrol only.
+    pub scan_time: f64,
+    /// Scan distance (m); patrol only.
+    pub scan_distance: f64,
+}
+
+/// What happened to one suspicious object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectFate {
+    /// The object.
+    pub object: SuspiciousObject,
+    /// Where the robot scanned it from, if it spotted it.
+    pub scanned_from: Option<Vec2>,
+    /// The label it gave (`true`: explosive), if it scanned it.
+    pub labelled_explosive: Option<bool>,
+}
+
+/// Everything about one simulated run (the trace, and what a drawing needs).
+#[derive(Clone, Debug)]
+pub struct Run<'a> {
+    /// The behavior's settings.
+    pub settings: Settings,
+    /// Which human spots were occupied (bit per spot).
+    pub humans: u32,
+    /// The plan followed, or `None` when the robot was stuck.
+    pub plan: Option<&'a Plan>,
+    /// The events.
+    pub trace: Trace,
+    /// Driven positions, when recorded.
+    pub driven: Vec<Vec2>,
+    /// Patrol objects and what became of them (empty for movement).
+    pub objects: Vec<ObjectFate>,
+}
+
+/// The UGV world as a trust domain for one scenario.
+pub struct UgvDomain {
+    scenario: Scenario,
+    space: Arc<BehaviorSpace>,
+    world: World,
+    detector: Detector,
+    patrol: PatrolSetup,
+    plans: Box<[OnceLock<Option<Plan>>]>,
+    /// Component index of speed, padding, scan time, scan distance (the last two only for
+    /// patrol).
+    components: [Option<usize>; 4],
+}
+
+impl UgvDomain {
+    /// The domain for `scenario` over the urban block. Plans are computed on first use.
+    pub fn new(scenario: Scenario) -> Self {
+        let space = scenario.space();
+        let world = World::urban_block();
+        let paddings = space
+            .component_index("padding")
+            .map_or(1, |i| space.components()[i].len());
+        let plans = (0..paddings << world.humans.len())
+            .map(|_| OnceLock::new())
+            .collect();
+        let components = ["speed", "padding", "scan_time", "scan_distance"]
+            .map(|name| space.component_index(name));
+        Self {
+            scenario,
+            space,
+            world,
+            detector: Detector::default(),
+            patrol: PatrolSetup::default(),
+            plans,
+            components,
+        }
+    }
+
+    /// The scenario.
+    pub fn scenario(&self) -> Scenario {
+        self.scenario
+    }
+
+    /// The map.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The explosives detector.
+    pub fn detector(&self) -> &Detector {
+        &self.detector
+    }
+
+    /// The patrol's objects and camera.
+    pub fn patrol_setup(&self) -> &PatrolSetup {
+        &self.patrol
+    }
+
+    /// The way-points of this scenario's route, start first and goal last.
+    pub fn route(&self) -> &[Vec2] {
+        match self.scenario {
+            Scenario::Movement => &self.world.movement_route,
+            Scenario::Patrol => &self.world.patrol_route,
+        }
+    }
+
+    /// The behavior's settings in physical units.
+    pub fn settings(&self, behavior: &Behavior) -> Settings {
+        let value = |slot: usize, fallback: f64| {
+            self.components[slot].map_or(fallback, |i| {
+                self.space.components()[i].numeric_value(behavior.get(i))
+            })
+        };
+        Settings {
+            speed: value(0, 1.0),
+            padding: value(1, 0.0),
+            scan_time: value(2, 0.0),
+            scan_distance: value(3, 0.0),
+        }
+    }
+
+    /// The plan for `behavior`'s padding with the people in `humans` standing, or `None`
+    /// when there is no way through. Computed once, then shared.
+    pub fn plan(&self, behavior: &Behavior, humans: u32) -> Option<&Plan> {
+        let padding_index = self.components[1].map_or(0, |i| usize::from(behavior.get(i)));
+        let slot = (padding_index << self.world.humans.len()) | humans as usize;
+        self.plans[slot]
+            .get_or_init(|| {
+                let padding = self.settings(behavior).padding;
+                let obstacles: Vec<&Shape> = self.world.obstacles_with(humans).collect();
+                let problem = Problem {
+                    size: self.world.size,
+                    obstacles: obstacles.clone(),
+                    clearance: self.world.robot.radius + padding,
+                };
+                let points = problem.through(self.route())?;
+                Some(Plan::new(
+                    points,
+                    &obstacles,
+                    self.world.robot.radius,
+                    self.world.size,
+                ))
+            })
+            .as_ref()
+    }
+
+    /// Simulates one run of `behavior`, drawing all randomness from `rng`. With `record`,
+    /// the driven path is kept for drawing.
+    pub fn simulate(&self, behavior: &Behavior, rng: &mut dyn RngCore, record: bool) -> Run<'_> {
+        let settings = self.settings(behavior);
+        let mut humans = 0;
+        for (i, spot) in self.world.humans.iter().enumerate() {
+            if rng.random::<f64>() < spot.occupied {
+                humans |= 1 << i;
+            }
+        }
+        let objects = match self.scenario {
+            Scenario::Movement => Vec::new(),
+            Scenario::Patrol => self.patrol.place(&self.world, rng),
+        };
+        let plan = self.plan(behavior, humans);
+        let mut run = Run {
+            settings,
+            humans,
+            plan,
+            trace: Trace::default(),
+            driven: Vec::new(),
+            objects: objects
+                .iter()
+                .map(|&object| ObjectFate {
+                    object,
+                    scanned_from: None,
+                    labelled_explosive: None,
+                })
+                .collect(),
+        };
+        let Some(plan) = plan else {
+            run.trace
+                .push(self.world.robot.replan_timeout, EventKind::Stuck);
+            return run;
+        };
+        let track = record.then_some(&mut run.driven);
+        match self.scenario {
+            Scenario::Movement => {
+                drive(
+                    plan,
+                    &self.world.robot,
+                    settings.speed,
+                    &[],
+                    rng,
+                    &mut run.trace,
+                    track,
+                );
+            }
+            Scenario::Patrol => {
+                self.patrol_run(plan, settings, rng, &mut run.trace, &mut run.objects, track);
+            }
+        }
+        run
+    }
+
+    /// The patrol part of a run: spot objects while driving, stop, approach, scan, label.
+    fn patrol_run(
+        &self,
+        plan: &Plan,
+        settings: Settings,
+        rng: &mut dyn RngCore,
+        trace: &mut Trace,
+        fates: &mut [ObjectFate],
+        track: Option<&mut Vec<Vec2>>,
+    ) {
+        let robot = &self.world.robot;
+        // Gap between body and object the robot keeps while scanning: its scan distance,
+        // unless its padding asks for more.
+        let standoff = settings.scan_distance.max(settings.padding);
+        let mut visits: Vec<(f64, usize, f64, bool)> = fates
+            .iter()
+            .enumerate()
+            .map(|(i, fate)| {
+                let (s, distance) = plan.nearest(fate.object.at);
+                let spur = (distance - robot.radius - standoff).abs();
+                let spotted = rng.random::<f64>() < self.patrol.p_spot(distance, settings.speed);
+                (s, i, spur, spotted)
+            })
+            .collect();
+        visits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let spur_time = |spur: f64| point_to_point(spur, settings.speed, robot.accel, robot.decel);
+        let marks: Vec<Mark> = visits
+            .iter()
+            .map(|&(s, _, spur, spotted)| Mark {
+                s,
+                dwell: if spotted {
+                    2.0 * spur_time(spur) + settings.scan_time
+                } else {
+                    0.0
+                },
+            })
+            .collect();
+        let driven = drive(plan, robot, settings.speed, &marks, rng, trace, track);
+        let arrived = trace.events.pop().expect("a drive ends with its arrival");
+        for (&(s, i, spur, spotted), &t) in visits.iter().zip(&driven.mark_times) {
+            let fate = &mut fates[i];
+            if !spotted {
+                trace.push(t, EventKind::MissedObject { object: i });
+                continue;
+            }
+            let (on_path, _) = plan.point_at(s);
+            let toward = (fate.object.at - on_path).unit();
+            fate.scanned_from = Some(fate.object.at - toward * (robot.radius + standoff));
+            let explosive = fate.object.explosive;
+            let correct = rng.random::<f64>()
+                < self
+                    .detector
+                    .accuracy(explosive, settings.scan_time, standoff);
+            let labelled_explosive = explosive == correct;
+            fate.labelled_explosive = Some(labelled_explosive);
+            let t_label = t + spur_time(spur) + settings.scan_time;
+            trace.push(
+                t_label,
+                EventKind::Labelled {
+                    object: i,
+                    explosive,
+                    labelled_explosive,
+                },
+            );
+            if explosive && !labelled_explosive {
+                let t_boom = (t_label + self.patrol.fuse).min(arrived.t);
+                trace.push(t_boom, EventKind::Detonation { object: i });
+            }
+        }
+        trace.events.push(arrived);
+        trace.sort();
+    }
+}
+
+impl Domain for UgvDomain {
+    type Operator = OperatorModel;
+
+    fn name(&self) -> &str {
+        self.scenario.as_str()
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    fn run(&self, behavior: &Behavior, operator: &OperatorModel, rng: &mut dyn RngCore) -> Outcome {
+        let run = self.simulate(behavior, rng, false);
+        operator.judge(&run.trace, rng)
+    }
+}
