@@ -15,12 +15,14 @@ pub mod planner;
 pub mod profile;
 pub mod scenario;
 pub mod spaces;
+pub mod suite;
 pub mod trace;
 pub mod ugv;
 pub mod world;
 
 pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators};
 pub use scenario::{Scenario, UnknownScenario};
+pub use suite::{SuiteConfig, run_suite, suite_table, write_suite_report};
 pub use trace::{Event, EventKind, Trace};
 pub use ugv::{Run, Settings, UgvDomain};
 pub use world::World;

@@ -28,6 +28,14 @@ pub enum SearchKind {
 }
 
 impl SearchKind {
+    /// Whether the strategy carries anything learned in one episode into the next (then
+    /// an experiment's trials must run in order).
+    pub fn learns_across_episodes(self) -> bool {
+        match self {
+            SearchKind::RandomWalk => false,
+        }
+    }
+
     /// A fresh searcher of this kind.
     pub fn build(self) -> Box<TrustSearcher> {
         match self {

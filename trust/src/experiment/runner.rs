@@ -153,62 +153,45 @@ fn run_chain<D: Domain>(
     experiment: u64,
     strategy: Strategy,
     seed: u64,
-    progress: &dyn Fn(),
+    progress: &(dyn Fn() + Sync),
 ) -> Result<StrategyResult, ConfigError> {
     let space = plan.domain.space().clone();
     let config = AdapterConfig {
         reuse_cases: strategy == Strategy::CaseBased,
         ..plan.adapter.clone()
     };
-    let mut adapter = TrustAdapter::new(space.clone(), config, TrustCaseBase::new(), seed)?;
-    let mut trials = Vec::with_capacity(plan.trials as usize);
-    for trial in 0..plan.trials {
-        let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
-        let operator_index = match plan.choice {
-            OperatorChoice::Fixed(i) => i,
-            OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
-        };
-        let (operator_name, operator) = &plan.operators[operator_index];
-        let initial = space.draw(&mut setup);
-        adapter.reseed(stream_seed(
-            seed,
-            experiment,
-            u64::from(trial),
-            Purpose::Search,
-        ));
-        let mut runs_rng = stream(seed, experiment, u64::from(trial), Purpose::Runs);
-        adapter
-            .begin_episode(initial)
-            .expect("no episode is under way and the behavior is drawn from the space");
-        let mut behavior = initial;
-        let mut runs = 0u64;
-        let (report, truncated) = loop {
-            let outcome = plan.domain.run(&behavior, operator, &mut runs_rng);
-            runs += 1;
-            match adapter
-                .record(&outcome)
-                .expect("domains report valid outcomes")
-            {
-                Decision::Keep => {}
-                Decision::Switch { to, .. } => behavior = to,
-                Decision::Settled(report) => break (report, false),
-            }
-            if runs >= plan.max_commands {
-                let report = adapter.abandon_episode().expect("an episode is under way");
-                break (report, true);
-            }
-        };
-        trials.push(TrialRecord {
-            trial,
-            strategy,
-            operator: operator_name.clone(),
-            initial,
-            report,
-            runs,
-            truncated,
-        });
-        progress();
-    }
+    let new_adapter =
+        || TrustAdapter::new(space.clone(), config.clone(), TrustCaseBase::new(), seed);
+    let independent = !config.reuse_cases && !config.search.learns_across_episodes();
+    let (trials, cases_acquired) = if independent {
+        // Nothing read from one episode carries to the next (the case base is never
+        // consulted and the search forgets), so trials can run in any order. Each gets a
+        // fresh adapter; the cases the episodes would have retained are counted.
+        let trials: Vec<TrialRecord> = (0..plan.trials)
+            .into_par_iter()
+            .map(|trial| {
+                let record =
+                    run_trial(plan, &mut new_adapter()?, experiment, trial, strategy, seed);
+                progress();
+                Ok(record)
+            })
+            .collect::<Result<_, ConfigError>>()?;
+        let retained = trials
+            .iter()
+            .filter(|t| t.report.retained.is_some())
+            .count();
+        (trials, retained)
+    } else {
+        let mut adapter = new_adapter()?;
+        let trials: Vec<TrialRecord> = (0..plan.trials)
+            .map(|trial| {
+                let record = run_trial(plan, &mut adapter, experiment, trial, strategy, seed);
+                progress();
+                record
+            })
+            .collect();
+        (trials, adapter.cases().len())
+    };
     let counts: Vec<f64> = trials
         .iter()
         .map(|t| t.report.behaviors_evaluated as f64)
@@ -219,7 +202,63 @@ fn run_chain<D: Domain>(
             mean: 0.0,
             ci95: 0.0,
         }),
-        cases_acquired: adapter.cases().len(),
+        cases_acquired,
         trials,
     })
+}
+
+/// One trial: an episode from a drawn initial behavior until the adapter settles.
+fn run_trial<D: Domain>(
+    plan: &ExperimentPlan<'_, D>,
+    adapter: &mut TrustAdapter,
+    experiment: u64,
+    trial: u32,
+    strategy: Strategy,
+    seed: u64,
+) -> TrialRecord {
+    let space = plan.domain.space();
+    let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
+    let operator_index = match plan.choice {
+        OperatorChoice::Fixed(i) => i,
+        OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
+    };
+    let (operator_name, operator) = &plan.operators[operator_index];
+    let initial = space.draw(&mut setup);
+    adapter.reseed(stream_seed(
+        seed,
+        experiment,
+        u64::from(trial),
+        Purpose::Search,
+    ));
+    let mut runs_rng = stream(seed, experiment, u64::from(trial), Purpose::Runs);
+    adapter
+        .begin_episode(initial)
+        .expect("no episode is under way and the behavior is drawn from the space");
+    let mut behavior = initial;
+    let mut runs = 0u64;
+    let (report, truncated) = loop {
+        let outcome = plan.domain.run(&behavior, operator, &mut runs_rng);
+        runs += 1;
+        match adapter
+            .record(&outcome)
+            .expect("domains report valid outcomes")
+        {
+            Decision::Keep => {}
+            Decision::Switch { to, .. } => behavior = to,
+            Decision::Settled(report) => break (report, false),
+        }
+        if runs >= plan.max_commands {
+            let report = adapter.abandon_episode().expect("an episode is under way");
+            break (report, true);
+        }
+    };
+    TrialRecord {
+        trial,
+        strategy,
+        operator: operator_name.clone(),
+        initial,
+        report,
+        runs,
+        truncated,
+    }
 }

@@ -1,0 +1,370 @@
+//! The experiment suite over the built-in UGV domains.
+//!
+//! A suite config (RON) names experiments by scenario and operator, plus the trials, seed
+//! and adapter parameters; [`run_suite`] turns it into [`ExperimentPlan`]s for the generic
+//! runner in `trust::experiment` and [`write_suite_report`] writes the report folder. The
+//! paper's seven experiments are the embedded default, [`PAPER_CONFIG`].
+
+use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
+use serde::{Deserialize, Serialize};
+use std::num::NonZeroU32;
+use std::path::{Path, PathBuf};
+use trust::experiment::report::{ReportEntry, ReportError, write_report};
+use trust::experiment::{ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
+use trust::{AdapterConfig, ConfigError};
+
+/// The paper's seven experiments, as shipped in the binary.
+pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");
+
+/// The operator name that draws an operator per trial.
+pub const RANDOM_OPERATOR: &str = "random";
+
+/// A set of experiments to run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuiteConfig {
+    /// Master seed of every random stream.
+    pub seed: u64,
+    /// Trials per experiment and strategy.
+    pub trials: NonZeroU32,
+    /// Commands after which a trial is abandoned (a guard against endless trials).
+    #[serde(default = "default_max_commands")]
+    pub max_commands: u64,
+    /// The adapter's parameters (`reuse_cases` is set by each strategy).
+    #[serde(default)]
+    pub adapter: AdapterConfig,
+    /// The experiments, in report order.
+    pub experiments: Vec<ExperimentSpec>,
+}
+
+fn default_max_commands() -> u64 {
+    1_000_000
+}
+
+/// One experiment: a scenario and who operates the robot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// An operator's name, or `random` to draw one per trial.
+    pub operator: String,
+    /// Extra operator files (RON), relative to the config file; they join the scenario's
+    /// built-in operators.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operator_files: Vec<PathBuf>,
+}
+
+/// Why a suite cannot be run.
+#[derive(Debug, thiserror::Error)]
+pub enum SuiteError {
+    /// The config file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The config is not valid RON for a suite.
+    #[error("{path}:{line}:{column}: {message}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A value is out of range.
+    #[error("{path}: {field}: {message}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// The field, e.g. `experiments[2].operator`.
+        field: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// An operator file is invalid.
+    #[error(transparent)]
+    Operator(#[from] OperatorError),
+    /// The adapter parameters are invalid.
+    #[error("adapter: {0}")]
+    Adapter(#[from] ConfigError),
+    /// The report could not be written.
+    #[error(transparent)]
+    Report(#[from] ReportError),
+}
+
+impl SuiteConfig {
+    /// The paper's seven experiments.
+    pub fn paper() -> Self {
+        Self::from_ron(PAPER_CONFIG, Path::new("<embedded paper.ron>"))
+            .expect("the embedded config is valid")
+    }
+
+    /// Reads and checks a suite config file.
+    pub fn load(path: &Path) -> Result<Self, SuiteError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SuiteError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::from_ron(&text, path)
+    }
+
+    /// Parses and checks a suite config; `origin` names the source in errors.
+    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, SuiteError> {
+        let config: Self = ron::from_str(text).map_err(|e| SuiteError::Parse {
+            path: origin.to_owned(),
+            line: e.position.line,
+            column: e.position.col,
+            message: e.code.to_string(),
+        })?;
+        config.validate(origin)?;
+        Ok(config)
+    }
+
+    /// Checks every field; `origin` names the file in errors and anchors operator files.
+    pub fn validate(&self, origin: &Path) -> Result<(), SuiteError> {
+        let invalid = |field: String, message: String| SuiteError::Invalid {
+            path: origin.to_owned(),
+            field,
+            message,
+        };
+        if self.experiments.is_empty() {
+            return Err(invalid(
+                "experiments".into(),
+                "at least one experiment is needed".into(),
+            ));
+        }
+        if self.max_commands == 0 {
+            return Err(invalid("max_commands".into(), "must be at least 1".into()));
+        }
+        self.adapter.validate()?;
+        for (i, spec) in self.experiments.iter().enumerate() {
+            let operators = spec.operators(origin)?;
+            if spec.operator != RANDOM_OPERATOR
+                && !operators.iter().any(|(name, _)| *name == spec.operator)
+            {
+                let known: Vec<&str> = operators.iter().map(|(n, _)| n.as_str()).collect();
+                return Err(invalid(
+                    format!("experiments[{i}].operator"),
+                    format!(
+                        "unknown operator `{}` for {} (known: {}, or `{RANDOM_OPERATOR}`)",
+                        spec.operator,
+                        spec.scenario,
+                        known.join(", ")
+                    ),
+                ));
+            }
+            for (k, (name, _)) in operators.iter().enumerate() {
+                if operators[..k].iter().any(|(n, _)| n == name) || name == RANDOM_OPERATOR {
+                    return Err(invalid(
+                        format!("experiments[{i}].operator_files"),
+                        format!("operator name `{name}` is taken"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The config as RON, as written to a report's `config.ron`.
+    pub fn to_ron(&self) -> String {
+        ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
+            .expect("plain data serializes")
+    }
+}
+
+impl ExperimentSpec {
+    /// The report name, e.g. `movement/speed-focused`.
+    pub fn name(&self) -> String {
+        format!("{}/{}", self.scenario, self.operator)
+    }
+
+    /// The scenario's operators: the built-in ones, then those of `operator_files`
+    /// (relative to the directory of `origin`).
+    pub fn operators(&self, origin: &Path) -> Result<Vec<(String, OperatorModel)>, SuiteError> {
+        let base = origin.parent().unwrap_or(Path::new("."));
+        let mut operators: Vec<(String, OperatorModel)> = builtin_operators(self.scenario)
+            .into_iter()
+            .map(|o| (o.name.clone(), o))
+            .collect();
+        for file in &self.operator_files {
+            let model = OperatorModel::load(&base.join(file))?;
+            operators.push((model.name.clone(), model));
+        }
+        Ok(operators)
+    }
+}
+
+/// A suite's results, ready for reporting.
+pub struct SuiteResults {
+    /// One result per experiment, in config order.
+    pub results: Vec<ExperimentResult>,
+}
+
+/// Runs every experiment of `config` (operator files relative to `origin`) on the current
+/// rayon pool; `progress(experiment)` is called after every trial.
+pub fn run_suite(
+    config: &SuiteConfig,
+    origin: &Path,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<SuiteResults, SuiteError> {
+    let movement = UgvDomain::new(Scenario::Movement);
+    let patrol = UgvDomain::new(Scenario::Patrol);
+    let operators = config
+        .experiments
+        .iter()
+        .map(|spec| spec.operators(origin))
+        .collect::<Result<Vec<_>, _>>()?;
+    let plans: Vec<ExperimentPlan<'_, UgvDomain>> = config
+        .experiments
+        .iter()
+        .zip(&operators)
+        .map(|(spec, operators)| ExperimentPlan {
+            name: spec.name(),
+            domain: match spec.scenario {
+                Scenario::Movement => &movement,
+                Scenario::Patrol => &patrol,
+            },
+            operators,
+            choice: if spec.operator == RANDOM_OPERATOR {
+                OperatorChoice::Random
+            } else {
+                OperatorChoice::Fixed(
+                    operators
+                        .iter()
+                        .position(|(n, _)| *n == spec.operator)
+                        .expect("validated"),
+                )
+            },
+            trials: config.trials.get(),
+            adapter: config.adapter.clone(),
+            max_commands: config.max_commands,
+        })
+        .collect();
+    let results = run_experiments(&plans, config.seed, progress)?;
+    Ok(SuiteResults { results })
+}
+
+/// The report entries of a suite's results.
+fn entries<'a>(
+    config: &'a SuiteConfig,
+    results: &'a SuiteResults,
+    spaces: &'a [(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)],
+) -> Vec<ReportEntry<'a>> {
+    config
+        .experiments
+        .iter()
+        .zip(&results.results)
+        .map(|(spec, result)| ReportEntry {
+            result,
+            scenario: spec.scenario.as_str(),
+            operator: &spec.operator,
+            space: &spaces
+                .iter()
+                .find(|(s, _)| *s == spec.scenario)
+                .expect("every scenario has a space")
+                .1,
+        })
+        .collect()
+}
+
+/// The results table in Markdown.
+pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
+    let spaces = scenario_spaces();
+    trust::experiment::report::table(&entries(config, results, &spaces))
+}
+
+/// Writes the report folder for a suite run.
+pub fn write_suite_report(
+    dir: &Path,
+    config: &SuiteConfig,
+    results: &SuiteResults,
+    elapsed_s: f64,
+) -> Result<Vec<PathBuf>, SuiteError> {
+    let spaces = scenario_spaces();
+    Ok(write_report(
+        dir,
+        &entries(config, results, &spaces),
+        &config.to_ron(),
+        elapsed_s,
+    )?)
+}
+
+fn scenario_spaces() -> Vec<(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)> {
+    Scenario::ALL.iter().map(|&s| (s, s.space())).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_config_has_the_seven_experiments() {
+        let config = SuiteConfig::paper();
+        assert_eq!(config.trials.get(), 500);
+        let names: Vec<String> = config
+            .experiments
+            .iter()
+            .map(ExperimentSpec::name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "movement/speed-focused",
+                "movement/safety-focused",
+                "movement/balanced",
+                "movement/random",
+                "patrol/speed-focused",
+                "patrol/detection-focused",
+                "patrol/random",
+            ]
+        );
+        assert_eq!(config.adapter, AdapterConfig::default());
+    }
+
+    #[test]
+    fn config_errors_name_the_place() {
+        let origin = Path::new("exp.ron");
+        let err = SuiteConfig::from_ron("(seed: 1, trials: 0, experiments: [])", origin)
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("exp.ron:1:"), "{err}");
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5,\n experiments: [(scenario: movement, operator: \"careful\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("experiments[0].operator") && err.contains("careful"),
+            "{err}"
+        );
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5,\n  experiments: [(scenario: underwater, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.starts_with("exp.ron:2:"), "{err}");
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5, adapter: (lambda: 1.5), experiments: [(scenario: movement, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("lambda"), "{err}");
+    }
+
+    #[test]
+    fn the_config_round_trips() {
+        let config = SuiteConfig::paper();
+        let back = SuiteConfig::from_ron(&config.to_ron(), Path::new("x.ron")).unwrap();
+        assert_eq!(back, config);
+    }
+}
