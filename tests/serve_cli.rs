@@ -55,6 +55,47 @@ fn a_bad_domain_file_names_file_line_column_and_field() {
 }
 
 #[test]
+fn the_example_domain_file_is_served() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/domain.ron");
+    let mut child = serve(
+        &["--domain", domain.to_str().unwrap()],
+        &dir.path().join("c.ron"),
+    )
+    .stdin(Stdio::piped())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    let requests = concat!(
+        r#"{"request": "config"}"#,
+        "\n",
+        r#"{"request": "begin", "behavior": {"speed": 1.5, "padding": 0.3, "planner": "rrt"}}"#,
+        "\n",
+    );
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(requests.as_bytes())
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success());
+    let replies: Vec<Value> = output
+        .stdout
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    assert_eq!(replies[0]["behaviors"], 8 * 10 * 3);
+    assert_eq!(replies[0]["adapter"]["thresholds"]["trustworthy"], 3.0);
+    assert_eq!(
+        replies[1]["behavior"],
+        serde_json::json!({"speed": 1.5, "padding": 0.3, "planner": "rrt"})
+    );
+}
+
+#[test]
 fn a_corrupt_case_base_is_refused_and_left_untouched() {
     let dir = tempfile::tempdir().unwrap();
     let cases = dir.path().join("cases.ron");

@@ -122,10 +122,18 @@ impl Session {
     }
 
     fn outcome(&mut self, outcome: &Outcome) -> Result<Value, SessionError> {
-        if self.adapter.episode().is_none() {
+        let Some(episode) = self.adapter.episode() else {
             return Ok(reply::error(
                 "no episode is under way: start one with {\"request\": \"begin\"}",
             ));
+        };
+        // The elapsed time becomes a case's evaluated time; an infinite one could not be
+        // loaded back, so it is refused here.
+        if !(episode.estimate.elapsed_s + outcome.duration_s).is_finite() {
+            return Ok(reply::error(format_args!(
+                "field `duration_s`: {} s would make the behavior's total time overflow",
+                outcome.duration_s
+            )));
         }
         let decision = match self.adapter.record(outcome) {
             Ok(decision) => decision,

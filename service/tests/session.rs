@@ -93,12 +93,14 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#,
     );
     // A half-weight completion leaves the trust at 0.5: the episode stays open with a
-    // non-trivial state for the refused requests to leave alone.
+    // non-trivial state for the refused requests to leave alone. Its 1e308 s leave no room
+    // for another such duration.
     ok(
         &mut s,
-        r#"{"outcome":"completed","weight":0.5,"duration_s":1}"#,
+        r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
     );
-    let cases: [(&str, &str); 18] = [
+    let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+    let cases: [(&str, &str); 20] = [
         (
             r#"{"outcome": "interrupted", "weight": 1.0, "cau"#,
             "malformed JSON",
@@ -153,6 +155,11 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         (r#"{"request":"dance"}"#, "unknown request `dance`"),
         (r#"{"request":"begin"}"#, "an episode is already under way"),
         (r#"{"weight":1}"#, "needs a `request` field"),
+        (
+            r#"{"outcome":"completed","weight":0,"duration_s":1.7e308}"#,
+            "total time overflow",
+        ),
+        (&deep, "recursion limit exceeded"),
     ];
     for (line, expected) in cases {
         let before = snapshot(&mut s);
