@@ -46,8 +46,11 @@ struct DomainFile {
 /// Why a domain could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum DomainError {
+    /// The name is neither a built-in domain nor an existing file.
+    #[error("`{0}` is neither a built-in domain (movement, patrol) nor an existing file")]
+    Unknown(String),
     /// The file could not be read.
-    #[error("{path}: {source} (built-in domains: movement, patrol)")]
+    #[error("{path}: {source}")]
     Io {
         /// The file.
         path: PathBuf,
@@ -81,6 +84,7 @@ impl DomainDefinition {
         match name {
             "movement" => Ok(builtin(domains::spaces::movement_space())),
             "patrol" => Ok(builtin(domains::spaces::patrol_space())),
+            path if !Path::new(path).exists() => Err(DomainError::Unknown(path.to_owned())),
             path => Self::load(Path::new(path)),
         }
     }
@@ -262,17 +266,27 @@ mod tests {
             16_000
         );
         let err = DomainDefinition::resolve("/nonexistent/robot.ron").unwrap_err();
-        assert!(err.to_string().contains("/nonexistent/robot.ron"));
-        assert!(
-            err.to_string()
-                .contains("built-in domains: movement, patrol")
+        assert_eq!(
+            err.to_string(),
+            "`/nonexistent/robot.ron` is neither a built-in domain (movement, patrol) nor an existing file"
         );
+        let dir = tempfile::tempdir().unwrap();
+        let err = DomainDefinition::resolve(dir.path().to_str().unwrap()).unwrap_err();
+        assert!(matches!(err, DomainError::Io { .. }), "{err}");
     }
 
     proptest! {
         #[test]
         fn arbitrary_text_never_panics(text in any::<String>()) {
             let _ = DomainDefinition::from_ron(&text, Path::new("x.ron"));
+        }
+
+        #[test]
+        fn arbitrary_files_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("x.ron");
+            std::fs::write(&path, &bytes).unwrap();
+            let _ = DomainDefinition::load(&path);
         }
 
         #[test]

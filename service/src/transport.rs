@@ -9,7 +9,7 @@
 use crate::lines::{LineRead, read_line};
 use crate::reply;
 use crate::session::{Session, SessionError};
-use std::io::{self, BufRead, BufReader, Write};
+use std::io::{self, BufRead, BufReader, BufWriter, Write};
 use std::net::{SocketAddr, TcpListener};
 
 /// The longest request line accepted, newline excluded.
@@ -43,8 +43,10 @@ pub enum ServeError {
 pub fn serve<R: BufRead, W: Write>(
     session: &mut Session,
     mut input: R,
-    mut output: W,
+    output: W,
 ) -> Result<(), ServeError> {
+    // Each reply goes out whole, in one write, when it is flushed.
+    let mut output = BufWriter::new(output);
     let mut line = Vec::new();
     while let Some(read) = read_line(&mut input, MAX_LINE_BYTES, &mut line)? {
         let (answer, stop) = match read {

@@ -1,6 +1,7 @@
 //! The request handler under hostile and ordinary input: every refused request gets an
 //! error reply naming the problem and leaves the state unchanged.
 
+use proptest::prelude::*;
 use serde_json::{Value, json};
 use service::{CaseStore, DomainDefinition, Session};
 use std::io::BufReader;
@@ -253,4 +254,48 @@ fn oversize_lines_are_refused_and_the_conversation_goes_on() {
         replies[1], replies[3],
         "the oversize line changed the state"
     );
+}
+
+/// Lines a controller might send, right or wrong.
+fn any_line() -> impl Strategy<Value = Vec<u8>> {
+    prop_oneof![
+        Just(br#"{"request": "begin"}"#.to_vec()),
+        Just(br#"{"request": "state"}"#.to_vec()),
+        Just(br#"{"request": "abandon"}"#.to_vec()),
+        Just(INTERRUPTED.as_bytes().to_vec()),
+        Just(COMPLETED.as_bytes().to_vec()),
+        prop::collection::vec(
+            any::<u8>().prop_filter("no newline", |b| *b != b'\n'),
+            0..64
+        ),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Whatever arrives, every line gets exactly one reply, `ok` or `error`, and the server
+    /// goes on.
+    #[test]
+    fn every_line_gets_one_reply(lines in prop::collection::vec(any_line(), 0..40)) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = session(dir.path());
+        let mut input = Vec::new();
+        for line in &lines {
+            input.extend_from_slice(line);
+            input.push(b'\n');
+        }
+        let mut output = Vec::new();
+        service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
+        let replies: Vec<Value> = output
+            .split(|&b| b == b'\n')
+            .filter(|l| !l.is_empty())
+            .map(|l| serde_json::from_slice(l).unwrap())
+            .collect();
+        prop_assert_eq!(replies.len(), lines.len());
+        for reply in replies {
+            let object = reply.as_object().unwrap();
+            prop_assert!(object.contains_key("ok") != object.contains_key("error"));
+        }
+    }
 }
