@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use service::{CaseStore, DomainDefinition, Session, transport};
-use std::io::{BufReader, Write};
+use std::io::Write;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -67,12 +67,8 @@ fn serve(args: &ServeArgs) -> anyhow::Result<()> {
     );
     match args.listen {
         None => {
-            let stdin = std::io::stdin().lock();
-            transport::serve(
-                &mut session,
-                BufReader::new(stdin),
-                std::io::stdout().lock(),
-            )?;
+            let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
+            transport::serve(&mut session, stdin, stdout)?;
         }
         Some(addr) => {
             let listener = transport::listen(addr)?;

@@ -146,19 +146,27 @@ mod tests {
     adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.9),
 )"#;
 
-    /// The error for `GOOD` with `from` replaced by `to`, as `(line, column, message)`.
+    /// The error for `GOOD` with `from` replaced by `to`: `(line, column, message, shown)`,
+    /// after checking that the error as shown starts with `robot.ron:line:column: message`.
     fn error_after(from: &str, to: &str) -> (usize, usize, String, String) {
         assert!(GOOD.contains(from), "{from}");
         let text = GOOD.replacen(from, to, 1);
-        match DomainDefinition::from_ron(&text, Path::new("robot.ron")).unwrap_err() {
-            e @ DomainError::Parse { line, column, .. } => {
-                let DomainError::Parse { message, .. } = &e else {
-                    unreachable!()
-                };
-                (line, column, message.clone(), e.to_string())
-            }
-            other => panic!("expected a parse error, got {other}"),
-        }
+        let error = DomainDefinition::from_ron(&text, Path::new("robot.ron")).unwrap_err();
+        let shown = error.to_string();
+        let DomainError::Parse {
+            line,
+            column,
+            message,
+            ..
+        } = error
+        else {
+            panic!("expected a parse error, got {shown}");
+        };
+        assert!(
+            shown.starts_with(&format!("robot.ron:{line}:{column}: {message}\n")),
+            "{shown}"
+        );
+        (line, column, message, shown)
     }
 
     #[test]

@@ -219,6 +219,45 @@ fn bad_behaviors_and_out_of_place_requests_change_nothing() {
 }
 
 #[test]
+fn a_failed_save_is_reported_and_stops_the_server() {
+    let dir = tempfile::tempdir().unwrap();
+    let gone = dir.path().join("gone");
+    std::fs::create_dir(&gone).unwrap();
+    let mut s = session(&gone);
+    // The directory disappears after start-up: the first retention cannot be saved.
+    std::fs::remove_dir(&gone).unwrap();
+    let input = [
+        r#"{"request":"begin"}"#,
+        INTERRUPTED,
+        COMPLETED,
+        r#"{"request":"state"}"#,
+    ]
+    .join("\n");
+    let mut output = Vec::new();
+    let err = service::transport::serve(&mut s, BufReader::new(input.as_bytes()), &mut output)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("case #0 was retained but could not be saved, so the server stops"),
+        "{err}"
+    );
+    let replies: Vec<Value> = output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    // begin, switch, then the error instead of `settled`; the `state` line is never read.
+    assert_eq!(replies.len(), 3);
+    assert_eq!(replies[1]["ok"], "switch");
+    assert!(
+        replies[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("could not be saved")
+    );
+}
+
+#[test]
 fn oversize_lines_are_refused_and_the_conversation_goes_on() {
     let dir = tempfile::tempdir().unwrap();
     let mut s = session(dir.path());
