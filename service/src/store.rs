@@ -90,11 +90,6 @@ impl CaseStore {
     pub fn save(&self, cases: &TrustCaseBase) -> Result<(), StoreError> {
         Ok(cases.save_ron(&self.path)?)
     }
-
-    /// The file.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
 }
 
 fn check_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Result<(), String> {
