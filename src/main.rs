@@ -1,13 +1,17 @@
 //! `trustcbr`: the command-line front end. Argument parsing and glue only; the work is
-//! done by the `trust` and `domains` libraries.
+//! done by the `trust`, `domains` and `service` libraries.
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{SuiteConfig, run_suite, suite_table, write_suite_report};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use service::{CaseStore, DomainDefinition, Session, transport};
+use std::io::Write;
+use std::net::SocketAddr;
 use std::num::{NonZeroU32, NonZeroUsize};
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Instant;
 
 /// Trust-guided behavior adaptation with case-based reasoning.
@@ -31,6 +35,8 @@ enum Command {
     },
     /// Print the embedded config of the paper's experiments.
     Config,
+    /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
+    Serve(ServeArgs),
 }
 
 /// Options shared by `reproduce` and `run`.
@@ -50,17 +56,44 @@ struct RunOptions {
     threads: Option<NonZeroUsize>,
 }
 
-fn main() -> Result<()> {
-    match Cli::parse().command {
+#[derive(Args)]
+struct ServeArgs {
+    /// `movement`, `patrol`, or a RON domain file declaring a behavior space (and
+    /// optionally the adapter config).
+    #[arg(long)]
+    domain: String,
+    /// The case base: loaded if it exists, created at the first retained case, rewritten
+    /// atomically after every retained case.
+    #[arg(long)]
+    cases: PathBuf,
+    /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
+    /// stdin/stdout. One controller connection at a time.
+    #[arg(long)]
+    listen: Option<SocketAddr>,
+    /// Seed of the adapter's search and of the behaviors the server draws.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
         Command::Reproduce(options) => {
             run_experiments(SuiteConfig::paper(), Path::new("."), &options)
         }
-        Command::Run { config, options } => {
-            run_experiments(SuiteConfig::load(&config)?, &config, &options)
-        }
+        Command::Run { config, options } => SuiteConfig::load(&config)
+            .map_err(Into::into)
+            .and_then(|suite| run_experiments(suite, &config, &options)),
         Command::Config => {
             print!("{PAPER_CONFIG}");
             Ok(())
+        }
+        Command::Serve(args) => serve(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
         }
     }
 }
@@ -113,5 +146,32 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         options.out.display(),
         written.len()
     );
+    Ok(())
+}
+
+fn serve(args: &ServeArgs) -> anyhow::Result<()> {
+    let domain = DomainDefinition::resolve(&args.domain)?;
+    let (store, cases) = CaseStore::open(&args.cases, &domain.space)?;
+    let loaded = cases.len();
+    let mut session = Session::new(domain, store, cases, args.seed)?;
+    eprintln!(
+        "trustcbr serve: {} behaviors, {loaded} cases loaded from {}",
+        session.adapter().space().size(),
+        args.cases.display()
+    );
+    match args.listen {
+        None => {
+            let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
+            transport::serve(&mut session, stdin, stdout)?;
+        }
+        Some(addr) => {
+            let listener = transport::listen(addr)?;
+            let bound = listener.local_addr().context("reading the bound address")?;
+            // Tests and controllers read this line to learn the port when 0 was asked for.
+            eprintln!("listening on {bound}");
+            std::io::stderr().flush().ok();
+            transport::serve_tcp(&mut session, &listener, &mut |m| eprintln!("{m}"))?;
+        }
+    }
     Ok(())
 }

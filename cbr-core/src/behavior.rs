@@ -369,11 +369,26 @@ impl BehaviorSpace {
 
     /// Parses `name=value[,name=value...]` (every component exactly once, any order).
     pub fn parse(&self, text: &str) -> Result<Behavior, SpaceError> {
+        let pairs = text
+            .split(',')
+            .filter(|p| !p.trim().is_empty())
+            .map(|pair| {
+                pair.split_once('=')
+                    .ok_or_else(|| SpaceError::Syntax(text.to_owned()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        self.from_named_values(pairs)
+    }
+
+    /// A behavior from `(component name, value as text)` pairs, every component at least
+    /// once, in any order (a later pair for the same component wins). Values are numbers
+    /// on a numeric grid or labels of a categorical component.
+    pub fn from_named_values<'a>(
+        &self,
+        pairs: impl IntoIterator<Item = (&'a str, &'a str)>,
+    ) -> Result<Behavior, SpaceError> {
         let mut indices: [Option<u16>; MAX_COMPONENTS] = [None; MAX_COMPONENTS];
-        for pair in text.split(',').filter(|p| !p.trim().is_empty()) {
-            let (name, value) = pair
-                .split_once('=')
-                .ok_or_else(|| SpaceError::Syntax(text.to_owned()))?;
+        for (name, value) in pairs {
             let name = name.trim();
             let k = self
                 .component_index(name)
@@ -526,6 +541,19 @@ mod tests {
                 .to_string(),
             "speed=3.5 m/s, padding=0.4 m"
         );
+    }
+
+    #[test]
+    fn named_values_give_behaviors() {
+        let space = movement();
+        let b = space
+            .from_named_values([("padding", "0.4"), ("speed", "3.5")])
+            .unwrap();
+        assert_eq!(b, space.parse("speed=3.5,padding=0.4").unwrap());
+        assert!(matches!(
+            space.from_named_values([("speed", "3.5")]),
+            Err(SpaceError::MissingComponent(n)) if n == "padding"
+        ));
     }
 
     #[test]

@@ -4,28 +4,36 @@
 //! It knows how similar two of its values are and what "one change" means for it
 //! (adjacency). It knows nothing of behaviors, cases or trust.
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
 use std::fmt;
 
 /// Largest number of values one component may have (values are stored as `u16` indices).
 pub const MAX_VALUES: usize = u16::MAX as usize;
 
 /// The admissible values of a component.
+///
+/// Deserialization checks each field where it is read (so a parser reports the position of
+/// the offending value) and rejects unknown fields.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Values {
     /// `count` values `min, min + step, ..., min + (count - 1) * step`.
     Numeric {
         /// The smallest value.
+        #[serde(deserialize_with = "deserialize_min")]
         min: f64,
         /// The distance between neighbouring values (> 0).
+        #[serde(deserialize_with = "deserialize_step")]
         step: f64,
         /// How many values (>= 1).
+        #[serde(deserialize_with = "deserialize_count")]
         count: u16,
     },
     /// Named values in a fixed order. Similarity is 1 for equal labels and 0 otherwise,
     /// unless a square `similarity` table (rows and columns in label order) is given.
     Categorical {
         /// The value names.
+        #[serde(deserialize_with = "deserialize_labels")]
         labels: Vec<String>,
         /// Optional user table of value similarities in `[0, 1]`.
         #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -35,6 +43,7 @@ pub enum Values {
 
 /// A named component with its admissible values and an optional unit for display.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Component {
     /// Name used in configs, reports and behavior strings (e.g. `speed`).
     pub name: String,
@@ -86,6 +95,66 @@ pub enum ComponentError {
     },
 }
 
+/// A range rule for one number of a numeric grid, shared by [`Component::validate`] and
+/// deserialization so both say the same thing.
+struct Rule {
+    field: &'static str,
+    allowed: &'static str,
+    holds: fn(f64) -> bool,
+}
+
+const MIN_RULE: Rule = Rule {
+    field: "min",
+    allowed: "a finite number",
+    holds: f64::is_finite,
+};
+
+const STEP_RULE: Rule = Rule {
+    field: "step",
+    allowed: "a finite number > 0",
+    holds: |step| step.is_finite() && step > 0.0,
+};
+
+fn deserialize_ruled<'de, D: Deserializer<'de>>(d: D, rule: &Rule) -> Result<f64, D::Error> {
+    let value = f64::deserialize(d)?;
+    if (rule.holds)(value) {
+        Ok(value)
+    } else {
+        Err(serde::de::Error::custom(format_args!(
+            "field `{}` must be {}, got {value}",
+            rule.field, rule.allowed
+        )))
+    }
+}
+
+fn deserialize_min<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    deserialize_ruled(d, &MIN_RULE)
+}
+
+fn deserialize_step<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    deserialize_ruled(d, &STEP_RULE)
+}
+
+fn deserialize_count<'de, D: Deserializer<'de>>(d: D) -> Result<u16, D::Error> {
+    let count = u16::deserialize(d)?;
+    if count == 0 {
+        return Err(serde::de::Error::custom(
+            "field `count` must be at least 1: a component needs a value",
+        ));
+    }
+    Ok(count)
+}
+
+fn deserialize_labels<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
+    let labels = Vec::<String>::deserialize(d)?;
+    if labels.is_empty() {
+        return Err(serde::de::Error::custom(
+            "field `labels` must name at least one value: a component needs a value",
+        ));
+    }
+    Ok(labels)
+}
+
 impl Component {
     /// A numeric grid component of `count` values starting at `min`, `step` apart.
     pub fn numeric(
@@ -126,21 +195,15 @@ impl Component {
                 if *count == 0 {
                     return Err(ComponentError::Empty(name()));
                 }
-                if !min.is_finite() {
-                    return Err(ComponentError::OutOfRange {
-                        name: name(),
-                        field: "min",
-                        allowed: "a finite number",
-                        value: *min,
-                    });
-                }
-                if !(step.is_finite() && *step > 0.0) {
-                    return Err(ComponentError::OutOfRange {
-                        name: name(),
-                        field: "step",
-                        allowed: "a finite number > 0",
-                        value: *step,
-                    });
+                for (rule, value) in [(&MIN_RULE, *min), (&STEP_RULE, *step)] {
+                    if !(rule.holds)(value) {
+                        return Err(ComponentError::OutOfRange {
+                            name: name(),
+                            field: rule.field,
+                            allowed: rule.allowed,
+                            value,
+                        });
+                    }
                 }
             }
             Values::Categorical { labels, similarity } => {
@@ -201,6 +264,12 @@ impl Component {
             Values::Numeric { min, step, .. } => min + f64::from(index) * step,
             Values::Categorical { .. } => f64::from(index),
         }
+    }
+
+    /// The numeric value at `index` rounded to 9 decimals, which removes binary noise such as
+    /// `0.30000000000000004` (categorical components give the index itself).
+    pub fn real_value(&self, index: u16) -> f64 {
+        (self.numeric_value(index) * 1e9).round() / 1e9
     }
 
     /// The index of the admissible value nearest to `value` within 1e-6 of a step,
@@ -304,12 +373,7 @@ pub struct ValueDisplay<'a> {
 impl fmt::Display for ValueDisplay<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.component.values {
-            Values::Numeric { .. } => {
-                // Round away binary noise such as 0.30000000000000004.
-                let value = self.component.numeric_value(self.index);
-                let rounded = (value * 1e9).round() / 1e9;
-                write!(f, "{rounded}")
-            }
+            Values::Numeric { .. } => write!(f, "{}", self.component.real_value(self.index)),
             Values::Categorical { labels, .. } => f.write_str(&labels[usize::from(self.index)]),
         }
     }
@@ -361,6 +425,45 @@ mod tests {
         assert_eq!(c.display_value(6).to_string(), "3.5");
         let padding = Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap();
         assert_eq!(padding.display_value(2).to_string(), "0.3");
+    }
+
+    #[test]
+    fn deserialization_checks_each_field_where_it_is_read() {
+        let read = |text: &str| ron::from_str::<Component>(text).unwrap_err();
+        let text = "(name: \"speed\", values: Numeric(min: 0.5, step: -0.5, count: 20))";
+        let e = read(text);
+        assert_eq!(
+            e.code.to_string(),
+            "field `step` must be a finite number > 0, got -0.5"
+        );
+        // The position is just past the offending value.
+        let past_value = text.find("step: -0.5").unwrap() + "step: -0.5".len() + 1;
+        assert_eq!((e.position.line, e.position.col), (1, past_value));
+        let e = read("(name: \"x\", values: Numeric(min: inf, step: 1.0, count: 2))");
+        assert!(
+            e.code
+                .to_string()
+                .starts_with("field `min` must be a finite number")
+        );
+        let e = read("(name: \"x\", values: Numeric(min: 0.0, step: 1.0, count: 0))");
+        assert!(
+            e.code
+                .to_string()
+                .starts_with("field `count` must be at least 1")
+        );
+        let e = read("(name: \"x\", values: Categorical(labels: []))");
+        assert!(
+            e.code
+                .to_string()
+                .starts_with("field `labels` must name at least one")
+        );
+        let e = read("(name: \"x\", colour: 1, values: Categorical(labels: [\"a\"]))");
+        assert!(e.code.to_string().contains("colour"));
+        let e = read("(name: \"x\", values: Numeric(min: 0.0, step: 1.0, count: 2, max: 3.0))");
+        assert!(e.code.to_string().contains("max"));
+        let ok: Component =
+            ron::from_str("(name: \"x\", values: Numeric(min: 0.0, step: 1.0, count: 2))").unwrap();
+        assert_eq!(ok.len(), 2);
     }
 
     #[test]

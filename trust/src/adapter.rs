@@ -50,7 +50,9 @@ impl SearchKind {
 pub struct AdapterConfig {
     /// The trust thresholds (paper: +5 / -5).
     pub thresholds: Thresholds,
-    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`; checked
+    /// when deserialized, so a parser reports the position of a bad value.
+    #[serde(deserialize_with = "crate::evaluated::deserialize_lambda")]
     pub lambda: f64,
     /// Reuse cases (Algorithm 1) before searching; `false` is the search strategy alone.
     pub reuse_cases: bool,

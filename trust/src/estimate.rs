@@ -151,9 +151,9 @@ impl Outcome {
     }
 }
 
-/// The two thresholds of the estimate.
+/// The two thresholds of the estimate. Deserialization checks them ([`Thresholds::validate`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "ThresholdsDefinition")]
 pub struct Thresholds {
     /// At or above this the behavior is trustworthy (`tau_T`, paper: +5).
     pub trustworthy: f64,
@@ -180,6 +180,27 @@ pub struct ThresholdError {
     pub trustworthy: f64,
     /// The untrustworthy threshold given.
     pub untrustworthy: f64,
+}
+
+/// The thresholds as written, before they are checked.
+#[derive(Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ThresholdsDefinition {
+    trustworthy: f64,
+    untrustworthy: f64,
+}
+
+impl TryFrom<ThresholdsDefinition> for Thresholds {
+    type Error = ThresholdError;
+
+    fn try_from(d: ThresholdsDefinition) -> Result<Self, ThresholdError> {
+        let thresholds = Self {
+            trustworthy: d.trustworthy,
+            untrustworthy: d.untrustworthy,
+        };
+        thresholds.validate()?;
+        Ok(thresholds)
+    }
 }
 
 impl Thresholds {
@@ -270,6 +291,17 @@ mod tests {
         }
         // 5 completions of weight 1: 5 >= 5.
         assert_eq!(good.verdict(&t), Verdict::Trustworthy);
+    }
+
+    #[test]
+    fn thresholds_are_checked_when_read() {
+        let e = ron::from_str::<Thresholds>("(trustworthy: -5.0, untrustworthy: 5.0)").unwrap_err();
+        assert!(e.code.to_string().contains("untrustworthy < trustworthy"));
+        assert!(
+            ron::from_str::<Thresholds>("(trustworthy: 5.0, untrustworthy: -5.0, x: 1)").is_err()
+        );
+        let t: Thresholds = ron::from_str("(trustworthy: 2.0, untrustworthy: -1.0)").unwrap();
+        assert_eq!(t.untrustworthy, -1.0);
     }
 
     #[test]

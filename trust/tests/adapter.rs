@@ -198,6 +198,15 @@ fn bad_configs_are_rejected() {
     reversed.thresholds.trustworthy = -5.0;
     reversed.thresholds.untrustworthy = 5.0;
     assert!(TrustAdapter::new(space, reversed, TrustCaseBase::new(), 0).is_err());
+    // Configs read from RON are checked as they are read, naming the field.
+    let e = ron::from_str::<AdapterConfig>("(lambda: 0.0)").unwrap_err();
+    assert!(
+        e.code
+            .to_string()
+            .starts_with("field `lambda`: lambda must be in (0, 1]")
+    );
+    let read: AdapterConfig = ron::from_str("(lambda: 1.0)").unwrap();
+    assert_eq!(read.lambda, 1.0);
 }
 
 fn arbitrary_case_base(space: Arc<BehaviorSpace>) -> impl Strategy<Value = TrustCaseBase> {

@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""A robot controller that drives `trustcbr serve` the way a real one would.
+
+Python standard library only. The controller owns a small simulated world: a wheeled
+robot crossing a 30 m route past obstacles for an operator who interrupts when the robot
+is too slow (a 15 s deadline), bumps into things (too little padding, or too fast to
+stop), or gets stuck (so much padding that no gap is wide enough). After every command it
+reports the outcome to the adapter and applies the behavior the reply names.
+
+    python3 examples/controller.py --server target/debug/trustcbr --cases cases.ron
+    trustcbr serve --domain movement --cases cases.ron --listen 127.0.0.1:7878 &
+    python3 examples/controller.py --connect 127.0.0.1:7878
+
+The protocol is documented in docs/protocol.md.
+"""
+
+import argparse
+import json
+import random
+import socket
+import subprocess
+import sys
+
+ROUTE_M = 30.0
+DEADLINE_S = 15.0
+
+
+class ProtocolError(Exception):
+    """The server answered a request with an error reply."""
+
+
+class Adapter:
+    """One JSON-lines conversation with the server: a request out, a reply back."""
+
+    def __init__(self, reader, writer, closer):
+        self._reader = reader
+        self._writer = writer
+        self._closer = closer
+
+    @classmethod
+    def spawn(cls, server, domain, cases, seed):
+        process = subprocess.Popen(
+            [server, "serve", "--domain", domain, "--cases", cases, "--seed", str(seed)],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+
+        def close():
+            process.stdin.close()
+            if process.wait() != 0:
+                raise ProtocolError(f"the server exited with status {process.returncode}")
+
+        return cls(process.stdout, process.stdin, close)
+
+    @classmethod
+    def connect(cls, address):
+        host, port = address.rsplit(":", 1)
+        sock = socket.create_connection((host, int(port)))
+        stream = sock.makefile("rw", encoding="utf-8", newline="\n")
+        return cls(stream, stream, sock.close)
+
+    def ask(self, request):
+        # allow_nan=False: JSON has no NaN, and the server would refuse the line anyway.
+        self._writer.write(json.dumps(request, allow_nan=False) + "\n")
+        self._writer.flush()
+        line = self._reader.readline()
+        if not line:
+            raise ProtocolError("the server closed the connection")
+        reply = json.loads(line)
+        if "error" in reply:
+            raise ProtocolError(f"{request} -> {reply['error']}")
+        return reply
+
+    def close(self):
+        self._closer()
+
+
+class World:
+    """The route, the robot and the operator watching it."""
+
+    def __init__(self, rng):
+        self.rng = rng
+
+    def run(self, behavior):
+        """Performs one command with `behavior`; returns the outcome to report."""
+        speed, padding = behavior["speed"], behavior["padding"]
+        duration = ROUTE_M / speed + self.rng.uniform(0.0, 2.0)
+        if padding > 1.5 and self.rng.random() < 0.9:
+            return failed("stuck", duration)
+        # Too little padding, or too fast to stop in time: collisions are likely.
+        collision = 0.8 if padding < 0.5 or speed > 6.0 else 0.03
+        if self.rng.random() < collision:
+            # The operator stops the robot at the collision, part way along the route.
+            return interrupted("collision", duration * self.rng.uniform(0.2, 0.9))
+        if duration > DEADLINE_S and self.rng.random() < 0.95:
+            return interrupted("deadline", DEADLINE_S)
+        return {"outcome": "completed", "weight": 1.0, "duration_s": round(duration, 3)}
+
+
+def interrupted(cause, duration):
+    return {"outcome": "interrupted", "weight": 1.0, "cause": cause, "duration_s": round(duration, 3)}
+
+
+def failed(cause, duration):
+    return {"outcome": "failed", "weight": 1.0, "cause": cause, "duration_s": round(duration, 3)}
+
+
+def plural(count, noun):
+    return f"{count} {noun}" if count == 1 else f"{count} {noun}s"
+
+
+def show(behavior):
+    return f"speed={behavior['speed']} m/s, padding={behavior['padding']} m"
+
+
+def episode(adapter, world, number):
+    """One operator, one adaptation episode; returns the settled reply."""
+    behavior = adapter.ask({"request": "begin"})["behavior"]
+    while True:
+        reply = adapter.ask(world.run(behavior))
+        if reply["ok"] == "switch":
+            behavior = reply["behavior"]
+        elif reply["ok"] == "settled":
+            retained = reply["retained"]
+            note = f", retained case #{retained}" if retained is not None else ""
+            print(
+                f"episode {number}: settled on {show(reply['behavior'])} after "
+                f"{plural(reply['behaviors_evaluated'], 'behavior')} and "
+                f"{plural(reply['commands'], 'command')} "
+                f"({reply['reused']} from cases, {reply['searched']} searched{note})"
+            )
+            return reply
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--server", default="trustcbr", help="the trustcbr binary to spawn")
+    parser.add_argument("--connect", metavar="HOST:PORT", help="talk to a running `serve --listen` instead")
+    parser.add_argument("--cases", default="cases.ron", help="the case base file (spawn mode)")
+    parser.add_argument("--episodes", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=1)
+    args = parser.parse_args()
+
+    if args.connect:
+        adapter = Adapter.connect(args.connect)
+    else:
+        adapter = Adapter.spawn(args.server, "movement", args.cases, args.seed)
+    world = World(random.Random(args.seed))
+    try:
+        start = adapter.ask({"request": "state"})
+        print(f"domain {start['domain']}: {start['cases']} cases at start")
+        settled = [episode(adapter, world, n + 1) for n in range(args.episodes)]
+        half = max(1, len(settled) // 2)
+        mean = lambda replies: sum(r["behaviors_evaluated"] for r in replies) / max(1, len(replies))
+        cases = adapter.ask({"request": "cases"})["cases"]
+        print(
+            f"episodes: {len(settled)}, trustworthy: {sum(r['trustworthy'] for r in settled)}, "
+            f"mean behaviors evaluated: first half {mean(settled[:half]):.2f}, "
+            f"second half {mean(settled[half:]):.2f}, cases: {len(cases)}"
+        )
+    except ProtocolError as e:
+        print(f"protocol error: {e}", file=sys.stderr)
+        return 1
+    finally:
+        adapter.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,308 @@
+//! The domain to serve: a behavior space and the adapter configuration.
+//!
+//! Either a built-in domain (`movement`, `patrol`: the paper's spaces with the paper's
+//! adapter defaults) or a RON file declaring a space, and optionally the adapter config,
+//! without writing Rust:
+//!
+//! ```ron
+//! (
+//!     space: (components: [
+//!         (name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 20)),
+//!         (name: "planner", values: Categorical(labels: ["astar", "rrt"])),
+//!     ]),
+//!     adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.95),
+//! )
+//! ```
+//!
+//! Every field is checked while it is read, so an error names the file, the line:column of
+//! the offending value, and the field, and shows the line.
+
+use cbr_core::BehaviorSpace;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use trust::AdapterConfig;
+
+/// A domain ready to serve.
+#[derive(Clone, Debug)]
+pub struct DomainDefinition {
+    /// How the domain was named (`movement`, `patrol` or the file path).
+    pub name: String,
+    /// The behavior space.
+    pub space: Arc<BehaviorSpace>,
+    /// The adapter configuration (the paper's defaults unless the file sets it).
+    pub adapter: AdapterConfig,
+}
+
+/// The layout of a domain file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DomainFile {
+    space: BehaviorSpace,
+    #[serde(default)]
+    adapter: AdapterConfig,
+}
+
+/// Why a domain could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum DomainError {
+    /// The name is neither a built-in domain nor an existing file.
+    #[error("`{0}` is neither a built-in domain (movement, patrol) nor an existing file")]
+    Unknown(String),
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file is not a valid domain.
+    #[error("{path}:{line}:{column}: {message}\n{excerpt}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong, naming the field.
+        message: String,
+        /// The offending line with a caret under the column.
+        excerpt: String,
+    },
+}
+
+impl DomainDefinition {
+    /// Resolves `movement`, `patrol`, or a path to a RON domain file.
+    pub fn resolve(name: &str) -> Result<Self, DomainError> {
+        let builtin = |space| Self {
+            name: name.to_owned(),
+            space,
+            adapter: AdapterConfig::default(),
+        };
+        match name {
+            "movement" => Ok(builtin(domains::spaces::movement_space())),
+            "patrol" => Ok(builtin(domains::spaces::patrol_space())),
+            path if !Path::new(path).exists() => Err(DomainError::Unknown(path.to_owned())),
+            path => Self::load(Path::new(path)),
+        }
+    }
+
+    /// Reads and checks a RON domain file.
+    pub fn load(path: &Path) -> Result<Self, DomainError> {
+        let text = std::fs::read_to_string(path).map_err(|source| DomainError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::from_ron(&text, path)
+    }
+
+    /// Parses a domain from RON text; `origin` names the source in errors.
+    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, DomainError> {
+        let file: DomainFile = ron::from_str(text).map_err(|e| DomainError::Parse {
+            path: origin.to_owned(),
+            line: e.position.line,
+            column: e.position.col,
+            // ron 0.8 writes "named `x`in `Outer`"; restore the space.
+            message: e.code.to_string().replace("`in `", "` in `"),
+            excerpt: excerpt(text, e.position.line, e.position.col),
+        })?;
+        Ok(Self {
+            name: origin.display().to_string(),
+            space: Arc::new(file.space),
+            adapter: file.adapter,
+        })
+    }
+}
+
+/// The 1-based `line` of `text` with a caret under the 1-based `column`.
+fn excerpt(text: &str, line: usize, column: usize) -> String {
+    let Some(source) = text.lines().nth(line.saturating_sub(1)) else {
+        return String::new();
+    };
+    let gutter = line.to_string();
+    let indent: String = source
+        .chars()
+        .take(column.saturating_sub(1))
+        .map(|c| if c == '\t' { '\t' } else { ' ' })
+        .collect();
+    format!(
+        "{gutter} | {source}\n{} | {indent}^",
+        " ".repeat(gutter.len())
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const GOOD: &str = r#"(
+    space: (components: [
+        (name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 20)),
+        (name: "planner", values: Categorical(labels: ["astar", "rrt"])),
+    ]),
+    adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.9),
+)"#;
+
+    /// The error for `GOOD` with `from` replaced by `to`: `(line, column, message, shown)`,
+    /// after checking that the error as shown starts with `robot.ron:line:column: message`.
+    fn error_after(from: &str, to: &str) -> (usize, usize, String, String) {
+        assert!(GOOD.contains(from), "{from}");
+        let text = GOOD.replacen(from, to, 1);
+        let error = DomainDefinition::from_ron(&text, Path::new("robot.ron")).unwrap_err();
+        let shown = error.to_string();
+        let DomainError::Parse {
+            line,
+            column,
+            message,
+            ..
+        } = error
+        else {
+            panic!("expected a parse error, got {shown}");
+        };
+        assert!(
+            shown.starts_with(&format!("robot.ron:{line}:{column}: {message}\n")),
+            "{shown}"
+        );
+        (line, column, message, shown)
+    }
+
+    #[test]
+    fn a_good_file_loads() {
+        let d = DomainDefinition::from_ron(GOOD, Path::new("robot.ron")).unwrap();
+        assert_eq!(d.space.size(), 40);
+        assert_eq!(d.adapter.thresholds.trustworthy, 3.0);
+        assert_eq!(d.adapter.lambda, 0.9);
+        // The adapter section is optional: the paper's defaults.
+        let without = GOOD.replace(
+            "adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.9),",
+            "",
+        );
+        let d = DomainDefinition::from_ron(&without, Path::new("robot.ron")).unwrap();
+        assert_eq!(d.adapter, AdapterConfig::default());
+    }
+
+    #[test]
+    fn syntax_error_gives_file_line_column_and_excerpt() {
+        let (line, column, _, shown) = error_after("step: 0.5", "step 0.5");
+        assert_eq!(line, 3);
+        assert!(column > 1);
+        assert!(
+            shown.starts_with(&format!("robot.ron:3:{column}: ")),
+            "{shown}"
+        );
+        assert!(shown.contains("3 |         (name: \"speed\""), "{shown}");
+    }
+
+    #[test]
+    fn unknown_field_is_named_where_it_is() {
+        let (line, _, message, _) = error_after("unit: \"m/s\"", "unit: \"m/s\", colour: \"red\"");
+        assert_eq!(line, 3);
+        assert!(message.contains("colour"), "{message}");
+        let (line, _, message, _) = error_after("lambda: 0.9", "lambda: 0.9, tau: 1");
+        assert_eq!(line, 6);
+        assert!(message.contains("tau"), "{message}");
+    }
+
+    #[test]
+    fn negative_step_is_named_at_its_value() {
+        let (line, column, message, _) = error_after("step: 0.5", "step: -0.5");
+        assert_eq!(
+            message,
+            "field `step` must be a finite number > 0, got -0.5"
+        );
+        let text = GOOD.lines().nth(2).unwrap();
+        // The column points just past the value.
+        assert_eq!(line, 3);
+        assert_eq!(
+            column,
+            text.find("step: 0.5").unwrap() + "step: -0.5".len() + 1
+        );
+    }
+
+    #[test]
+    fn lambda_outside_the_unit_interval_is_named() {
+        for bad in ["0.0", "1.5", "-0.2"] {
+            let (line, _, message, _) = error_after("lambda: 0.9", &format!("lambda: {bad}"));
+            assert_eq!(line, 6);
+            assert!(
+                message.starts_with("field `lambda`: lambda must be in (0, 1]"),
+                "{message}"
+            );
+        }
+    }
+
+    #[test]
+    fn reversed_thresholds_are_named() {
+        let (line, _, message, _) = error_after(
+            "trustworthy: 3.0, untrustworthy: -3.0",
+            "trustworthy: -3.0, untrustworthy: 3.0",
+        );
+        assert_eq!(line, 6);
+        assert!(message.contains("untrustworthy < trustworthy"), "{message}");
+    }
+
+    #[test]
+    fn empty_components_are_named() {
+        let (line, _, message, _) = error_after("count: 20", "count: 0");
+        assert_eq!(line, 3);
+        assert!(
+            message.starts_with("field `count` must be at least 1"),
+            "{message}"
+        );
+        let (line, _, message, _) = error_after(r#"labels: ["astar", "rrt"]"#, "labels: []");
+        assert_eq!(line, 4);
+        assert!(
+            message.starts_with("field `labels` must name at least one value"),
+            "{message}"
+        );
+        let (_, _, message, _) =
+            error_after(r#"labels: ["astar", "rrt"]"#, r#"labels: ["rrt", "rrt"]"#);
+        assert!(message.contains("label `rrt` appears twice"), "{message}");
+    }
+
+    #[test]
+    fn builtin_names_and_missing_files() {
+        assert_eq!(
+            DomainDefinition::resolve("movement").unwrap().space.size(),
+            400
+        );
+        assert_eq!(
+            DomainDefinition::resolve("patrol").unwrap().space.size(),
+            16_000
+        );
+        let err = DomainDefinition::resolve("/nonexistent/robot.ron").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "`/nonexistent/robot.ron` is neither a built-in domain (movement, patrol) nor an existing file"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let err = DomainDefinition::resolve(dir.path().to_str().unwrap()).unwrap_err();
+        assert!(matches!(err, DomainError::Io { .. }), "{err}");
+    }
+
+    proptest! {
+        #[test]
+        fn arbitrary_text_never_panics(text in any::<String>()) {
+            let _ = DomainDefinition::from_ron(&text, Path::new("x.ron"));
+        }
+
+        #[test]
+        fn arbitrary_files_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("x.ron");
+            std::fs::write(&path, &bytes).unwrap();
+            let _ = DomainDefinition::load(&path);
+        }
+
+        #[test]
+        fn mangled_good_files_never_panic(cut in 0..GOOD.len(), insert in "[(),:\\[\\]a-z0-9. -]{0,4}") {
+            let mut text = GOOD.to_owned();
+            let cut = (0..=cut).rev().find(|&i| text.is_char_boundary(i)).unwrap_or(0);
+            text.insert_str(cut, &insert);
+            let _ = DomainDefinition::from_ron(&text, Path::new("x.ron"));
+        }
+    }
+}

@@ -1,0 +1,339 @@
+//! Parsing one protocol line into a typed [`Request`].
+//!
+//! A line is a JSON object. An outcome report carries an `outcome` field; every other
+//! request names itself in a `request` field. Unknown fields, wrong types, unknown names
+//! and unusable numbers are refused with an error naming the field and what it allows.
+//! Parsing never looks at the adapter: it only says what was asked.
+
+use serde::de::DeserializeOwned;
+use serde_json::{Map, Value};
+use trust::estimate::OutcomeError;
+use trust::{Cause, Outcome, OutcomeKind};
+
+/// How a `begin` request names the first behavior.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BehaviorSpec {
+    /// `"speed=3.5,padding=0.4"`.
+    Text(String),
+    /// `{"speed": 3.5, "padding": 0.4}`: component name and value (a number or a label),
+    /// the value given as text.
+    Values(Vec<(String, String)>),
+}
+
+/// One request of the protocol.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Request {
+    /// Start an episode, with the given behavior or one the server draws.
+    Begin(Option<BehaviorSpec>),
+    /// The outcome of the last command.
+    Outcome(Outcome),
+    /// The adapter's current state.
+    State,
+    /// The case base.
+    Cases,
+    /// End the episode under way without retaining a case.
+    Abandon,
+    /// The behavior space and the adapter configuration.
+    Config,
+}
+
+/// The requests named by a `request` field, with the fields each allows besides it.
+const NAMED: &[(&str, &[&str])] = &[
+    ("begin", &["behavior"]),
+    ("state", &[]),
+    ("cases", &[]),
+    ("abandon", &[]),
+    ("config", &[]),
+];
+
+/// The fields of an outcome report.
+const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "cause", "duration_s"];
+
+/// Why a line is not a valid request.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RequestError {
+    /// The line is not JSON.
+    #[error("malformed JSON: {0}")]
+    Json(String),
+    /// The line is JSON but not an object.
+    #[error("a request must be a JSON object, got {0}")]
+    NotAnObject(&'static str),
+    /// Neither `request` nor `outcome` is present.
+    #[error(
+        "a request needs a `request` field (one of begin, state, cases, abandon, config) or, for an outcome report, an `outcome` field"
+    )]
+    NoKind,
+    /// The `request` field names no request.
+    #[error(
+        "field `request`: unknown request `{0}` (one of begin, state, cases, abandon, config; outcome reports have an `outcome` field instead)"
+    )]
+    UnknownRequest(String),
+    /// A field the request does not have.
+    #[error("unknown field `{field}` in {what} (allowed: {allowed})")]
+    UnknownField {
+        /// The field given.
+        field: String,
+        /// The kind of request.
+        what: String,
+        /// The fields it allows.
+        allowed: String,
+    },
+    /// A required field is absent.
+    #[error("missing field `{0}`")]
+    Missing(&'static str),
+    /// A field holds the wrong type or an unknown name.
+    #[error("field `{field}`: {message}")]
+    Field {
+        /// The field.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The outcome's numbers are unusable (negative weight or duration).
+    #[error("invalid outcome: {0}")]
+    Outcome(#[from] OutcomeError),
+}
+
+/// Parses one line (without its newline).
+pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
+    let value: Value = serde_json::from_slice(line).map_err(|e| json_error(line, &e))?;
+    let map = match value {
+        Value::Object(map) => map,
+        other => return Err(RequestError::NotAnObject(json_type(&other))),
+    };
+    if map.contains_key("request") {
+        parse_named(map)
+    } else if map.contains_key("outcome") {
+        parse_outcome(map)
+    } else {
+        Err(RequestError::NoKind)
+    }
+}
+
+fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
+    let mut fields = Fields(map);
+    let name: String = fields.require("request")?;
+    let Some(&(name, allowed)) = NAMED.iter().find(|(n, _)| *n == name) else {
+        return Err(RequestError::UnknownRequest(name));
+    };
+    fields.only(allowed, &format!("a `{name}` request"))?;
+    Ok(match name {
+        "begin" => Request::Begin(fields.take_behavior()?),
+        "state" => Request::State,
+        "cases" => Request::Cases,
+        "abandon" => Request::Abandon,
+        _ => Request::Config,
+    })
+}
+
+fn parse_outcome(map: Map<String, Value>) -> Result<Request, RequestError> {
+    let mut fields = Fields(map);
+    fields.only(OUTCOME_FIELDS, "an outcome report")?;
+    let outcome = Outcome {
+        kind: fields.require::<OutcomeKind>("outcome")?,
+        weight: fields.require("weight")?,
+        cause: fields.take::<Option<Cause>>("cause")?.flatten(),
+        duration_s: fields.require("duration_s")?,
+    };
+    outcome.validate()?;
+    Ok(Request::Outcome(outcome))
+}
+
+/// The fields of one request object, taken one by one.
+struct Fields(Map<String, Value>);
+
+impl Fields {
+    /// Refuses any field outside `allowed` (the `request` field is always allowed).
+    fn only(&self, allowed: &[&str], what: &str) -> Result<(), RequestError> {
+        match self
+            .0
+            .keys()
+            .find(|k| !allowed.contains(&k.as_str()) && k.as_str() != "request")
+        {
+            Some(field) => Err(RequestError::UnknownField {
+                field: field.clone(),
+                what: what.to_owned(),
+                allowed: if allowed.is_empty() {
+                    "none".to_owned()
+                } else {
+                    allowed.join(", ")
+                },
+            }),
+            None => Ok(()),
+        }
+    }
+
+    fn take<T: DeserializeOwned>(
+        &mut self,
+        field: &'static str,
+    ) -> Result<Option<T>, RequestError> {
+        self.0
+            .remove(field)
+            .map(|v| {
+                serde_json::from_value(v).map_err(|e| RequestError::Field {
+                    field: field.to_owned(),
+                    message: e.to_string(),
+                })
+            })
+            .transpose()
+    }
+
+    fn require<T: DeserializeOwned>(&mut self, field: &'static str) -> Result<T, RequestError> {
+        self.take(field)?.ok_or(RequestError::Missing(field))
+    }
+
+    fn take_behavior(&mut self) -> Result<Option<BehaviorSpec>, RequestError> {
+        let bad = |field: String, got: &Value| RequestError::Field {
+            field,
+            message: format!("expected a number or a label, got {}", json_type(got)),
+        };
+        match self.0.remove("behavior") {
+            None | Some(Value::Null) => Ok(None),
+            Some(Value::String(text)) => Ok(Some(BehaviorSpec::Text(text))),
+            Some(Value::Object(values)) => values
+                .into_iter()
+                .map(|(name, value)| match value {
+                    Value::Number(n) => Ok((name, n.to_string())),
+                    Value::String(s) => Ok((name, s)),
+                    other => Err(bad(format!("behavior.{name}"), &other)),
+                })
+                .collect::<Result<_, _>>()
+                .map(|values| Some(BehaviorSpec::Values(values))),
+            Some(other) => Err(RequestError::Field {
+                field: "behavior".to_owned(),
+                message: format!(
+                    "expected an object such as {{\"speed\": 3.5, \"padding\": 0.4}} or a string such as \"speed=3.5,padding=0.4\", got {}",
+                    json_type(&other)
+                ),
+            }),
+        }
+    }
+}
+
+fn json_error(line: &[u8], error: &serde_json::Error) -> RequestError {
+    let mut message = error.to_string();
+    // Python's json.dumps writes NaN and Infinity, which JSON does not have.
+    let text = String::from_utf8_lossy(line);
+    if ["NaN", "Infinity"].iter().any(|w| text.contains(w)) {
+        message.push_str(" (JSON has no NaN or Infinity: send finite numbers)");
+    }
+    RequestError::Json(message)
+}
+
+fn json_type(value: &Value) -> &'static str {
+    match value {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn err(line: &str) -> String {
+        parse_request(line.as_bytes()).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn the_issue_example_is_an_outcome() {
+        let r = parse_request(
+            br#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            r,
+            Request::Outcome(Outcome::interrupted(1.0, Cause::Collision, 10.0))
+        );
+        let r =
+            parse_request(br#"{"outcome":"completed","weight":0.5,"cause":null,"duration_s":3}"#)
+                .unwrap();
+        assert_eq!(r, Request::Outcome(Outcome::completed(0.5, 3.0)));
+    }
+
+    #[test]
+    fn named_requests() {
+        assert_eq!(
+            parse_request(br#"{"request":"state"}"#).unwrap(),
+            Request::State
+        );
+        assert_eq!(
+            parse_request(br#"{"request":"begin"}"#).unwrap(),
+            Request::Begin(None)
+        );
+        assert_eq!(
+            parse_request(br#"{"request":"begin","behavior":{"speed":3.5,"planner":"rrt"}}"#)
+                .unwrap(),
+            Request::Begin(Some(BehaviorSpec::Values(vec![
+                ("speed".into(), "3.5".into()),
+                ("planner".into(), "rrt".into()),
+            ])))
+        );
+    }
+
+    #[test]
+    fn hostile_lines_are_named() {
+        assert!(err(r#"{"outcome": "interr"#).starts_with("malformed JSON: EOF while parsing"));
+        assert!(err("[1,2]").contains("must be a JSON object, got an array"));
+        assert!(err(r#"{"weight": 1}"#).contains("needs a `request` field"));
+        assert!(err(r#"{"request": "fly"}"#).contains("unknown request `fly`"));
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":1,"duration_s":1,"colour":"red"}"#),
+            "unknown field `colour` in an outcome report (allowed: outcome, weight, cause, duration_s)"
+        );
+        assert_eq!(
+            err(r#"{"request":"state","verbose":true}"#),
+            "unknown field `verbose` in a `state` request (allowed: none)"
+        );
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":"heavy","duration_s":1}"#),
+            "field `weight`: invalid type: string \"heavy\", expected f64"
+        );
+        assert_eq!(
+            err(r#"{"outcome":"crashed","weight":1,"duration_s":1}"#),
+            "field `outcome`: unknown variant `crashed`, expected one of `completed`, `failed`, `interrupted`"
+        );
+        assert!(
+            err(r#"{"outcome":"failed","weight":1,"cause":"gremlins","duration_s":1}"#)
+                .starts_with("field `cause`: unknown variant `gremlins`, expected one of `deadline`, `collision`")
+        );
+        assert_eq!(
+            err(r#"{"outcome":"failed","weight":-1,"duration_s":1}"#),
+            "invalid outcome: weight must be a finite number >= 0, got -1"
+        );
+        assert!(
+            err(r#"{"outcome":"failed","weight":NaN,"duration_s":1}"#)
+                .contains("JSON has no NaN or Infinity")
+        );
+        assert_eq!(
+            err(r#"{"outcome":"failed","weight":1}"#),
+            "missing field `duration_s`"
+        );
+        assert!(
+            err(r#"{"request":"begin","behavior":[1]}"#)
+                .starts_with("field `behavior`: expected an object")
+        );
+        assert_eq!(
+            err(r#"{"request":"begin","behavior":{"speed":true}}"#),
+            "field `behavior.speed`: expected a number or a label, got a boolean"
+        );
+        assert!(err("\u{1F600}\u{0}").starts_with("malformed JSON"));
+    }
+
+    proptest! {
+        #[test]
+        fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
+            let _ = parse_request(&bytes);
+        }
+
+        #[test]
+        fn arbitrary_json_like_text_never_panics(text in r#"\{("(outcome|request|weight|cause|duration_s|behavior)":(-?[0-9.e]{1,6}|"[a-z-]{0,12}"|null|\[\]|\{\})[,}]?){0,5}"#) {
+            let _ = parse_request(text.as_bytes());
+        }
+    }
+}

@@ -1,0 +1,340 @@
+//! The request handler under hostile and ordinary input: every refused request gets an
+//! error reply naming the problem and leaves the state unchanged.
+
+use proptest::prelude::*;
+use serde_json::{Value, json};
+use service::{CaseStore, DomainDefinition, Session};
+use std::io::BufReader;
+use std::path::Path;
+use trust::TrustCaseBase;
+
+/// A movement session whose episodes settle after one command either way (thresholds
+/// +1 / -1), with its case file in `dir`.
+fn session(dir: &Path) -> Session {
+    let mut domain = DomainDefinition::resolve("movement").unwrap();
+    domain.adapter.thresholds.trustworthy = 1.0;
+    domain.adapter.thresholds.untrustworthy = -1.0;
+    let (store, cases) = CaseStore::open(&dir.join("cases.ron"), &domain.space).unwrap();
+    Session::new(domain, store, cases, 7).unwrap()
+}
+
+fn ask(s: &mut Session, line: &str) -> Value {
+    s.handle_line(line.as_bytes()).unwrap()
+}
+
+fn ok(s: &mut Session, line: &str) -> Value {
+    let reply = ask(s, line);
+    assert!(reply.get("ok").is_some(), "{line} -> {reply}");
+    reply
+}
+
+/// What a controller can observe: the state and the case base. (The server's draws are
+/// checked separately: a refused `begin` must not consume one.)
+fn snapshot(s: &mut Session) -> (Value, Value) {
+    (
+        ok(s, r#"{"request":"state"}"#),
+        ok(s, r#"{"request":"cases"}"#),
+    )
+}
+
+const INTERRUPTED: &str =
+    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#;
+const COMPLETED: &str = r#"{"outcome": "completed", "weight": 1.0, "duration_s": 8.0}"#;
+
+#[test]
+fn an_episode_over_the_protocol() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let begun = ok(
+        &mut s,
+        r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4}}"#,
+    );
+    assert_eq!(begun["behavior"], json!({"speed": 3.5, "padding": 0.4}));
+    assert_eq!(begun["chosen_by"], "controller");
+    // One interruption: -1 <= -1, switch by search to a behavior one change away.
+    let switched = ok(&mut s, INTERRUPTED);
+    assert_eq!(switched["ok"], "switch");
+    assert_eq!(switched["source"], "search");
+    let state = ok(&mut s, r#"{"request":"state"}"#);
+    assert_eq!(state["episode"]["behavior"], switched["behavior"]);
+    assert_eq!(
+        state["episode"]["evaluated"][0]["behavior"],
+        begun["behavior"]
+    );
+    assert_eq!(state["episode"]["evaluated"][0]["time"], 10.0);
+    // One completion: trustworthy; searched once, so the case is retained and saved.
+    assert!(!dir.path().join("cases.ron").exists());
+    let settled = ok(&mut s, COMPLETED);
+    assert_eq!(settled["ok"], "settled");
+    assert_eq!(settled["trustworthy"], true);
+    assert_eq!(settled["retained"], 0);
+    assert_eq!(settled["behaviors_evaluated"], 2);
+    let on_disk = TrustCaseBase::load_ron(&dir.path().join("cases.ron")).unwrap();
+    assert_eq!(&on_disk, s.adapter().cases());
+    let cases = ok(&mut s, r#"{"request":"cases"}"#);
+    assert_eq!(cases["cases"][0]["solution"], settled["behavior"]);
+    assert_eq!(ok(&mut s, r#"{"request":"state"}"#)["episode"], Value::Null);
+    // The server waits for the next begin; it may draw the behavior itself.
+    let begun = ok(&mut s, r#"{"request":"begin"}"#);
+    assert_eq!(begun["chosen_by"], "server");
+    let config = ok(&mut s, r#"{"request":"config"}"#);
+    assert_eq!(config["behaviors"], 400);
+    assert_eq!(config["adapter"]["thresholds"]["trustworthy"], 1.0);
+    let abandoned = ok(&mut s, r#"{"request":"abandon"}"#);
+    assert_eq!(abandoned["ok"], "abandoned");
+    assert_eq!(abandoned["retained"], Value::Null);
+}
+
+#[test]
+fn hostile_lines_get_named_errors_and_change_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    ok(
+        &mut s,
+        r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#,
+    );
+    // A half-weight completion leaves the trust at 0.5: the episode stays open with a
+    // non-trivial state for the refused requests to leave alone. Its 1e308 s leave no room
+    // for another such duration.
+    ok(
+        &mut s,
+        r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
+    );
+    let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+    let cases: [(&str, &str); 20] = [
+        (
+            r#"{"outcome": "interrupted", "weight": 1.0, "cau"#,
+            "malformed JSON",
+        ),
+        (
+            r#"{"outcome": "interrupted" "weight": 1.0}"#,
+            "malformed JSON",
+        ),
+        ("", "malformed JSON"),
+        ("\u{0}\u{7f}garbage", "malformed JSON"),
+        ("42", "must be a JSON object, got a number"),
+        (
+            r#"{"outcome":"completed","weight":1,"duration_s":1,"mood":"ok"}"#,
+            "unknown field `mood` in an outcome report",
+        ),
+        (
+            r#"{"request":"state","x":1}"#,
+            "unknown field `x` in a `state` request",
+        ),
+        (
+            r#"{"outcome":"completed","weight":"1","duration_s":1}"#,
+            "field `weight`: invalid type: string",
+        ),
+        (
+            r#"{"outcome":"completed","weight":1,"duration_s":[1]}"#,
+            "field `duration_s`: invalid type: sequence",
+        ),
+        (
+            r#"{"outcome":7,"weight":1,"duration_s":1}"#,
+            "field `outcome`: invalid type: integer",
+        ),
+        (
+            r#"{"outcome":"completed","weight":NaN,"duration_s":1}"#,
+            "JSON has no NaN",
+        ),
+        (
+            r#"{"outcome":"completed","weight":-0.5,"duration_s":1}"#,
+            "weight must be a finite number >= 0, got -0.5",
+        ),
+        (
+            r#"{"outcome":"failed","weight":1,"duration_s":-3}"#,
+            "duration_s must be a finite number >= 0",
+        ),
+        (
+            r#"{"outcome":"failed","weight":1e999,"duration_s":1}"#,
+            "malformed JSON: number out of range",
+        ),
+        (
+            r#"{"outcome":"failed","weight":1,"cause":"ghost","duration_s":1}"#,
+            "field `cause`: unknown variant `ghost`",
+        ),
+        (r#"{"request":"dance"}"#, "unknown request `dance`"),
+        (r#"{"request":"begin"}"#, "an episode is already under way"),
+        (r#"{"weight":1}"#, "needs a `request` field"),
+        (
+            r#"{"outcome":"completed","weight":0,"duration_s":1.7e308}"#,
+            "total time overflow",
+        ),
+        (&deep, "recursion limit exceeded"),
+    ];
+    for (line, expected) in cases {
+        let before = snapshot(&mut s);
+        let reply = ask(&mut s, line);
+        let error = reply["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("{line} -> {reply}"));
+        assert!(error.contains(expected), "{line} -> {error}");
+        assert_eq!(reply.as_object().unwrap().len(), 1, "{reply}");
+        assert_eq!(snapshot(&mut s), before, "{line} changed the state");
+    }
+}
+
+#[test]
+fn bad_behaviors_and_out_of_place_requests_change_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let cases = [
+        (INTERRUPTED, "no episode is under way"),
+        (r#"{"request":"abandon"}"#, "nothing to abandon"),
+        (
+            r#"{"request":"begin","behavior":{"speed":3.5}}"#,
+            "no value given for component `padding`",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4,"turbo":1}}"#,
+            "unknown component `turbo` (known: speed, padding)",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":30,"padding":0.4}}"#,
+            "`30` is not an admissible value of `speed` (0.5 to 10 in steps of 0.5)",
+        ),
+        (
+            r#"{"request":"begin","behavior":"speed:3.5"}"#,
+            "expected `name=value",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":null,"padding":0.4}}"#,
+            "field `behavior.speed`",
+        ),
+    ];
+    for (line, expected) in cases {
+        let before = snapshot(&mut s);
+        let reply = ask(&mut s, line);
+        let error = reply["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("{line} -> {reply}"));
+        assert!(error.contains(expected), "{line} -> {error}");
+        assert_eq!(snapshot(&mut s), before, "{line} changed the state");
+    }
+    // A refused begin does not consume the server's draw: a fresh session draws the same.
+    let drawn = ok(&mut s, r#"{"request":"begin"}"#)["behavior"].clone();
+    let dir2 = tempfile::tempdir().unwrap();
+    let mut fresh = session(dir2.path());
+    assert_eq!(ok(&mut fresh, r#"{"request":"begin"}"#)["behavior"], drawn);
+}
+
+#[test]
+fn a_failed_save_is_reported_and_stops_the_server() {
+    let dir = tempfile::tempdir().unwrap();
+    let gone = dir.path().join("gone");
+    std::fs::create_dir(&gone).unwrap();
+    let mut s = session(&gone);
+    // The directory disappears after start-up: the first retention cannot be saved.
+    std::fs::remove_dir(&gone).unwrap();
+    let input = [
+        r#"{"request":"begin"}"#,
+        INTERRUPTED,
+        COMPLETED,
+        r#"{"request":"state"}"#,
+    ]
+    .join("\n");
+    let mut output = Vec::new();
+    let err = service::transport::serve(&mut s, BufReader::new(input.as_bytes()), &mut output)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("case #0 was retained but could not be saved, so the server stops"),
+        "{err}"
+    );
+    let replies: Vec<Value> = output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    // begin, switch, then the error instead of `settled`; the `state` line is never read.
+    assert_eq!(replies.len(), 3);
+    assert_eq!(replies[1]["ok"], "switch");
+    assert!(
+        replies[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("could not be saved")
+    );
+}
+
+#[test]
+fn oversize_lines_are_refused_and_the_conversation_goes_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let mut input = Vec::new();
+    input.extend_from_slice(b"{\"request\":\"begin\",\"behavior\":\"speed=1,padding=1\"}\n");
+    input.extend_from_slice(b"{\"request\":\"state\"}\n");
+    let mut huge = b"{\"outcome\":\"completed\",\"weight\":1,\"duration_s\":1,\"pad\":\"".to_vec();
+    huge.resize(huge.len() + service::MAX_LINE_BYTES, b'x');
+    huge.extend_from_slice(b"\"}\n");
+    input.extend_from_slice(&huge);
+    input.extend_from_slice(b"{\"request\":\"state\"}\n");
+    let mut output = Vec::new();
+    service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
+    let replies: Vec<Value> = output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    assert_eq!(replies.len(), 4);
+    assert!(
+        replies[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("line too long")
+    );
+    assert!(
+        replies[2]["error"]
+            .as_str()
+            .unwrap()
+            .contains("65536 bytes")
+    );
+    assert_eq!(
+        replies[1], replies[3],
+        "the oversize line changed the state"
+    );
+}
+
+/// Lines a controller might send, right or wrong.
+fn any_line() -> impl Strategy<Value = Vec<u8>> {
+    prop_oneof![
+        Just(br#"{"request": "begin"}"#.to_vec()),
+        Just(br#"{"request": "state"}"#.to_vec()),
+        Just(br#"{"request": "abandon"}"#.to_vec()),
+        Just(INTERRUPTED.as_bytes().to_vec()),
+        Just(COMPLETED.as_bytes().to_vec()),
+        prop::collection::vec(
+            any::<u8>().prop_filter("no newline", |b| *b != b'\n'),
+            0..64
+        ),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Whatever arrives, every line gets exactly one reply, `ok` or `error`, and the server
+    /// goes on.
+    #[test]
+    fn every_line_gets_one_reply(lines in prop::collection::vec(any_line(), 0..40)) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = session(dir.path());
+        let mut input = Vec::new();
+        for line in &lines {
+            input.extend_from_slice(line);
+            input.push(b'\n');
+        }
+        let mut output = Vec::new();
+        service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
+        let replies: Vec<Value> = output
+            .split(|&b| b == b'\n')
+            .filter(|l| !l.is_empty())
+            .map(|l| serde_json::from_slice(l).unwrap())
+            .collect();
+        prop_assert_eq!(replies.len(), lines.len());
+        for reply in replies {
+            let object = reply.as_object().unwrap();
+            prop_assert!(object.contains_key("ok") != object.contains_key("error"));
+        }
+    }
+}

@@ -1,0 +1,70 @@
+//! End to end: `examples/controller.py` (Python standard library only) drives
+//! `trustcbr serve` like a robot controller, twice on the same case file.
+
+use std::path::Path;
+use std::process::Command;
+use trust::TrustCaseBase;
+
+fn python3_available() -> bool {
+    Command::new("python3")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+fn run_controller(cases: &Path, seed: u32) -> String {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/controller.py");
+    let output = Command::new("python3")
+        .arg(script)
+        .args(["--server", env!("CARGO_BIN_EXE_trustcbr"), "--cases"])
+        .arg(cases)
+        .args(["--episodes", "20", "--seed", &seed.to_string()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "the controller failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
+/// The number after `key` in `text`.
+fn number_after(text: &str, key: &str) -> usize {
+    let rest = &text[text
+        .find(key)
+        .unwrap_or_else(|| panic!("no `{key}` in\n{text}"))
+        + key.len()..];
+    rest.split(|c: char| !c.is_ascii_digit())
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn the_example_controller_drives_the_server() {
+    if !python3_available() {
+        eprintln!("SKIPPED: python3 is not installed, so examples/controller.py cannot run");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.ron");
+    let first = run_controller(&cases, 1);
+    assert!(
+        first.contains("domain movement: 0 cases at start"),
+        "{first}"
+    );
+    assert!(first.contains("episodes: 20, trustworthy: 20"), "{first}");
+    let learned = number_after(&first, ", cases: ");
+    assert!(learned > 0, "{first}");
+    assert_eq!(TrustCaseBase::load_ron(&cases).unwrap().len(), learned);
+    // A second mission starts from the case base the first one left.
+    let second = run_controller(&cases, 2);
+    assert!(
+        second.contains(&format!("domain movement: {learned} cases at start")),
+        "{second}"
+    );
+    assert!(number_after(&second, ", cases: ") >= learned);
+}

@@ -1,0 +1,185 @@
+//! `trustcbr serve` as a process: the loopback TCP mode, and the start-up errors a user can
+//! cause (bad domain file, corrupt case base, non-loopback address), each with a clear
+//! message and a non-zero exit, and no file modified.
+
+use serde_json::Value;
+use std::io::{BufRead, BufReader, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Output, Stdio};
+
+/// Kills the server when the test ends, even if it fails.
+struct Server(Child);
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.0.kill().ok();
+        self.0.wait().ok();
+    }
+}
+
+fn serve(args: &[&str], cases: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_trustcbr"));
+    command.arg("serve").args(args).arg("--cases").arg(cases);
+    command
+}
+
+fn failure(output: &Output) -> String {
+    assert!(
+        !output.status.success(),
+        "the server should have refused to start"
+    );
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn a_bad_domain_file_names_file_line_column_and_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("robot.ron");
+    let text = "(\n    space: (components: [\n        (name: \"speed\", values: Numeric(min: 0.5, step: -0.5, count: 20)),\n    ]),\n)\n";
+    std::fs::write(&domain, text).unwrap();
+    let cases = dir.path().join("cases.ron");
+    let output = serve(&["--domain", domain.to_str().unwrap()], &cases)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = failure(&output);
+    let column = text.lines().nth(2).unwrap().find("step: -0.5").unwrap() + "step: -0.5".len() + 1;
+    assert!(
+        stderr.contains(&format!(
+            "robot.ron:3:{column}: field `step` must be a finite number > 0, got -0.5"
+        )),
+        "{stderr}"
+    );
+    assert!(!cases.exists());
+}
+
+#[test]
+fn the_example_domain_file_is_served() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/domain.ron");
+    let mut child = serve(
+        &["--domain", domain.to_str().unwrap()],
+        &dir.path().join("c.ron"),
+    )
+    .stdin(Stdio::piped())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    let requests = concat!(
+        r#"{"request": "config"}"#,
+        "\n",
+        r#"{"request": "begin", "behavior": {"speed": 1.5, "padding": 0.3, "planner": "rrt"}}"#,
+        "\n",
+    );
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(requests.as_bytes())
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success());
+    let replies: Vec<Value> = output
+        .stdout
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    assert_eq!(replies[0]["behaviors"], 8 * 10 * 3);
+    assert_eq!(replies[0]["adapter"]["thresholds"]["trustworthy"], 3.0);
+    assert_eq!(
+        replies[1]["behavior"],
+        serde_json::json!({"speed": 1.5, "padding": 0.3, "planner": "rrt"})
+    );
+}
+
+#[test]
+fn a_corrupt_case_base_is_refused_and_left_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.ron");
+    let corrupt = b"(cases: [(problem: [(behavior: [1, 2], time: 3.0)], solution: [4, ";
+    std::fs::write(&cases, corrupt).unwrap();
+    let output = serve(&["--domain", "movement"], &cases)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = failure(&output);
+    assert!(
+        stderr.contains(&format!("{}:1:", cases.display())),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&cases).unwrap(), corrupt);
+}
+
+#[test]
+fn only_loopback_addresses_are_served() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = serve(
+        &["--domain", "movement", "--listen", "0.0.0.0:0"],
+        &dir.path().join("c.ron"),
+    )
+    .output()
+    .unwrap();
+    assert!(failure(&output).contains("only loopback addresses"));
+}
+
+#[test]
+fn the_tcp_mode_serves_one_controller_after_another() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut server = Server(
+        serve(
+            &["--domain", "movement", "--listen", "127.0.0.1:0"],
+            &dir.path().join("c.ron"),
+        )
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap(),
+    );
+    let mut log = BufReader::new(server.0.stderr.take().unwrap());
+    let addr = loop {
+        let mut line = String::new();
+        assert_ne!(
+            log.read_line(&mut line).unwrap(),
+            0,
+            "the server exited early"
+        );
+        if let Some(addr) = line.trim().strip_prefix("listening on ") {
+            break addr.to_owned();
+        }
+    };
+    let exchange = |requests: &[&str]| -> Vec<Value> {
+        let stream = TcpStream::connect(&addr).unwrap();
+        let mut writer = &stream;
+        let mut reader = BufReader::new(&stream);
+        requests
+            .iter()
+            .map(|r| {
+                writeln!(writer, "{r}").unwrap();
+                let mut line = String::new();
+                reader.read_line(&mut line).unwrap();
+                serde_json::from_str(&line).unwrap()
+            })
+            .collect()
+    };
+    let first = exchange(&[
+        r#"{"request": "begin", "behavior": {"speed": 2.0, "padding": 0.5}}"#,
+        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 9.0}"#,
+        "not json",
+    ]);
+    assert_eq!(first[0]["ok"], "begun");
+    assert_eq!(first[1]["ok"], "keep");
+    assert!(
+        first[2]["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("malformed JSON")
+    );
+    // A second connection finds the episode where the first left it.
+    let second = exchange(&[r#"{"request": "state"}"#]);
+    assert_eq!(second[0]["episode"]["trust"], 1.0);
+    assert_eq!(second[0]["episode"]["behavior"]["speed"], 2.0);
+}
