@@ -58,7 +58,10 @@ impl Walk<'_> {
     fn from(&mut self, component: usize, partial: Behavior, loss: f64) {
         let space = self.space;
         if component == space.components().len() {
-            if space.similarity(self.centre, &partial) > self.threshold {
+            // Well inside the bound the exact test cannot disagree (rounding is far below
+            // the slack); only the thin band around the boundary needs it.
+            let inside = loss < self.budget - 2.0 * BOUND_SLACK;
+            if inside || space.similarity(self.centre, &partial) > self.threshold {
                 (self.visit)(partial);
             }
             return;
@@ -66,10 +69,31 @@ impl Walk<'_> {
         let c = &space.components()[component];
         let share = space.weights()[component] / self.weight_sum;
         let here = self.centre.get(component);
-        for value in 0..c.len() as u16 {
-            let added = share * (1.0 - c.similarity(here, value));
-            if loss + added < self.budget {
-                self.from(component + 1, partial.with(component, value), loss + added);
+        let added = |value: u16| share * (1.0 - c.similarity(here, value));
+        let budget = self.budget;
+        let fits = |value: u16| loss + added(value) < budget;
+        // Numeric similarity falls with the index distance, so the values that fit form an
+        // interval around `here`; other components may fit anywhere.
+        let (low, high) = if c.is_numeric() {
+            let mut low = here;
+            while low > 0 && fits(low - 1) {
+                low -= 1;
+            }
+            let mut high = here;
+            while usize::from(high) + 1 < c.len() && fits(high + 1) {
+                high += 1;
+            }
+            (low, high)
+        } else {
+            (0, c.len() as u16 - 1)
+        };
+        for value in low..=high {
+            if fits(value) {
+                self.from(
+                    component + 1,
+                    partial.with(component, value),
+                    loss + added(value),
+                );
             }
         }
     }
