@@ -314,3 +314,19 @@ fn an_adapter_decides_alike_with_every_retriever() {
         assert_eq!(scripted_run(kind), reference, "{kind:?}");
     }
 }
+
+#[test]
+fn a_config_names_its_retriever() {
+    for (text, kind) in [
+        ("(retriever: linear)", RetrieverKind::Linear),
+        (
+            "(retriever: r#inverted-index)",
+            RetrieverKind::InvertedIndex,
+        ),
+        ("(retriever: r#parallel-scan)", RetrieverKind::ParallelScan),
+    ] {
+        let config: AdapterConfig = ron::from_str(text).unwrap();
+        assert_eq!(config.retriever, kind, "{text}");
+        assert_eq!(config.lambda, AdapterConfig::default().lambda);
+    }
+}
