@@ -5,6 +5,7 @@
 //! - `retrieval/<retriever>/<cases>`: one query (the workload cycles through every
 //!   adaptation of 12 fresh episodes);
 //! - `retrieval-build/<retriever>/<cases>`: telling a fresh retriever of every case;
+//! - `retrieval-lambda/<retriever>/<lambda>`: 10,000 cases under lower `lambda`s;
 //! - on stderr: the `|E_past|` distribution and each index's heap bytes per case.
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
@@ -89,5 +90,31 @@ fn retrieval(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, retrieval);
+/// Where the index stops paying: the same 10,000 cases and queries under lower `lambda`s,
+/// whose neighbourhoods are larger.
+fn lambda_sweep(c: &mut Criterion) {
+    let space = domains::spaces::patrol_space();
+    let base = benches::case_base(&space, 10_000, SEED);
+    let queries = benches::queries(&space, 12, SEED);
+    let mut group = c.benchmark_group("retrieval-lambda");
+    group.sampling_mode(SamplingMode::Flat);
+    group.sample_size(10);
+    for lambda in [0.95, 0.9, 0.8, 0.6] {
+        for kind in RetrieverKind::ALL {
+            let memory = TrustMemory::new(base.clone(), kind.build(space.clone(), lambda).unwrap());
+            let mut next = 0;
+            group.bench_function(BenchmarkId::new(memory.retriever_name(), lambda), |b| {
+                b.iter(|| {
+                    let q = &queries[next % queries.len()];
+                    next += 1;
+                    let exclude = |c: &TrustCase| q.iter().any(|e| e.behavior == c.solution);
+                    black_box(memory.retrieve(black_box(q), &exclude))
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, retrieval, lambda_sweep);
 criterion_main!(benches);
