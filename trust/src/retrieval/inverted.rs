@@ -57,8 +57,9 @@ impl<T> InvertedIndex<T> {
         }
     }
 
-    /// Bytes the index holds on the heap (the postings and their table), beyond the case
-    /// base itself.
+    /// About how many bytes the index holds on the heap beyond the case base itself: the
+    /// posting lists by capacity and the hash table by capacity (entry plus control byte).
+    /// A query also allocates, for its duration, 4 bytes per case and 32 per case reached.
     pub fn heap_bytes(&self) -> usize {
         let table = self.postings.capacity() * (size_of::<(u64, Vec<Posting>)>() + 1);
         let lists: usize = self
