@@ -2,14 +2,16 @@
 //!
 //! This crate names the concepts every CBR application here shares and nothing more:
 //! [`Component`]s and the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
-//! an append-only [`CaseBase`], [`Retriever`]s (with [`LinearRetriever`] as the reference)
-//! kept in step with the base by [`CaseMemory`], and [`Searcher`]s. It knows nothing of
-//! trust, robots or experiments; those live in the `trust` and `domains` crates.
+//! an append-only [`CaseBase`], similarity neighbourhoods of a behavior, [`Retriever`]s
+//! (with [`LinearRetriever`] as the reference) kept in step with the base by
+//! [`CaseMemory`], and [`Searcher`]s. It knows nothing of trust, robots or experiments;
+//! those live in the `trust` and `domains` crates.
 
 pub mod behavior;
 pub mod case;
 pub mod component;
 pub mod memory;
+pub mod neighbourhood;
 pub mod retrieve;
 pub mod search;
 pub mod similarity;

@@ -28,7 +28,7 @@ pub use adapter::{
 pub use domain::Domain;
 pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
-pub use retrieval::RetrieverKind;
+pub use retrieval::{InvertedIndex, ParallelScan, RetrieverKind};
 pub use select::{Selection, select_behavior};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};

@@ -1,14 +1,15 @@
 //! The reference vectors of `tests/data/paper-algorithms.json` (computed independently from
-//! the specification) against this crate's Algorithms 1 and 2 and random walk.
+//! the specification) against this crate's Algorithms 1 (through every retriever) and 2 and
+//! random walk.
 
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseBase, CaseMemory, Component, LinearRetriever};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseBase, CaseMemory, Component};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 use std::collections::HashSet;
 use std::sync::Arc;
 use trust::search::{RandomWalk, longest_resisting};
-use trust::{Evaluated, Selection, SetSimilarity, select_behavior};
+use trust::{Evaluated, RetrieverKind, Selection, SetSimilarity, select_behavior};
 
 #[derive(Deserialize)]
 struct Vectors {
@@ -153,18 +154,22 @@ fn algorithm_1_matches_every_vector() {
                 }
             }
         }
-        let memory = CaseMemory::new(base, Box::new(LinearRetriever::new(measure)));
-        let mut walk = RandomWalk::new();
-        let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
-        let selection = select_behavior(&e_past, Some(&memory), &mut walk, &space, &mut rng);
-        match (selection, v.selected_case) {
-            (Selection::Reuse { case, behavior, .. }, Some(expected)) => {
-                assert_eq!(case.index(), expected, "select_behavior[{i}]");
-                assert_eq!(behavior, memory.base().cases()[expected].solution);
-            }
-            (Selection::Search(_), None) => {}
-            (got, expected) => {
-                panic!("select_behavior[{i}]: got {got:?}, expected case {expected:?}")
+        // Every retriever a config can name gives the same selection.
+        for kind in RetrieverKind::ALL {
+            let retriever = kind.build(space.clone(), 0.95).unwrap();
+            let memory = CaseMemory::new(base.clone(), retriever);
+            let mut walk = RandomWalk::new();
+            let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
+            let selection = select_behavior(&e_past, Some(&memory), &mut walk, &space, &mut rng);
+            match (selection, v.selected_case) {
+                (Selection::Reuse { case, behavior, .. }, Some(expected)) => {
+                    assert_eq!(case.index(), expected, "select_behavior[{i}] {kind:?}");
+                    assert_eq!(behavior, memory.base().cases()[expected].solution);
+                }
+                (Selection::Search(_), None) => {}
+                (got, expected) => {
+                    panic!("select_behavior[{i}] {kind:?}: got {got:?}, expected case {expected:?}")
+                }
             }
         }
     }

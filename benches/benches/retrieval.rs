@@ -1,0 +1,120 @@
+//! Retrieval indices on the same workload: Algorithm 1's query (with its exclusion of final
+//! behaviors already evaluated) over synthetic patrol case bases of 100 to 100,000 cases
+//! (`benches::case_base`), for every `RetrieverKind`.
+//!
+//! - `retrieval/<retriever>/<cases>`: one query (the workload cycles through every
+//!   adaptation of 12 fresh episodes);
+//! - `retrieval-build/<retriever>/<cases>`: telling a fresh retriever of every case;
+//! - `retrieval-lambda/<retriever>/<lambda>`: 10,000 cases under lower `lambda`s;
+//! - on stderr: the `|E_past|` distribution and each index's heap bytes per case.
+#![allow(missing_docs)] // criterion's macros generate undocumented items
+
+use criterion::{BatchSize, BenchmarkId, Criterion, SamplingMode, criterion_group, criterion_main};
+use std::hint::black_box;
+use trust::{InvertedIndex, RetrieverKind, SetSimilarity, TrustCase, TrustCaseBase, TrustMemory};
+
+const SIZES: [usize; 4] = [100, 1_000, 10_000, 100_000];
+const LAMBDA: f64 = 0.95;
+const SEED: u64 = 2014;
+
+fn prefix(base: &TrustCaseBase, n: usize) -> TrustCaseBase {
+    let mut out = TrustCaseBase::new();
+    for case in &base.cases()[..n] {
+        out.push(case.clone());
+    }
+    out
+}
+
+fn retrieval(c: &mut Criterion) {
+    let space = domains::spaces::patrol_space();
+    let largest = SIZES[SIZES.len() - 1];
+    let all = benches::case_base(&space, largest, SEED);
+    let queries = benches::queries(&space, 12, SEED);
+    let stats = benches::length_stats(&all);
+    eprintln!(
+        "|E_past| over {largest} cases: mean {:.1}, median {}, p90 {}, p99 {}, max {}; {} queries, mean length {:.1}",
+        stats.mean,
+        stats.median,
+        stats.p90,
+        stats.p99,
+        stats.max,
+        queries.len(),
+        queries.iter().map(Vec::len).sum::<usize>() as f64 / queries.len() as f64,
+    );
+
+    let mut query = c.benchmark_group("retrieval");
+    query.sampling_mode(SamplingMode::Flat);
+    for &n in &SIZES {
+        let base = prefix(&all, n);
+        let measure = SetSimilarity::new(space.clone(), LAMBDA).unwrap();
+        let mut index = InvertedIndex::new(measure);
+        for (id, case) in base.iter() {
+            cbr_core::Retriever::retain(&mut index, id, case);
+        }
+        eprintln!(
+            "inverted-index over {n} cases: {:.0} heap bytes per case",
+            index.heap_bytes() as f64 / n as f64
+        );
+        for kind in RetrieverKind::ALL {
+            let memory = TrustMemory::new(base.clone(), kind.build(space.clone(), LAMBDA).unwrap());
+            // The 100,000-case scans take a good fraction of a second per query.
+            query.sample_size(if n >= 100_000 { 10 } else { 30 });
+            let mut next = 0;
+            query.bench_function(BenchmarkId::new(memory.retriever_name(), n), |b| {
+                b.iter(|| {
+                    let q = &queries[next % queries.len()];
+                    next += 1;
+                    let exclude = |c: &TrustCase| q.iter().any(|e| e.behavior == c.solution);
+                    black_box(memory.retrieve(black_box(q), &exclude))
+                })
+            });
+        }
+    }
+    query.finish();
+
+    let mut group = c.benchmark_group("retrieval-build");
+    group.sample_size(10);
+    for &n in &SIZES {
+        let base = prefix(&all, n);
+        for kind in RetrieverKind::ALL {
+            let name = kind.build(space.clone(), LAMBDA).unwrap().name().to_owned();
+            group.bench_function(BenchmarkId::new(name, n), |b| {
+                b.iter_batched(
+                    || base.clone(),
+                    |base| TrustMemory::new(base, kind.build(space.clone(), LAMBDA).unwrap()),
+                    BatchSize::LargeInput,
+                )
+            });
+        }
+    }
+    group.finish();
+}
+
+/// Where the index stops paying: the same 10,000 cases and queries under lower `lambda`s,
+/// whose neighbourhoods are larger.
+fn lambda_sweep(c: &mut Criterion) {
+    let space = domains::spaces::patrol_space();
+    let base = benches::case_base(&space, 10_000, SEED);
+    let queries = benches::queries(&space, 12, SEED);
+    let mut group = c.benchmark_group("retrieval-lambda");
+    group.sampling_mode(SamplingMode::Flat);
+    group.sample_size(10);
+    for lambda in [0.95, 0.9, 0.8, 0.6] {
+        for kind in RetrieverKind::ALL {
+            let memory = TrustMemory::new(base.clone(), kind.build(space.clone(), lambda).unwrap());
+            let mut next = 0;
+            group.bench_function(BenchmarkId::new(memory.retriever_name(), lambda), |b| {
+                b.iter(|| {
+                    let q = &queries[next % queries.len()];
+                    next += 1;
+                    let exclude = |c: &TrustCase| q.iter().any(|e| e.behavior == c.solution);
+                    black_box(memory.retrieve(black_box(q), &exclude))
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, retrieval, lambda_sweep);
+criterion_main!(benches);
