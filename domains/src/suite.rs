@@ -325,7 +325,13 @@ mod tests {
                 "patrol/random",
             ]
         );
-        assert_eq!(config.adapter, AdapterConfig::default());
+        assert_eq!(
+            config.adapter,
+            AdapterConfig {
+                retriever: trust::RetrieverKind::InvertedIndex,
+                ..AdapterConfig::default()
+            }
+        );
     }
 
     #[test]
