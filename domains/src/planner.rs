@@ -16,46 +16,6 @@ const SLACK: f64 = 1e-7;
 /// enough that a corner or a cone is never stepped over.
 pub const SAMPLE_SPACING: f64 = 0.25;
 
-/// An obstacle outline with its bounding box, for quick rejections.
-struct Boxed<'a> {
-    shape: &'a Shape,
-    min: Vec2,
-    max: Vec2,
-}
-
-impl<'a> Boxed<'a> {
-    fn new(shape: &'a Shape) -> Self {
-        let (min, max) = match shape {
-            Shape::Circle { center, radius } => (
-                *center - Vec2::new(*radius, *radius),
-                *center + Vec2::new(*radius, *radius),
-            ),
-            Shape::Polygon(v) => v.iter().fold(
-                (
-                    Vec2::new(f64::INFINITY, f64::INFINITY),
-                    Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-                ),
-                |(lo, hi), p| {
-                    (
-                        Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                        Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
-                    )
-                },
-            ),
-        };
-        Self { shape, min, max }
-    }
-
-    /// Whether segment `a`-`b` keeps at least `clearance` from the shape.
-    fn segment_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
-        let far = a.x.max(b.x) < self.min.x - clearance
-            || a.x.min(b.x) > self.max.x + clearance
-            || a.y.max(b.y) < self.min.y - clearance
-            || a.y.min(b.y) > self.max.y + clearance;
-        far || self.shape.distance_to_segment(a, b) >= clearance - SLACK
-    }
-}
-
 /// A search problem: a map edge, obstacles and the clearance the robot's centre keeps.
 pub struct Problem<'a> {
     /// Upper-right corner of the map (the lower-left is the origin).
@@ -82,13 +42,17 @@ impl Problem<'_> {
     /// there is no way through.
     pub fn shortest_path(&self, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
         let c = self.clearance;
-        let boxed: Vec<Boxed> = self.obstacles.iter().map(|s| Boxed::new(s)).collect();
+        let clear = |a: Vec2, b: Vec2| {
+            self.obstacles
+                .iter()
+                .all(|o| o.keeps_clear(a, b, c - SLACK))
+        };
         let point_clear = |p: Vec2| {
             p.x >= c - SLACK
                 && p.y >= c - SLACK
                 && p.x <= self.size.x - c + SLACK
                 && p.y <= self.size.y - c + SLACK
-                && boxed.iter().all(|b| b.segment_clear(p, p, c))
+                && clear(p, p)
         };
         if !point_clear(start) || !point_clear(goal) {
             return None;
@@ -105,7 +69,7 @@ impl Problem<'_> {
         for i in 0..nodes.len() {
             for j in i + 1..nodes.len() {
                 let (a, b) = (nodes[i], nodes[j]);
-                if boxed.iter().all(|o| o.segment_clear(a, b, c)) {
+                if clear(a, b) {
                     graph.add_edge(ids[i], ids[j], a.dist(b));
                 }
             }
