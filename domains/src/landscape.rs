@@ -169,8 +169,8 @@ impl Landscape {
         let (cx, cy) = (&space.components()[x], &space.components()[y]);
         let (nx, ny) = (cx.len(), cy.len());
         let cell = 34.0;
-        let (left, top) = (70.0, 60.0);
-        let width = left + nx as f64 * cell + 110.0;
+        let (left, top) = (70.0, 80.0);
+        let width = (left + nx as f64 * cell + 110.0).max(600.0);
         let height = top + ny as f64 * cell + 60.0;
         let mut svg = Svg::new(width, height);
         svg.text(left, 25.0, 14.0, title, r##"font-weight="bold""##);
@@ -215,7 +215,7 @@ impl Landscape {
         let axis_x = format!("{} ({})", cx.name, cx.unit);
         svg.text(left, top + ny as f64 * cell + 34.0, 12.0, &axis_x, "");
         let axis_y = format!("{} ({})", cy.name, cy.unit);
-        svg.text(5.0, top - 8.0, 12.0, &axis_y, "");
+        svg.text(5.0, top - 10.0, 12.0, &axis_y, "");
         // Colour bar.
         let bar_x = left + nx as f64 * cell + 30.0;
         for k in 0..=10 {

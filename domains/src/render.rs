@@ -20,7 +20,7 @@ const MARGIN: f64 = 20.0;
 /// Height of the title band above the map (px).
 const HEADER: f64 = 70.0;
 /// Height of the legend below the map (px).
-const FOOTER: f64 = 40.0;
+const FOOTER: f64 = 50.0;
 
 /// Simulates the run of `behavior` with `seed` exactly as [`Domain::run`] does with a
 /// `ChaCha8Rng` seeded from `seed`, and draws it.
@@ -232,10 +232,14 @@ fn draw(
         ),
         "",
     );
-    let legend = "dashed blue: planned path | black: driven path | red x: collision | \
-                  dots: objects (red explosive, green harmless; text: truth/label) | purple: people (dashed: absent)";
-    c.svg
-        .text(MARGIN, height - 15.0, 11.0, legend, r##"fill="#333""##);
+    let legend = [
+        "dashed blue: planned path | black: driven path (the whole simulated drive) | red x: collision",
+        "dots: objects (red explosive, green harmless; text: truth/label) | purple: people (dashed: absent)",
+    ];
+    for (k, line) in legend.iter().enumerate() {
+        let y = height - 30.0 + 15.0 * k as f64;
+        c.svg.text(MARGIN, y, 11.0, line, r##"fill="#333""##);
+    }
     c.svg.finish()
 }
 
