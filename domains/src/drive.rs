@@ -3,7 +3,8 @@
 //!
 //! The cross-track error is an Ornstein-Uhlenbeck process in arc length: correlated over
 //! [`Robot::error_correlation`] metres, with a spread that grows with speed
-//! ([`Robot::cross_track_sd`]). It is sampled exactly at the plan's clearance samples; where
+//! ([`Robot::cross_track_sd`]). It is drawn exactly (the OU transition over any distance)
+//! at the plan's clearance samples that are close enough to an obstacle to matter; where
 //! it exceeds the gap to an obstacle the robot touches it, stops, backs off and goes on
 //! (losing [`Robot::collision_pause`] plus the time to brake and accelerate again).
 

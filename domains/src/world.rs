@@ -124,7 +124,7 @@ pub struct World {
     pub landmarks: Vec<Landmark>,
     /// Obstacles that are always there.
     pub obstacles: Vec<Obstacle>,
-    /// Places where people may stand.
+    /// Places where people may stand; at most 32, since a `u32` says which are occupied.
     pub humans: Vec<HumanSpot>,
     /// The robot.
     pub robot: Robot,
