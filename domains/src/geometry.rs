@@ -68,6 +68,11 @@ impl Mul<f64> for Vec2 {
     }
 }
 
+/// Whether `p` lies in the map `[0, size.x] x [0, size.y]` at least `margin` from its edge.
+pub fn within(p: Vec2, size: Vec2, margin: f64) -> bool {
+    p.x >= margin && p.y >= margin && p.x <= size.x - margin && p.y <= size.y - margin
+}
+
 /// The point of segment `a`-`b` nearest to `p`.
 pub fn closest_on_segment(p: Vec2, a: Vec2, b: Vec2) -> Vec2 {
     let ab = b - a;

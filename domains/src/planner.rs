@@ -5,7 +5,7 @@
 //! A path exists or not; when it does not, the robot is stuck. The planner knows nothing
 //! of speeds or operators.
 
-use crate::geometry::{Shape, Vec2};
+use crate::geometry::{Shape, Vec2, within};
 use petgraph::graph::{NodeIndex, UnGraph};
 
 /// Tolerance for "at least the clearance" comparisons (m): grown corners sit exactly at the
@@ -46,8 +46,7 @@ impl Problem<'_> {
     /// `None` when a fixed obstacle or the map edge does.
     fn blockers(&self, a: Vec2, b: Vec2) -> Option<u32> {
         let c = self.clearance - SLACK;
-        let inside =
-            |p: Vec2| p.x >= c && p.y >= c && p.x <= self.size.x - c && p.y <= self.size.y - c;
+        let inside = |p: Vec2| within(p, self.size, c);
         if !(inside(a) && inside(b) && self.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
             return None;
         }

@@ -245,6 +245,6 @@ impl World {
 
     /// Whether `p` is inside the map with `margin` to spare from its edge.
     pub fn inside(&self, p: Vec2, margin: f64) -> bool {
-        p.x >= margin && p.y >= margin && p.x <= self.size.x - margin && p.y <= self.size.y - margin
+        crate::geometry::within(p, self.size, margin)
     }
 }
