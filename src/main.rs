@@ -91,13 +91,7 @@ fn main() -> Result<()> {
             let domain = UgvDomain::new(scenario);
             let operator = find_operator(scenario, &operator)?;
             let space = domain.space();
-            let (a, b) = components
-                .split_once(',')
-                .context("--components takes two names, e.g. speed,padding")?;
-            let (x, y) = (
-                landscape::component(space, a.trim())?,
-                landscape::component(space, b.trim())?,
-            );
+            let (x, y) = landscape::axes(space, &components)?;
             let estimate = landscape::estimate(&domain, &operator, runs, seed);
             let title = format!(
                 "{scenario}, operator {}, {runs} runs per behavior",

@@ -54,6 +54,9 @@ pub enum LandscapeError {
         /// The names available.
         known: String,
     },
+    /// The axes are not given as two names separated by a comma.
+    #[error("expected two component names separated by a comma (e.g. `speed,padding`), got `{0}`")]
+    Axes(String),
     /// The two axes are the same component.
     #[error("the heatmap needs two different components, got `{0}` twice")]
     SameComponent(String),
@@ -101,6 +104,18 @@ pub fn component(space: &BehaviorSpace, name: &str) -> Result<usize, LandscapeEr
                 .collect::<Vec<_>>()
                 .join(", "),
         })
+}
+
+/// The heatmap's two components from `"a,b"`: both known, and different.
+pub fn axes(space: &BehaviorSpace, names: &str) -> Result<(usize, usize), LandscapeError> {
+    let (a, b) = names
+        .split_once(',')
+        .ok_or_else(|| LandscapeError::Axes(names.to_owned()))?;
+    let (x, y) = (component(space, a.trim())?, component(space, b.trim())?);
+    if x == y {
+        return Err(LandscapeError::SameComponent(a.trim().to_owned()));
+    }
+    Ok((x, y))
 }
 
 impl Landscape {
@@ -300,5 +315,8 @@ mod tests {
         assert_eq!(svg.matches("<rect").count(), 1 + 400 + 11);
         assert!(a.heatmap_svg(space, 1, 1, "t").is_err());
         assert!(component(space, "scan_time").is_err());
+        assert_eq!(axes(space, "padding, speed"), Ok((1, 0)));
+        assert!(axes(space, "speed").is_err());
+        assert!(axes(space, "speed,speed").is_err());
     }
 }
