@@ -19,6 +19,8 @@ const SCALE: f64 = 10.0;
 const MARGIN: f64 = 20.0;
 /// Height of the title band above the map (px).
 const HEADER: f64 = 70.0;
+/// Room right of the map for the labels of objects near its east edge (px).
+const LABEL_ROOM: f64 = 140.0;
 /// Height of the legend below the map (px).
 const FOOTER: f64 = 50.0;
 
@@ -106,7 +108,7 @@ fn draw(
     operator: &str,
 ) -> String {
     let world = domain.world();
-    let width = world.size.x * SCALE + 2.0 * MARGIN;
+    let width = world.size.x * SCALE + 2.0 * MARGIN + LABEL_ROOM;
     let height = world.size.y * SCALE + HEADER + FOOTER;
     let mut c = Canvas {
         svg: Svg::new(width, height),
@@ -170,10 +172,17 @@ fn draw(
         };
         let (x, y) = c.at(fate.object.at);
         if let Some(from) = fate.scanned_from {
+            let (fx, fy) = c.at(from);
             c.svg.line(
-                c.at(from),
+                (fx, fy),
                 (x, y),
                 r##"stroke="#555" stroke-dasharray="2,2""##,
+            );
+            c.svg.circle(
+                fx,
+                fy,
+                2.5,
+                r##"fill="none" stroke="#111" stroke-width="1""##,
             );
         }
         c.svg
@@ -234,7 +243,7 @@ fn draw(
     );
     let legend = [
         "dashed blue: planned path | black: driven path (the whole simulated drive) | red x: collision",
-        "dots: objects (red explosive, green harmless; text: truth/label) | purple: people (dashed: absent)",
+        "dots: objects (red explosive, green harmless; text: truth/label), ring: where it was scanned from | purple: people (dashed: absent)",
     ];
     for (k, line) in legend.iter().enumerate() {
         let y = height - 30.0 + 15.0 * k as f64;
