@@ -4,7 +4,10 @@
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
-use domains::{SuiteConfig, run_suite, suite_table, write_suite_report};
+use domains::{
+    Scenario, SuiteConfig, UgvDomain, find_operator, landscape, run_suite, suite_table,
+    write_suite_report,
+};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{CaseStore, DomainDefinition, Session, transport};
 use std::io::Write;
@@ -13,6 +16,7 @@ use std::num::{NonZeroU32, NonZeroUsize};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
+use trust::Domain;
 
 /// Trust-guided behavior adaptation with case-based reasoning.
 #[derive(Parser)]
@@ -35,8 +39,55 @@ enum Command {
     },
     /// Print the embedded config of the paper's experiments.
     Config,
+    /// Simulate one run and draw it as SVG.
+    Render(RenderArgs),
+    /// Estimate, for every behavior, how often an operator lets a run complete; write
+    /// `landscape.svg` (heatmap) and `landscape.csv`.
+    Landscape(LandscapeArgs),
     /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
     Serve(ServeArgs),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// `movement` or `patrol`.
+    #[arg(long)]
+    scenario: Scenario,
+    /// The behavior, e.g. `speed=3.5,padding=0.4` (patrol adds `scan_time`, `scan_distance`).
+    #[arg(long)]
+    behavior: String,
+    /// Seed of the run.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Operator judging the run: a built-in name or a RON file (default: the first
+    /// built-in operator of the scenario).
+    #[arg(long)]
+    operator: Option<String>,
+    /// Output SVG file.
+    #[arg(short = 'o', long, default_value = "run.svg")]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct LandscapeArgs {
+    /// `movement` or `patrol`.
+    #[arg(long)]
+    scenario: Scenario,
+    /// Operator: a built-in name or a RON file.
+    #[arg(long)]
+    operator: String,
+    /// Runs per behavior.
+    #[arg(long, default_value_t = 100)]
+    runs: u32,
+    /// The two components of the heatmap, across then up.
+    #[arg(long, default_value = "speed,padding")]
+    components: String,
+    /// Master seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output directory.
+    #[arg(long, default_value = ".")]
+    out: PathBuf,
 }
 
 /// Options shared by `reproduce` and `run`.
@@ -87,6 +138,8 @@ fn main() -> ExitCode {
             print!("{PAPER_CONFIG}");
             Ok(())
         }
+        Command::Render(args) => render(&args),
+        Command::Landscape(args) => landscape(&args),
         Command::Serve(args) => serve(&args),
     };
     match result {
@@ -172,6 +225,45 @@ fn serve(args: &ServeArgs) -> anyhow::Result<()> {
             std::io::stderr().flush().ok();
             transport::serve_tcp(&mut session, &listener, &mut |m| eprintln!("{m}"))?;
         }
+    }
+    Ok(())
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let domain = UgvDomain::new(args.scenario);
+    let behavior = domain.space().parse(&args.behavior)?;
+    let operator = match &args.operator {
+        Some(name) => find_operator(args.scenario, name)?,
+        None => domains::builtin_operators(args.scenario).remove(0),
+    };
+    let svg = domains::render_run(&domain, &behavior, &operator, args.seed);
+    cbr_core::write_atomically(&args.output, svg.as_bytes())
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    println!("wrote {}", args.output.display());
+    Ok(())
+}
+
+fn landscape(args: &LandscapeArgs) -> Result<()> {
+    let domain = UgvDomain::new(args.scenario);
+    let operator = find_operator(args.scenario, &args.operator)?;
+    let space = domain.space();
+    let (x, y) = landscape::axes(space, &args.components)?;
+    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed);
+    let title = format!(
+        "{}, operator {}, {} runs per behavior",
+        args.scenario, operator.name, args.runs
+    );
+    let svg = estimate.heatmap_svg(space, x, y, &title)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    for (name, bytes) in [
+        ("landscape.svg", svg.into_bytes()),
+        ("landscape.csv", estimate.csv(space).into_bytes()),
+    ] {
+        let path = args.out.join(name);
+        cbr_core::write_atomically(&path, &bytes)
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -3,7 +3,8 @@
 //!
 //! The cross-track error is an Ornstein-Uhlenbeck process in arc length: correlated over
 //! [`Robot::error_correlation`] metres, with a spread that grows with speed
-//! ([`Robot::cross_track_sd`]). It is sampled exactly at the plan's clearance samples; where
+//! ([`Robot::cross_track_sd`]). It is drawn exactly (the OU transition over any distance)
+//! at the plan's clearance samples that are close enough to an obstacle to matter; where
 //! it exceeds the gap to an obstacle the robot touches it, stops, backs off and goes on
 //! (losing [`Robot::collision_pause`] plus the time to brake and accelerate again).
 
@@ -36,6 +37,10 @@ pub struct Drive {
     pub end: Vec2,
 }
 
+/// Samples whose gap exceeds this many standard deviations of the cross-track error are
+/// not drawn: the chance of touching there is below 1e-9.
+const NEGLIGIBLE_SD: f64 = 6.0;
+
 /// Drives `plan` at commanded `speed`, stopping at the marks with a dwell, writing
 /// collisions and the arrival into `trace`. `marks` must be sorted by `s`. When `track` is
 /// given, the driven positions (planned point plus cross-track error) are appended to it.
@@ -46,41 +51,53 @@ pub fn drive(
     marks: &[Mark],
     rng: &mut dyn RngCore,
     trace: &mut Trace,
-    mut track: Option<&mut Vec<Vec2>>,
+    track: Option<&mut Vec<Vec2>>,
 ) -> Drive {
     let profile = profile(plan, robot, speed, marks);
     let mut mark_times = Vec::with_capacity(marks.len());
     let mut next_mark = 0;
     let mut delay = 0.0;
-    let mut error = robot.localisation_sd * rng.sample::<f64, _>(StandardNormal);
-    let mut previous = (0.0, robot.localisation_sd);
-    let mut end = plan.points[0];
-    for sample in &plan.samples {
+    // The error in units of its standard deviation: a stationary OU process in arc length.
+    let mut x: f64 = rng.sample(StandardNormal);
+    let mut x_at = 0.0;
+    let mut drawn: Vec<(usize, f64)> = Vec::new();
+    let recording = track.is_some();
+    if recording {
+        drawn.push((0, x));
+    }
+    let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
+    let last = plan.samples.len() - 1;
+    let mut error = 0.0;
+    for (k, sample) in plan.samples.iter().enumerate() {
         while next_mark < marks.len() && marks[next_mark].s <= sample.s {
             mark_times.push(profile.time_at(marks[next_mark].s) + delay);
             delay += marks[next_mark].dwell;
             next_mark += 1;
         }
+        if sample.gap_left.min(sample.gap_right) >= negligible && k != last {
+            continue;
+        }
+        let rho = (-(sample.s - x_at) / robot.error_correlation).exp();
+        x = rho * x + (1.0 - rho * rho).sqrt() * rng.sample::<f64, _>(StandardNormal);
+        x_at = sample.s;
         let v = profile.stretch_peak(sample.s);
-        let sd = robot.cross_track_sd(v);
-        let rho = (-(sample.s - previous.0) / robot.error_correlation).exp();
-        let z: f64 = rng.sample(StandardNormal);
-        error = rho * error * (sd / previous.1) + sd * (1.0 - rho * rho).sqrt() * z;
-        previous = (sample.s, sd);
-        let at = sample.at + sample.left * error;
+        error = robot.cross_track_sd(v) * x;
         if error > sample.gap_left || -error > sample.gap_right {
+            let at = sample.at + sample.left * error;
             trace.push(
                 profile.time_at(sample.s) + delay,
                 EventKind::Collision { at },
             );
             delay += robot.collision_pause + v / (2.0 * robot.decel) + v / (2.0 * robot.accel);
-            error = 0.0;
+            // The robot backs off onto its path.
+            x = 0.0;
         }
-        if let Some(track) = track.as_deref_mut() {
-            track.push(at);
+        if recording {
+            drawn.push((k, x));
         }
-        end = at;
     }
+    let goal = &plan.samples[last];
+    let end = goal.at + goal.left * error;
     while next_mark < marks.len() {
         mark_times.push(profile.total() + delay);
         delay += marks[next_mark].dwell;
@@ -88,10 +105,46 @@ pub fn drive(
     }
     let arrival = profile.total() + delay;
     trace.push(arrival, EventKind::Arrived { at: end });
+    if let Some(track) = track {
+        fill_track(plan, robot, &profile, &drawn, track);
+    }
     Drive {
         mark_times,
         arrival,
         end,
+    }
+}
+
+/// The driven positions at every sample: where the error was drawn, the drawn value; in
+/// between, the error's expected value given its two drawn neighbours (the mean of the
+/// Ornstein-Uhlenbeck bridge). Draws nothing, so a recorded run is the same run.
+fn fill_track(
+    plan: &Plan,
+    robot: &Robot,
+    profile: &Profile,
+    drawn: &[(usize, f64)],
+    track: &mut Vec<Vec2>,
+) {
+    let k = 1.0 / robot.error_correlation;
+    for pair in drawn.windows(2) {
+        let ((i, xi), (j, xj)) = (pair[0], pair[1]);
+        let (si, sj) = (plan.samples[i].s, plan.samples[j].s);
+        for sample in &plan.samples[i..j] {
+            let span = (k * (sj - si)).sinh();
+            let x = if span > 0.0 {
+                (xi * (k * (sj - sample.s)).sinh() + xj * (k * (sample.s - si)).sinh()) / span
+            } else {
+                xi
+            };
+            let error = robot.cross_track_sd(profile.stretch_peak(sample.s)) * x;
+            track.push(sample.at + sample.left * error);
+        }
+    }
+    if let Some(&(j, xj)) = drawn.last() {
+        let sample = &plan.samples[j];
+        track.push(
+            sample.at + sample.left * robot.cross_track_sd(profile.stretch_peak(sample.s)) * xj,
+        );
     }
 }
 

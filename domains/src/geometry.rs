@@ -68,6 +68,11 @@ impl Mul<f64> for Vec2 {
     }
 }
 
+/// Whether `p` lies in the map `[0, size.x] x [0, size.y]` at least `margin` from its edge.
+pub fn within(p: Vec2, size: Vec2, margin: f64) -> bool {
+    p.x >= margin && p.y >= margin && p.x <= size.x - margin && p.y <= size.y - margin
+}
+
 /// The point of segment `a`-`b` nearest to `p`.
 pub fn closest_on_segment(p: Vec2, a: Vec2, b: Vec2) -> Vec2 {
     let ab = b - a;
@@ -152,6 +157,39 @@ impl Shape {
 
     fn contains(vertices: &[Vec2], p: Vec2) -> bool {
         Self::edges(vertices).all(|(a, b)| (b - a).cross(p - a) >= 0.0)
+    }
+
+    /// The lower-left and upper-right corners of the smallest box around the shape.
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        match self {
+            Shape::Circle { center, radius } => (
+                *center - Vec2::new(*radius, *radius),
+                *center + Vec2::new(*radius, *radius),
+            ),
+            Shape::Polygon(v) => v.iter().fold(
+                (
+                    Vec2::new(f64::INFINITY, f64::INFINITY),
+                    Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+                ),
+                |(lo, hi), p| {
+                    (
+                        Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
+                        Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
+                    )
+                },
+            ),
+        }
+    }
+
+    /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
+    /// with a quick answer when the segment's box is that far from the shape's box.
+    pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
+        let (min, max) = self.bounds();
+        let far = a.x.max(b.x) < min.x - clearance
+            || a.x.min(b.x) > max.x + clearance
+            || a.y.max(b.y) < min.y - clearance
+            || a.y.min(b.y) > max.y + clearance;
+        far || self.distance_to_segment(a, b) >= clearance
     }
 
     /// Distance from `p` to the shape (0 inside).

@@ -9,18 +9,22 @@
 pub mod detector;
 pub mod drive;
 pub mod geometry;
+pub mod landscape;
 pub mod operator;
 pub mod patrol;
 pub mod planner;
 pub mod profile;
+pub mod render;
 pub mod scenario;
 pub mod spaces;
 pub mod suite;
+pub mod svg;
 pub mod trace;
 pub mod ugv;
 pub mod world;
 
-pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators};
+pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators, find_operator};
+pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
 pub use suite::{SuiteConfig, run_suite, suite_table, write_suite_report};
 pub use trace::{Event, EventKind, Trace};

@@ -107,6 +107,16 @@ pub enum OperatorError {
         /// What is wrong.
         message: String,
     },
+    /// The name is neither a built-in operator of the scenario nor an existing file.
+    #[error("no operator `{name}` for {scenario}: built-in ones are {known}; or give a RON file")]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// The scenario.
+        scenario: Scenario,
+        /// The built-in names.
+        known: String,
+    },
     /// A value is out of its allowed range.
     #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
     Range {
@@ -283,6 +293,31 @@ pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
         .collect()
 }
 
+/// The operator named `name_or_path`: a built-in operator of `scenario` by name, or else
+/// an operator RON file at that path.
+pub fn find_operator(
+    scenario: Scenario,
+    name_or_path: &str,
+) -> Result<OperatorModel, OperatorError> {
+    let builtin = builtin_operators(scenario);
+    if let Some(op) = builtin.iter().find(|o| o.name == name_or_path) {
+        return Ok(op.clone());
+    }
+    let path = Path::new(name_or_path);
+    if path.is_file() {
+        return OperatorModel::load(path);
+    }
+    Err(OperatorError::Unknown {
+        name: name_or_path.to_owned(),
+        scenario,
+        known: builtin
+            .iter()
+            .map(|o| o.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -376,6 +411,18 @@ mod tests {
         let missed = EventKind::MissedObject { object: 1 };
         let o = op.judge(&trace(&[(10.0, missed), (60.0, ARRIVED)]), &mut rng);
         assert_eq!(o.cause, Some(Cause::MissedObject));
+    }
+
+    #[test]
+    fn operators_are_found_by_name_or_file() {
+        let op = find_operator(Scenario::Patrol, "detection-focused").unwrap();
+        assert_eq!(op.p_deadline, 0.05);
+        let err = find_operator(Scenario::Movement, "detection-focused").unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("speed-focused, safety-focused, balanced"),
+            "{err}"
+        );
     }
 
     #[test]

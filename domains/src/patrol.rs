@@ -86,7 +86,7 @@ impl PatrolSetup {
                 && world
                     .obstacles
                     .iter()
-                    .all(|o| o.shape.distance_to_point(at) >= self.free_space);
+                    .all(|o| o.shape.keeps_clear(at, at, self.free_space));
             if open {
                 objects.push(SuspiciousObject {
                     at,

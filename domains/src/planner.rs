@@ -5,7 +5,7 @@
 //! A path exists or not; when it does not, the robot is stuck. The planner knows nothing
 //! of speeds or operators.
 
-use crate::geometry::{Shape, Vec2};
+use crate::geometry::{Shape, Vec2, within};
 use petgraph::graph::{NodeIndex, UnGraph};
 
 /// Tolerance for "at least the clearance" comparisons (m): grown corners sit exactly at the
@@ -16,108 +16,134 @@ const SLACK: f64 = 1e-7;
 /// enough that a corner or a cone is never stepped over.
 pub const SAMPLE_SPACING: f64 = 0.25;
 
-/// An obstacle outline with its bounding box, for quick rejections.
-struct Boxed<'a> {
-    shape: &'a Shape,
-    min: Vec2,
-    max: Vec2,
-}
-
-impl<'a> Boxed<'a> {
-    fn new(shape: &'a Shape) -> Self {
-        let (min, max) = match shape {
-            Shape::Circle { center, radius } => (
-                *center - Vec2::new(*radius, *radius),
-                *center + Vec2::new(*radius, *radius),
-            ),
-            Shape::Polygon(v) => v.iter().fold(
-                (
-                    Vec2::new(f64::INFINITY, f64::INFINITY),
-                    Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-                ),
-                |(lo, hi), p| {
-                    (
-                        Vec2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                        Vec2::new(hi.x.max(p.x), hi.y.max(p.y)),
-                    )
-                },
-            ),
-        };
-        Self { shape, min, max }
-    }
-
-    /// Whether segment `a`-`b` keeps at least `clearance` from the shape.
-    fn segment_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
-        let far = a.x.max(b.x) < self.min.x - clearance
-            || a.x.min(b.x) > self.max.x + clearance
-            || a.y.max(b.y) < self.min.y - clearance
-            || a.y.min(b.y) > self.max.y + clearance;
-        far || self.shape.distance_to_segment(a, b) >= clearance - SLACK
-    }
-}
-
 /// A search problem: a map edge, obstacles and the clearance the robot's centre keeps.
+/// Obstacles are either fixed or optional (a person who may or may not be standing
+/// there); one visibility graph serves every combination of the optional ones.
 pub struct Problem<'a> {
     /// Upper-right corner of the map (the lower-left is the origin).
     pub size: Vec2,
-    /// Every obstacle present.
-    pub obstacles: Vec<&'a Shape>,
+    /// Obstacles that are always present.
+    pub fixed: Vec<&'a Shape>,
+    /// Obstacles that may be present (at most 32); bit `i` of a presence mask is number `i`.
+    pub optional: Vec<&'a Shape>,
     /// Clearance of the robot's centre from every obstacle and the map edge: the robot's
     /// radius plus its padding (m).
     pub clearance: f64,
 }
 
-impl Problem<'_> {
-    /// The shortest polyline through `waypoints` in order, leg by leg, or `None` when some
-    /// leg has no way through.
-    pub fn through(&self, waypoints: &[Vec2]) -> Option<Vec<Vec2>> {
-        let mut points = vec![*waypoints.first()?];
-        for leg in waypoints.windows(2) {
-            points.extend(self.shortest_path(leg[0], leg[1])?.into_iter().skip(1));
-        }
-        Some(points)
-    }
+/// The visibility graph of a [`Problem`] through a list of way-points: every grown-corner
+/// point and straight edge that keeps the clearance from the fixed obstacles, each marked
+/// with the optional obstacles that would block it.
+pub struct VisibilityGraph {
+    nodes: Vec<Vec2>,
+    edges: Vec<(usize, usize, f64, u32)>,
+    /// The nodes of the way-points, in order; `None` when a fixed obstacle covers one.
+    waypoints: Vec<Option<(usize, u32)>>,
+}
 
-    /// The shortest polyline from `start` to `goal` keeping the clearance, or `None` when
-    /// there is no way through.
-    pub fn shortest_path(&self, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
-        let c = self.clearance;
-        let boxed: Vec<Boxed> = self.obstacles.iter().map(|s| Boxed::new(s)).collect();
-        let point_clear = |p: Vec2| {
-            p.x >= c - SLACK
-                && p.y >= c - SLACK
-                && p.x <= self.size.x - c + SLACK
-                && p.y <= self.size.y - c + SLACK
-                && boxed.iter().all(|b| b.segment_clear(p, p, c))
-        };
-        if !point_clear(start) || !point_clear(goal) {
+impl Problem<'_> {
+    /// Which optional obstacles segment `a`-`b` comes closer to than the clearance, or
+    /// `None` when a fixed obstacle or the map edge does.
+    fn blockers(&self, a: Vec2, b: Vec2) -> Option<u32> {
+        let c = self.clearance - SLACK;
+        let inside = |p: Vec2| within(p, self.size, c);
+        if !(inside(a) && inside(b) && self.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
             return None;
         }
-        let mut corners = Vec::new();
-        for shape in &self.obstacles {
-            shape.inflated_vertices(c + 2.0 * SLACK, &mut corners);
-        }
-        let mut nodes = vec![start, goal];
-        nodes.extend(corners.into_iter().filter(|p| point_clear(*p)));
+        Some(
+            self.optional
+                .iter()
+                .enumerate()
+                .filter(|(_, o)| !o.keeps_clear(a, b, c))
+                .fold(0, |mask, (i, _)| mask | 1 << i),
+        )
+    }
 
-        let mut graph: UnGraph<Vec2, f64> = UnGraph::with_capacity(nodes.len(), nodes.len() * 8);
-        let ids: Vec<NodeIndex> = nodes.iter().map(|p| graph.add_node(*p)).collect();
+    /// The visibility graph through `waypoints`.
+    pub fn visibility(&self, waypoints: &[Vec2]) -> VisibilityGraph {
+        let mut corners = Vec::new();
+        for shape in self.fixed.iter().chain(&self.optional) {
+            shape.inflated_vertices(self.clearance + 2.0 * SLACK, &mut corners);
+        }
+        let mut nodes = Vec::new();
+        let mut node_blockers = Vec::new();
+        let mut waypoint_nodes = Vec::new();
+        for &p in waypoints {
+            let blockers = self.blockers(p, p);
+            waypoint_nodes.push(blockers.map(|b| (nodes.len(), b)));
+            nodes.push(p);
+            node_blockers.push(blockers.unwrap_or(u32::MAX));
+        }
+        for p in corners {
+            if let Some(b) = self.blockers(p, p) {
+                nodes.push(p);
+                node_blockers.push(b);
+            }
+        }
+        let mut edges = Vec::new();
         for i in 0..nodes.len() {
+            if node_blockers[i] == u32::MAX {
+                continue;
+            }
             for j in i + 1..nodes.len() {
-                let (a, b) = (nodes[i], nodes[j]);
-                if boxed.iter().all(|o| o.segment_clear(a, b, c)) {
-                    graph.add_edge(ids[i], ids[j], a.dist(b));
+                if node_blockers[j] == u32::MAX {
+                    continue;
+                }
+                if let Some(b) = self.blockers(nodes[i], nodes[j]) {
+                    edges.push((i, j, nodes[i].dist(nodes[j]), b));
                 }
             }
         }
-        let (_, route) = petgraph::algo::astar(
-            &graph,
-            ids[0],
-            |n| n == ids[1],
-            |e| *e.weight(),
-            |n| graph[n].dist(goal),
-        )?;
-        Some(route.into_iter().map(|n| graph[n]).collect())
+        VisibilityGraph {
+            nodes,
+            edges,
+            waypoints: waypoint_nodes,
+        }
+    }
+
+    /// The shortest polyline through `waypoints` with every optional obstacle present.
+    pub fn through(&self, waypoints: &[Vec2]) -> Option<Vec<Vec2>> {
+        let all = if self.optional.len() >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << self.optional.len()) - 1
+        };
+        self.visibility(waypoints).route(all)
+    }
+}
+
+impl VisibilityGraph {
+    /// The shortest polyline through the way-points, leg by leg, with the optional
+    /// obstacles in `present` standing; `None` when some leg has no way through.
+    pub fn route(&self, present: u32) -> Option<Vec<Vec2>> {
+        let mut graph: UnGraph<Vec2, f64> =
+            UnGraph::with_capacity(self.nodes.len(), self.edges.len());
+        let ids: Vec<NodeIndex> = self.nodes.iter().map(|p| graph.add_node(*p)).collect();
+        for &(i, j, length, blockers) in &self.edges {
+            if blockers & present == 0 {
+                graph.add_edge(ids[i], ids[j], length);
+            }
+        }
+        let mut legs = Vec::with_capacity(self.waypoints.len());
+        for w in &self.waypoints {
+            match w {
+                Some((node, blockers)) if blockers & present == 0 => legs.push(ids[*node]),
+                _ => return None,
+            }
+        }
+        let mut points = vec![graph[*legs.first()?]];
+        for leg in legs.windows(2) {
+            let goal = graph[leg[1]];
+            let (_, route) = petgraph::algo::astar(
+                &graph,
+                leg[0],
+                |n| n == leg[1],
+                |e| *e.weight(),
+                |n| graph[n].dist(goal),
+            )?;
+            points.extend(route.into_iter().skip(1).map(|n| graph[n]));
+        }
+        Some(points)
     }
 }
 
@@ -281,11 +307,12 @@ mod tests {
         let wall = Shape::rect(4.0, 0.0, 6.0, 6.0);
         let problem = Problem {
             size: Vec2::new(10.0, 10.0),
-            obstacles: vec![&wall],
+            fixed: vec![&wall],
+            optional: vec![],
             clearance: 1.0,
         };
         let path = problem
-            .shortest_path(Vec2::new(1.0, 1.0), Vec2::new(9.0, 1.0))
+            .through(&[Vec2::new(1.0, 1.0), Vec2::new(9.0, 1.0)])
             .expect("a way over the wall");
         for w in path.windows(2) {
             assert!(wall.distance_to_segment(w[0], w[1]) >= 1.0 - 1e-6);
@@ -304,13 +331,32 @@ mod tests {
         let high = Shape::rect(4.0, 7.0, 6.0, 10.0);
         let mut problem = Problem {
             size: Vec2::new(10.0, 10.0),
-            obstacles: vec![&low, &high],
+            fixed: vec![&low, &high],
+            optional: vec![],
             clearance: 1.4,
         };
-        let (a, b) = (Vec2::new(1.5, 5.0), Vec2::new(8.5, 5.0));
-        assert!(problem.shortest_path(a, b).is_some());
+        let route = [Vec2::new(1.5, 5.0), Vec2::new(8.5, 5.0)];
+        assert!(problem.through(&route).is_some());
         problem.clearance = 1.6;
-        assert!(problem.shortest_path(a, b).is_none());
+        assert!(problem.through(&route).is_none());
+    }
+
+    #[test]
+    fn an_optional_obstacle_blocks_only_when_present() {
+        // A 4 m gap (y from 3 to 7); a person in its middle leaves two 1.7 m gaps.
+        let low = Shape::rect(4.0, 0.0, 6.0, 3.0);
+        let high = Shape::rect(4.0, 7.0, 6.0, 10.0);
+        let person = Shape::circle(5.0, 5.0, 0.3);
+        let problem = Problem {
+            size: Vec2::new(10.0, 10.0),
+            fixed: vec![&low, &high],
+            optional: vec![&person],
+            clearance: 1.2,
+        };
+        let graph = problem.visibility(&[Vec2::new(1.5, 5.0), Vec2::new(8.5, 5.0)]);
+        let free = graph.route(0).expect("passes when nobody is there");
+        assert_eq!(free.len(), 2, "straight through");
+        assert!(graph.route(1).is_none());
     }
 
     #[test]

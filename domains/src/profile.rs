@@ -133,22 +133,18 @@ impl Stretch {
     }
 }
 
-/// Time for a there-and-back-free straight drive of `length` from standstill to
-/// standstill (s).
+/// Time for a straight drive of `length` from standstill to standstill (s).
 pub fn point_to_point(length: f64, cap: f64, accel: f64, decel: f64) -> f64 {
-    Profile::new(
-        &[
-            Station { s: 0.0, limit: 0.0 },
-            Station {
-                s: length,
-                limit: 0.0,
-            },
-        ],
-        cap,
-        accel,
-        decel,
-    )
-    .total()
+    let peak = cap.min((2.0 * accel * decel * length / (accel + decel)).sqrt());
+    Stretch {
+        s0: 0.0,
+        length,
+        entry: 0.0,
+        peak,
+        exit: 0.0,
+        t0: 0.0,
+    }
+    .duration(accel, decel)
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
 use crate::operator::OperatorModel;
 use crate::patrol::{PatrolSetup, SuspiciousObject};
-use crate::planner::{Plan, Problem};
+use crate::planner::{Plan, Problem, VisibilityGraph};
 use crate::profile::point_to_point;
 use crate::scenario::Scenario;
 use crate::trace::{EventKind, Trace};
@@ -69,6 +69,9 @@ pub struct UgvDomain {
     world: World,
     detector: Detector,
     patrol: PatrolSetup,
+    /// Per padding: the visibility graph for every set of people.
+    visibility: Box<[OnceLock<VisibilityGraph>]>,
+    /// Per padding and set of people: the plan.
     plans: Box<[OnceLock<Option<Plan>>]>,
     /// Component index of speed, padding, scan time, scan distance (the last two only for
     /// patrol).
@@ -86,6 +89,7 @@ impl UgvDomain {
         let plans = (0..paddings << world.humans.len())
             .map(|_| OnceLock::new())
             .collect();
+        let visibility = (0..paddings).map(|_| OnceLock::new()).collect();
         let components = ["speed", "padding", "scan_time", "scan_distance"]
             .map(|name| space.component_index(name));
         Self {
@@ -94,6 +98,7 @@ impl UgvDomain {
             world,
             detector: Detector::default(),
             patrol: PatrolSetup::default(),
+            visibility,
             plans,
             components,
         }
@@ -149,14 +154,10 @@ impl UgvDomain {
         let slot = (padding_index << self.world.humans.len()) | humans as usize;
         self.plans[slot]
             .get_or_init(|| {
-                let padding = self.settings(behavior).padding;
+                let points = self.visibility[padding_index]
+                    .get_or_init(|| self.problem(behavior).visibility(self.route()))
+                    .route(humans)?;
                 let obstacles: Vec<&Shape> = self.world.obstacles_with(humans).collect();
-                let problem = Problem {
-                    size: self.world.size,
-                    obstacles: obstacles.clone(),
-                    clearance: self.world.robot.radius + padding,
-                };
-                let points = problem.through(self.route())?;
                 Some(Plan::new(
                     points,
                     &obstacles,
@@ -165,6 +166,17 @@ impl UgvDomain {
                 ))
             })
             .as_ref()
+    }
+
+    /// The planning problem for `behavior`'s padding: the map's obstacles fixed, the
+    /// people optional.
+    fn problem(&self, behavior: &Behavior) -> Problem<'_> {
+        Problem {
+            size: self.world.size,
+            fixed: self.world.obstacles.iter().map(|o| &o.shape).collect(),
+            optional: self.world.humans.iter().map(|h| &h.shape).collect(),
+            clearance: self.world.robot.radius + self.settings(behavior).padding,
+        }
     }
 
     /// Simulates one run of `behavior`, drawing all randomness from `rng`. With `record`,

@@ -124,7 +124,7 @@ pub struct World {
     pub landmarks: Vec<Landmark>,
     /// Obstacles that are always there.
     pub obstacles: Vec<Obstacle>,
-    /// Places where people may stand.
+    /// Places where people may stand; at most 32, since a `u32` says which are occupied.
     pub humans: Vec<HumanSpot>,
     /// The robot.
     pub robot: Robot,
@@ -245,6 +245,6 @@ impl World {
 
     /// Whether `p` is inside the map with `margin` to spare from its edge.
     pub fn inside(&self, p: Vec2, margin: f64) -> bool {
-        p.x >= margin && p.y >= margin && p.x <= self.size.x - margin && p.y <= self.size.y - margin
+        crate::geometry::within(p, self.size, margin)
     }
 }

@@ -67,6 +67,18 @@ fn the_route_needs_a_speed_to_meet_the_deadline() {
 }
 
 #[test]
+fn nominal_drives_bracket_the_movement_deadline() {
+    let d = domain(Scenario::Movement);
+    let b = behavior(Scenario::Movement, "speed=0.5,padding=0.5");
+    let plan = d.plan(&b, 0).unwrap();
+    let robot = &d.world().robot;
+    assert!(domains::drive::nominal_duration(plan, robot, 0.5) > 15.0);
+    assert!(domains::drive::nominal_duration(plan, robot, 10.0) < 15.0);
+    // The direct route is the 45 m from depot to clinic, bent only slightly at the pinch.
+    assert!((45.0..46.0).contains(&plan.length()));
+}
+
+#[test]
 fn an_operator_with_p_collision_zero_never_interrupts_for_a_collision() {
     let mut op = builtin_operators(Scenario::Movement)[2].clone();
     op.p_collision = 0.0;
@@ -172,4 +184,49 @@ proptest! {
             prop_assert_eq!(plan.points.last(), d.route().last());
         }
     }
+}
+
+#[test]
+fn padding_keeps_the_scanner_away_from_objects() {
+    let d = domain(Scenario::Patrol);
+    let radius = d.world().robot.radius;
+    for (text, gap) in [
+        ("speed=2,padding=1,scan_time=1,scan_distance=0.25", 1.0),
+        ("speed=2,padding=0.1,scan_time=1,scan_distance=0.75", 0.75),
+    ] {
+        let b = behavior(Scenario::Patrol, text);
+        let mut scanned = 0;
+        for seed in 0..20 {
+            let run = d.simulate(&b, &mut ChaCha8Rng::seed_from_u64(seed), false);
+            for fate in run.objects.iter().filter(|f| f.scanned_from.is_some()) {
+                let from = fate.scanned_from.unwrap();
+                assert!((from.dist(fate.object.at) - (radius + gap)).abs() < 1e-9);
+                scanned += 1;
+            }
+        }
+        assert!(scanned > 0);
+    }
+}
+
+#[test]
+fn the_patrol_deadline_binds_slow_robots() {
+    let d = domain(Scenario::Patrol);
+    let late = |text: &str| {
+        let b = behavior(Scenario::Patrol, text);
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        (0..40)
+            .filter(|_| {
+                let run = d.simulate(&b, &mut rng, false);
+                run.trace.events.last().is_some_and(|e| e.t > 120.0)
+            })
+            .count()
+    };
+    assert_eq!(
+        late("speed=0.5,padding=0.3,scan_time=2.5,scan_distance=0.5"),
+        40
+    );
+    assert_eq!(
+        late("speed=3,padding=0.3,scan_time=2.5,scan_distance=0.5"),
+        0
+    );
 }
