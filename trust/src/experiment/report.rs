@@ -223,11 +223,23 @@ pub fn write_report(
             &name,
             &plot(&dir.join(&name), |area| learning_curves(area, e))?,
         )?;
-        let name = format!("finals-{stem}.svg");
-        write(
-            &name,
-            &plot(&dir.join(&name), |area| final_behaviors(area, e))?,
-        )?;
+        // One heatmap per pair of components: the first two, then the next two, ...
+        let components = e.space.components();
+        for first in (0..components.len()).step_by(2) {
+            let second = (first + 1).min(components.len() - 1);
+            let name = if first == 0 {
+                format!("finals-{stem}.svg")
+            } else {
+                format!(
+                    "finals-{stem}-{}-{}.svg",
+                    components[first].name, components[second].name
+                )
+            };
+            let svg = plot(&dir.join(&name), |area| {
+                final_behaviors(area, e, (first, second))
+            })?;
+            write(&name, &svg)?;
+        }
     }
     Ok(written)
 }
@@ -333,10 +345,9 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
     Ok(())
 }
 
-/// Heatmaps of where each strategy's final behaviors land, over the first two components.
-fn final_behaviors(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
+/// Heatmaps of where each strategy's final behaviors land, over components `x` and `y`.
+fn final_behaviors(area: &Area<'_>, e: &ReportEntry<'_>, (x, y): (usize, usize)) -> DrawResult {
     let components = e.space.components();
-    let (x, y) = (0, 1.min(components.len() - 1));
     let (nx, ny) = (components[x].len(), components[y].len());
     let panels = area.split_evenly((1, 2));
     for (panel, s) in panels.iter().zip(&e.result.strategies) {
@@ -348,33 +359,51 @@ fn final_behaviors(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         let most = counts.iter().copied().max().unwrap_or(0).max(1);
         let mut chart = ChartBuilder::on(panel)
             .caption(
-                format!("{}: final behaviors, {}", e.result.name, s.strategy.name()),
-                ("sans-serif", 16),
+                format!(
+                    "{}: final behaviors, {} (darker: more trials)",
+                    e.result.name,
+                    s.strategy.name()
+                ),
+                ("sans-serif", 15),
             )
             .margin(10)
             .x_label_area_size(40)
             .y_label_area_size(50)
-            .build_cartesian_2d(0..nx, 0..ny)?;
+            .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
+        // Cells are centred on their index; label each index with its real value.
+        let label = |component: usize, n: usize| {
+            move |v: &f64| {
+                let i = v.round();
+                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < n {
+                    components[component].display_value(i as u16).to_string()
+                } else {
+                    String::new()
+                }
+            }
+        };
+        let (x_label, y_label) = (label(x, nx), label(y, ny));
         chart
             .configure_mesh()
             .disable_mesh()
+            .x_labels(nx.min(20))
+            .y_labels(ny.min(20))
             .x_desc(components[x].name.as_str())
             .y_desc(components[y].name.as_str())
-            .x_label_formatter(&|i| components[x].display_value(*i as u16).to_string())
-            .y_label_formatter(&|i| components[y].display_value(*i as u16).to_string())
+            .x_label_formatter(&x_label)
+            .y_label_formatter(&y_label)
             .draw()?;
         let color = strategy_color(s.strategy);
         chart.draw_series(
             (0..nx)
                 .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                .filter(|&(i, j)| counts[i * ny + j] > 0)
                 .map(|(i, j)| {
                     let share = f64::from(counts[i * ny + j]) / f64::from(most);
-                    let fill = if share == 0.0 {
-                        WHITE.mix(1.0)
-                    } else {
-                        color.mix(0.15 + 0.85 * share)
-                    };
-                    Rectangle::new([(i, j), (i + 1, j + 1)], fill.filled())
+                    let (cx, cy) = (i as f64, j as f64);
+                    Rectangle::new(
+                        [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
+                        color.mix(0.15 + 0.85 * share).filled(),
+                    )
                 }),
         )?;
     }
