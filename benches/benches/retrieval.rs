@@ -52,7 +52,7 @@ fn retrieval(c: &mut Criterion) {
             cbr_core::Retriever::retain(&mut index, id, case);
         }
         eprintln!(
-            "inverted-index over {n} cases: {:.0} heap bytes per case",
+            "inverted_index over {n} cases: {:.0} heap bytes per case",
             index.heap_bytes() as f64 / n as f64
         );
         for kind in RetrieverKind::ALL {

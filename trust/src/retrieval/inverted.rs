@@ -168,7 +168,7 @@ where
     T: SimilarityMeasure<f64> + Send + Sync,
 {
     fn name(&self) -> &str {
-        "inverted-index"
+        "inverted_index"
     }
 
     fn retain(&mut self, id: CaseId, case: &Case<Vec<Evaluated>, Behavior>) {

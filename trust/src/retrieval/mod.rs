@@ -1,9 +1,9 @@
 //! The retrievers available for the trust case base and how a config names them.
 //!
 //! - [`LinearRetriever`] (`linear`): the reference scan of cbr-core.
-//! - [`InvertedIndex`] (`inverted-index`): postings by behavior, probed only within
+//! - [`InvertedIndex`] (`inverted_index`): postings by behavior, probed only within
 //!   `lambda`'s neighbourhoods, then exact verification in order of an upper bound.
-//! - [`ParallelScan`] (`parallel-scan`): the reference scan spread over threads.
+//! - [`ParallelScan`] (`parallel_scan`): the reference scan spread over threads.
 //!
 //! Every kind returns the linear scan's answer (same case, bit-identical similarity, ties
 //! to the smallest id), so the choice changes speed and memory, never results;

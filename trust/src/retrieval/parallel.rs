@@ -48,7 +48,7 @@ where
     M: SimilarityMeasure<P> + Send + Sync,
 {
     fn name(&self) -> &str {
-        "parallel-scan"
+        "parallel_scan"
     }
 
     fn retain(&mut self, _id: CaseId, _case: &Case<P, S>) {}
