@@ -5,6 +5,7 @@
 //! stay valid. Saving writes a temporary file beside the target, syncs it and renames it
 //! over the target, so a crash leaves either the old or the new file, never a torn one.
 
+use crate::ron_text::{RonError, parse_ron};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -62,17 +63,8 @@ pub enum CaseBaseError {
         source: std::io::Error,
     },
     /// The file is not a valid case base.
-    #[error("{path}:{line}:{column}: {message}")]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line of the problem.
-        line: usize,
-        /// 1-based column of the problem.
-        column: usize,
-        /// What is wrong there.
-        message: String,
-    },
+    #[error(transparent)]
+    Parse(#[from] RonError),
     /// The case base could not be serialized.
     #[error("{path}: cannot serialize the case base: {message}")]
     Serialize {
@@ -155,12 +147,7 @@ impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
 
     /// Parses a case base from RON text; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, CaseBaseError> {
-        ron::from_str(text).map_err(|e| CaseBaseError::Parse {
-            path: origin.to_owned(),
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
-        })
+        Ok(parse_ron(text, origin)?)
     }
 }
 
@@ -250,12 +237,12 @@ mod tests {
         std::fs::write(&path, truncated).unwrap();
         let err = Base::load_ron(&path).unwrap_err();
         match &err {
-            CaseBaseError::Parse {
+            CaseBaseError::Parse(RonError {
                 path: p,
                 line,
                 column,
                 ..
-            } => {
+            }) => {
                 assert_eq!(p, &path);
                 assert!(*line >= 1 && *column >= 1);
             }
@@ -269,7 +256,7 @@ mod tests {
     fn malformed_file_names_line_and_column() {
         let text = "(\n  cases: [\n    (problem: [1], solution: \"a\"),\n    (problem: [x], solution: \"b\"),\n  ],\n)";
         let err = Base::from_ron(text, Path::new("cb.ron")).unwrap_err();
-        let CaseBaseError::Parse { line, column, .. } = err else {
+        let CaseBaseError::Parse(RonError { line, column, .. }) = err else {
             panic!("expected a parse error");
         };
         // `x` is the 16th character of line 4: `    (problem: [x]`.

@@ -13,6 +13,7 @@ pub mod component;
 pub mod memory;
 pub mod neighbourhood;
 pub mod retrieve;
+pub mod ron_text;
 pub mod search;
 pub mod similarity;
 
@@ -21,5 +22,6 @@ pub use case::{Case, CaseBase, CaseBaseError, CaseId, write_atomically};
 pub use component::{Component, ComponentError, Values};
 pub use memory::CaseMemory;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
+pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Searcher};
 pub use similarity::SimilarityMeasure;

@@ -11,6 +11,7 @@
 
 use crate::Scenario;
 use crate::trace::{EventKind, Trace};
+use cbr_core::{RonError, parse_ron};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -96,17 +97,8 @@ pub enum OperatorError {
         source: std::io::Error,
     },
     /// The file is not a valid operator in RON.
-    #[error("{file}:{line}:{column}: {message}")]
-    Syntax {
-        /// The file.
-        file: PathBuf,
-        /// Line (1-based).
-        line: usize,
-        /// Column (1-based).
-        column: usize,
-        /// What is wrong.
-        message: String,
-    },
+    #[error(transparent)]
+    Syntax(#[from] RonError),
     /// The name is neither a built-in operator of the scenario nor an existing file.
     #[error("no operator `{name}` for {scenario}: built-in ones are {known}; or give a RON file")]
     Unknown {
@@ -136,12 +128,7 @@ pub enum OperatorError {
 impl OperatorModel {
     /// Parses and validates an operator; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, OperatorError> {
-        let model: Self = ron::from_str(text).map_err(|e| OperatorError::Syntax {
-            file: origin.to_owned(),
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
-        })?;
+        let model: Self = parse_ron(text, origin)?;
         model.validate(origin)?;
         Ok(model)
     }

@@ -6,6 +6,7 @@
 //! paper's seven experiments are the embedded default, [`PAPER_CONFIG`].
 
 use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
+use cbr_core::{RonError, parse_ron};
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -67,17 +68,8 @@ pub enum SuiteError {
         source: std::io::Error,
     },
     /// The config is not valid RON for a suite.
-    #[error("{path}:{line}:{column}: {message}")]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong.
-        message: String,
-    },
+    #[error(transparent)]
+    Parse(#[from] RonError),
     /// A value is out of range.
     #[error("{path}: {field}: {message}")]
     Invalid {
@@ -117,12 +109,7 @@ impl SuiteConfig {
 
     /// Parses and checks a suite config; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, SuiteError> {
-        let config: Self = ron::from_str(text).map_err(|e| SuiteError::Parse {
-            path: origin.to_owned(),
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
-        })?;
+        let config: Self = parse_ron(text, origin)?;
         config.validate(origin)?;
         Ok(config)
     }

@@ -17,7 +17,7 @@
 //! Every field is checked while it is read, so an error names the file, the line:column of
 //! the offending value, and the field, and shows the line.
 
-use cbr_core::BehaviorSpace;
+use cbr_core::{BehaviorSpace, RonError, parse_ron};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -58,19 +58,8 @@ pub enum DomainError {
         source: std::io::Error,
     },
     /// The file is not a valid domain.
-    #[error("{path}:{line}:{column}: {message}\n{excerpt}")]
-    Parse {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong, naming the field.
-        message: String,
-        /// The offending line with a caret under the column.
-        excerpt: String,
-    },
+    #[error(transparent)]
+    Parse(#[from] RonError),
 }
 
 impl DomainDefinition {
@@ -100,37 +89,13 @@ impl DomainDefinition {
 
     /// Parses a domain from RON text; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, DomainError> {
-        let file: DomainFile = ron::from_str(text).map_err(|e| DomainError::Parse {
-            path: origin.to_owned(),
-            line: e.position.line,
-            column: e.position.col,
-            // ron 0.8 writes "named `x`in `Outer`"; restore the space.
-            message: e.code.to_string().replace("`in `", "` in `"),
-            excerpt: excerpt(text, e.position.line, e.position.col),
-        })?;
+        let file: DomainFile = parse_ron(text, origin)?;
         Ok(Self {
             name: origin.display().to_string(),
             space: Arc::new(file.space),
             adapter: file.adapter,
         })
     }
-}
-
-/// The 1-based `line` of `text` with a caret under the 1-based `column`.
-fn excerpt(text: &str, line: usize, column: usize) -> String {
-    let Some(source) = text.lines().nth(line.saturating_sub(1)) else {
-        return String::new();
-    };
-    let gutter = line.to_string();
-    let indent: String = source
-        .chars()
-        .take(column.saturating_sub(1))
-        .map(|c| if c == '\t' { '\t' } else { ' ' })
-        .collect();
-    format!(
-        "{gutter} | {source}\n{} | {indent}^",
-        " ".repeat(gutter.len())
-    )
 }
 
 #[cfg(test)]
@@ -153,12 +118,12 @@ mod tests {
         let text = GOOD.replacen(from, to, 1);
         let error = DomainDefinition::from_ron(&text, Path::new("robot.ron")).unwrap_err();
         let shown = error.to_string();
-        let DomainError::Parse {
+        let DomainError::Parse(RonError {
             line,
             column,
             message,
             ..
-        } = error
+        }) = error
         else {
             panic!("expected a parse error, got {shown}");
         };
