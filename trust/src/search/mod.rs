@@ -1,7 +1,7 @@
 //! Search strategies for trust-guided adaptation: what to try when no case helps.
 //!
-//! Every strategy implements [`cbr_core::Searcher`] over [`Evaluated`](crate::Evaluated)
-//! evidence and [`Outcome`](crate::Outcome) feedback; [`TrustSearcher`] names that shape.
+//! Every strategy implements [`cbr_core::Searcher`] over [`crate::Evaluated`] evidence and
+//! [`crate::Outcome`] feedback; [`TrustSearcher`] names that shape.
 
 pub mod random_walk;
 
