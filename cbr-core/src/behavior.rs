@@ -357,16 +357,6 @@ impl BehaviorSpace {
         }
     }
 
-    /// The real value of each component of `behavior`, by name (numeric components only
-    /// give numbers; categorical ones give their label).
-    pub fn named_values(&self, behavior: &Behavior) -> Vec<(String, String)> {
-        self.components
-            .iter()
-            .zip(behavior.indices())
-            .map(|(c, &i)| (c.name.clone(), c.display_value(i).to_string()))
-            .collect()
-    }
-
     /// Parses `name=value[,name=value...]` (every component exactly once, any order).
     pub fn parse(&self, text: &str) -> Result<Behavior, SpaceError> {
         let pairs = text

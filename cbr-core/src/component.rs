@@ -350,11 +350,6 @@ impl Component {
         })
     }
 
-    /// The values exactly `changes` changes away from `index`, in ascending order.
-    pub fn at_changes(&self, index: u16, changes: u32) -> impl Iterator<Item = u16> + '_ {
-        (0..self.len() as u16).filter(move |&j| self.changes(index, j) == changes)
-    }
-
     /// The largest number of changes between any two values of this component.
     pub fn max_changes(&self) -> u32 {
         match &self.values {
@@ -413,7 +408,6 @@ mod tests {
         assert_eq!(c.adjacent(0).collect::<Vec<_>>(), vec![1]);
         assert_eq!(c.adjacent(5).collect::<Vec<_>>(), vec![4, 6]);
         assert_eq!(c.changes(2, 7), 5);
-        assert_eq!(c.at_changes(3, 2).collect::<Vec<_>>(), vec![1, 5]);
     }
 
     #[test]

@@ -43,9 +43,4 @@ impl<P, S> CaseMemory<P, S> {
     pub fn retriever_name(&self) -> &str {
         self.retriever.name()
     }
-
-    /// Gives up the memory, returning the case base.
-    pub fn into_base(self) -> CaseBase<P, S> {
-        self.base
-    }
 }

@@ -1,8 +1,9 @@
 //! Writing the session's answers: one JSON object each, with an `ok` field naming what it
 //! is or an `error` field saying what went wrong, and behaviors in real units.
 
-use cbr_core::{Behavior, BehaviorSpace, Values};
-use serde_json::{Map, Value, json};
+use cbr_core::{Behavior, BehaviorSpace};
+use serde_json::{Value, json};
+use trust::named::named_behavior;
 use trust::{EpisodeReport, Evaluated};
 
 /// An error reply: `{"error": message}`.
@@ -13,19 +14,7 @@ pub fn error(message: impl std::fmt::Display) -> Value {
 /// A behavior in real units: `{"speed": 3.5, "padding": 0.4}`; categorical components give
 /// their label.
 pub fn behavior(space: &BehaviorSpace, behavior: &Behavior) -> Value {
-    let values: Map<String, Value> = space
-        .components()
-        .iter()
-        .zip(behavior.indices())
-        .map(|(c, &i)| {
-            let value = match &c.values {
-                Values::Numeric { .. } => json!(c.real_value(i)),
-                Values::Categorical { labels, .. } => json!(labels[usize::from(i)]),
-            };
-            (c.name.clone(), value)
-        })
-        .collect();
-    Value::Object(values)
+    Value::Object(named_behavior(space, behavior))
 }
 
 /// Evaluated pairs: `[{"behavior": {...}, "time": 12.5}, ...]`.

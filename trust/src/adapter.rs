@@ -374,9 +374,4 @@ impl TrustAdapter {
     pub fn cases(&self) -> &TrustCaseBase {
         self.memory.base()
     }
-
-    /// The search strategy's name.
-    pub fn searcher_name(&self) -> &str {
-        self.searcher.name()
-    }
 }

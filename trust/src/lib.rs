@@ -8,6 +8,7 @@
 //! - [`retrieval`]: the retrievers a config can name.
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
 //! - [`domain`]: the contract a task domain implements.
+//! - [`named`]: behaviors as JSON objects in real units.
 //! - [`experiment`]: trials, paired strategies, statistics and reports (SPEC section 7).
 //!
 //! This crate knows nothing of any particular robot or simulator.
@@ -17,6 +18,7 @@ pub mod domain;
 pub mod estimate;
 pub mod evaluated;
 pub mod experiment;
+pub mod named;
 pub mod retrieval;
 pub mod search;
 pub mod select;

@@ -3,7 +3,8 @@
 //! behaviors land in the behavior space). Every file is written atomically.
 
 use super::runner::{ExperimentResult, Strategy, StrategyResult, TrialRecord};
-use cbr_core::{Behavior, BehaviorSpace, Values, write_atomically};
+use crate::named::named_behavior;
+use cbr_core::{BehaviorSpace, write_atomically};
 use plotters::prelude::*;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
@@ -110,29 +111,6 @@ fn strategy_summary(s: &StrategyResult) -> Value {
         "truncated": s.trials.iter().filter(|t| t.truncated).count(),
         "mean_runs": s.trials.iter().map(|t| t.runs as f64).sum::<f64>() / n,
     })
-}
-
-/// The behavior's components by name, numbers for numeric components, labels otherwise.
-pub fn named_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Map<String, Value> {
-    space
-        .components()
-        .iter()
-        .zip(behavior.indices())
-        .map(|(c, &i)| {
-            let value = match c.values {
-                Values::Numeric { .. } => {
-                    json!(
-                        c.display_value(i)
-                            .to_string()
-                            .parse::<f64>()
-                            .unwrap_or(f64::NAN)
-                    )
-                }
-                Values::Categorical { .. } => json!(c.display_value(i).to_string()),
-            };
-            (c.name.clone(), value)
-        })
-        .collect()
 }
 
 #[derive(Serialize)]
