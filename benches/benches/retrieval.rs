@@ -1,12 +1,14 @@
 //! Retrieval indices on the same workload: Algorithm 1's query (with its exclusion of final
 //! behaviors already evaluated) over synthetic patrol case bases of 100 to 100,000 cases
-//! (`benches::case_base`), for every `RetrieverKind`.
+//! (`benches::case_base`, lengths following the real patrol cases), for every
+//! `RetrieverKind`.
 //!
-//! - `retrieval/<retriever>/<cases>`: one query (the workload cycles through every
-//!   adaptation of 12 fresh episodes);
+//! - `retrieval/<retriever>/<cases>`: one query (the workload cycles through 300 query
+//!   `E_past`s drawn like the cases, `benches::queries`);
 //! - `retrieval-build/<retriever>/<cases>`: telling a fresh retriever of every case;
 //! - `retrieval-lambda/<retriever>/<lambda>`: 10,000 cases under lower `lambda`s;
-//! - on stderr: the `|E_past|` distribution and each index's heap bytes per case.
+//! - on stderr: the real and the achieved `|E_past|` distributions (the run stops if the
+//!   synthetic mean is 3% or more off the real one) and the index's heap bytes per case.
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
 use criterion::{BatchSize, BenchmarkId, Criterion, SamplingMode, criterion_group, criterion_main};
@@ -16,6 +18,8 @@ use trust::{InvertedIndex, RetrieverKind, SetSimilarity, TrustCase, TrustCaseBas
 const SIZES: [usize; 4] = [100, 1_000, 10_000, 100_000];
 const LAMBDA: f64 = 0.95;
 const SEED: u64 = 2014;
+/// Queries in the workload; each iteration takes the next.
+const QUERIES: usize = 300;
 
 fn prefix(base: &TrustCaseBase, n: usize) -> TrustCaseBase {
     let mut out = TrustCaseBase::new();
@@ -29,17 +33,18 @@ fn retrieval(c: &mut Criterion) {
     let space = domains::spaces::patrol_space();
     let largest = SIZES[SIZES.len() - 1];
     let all = benches::case_base(&space, largest, SEED);
-    let queries = benches::queries(&space, 12, SEED);
-    let stats = benches::length_stats(&all);
-    eprintln!(
-        "|E_past| over {largest} cases: mean {:.1}, median {}, p90 {}, p99 {}, max {}; {} queries, mean length {:.1}",
-        stats.mean,
-        stats.median,
-        stats.p90,
-        stats.p99,
-        stats.max,
-        queries.len(),
-        queries.iter().map(Vec::len).sum::<usize>() as f64 / queries.len() as f64,
+    let queries = benches::queries(&space, QUERIES, SEED);
+    let real = benches::LengthStats::of(benches::patrol_case_lengths());
+    let made = benches::LengthStats::of(all.cases().iter().map(|c| c.problem.len()));
+    let asked = benches::LengthStats::of(queries.iter().map(Vec::len));
+    eprintln!("|E_past| of the real patrol cases: {real}");
+    eprintln!("|E_past| over {largest} synthetic cases: {made}");
+    eprintln!("|E_past| of the {QUERIES} queries: {asked}");
+    let off = (made.mean - real.mean).abs() / real.mean;
+    assert!(
+        off < 0.03,
+        "the synthetic mean is {:.1}% off the real one",
+        100.0 * off
     );
 
     let mut query = c.benchmark_group("retrieval");
@@ -95,7 +100,7 @@ fn retrieval(c: &mut Criterion) {
 fn lambda_sweep(c: &mut Criterion) {
     let space = domains::spaces::patrol_space();
     let base = benches::case_base(&space, 10_000, SEED);
-    let queries = benches::queries(&space, 12, SEED);
+    let queries = benches::queries(&space, QUERIES, SEED);
     let mut group = c.benchmark_group("retrieval-lambda");
     group.sampling_mode(SamplingMode::Flat);
     group.sample_size(10);
