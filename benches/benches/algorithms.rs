@@ -1,6 +1,6 @@
 //! The paper's algorithms: Algorithm 2 (set similarity) on episode-sized sets and
 //! Algorithm 1 (selectBehavior) over a case base of 1,000 synthetic patrol cases, all drawn
-//! by `benches::case_base`.
+//! by the `benches` generator.
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
 use cbr_core::{BehaviorSpace, CaseMemory, LinearRetriever};
@@ -10,29 +10,18 @@ use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::sync::Arc;
 use trust::search::RandomWalk;
-use trust::{Evaluated, SetSimilarity, TrustCaseBase, select_behavior};
-
-/// `count` episodes of exactly `len` pairs: the first `len` pairs of synthetic cases that
-/// are at least that long.
-fn episodes(base: &TrustCaseBase, len: usize, count: usize) -> Vec<Vec<Evaluated>> {
-    base.cases()
-        .iter()
-        .filter(|c| c.problem.len() >= len)
-        .take(count)
-        .map(|c| c.problem[..len].to_vec())
-        .collect()
-}
+use trust::{SetSimilarity, select_behavior};
 
 fn set_similarity(c: &mut Criterion) {
     let space = domains::spaces::patrol_space();
     let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
-    let base = benches::case_base(&space, 2_000, 1);
+    let mut episodes = benches::Episodes::new(&space, 1);
     let mut group = c.benchmark_group("algorithm2");
     for len in [4usize, 16, 64] {
-        let pair = episodes(&base, len, 2);
-        let (e1, e2) = (&pair[0], &pair[1]);
+        let e1 = episodes.case_of_length(len).problem;
+        let e2 = episodes.case_of_length(len).problem;
         group.bench_with_input(BenchmarkId::new("set_similarity", len), &len, |b, _| {
-            b.iter(|| measure.compare(black_box(e1), black_box(e2)))
+            b.iter(|| measure.compare(black_box(&e1), black_box(&e2)))
         });
     }
     group.finish();
@@ -41,11 +30,8 @@ fn set_similarity(c: &mut Criterion) {
 fn select(c: &mut Criterion) {
     let space: Arc<BehaviorSpace> = domains::spaces::patrol_space();
     let base = benches::case_base(&space, 1_000, 2);
-    // The full E_past of the last of ten fresh episodes (an episode whose first behavior is
-    // trustworthy has none).
-    let e_past = benches::queries(&space, 10, 2)
-        .pop()
-        .expect("ten episodes adapt at least once");
+    // A fresh E_past (seed 3, not in the base) of 16 pairs, about the real mean length.
+    let e_past = benches::Episodes::new(&space, 3).case_of_length(16).problem;
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
     let memory = CaseMemory::new(base, Box::new(LinearRetriever::new(measure)));

@@ -1,20 +1,40 @@
 //! Synthetic trust case bases drawn like real ones, for the benchmarks.
 //!
-//! Real cases come from the random walk: `E_past` is a path of one-change steps from a
-//! uniformly random start, each step taken from the behavior that resisted longest, with
-//! task seconds as times. The patrol simulator is not needed to get that shape: this module
-//! drives the real [`TrustAdapter`] (search only, `reuse_cases: false`, the paper's
-//! thresholds and patrol weights) over the patrol space against a [`SyntheticOperator`]
-//! whose reactions depend on the behavior in the way the patrol task's do (slow robots
-//! miss the deadline, small paddings collide, short or distant scans miss explosives, fast
-//! robots pass objects unscanned). Every case is a real adapter episode; only the world is
-//! made up. `docs/benchmarks.md` gives the resulting `|E_past|` distribution.
+//! Two properties of real cases matter to retrieval: how many evaluated pairs a case holds
+//! (`|E_past|`) and how those pairs lie in the space. This module takes the first from the
+//! real patrol experiments and the second from the real search code:
+//!
+//! - **Length.** `data/patrol-case-lengths.json` (embedded) holds the `|E_past|` of every
+//!   case the case-based strategy retained in the three patrol experiments of
+//!   `trustcbr reproduce` (seed 2014, 500 trials each). Each synthetic case takes its length
+//!   from that list: the lengths are dealt like cards from a shuffled deck of the list,
+//!   reshuffled when empty, so every case's length follows the real distribution and any
+//!   373 consecutive cases hold each real length once.
+//! - **Shape.** The `E_past` of a case of length `L` is a random-walk episode cut at `L`
+//!   pairs: a uniformly random patrol-space start, then Algorithm 1 without a case base
+//!   ([`select_behavior`] with the paper's [`RandomWalk`]: one-change steps from the
+//!   behavior that resisted longest). The case's final behavior is the walk's next
+//!   proposal, so it is never in `E_past`, as in a real case.
+//! - **Times.** The time of each pair is the task time a [`SyntheticOperator`] (speed- or
+//!   detection-focused, drawn per case) takes to reach a verdict on the behavior under the
+//!   paper's thresholds. A real episode ends at the first trustworthy verdict; a synthetic
+//!   case must go on to `L` pairs, so a behavior this operator would trust counts with the
+//!   time its verdict took and the walk continues.
+//!
+//! Queries are drawn the same way from another seed. `docs/benchmarks.md` gives the
+//! achieved statistics and how to measure the real lengths again.
 
-use cbr_core::{Behavior, BehaviorSpace};
+use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
+use rand::seq::SliceRandom;
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::sync::Arc;
-use trust::{AdapterConfig, Cause, Decision, Evaluated, Outcome, TrustAdapter, TrustCaseBase};
+use serde::Deserialize;
+use std::fmt;
+use trust::search::RandomWalk;
+use trust::{
+    Cause, Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate,
+    Verdict, select_behavior,
+};
 
 /// What the operator cares about (SPEC section 8's two patrol operators).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,57 +107,74 @@ impl SyntheticOperator {
         }
         Outcome::completed(LIGHT, duration)
     }
-}
 
-/// Runs search-only episodes with operators drawn uniformly at random (the "random
-/// operator" experiment) until `cases` cases are retained; returns the case base. The same
-/// `seed` gives the same cases, and a smaller base is a prefix of a larger one.
-pub fn case_base(space: &Arc<BehaviorSpace>, cases: usize, seed: u64) -> TrustCaseBase {
-    let mut episodes = Episodes::new(space, seed);
-    while episodes.adapter.cases().len() < cases {
-        episodes.next();
+    /// The task seconds this operator takes to reach a verdict, either one, on `behavior`
+    /// under the paper's thresholds: the time of an evaluated pair.
+    pub fn verdict_time(
+        &self,
+        space: &BehaviorSpace,
+        behavior: &Behavior,
+        rng: &mut dyn RngCore,
+    ) -> f64 {
+        let thresholds = Thresholds::default();
+        let mut estimate = TrustEstimate::default();
+        while estimate.verdict(&thresholds) == Verdict::Undecided {
+            estimate.record(&self.command(space, behavior, rng));
+        }
+        estimate.elapsed_s
     }
-    episodes.adapter.cases().clone()
 }
 
-/// Queries as Algorithm 1 meets them: at every adaptation of `episodes` fresh episodes
-/// (not in any case base of `case_base`), the evaluated pairs so far.
-pub fn queries(space: &Arc<BehaviorSpace>, episodes: usize, seed: u64) -> Vec<Vec<Evaluated>> {
-    let mut source = Episodes::new(space, seed ^ 0x5eed);
-    (0..episodes)
-        .flat_map(|_| {
-            let e_past = source.next();
-            (1..=e_past.len())
-                .map(|n| e_past[..n].to_vec())
-                .collect::<Vec<_>>()
-        })
-        .collect()
+/// The embedded measurement (its `about` field says how it was taken).
+#[derive(Deserialize)]
+struct Measured {
+    lengths: Vec<usize>,
 }
 
-/// The search-only adapter and the random draws of its episodes.
-struct Episodes<'a> {
-    space: &'a Arc<BehaviorSpace>,
-    adapter: TrustAdapter,
+/// The `|E_past|` of the real patrol cases (`data/patrol-case-lengths.json`), in the order
+/// they were recorded.
+pub fn patrol_case_lengths() -> Vec<usize> {
+    let measured: Measured = serde_json::from_str(include_str!("../data/patrol-case-lengths.json"))
+        .expect("the embedded lengths are valid JSON");
+    measured.lengths
+}
+
+/// A seeded source of synthetic patrol cases. Lengths, operators, starts, outcomes and walk
+/// steps all come from one stream, so the same seed gives the same cases.
+pub struct Episodes<'a> {
+    space: &'a BehaviorSpace,
     rng: ChaCha8Rng,
+    deck: Vec<usize>,
+    dealt: usize,
 }
 
 impl<'a> Episodes<'a> {
-    fn new(space: &'a Arc<BehaviorSpace>, seed: u64) -> Self {
-        let config = AdapterConfig {
-            reuse_cases: false,
-            ..AdapterConfig::default()
-        };
-        let adapter = TrustAdapter::new(space.clone(), config, TrustCaseBase::new(), seed)
-            .expect("the default config is valid");
+    /// Cases over `space` (the patrol space) drawn from `seed`.
+    pub fn new(space: &'a BehaviorSpace, seed: u64) -> Self {
+        let deck = patrol_case_lengths();
         Self {
             space,
-            adapter,
             rng: ChaCha8Rng::seed_from_u64(seed),
+            dealt: deck.len(),
+            deck,
         }
     }
 
-    /// Runs one episode to its end and returns its evaluated pairs.
-    fn next(&mut self) -> Vec<Evaluated> {
+    /// The next case, its length dealt from the real distribution.
+    pub fn next_case(&mut self) -> TrustCase {
+        if self.dealt == self.deck.len() {
+            self.deck.shuffle(&mut self.rng);
+            self.dealt = 0;
+        }
+        let len = self.deck[self.dealt];
+        self.dealt += 1;
+        self.case_of_length(len)
+    }
+
+    /// A case of exactly `len >= 1` evaluated pairs: a random walk from a uniformly random
+    /// start, its final behavior the walk's next proposal.
+    pub fn case_of_length(&mut self, len: usize) -> TrustCase {
+        assert!(len > 0, "a case holds at least one evaluated pair");
         let operator = SyntheticOperator {
             focus: if self.rng.random_bool(0.5) {
                 Focus::Speed
@@ -145,26 +182,54 @@ impl<'a> Episodes<'a> {
                 Focus::Detection
             },
         };
-        let start = self.space.draw(&mut self.rng);
-        self.adapter
-            .begin_episode(start)
-            .expect("no episode under way");
-        let mut current = start;
+        let mut walk = RandomWalk::new();
+        let mut e_past = Vec::with_capacity(len);
+        let mut current = self.space.draw(&mut self.rng);
         loop {
-            let outcome = operator.command(self.space, &current, &mut self.rng);
-            match self.adapter.record(&outcome).expect("outcomes are valid") {
-                Decision::Keep => {}
-                Decision::Switch { to, .. } => current = to,
-                Decision::Settled(report) => return report.evaluated,
+            let time = operator.verdict_time(self.space, &current, &mut self.rng);
+            e_past.push(Evaluated {
+                behavior: current,
+                time,
+            });
+            match select_behavior(&e_past, None, &mut walk, self.space, &mut self.rng) {
+                Selection::Search(Proposal::Next(next)) if e_past.len() == len => {
+                    return Case {
+                        problem: e_past,
+                        solution: next,
+                    };
+                }
+                Selection::Search(Proposal::Next(next)) => current = next,
+                other => panic!(
+                    "a walk of {len} steps over {} behaviors ended early: {other:?}",
+                    self.space.size()
+                ),
             }
         }
     }
 }
 
-/// Mean and quantiles of the `|E_past|` of a case base.
+/// `cases` synthetic cases over `space` (the patrol space). The same `seed` gives the same
+/// cases, and a smaller base is a prefix of a larger one.
+pub fn case_base(space: &BehaviorSpace, cases: usize, seed: u64) -> TrustCaseBase {
+    let mut episodes = Episodes::new(space, seed);
+    let mut base = TrustCaseBase::new();
+    for _ in 0..cases {
+        base.push(episodes.next_case());
+    }
+    base
+}
+
+/// `count` query `E_past`s drawn like the cases of [`case_base`] but from another stream,
+/// so none is in a case base of the same `seed`.
+pub fn queries(space: &BehaviorSpace, count: usize, seed: u64) -> Vec<Vec<Evaluated>> {
+    let mut episodes = Episodes::new(space, seed ^ 0x5eed);
+    (0..count).map(|_| episodes.next_case().problem).collect()
+}
+
+/// Mean and quantiles of a list of `|E_past|`s.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LengthStats {
-    /// Mean number of evaluated pairs per case.
+    /// Mean number of evaluated pairs.
     pub mean: f64,
     /// Median.
     pub median: usize,
@@ -176,16 +241,65 @@ pub struct LengthStats {
     pub max: usize,
 }
 
-/// The `|E_past|` distribution of `base` (which must not be empty).
-pub fn length_stats(base: &TrustCaseBase) -> LengthStats {
-    let mut lengths: Vec<usize> = base.cases().iter().map(|c| c.problem.len()).collect();
-    lengths.sort_unstable();
-    let at = |q: f64| lengths[((lengths.len() - 1) as f64 * q).round() as usize];
-    LengthStats {
-        mean: lengths.iter().sum::<usize>() as f64 / lengths.len() as f64,
-        median: at(0.5),
-        p90: at(0.9),
-        p99: at(0.99),
-        max: lengths[lengths.len() - 1],
+impl LengthStats {
+    /// The statistics of `lengths` (which must not be empty); quantile `q` is the sorted
+    /// list's element at index `round((n - 1) q)`.
+    pub fn of(lengths: impl IntoIterator<Item = usize>) -> Self {
+        let mut lengths: Vec<usize> = lengths.into_iter().collect();
+        assert!(!lengths.is_empty(), "no lengths to describe");
+        lengths.sort_unstable();
+        let at = |q: f64| lengths[((lengths.len() - 1) as f64 * q).round() as usize];
+        Self {
+            mean: lengths.iter().sum::<usize>() as f64 / lengths.len() as f64,
+            median: at(0.5),
+            p90: at(0.9),
+            p99: at(0.99),
+            max: lengths[lengths.len() - 1],
+        }
+    }
+}
+
+impl fmt::Display for LengthStats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "mean {:.1}, median {}, p90 {}, p99 {}, max {}",
+            self.mean, self.median, self.p90, self.p99, self.max
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn lengths_follow_the_real_distribution() {
+        let space = domains::spaces::patrol_space();
+        let base = case_base(&space, 2_000, 7);
+        let real = LengthStats::of(patrol_case_lengths());
+        let made = LengthStats::of(base.cases().iter().map(|c| c.problem.len()));
+        assert_eq!(made.median, real.median);
+        assert!(
+            (made.mean - real.mean).abs() <= 0.1 * real.mean,
+            "synthetic {made} against real {real}"
+        );
+    }
+
+    #[test]
+    fn cases_are_walks_without_repetition() {
+        let space = domains::spaces::patrol_space();
+        let mut episodes = Episodes::new(&space, 3);
+        for len in [1, 2, 40] {
+            let case = episodes.case_of_length(len);
+            assert_eq!(case.problem.len(), len);
+            let distinct: HashSet<Behavior> = case.problem.iter().map(|e| e.behavior).collect();
+            assert_eq!(distinct.len(), len);
+            assert!(!distinct.contains(&case.solution));
+            assert!(case.problem.iter().all(|e| e.time > 0.0));
+        }
+        let again = case_base(&space, 50, 3);
+        assert_eq!(case_base(&space, 80, 3).cases()[..50], again.cases()[..]);
     }
 }
