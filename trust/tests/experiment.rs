@@ -5,7 +5,9 @@ use cbr_core::{Behavior, BehaviorSpace, Component};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
 use trust::experiment::report::{ReportEntry, trials_jsonl, write_report};
-use trust::experiment::{ExperimentPlan, OperatorChoice, Strategy, run_experiments};
+use trust::experiment::{
+    ExperimentPlan, ExperimentResult, OperatorChoice, Strategy, run_experiments,
+};
 use trust::{AdapterConfig, Cause, Domain, Outcome};
 
 /// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one.
@@ -80,6 +82,20 @@ fn plans<'a>(
     ]
 }
 
+/// Report entries for the results of `plans` (the `low` and `random` experiments).
+fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry<'a>> {
+    results
+        .iter()
+        .zip(["low", "random"])
+        .map(|(result, operator)| ReportEntry {
+            result,
+            scenario: "toy",
+            operator,
+            space: &toy.space,
+        })
+        .collect()
+}
+
 fn run_with_threads(threads: usize, trials: u32, seed: u64) -> String {
     let toy = Toy::new();
     let ops = operators();
@@ -91,16 +107,7 @@ fn run_with_threads(threads: usize, trials: u32, seed: u64) -> String {
     let results = pool
         .install(|| run_experiments(&plans, seed, &|_| {}))
         .unwrap();
-    let entries: Vec<ReportEntry<'_>> = results
-        .iter()
-        .zip(["low", "random"])
-        .map(|(result, operator)| ReportEntry {
-            result,
-            scenario: "toy",
-            operator,
-            space: &toy.space,
-        })
-        .collect();
+    let entries = entries(&results, &toy);
     trials_jsonl(&entries)
 }
 
@@ -153,16 +160,7 @@ fn the_report_folder_holds_every_file() {
     let toy = Toy::new();
     let ops = operators();
     let results = run_experiments(&plans(&toy, &ops, 10), 3, &|_| {}).unwrap();
-    let entries: Vec<ReportEntry<'_>> = results
-        .iter()
-        .zip(["low", "random"])
-        .map(|(result, operator)| ReportEntry {
-            result,
-            scenario: "toy",
-            operator,
-            space: &toy.space,
-        })
-        .collect();
+    let entries = entries(&results, &toy);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
     write_report(&out, &entries, "(trials: 10)", 1.5).unwrap();
