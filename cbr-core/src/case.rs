@@ -5,7 +5,7 @@
 //! stay valid. Saving writes a temporary file beside the target, syncs it and renames it
 //! over the target, so a crash leaves either the old or the new file, never a torn one.
 
-use crate::ron_text::{RonError, parse_ron};
+use crate::ron_text::{FileError, RonError, parse_ron, read_text};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -55,13 +55,8 @@ impl<P, S> Default for CaseBase<P, S> {
 #[derive(Debug, thiserror::Error)]
 pub enum CaseBaseError {
     /// The file could not be read or written.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The file is not a valid case base.
     #[error(transparent)]
     Parse(#[from] RonError),
@@ -128,9 +123,11 @@ impl<P: Serialize, S: Serialize> CaseBase<P, S> {
                     message: e.to_string(),
                 }
             })?;
-        write_atomically(path, text.as_bytes()).map_err(|source| CaseBaseError::Io {
-            path: path.to_owned(),
-            source,
+        write_atomically(path, text.as_bytes()).map_err(|source| {
+            CaseBaseError::Io(FileError {
+                path: path.to_owned(),
+                source,
+            })
         })
     }
 }
@@ -138,10 +135,7 @@ impl<P: Serialize, S: Serialize> CaseBase<P, S> {
 impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
     /// Reads a case base written by [`Self::save_ron`]. The file is only read.
     pub fn load_ron(path: &Path) -> Result<Self, CaseBaseError> {
-        let text = std::fs::read_to_string(path).map_err(|source| CaseBaseError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        let text = read_text(path)?;
         Self::from_ron(&text, path)
     }
 
@@ -266,7 +260,7 @@ mod tests {
     #[test]
     fn missing_file_is_an_io_error_naming_it() {
         let err = Base::load_ron(Path::new("/nonexistent/cases.ron")).unwrap_err();
-        assert!(matches!(err, CaseBaseError::Io { .. }));
+        assert!(matches!(err, CaseBaseError::Io(_)));
         assert!(err.to_string().contains("/nonexistent/cases.ron"));
     }
 }

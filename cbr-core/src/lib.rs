@@ -22,6 +22,6 @@ pub use case::{Case, CaseBase, CaseBaseError, CaseId, write_atomically};
 pub use component::{Component, ComponentError, Values};
 pub use memory::CaseMemory;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
-pub use ron_text::{RonError, parse_ron};
+pub use ron_text::{FileError, RonError, parse_ron, read_text};
 pub use search::{Proposal, Searcher};
 pub use similarity::SimilarityMeasure;

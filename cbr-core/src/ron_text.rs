@@ -2,7 +2,7 @@
 //! and the offending line with a caret under the column.
 //!
 //! Every RON input of the workspace (case bases, configs, operators, domain files) is read
-//! through [`parse_ron`], so every one reports its errors the same way.
+//! through [`read_text`] and [`parse_ron`], so every one reports its errors the same way.
 
 use serde::de::DeserializeOwned;
 use std::fmt;
@@ -38,6 +38,24 @@ impl fmt::Display for RonError {
         }
         Ok(())
     }
+}
+
+/// A file that could not be read or written.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct FileError {
+    /// The file.
+    pub path: PathBuf,
+    /// The underlying error.
+    pub source: std::io::Error,
+}
+
+/// The whole text of the file at `path`.
+pub fn read_text(path: &Path) -> Result<String, FileError> {
+    std::fs::read_to_string(path).map_err(|source| FileError {
+        path: path.to_owned(),
+        source,
+    })
 }
 
 /// Parses `text` as RON into `T`; `origin` names the source in errors.

@@ -11,7 +11,7 @@
 
 use crate::Scenario;
 use crate::trace::{EventKind, Trace};
-use cbr_core::{RonError, parse_ron};
+use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -89,13 +89,8 @@ pub struct OperatorModel {
 #[derive(Debug, thiserror::Error)]
 pub enum OperatorError {
     /// The file could not be read.
-    #[error("{file}: {source}")]
-    Io {
-        /// The file.
-        file: PathBuf,
-        /// The reason.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The file is not a valid operator in RON.
     #[error(transparent)]
     Syntax(#[from] RonError),
@@ -135,10 +130,7 @@ impl OperatorModel {
 
     /// Reads, parses and validates an operator file.
     pub fn load(path: &Path) -> Result<Self, OperatorError> {
-        let text = std::fs::read_to_string(path).map_err(|source| OperatorError::Io {
-            file: path.to_owned(),
-            source,
-        })?;
+        let text = read_text(path)?;
         Self::from_ron(&text, path)
     }
 

@@ -6,7 +6,7 @@
 //! paper's seven experiments are the embedded default, [`PAPER_CONFIG`].
 
 use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
-use cbr_core::{RonError, parse_ron};
+use cbr_core::{FileError, RonError, parse_ron, read_text};
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -60,13 +60,8 @@ pub struct ExperimentSpec {
 #[derive(Debug, thiserror::Error)]
 pub enum SuiteError {
     /// The config file could not be read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The config is not valid RON for a suite.
     #[error(transparent)]
     Parse(#[from] RonError),
@@ -100,10 +95,7 @@ impl SuiteConfig {
 
     /// Reads and checks a suite config file.
     pub fn load(path: &Path) -> Result<Self, SuiteError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SuiteError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        let text = read_text(path)?;
         Self::from_ron(&text, path)
     }
 

@@ -17,9 +17,9 @@
 //! Every field is checked while it is read, so an error names the file, the line:column of
 //! the offending value, and the field, and shows the line.
 
-use cbr_core::{BehaviorSpace, RonError, parse_ron};
+use cbr_core::{BehaviorSpace, FileError, RonError, parse_ron, read_text};
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use trust::AdapterConfig;
 
@@ -50,13 +50,8 @@ pub enum DomainError {
     #[error("`{0}` is neither a built-in domain (movement, patrol) nor an existing file")]
     Unknown(String),
     /// The file could not be read.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The file is not a valid domain.
     #[error(transparent)]
     Parse(#[from] RonError),
@@ -80,10 +75,7 @@ impl DomainDefinition {
 
     /// Reads and checks a RON domain file.
     pub fn load(path: &Path) -> Result<Self, DomainError> {
-        let text = std::fs::read_to_string(path).map_err(|source| DomainError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
+        let text = read_text(path)?;
         Self::from_ron(&text, path)
     }
 
@@ -245,7 +237,7 @@ mod tests {
         );
         let dir = tempfile::tempdir().unwrap();
         let err = DomainDefinition::resolve(dir.path().to_str().unwrap()).unwrap_err();
-        assert!(matches!(err, DomainError::Io { .. }), "{err}");
+        assert!(matches!(err, DomainError::Io(_)), "{err}");
     }
 
     proptest! {
