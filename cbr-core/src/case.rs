@@ -123,10 +123,10 @@ impl<P: Serialize, S: Serialize> CaseBase<P, S> {
                     message: e.to_string(),
                 }
             })?;
-        write_atomically(path, text.as_bytes()).map_err(|source| {
+        write_atomically(path, text.as_bytes()).map_err(|reason| {
             CaseBaseError::Io(FileError {
                 path: path.to_owned(),
-                source,
+                reason,
             })
         })
     }

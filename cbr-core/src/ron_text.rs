@@ -42,19 +42,19 @@ impl fmt::Display for RonError {
 
 /// A file that could not be read or written.
 #[derive(Debug, thiserror::Error)]
-#[error("{}: {source}", path.display())]
+#[error("{}: {reason}", path.display())]
 pub struct FileError {
     /// The file.
     pub path: PathBuf,
-    /// The underlying error.
-    pub source: std::io::Error,
+    /// What went wrong (shown in the message, so not chained as a source).
+    pub reason: std::io::Error,
 }
 
 /// The whole text of the file at `path`.
 pub fn read_text(path: &Path) -> Result<String, FileError> {
-    std::fs::read_to_string(path).map_err(|source| FileError {
+    std::fs::read_to_string(path).map_err(|reason| FileError {
         path: path.to_owned(),
-        source,
+        reason,
     })
 }
 

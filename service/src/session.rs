@@ -36,12 +36,12 @@ pub enum SessionError {
     #[error("adapter configuration: {0}")]
     Config(#[from] ConfigError),
     /// A retained case could not be saved.
-    #[error("case #{case} was retained but could not be saved, so the server stops: {source}")]
+    #[error("case #{case} was retained but could not be saved, so the server stops: {reason}")]
     Save {
         /// The case.
         case: u32,
-        /// Why the save failed.
-        source: StoreError,
+        /// Why the save failed (shown in the message, so not chained as a source).
+        reason: StoreError,
     },
 }
 
@@ -154,9 +154,9 @@ impl Session {
                 if let Some(case) = report.retained {
                     self.store
                         .save(self.adapter.cases())
-                        .map_err(|source| SessionError::Save {
+                        .map_err(|reason| SessionError::Save {
                             case: case.0,
-                            source,
+                            reason,
                         })?;
                 }
                 reply::episode_end("settled", &space, &report, self.adapter.cases().len())

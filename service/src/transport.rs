@@ -30,12 +30,12 @@ pub enum ServeError {
     )]
     NotLoopback(SocketAddr),
     /// The address could not be bound.
-    #[error("cannot listen on {addr}: {source}")]
+    #[error("cannot listen on {addr}: {reason}")]
     Bind {
         /// The address.
         addr: SocketAddr,
-        /// The underlying error.
-        source: io::Error,
+        /// Why binding failed (shown in the message, so not chained as a source).
+        reason: io::Error,
     },
 }
 
@@ -76,7 +76,7 @@ pub fn listen(addr: SocketAddr) -> Result<TcpListener, ServeError> {
     if !addr.ip().is_loopback() {
         return Err(ServeError::NotLoopback(addr));
     }
-    TcpListener::bind(addr).map_err(|source| ServeError::Bind { addr, source })
+    TcpListener::bind(addr).map_err(|reason| ServeError::Bind { addr, reason })
 }
 
 /// Serves controllers connecting to `listener`, one connection at a time, for ever (or

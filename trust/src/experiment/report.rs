@@ -4,7 +4,7 @@
 
 use super::runner::{ExperimentResult, Strategy, StrategyResult, TrialRecord};
 use crate::named::named_behavior;
-use cbr_core::{BehaviorSpace, write_atomically};
+use cbr_core::{BehaviorSpace, FileError, write_atomically};
 use plotters::prelude::*;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
@@ -27,13 +27,8 @@ pub struct ReportEntry<'a> {
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
     /// A file or folder could not be written.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file or folder.
-        path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// A plot could not be drawn.
     #[error("plot {path}: {message}")]
     Plot {
@@ -174,16 +169,16 @@ pub fn write_report(
     config_ron: &str,
     elapsed_s: f64,
 ) -> Result<Vec<PathBuf>, ReportError> {
-    std::fs::create_dir_all(dir).map_err(|source| ReportError::Io {
+    std::fs::create_dir_all(dir).map_err(|reason| FileError {
         path: dir.to_owned(),
-        source,
+        reason,
     })?;
     let mut written = Vec::new();
     let mut write = |name: &str, text: &str| -> Result<(), ReportError> {
         let path = dir.join(name);
-        write_atomically(&path, text.as_bytes()).map_err(|source| ReportError::Io {
+        write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
             path: path.clone(),
-            source,
+            reason,
         })?;
         written.push(path);
         Ok(())
