@@ -16,24 +16,29 @@ const SMALL: &str = r#"(
     ],
 )"#;
 
-fn run(config: &Path, out: &Path, threads: &str) -> String {
-    let output = trustcbr()
-        .args([
-            "run",
-            config.to_str().unwrap(),
-            "--threads",
-            threads,
-            "--out",
-        ])
-        .arg(out)
-        .output()
-        .unwrap();
+/// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
+fn succeed(command: &mut Command) -> String {
+    let output = command.output().unwrap();
     assert!(
         output.status.success(),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
     String::from_utf8(output.stdout).unwrap()
+}
+
+fn run(config: &Path, out: &Path, threads: &str) -> String {
+    succeed(
+        trustcbr()
+            .args([
+                "run",
+                config.to_str().unwrap(),
+                "--threads",
+                threads,
+                "--out",
+            ])
+            .arg(out),
+    )
 }
 
 #[test]
@@ -112,9 +117,7 @@ fn one_and_two_threads_give_identical_trials() {
 
 #[test]
 fn config_prints_the_embedded_paper_config_and_it_runs() {
-    let output = trustcbr().arg("config").output().unwrap();
-    assert!(output.status.success());
-    let text = String::from_utf8(output.stdout).unwrap();
+    let text = succeed(trustcbr().arg("config"));
     assert!(text.contains("trials: 500"));
     assert_eq!(text.matches("(scenario:").count(), 7);
     // The printed config is a valid input for `run` (with fewer trials).
@@ -151,15 +154,10 @@ fn a_bad_config_names_file_line_and_column() {
 fn reproduce_accepts_overrides() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    let output = trustcbr()
-        .args(["reproduce", "--trials", "1", "--seed", "3", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    succeed(
+        trustcbr()
+            .args(["reproduce", "--trials", "1", "--seed", "3", "--out"])
+            .arg(&out),
     );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
