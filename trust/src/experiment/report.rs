@@ -283,11 +283,7 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .draw()?;
     for s in &e.result.strategies {
         let color = strategy_color(s.strategy);
-        let counts: Vec<f64> = s
-            .trials
-            .iter()
-            .map(|t| t.report.behaviors_evaluated as f64)
-            .collect();
+        let counts = s.counts();
         chart.draw_series(
             counts
                 .iter()

@@ -98,6 +98,16 @@ pub struct StrategyResult {
     pub trials: Vec<TrialRecord>,
 }
 
+impl StrategyResult {
+    /// Behaviors evaluated in each trial, in trial order.
+    pub fn counts(&self) -> Vec<f64> {
+        self.trials
+            .iter()
+            .map(|t| t.report.behaviors_evaluated as f64)
+            .collect()
+    }
+}
+
 /// One experiment's results.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExperimentResult {
@@ -131,13 +141,7 @@ pub fn run_experiments<D: Domain>(
     for plan in plans.iter().rev() {
         let case_based = outcomes.pop().expect("two chains per plan");
         let random_walk = outcomes.pop().expect("two chains per plan");
-        let counts = |s: &StrategyResult| -> Vec<f64> {
-            s.trials
-                .iter()
-                .map(|t| t.report.behaviors_evaluated as f64)
-                .collect()
-        };
-        let p_value = paired_t_test(&counts(&random_walk), &counts(&case_based)).unwrap_or(1.0);
+        let p_value = paired_t_test(&random_walk.counts(), &case_based.counts()).unwrap_or(1.0);
         results.push(ExperimentResult {
             name: plan.name.clone(),
             strategies: [random_walk, case_based],
@@ -192,19 +196,19 @@ fn run_chain<D: Domain>(
             .collect();
         (trials, adapter.cases().len())
     };
-    let counts: Vec<f64> = trials
-        .iter()
-        .map(|t| t.report.behaviors_evaluated as f64)
-        .collect();
-    Ok(StrategyResult {
+    let mut result = StrategyResult {
         strategy,
-        behaviors: mean_ci95(&counts).unwrap_or(MeanCi {
+        behaviors: MeanCi {
             mean: 0.0,
             ci95: 0.0,
-        }),
+        },
         cases_acquired,
         trials,
-    })
+    };
+    if let Some(behaviors) = mean_ci95(&result.counts()) {
+        result.behaviors = behaviors;
+    }
+    Ok(result)
 }
 
 /// One trial: an episode from a drawn initial behavior until the adapter settles.
