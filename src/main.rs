@@ -5,8 +5,8 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{
-    Scenario, SuiteConfig, UgvDomain, find_operator, landscape, run_suite, suite_table,
-    write_suite_report,
+    Scenario, StartingCases, SuiteConfig, UgvDomain, find_operator, landscape, run_suite,
+    save_case_bases, suite_arms_table, suite_table, write_suite_report,
 };
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{CaseStore, DomainDefinition, Session, transport};
@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 use trust::Domain;
+use trust::experiment::report::Provenance;
 
 /// Trust-guided behavior adaptation with case-based reasoning.
 #[derive(Parser)]
@@ -96,9 +97,20 @@ struct RunOptions {
     /// Report folder.
     #[arg(long, default_value = "results")]
     out: PathBuf,
-    /// Trials per experiment and strategy (overrides the config).
+    /// Trials per experiment and arm (overrides the config).
     #[arg(long)]
     trials: Option<NonZeroU32>,
+    /// The arms to compare, by name, comma-separated (overrides the config), e.g.
+    /// `random-walk,case-based`.
+    #[arg(long, value_delimiter = ',')]
+    arms: Option<Vec<String>>,
+    /// Save the case base each case-reusing arm ends every experiment with, as
+    /// `DIR/EXPERIMENT/ARM.ron`.
+    #[arg(long, value_name = "DIR")]
+    save_cases: Option<PathBuf>,
+    /// Start case-reusing arms from the case bases saved in DIR by `--save-cases`.
+    #[arg(long, value_name = "DIR")]
+    cases: Option<PathBuf>,
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
@@ -159,6 +171,17 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
     if let Some(seed) = options.seed {
         config.seed = seed;
     }
+    if let Some(arms) = &options.arms {
+        config.arms = arms.clone();
+        config.validate(origin)?;
+    }
+    let starting = options
+        .cases
+        .as_ref()
+        .map(|dir| StartingCases { dir: dir.clone() });
+    if let Some(dir) = &options.cases {
+        anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
+    }
     let threads = options.threads.map_or_else(
         || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
         NonZeroUsize::get,
@@ -178,27 +201,40 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         .iter()
         .map(|spec| {
             bars.add(
-                ProgressBar::new(2 * u64::from(config.trials.get()))
+                ProgressBar::new(config.arms.len() as u64 * u64::from(config.trials.get()))
                     .with_style(style.clone())
                     .with_prefix(spec.name()),
             )
         })
         .collect();
     let started = Instant::now();
-    let results = pool.install(|| run_suite(&config, origin, &|i| progress[i].inc(1)))?;
+    let results =
+        pool.install(|| run_suite(&config, origin, starting.as_ref(), &|i| progress[i].inc(1)))?;
     let elapsed = started.elapsed().as_secs_f64();
     for bar in &progress {
         bar.finish();
     }
     println!("{}", suite_table(&config, &results));
-    let written = write_suite_report(&options.out, &config, &results, elapsed)?;
+    println!("{}", suite_arms_table(&config, &results));
+    let provenance = Provenance {
+        tool: env!("CARGO_PKG_NAME").to_owned(),
+        version: env!("CARGO_PKG_VERSION").to_owned(),
+        git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
+        command_line: std::env::args().collect(),
+    };
+    let written = write_suite_report(&options.out, &config, &results, elapsed, &provenance)?;
     println!(
-        "{} experiments x {} trials x 2 strategies on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.experiments.len(),
         config.trials,
+        config.arms.len(),
         options.out.display(),
         written.len()
     );
+    if let Some(dir) = &options.save_cases {
+        let saved = save_case_bases(dir, &config, &results)?;
+        println!("saved {} case bases in {}", saved.len(), dir.display());
+    }
     Ok(())
 }
 

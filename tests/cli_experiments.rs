@@ -16,6 +16,17 @@ const SMALL: &str = r#"(
     ],
 )"#;
 
+/// The built-in arms, in report order.
+const ARMS: [&str; 7] = [
+    "random-walk",
+    "case-based",
+    "uniform",
+    "cause-aware",
+    "model-based",
+    "case-based+cause-aware",
+    "case-based+model-based",
+];
+
 /// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
 fn succeed(command: &mut Command) -> String {
     let output = command.output().unwrap();
@@ -59,17 +70,23 @@ fn run_writes_a_complete_report() {
     assert_eq!(experiments[1]["scenario"], "patrol");
     assert_eq!(experiments[1]["operator"], "random");
     assert_eq!(experiments[1]["trials"], 4);
-    for strategy in ["random-walk", "case-based"] {
-        let s = &experiments[0]["strategies"][strategy];
-        assert!(s["mean"].as_f64().unwrap() >= 1.0);
+    for arm in ARMS {
+        let s = &experiments[0]["strategies"][arm];
+        assert!(s["mean"].as_f64().unwrap() >= 1.0, "{arm}");
         assert!(s["ci95"].as_f64().unwrap() >= 0.0);
+        assert!(s["commands_mean"].as_f64().unwrap() >= 5.0);
+        assert!(s["untrustworthy_mean"].as_f64().unwrap() >= 0.0);
+        assert!((0.0..=1.0).contains(&s["found_share"].as_f64().unwrap()));
         assert!(s["cases_acquired"].is_u64());
+        assert_eq!(s["started_from_cases"], 0);
     }
     let p = experiments[0]["p_value"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&p));
+    assert!(summary["provenance"]["version"].is_string());
+    assert_eq!(summary["provenance"]["command_line"][1], "run");
 
     let trials = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
-    assert_eq!(trials.lines().count(), 2 * 2 * 4);
+    assert_eq!(trials.lines().count(), 2 * ARMS.len() * 4);
     for line in trials.lines() {
         let t: serde_json::Value = serde_json::from_str(line).unwrap();
         let scenario = t["scenario"].as_str().unwrap();
@@ -77,9 +94,9 @@ fn run_writes_a_complete_report() {
             t["experiment"].as_str().unwrap().split('/').next(),
             Some(scenario)
         );
-        assert!(["random-walk", "case-based"].contains(&t["strategy"].as_str().unwrap()));
+        assert!(ARMS.contains(&t["arm"].as_str().unwrap()));
         assert!(t["behaviors_evaluated"].as_u64().unwrap() >= 1);
-        assert!(t["runs"].as_u64().unwrap() >= 1);
+        assert!(t["commands"].as_u64().unwrap() >= t["untrustworthy"].as_u64().unwrap());
         assert!(t["found_trustworthy"].is_boolean());
         let components = if scenario == "movement" { 2 } else { 4 };
         assert_eq!(t["final"].as_object().unwrap().len(), components);
@@ -166,5 +183,122 @@ fn reproduce_accepts_overrides() {
         std::fs::read_to_string(out.join("config.ron"))
             .unwrap()
             .contains("seed: 3")
+    );
+}
+
+#[test]
+fn arms_are_chosen_by_name_and_unknown_names_are_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("small.ron");
+    std::fs::write(&config, SMALL).unwrap();
+    let out = dir.path().join("two-arms");
+    succeed(
+        trustcbr()
+            .args([
+                "run",
+                config.to_str().unwrap(),
+                "--arms",
+                "uniform,cause-aware",
+                "--out",
+            ])
+            .arg(&out),
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        summary["experiments"][0]["arms"],
+        serde_json::json!(["uniform", "cause-aware"])
+    );
+    let output = trustcbr()
+        .args([
+            "run",
+            config.to_str().unwrap(),
+            "--arms",
+            "uniform,annealing",
+        ])
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("annealing") && stderr.contains("known: random-walk, case-based"),
+        "{stderr}"
+    );
+    // A config lists its arms too.
+    std::fs::write(
+        &config,
+        SMALL.replace("trials: 4,", "trials: 2, arms: [\"case-based\"],"),
+    )
+    .unwrap();
+    let stdout = run(&config, &dir.path().join("one-arm"), "2");
+    assert!(
+        stdout.contains("case-based: behaviors evaluated"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn saved_case_bases_seed_the_next_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("small.ron");
+    std::fs::write(&config, SMALL).unwrap();
+    let saved = dir.path().join("cases");
+    let arms = ["--arms", "random-walk,case-based,case-based+cause-aware"];
+    succeed(
+        trustcbr()
+            .args(["run", config.to_str().unwrap()])
+            .args(arms)
+            .arg("--out")
+            .arg(dir.path().join("first"))
+            .arg("--save-cases")
+            .arg(&saved),
+    );
+    let file = saved.join("movement-balanced").join("case-based.ron");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let stored = text.matches("solution:").count();
+    assert!(stored > 0, "{text}");
+    // Both reusing arms of both experiments are saved; the random walk reads no cases.
+    assert!(
+        saved
+            .join("patrol-random")
+            .join("case-based+cause-aware.ron")
+            .is_file()
+    );
+    assert!(
+        !saved
+            .join("movement-balanced")
+            .join("random-walk.ron")
+            .exists()
+    );
+    let out = dir.path().join("second");
+    succeed(
+        trustcbr()
+            .args(["run", config.to_str().unwrap()])
+            .args(arms)
+            .arg("--out")
+            .arg(&out)
+            .arg("--cases")
+            .arg(&saved),
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let strategies = &summary["experiments"][0]["strategies"];
+    assert_eq!(strategies["case-based"]["started_from_cases"], stored);
+    assert_eq!(strategies["random-walk"]["started_from_cases"], 0);
+    // A case base of another space is refused.
+    std::fs::copy(saved.join("patrol-random").join("case-based.ron"), &file).unwrap();
+    let output = trustcbr()
+        .args(["run", config.to_str().unwrap()])
+        .args(arms)
+        .arg("--out")
+        .arg(dir.path().join("third"))
+        .arg("--cases")
+        .arg(&saved)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("does not fit the movement behavior space"),
+        "{stderr}"
     );
 }

@@ -30,6 +30,16 @@ pub trait Searcher: Send {
     /// A short name for configs and reports (e.g. `random-walk`).
     fn name(&self) -> &str;
 
+    /// Whether the strategy carries anything learned in one episode into the next. The
+    /// default is `false`; a strategy that keeps knowledge across episodes must say `true`,
+    /// so that whoever drives it (an experiment runner) keeps its episodes in order.
+    fn learns_across_episodes(&self) -> bool {
+        false
+    }
+
+    /// Called when an episode begins with `initial` in use.
+    fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {}
+
     /// The next behavior to try, given the evidence of this episode so far (in order).
     fn propose(
         &mut self,

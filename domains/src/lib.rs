@@ -26,7 +26,10 @@ pub mod world;
 pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators, find_operator};
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
-pub use suite::{SuiteConfig, run_suite, suite_table, write_suite_report};
+pub use suite::{
+    StartingCases, SuiteConfig, run_suite, save_case_bases, suite_arms_table, suite_table,
+    write_suite_report,
+};
 pub use trace::{Event, EventKind, Trace};
 pub use ugv::{Run, Settings, UgvDomain};
 pub use world::World;

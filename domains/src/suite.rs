@@ -1,18 +1,23 @@
 //! The experiment suite over the built-in UGV domains.
 //!
-//! A suite config (RON) names experiments by scenario and operator, plus the trials, seed
-//! and adapter parameters; [`run_suite`] turns it into [`ExperimentPlan`]s for the generic
-//! runner in `trust::experiment` and [`write_suite_report`] writes the report folder. The
-//! paper's seven experiments are the embedded default, [`PAPER_CONFIG`].
+//! A suite config (RON) names experiments by scenario and operator, the arms to compare,
+//! the trials, seed and adapter parameters; [`run_suite`] turns it into
+//! [`ExperimentPlan`]s for the generic runner in `trust::experiment` and
+//! [`write_suite_report`] writes the report folder. The paper's seven experiments are the
+//! embedded default, [`PAPER_CONFIG`]. Each experiment's learned case bases can be saved
+//! ([`save_case_bases`]) and an arm can start from them ([`StartingCases`]).
 
 use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
-use cbr_core::{FileError, RonError, parse_ron, read_text};
+use cbr_core::{BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text};
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::experiment::report::{ReportEntry, ReportError, write_report};
-use trust::experiment::{ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
-use trust::{AdapterConfig, ConfigError};
+use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
+use trust::experiment::{
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, UnknownArm,
+    run_experiments,
+};
+use trust::{ConfigError, RetrieverKind, Thresholds, TrustCaseBase};
 
 /// The paper's seven experiments, as shipped in the binary.
 pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");
@@ -26,20 +31,53 @@ pub const RANDOM_OPERATOR: &str = "random";
 pub struct SuiteConfig {
     /// Master seed of every random stream.
     pub seed: u64,
-    /// Trials per experiment and strategy.
+    /// Trials per experiment and arm.
     pub trials: NonZeroU32,
     /// Commands after which a trial is abandoned (a guard against endless trials).
     #[serde(default = "default_max_commands")]
     pub max_commands: u64,
-    /// The adapter's parameters (`reuse_cases` is set by each strategy).
+    /// The adapter parameters every arm shares.
     #[serde(default)]
-    pub adapter: AdapterConfig,
+    pub adapter: SuiteAdapter,
+    /// The arms to compare, by name ([`BUILTIN_ARMS`]; default: all of them). Every arm
+    /// is tested against the first.
+    #[serde(default = "default_arms")]
+    pub arms: Vec<String>,
     /// The experiments, in report order.
     pub experiments: Vec<ExperimentSpec>,
 }
 
 fn default_max_commands() -> u64 {
     1_000_000
+}
+
+fn default_arms() -> Vec<String> {
+    BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
+}
+
+/// The adapter parameters of a suite. Whether cases are reused and which search runs are
+/// the arms' business, so they are not here.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SuiteAdapter {
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
+    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
+    pub lambda: f64,
+    /// The retriever of the arms that reuse cases (every kind gives the same answers).
+    pub retriever: RetrieverKind,
+}
+
+impl Default for SuiteAdapter {
+    fn default() -> Self {
+        let paper = trust::AdapterConfig::default();
+        Self {
+            thresholds: paper.thresholds,
+            lambda: paper.lambda,
+            retriever: paper.retriever,
+        }
+    }
 }
 
 /// One experiment: a scenario and who operates the robot.
@@ -81,6 +119,22 @@ pub enum SuiteError {
     /// The adapter parameters are invalid.
     #[error("adapter: {0}")]
     Adapter(#[from] ConfigError),
+    /// The experiments cannot be run as planned.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    /// A saved case base cannot be used.
+    #[error(transparent)]
+    Cases(#[from] CaseBaseError),
+    /// A saved case base does not fit the experiment's behavior space.
+    #[error("{path}: case {case} does not fit the {scenario} behavior space")]
+    ForeignCases {
+        /// The file.
+        path: PathBuf,
+        /// The case's position.
+        case: usize,
+        /// The scenario.
+        scenario: Scenario,
+    },
     /// The report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
@@ -122,7 +176,24 @@ impl SuiteConfig {
         if self.max_commands == 0 {
             return Err(invalid("max_commands".into(), "must be at least 1".into()));
         }
-        self.adapter.validate()?;
+        self.adapter
+            .thresholds
+            .validate()
+            .map_err(ConfigError::from)?;
+        if self.arms.is_empty() {
+            return Err(invalid("arms".into(), "at least one arm is needed".into()));
+        }
+        for (i, name) in self.arms.iter().enumerate() {
+            if let Err(e) = Arm::builtin(name, self.adapter.retriever) {
+                return Err(invalid(format!("arms[{i}]"), e.to_string()));
+            }
+            if self.arms[..i].contains(name) {
+                return Err(invalid(
+                    format!("arms[{i}]"),
+                    format!("`{name}` is listed twice"),
+                ));
+            }
+        }
         for (i, spec) in self.experiments.iter().enumerate() {
             let operators = spec.operators(origin)?;
             if spec.operator != RANDOM_OPERATOR
@@ -186,11 +257,62 @@ pub struct SuiteResults {
     pub results: Vec<ExperimentResult>,
 }
 
+/// Case bases saved by an earlier run ([`save_case_bases`]): `DIR/EXPERIMENT/ARM.ron`, the
+/// experiment's name made a file name ([`file_stems`]). An arm that reuses cases starts
+/// from its file when there is one, and from an empty case base otherwise.
+#[derive(Clone, Debug)]
+pub struct StartingCases {
+    /// The folder.
+    pub dir: PathBuf,
+}
+
+impl StartingCases {
+    fn load(
+        &self,
+        stem: &str,
+        arm: &str,
+        scenario: Scenario,
+        space: &BehaviorSpace,
+    ) -> Result<Option<TrustCaseBase>, SuiteError> {
+        let path = self.dir.join(stem).join(format!("{arm}.ron"));
+        if !path.exists() {
+            return Ok(None);
+        }
+        let cases = TrustCaseBase::load_ron(&path)?;
+        for (id, case) in cases.iter() {
+            let fits = space.contains(&case.solution)
+                && case
+                    .problem
+                    .iter()
+                    .all(|e| space.contains(&e.behavior) && e.time.is_finite() && e.time >= 0.0);
+            if !fits {
+                return Err(SuiteError::ForeignCases {
+                    path,
+                    case: id.index(),
+                    scenario,
+                });
+            }
+        }
+        Ok(Some(cases))
+    }
+}
+
+/// The arms of `config`, built-in ones by name.
+fn builtin_arms(config: &SuiteConfig) -> Result<Vec<Arm>, UnknownArm> {
+    config
+        .arms
+        .iter()
+        .map(|name| Arm::builtin(name, config.adapter.retriever))
+        .collect()
+}
+
 /// Runs every experiment of `config` (operator files relative to `origin`) on the current
-/// rayon pool; `progress(experiment)` is called after every trial.
+/// rayon pool, arms that reuse cases starting from `starting` when given;
+/// `progress(experiment)` is called after every trial.
 pub fn run_suite(
     config: &SuiteConfig,
     origin: &Path,
+    starting: Option<&StartingCases>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<SuiteResults, SuiteError> {
     let movement = UgvDomain::new(Scenario::Movement);
@@ -200,16 +322,37 @@ pub fn run_suite(
         .iter()
         .map(|spec| spec.operators(origin))
         .collect::<Result<Vec<_>, _>>()?;
-    let plans: Vec<ExperimentPlan<'_, UgvDomain>> = config
-        .experiments
-        .iter()
-        .zip(&operators)
-        .map(|(spec, operators)| ExperimentPlan {
+    let arms = builtin_arms(config).map_err(|e| SuiteError::Invalid {
+        path: origin.to_owned(),
+        field: "arms".into(),
+        message: e.to_string(),
+    })?;
+    let stems = file_stems(config.experiments.iter().map(|s| s.name()));
+    let mut plans: Vec<ExperimentPlan<'_, UgvDomain>> = Vec::new();
+    for ((spec, operators), stem) in config.experiments.iter().zip(&operators).zip(&stems) {
+        let domain = match spec.scenario {
+            Scenario::Movement => &movement,
+            Scenario::Patrol => &patrol,
+        };
+        let mut plan_arms = Vec::with_capacity(arms.len());
+        for arm in &arms {
+            let saved = match starting {
+                Some(s) if arm.reuses_cases() => s.load(
+                    stem,
+                    arm.name(),
+                    spec.scenario,
+                    trust::Domain::space(domain),
+                )?,
+                _ => None,
+            };
+            plan_arms.push(match saved {
+                Some(cases) => arm.clone().with_starting_cases(cases),
+                None => arm.clone(),
+            });
+        }
+        plans.push(ExperimentPlan {
             name: spec.name(),
-            domain: match spec.scenario {
-                Scenario::Movement => &movement,
-                Scenario::Patrol => &patrol,
-            },
+            domain,
             operators,
             choice: if spec.operator == RANDOM_OPERATOR {
                 OperatorChoice::Random
@@ -222,12 +365,41 @@ pub fn run_suite(
                 )
             },
             trials: config.trials.get(),
-            adapter: config.adapter.clone(),
+            thresholds: config.adapter.thresholds,
+            lambda: config.adapter.lambda,
+            arms: plan_arms,
             max_commands: config.max_commands,
-        })
-        .collect();
+        });
+    }
     let results = run_experiments(&plans, config.seed, progress)?;
     Ok(SuiteResults { results })
+}
+
+/// Saves the case base each case-reusing arm ended every experiment with, as
+/// `DIR/EXPERIMENT/ARM.ron` (what [`StartingCases`] reads). Returns the files written.
+pub fn save_case_bases(
+    dir: &Path,
+    config: &SuiteConfig,
+    results: &SuiteResults,
+) -> Result<Vec<PathBuf>, SuiteError> {
+    let stems = file_stems(config.experiments.iter().map(|s| s.name()));
+    let mut written = Vec::new();
+    for (result, stem) in results.results.iter().zip(&stems) {
+        let folder = dir.join(stem);
+        for arm in &result.arms {
+            let Some(cases) = &arm.final_cases else {
+                continue;
+            };
+            std::fs::create_dir_all(&folder).map_err(|reason| FileError {
+                path: folder.clone(),
+                reason,
+            })?;
+            let path = folder.join(format!("{}.ron", arm.name));
+            cases.save_ron(&path)?;
+            written.push(path);
+        }
+    }
+    Ok(written)
 }
 
 /// The report entries of a suite's results.
@@ -259,12 +431,19 @@ pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
     trust::experiment::report::table(&entries(config, results, &spaces))
 }
 
+/// Every arm of every experiment, with what it costs the operator, in Markdown.
+pub fn suite_arms_table(config: &SuiteConfig, results: &SuiteResults) -> String {
+    let spaces = scenario_spaces();
+    trust::experiment::report::arms_table(&entries(config, results, &spaces))
+}
+
 /// Writes the report folder for a suite run.
 pub fn write_suite_report(
     dir: &Path,
     config: &SuiteConfig,
     results: &SuiteResults,
     elapsed_s: f64,
+    provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let spaces = scenario_spaces();
     Ok(write_report(
@@ -272,6 +451,7 @@ pub fn write_suite_report(
         &entries(config, results, &spaces),
         &config.to_ron(),
         elapsed_s,
+        provenance,
     )?)
 }
 
@@ -306,11 +486,12 @@ mod tests {
         );
         assert_eq!(
             config.adapter,
-            AdapterConfig {
-                retriever: trust::RetrieverKind::InvertedIndex,
-                ..AdapterConfig::default()
+            SuiteAdapter {
+                retriever: RetrieverKind::InvertedIndex,
+                ..SuiteAdapter::default()
             }
         );
+        assert_eq!(config.arms, BUILTIN_ARMS);
     }
 
     #[test]
@@ -344,6 +525,26 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("lambda"), "{err}");
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5, arms: [\"uniform\", \"annealing\"], experiments: [(scenario: movement, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("arms[1]")
+                && err.contains("annealing")
+                && err.contains("known: random-walk"),
+            "{err}"
+        );
+        // Case reuse and the search strategy are the arms' business.
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5, adapter: (reuse_cases: false), experiments: [(scenario: movement, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("reuse_cases"), "{err}");
     }
 
     #[test]

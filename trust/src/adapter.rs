@@ -6,10 +6,12 @@
 //! evaluated pairs `E_past`), the case memory and the search strategy, and retains a case at
 //! the end of an episode as SPEC section 3 says.
 
-use crate::estimate::{Outcome, OutcomeError, ThresholdError, Thresholds, TrustEstimate, Verdict};
+use crate::estimate::{
+    Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate, Verdict,
+};
 use crate::evaluated::{LambdaError, validate_lambda};
 use crate::retrieval::RetrieverKind;
-use crate::search::{RandomWalk, TrustSearcher};
+use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
 use crate::{Evaluated, TrustCaseBase, TrustMemory};
 use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
@@ -17,32 +19,6 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// Which search strategy proposes behaviors when no case helps.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SearchKind {
-    /// The paper's random walk ([`RandomWalk`]).
-    #[default]
-    RandomWalk,
-}
-
-impl SearchKind {
-    /// Whether the strategy carries anything learned in one episode into the next (then
-    /// an experiment's trials must run in order).
-    pub fn learns_across_episodes(self) -> bool {
-        match self {
-            SearchKind::RandomWalk => false,
-        }
-    }
-
-    /// A fresh searcher of this kind.
-    pub fn build(self) -> Box<TrustSearcher> {
-        match self {
-            SearchKind::RandomWalk => Box::new(RandomWalk::new()),
-        }
-    }
-}
 
 /// The adapter's parameters; the defaults are the paper's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -120,6 +96,8 @@ pub struct EpisodeReport {
     pub behaviors_evaluated: u64,
     /// Commands recorded in the episode.
     pub commands: u64,
+    /// Commands that failed or were interrupted (what the operator endured).
+    pub untrustworthy: u64,
     /// Adaptations that came from the search strategy.
     pub searched: u32,
     /// Adaptations that reused a case.
@@ -169,6 +147,7 @@ struct Episode {
     estimate: TrustEstimate,
     evaluated: Vec<Evaluated>,
     commands: u64,
+    untrustworthy: u64,
     searched: u32,
     reused: u32,
 }
@@ -255,9 +234,11 @@ impl TrustAdapter {
             estimate: TrustEstimate::default(),
             evaluated: Vec::new(),
             commands: 0,
+            untrustworthy: 0,
             searched: 0,
             reused: 0,
         });
+        self.searcher.begin_episode(&self.space, &initial);
         Ok(())
     }
 
@@ -267,6 +248,9 @@ impl TrustAdapter {
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
         episode.estimate.record(outcome);
         episode.commands += 1;
+        if outcome.kind != OutcomeKind::Completed {
+            episode.untrustworthy += 1;
+        }
         self.searcher.observe(&episode.current, outcome);
         match episode.estimate.verdict(&self.config.thresholds) {
             Verdict::Undecided => Ok(Decision::Keep),
@@ -343,11 +327,17 @@ impl TrustAdapter {
             found_trustworthy,
             behaviors_evaluated: distinct.len() as u64,
             commands: episode.commands,
+            untrustworthy: episode.untrustworthy,
             searched: episode.searched,
             reused: episode.reused,
             retained,
             evaluated: episode.evaluated,
         }
+    }
+
+    /// Whether the search strategy carries knowledge from one episode into the next.
+    pub fn learns_across_episodes(&self) -> bool {
+        self.searcher.learns_across_episodes()
     }
 
     /// The episode under way, if any.

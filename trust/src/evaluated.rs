@@ -57,7 +57,7 @@ pub fn validate_lambda(lambda: f64) -> Result<(), LambdaError> {
 }
 
 /// Deserializes a `lambda` and checks it with [`validate_lambda`].
-pub(crate) fn deserialize_lambda<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+pub fn deserialize_lambda<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     let lambda = f64::deserialize(d)?;
     validate_lambda(lambda)
         .map_err(|e| serde::de::Error::custom(format_args!("field `lambda`: {e}")))?;

@@ -4,7 +4,8 @@
 //! - [`estimate`]: outcomes, the inverse trust estimate, thresholds and verdicts.
 //! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
 //! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
-//! - [`search`]: search strategies, starting with the paper's random walk.
+//! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
+//!   and model-based search.
 //! - [`retrieval`]: the retrievers a config can name.
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
 //! - [`domain`]: the contract a task domain implements.
@@ -24,13 +25,14 @@ pub mod search;
 pub mod select;
 
 pub use adapter::{
-    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, SearchKind,
-    Source, TrustAdapter,
+    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, Source,
+    TrustAdapter,
 };
 pub use domain::Domain;
 pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverKind};
+pub use search::SearchKind;
 pub use select::{Selection, select_behavior};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};

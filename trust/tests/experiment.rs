@@ -2,13 +2,17 @@
 //! statistics and the report files.
 
 use cbr_core::{Behavior, BehaviorSpace, Component};
+use cbr_core::{LinearRetriever, Proposal, Searcher};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
-use trust::experiment::report::{ReportEntry, trials_jsonl, write_report};
+use trust::experiment::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
 use trust::experiment::{
-    ExperimentPlan, ExperimentResult, OperatorChoice, Strategy, run_experiments,
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments,
 };
-use trust::{AdapterConfig, Cause, Domain, Outcome};
+use trust::search::{draw_untried, evaluated_set, longest_resisting};
+use trust::{
+    Cause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds, TrustRetriever,
+};
 
 /// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one.
 struct Toy {
@@ -55,30 +59,86 @@ fn operators() -> Vec<(String, Favourite)> {
     ]
 }
 
+/// A user's own searcher, written outside the library: the untried behavior with the
+/// smallest rank among a few drawn ones.
+struct SmallestOfFour;
+
+impl Searcher for SmallestOfFour {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "smallest-of-four"
+    }
+
+    fn propose(
+        &mut self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        rng: &mut dyn RngCore,
+    ) -> Proposal {
+        let Some(e_max) = longest_resisting(evaluated) else {
+            return Proposal::Next(space.draw(rng));
+        };
+        match draw_untried(space, &evaluated_set(evaluated), 4, rng)
+            .into_iter()
+            .min_by_key(|b| space.rank(b))
+        {
+            Some(b) => Proposal::Next(b),
+            None => Proposal::Exhausted {
+                keep: e_max.behavior,
+            },
+        }
+    }
+}
+
+/// A user's own retriever factory: the reference scan, built by hand.
+fn users_retriever(
+    space: &Arc<BehaviorSpace>,
+    lambda: f64,
+) -> Result<Box<TrustRetriever>, trust::evaluated::LambdaError> {
+    Ok(Box::new(LinearRetriever::new(SetSimilarity::new(
+        space.clone(),
+        lambda,
+    )?)))
+}
+
+/// Every built-in arm, then a user's searcher alone and with a user's retriever.
+fn arms() -> Vec<Arm> {
+    let mut arms: Vec<Arm> = BUILTIN_ARMS
+        .iter()
+        .map(|name| Arm::builtin(name, RetrieverKind::InvertedIndex).unwrap())
+        .collect();
+    arms.push(Arm::search_only("smallest-of-four", |_| {
+        Box::new(SmallestOfFour)
+    }));
+    arms.push(Arm::case_based(
+        "case-based+smallest-of-four",
+        |_| Box::new(SmallestOfFour),
+        users_retriever,
+    ));
+    arms
+}
+
 fn plans<'a>(
     toy: &'a Toy,
     ops: &'a [(String, Favourite)],
     trials: u32,
 ) -> Vec<ExperimentPlan<'a, Toy>> {
+    let plan = |name: &str, choice| ExperimentPlan {
+        name: name.into(),
+        domain: toy,
+        operators: ops,
+        choice,
+        trials,
+        thresholds: Thresholds::default(),
+        lambda: 0.95,
+        arms: arms(),
+        max_commands: 100_000,
+    };
     vec![
-        ExperimentPlan {
-            name: "toy/low".into(),
-            domain: toy,
-            operators: ops,
-            choice: OperatorChoice::Fixed(0),
-            trials,
-            adapter: AdapterConfig::default(),
-            max_commands: 100_000,
-        },
-        ExperimentPlan {
-            name: "toy/random".into(),
-            domain: toy,
-            operators: ops,
-            choice: OperatorChoice::Random,
-            trials,
-            adapter: AdapterConfig::default(),
-            max_commands: 100_000,
-        },
+        plan("toy/low", OperatorChoice::Fixed(0)),
+        plan("toy/random", OperatorChoice::Random),
     ]
 }
 
@@ -120,21 +180,35 @@ fn same_seed_same_trials_for_any_thread_count() {
 }
 
 #[test]
-fn strategies_are_paired_and_cases_help() {
+fn arms_are_paired_and_cases_help() {
     let toy = Toy::new();
     let ops = operators();
     let results = run_experiments(&plans(&toy, &ops, 60), 5, &|_| {}).unwrap();
     for result in &results {
-        let [rw, cb] = &result.strategies;
-        assert_eq!(rw.strategy, Strategy::RandomWalk);
-        assert_eq!(cb.strategy, Strategy::CaseBased);
-        assert_eq!(rw.trials.len(), 60);
-        for (a, b) in rw.trials.iter().zip(&cb.trials) {
-            // Same operator and initial behavior for both strategies of a pair.
-            assert_eq!(
-                (a.trial, &a.operator, a.initial),
-                (b.trial, &b.operator, b.initial)
-            );
+        let names: Vec<&str> = result.arms.iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(names[..7], BUILTIN_ARMS);
+        assert_eq!(
+            names[7..],
+            ["smallest-of-four", "case-based+smallest-of-four"]
+        );
+        let rw = result.arm("random-walk").unwrap();
+        let cb = result.arm("case-based").unwrap();
+        for arm in &result.arms {
+            assert_eq!(arm.trials.len(), 60);
+            for (a, b) in rw.trials.iter().zip(&arm.trials) {
+                // Same operator and initial behavior for every arm of a pair.
+                assert_eq!(
+                    (a.trial, &a.operator, a.initial),
+                    (b.trial, &b.operator, b.initial)
+                );
+            }
+            // Each arm but the first is tested against the first.
+            assert_eq!(arm.versus_first.is_none(), arm.name == "random-walk");
+            if let Some(tests) = arm.versus_first {
+                assert!((0.0..=1.0).contains(&tests.t_test_p));
+                assert!((0.0..=1.0).contains(&tests.wilcoxon_p));
+            }
+            assert_eq!(arm.final_cases.is_some(), arm.reuses_cases);
         }
         assert!(cb.cases_acquired > 0);
         assert!(
@@ -144,10 +218,9 @@ fn strategies_are_paired_and_cases_help() {
             cb.behaviors.mean,
             rw.behaviors.mean
         );
-        assert!((0.0..=1.0).contains(&result.p_value));
     }
     // In the random-operator experiment both operators appear.
-    let drawn: std::collections::HashSet<&str> = results[1].strategies[0]
+    let drawn: std::collections::HashSet<&str> = results[1].arms[0]
         .trials
         .iter()
         .map(|t| t.operator.as_str())
@@ -163,7 +236,13 @@ fn the_report_folder_holds_every_file() {
     let entries = entries(&results, &toy);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
-    write_report(&out, &entries, "(trials: 10)", 1.5).unwrap();
+    let provenance = Provenance {
+        tool: "toy".into(),
+        version: "1.0".into(),
+        git_commit: None,
+        command_line: vec!["toy".into(), "run".into()],
+    };
+    write_report(&out, &entries, "(trials: 10)", 1.5, &provenance).unwrap();
     for name in [
         "table.md",
         "summary.json",
@@ -177,18 +256,46 @@ fn the_report_folder_holds_every_file() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["elapsed_s"], 1.5);
+    assert_eq!(summary["provenance"]["command_line"][1], "run");
     let first = &summary["experiments"][0];
     assert_eq!(first["scenario"], "toy");
     assert_eq!(first["operator"], "low");
     assert_eq!(first["trials"], 10);
-    assert!(first["strategies"]["case-based"]["mean"].is_f64());
-    assert!(first["strategies"]["random-walk"]["cases_acquired"].is_u64());
+    for arm in BUILTIN_ARMS.iter().chain(&["smallest-of-four"]) {
+        let s = &first["strategies"][arm];
+        for key in [
+            "mean",
+            "ci95",
+            "commands_mean",
+            "untrustworthy_mean",
+            "found_share",
+        ] {
+            assert!(s[key].is_f64(), "{arm}: {key}");
+        }
+        assert!(s["cases_acquired"].is_u64(), "{arm}");
+    }
     let lines = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
-    assert_eq!(lines.lines().count(), 2 * 2 * 10);
+    assert_eq!(lines.lines().count(), 2 * 9 * 10);
     let line: serde_json::Value = serde_json::from_str(lines.lines().next().unwrap()).unwrap();
     assert_eq!(line["experiment"], "toy/low");
-    assert_eq!(line["strategy"], "random-walk");
+    assert_eq!(line["arm"], "random-walk");
     assert!(line["final"]["a"].is_f64());
     let svg = std::fs::read_to_string(out.join("curves-toy-low.svg")).unwrap();
-    assert!(svg.starts_with("<svg") && svg.contains("case-based"));
+    assert!(svg.starts_with("<svg") && svg.contains("case-based+smallest-of-four"));
+}
+
+#[test]
+fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
+    let toy = Toy::new();
+    let ops = operators();
+    let mut plans = plans(&toy, &ops, 8);
+    for plan in &mut plans {
+        // Five commands cannot reach a threshold of 5 and leave room to adapt.
+        plan.max_commands = 4;
+        plan.arms.truncate(2);
+    }
+    let results = run_experiments(&plans, 1, &|_| {}).unwrap();
+    let entries = entries(&results, &toy);
+    let text = table(&entries);
+    assert!(text.contains("(8 cut off)"), "{text}");
 }

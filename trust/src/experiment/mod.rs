@@ -2,15 +2,17 @@
 //!
 //! A *trial* is one adaptation episode driven through the same [`TrustAdapter`](crate::TrustAdapter)
 //! a robot embeds. An *experiment* runs a number of trials with one operator (or one drawn
-//! at random per trial), once per strategy (random walk alone, case-based), pairing trial `i`
-//! of one with trial `i` of the other. Statistics and report files live in submodules.
+//! at random per trial) once per [`Arm`] (a search strategy, with or without case reuse),
+//! pairing trial `i` of every arm. Arms, statistics and report files live in submodules.
 
+pub mod arm;
 pub mod report;
 pub mod runner;
 pub mod seeds;
 pub mod stats;
 
+pub use arm::{Arm, BUILTIN_ARMS, RetrieverFactory, SearcherFactory, UnknownArm};
 pub use runner::{
-    ExperimentPlan, ExperimentResult, OperatorChoice, Strategy, StrategyResult, TrialRecord,
-    run_experiments,
+    ArmResult, ExperimentPlan, ExperimentResult, OperatorChoice, PairedTests, PlanError,
+    TrialRecord, run_experiments,
 };

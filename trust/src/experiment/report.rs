@@ -1,8 +1,11 @@
-//! The report of a set of experiments: the printed table, `table.md`, `summary.json`,
-//! `trials.jsonl`, the config used, and SVG plots (learning curves and where the final
-//! behaviors land in the behavior space). Every file is written atomically.
+//! The report of a set of experiments: the printed tables (the paper's two arms, then
+//! every arm with what it costs the operator), `table.md`, `summary.json` (with the
+//! report's provenance), `trials.jsonl`, the config used, and SVG plots (learning curves
+//! and where the final behaviors land in the behavior space). Every file is written
+//! atomically.
 
-use super::runner::{ExperimentResult, Strategy, StrategyResult, TrialRecord};
+use super::runner::{ArmResult, ExperimentResult, TrialRecord};
+use super::stats::MeanCi;
 use crate::named::named_behavior;
 use cbr_core::{BehaviorSpace, FileError, write_atomically};
 use plotters::prelude::*;
@@ -42,26 +45,104 @@ pub enum ReportError {
 /// Trials averaged by the moving average of the learning-curve plots.
 const MOVING_AVERAGE_WINDOW: usize = 25;
 
-/// The Markdown table of the experiments, as printed and as `table.md`.
+/// Where the report came from: the tool, its version and commit, and the command line.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Provenance {
+    /// The program that wrote the report.
+    pub tool: String,
+    /// Its version.
+    pub version: String,
+    /// The source commit it was built from, when known.
+    pub git_commit: Option<String>,
+    /// The command line, program first.
+    pub command_line: Vec<String>,
+}
+
+/// `mean ± ci95`, with the trials cut off by `max_commands` counted beside it.
+fn mean_cell(mean: &MeanCi, truncated: usize) -> String {
+    let cell = format!("{:.2} ± {:.2}", mean.mean, mean.ci95);
+    match truncated {
+        0 => cell,
+        n => format!("{cell} ({n} cut off)"),
+    }
+}
+
+/// The paper's Table 1: the first two arms of every experiment (random walk and
+/// case-based in the default suite), as printed and at the top of `table.md`.
 pub fn table(entries: &[ReportEntry<'_>]) -> String {
-    let mut out = String::new();
-    out.push_str("| Scenario | Operator | Trials | Random walk: behaviors evaluated (mean ± 95% CI) | Case-based: behaviors evaluated (mean ± 95% CI) | Cases acquired | Paired t-test p |\n");
-    out.push_str("|---|---|---:|---:|---:|---:|---:|\n");
+    let Some(first) = entries.first() else {
+        return String::new();
+    };
+    let names: Vec<&str> = first
+        .result
+        .arms
+        .iter()
+        .take(2)
+        .map(|a| a.name.as_str())
+        .collect();
+    let mut out = String::from("| Scenario | Operator | Trials |");
+    for name in &names {
+        let _ = write!(out, " {name}: behaviors evaluated (mean ± 95% CI) |");
+    }
+    if let Some(second) = names.get(1) {
+        let _ = write!(out, " Cases acquired ({second}) | Paired t-test p |");
+    }
+    out.push('\n');
+    out.push_str("|---|---|---:|");
+    out.push_str(&"---:|".repeat(names.len() + if names.len() > 1 { 2 } else { 0 }));
+    out.push('\n');
     for e in entries {
-        let [rw, cb] = &e.result.strategies;
-        let _ = writeln!(
+        let _ = write!(
             out,
-            "| {} | {} | {} | {:.2} ± {:.2} | {:.2} ± {:.2} | {} | {} |",
+            "| {} | {} | {} |",
             e.scenario,
             e.operator,
-            rw.trials.len(),
-            rw.behaviors.mean,
-            rw.behaviors.ci95,
-            cb.behaviors.mean,
-            cb.behaviors.ci95,
-            cb.cases_acquired,
-            format_p(e.result.p_value)
+            e.result.trials()
         );
+        for arm in e.result.arms.iter().take(2) {
+            let _ = write!(out, " {} |", mean_cell(&arm.behaviors, arm.truncated()));
+        }
+        if let Some(second) = e.result.arms.get(1) {
+            let p = second.versus_first.map_or(1.0, |t| t.t_test_p);
+            let _ = write!(out, " {} | {} |", second.cases_acquired, format_p(p));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// Every arm of every experiment: what it costs the operator, and the paired tests
+/// against the experiment's first arm.
+pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::from(
+        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p | Wilcoxon p |\n",
+    );
+    out.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for e in entries {
+        for arm in &e.result.arms {
+            let (t, w) = arm
+                .versus_first
+                .map_or(("—".to_owned(), "—".to_owned()), |p| {
+                    (format_p(p.t_test_p), format_p(p.wilcoxon_p))
+                });
+            let started = match arm.starting_cases {
+                0 => String::new(),
+                n => format!(" (from {n} saved)"),
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {}{started} | {} | {} | {} | {:.1}% ± {:.1} | {} | {} | {t} | {w} |",
+                e.result.name,
+                arm.name,
+                mean_cell(&arm.behaviors, 0),
+                mean_cell(&arm.commands, 0),
+                mean_cell(&arm.untrustworthy, 0),
+                100.0 * arm.found_share.mean,
+                100.0 * arm.found_share.ci95,
+                arm.cases_acquired,
+                arm.truncated(),
+            );
+        }
     }
     out
 }
@@ -75,36 +156,44 @@ fn format_p(p: f64) -> String {
 }
 
 /// The `summary.json` document.
-pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64) -> Value {
+pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
     let experiments: Vec<Value> = entries
         .iter()
         .map(|e| {
             let mut strategies = Map::new();
-            for s in &e.result.strategies {
-                strategies.insert(s.strategy.name().to_owned(), strategy_summary(s));
+            for arm in &e.result.arms {
+                strategies.insert(arm.name.clone(), arm_summary(arm));
             }
             json!({
                 "name": e.result.name,
                 "scenario": e.scenario,
                 "operator": e.operator,
-                "trials": e.result.strategies[0].trials.len(),
-                "p_value": e.result.p_value,
+                "trials": e.result.trials(),
+                "arms": e.result.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>(),
+                "p_value": e.result.arms.get(1).and_then(|a| a.versus_first).map_or(1.0, |t| t.t_test_p),
                 "strategies": strategies,
             })
         })
         .collect();
-    json!({ "elapsed_s": elapsed_s, "experiments": experiments })
+    json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments })
 }
 
-fn strategy_summary(s: &StrategyResult) -> Value {
-    let n = s.trials.len().max(1) as f64;
+fn arm_summary(arm: &ArmResult) -> Value {
     json!({
-        "mean": s.behaviors.mean,
-        "ci95": s.behaviors.ci95,
-        "cases_acquired": s.cases_acquired,
-        "found_trustworthy": s.trials.iter().filter(|t| t.report.found_trustworthy).count(),
-        "truncated": s.trials.iter().filter(|t| t.truncated).count(),
-        "mean_runs": s.trials.iter().map(|t| t.runs as f64).sum::<f64>() / n,
+        "mean": arm.behaviors.mean,
+        "ci95": arm.behaviors.ci95,
+        "commands_mean": arm.commands.mean,
+        "commands_ci95": arm.commands.ci95,
+        "untrustworthy_mean": arm.untrustworthy.mean,
+        "untrustworthy_ci95": arm.untrustworthy.ci95,
+        "found_share": arm.found_share.mean,
+        "found_share_ci95": arm.found_share.ci95,
+        "cases_acquired": arm.cases_acquired,
+        "reuses_cases": arm.reuses_cases,
+        "started_from_cases": arm.starting_cases,
+        "truncated": arm.truncated(),
+        "t_test_p_vs_first": arm.versus_first.map(|t| t.t_test_p),
+        "wilcoxon_p_vs_first": arm.versus_first.map(|t| t.wilcoxon_p),
     })
 }
 
@@ -113,10 +202,11 @@ struct TrialLine<'a> {
     experiment: &'a str,
     scenario: &'a str,
     operator: &'a str,
-    strategy: &'static str,
+    arm: &'a str,
     trial: u32,
     behaviors_evaluated: u64,
-    runs: u64,
+    commands: u64,
+    untrustworthy: u64,
     found_trustworthy: bool,
     #[serde(rename = "final")]
     final_behavior: Map<String, Value>,
@@ -127,12 +217,12 @@ struct TrialLine<'a> {
     truncated: bool,
 }
 
-/// `trials.jsonl`: one JSON object per trial, experiments in order, random walk first.
+/// `trials.jsonl`: one JSON object per trial, experiments in order, arms in order.
 pub fn trials_jsonl(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
     for e in entries {
-        for s in &e.result.strategies {
-            for t in &s.trials {
+        for arm in &e.result.arms {
+            for t in &arm.trials {
                 let line = trial_line(e, t);
                 out.push_str(&serde_json::to_string(&line).expect("plain data serializes"));
                 out.push('\n');
@@ -147,10 +237,11 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         experiment: &e.result.name,
         scenario: e.scenario,
         operator: &t.operator,
-        strategy: t.strategy.name(),
+        arm: &t.arm,
         trial: t.trial,
         behaviors_evaluated: t.report.behaviors_evaluated,
-        runs: t.runs,
+        commands: t.report.commands,
+        untrustworthy: t.report.untrustworthy,
         found_trustworthy: t.report.found_trustworthy,
         final_behavior: named_behavior(e.space, &t.report.settled),
         initial: named_behavior(e.space, &t.initial),
@@ -161,6 +252,33 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
     }
 }
 
+/// A file-name stem per name (experiment names): every character outside
+/// `[A-Za-z0-9_-]` replaced by `-`, and `-2`, `-3`, ... added where two would collide.
+pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<String> {
+    let mut stems: Vec<String> = Vec::new();
+    for name in names {
+        let base: String = name
+            .as_ref()
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                    c
+                } else {
+                    '-'
+                }
+            })
+            .collect();
+        let mut stem = base.clone();
+        let mut k = 2;
+        while stems.contains(&stem) {
+            stem = format!("{base}-{k}");
+            k += 1;
+        }
+        stems.push(stem);
+    }
+    stems
+}
+
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
 /// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
 pub fn write_report(
@@ -168,6 +286,7 @@ pub fn write_report(
     entries: &[ReportEntry<'_>],
     config_ron: &str,
     elapsed_s: f64,
+    provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, ReportError> {
     std::fs::create_dir_all(dir).map_err(|reason| FileError {
         path: dir.to_owned(),
@@ -183,18 +302,29 @@ pub fn write_report(
         written.push(path);
         Ok(())
     };
-    write("table.md", &table(entries))?;
-    let summary =
-        serde_json::to_string_pretty(&summary(entries, elapsed_s)).expect("plain data serializes");
+    write(
+        "table.md",
+        &format!(
+            "## Behaviors evaluated: the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}",
+            table(entries),
+            arms_table(entries)
+        ),
+    )?;
+    let summary = serde_json::to_string_pretty(&summary(entries, elapsed_s, provenance))
+        .expect("plain data serializes");
     write("summary.json", &(summary + "\n"))?;
     write("trials.jsonl", &trials_jsonl(entries))?;
     write("config.ron", config_ron)?;
-    for e in entries {
-        let stem = e.result.name.replace('/', "-");
+    for (e, stem) in entries
+        .iter()
+        .zip(file_stems(entries.iter().map(|e| &e.result.name)))
+    {
         let name = format!("curves-{stem}.svg");
         write(
             &name,
-            &plot(&dir.join(&name), |area| learning_curves(area, e))?,
+            &plot(&dir.join(&name), (1000, 520), |area| {
+                learning_curves(area, e)
+            })?,
         )?;
         // One heatmap per pair of components: the first two, then the next two, ...
         let components = e.space.components();
@@ -208,8 +338,11 @@ pub fn write_report(
                     components[first].name, components[second].name
                 )
             };
-            let svg = plot(&dir.join(&name), |area| {
-                final_behaviors(area, e, (first, second))
+            let columns = e.result.arms.len().clamp(1, 4);
+            let rows = e.result.arms.len().div_ceil(columns).max(1);
+            let size = (360 * columns as u32 + 40, 330 * rows as u32 + 20);
+            let svg = plot(&dir.join(&name), size, |area| {
+                final_behaviors(area, e, (first, second), (rows, columns))
             })?;
             write(&name, &svg)?;
         }
@@ -220,10 +353,14 @@ pub fn write_report(
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
 type DrawResult = Result<(), Box<dyn std::error::Error + 'static>>;
 
-fn plot(path: &Path, draw: impl FnOnce(&Area<'_>) -> DrawResult) -> Result<String, ReportError> {
+fn plot(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&Area<'_>) -> DrawResult,
+) -> Result<String, ReportError> {
     let mut svg = String::new();
     {
-        let area = SVGBackend::with_string(&mut svg, (1000, 520)).into_drawing_area();
+        let area = SVGBackend::with_string(&mut svg, size).into_drawing_area();
         let drawn = area
             .fill(&WHITE)
             .map_err(|e| e.into())
@@ -237,11 +374,19 @@ fn plot(path: &Path, draw: impl FnOnce(&Area<'_>) -> DrawResult) -> Result<Strin
     Ok(svg)
 }
 
-fn strategy_color(strategy: Strategy) -> RGBColor {
-    match strategy {
-        Strategy::RandomWalk => RGBColor(214, 96, 77),
-        Strategy::CaseBased => RGBColor(67, 147, 195),
-    }
+/// The colour of the arm at `index` (the paper's two arms keep red and blue).
+fn arm_color(index: usize) -> RGBColor {
+    const PALETTE: [RGBColor; 8] = [
+        RGBColor(214, 96, 77),
+        RGBColor(67, 147, 195),
+        RGBColor(120, 120, 120),
+        RGBColor(27, 158, 119),
+        RGBColor(117, 112, 179),
+        RGBColor(230, 171, 2),
+        RGBColor(231, 41, 138),
+        RGBColor(102, 166, 30),
+    ];
+    PALETTE[index % PALETTE.len()]
 }
 
 fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
@@ -258,10 +403,10 @@ fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
 }
 
 fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
-    let trials = e.result.strategies[0].trials.len().max(1) as u32;
+    let trials = e.result.trials().max(1) as u32;
     let top = e
         .result
-        .strategies
+        .arms
         .iter()
         .flat_map(|s| s.trials.iter().map(|t| t.report.behaviors_evaluated))
         .max()
@@ -281,8 +426,8 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .x_desc("trial")
         .y_desc("behaviors evaluated (log scale)")
         .draw()?;
-    for s in &e.result.strategies {
-        let color = strategy_color(s.strategy);
+    for (index, s) in e.result.arms.iter().enumerate() {
+        let color = arm_color(index);
         let counts = s.counts();
         chart.draw_series(
             counts
@@ -300,7 +445,7 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
             ))?
             .label(format!(
                 "{} (moving average of {MOVING_AVERAGE_WINDOW})",
-                s.strategy.name()
+                s.name
             ))
             .legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
@@ -314,25 +459,46 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
     Ok(())
 }
 
-/// Heatmaps of where each strategy's final behaviors land, over components `x` and `y`.
-fn final_behaviors(area: &Area<'_>, e: &ReportEntry<'_>, (x, y): (usize, usize)) -> DrawResult {
+/// Heatmaps of where each arm's final behaviors land, over components `x` and `y`, one
+/// panel per arm on a `(rows, columns)` grid, all on one colour scale.
+fn final_behaviors(
+    area: &Area<'_>,
+    e: &ReportEntry<'_>,
+    (x, y): (usize, usize),
+    grid: (usize, usize),
+) -> DrawResult {
     let components = e.space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
-    let panels = area.split_evenly((1, 2));
-    for (panel, s) in panels.iter().zip(&e.result.strategies) {
-        let mut counts = vec![0u32; nx * ny];
-        for t in &s.trials {
-            let b = t.report.settled;
-            counts[usize::from(b.get(x)) * ny + usize::from(b.get(y))] += 1;
-        }
-        let most = counts.iter().copied().max().unwrap_or(0).max(1);
+    let panels = area.split_evenly(grid);
+    let all_counts: Vec<Vec<u32>> = e
+        .result
+        .arms
+        .iter()
+        .map(|s| {
+            let mut counts = vec![0u32; nx * ny];
+            for t in &s.trials {
+                let b = t.report.settled;
+                counts[usize::from(b.get(x)) * ny + usize::from(b.get(y))] += 1;
+            }
+            counts
+        })
+        .collect();
+    let most = all_counts
+        .iter()
+        .flatten()
+        .copied()
+        .max()
+        .unwrap_or(0)
+        .max(1);
+    for (index, ((panel, s), counts)) in panels
+        .iter()
+        .zip(&e.result.arms)
+        .zip(&all_counts)
+        .enumerate()
+    {
         let mut chart = ChartBuilder::on(panel)
             .caption(
-                format!(
-                    "{}: final behaviors, {} (darker: more trials)",
-                    e.result.name,
-                    s.strategy.name()
-                ),
+                format!("{} (darker: more trials)", s.name),
                 ("sans-serif", 15),
             )
             .margin(10)
@@ -361,7 +527,7 @@ fn final_behaviors(area: &Area<'_>, e: &ReportEntry<'_>, (x, y): (usize, usize))
             .x_label_formatter(&x_label)
             .y_label_formatter(&y_label)
             .draw()?;
-        let color = strategy_color(s.strategy);
+        let color = arm_color(index);
         chart.draw_series(
             (0..nx)
                 .flat_map(|i| (0..ny).map(move |j| (i, j)))

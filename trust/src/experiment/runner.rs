@@ -1,42 +1,27 @@
-//! Running experiments: trials through the adapter, paired strategies, parallel chains.
+//! Running experiments: trials through the adapter, any number of paired arms, parallel
+//! chains.
 //!
 //! The case base persists across an experiment's trials, so the trials of one
-//! (experiment, strategy) pair form a sequential *chain*; chains run in parallel on the
-//! current rayon pool. Every random draw comes from a stream named by (seed, experiment,
-//! trial, purpose), so results do not depend on the number of threads.
+//! (experiment, arm) pair form a sequential *chain*; chains run in parallel on the current
+//! rayon pool, and so do the trials of a chain whose arm reads nothing from earlier
+//! episodes. Every random draw comes from a stream named by (seed, experiment, trial,
+//! purpose), and trial `i` of every arm gets the same streams (operator and initial
+//! behavior, simulated runs, search), so arms are paired trial by trial and results do
+//! not depend on the number of threads.
 
+use super::arm::Arm;
 use super::seeds::{Purpose, stream, stream_seed};
-use super::stats::{MeanCi, mean_ci95, paired_t_test};
+use super::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
+use crate::evaluated::validate_lambda;
 use crate::{
-    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, TrustAdapter, TrustCaseBase,
+    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, Thresholds, TrustAdapter,
+    TrustCaseBase, TrustMemory,
 };
 use cbr_core::Behavior;
-use rand::Rng;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-
-/// The two strategies the paper compares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Strategy {
-    /// The search strategy alone (the paper: random walk).
-    RandomWalk,
-    /// Algorithm 1, with the search strategy as fallback.
-    CaseBased,
-}
-
-impl Strategy {
-    /// Both strategies, in report order.
-    pub const BOTH: [Strategy; 2] = [Strategy::RandomWalk, Strategy::CaseBased];
-
-    /// The name used in reports (`random-walk`, `case-based`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Strategy::RandomWalk => "random-walk",
-            Strategy::CaseBased => "case-based",
-        }
-    }
-}
 
 /// Which operator judges each trial.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,54 +42,112 @@ pub struct ExperimentPlan<'a, D: Domain> {
     pub operators: &'a [(String, D::Operator)],
     /// Which operator judges each trial.
     pub choice: OperatorChoice,
-    /// Number of trials per strategy.
+    /// Number of trials per arm.
     pub trials: u32,
-    /// The adapter's parameters; `reuse_cases` is set per strategy.
-    pub adapter: AdapterConfig,
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95).
+    pub lambda: f64,
+    /// The arms compared, paired trial by trial; every other arm is tested against the
+    /// first.
+    pub arms: Vec<Arm>,
     /// Commands after which a trial is abandoned as unfinished (a guard against operators
     /// whose outcomes never reach a threshold).
     pub max_commands: u64,
 }
 
+/// Why experiments cannot be run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// Thresholds or lambda are unusable.
+    #[error("{plan}: {source}")]
+    Config {
+        /// The plan's name.
+        plan: String,
+        /// What is wrong.
+        source: ConfigError,
+    },
+    /// A plan has no arm.
+    #[error("{plan}: no arm to run")]
+    NoArms {
+        /// The plan's name.
+        plan: String,
+    },
+    /// Two arms of a plan share a name.
+    #[error("{plan}: two arms are named `{arm}`")]
+    DuplicateArm {
+        /// The plan's name.
+        plan: String,
+        /// The name.
+        arm: String,
+    },
+}
+
 /// The outcome of one trial.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TrialRecord {
-    /// Trial number, from 0; trials with the same number are paired across strategies.
+    /// Trial number, from 0; trials with the same number are paired across arms.
     pub trial: u32,
-    /// The strategy.
-    pub strategy: Strategy,
+    /// The arm's name.
+    pub arm: String,
     /// The operator that judged this trial.
     pub operator: String,
     /// The behavior the trial started with.
     pub initial: Behavior,
     /// How the episode ended.
     pub report: EpisodeReport,
-    /// Runs (commands) performed.
-    pub runs: u64,
     /// Whether the trial hit `max_commands` and was abandoned.
     pub truncated: bool,
 }
 
-/// One strategy's results in an experiment.
+/// Two arms' per-trial counts of behaviors evaluated, compared pair by pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairedTests {
+    /// Paired t-test p-value.
+    pub t_test_p: f64,
+    /// Wilcoxon signed-rank test p-value (counts are heavy-tailed).
+    pub wilcoxon_p: f64,
+}
+
+/// One arm's results in an experiment.
 #[derive(Clone, Debug, PartialEq)]
-pub struct StrategyResult {
-    /// The strategy.
-    pub strategy: Strategy,
-    /// Behaviors evaluated per trial: mean and 95% confidence half-width.
+pub struct ArmResult {
+    /// The arm's name.
+    pub name: String,
+    /// Whether the arm reuses cases.
+    pub reuses_cases: bool,
+    /// Cases the arm started from (0: an empty case base).
+    pub starting_cases: usize,
+    /// Behaviors evaluated per trial (the paper's metric).
     pub behaviors: MeanCi,
-    /// Cases in the case base at the end of the experiment.
+    /// Commands until the trial ended.
+    pub commands: MeanCi,
+    /// Commands that failed or were interrupted (what the operator endured).
+    pub untrustworthy: MeanCi,
+    /// Share of trials that found a trustworthy behavior.
+    pub found_share: MeanCi,
+    /// Cases retained during the experiment.
     pub cases_acquired: usize,
+    /// The case base at the end (arms that reuse cases only).
+    pub final_cases: Option<TrustCaseBase>,
+    /// This arm against the first arm (`None` for the first arm).
+    pub versus_first: Option<PairedTests>,
     /// Every trial, in order.
     pub trials: Vec<TrialRecord>,
 }
 
-impl StrategyResult {
+impl ArmResult {
     /// Behaviors evaluated in each trial, in trial order.
     pub fn counts(&self) -> Vec<f64> {
         self.trials
             .iter()
             .map(|t| t.report.behaviors_evaluated as f64)
             .collect()
+    }
+
+    /// Trials cut off by `max_commands`.
+    pub fn truncated(&self) -> usize {
+        self.trials.iter().filter(|t| t.truncated).count()
     }
 }
 
@@ -113,102 +156,175 @@ impl StrategyResult {
 pub struct ExperimentResult {
     /// The plan's name.
     pub name: String,
-    /// Random walk, then case-based.
-    pub strategies: [StrategyResult; 2],
-    /// Paired t-test p-value of behaviors evaluated (random walk vs case-based).
-    pub p_value: f64,
+    /// Every arm, in the plan's order.
+    pub arms: Vec<ArmResult>,
 }
 
-/// Runs every plan with both strategies, chains in parallel on the current rayon pool.
+impl ExperimentResult {
+    /// The arm named `name`.
+    pub fn arm(&self, name: &str) -> Option<&ArmResult> {
+        self.arms.iter().find(|a| a.name == name)
+    }
+
+    /// Trials per arm.
+    pub fn trials(&self) -> usize {
+        self.arms.first().map_or(0, |a| a.trials.len())
+    }
+}
+
+/// Runs every plan with every arm, chains in parallel on the current rayon pool.
 /// `progress(plan_index)` is called after every finished trial.
 pub fn run_experiments<D: Domain>(
     plans: &[ExperimentPlan<'_, D>],
     seed: u64,
     progress: &(dyn Fn(usize) + Sync),
-) -> Result<Vec<ExperimentResult>, ConfigError> {
+) -> Result<Vec<ExperimentResult>, PlanError> {
     for plan in plans {
-        plan.adapter.validate()?;
+        plan.validate()?;
     }
-    let chains: Vec<(usize, Strategy)> = (0..plans.len())
-        .flat_map(|p| Strategy::BOTH.map(|s| (p, s)))
+    let chains: Vec<(usize, usize)> = plans
+        .iter()
+        .enumerate()
+        .flat_map(|(p, plan)| (0..plan.arms.len()).map(move |a| (p, a)))
         .collect();
-    let mut outcomes: Vec<StrategyResult> = chains
+    let mut outcomes = chains
         .par_iter()
-        .map(|&(p, strategy)| run_chain(&plans[p], p as u64, strategy, seed, &|| progress(p)))
-        .collect::<Result<_, _>>()?;
-    let mut results = Vec::with_capacity(plans.len());
-    // Chains come back in plan order, random walk before case-based.
-    for plan in plans.iter().rev() {
-        let case_based = outcomes.pop().expect("two chains per plan");
-        let random_walk = outcomes.pop().expect("two chains per plan");
-        let p_value = paired_t_test(&random_walk.counts(), &case_based.counts()).unwrap_or(1.0);
-        results.push(ExperimentResult {
-            name: plan.name.clone(),
-            strategies: [random_walk, case_based],
-            p_value,
-        });
+        .map(|&(p, a)| run_chain(&plans[p], p as u64, a, seed, &|| progress(p)))
+        .collect::<Result<Vec<ArmResult>, PlanError>>()?
+        .into_iter();
+    // Chains come back in plan order, arms in order within a plan.
+    Ok(plans
+        .iter()
+        .map(|plan| {
+            let mut arms: Vec<ArmResult> = outcomes.by_ref().take(plan.arms.len()).collect();
+            let first = arms[0].counts();
+            for arm in &mut arms[1..] {
+                let counts = arm.counts();
+                arm.versus_first = Some(PairedTests {
+                    t_test_p: paired_t_test(&first, &counts).unwrap_or(1.0),
+                    wilcoxon_p: wilcoxon_signed_rank(&first, &counts).unwrap_or(1.0),
+                });
+            }
+            ExperimentResult {
+                name: plan.name.clone(),
+                arms,
+            }
+        })
+        .collect())
+}
+
+impl<D: Domain> ExperimentPlan<'_, D> {
+    fn validate(&self) -> Result<(), PlanError> {
+        let config = |source: ConfigError| PlanError::Config {
+            plan: self.name.clone(),
+            source,
+        };
+        self.thresholds
+            .validate()
+            .map_err(|e| config(ConfigError::from(e)))?;
+        validate_lambda(self.lambda).map_err(|e| config(ConfigError::from(e)))?;
+        if self.arms.is_empty() {
+            return Err(PlanError::NoArms {
+                plan: self.name.clone(),
+            });
+        }
+        for (i, arm) in self.arms.iter().enumerate() {
+            if self.arms[..i].iter().any(|a| a.name() == arm.name()) {
+                return Err(PlanError::DuplicateArm {
+                    plan: self.name.clone(),
+                    arm: arm.name().to_owned(),
+                });
+            }
+        }
+        Ok(())
     }
-    results.reverse();
-    Ok(results)
+
+    /// A fresh adapter for `arm`, from its starting cases.
+    fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
+        let space = self.domain.space();
+        let config = AdapterConfig {
+            thresholds: self.thresholds,
+            lambda: self.lambda,
+            reuse_cases: arm.reuses_cases(),
+            ..AdapterConfig::default()
+        };
+        let retriever = arm
+            .build_retriever(space, self.lambda)
+            .map_err(|e| PlanError::Config {
+                plan: self.name.clone(),
+                source: e.into(),
+            })?;
+        let cases = arm.starting_cases().cloned().unwrap_or_default();
+        Ok(TrustAdapter::with_parts(
+            space.clone(),
+            config,
+            TrustMemory::new(cases, retriever),
+            arm.build_searcher(space),
+            // Every trial reseeds the search stream before its episode.
+            ChaCha8Rng::seed_from_u64(0),
+        ))
+    }
 }
 
 fn run_chain<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     experiment: u64,
-    strategy: Strategy,
+    arm_index: usize,
     seed: u64,
     progress: &(dyn Fn() + Sync),
-) -> Result<StrategyResult, ConfigError> {
-    let space = plan.domain.space().clone();
-    let config = AdapterConfig {
-        reuse_cases: strategy == Strategy::CaseBased,
-        ..plan.adapter.clone()
-    };
-    let new_adapter =
-        || TrustAdapter::new(space.clone(), config.clone(), TrustCaseBase::new(), seed);
-    let independent = !config.reuse_cases && !config.search.learns_across_episodes();
-    let (trials, cases_acquired) = if independent {
+) -> Result<ArmResult, PlanError> {
+    let arm = &plan.arms[arm_index];
+    let starting_cases = arm.starting_cases().map_or(0, |c| c.len());
+    let mut adapter = plan.adapter(arm)?;
+    let independent = !arm.reuses_cases() && !adapter.learns_across_episodes();
+    let (trials, cases_acquired, final_cases) = if independent {
         // Nothing read from one episode carries to the next (the case base is never
         // consulted and the search forgets), so trials can run in any order. Each gets a
         // fresh adapter; the cases the episodes would have retained are counted.
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .into_par_iter()
             .map(|trial| {
-                let record =
-                    run_trial(plan, &mut new_adapter()?, experiment, trial, strategy, seed);
+                let record = run_trial(plan, &mut plan.adapter(arm)?, experiment, trial, arm, seed);
                 progress();
                 Ok(record)
             })
-            .collect::<Result<_, ConfigError>>()?;
+            .collect::<Result<_, PlanError>>()?;
         let retained = trials
             .iter()
             .filter(|t| t.report.retained.is_some())
             .count();
-        (trials, retained)
+        (trials, retained, None)
     } else {
-        let mut adapter = new_adapter()?;
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .map(|trial| {
-                let record = run_trial(plan, &mut adapter, experiment, trial, strategy, seed);
+                let record = run_trial(plan, &mut adapter, experiment, trial, arm, seed);
                 progress();
                 record
             })
             .collect();
-        (trials, adapter.cases().len())
+        let final_cases = arm.reuses_cases().then(|| adapter.cases().clone());
+        (trials, adapter.cases().len() - starting_cases, final_cases)
     };
-    let mut result = StrategyResult {
-        strategy,
-        behaviors: MeanCi {
+    let summary = |values: Vec<f64>| {
+        mean_ci95(&values).unwrap_or(MeanCi {
             mean: 0.0,
             ci95: 0.0,
-        },
-        cases_acquired,
-        trials,
+        })
     };
-    if let Some(behaviors) = mean_ci95(&result.counts()) {
-        result.behaviors = behaviors;
-    }
-    Ok(result)
+    let of = |value: fn(&TrialRecord) -> f64| summary(trials.iter().map(value).collect());
+    Ok(ArmResult {
+        name: arm.name().to_owned(),
+        reuses_cases: arm.reuses_cases(),
+        starting_cases,
+        behaviors: of(|t| t.report.behaviors_evaluated as f64),
+        commands: of(|t| t.report.commands as f64),
+        untrustworthy: of(|t| t.report.untrustworthy as f64),
+        found_share: of(|t| f64::from(u8::from(t.report.found_trustworthy))),
+        cases_acquired,
+        final_cases,
+        versus_first: None,
+        trials,
+    })
 }
 
 /// One trial: an episode from a drawn initial behavior until the adapter settles.
@@ -217,7 +333,7 @@ fn run_trial<D: Domain>(
     adapter: &mut TrustAdapter,
     experiment: u64,
     trial: u32,
-    strategy: Strategy,
+    arm: &Arm,
     seed: u64,
 ) -> TrialRecord {
     let space = plan.domain.space();
@@ -258,11 +374,10 @@ fn run_trial<D: Domain>(
     };
     TrialRecord {
         trial,
-        strategy,
+        arm: arm.name().to_owned(),
         operator: operator_name.clone(),
         initial,
         report,
-        runs,
         truncated,
     }
 }

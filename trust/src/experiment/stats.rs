@@ -1,7 +1,7 @@
 //! Summary statistics for experiment results: mean with a 95% confidence interval, and the
-//! paired t-test between two strategies' per-trial counts.
+//! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts.
 
-use statrs::distribution::{ContinuousCDF, StudentsT};
+use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
 
 /// Mean and the half-width of its 95% confidence interval (Student's t).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,6 +57,54 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Option<f64> {
     Some((2.0 * distribution.cdf(-t.abs())).clamp(0.0, 1.0))
 }
 
+/// Two-sided p-value of the Wilcoxon signed-rank test of `a[i] - b[i]` against a median
+/// difference of 0, by the normal approximation with the tie correction (no continuity
+/// correction); zero differences are dropped (Wilcoxon's treatment). Robust to the heavy
+/// tails of behavior counts, where the t-test is not.
+///
+/// 1 when every difference is 0; `None` if the slices differ in length or are empty.
+pub fn wilcoxon_signed_rank(a: &[f64], b: &[f64]) -> Option<f64> {
+    if a.len() != b.len() || a.is_empty() {
+        return None;
+    }
+    let mut differences: Vec<f64> = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| x - y)
+        .filter(|d| *d != 0.0)
+        .collect();
+    if differences.is_empty() {
+        return Some(1.0);
+    }
+    differences.sort_by(|x, y| x.abs().total_cmp(&y.abs()));
+    let n = differences.len() as f64;
+    let (mut positive_ranks, mut tie_term) = (0.0, 0.0);
+    let mut start = 0;
+    while start < differences.len() {
+        let magnitude = differences[start].abs();
+        let end = start
+            + differences[start..]
+                .iter()
+                .take_while(|d| d.abs() == magnitude)
+                .count();
+        // Tied magnitudes share the mean of their ranks start + 1 ..= end.
+        let rank = (start + 1 + end) as f64 / 2.0;
+        positive_ranks +=
+            rank * differences[start..end].iter().filter(|d| **d > 0.0).count() as f64;
+        let t = (end - start) as f64;
+        tie_term += t * t * t - t;
+        start = end;
+    }
+    let mean = n * (n + 1.0) / 4.0;
+    let variance = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - tie_term / 48.0;
+    if variance <= 0.0 {
+        return Some(1.0);
+    }
+    let z = (positive_ranks - mean) / variance.sqrt();
+    let normal = Normal::new(0.0, 1.0).expect("a standard normal");
+    Some((2.0 * normal.cdf(-z.abs())).clamp(0.0, 1.0))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,5 +131,22 @@ mod tests {
         assert_eq!(paired_t_test(&a, &a), Some(1.0));
         assert_eq!(paired_t_test(&[1.0, 1.0], &[0.0, 0.0]), Some(0.0));
         assert_eq!(paired_t_test(&[1.0], &[0.0]), None);
+    }
+
+    #[test]
+    fn wilcoxon_by_hand() {
+        // Differences 1, 2, 3, 4, 5 (and a zero, dropped): W+ = 15, n = 5, mean 7.5,
+        // variance 5 * 6 * 11 / 24 = 13.75, z = 7.5 / 3.708099 = 2.022600, p = 0.043115.
+        let a = [3.0, 4.0, 5.0, 6.0, 7.0, 9.0];
+        let b = [2.0, 2.0, 2.0, 2.0, 2.0, 9.0];
+        let p = wilcoxon_signed_rank(&a, &b).unwrap();
+        assert!((p - 0.043115).abs() < 1e-5, "{p}");
+        // Differences -1, 1, 2, 2 (ties): ranks 1.5, 1.5, 3.5, 3.5; W+ = 8.5; mean 5;
+        // variance 4 * 5 * 9 / 24 - (6 + 6) / 48 = 7.25; z = 3.5 / 2.692582 = 1.299867,
+        // p = 0.193647.
+        let p = wilcoxon_signed_rank(&[0.0, 1.0, 2.0, 2.0], &[1.0, 0.0, 0.0, 0.0]).unwrap();
+        assert!((p - 0.193647).abs() < 1e-5, "{p}");
+        assert_eq!(wilcoxon_signed_rank(&a, &a), Some(1.0));
+        assert_eq!(wilcoxon_signed_rank(&[], &[]), None);
     }
 }

@@ -1,14 +1,29 @@
 //! Search strategies for trust-guided adaptation: what to try when no case helps.
 //!
 //! Every strategy implements [`cbr_core::Searcher`] over [`crate::Evaluated`] evidence and
-//! [`crate::Outcome`] feedback; [`TrustSearcher`] names that shape.
+//! [`crate::Outcome`] feedback; [`TrustSearcher`] names that shape. One file per strategy:
+//! - [`RandomWalk`]: the paper's `modifyBehavior`;
+//! - [`Uniform`]: uniform among untried behaviors, the honest baseline;
+//! - [`CauseAware`]: learns which component values bring which causes of failure;
+//! - [`ModelBased`]: a Gaussian-process surrogate of the operator, solved with faer.
+//!
+//! [`SearchKind`] names the built-in ones in configs.
 
+pub mod cause_aware;
+pub mod model_based;
 pub mod random_walk;
+pub mod uniform;
+mod untried;
 
+pub use cause_aware::CauseAware;
+pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
+pub use uniform::Uniform;
+pub use untried::{draw_untried, evaluated_set};
 
 use crate::{Evaluated, Outcome};
 use cbr_core::Searcher;
+use serde::{Deserialize, Serialize};
 
 /// A search strategy as the trust adapter drives it.
 pub type TrustSearcher = dyn Searcher<Evidence = Evaluated, Feedback = Outcome>;
@@ -21,4 +36,50 @@ pub fn longest_resisting(evaluated: &[Evaluated]) -> Option<&Evaluated> {
             Some(b) if b.time >= e.time => Some(b),
             _ => Some(e),
         })
+}
+
+/// The built-in search strategies a config can name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum SearchKind {
+    /// The paper's random walk ([`RandomWalk`]).
+    #[default]
+    RandomWalk,
+    /// Uniform among untried behaviors ([`Uniform`]).
+    Uniform,
+    /// Cause-aware search ([`CauseAware`]).
+    CauseAware,
+    /// Model-based search ([`ModelBased`]).
+    ModelBased,
+}
+
+impl SearchKind {
+    /// Every kind, the paper's first.
+    pub const ALL: [SearchKind; 4] = [
+        SearchKind::RandomWalk,
+        SearchKind::Uniform,
+        SearchKind::CauseAware,
+        SearchKind::ModelBased,
+    ];
+
+    /// A fresh searcher of this kind.
+    pub fn build(self) -> Box<TrustSearcher> {
+        match self {
+            SearchKind::RandomWalk => Box::new(RandomWalk::new()),
+            SearchKind::Uniform => Box::new(Uniform::new()),
+            SearchKind::CauseAware => Box::new(CauseAware::new()),
+            SearchKind::ModelBased => Box::new(ModelBased::new()),
+        }
+    }
+
+    /// The strategy's name in reports and arm names (`random-walk`, `cause-aware`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            SearchKind::RandomWalk => "random-walk",
+            SearchKind::Uniform => "uniform",
+            SearchKind::CauseAware => "cause-aware",
+            SearchKind::ModelBased => "model-based",
+        }
+    }
 }

@@ -1,0 +1,50 @@
+//! Uniform sampling of untried behaviors: the honest baseline of every informed search.
+//!
+//! Each proposal is drawn uniformly among the behaviors the episode has not evaluated,
+//! without looking at where the evaluated ones lie. On this project's simulator it needs
+//! an order of magnitude fewer behaviors than the paper's random walk in patrol, so every
+//! claim about a strategy is made against it as well.
+
+use super::longest_resisting;
+use super::untried::{draw_untried, evaluated_set};
+use crate::{Evaluated, Outcome};
+use cbr_core::{BehaviorSpace, Proposal, Searcher};
+use rand::RngCore;
+
+/// Uniform among the unevaluated behaviors; when every behavior has been evaluated it
+/// stops and keeps `E_max`, as the random walk does.
+#[derive(Clone, Debug, Default)]
+pub struct Uniform;
+
+impl Uniform {
+    /// The uniform sampler.
+    pub fn new() -> Self {
+        Self
+    }
+}
+
+impl Searcher for Uniform {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "uniform"
+    }
+
+    fn propose(
+        &mut self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        rng: &mut dyn RngCore,
+    ) -> Proposal {
+        let Some(e_max) = longest_resisting(evaluated) else {
+            return Proposal::Next(space.draw(rng));
+        };
+        match draw_untried(space, &evaluated_set(evaluated), 1, rng).first() {
+            Some(&b) => Proposal::Next(b),
+            None => Proposal::Exhausted {
+                keep: e_max.behavior,
+            },
+        }
+    }
+}

@@ -1,0 +1,92 @@
+//! The behaviors an episode has not tried yet: the evaluated set, and uniform draws from
+//! its complement.
+//!
+//! Every informed searcher scores candidates drawn here, so each of them explores the
+//! whole space and never proposes a behavior the episode has already evaluated.
+
+use crate::Evaluated;
+use cbr_core::{Behavior, BehaviorSpace};
+use rand::{Rng, RngCore};
+use std::collections::HashSet;
+
+/// The distinct behaviors of an episode's evidence.
+pub fn evaluated_set(evaluated: &[Evaluated]) -> HashSet<Behavior> {
+    evaluated.iter().map(|e| e.behavior).collect()
+}
+
+/// Up to `count` distinct behaviors not in `tried`, drawn uniformly at random without
+/// replacement (all of them, in a random order, when fewer remain). Empty only when every
+/// behavior has been tried.
+pub fn draw_untried(
+    space: &BehaviorSpace,
+    tried: &HashSet<Behavior>,
+    count: usize,
+    rng: &mut dyn RngCore,
+) -> Vec<Behavior> {
+    let size = space.size();
+    let untried = size.saturating_sub(tried.len() as u64);
+    if untried == 0 || count == 0 {
+        return Vec::new();
+    }
+    // Rejection sampling is cheap while most of the space is untried and the request is a
+    // small part of it; otherwise enumerate the complement and shuffle a prefix of it.
+    if u128::from(untried) * 3 >= u128::from(size) * 2 && (count as u128) * 4 <= u128::from(untried)
+    {
+        let mut chosen = Vec::with_capacity(count);
+        let mut seen = HashSet::with_capacity(count);
+        while chosen.len() < count {
+            let b = space.draw(rng);
+            if !tried.contains(&b) && seen.insert(b) {
+                chosen.push(b);
+            }
+        }
+        return chosen;
+    }
+    let mut pool: Vec<Behavior> = space.iter().filter(|b| !tried.contains(b)).collect();
+    let take = count.min(pool.len());
+    for i in 0..take {
+        let j = rng.random_range(i..pool.len());
+        pool.swap(i, j);
+    }
+    pool.truncate(take);
+    pool
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cbr_core::Component;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn space(sizes: &[u16]) -> BehaviorSpace {
+        BehaviorSpace::new(
+            sizes
+                .iter()
+                .enumerate()
+                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
+                .collect(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn draws_distinct_untried_behaviors_by_both_methods() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let big = space(&[40, 40]);
+        let tried: HashSet<Behavior> = [Behavior::new(&[0, 0])].into();
+        // 1,599 untried, 10 wanted: rejection sampling.
+        let drawn = draw_untried(&big, &tried, 10, &mut rng);
+        assert_eq!(drawn.len(), 10);
+        assert_eq!(drawn.iter().collect::<HashSet<_>>().len(), 10);
+        assert!(drawn.iter().all(|b| !tried.contains(b)));
+        // 3 x 3 with 7 tried: two remain, both returned whatever is asked.
+        let small = space(&[3, 3]);
+        let tried: HashSet<Behavior> = small.iter().take(7).collect();
+        let drawn = draw_untried(&small, &tried, 5, &mut rng);
+        let rest: HashSet<Behavior> = small.iter().skip(7).collect();
+        assert_eq!(drawn.into_iter().collect::<HashSet<_>>(), rest);
+        let all: HashSet<Behavior> = small.iter().collect();
+        assert!(draw_untried(&small, &all, 5, &mut rng).is_empty());
+    }
+}
