@@ -10,7 +10,8 @@
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
 //! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
-//! - [`experiment`]: trials, paired strategies, statistics and reports (SPEC section 7).
+//! - [`experiment`]: trials, paired arms, statistics and reports (SPEC section 7).
+//! - `testing` (feature `testing`): conformance kits for users' own parts.
 //!
 //! This crate knows nothing of any particular robot or simulator.
 
@@ -23,6 +24,8 @@ pub mod named;
 pub mod retrieval;
 pub mod search;
 pub mod select;
+#[cfg(feature = "testing")]
+pub mod testing;
 
 pub use adapter::{
     AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, Source,

@@ -32,6 +32,7 @@ use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::prelude::*;
 use faer::{Mat, Side};
 use rand::RngCore;
+use rand_distr::{Distribution, StandardNormal};
 use std::collections::{HashMap, HashSet};
 
 /// Untried behaviors drawn uniformly and scored per proposal.
@@ -50,6 +51,10 @@ const NOISE_VARIANCE: f64 = 1.0;
 /// Added to the kernel's diagonal when it is not positive definite, growing tenfold.
 const JITTER: f64 = 1e-9;
 
+/// Added to the posterior covariance's diagonal before drawing from it (it is singular
+/// where candidates coincide in kernel terms), growing tenfold when not enough.
+const POSTERIOR_JITTER: f64 = 1e-8;
+
 /// One observed behavior: commands seen and the sum of their signed weights.
 #[derive(Clone, Copy, Debug)]
 struct Observed {
@@ -58,11 +63,68 @@ struct Observed {
     sum: f64,
 }
 
+/// Strength of the population mean in each per-value mean, in commands (shrinkage).
+const PRIOR_COMMANDS: f64 = 20.0;
+
+/// Mean signed outcome by component value over the earlier episodes: the surrogate's
+/// prior mean, a main-effects model `mu + sum_k (mu_k(v_k) - mu)`, each per-value mean
+/// shrunk towards the overall mean `mu`.
+#[derive(Clone, Debug, Default)]
+struct PopulationMeans {
+    commands: f64,
+    sum: f64,
+    /// `by_value[k][v]`: (commands, sum of signed outcomes) with component `k` at `v`.
+    by_value: Vec<Vec<(f64, f64)>>,
+}
+
+impl PopulationMeans {
+    fn add(&mut self, o: &Observed) {
+        self.commands += o.commands;
+        self.sum += o.sum;
+        if self.by_value.len() < o.behavior.len() {
+            self.by_value.resize(o.behavior.len(), Vec::new());
+        }
+        for (k, &v) in o.behavior.indices().iter().enumerate() {
+            let values = &mut self.by_value[k];
+            let v = usize::from(v);
+            if values.len() <= v {
+                values.resize(v + 1, (0.0, 0.0));
+            }
+            values[v].0 += o.commands;
+            values[v].1 += o.sum;
+        }
+    }
+
+    /// The prior mean signed outcome at `behavior` (0 before any episode has ended).
+    fn mean(&self, behavior: &Behavior) -> f64 {
+        if self.commands == 0.0 {
+            return 0.0;
+        }
+        let overall = self.sum / self.commands;
+        overall
+            + behavior
+                .indices()
+                .iter()
+                .enumerate()
+                .map(|(k, &v)| {
+                    let (n, sum) = self
+                        .by_value
+                        .get(k)
+                        .and_then(|values| values.get(usize::from(v)))
+                        .copied()
+                        .unwrap_or((0.0, 0.0));
+                    (sum + PRIOR_COMMANDS * overall) / (n + PRIOR_COMMANDS) - overall
+                })
+                .sum::<f64>()
+    }
+}
+
 /// The model-based searcher.
 #[derive(Clone, Debug, Default)]
 pub struct ModelBased {
     observed: Vec<Observed>,
     index: HashMap<Behavior, usize>,
+    population: PopulationMeans,
     largest_weight: f64,
 }
 
@@ -72,10 +134,18 @@ impl ModelBased {
         Self::default()
     }
 
-    fn forget(&mut self) {
+    /// Ends the episode's surrogate; its observations join the population means.
+    fn close_episode(&mut self) {
+        for o in &self.observed {
+            self.population.add(o);
+        }
         self.observed.clear();
         self.index.clear();
-        self.largest_weight = 0.0;
+    }
+
+    /// The prior mean at `behavior`, in units of the largest weight seen, in `[-1, 1]`.
+    fn prior_mean(&self, behavior: &Behavior) -> f64 {
+        (self.population.mean(behavior) / self.largest_weight).clamp(-1.0, 1.0)
     }
 
     /// The untried candidates: a uniform pool plus the untried neighbours of the best
@@ -148,10 +218,17 @@ struct Fit {
     log_likelihood: f64,
 }
 
-fn fit(space: &BehaviorSpace, observed: &[Observed], scale: f64, sharpness: f64) -> Option<Fit> {
+/// Fits the surrogate's deviation from the prior mean: `residuals[i]` is observation
+/// `i`'s mean outcome (in units of the largest weight) minus the prior mean there.
+fn fit(
+    space: &BehaviorSpace,
+    observed: &[Observed],
+    residuals: &[f64],
+    sharpness: f64,
+) -> Option<Fit> {
     let kernels = KernelTables::new(space, sharpness);
     let n = observed.len();
-    let y = Mat::from_fn(n, 1, |i, _| observed[i].sum / observed[i].commands / scale);
+    let y = Mat::from_fn(n, 1, |i, _| residuals[i]);
     let mut jitter = JITTER;
     for _ in 0..8 {
         let covariance = Mat::from_fn(n, n, |i, j| {
@@ -180,25 +257,55 @@ fn fit(space: &BehaviorSpace, observed: &[Observed], scale: f64, sharpness: f64)
 }
 
 impl Fit {
-    /// `mu / sigma` of the surrogate at every candidate.
-    fn scores(&self, observed: &[Observed], candidates: &[Behavior]) -> Vec<f64> {
-        let n = observed.len();
-        let mut cross = Mat::from_fn(n, candidates.len(), |i, j| {
+    /// The posterior of the surrogate's deviation from the prior mean at `candidates`:
+    /// its mean `K*^T alpha` and covariance `K** - K*^T K^-1 K*`.
+    fn posterior(&self, observed: &[Observed], candidates: &[Behavior]) -> (Vec<f64>, Mat<f64>) {
+        let (n, c) = (observed.len(), candidates.len());
+        let mut cross = Mat::from_fn(n, c, |i, j| {
             self.kernels.kernel(&observed[i].behavior, &candidates[j])
         });
-        let means: Vec<f64> = (0..candidates.len())
-            .map(|j| (0..n).map(|i| cross[(i, j)] * self.alpha[(i, 0)]).sum())
-            .collect();
+        let means = cross.transpose() * &self.alpha;
         solve_lower_triangular_in_place(self.lower.as_ref(), cross.as_mut(), Par::Seq);
-        candidates
-            .iter()
-            .enumerate()
-            .map(|(j, c)| {
-                let explained: f64 = (0..n).map(|i| cross[(i, j)].powi(2)).sum();
-                let variance = (self.kernels.kernel(c, c) - explained).max(1e-12);
-                means[j] / variance.sqrt()
-            })
-            .collect()
+        let prior = Mat::from_fn(c, c, |i, j| {
+            self.kernels.kernel(&candidates[i], &candidates[j])
+        });
+        let covariance = prior - cross.transpose() * &cross;
+        ((0..c).map(|j| means[(j, 0)]).collect(), covariance)
+    }
+
+    /// One joint draw of the surrogate at every candidate (Thompson sampling): the prior
+    /// mean plus a draw of the posterior deviation, through the Cholesky factor of its
+    /// covariance. `None` if that covariance cannot be factored even with jitter.
+    fn sample(
+        &self,
+        observed: &[Observed],
+        candidates: &[Behavior],
+        prior_means: &[f64],
+        rng: &mut dyn RngCore,
+    ) -> Option<Vec<f64>> {
+        let (means, covariance) = self.posterior(observed, candidates);
+        let c = candidates.len();
+        let normals: Vec<f64> = (0..c).map(|_| StandardNormal.sample(&mut *rng)).collect();
+        let mut jitter = POSTERIOR_JITTER;
+        for _ in 0..8 {
+            let jittered = Mat::from_fn(c, c, |i, j| {
+                covariance[(i, j)] + if i == j { jitter } else { 0.0 }
+            });
+            if let Ok(llt) = jittered.llt(Side::Lower) {
+                let factor = llt.L();
+                return Some(
+                    (0..c)
+                        .map(|j| {
+                            prior_means[j]
+                                + means[j]
+                                + (0..=j).map(|k| factor[(j, k)] * normals[k]).sum::<f64>()
+                        })
+                        .collect(),
+                );
+            }
+            jitter *= 10.0;
+        }
+        None
     }
 }
 
@@ -210,8 +317,12 @@ impl Searcher for ModelBased {
         "model-based"
     }
 
+    fn learns_across_episodes(&self) -> bool {
+        true
+    }
+
     fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {
-        self.forget();
+        self.close_episode();
     }
 
     fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
@@ -247,9 +358,14 @@ impl Searcher for ModelBased {
         if self.observed.is_empty() || self.largest_weight <= 0.0 {
             return Proposal::Next(first);
         }
+        let residuals: Vec<f64> = self
+            .observed
+            .iter()
+            .map(|o| o.sum / o.commands / self.largest_weight - self.prior_mean(&o.behavior))
+            .collect();
         let best_fit = SHARPNESS_CHOICES
             .iter()
-            .filter_map(|&p| fit(space, &self.observed, self.largest_weight, p))
+            .filter_map(|&p| fit(space, &self.observed, &residuals, p))
             .fold(None, |best: Option<Fit>, f| match best {
                 Some(b) if b.log_likelihood >= f.log_likelihood => Some(b),
                 _ => Some(f),
@@ -257,7 +373,10 @@ impl Searcher for ModelBased {
         let Some(surrogate) = best_fit else {
             return Proposal::Next(first);
         };
-        let scores = surrogate.scores(&self.observed, &candidates);
+        let prior_means: Vec<f64> = candidates.iter().map(|c| self.prior_mean(c)).collect();
+        let Some(scores) = surrogate.sample(&self.observed, &candidates, &prior_means, rng) else {
+            return Proposal::Next(first);
+        };
         let best = scores
             .iter()
             .enumerate()
@@ -266,7 +385,7 @@ impl Searcher for ModelBased {
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {
-        self.forget();
+        self.close_episode();
     }
 }
 
@@ -296,26 +415,49 @@ mod tests {
     #[test]
     fn posterior_by_hand() {
         // One observation y = -1 (one failure) at x = 0 on a line of 5, sharpness 1:
-        // K = 1 + 1 (noise) = 2, alpha = -0.5. At x = 1: k = 0.75, mu = -0.375,
-        // variance = 1 - 0.75^2 / 2 = 0.71875, score = -0.375 / 0.847791 = -0.442326.
+        // K = 1 + 1 (noise) = 2, alpha = -0.5. At x = 1: k = 0.75, mean = -0.375,
+        // variance = 1 - 0.75^2 / 2 = 0.71875. At x = 4 the kernel is 0: mean 0,
+        // variance 1, and the covariance of x = 1 and x = 4 is 0.25 - 0.75 * 0 / 2 = 0.25.
         let space = line(5);
         let observed = [Observed {
             behavior: Behavior::new(&[0]),
             commands: 1.0,
             sum: -1.0,
         }];
-        let f = fit(&space, &observed, 1.0, 1.0).unwrap();
+        let f = fit(&space, &observed, &[-1.0], 1.0).unwrap();
         assert!((f.alpha[(0, 0)] + 0.5).abs() < 1e-9);
-        let scores = f.scores(&observed, &[Behavior::new(&[1]), Behavior::new(&[4])]);
-        assert!((scores[0] + 0.442326).abs() < 1e-6, "{}", scores[0]);
-        // At x = 4 the kernel is 0: no opinion.
-        assert!(scores[1].abs() < 1e-12);
+        let (means, covariance) =
+            f.posterior(&observed, &[Behavior::new(&[1]), Behavior::new(&[4])]);
+        assert!((means[0] + 0.375).abs() < 1e-9);
+        assert!(means[1].abs() < 1e-12);
+        assert!((covariance[(0, 0)] - 0.71875).abs() < 1e-9);
+        assert!((covariance[(1, 1)] - 1.0).abs() < 1e-9);
+        assert!((covariance[(0, 1)] - 0.25).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_prior_mean_is_learned_from_earlier_episodes() {
+        // Earlier episodes: 10 completions at x = 3 and 10 failures at x = 0, weight 1.
+        // Overall mean 0; at x = 3 the shrunk mean is (10 + 20 * 0) / (10 + 20) = 1/3,
+        // at x = 0 it is -1/3, and at an unseen value the overall mean, 0.
+        let mut searcher = ModelBased::new();
+        let (good, bad) = (Behavior::new(&[3]), Behavior::new(&[0]));
+        for _ in 0..10 {
+            searcher.observe(&good, &Outcome::completed(1.0, 1.0));
+            searcher.observe(&bad, &Outcome::failed(1.0, crate::Cause::Deadline, 1.0));
+        }
+        // Nothing is known before the episode ends.
+        assert_eq!(searcher.prior_mean(&good), 0.0);
+        searcher.end_episode(&[], None);
+        assert!((searcher.prior_mean(&good) - 1.0 / 3.0).abs() < 1e-12);
+        assert!((searcher.prior_mean(&bad) + 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(searcher.prior_mean(&Behavior::new(&[2])), 0.0);
     }
 
     #[test]
     fn leaves_a_region_the_operator_dislikes_for_one_it_tolerates() {
-        // On a line of 40, failures at 0..=3 and mixed outcomes at 30: the best untried
-        // candidate lies near 30, not near 0.
+        // On a line of 40, failures at 0..=3 and mostly completions at 30: the draws
+        // land near 30, not near 0.
         let space = line(40);
         let mut searcher = ModelBased::new();
         let mut evaluated = Vec::new();
@@ -331,7 +473,7 @@ mod tests {
         }
         let promising = Behavior::new(&[30]);
         for k in 0..12 {
-            let o = if k % 3 == 0 {
+            let o = if k % 4 == 0 {
                 Outcome::failed(1.0, crate::Cause::Deadline, 1.0)
             } else {
                 Outcome::completed(1.0, 1.0)
@@ -342,10 +484,21 @@ mod tests {
             behavior: promising,
             time: 12.0,
         });
-        let mut rng = ChaCha8Rng::seed_from_u64(7);
-        match searcher.propose(&space, &evaluated, &mut rng) {
-            Proposal::Next(b) => assert!((26..=34).contains(&b.get(0)), "{b:?}"),
-            other => panic!("unexpected {other:?}"),
+        let mut near = 0;
+        for seed in 0..100 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            match searcher.propose(&space, &evaluated, &mut rng) {
+                Proposal::Next(b) => {
+                    assert!(b.get(0) > 6, "{b:?} is next to the failures");
+                    near += usize::from((24..=36).contains(&b.get(0)));
+                }
+                other => panic!("unexpected {other:?}"),
+            }
         }
+        // Uniform draws would land there 12 times in 35 (34%).
+        assert!(
+            near >= 45,
+            "only {near} of 100 draws near the promising behavior"
+        );
     }
 }

@@ -1,0 +1,163 @@
+//! Conformance kits for a user's own parts (behind the `testing` feature).
+//!
+//! [`check_searcher`] states what every search strategy must do and checks it with
+//! proptest on random spaces and random evidence; every built-in searcher passes it
+//! (`trust/tests/searchers.rs`), and a user's searcher is checked the same way:
+//!
+//! ```
+//! trust::testing::check_searcher(|| Box::new(trust::search::Uniform::new()));
+//! ```
+
+use crate::search::TrustSearcher;
+use crate::{Cause, Evaluated, Outcome};
+use cbr_core::{Behavior, BehaviorSpace, Component, Proposal};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, TestCaseError, TestRunner};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::HashSet;
+
+/// A small random space: one to three numeric or categorical components of one to five
+/// values.
+fn space_strategy() -> impl Strategy<Value = BehaviorSpace> {
+    prop::collection::vec((1u16..=5, any::<bool>()), 1..=3).prop_map(|shape| {
+        let components = shape
+            .iter()
+            .enumerate()
+            .map(|(k, &(n, numeric))| {
+                let name = format!("c{k}");
+                if numeric {
+                    Component::numeric(&name, "", 0.0, 1.0, n).expect("a valid grid")
+                } else {
+                    let labels: Vec<String> = (0..n).map(|v| format!("v{v}")).collect();
+                    let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
+                    Component::categorical(&name, &labels).expect("valid labels")
+                }
+            })
+            .collect();
+        BehaviorSpace::new(components).expect("a valid space")
+    })
+}
+
+/// Drives `searcher` through one episode on `space` with outcomes drawn from `rng`: each
+/// proposed behavior gets a few commands, is evaluated, and the searcher is asked again,
+/// until it says the space is exhausted. Returns every proposal.
+fn drive(
+    searcher: &mut TrustSearcher,
+    space: &BehaviorSpace,
+    rng: &mut ChaCha8Rng,
+) -> Result<Vec<Proposal>, TestCaseError> {
+    let mut evaluated: Vec<Evaluated> = Vec::new();
+    let mut proposals = Vec::new();
+    let mut current = space.draw(rng);
+    searcher.begin_episode(space, &current);
+    loop {
+        let commands = rng.random_range(1..4);
+        for _ in 0..commands {
+            let outcome = if rng.random_bool(0.3) {
+                Outcome::completed(1.0, 1.0)
+            } else if rng.random_bool(0.5) {
+                Outcome::failed(0.5, Cause::Collision, 2.0)
+            } else {
+                Outcome::interrupted(1.0, Cause::Deadline, 3.0)
+            };
+            searcher.observe(&current, &outcome);
+        }
+        evaluated.push(Evaluated {
+            behavior: current,
+            time: rng.random_range(0.0..10.0),
+        });
+        let proposal = searcher.propose(space, &evaluated, rng);
+        proposals.push(proposal);
+        let tried: HashSet<Behavior> = evaluated.iter().map(|e| e.behavior).collect();
+        match proposal {
+            Proposal::Next(b) => {
+                prop_assert!(space.contains(&b), "{b:?} is not in the space");
+                prop_assert!(
+                    !tried.contains(&b),
+                    "{b:?} was already evaluated while {} behaviors were untried",
+                    space.size() - tried.len() as u64
+                );
+                current = b;
+            }
+            Proposal::Exhausted { keep } => {
+                prop_assert_eq!(
+                    tried.len() as u64,
+                    space.size(),
+                    "exhausted while behaviors were untried"
+                );
+                prop_assert!(tried.contains(&keep), "keeps {:?}, never evaluated", keep);
+                break;
+            }
+        }
+        prop_assert!(
+            proposals.len() as u64 <= space.size(),
+            "more proposals than behaviors"
+        );
+    }
+    searcher.end_episode(&evaluated, None);
+    Ok(proposals)
+}
+
+/// Checks the properties every searcher must have, for searchers made by `build`:
+/// - it never proposes a behavior outside the space, nor one evaluated in the episode
+///   while unevaluated ones remain, and says `Exhausted` only when every behavior has
+///   been evaluated, keeping one of them;
+/// - a one-behavior space and a fully evaluated space are handled;
+/// - it is deterministic: the same seed and evidence give the same proposals;
+/// - it stays correct across episodes (two episodes in a row on one searcher).
+///
+/// # Panics
+/// With the failing case (proptest's minimal one) when a property does not hold.
+pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
+    let mut runner = TestRunner::new(Config {
+        cases: 64,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    let result = runner.run(&(space_strategy(), any::<u64>()), |(space, seed)| {
+        let mut first = build();
+        let a = drive(first.as_mut(), &space, &mut ChaCha8Rng::seed_from_u64(seed))?;
+        // A second episode on the same searcher.
+        drive(
+            first.as_mut(),
+            &space,
+            &mut ChaCha8Rng::seed_from_u64(seed ^ 1),
+        )?;
+        let b = drive(
+            build().as_mut(),
+            &space,
+            &mut ChaCha8Rng::seed_from_u64(seed),
+        )?;
+        prop_assert_eq!(a, b, "not deterministic for a seed");
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("searcher check failed: {e}");
+    }
+    // One behavior: the first proposal with no evidence is that behavior; once it is
+    // evaluated the space is exhausted and it is kept.
+    let one = BehaviorSpace::new(vec![
+        Component::numeric("only", "", 0.0, 1.0, 1).expect("a valid grid"),
+    ])
+    .expect("a valid space");
+    let only = Behavior::new(&[0]);
+    let mut rng = ChaCha8Rng::seed_from_u64(0);
+    let mut searcher = build();
+    searcher.begin_episode(&one, &only);
+    assert_eq!(
+        searcher.propose(&one, &[], &mut rng),
+        Proposal::Next(only),
+        "with no evidence the one behavior is proposed"
+    );
+    searcher.observe(&only, &Outcome::failed(1.0, Cause::Stuck, 1.0));
+    let evaluated = [Evaluated {
+        behavior: only,
+        time: 1.0,
+    }];
+    assert_eq!(
+        searcher.propose(&one, &evaluated, &mut rng),
+        Proposal::Exhausted { keep: only },
+        "a fully evaluated one-behavior space keeps its behavior"
+    );
+}
