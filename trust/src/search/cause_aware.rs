@@ -8,8 +8,10 @@
 //! misses rise with it. These counts persist across episodes (the physics of a robot
 //! does not change with the operator) and grow within an episode with every command.
 //!
-//! What the current operator cares about is read from the episode alone: the weight of
-//! the untrustworthy outcomes of each cause so far (its *burden*). A proposal draws a pool
+//! How much each cause matters is its *burden*: the weight of this episode's
+//! untrustworthy outcomes with that cause (what the current operator has shown it reacts
+//! to), plus the mean burden of an earlier episode (so a cause this operator has not yet
+//! met still counts as much as it usually does). A proposal draws a pool
 //! of untried behaviors uniformly at random and takes the one whose predicted burden is
 //! smallest. The rate of a cause at a behavior is predicted from the per-value rates of
 //! its components, combined as independent multiplicative effects on the cause's overall
@@ -71,6 +73,8 @@ struct CauseRecord {
     counts: ValueCounts,
     /// Weight of this episode's untrustworthy outcomes with this cause.
     burden: f64,
+    /// Weight of the earlier episodes' untrustworthy outcomes with this cause.
+    past_burden: f64,
 }
 
 /// The cause-aware searcher.
@@ -78,6 +82,8 @@ struct CauseRecord {
 pub struct CauseAware {
     commands: ValueCounts,
     causes: Vec<CauseRecord>,
+    /// Episodes ended so far.
+    episodes: f64,
 }
 
 impl CauseAware {
@@ -86,13 +92,20 @@ impl CauseAware {
         Self::default()
     }
 
-    /// `log(rate)` tables of the causes with a burden: for each such cause, its burden,
-    /// the log of its overall rate and per component the log ratio of each value's rate
-    /// to the overall rate.
+    /// How much cause `c` matters now: this episode's burden, plus the mean burden of an
+    /// earlier episode (the operators met so far), so a cause not yet met in this
+    /// episode still counts as much as it usually does.
+    fn weight(&self, c: &CauseRecord) -> f64 {
+        c.burden + c.past_burden / self.episodes.max(1.0)
+    }
+
+    /// `log(rate)` tables of the causes that matter: for each, its weight, the log of its
+    /// overall rate and per component the log ratio of each value's rate to the overall
+    /// rate.
     fn log_rate_tables(&self, space: &BehaviorSpace) -> Vec<(f64, f64, Vec<Vec<f64>>)> {
         self.causes
             .iter()
-            .filter(|c| c.burden > 0.0)
+            .filter(|c| self.weight(c) > 0.0)
             .map(|c| {
                 let overall = (c.counts.total + 1.0) / (self.commands.total + 2.0);
                 let tables = space
@@ -109,9 +122,22 @@ impl CauseAware {
                             .collect()
                     })
                     .collect();
-                (c.burden, overall.ln(), tables)
+                (self.weight(c), overall.ln(), tables)
             })
             .collect()
+    }
+}
+
+impl CauseAware {
+    /// Moves the episode's burdens into the earlier episodes' (once per episode).
+    fn close_episode(&mut self) {
+        if self.causes.iter().any(|c| c.burden > 0.0) {
+            self.episodes += 1.0;
+        }
+        for c in &mut self.causes {
+            c.past_burden += c.burden;
+            c.burden = 0.0;
+        }
     }
 }
 
@@ -144,9 +170,7 @@ impl Searcher for CauseAware {
     }
 
     fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {
-        for c in &mut self.causes {
-            c.burden = 0.0;
-        }
+        self.close_episode();
     }
 
     fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
@@ -161,6 +185,7 @@ impl Searcher for CauseAware {
                     cause: outcome.cause,
                     counts: ValueCounts::default(),
                     burden: 0.0,
+                    past_burden: 0.0,
                 });
                 self.causes.len() - 1
             }
@@ -200,9 +225,7 @@ impl Searcher for CauseAware {
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {
-        for c in &mut self.causes {
-            c.burden = 0.0;
-        }
+        self.close_episode();
     }
 }
 

@@ -1,0 +1,77 @@
+//! One proposal of every search strategy on the 16,000-behavior patrol space, after an
+//! episode of 200 command outcomes, with the cross-episode knowledge of 50 earlier
+//! episodes: `search/<strategy>/<distinct behaviors>`. 200 outcomes over 40 distinct
+//! behaviors is an episode's usual shape (about 5 commands each); over 200 distinct
+//! behaviors it is the model-based search's worst case at that size (one observation per
+//! behavior, the largest kernel matrix).
+#![allow(missing_docs)] // criterion's macros generate undocumented items
+
+use cbr_core::{Behavior, BehaviorSpace, Searcher};
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::hint::black_box;
+use trust::{Cause, Evaluated, Outcome, SearchKind};
+
+/// Outcomes of a synthetic operator that dislikes slow and careless behaviors.
+fn outcome(space: &BehaviorSpace, b: &Behavior, rng: &mut ChaCha8Rng) -> Outcome {
+    let speed = b.get(0) as f64 / (space.components()[0].len() - 1) as f64;
+    let padding = b.get(1) as f64 / (space.components()[1].len() - 1) as f64;
+    if rng.random_bool((1.0 - speed).powi(2) * 0.8) {
+        Outcome::interrupted(1.0 / 3.0, Cause::Deadline, 120.0)
+    } else if rng.random_bool((1.0 - padding) * speed * 0.5) {
+        Outcome::interrupted(1.0 / 3.0, Cause::Collision, 40.0)
+    } else {
+        Outcome::completed(1.0 / 3.0, 90.0)
+    }
+}
+
+/// Feeds `searcher` one episode of `outcomes` commands over `distinct` behaviors and
+/// returns its evidence.
+fn episode(
+    searcher: &mut dyn Searcher<Evidence = Evaluated, Feedback = Outcome>,
+    space: &BehaviorSpace,
+    outcomes: usize,
+    distinct: usize,
+    rng: &mut ChaCha8Rng,
+) -> Vec<Evaluated> {
+    let behaviors: Vec<Behavior> = (0..distinct).map(|_| space.draw(rng)).collect();
+    searcher.begin_episode(space, &behaviors[0]);
+    let mut evaluated = Vec::new();
+    for (i, b) in behaviors.iter().enumerate() {
+        let commands = outcomes / distinct + usize::from(i < outcomes % distinct);
+        for _ in 0..commands {
+            searcher.observe(b, &outcome(space, b, rng));
+        }
+        evaluated.push(Evaluated {
+            behavior: *b,
+            time: rng.random_range(10.0..2000.0),
+        });
+    }
+    evaluated
+}
+
+fn propose(c: &mut Criterion) {
+    let space = domains::spaces::patrol_space();
+    let mut group = c.benchmark_group("search");
+    for kind in SearchKind::ALL {
+        for distinct in [40usize, 200] {
+            let mut rng = ChaCha8Rng::seed_from_u64(5);
+            let mut searcher = kind.build();
+            for _ in 0..50 {
+                let evaluated = episode(searcher.as_mut(), &space, 200, 40, &mut rng);
+                searcher.end_episode(&evaluated, None);
+            }
+            let evaluated = episode(searcher.as_mut(), &space, 200, distinct, &mut rng);
+            group.bench_with_input(
+                BenchmarkId::new(kind.name(), distinct),
+                &distinct,
+                |b, _| b.iter(|| searcher.propose(&space, black_box(&evaluated), &mut rng)),
+            );
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, propose);
+criterion_main!(benches);
