@@ -36,7 +36,7 @@ use rand_distr::{Distribution, StandardNormal};
 use std::collections::{HashMap, HashSet};
 
 /// Untried behaviors drawn uniformly and scored per proposal.
-pub const MODEL_POOL: usize = 256;
+pub const MODEL_POOL: usize = 128;
 
 /// Observed behaviors whose untried neighbours join the pool (the best by mean outcome).
 const LOCAL_CENTRES: usize = 3;
