@@ -222,7 +222,14 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
         command_line: std::env::args().collect(),
     };
-    let written = write_suite_report(&options.out, &config, &results, elapsed, &provenance)?;
+    let written = write_suite_report(
+        &options.out,
+        &config,
+        origin,
+        &results,
+        elapsed,
+        &provenance,
+    )?;
     println!(
         "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.experiments.len(),

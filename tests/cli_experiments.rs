@@ -302,3 +302,33 @@ fn saved_case_bases_seed_the_next_run() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_report_reruns_by_itself_with_its_operator_files() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("ops")).unwrap();
+    std::fs::write(
+        dir.path().join("ops").join("hasty.ron"),
+        "(name: \"hasty\", t_complete: 10.0, p_deadline: 0.9, p_collision: 0.1)",
+    )
+    .unwrap();
+    let config = dir.path().join("custom.ron");
+    std::fs::write(
+        &config,
+        "(seed: 3, trials: 2, arms: [\"uniform\"], experiments: [(scenario: movement, operator: \"hasty\", operator_files: [\"ops/hasty.ron\"])])",
+    )
+    .unwrap();
+    let first = dir.path().join("first");
+    run(&config, &first, "2");
+    assert!(first.join("operators").join("hasty.ron").is_file());
+    // Rerun from the report alone, somewhere else.
+    let moved = dir.path().join("elsewhere");
+    std::fs::rename(&first, &moved).unwrap();
+    std::fs::remove_dir_all(dir.path().join("ops")).unwrap();
+    let second = dir.path().join("second");
+    run(&moved.join("config.ron"), &second, "2");
+    assert_eq!(
+        std::fs::read(moved.join("trials.jsonl")).unwrap(),
+        std::fs::read(second.join("trials.jsonl")).unwrap()
+    );
+}

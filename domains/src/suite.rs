@@ -210,6 +210,26 @@ impl SuiteConfig {
                     ),
                 ));
             }
+            // A trial ends when a behavior reaches the trustworthy threshold; if no
+            // operator of the experiment lets one reach it within `max_commands`, every
+            // trial would be cut off and report a count that means nothing.
+            let judges: Vec<&(String, OperatorModel)> = operators
+                .iter()
+                .filter(|(name, _)| spec.operator == RANDOM_OPERATOR || *name == spec.operator)
+                .collect();
+            let trustworthy = self.adapter.thresholds.trustworthy;
+            if let Some((name, op)) = judges
+                .iter()
+                .find(|(_, op)| op.weights.completed * (self.max_commands as f64) < trustworthy)
+            {
+                return Err(invalid(
+                    format!("experiments[{i}]"),
+                    format!(
+                        "operator `{name}` weighs a completion {}, so {} commands (max_commands) can never reach the trustworthy threshold {trustworthy}: every trial would be cut off",
+                        op.weights.completed, self.max_commands
+                    ),
+                ));
+            }
             for (k, (name, _)) in operators.iter().enumerate() {
                 if operators[..k].iter().any(|(n, _)| n == name) || name == RANDOM_OPERATOR {
                     return Err(invalid(
@@ -437,22 +457,85 @@ pub fn suite_arms_table(config: &SuiteConfig, results: &SuiteResults) -> String 
     trust::experiment::report::arms_table(&entries(config, results, &spaces))
 }
 
-/// Writes the report folder for a suite run.
+/// Writes the report folder for a suite run. The report reruns by itself: every operator
+/// file the config names (relative to `origin`) is copied into `DIR/operators/`, and the
+/// `config.ron` written names those copies.
 pub fn write_suite_report(
     dir: &Path,
     config: &SuiteConfig,
+    origin: &Path,
     results: &SuiteResults,
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let spaces = scenario_spaces();
-    Ok(write_report(
+    let (portable, copies) = config.with_operator_files_in("operators", origin);
+    let mut written = write_report(
         dir,
         &entries(config, results, &spaces),
-        &config.to_ron(),
+        &portable.to_ron(),
         elapsed_s,
         provenance,
-    )?)
+    )?;
+    for (source, copy) in copies {
+        let target = dir.join(&copy);
+        let folder = target.parent().expect("a file in a folder");
+        std::fs::create_dir_all(folder).map_err(|reason| FileError {
+            path: folder.to_owned(),
+            reason,
+        })?;
+        let text = read_text(&source)?;
+        cbr_core::write_atomically(&target, text.as_bytes()).map_err(|reason| FileError {
+            path: target.clone(),
+            reason,
+        })?;
+        written.push(target);
+    }
+    Ok(written)
+}
+
+impl SuiteConfig {
+    /// This config with every operator file moved into `folder` (relative names, one
+    /// copy per distinct file), and the (source, copy) pairs to copy: sources resolved
+    /// against `origin`'s directory.
+    fn with_operator_files_in(
+        &self,
+        folder: &str,
+        origin: &Path,
+    ) -> (Self, Vec<(PathBuf, PathBuf)>) {
+        let base = origin.parent().unwrap_or(Path::new("."));
+        let mut sources: Vec<PathBuf> = Vec::new();
+        for spec in &self.experiments {
+            for file in &spec.operator_files {
+                let source = base.join(file);
+                if !sources.contains(&source) {
+                    sources.push(source);
+                }
+            }
+        }
+        let stems = file_stems(sources.iter().map(|p| {
+            p.file_stem()
+                .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
+        }));
+        let copies: Vec<(PathBuf, PathBuf)> = sources
+            .into_iter()
+            .zip(stems)
+            .map(|(source, stem)| (source, Path::new(folder).join(format!("{stem}.ron"))))
+            .collect();
+        let mut portable = self.clone();
+        for spec in &mut portable.experiments {
+            for file in &mut spec.operator_files {
+                let source = base.join(&*file);
+                *file = copies
+                    .iter()
+                    .find(|(s, _)| *s == source)
+                    .expect("every file was collected")
+                    .1
+                    .clone();
+            }
+        }
+        (portable, copies)
+    }
 }
 
 fn scenario_spaces() -> Vec<(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)> {
@@ -537,6 +620,18 @@ mod tests {
                 && err.contains("known: random-walk"),
             "{err}"
         );
+        // Thresholds no run of commands can reach: every trial would be cut off.
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5, max_commands: 100, adapter: (thresholds: (trustworthy: 500.0, untrustworthy: -5.0)), experiments: [(scenario: movement, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("experiments[0]")
+                && err.contains("can never reach the trustworthy threshold 500"),
+            "{err}"
+        );
         // Case reuse and the search strategy are the arms' business.
         let err = SuiteConfig::from_ron(
             "(seed: 1, trials: 5, adapter: (reuse_cases: false), experiments: [(scenario: movement, operator: \"random\")])",
@@ -545,6 +640,27 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("reuse_cases"), "{err}");
+    }
+
+    #[test]
+    fn an_operator_whose_weights_are_all_zero_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("numb.ron"),
+            "(name: \"numb\", t_complete: 15.0, p_deadline: 0.5, p_collision: 0.5, weights: (completed: 0.0, default: 0.0))",
+        )
+        .unwrap();
+        let config = dir.path().join("suite.ron");
+        std::fs::write(
+            &config,
+            "(seed: 1, trials: 5, experiments: [(scenario: movement, operator: \"numb\", operator_files: [\"numb.ron\"])])",
+        )
+        .unwrap();
+        let err = SuiteConfig::load(&config).unwrap_err().to_string();
+        assert!(
+            err.contains("operator `numb` weighs a completion 0") && err.contains("cut off"),
+            "{err}"
+        );
     }
 
     #[test]

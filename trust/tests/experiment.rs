@@ -299,3 +299,34 @@ fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
     let text = table(&entries);
     assert!(text.contains("(8 cut off)"), "{text}");
 }
+
+#[test]
+fn plot_names_never_collide() {
+    let toy = Toy::new();
+    let ops = operators();
+    let plans: Vec<ExperimentPlan<'_, Toy>> = ["toy/low", "toy low", "toy-low"]
+        .into_iter()
+        .map(|name| {
+            let mut plan = plans(&toy, &ops, 3).remove(0);
+            plan.name = name.into();
+            plan.arms.truncate(2);
+            plan
+        })
+        .collect();
+    let results = run_experiments(&plans, 2, &|_| {}).unwrap();
+    let entries: Vec<ReportEntry<'_>> = results
+        .iter()
+        .map(|result| ReportEntry {
+            result,
+            scenario: "toy",
+            operator: "low",
+            space: &toy.space,
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let written = write_report(dir.path(), &entries, "()", 0.1, &Provenance::default()).unwrap();
+    let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
+    assert_eq!(written.len(), on_disk);
+    // Three experiments, each with a curve and a heatmap, plus the four text files.
+    assert_eq!(on_disk, 3 * 2 + 4);
+}
