@@ -221,6 +221,18 @@ mod tests {
     }
 
     #[test]
+    fn a_grid_that_overflows_is_refused_at_load() {
+        let (_, _, message, _) = error_after(
+            "min: 0.5, step: 0.5, count: 20",
+            "min: 1e308, step: 1e308, count: 20",
+        );
+        assert!(
+            message.starts_with("component `speed`: the grid overflows: `min` 1e308"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn builtin_names_and_missing_files() {
         assert_eq!(
             DomainDefinition::resolve("movement").unwrap().space.size(),

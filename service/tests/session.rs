@@ -101,7 +101,11 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
     );
     let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
-    let cases: [(&str, &str); 20] = [
+    let cases: [(&str, &str); 21] = [
+        (
+            r#"{"outcome":"failed","weight":1,"duration_s":1,"outcome":"completed"}"#,
+            "field `outcome` is given twice",
+        ),
         (
             r#"{"outcome": "interrupted", "weight": 1.0, "cau"#,
             "malformed JSON",
@@ -200,6 +204,26 @@ fn bad_behaviors_and_out_of_place_requests_change_nothing() {
         (
             r#"{"request":"begin","behavior":{"speed":null,"padding":0.4}}"#,
             "field `behavior.speed`",
+        ),
+        (
+            r#"{"request":"begin","behavior":"speed=NaN,padding=0.4"}"#,
+            "`NaN` is not an admissible value of `speed`",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":"inf","padding":0.4}}"#,
+            "`inf` is not an admissible value of `speed`",
+        ),
+        (
+            r#"{"request":"begin","behavior":"speed=3.5,speed=4.0,padding=0.4"}"#,
+            "component `speed` is given twice",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4,"speed":4.0}}"#,
+            "field `speed` is given twice",
+        ),
+        (
+            r#"{"request":"begin","behavior":{}}"#,
+            "no value given for components `speed`, `padding`",
         ),
     ];
     for (line, expected) in cases {

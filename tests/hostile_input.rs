@@ -1,0 +1,59 @@
+//! End-to-end: hostile command-line input is refused at once, with a message naming the
+//! problem, before any work is done.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn trustcbr() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+}
+
+/// Runs `command`, checks that it failed with an error (status 1, or 2 for a usage error)
+/// rather than a panic, and returns its stderr.
+fn refused(command: &mut Command) -> String {
+    let output: Output = command.output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(matches!(output.status.code(), Some(1 | 2)), "{stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    stderr
+}
+
+fn render(behavior: &str, out: &Path) -> String {
+    refused(
+        trustcbr()
+            .args([
+                "render",
+                "--scenario",
+                "patrol",
+                "--behavior",
+                behavior,
+                "-o",
+            ])
+            .arg(out),
+    )
+}
+
+#[test]
+fn render_refuses_non_finite_repeated_and_missing_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.svg");
+    let rest = "padding=0.3,scan_time=2,scan_distance=0.5";
+    for value in ["NaN", "inf", "-inf"] {
+        let stderr = render(&format!("speed={value},{rest}"), &out);
+        assert!(
+            stderr.contains(&format!("`{value}` is not an admissible value of `speed`")),
+            "{stderr}"
+        );
+    }
+    let stderr = render(&format!("speed=3.5,speed=4.0,{rest}"), &out);
+    assert!(
+        stderr.contains("component `speed` is given twice"),
+        "{stderr}"
+    );
+    let stderr = render("speed=2", &out);
+    assert!(
+        stderr.contains("no value given for components `padding`, `scan_time`, `scan_distance`"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
