@@ -2,7 +2,8 @@
 //! and the offending line with a caret under the column.
 //!
 //! Every RON input of the workspace (case bases, configs, operators, domain files) is read
-//! through [`read_text`] and [`parse_ron`], so every one reports its errors the same way.
+//! through [`crate::read_text`] and [`parse_ron`], so every one reports its errors the same
+//! way.
 
 use serde::de::DeserializeOwned;
 use std::fmt;
@@ -38,24 +39,6 @@ impl fmt::Display for RonError {
         }
         Ok(())
     }
-}
-
-/// A file that could not be read or written.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {reason}", path.display())]
-pub struct FileError {
-    /// The file.
-    pub path: PathBuf,
-    /// What went wrong (shown in the message, so not chained as a source).
-    pub reason: std::io::Error,
-}
-
-/// The whole text of the file at `path`.
-pub fn read_text(path: &Path) -> Result<String, FileError> {
-    std::fs::read_to_string(path).map_err(|reason| FileError {
-        path: path.to_owned(),
-        reason,
-    })
 }
 
 /// Parses `text` as RON into `T`; `origin` names the source in errors.

@@ -192,6 +192,19 @@ mod tests {
     }
 
     #[test]
+    fn a_symlinked_case_file_stays_a_link_and_its_target_is_saved() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.ron");
+        let link = dir.path().join("cases.ron");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let (store, cases) = CaseStore::open(&link, &space()).unwrap();
+        assert!(cases.is_empty());
+        store.save(&one_case()).unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert_eq!(CaseStore::open(&real, &space()).unwrap().1, one_case());
+    }
+
+    #[test]
     fn a_missing_directory_is_reported_at_open() {
         let err = CaseStore::open(Path::new("/nonexistent/dir/cases.ron"), &space()).unwrap_err();
         assert!(

@@ -1,0 +1,288 @@
+//! Writing output files safely.
+//!
+//! [`write_atomically`] replaces a file so that readers see either the old content or all
+//! of the new, never through a link planted beside it, keeping the file's mode and owner
+//! and, when the path is a symbolic link, replacing the file the link points to.
+
+use crate::input::special_file_kind;
+use std::ffi::{OsStr, OsString};
+use std::fs::{self, Permissions};
+use std::io::{self, Write};
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
+use std::path::{Path, PathBuf};
+
+/// How many symbolic links [`write_atomically`] follows before giving up (as the kernel).
+const MAX_LINKS: usize = 40;
+
+/// Random characters in a temporary file's name.
+const RANDOM_CHARS: usize = 10;
+
+/// Writes `bytes` to `path` so that readers see either the old content or all of the new.
+///
+/// The bytes go to a new temporary file beside the target, named `.NAME.tmp-PID-RANDOM`
+/// and created exclusively (an existing file or link of that name is never opened), with
+/// mode 0600; it is synced, given the target's mode and owner (where permitted), renamed
+/// over the target, and the directory is synced so the rename survives a power cut.
+///
+/// When `path` is a symbolic link, the file it finally points to is replaced and the link
+/// stays. A target that is a directory, FIFO, socket or device is refused. Temporary files
+/// of the same target left by writers that no longer run are removed first.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let target = final_target(path)?;
+    let existing = match fs::metadata(&target) {
+        Ok(meta) => Some(meta),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+    };
+    if let Some(kind) = existing
+        .as_ref()
+        .and_then(|meta| special_file_kind(&meta.file_type()))
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("is {kind}, not a regular file; refusing to write over it"),
+        ));
+    }
+    let name = target
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let prefix = temporary_prefix(name);
+    remove_stale_temporaries(&dir, &prefix);
+    let mut own_prefix = prefix;
+    own_prefix.push(format!("{}-", std::process::id()));
+    // A new target gets the usual mode of new files (0666 less the umask).
+    let create_mode = if existing.is_some() { 0o600 } else { 0o666 };
+    let mut temp = tempfile::Builder::new()
+        .prefix(&own_prefix)
+        .rand_bytes(RANDOM_CHARS)
+        .permissions(Permissions::from_mode(create_mode))
+        .tempfile_in(&dir)
+        .map_err(without_temporary_path)?;
+    temp.write_all(bytes)?;
+    if let Some(meta) = &existing {
+        let file = temp.as_file();
+        let created = file.metadata()?;
+        if (created.uid(), created.gid()) != (meta.uid(), meta.gid()) {
+            // Only a privileged writer may give a file away; others keep their own.
+            std::os::unix::fs::fchown(file, Some(meta.uid()), Some(meta.gid())).ok();
+        }
+        file.set_permissions(Permissions::from_mode(meta.mode() & 0o7777))?;
+    }
+    temp.as_file().sync_all()?;
+    temp.persist(&target).map_err(|e| e.error)?;
+    // Persist the directory entry; not every platform lets a directory be opened.
+    if let Ok(d) = fs::File::open(&dir) {
+        d.sync_all().ok();
+    }
+    Ok(())
+}
+
+/// The file `path` finally names: `path` itself unless it is a symbolic link, else the
+/// end of its chain of links (which need not exist yet).
+fn final_target(path: &Path) -> io::Result<PathBuf> {
+    let mut current = path.to_owned();
+    for _ in 0..=MAX_LINKS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current)?;
+                current = match current.parent() {
+                    Some(dir) => dir.join(link),
+                    None => link,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("more than {MAX_LINKS} levels of symbolic links"),
+    ))
+}
+
+/// `.NAME.tmp-`: what every temporary file of the target `NAME` starts with.
+fn temporary_prefix(name: &OsStr) -> OsString {
+    let mut prefix = OsString::from(".");
+    prefix.push(name);
+    prefix.push(".tmp-");
+    prefix
+}
+
+/// Removes the temporary files `PREFIX PID[-RANDOM]` in `dir` whose writer `PID` no longer
+/// runs (where `/proc` tells). Best effort: a file that cannot be removed stays.
+fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
+    let processes = Path::new("/proc");
+    if !processes.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(rest) = name
+            .as_encoded_bytes()
+            .strip_prefix(prefix.as_encoded_bytes())
+        else {
+            continue;
+        };
+        let pid = rest.split(|&b| b == b'-').next().unwrap_or_default();
+        let is_pid = !pid.is_empty() && pid.iter().all(u8::is_ascii_digit);
+        let is_file = entry
+            .file_type()
+            .is_ok_and(|t| t.is_file() || t.is_symlink());
+        if is_pid && is_file {
+            let pid = String::from_utf8_lossy(pid);
+            if !processes.join(pid.as_ref()).exists() {
+                fs::remove_file(entry.path()).ok();
+            }
+        }
+    }
+}
+
+/// The OS error of a failed temporary-file creation, without the random name the
+/// `tempfile` crate adds to its message (the caller names the target instead).
+fn without_temporary_path(error: io::Error) -> io::Error {
+    let code = error
+        .get_ref()
+        .and_then(|inner| inner.source())
+        .and_then(|source| source.downcast_ref::<io::Error>())
+        .and_then(io::Error::raw_os_error);
+    code.map_or(error, io::Error::from_raw_os_error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::{FileTypeExt, symlink};
+
+    fn names_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn writes_and_replaces_leaving_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.txt");
+        write_atomically(&path, b"one").unwrap();
+        write_atomically(&path, b"two").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"two");
+        assert_eq!(names_in(dir.path()), ["out.txt"]);
+    }
+
+    #[test]
+    fn a_link_planted_at_a_predictable_temporary_name_is_not_followed() {
+        let dir = tempfile::tempdir().unwrap();
+        let victim = dir.path().join("victim");
+        fs::write(&victim, b"precious").unwrap();
+        let path = dir.path().join("cases.ron");
+        // The name the writer once used: `.NAME.tmp-PID`.
+        let planted = dir
+            .path()
+            .join(format!(".cases.ron.tmp-{}", std::process::id()));
+        symlink(&victim, &planted).unwrap();
+        write_atomically(&path, b"cases").unwrap();
+        assert_eq!(fs::read(&victim).unwrap(), b"precious");
+        assert_eq!(fs::read(&path).unwrap(), b"cases");
+        assert!(fs::symlink_metadata(&path).unwrap().file_type().is_file());
+        assert!(fs::symlink_metadata(&planted).unwrap().is_symlink());
+    }
+
+    #[test]
+    fn a_symlinked_target_stays_a_link_and_its_file_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let real_dir = dir.path().join("real");
+        fs::create_dir(&real_dir).unwrap();
+        let real = real_dir.join("cases.ron");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("cases.ron");
+        // A relative link through a second link.
+        symlink("real/cases.ron", dir.path().join("hop")).unwrap();
+        symlink("hop", &link).unwrap();
+        write_atomically(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert_eq!(fs::read_link(&link).unwrap(), Path::new("hop"));
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        assert_eq!(names_in(&real_dir), ["cases.ron"]);
+    }
+
+    #[test]
+    fn the_mode_of_the_target_is_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        fs::write(&path, b"old").unwrap();
+        fs::set_permissions(&path, Permissions::from_mode(0o640)).unwrap();
+        write_atomically(&path, b"new").unwrap();
+        assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o640);
+        fs::set_permissions(&path, Permissions::from_mode(0o604)).unwrap();
+        write_atomically(&path, b"newer").unwrap();
+        assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o604);
+    }
+
+    #[test]
+    fn devices_fifos_and_directories_are_refused_as_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let err = write_atomically(&fifo, b"x").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "is a FIFO (named pipe), not a regular file; refusing to write over it"
+        );
+        assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        let err = write_atomically(Path::new("/dev/null"), b"x").unwrap_err();
+        assert!(
+            err.to_string().starts_with("is a character device"),
+            "{err}"
+        );
+        // A link to a device is refused too, and stays.
+        let link = dir.path().join("null");
+        symlink("/dev/null", &link).unwrap();
+        let err = write_atomically(&link, b"x").unwrap_err();
+        assert!(
+            err.to_string().starts_with("is a character device"),
+            "{err}"
+        );
+        let err = write_atomically(dir.path(), b"x").unwrap_err();
+        assert!(err.to_string().starts_with("is a directory"), "{err}");
+        assert_eq!(names_in(dir.path()), ["null", "pipe"]);
+    }
+
+    #[test]
+    fn stale_temporary_files_of_dead_writers_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let own = std::process::id();
+        // No process has an id above the kernel's largest (2^22).
+        let dead = 99_999_999;
+        for name in [
+            format!(".cases.ron.tmp-{dead}-a1b2c3"),
+            format!(".cases.ron.tmp-{dead}"),
+            format!(".cases.ron.tmp-{own}-d4e5f6"),
+            format!(".other.ron.tmp-{dead}-a1b2c3"),
+        ] {
+            fs::write(dir.path().join(name), b"partial").unwrap();
+        }
+        write_atomically(&path, b"cases").unwrap();
+        assert_eq!(
+            names_in(dir.path()),
+            [
+                format!(".cases.ron.tmp-{own}-d4e5f6"),
+                format!(".other.ron.tmp-{dead}-a1b2c3"),
+                "cases.ron".to_owned(),
+            ]
+        );
+    }
+}
