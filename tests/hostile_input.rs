@@ -57,3 +57,47 @@ fn render_refuses_non_finite_repeated_and_missing_values() {
     );
     assert!(!out.exists());
 }
+
+fn mkfifo(path: &Path) {
+    let made = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(made.success());
+}
+
+#[test]
+fn fifos_and_devices_are_refused_as_input_files_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("input.ron");
+    mkfifo(&fifo);
+    let out = dir.path().join("report");
+    for input in [fifo.as_path(), Path::new("/dev/zero")] {
+        let stderr = refused(trustcbr().arg("run").arg(input).arg("--out").arg(&out));
+        assert!(
+            stderr.contains(&format!("{}: is a ", input.display()))
+                && stderr.contains("not a regular file"),
+            "{stderr}"
+        );
+        let stderr = refused(
+            trustcbr()
+                .args(["serve", "--domain"])
+                .arg(input)
+                .arg("--cases")
+                .arg(dir.path().join("cases.ron")),
+        );
+        assert!(stderr.contains("not a regular file"), "{stderr}");
+        let stderr = refused(
+            trustcbr()
+                .args(["serve", "--domain", "movement", "--cases"])
+                .arg(input),
+        );
+        assert!(stderr.contains("not a regular file"), "{stderr}");
+        let stderr = refused(
+            trustcbr()
+                .args(["landscape", "--scenario", "movement", "--operator"])
+                .arg(input)
+                .arg("--out")
+                .arg(&out),
+        );
+        assert!(stderr.contains("not a regular file"), "{stderr}");
+    }
+    assert!(!out.exists());
+}

@@ -5,7 +5,7 @@
 //! stay valid. Saving goes through [`write_atomically`], so a crash leaves either the old
 //! or the new file, never a torn one.
 
-use crate::input::{FileError, read_text};
+use crate::input::{FileError, MAX_CASE_BASE_BYTES, read_text_at_most};
 use crate::output::write_atomically;
 use crate::ron_text::{RonError, parse_ron};
 use serde::de::DeserializeOwned;
@@ -134,9 +134,10 @@ impl<P: Serialize, S: Serialize> CaseBase<P, S> {
 }
 
 impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
-    /// Reads a case base written by [`Self::save_ron`]. The file is only read.
+    /// Reads a case base written by [`Self::save_ron`] (at most [`MAX_CASE_BASE_BYTES`]).
+    /// The file is only read.
     pub fn load_ron(path: &Path) -> Result<Self, CaseBaseError> {
-        let text = read_text(path)?;
+        let text = read_text_at_most(path, MAX_CASE_BASE_BYTES)?;
         Self::from_ron(&text, path)
     }
 

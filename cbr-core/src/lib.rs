@@ -22,7 +22,7 @@ pub mod similarity;
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
 pub use case::{Case, CaseBase, CaseBaseError, CaseId};
 pub use component::{Component, ComponentError, Values};
-pub use input::{FileError, read_text};
+pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use memory::CaseMemory;
 pub use output::write_atomically;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};

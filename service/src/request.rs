@@ -103,7 +103,9 @@ pub enum RequestError {
 
 /// Parses one line (without its newline).
 pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
-    let line = line.strip_prefix(BYTE_ORDER_MARK).unwrap_or(line);
+    let line = line
+        .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
+        .unwrap_or(line);
     let UniqueKeys(value) = serde_json::from_slice(line).map_err(|e| json_error(line, &e))?;
     let map = match value {
         Value::Object(map) => map,
@@ -217,9 +219,6 @@ impl Fields {
         }
     }
 }
-
-/// The UTF-8 encoding of U+FEFF, which some editors and libraries put before text.
-const BYTE_ORDER_MARK: &[u8] = b"\xEF\xBB\xBF";
 
 /// A JSON value whose objects, at every depth, give each key once.
 struct UniqueKeys(Value);
