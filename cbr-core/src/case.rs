@@ -32,6 +32,7 @@ impl fmt::Display for CaseId {
 
 /// A problem and the solution that worked for it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Case<P, S> {
     /// What was faced.
     pub problem: P,
@@ -224,6 +225,16 @@ mod tests {
         };
         // `x` is the 16th character of line 4: `    (problem: [x]`.
         assert_eq!((line, column), (4, 16));
+    }
+
+    #[test]
+    fn an_unknown_field_in_a_case_is_refused_where_it_is() {
+        let text = "(cases: [(problem: [1], solution: \"a\", note: \"x\")])";
+        let err = Base::from_ron(text, Path::new("cb.ron")).unwrap_err();
+        let CaseBaseError::Parse(RonError { message, .. }) = err else {
+            panic!("expected a parse error");
+        };
+        assert!(message.contains("`note`"), "{message}");
     }
 
     #[test]

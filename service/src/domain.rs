@@ -232,6 +232,21 @@ mod tests {
         );
     }
 
+    /// Every RON block of `docs/protocol.md` is a domain file that loads as written.
+    #[test]
+    fn the_documented_domain_file_loads() {
+        let doc = include_str!("../../docs/protocol.md");
+        let blocks: Vec<&str> = doc
+            .split("```ron\n")
+            .skip(1)
+            .map(|rest| rest.split("```").next().unwrap())
+            .collect();
+        assert_eq!(blocks.len(), 1);
+        let d = DomainDefinition::from_ron(blocks[0], Path::new("protocol.md")).unwrap();
+        assert_eq!(d.adapter.retriever, trust::RetrieverKind::InvertedIndex);
+        assert_eq!(d.space.size(), 8 * 10 * 3);
+    }
+
     #[test]
     fn builtin_names_and_missing_files() {
         assert_eq!(

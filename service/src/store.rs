@@ -205,6 +205,18 @@ mod tests {
     }
 
     #[test]
+    fn an_unknown_field_in_an_evaluated_pair_is_refused_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let text =
+            "(cases: [(problem: [(behavior: [3, 4], time: 12.0, mood: 1)], solution: [5, 5])])";
+        std::fs::write(&path, text).unwrap();
+        let err = CaseStore::open(&path, &space()).unwrap_err().to_string();
+        assert!(err.contains("`mood`"), "{err}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    }
+
+    #[test]
     fn a_missing_directory_is_reported_at_open() {
         let err = CaseStore::open(Path::new("/nonexistent/dir/cases.ron"), &space()).unwrap_err();
         assert!(

@@ -282,6 +282,30 @@ fn a_failed_save_is_reported_and_stops_the_server() {
 }
 
 #[test]
+fn a_line_of_exactly_the_limit_is_accepted_with_either_terminator() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let mut full = b"{\"request\":\"state\"}".to_vec();
+    full.resize(service::MAX_LINE_BYTES, b' ');
+    let mut input = Vec::new();
+    for terminator in [&b"\r\n"[..], b"\n", b""] {
+        input.extend_from_slice(&full);
+        input.extend_from_slice(terminator);
+    }
+    let mut output = Vec::new();
+    service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
+    let replies: Vec<Value> = output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect();
+    assert_eq!(replies.len(), 3);
+    for reply in replies {
+        assert_eq!(reply["ok"], "state", "{reply}");
+    }
+}
+
+#[test]
 fn oversize_lines_are_refused_and_the_conversation_goes_on() {
     let dir = tempfile::tempdir().unwrap();
     let mut s = session(dir.path());
