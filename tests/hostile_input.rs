@@ -101,3 +101,31 @@ fn fifos_and_devices_are_refused_as_input_files_at_once() {
     }
     assert!(!out.exists());
 }
+
+#[test]
+fn a_closed_reply_stream_is_reported_once() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let mut server = trustcbr()
+        .args(["serve", "--domain", "movement", "--cases"])
+        .arg(dir.path().join("cases.ron"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The controller stops reading replies, then sends a request.
+    drop(server.stdout.take());
+    let mut stdin = server.stdin.take().unwrap();
+    stdin.write_all(b"{\"request\":\"state\"}\n").ok();
+    drop(stdin);
+    let output = server.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("error: connection: Broken pipe (os error 32)\n"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("Broken pipe").count(), 1, "{stderr}");
+}

@@ -20,7 +20,9 @@ pub struct RonError {
     pub column: usize,
     /// What is wrong there, naming the field where the parser knows it.
     pub message: String,
-    /// The offending line with a caret under the column (empty past the end of the text).
+    /// The offending line with a caret under the column (empty past the end of the text);
+    /// of a line longer than [`EXCERPT_CHARS`], the window around the column, its cut ends
+    /// marked `…`.
     pub excerpt: String,
 }
 
@@ -53,19 +55,32 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T, Ro
     })
 }
 
-/// The 1-based `line` of `text` with a caret under the 1-based `column`.
+/// The most characters of the offending line an excerpt shows.
+pub const EXCERPT_CHARS: usize = 120;
+
+/// The 1-based `line` of `text` with a caret under the 1-based `column`: the whole line,
+/// or the [`EXCERPT_CHARS`] around the column, with `…` where the line is cut.
 fn excerpt(text: &str, line: usize, column: usize) -> String {
     let Some(source) = text.lines().nth(line.saturating_sub(1)) else {
         return String::new();
     };
-    let gutter = line.to_string();
-    let indent: String = source
+    let chars: Vec<char> = source.chars().collect();
+    let at = column.saturating_sub(1).min(chars.len());
+    let start = at
+        .saturating_sub(EXCERPT_CHARS / 2)
+        .min(chars.len().saturating_sub(EXCERPT_CHARS));
+    let end = chars.len().min(start + EXCERPT_CHARS);
+    let cut_before = if start > 0 { "…" } else { "" };
+    let cut_after = if end < chars.len() { "…" } else { "" };
+    let shown: String = chars[start..end].iter().collect();
+    let indent: String = cut_before
         .chars()
-        .take(column.saturating_sub(1))
+        .chain(chars[start..at].iter().copied())
         .map(|c| if c == '\t' { '\t' } else { ' ' })
         .collect();
+    let gutter = line.to_string();
     format!(
-        "{gutter} | {source}\n{} | {indent}^",
+        "{gutter} | {cut_before}{shown}{cut_after}\n{} | {indent}^",
         " ".repeat(gutter.len())
     )
 }
@@ -90,6 +105,29 @@ mod tests {
             err.to_string(),
             "p.ron:3:4: Unexpected field named `z` in `Point`, expected either `x` or `y` instead\n3 |   z: 2.0,\n  |    ^"
         );
+    }
+
+    #[test]
+    fn a_long_line_shows_a_window_around_the_column() {
+        let padding = " ".repeat(200_000);
+        let text = format!("(x: 1.0,{padding}z: 2.0,{padding}y: 3.0)");
+        let err = parse_ron::<Point>(&text, Path::new("p.ron")).unwrap_err();
+        let (shown, caret) = err.excerpt.split_once('\n').unwrap();
+        assert!(
+            shown.starts_with("1 | …") && shown.ends_with('…'),
+            "{shown}"
+        );
+        assert_eq!(shown.chars().count(), "1 | ".len() + EXCERPT_CHARS + 2);
+        // The caret stands under the character at the column (just past the unknown
+        // field's name, as for a short line).
+        let under = caret.chars().count() - 1;
+        assert_eq!(shown.chars().nth(under), Some(':'), "{shown}\n{caret}");
+        assert_eq!(shown.chars().nth(under - 1), Some('z'), "{shown}\n{caret}");
+        // Near either end of the line, that end is shown uncut.
+        let text = format!("(x: 1.0, z: 2.0,{padding} y: 3.0)");
+        let err = parse_ron::<Point>(&text, Path::new("p.ron")).unwrap_err();
+        assert!(err.excerpt.starts_with("1 | (x: 1.0, z"), "{}", err.excerpt);
+        assert!(err.excerpt.lines().next().unwrap().ends_with('…'));
     }
 
     #[test]

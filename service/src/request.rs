@@ -96,9 +96,16 @@ pub enum RequestError {
         /// What is wrong with it.
         message: String,
     },
-    /// The outcome's numbers are unusable (negative weight or duration).
+    /// The outcome's numbers are unusable (negative weight or duration; shown in the
+    /// message, so not chained as a source).
     #[error("invalid outcome: {0}")]
-    Outcome(#[from] OutcomeError),
+    Outcome(OutcomeError),
+}
+
+impl From<OutcomeError> for RequestError {
+    fn from(reason: OutcomeError) -> Self {
+        Self::Outcome(reason)
+    }
 }
 
 /// Parses one line (without its newline).
