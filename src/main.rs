@@ -2,6 +2,7 @@
 //! done by the `trust`, `domains` and `service` libraries.
 
 use anyhow::{Context, Result};
+use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{
@@ -12,7 +13,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{CaseStore, DomainDefinition, Session, transport};
 use std::io::Write;
 use std::net::SocketAddr;
-use std::num::{NonZeroU32, NonZeroUsize};
+use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -76,8 +77,8 @@ struct LandscapeArgs {
     /// Operator: a built-in name or a RON file.
     #[arg(long)]
     operator: String,
-    /// Runs per behavior.
-    #[arg(long, default_value_t = 100)]
+    /// Runs per behavior (at least 1).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
     runs: u32,
     /// The two components of the heatmap, across then up.
     #[arg(long, default_value = "speed,padding")]
@@ -96,15 +97,33 @@ struct RunOptions {
     /// Report folder.
     #[arg(long, default_value = "results")]
     out: PathBuf,
-    /// Trials per experiment and strategy (overrides the config).
-    #[arg(long)]
+    /// Trials per experiment and strategy, 1 to 100000 (overrides the config).
+    #[arg(long, value_parser = at_most::<NonZeroU32>(MAX_TRIALS))]
     trials: Option<NonZeroU32>,
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
-    /// Worker threads (default: one per core).
-    #[arg(long)]
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
     threads: Option<NonZeroUsize>,
+}
+
+/// The most trials per experiment and strategy `--trials` accepts: every trial's record is
+/// kept for the report, so this bounds the memory a run takes.
+const MAX_TRIALS: u64 = 100_000;
+
+/// The most worker threads `--threads` accepts.
+const MAX_THREADS: u64 = 256;
+
+/// A parser of a count from 1 to `max`.
+fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
+    max: u64,
+) -> impl TypedValueParser<Value = T> {
+    clap::value_parser!(u64).range(1..=max).try_map(|n| {
+        NonZeroU64::new(n)
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| format!("{n} does not fit this machine"))
+    })
 }
 
 #[derive(Args)]
@@ -153,6 +172,7 @@ fn main() -> ExitCode {
 
 /// Runs a suite with progress bars on stderr, prints the table and writes the report.
 fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions) -> Result<()> {
+    cbr_core::output::prepare_output_dir(&options.out)?;
     if let Some(trials) = options.trials {
         config.trials = trials;
     }
@@ -191,6 +211,7 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         bar.finish();
     }
     println!("{}", suite_table(&config, &results));
+    cbr_core::output::remove_previous_report(&options.out)?;
     let written = write_suite_report(&options.out, &config, &results, elapsed)?;
     println!(
         "{} experiments x {} trials x 2 strategies on {threads} threads in {elapsed:.1} s; report in {} ({} files)",

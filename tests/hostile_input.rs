@@ -129,3 +129,96 @@ fn a_closed_reply_stream_is_reported_once() {
     );
     assert_eq!(stderr.matches("Broken pipe").count(), 1, "{stderr}");
 }
+
+const TINY: &str =
+    "(seed: 1, trials: 1, experiments: [(scenario: movement, operator: \"balanced\")])";
+
+/// `trustcbr run` of the one-trial config `TINY` (written in `dir`) into `out`.
+fn run_tiny(dir: &Path, out: &Path) -> Command {
+    let config = dir.join("tiny.ron");
+    std::fs::write(&config, TINY).unwrap();
+    let mut command = trustcbr();
+    command.arg("run").arg(config).arg("--out").arg(out);
+    command
+}
+
+#[test]
+fn an_unusable_report_folder_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("report");
+    std::fs::write(&file, b"not a folder").unwrap();
+    let notes = dir.path().join("notes");
+    std::fs::create_dir(&notes).unwrap();
+    std::fs::write(notes.join("todo.txt"), b"mine").unwrap();
+    let cases = [
+        (file.as_path(), "exists and is a regular file, not a folder"),
+        (
+            Path::new("/proc/self"),
+            "cannot write the report in this folder",
+        ),
+        (
+            notes.as_path(),
+            "holds `todo.txt`, which is not part of a trustcbr report",
+        ),
+    ];
+    for (out, expected) in cases {
+        let output = run_tiny(dir.path(), out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        // The results table is printed after the work: nothing was computed.
+        assert!(output.stdout.is_empty(), "{stderr}");
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), b"not a folder");
+    assert_eq!(std::fs::read(notes.join("todo.txt")).unwrap(), b"mine");
+}
+
+#[test]
+fn an_earlier_report_is_replaced_without_its_stale_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    std::fs::create_dir(&out).unwrap();
+    for name in ["summary.json", "curves-patrol-gone.svg", "notes.txt"] {
+        std::fs::write(out.join(name), b"old").unwrap();
+    }
+    let output = run_tiny(dir.path(), &out).output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(!out.join("curves-patrol-gone.svg").exists());
+    assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"old");
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"experiments\""), "{summary}");
+}
+
+#[test]
+fn counts_out_of_range_are_refused() {
+    for (args, expected) in [
+        (
+            &["reproduce", "--threads", "257"][..],
+            "257 is not in 1..=256",
+        ),
+        (&["reproduce", "--threads", "0"], "0 is not in 1..=256"),
+        (
+            &["reproduce", "--trials", "100001"],
+            "100001 is not in 1..=100000",
+        ),
+        (
+            &[
+                "landscape",
+                "--scenario",
+                "movement",
+                "--operator",
+                "balanced",
+                "--runs",
+                "0",
+            ],
+            "0 is not in 1..",
+        ),
+    ] {
+        let stderr = refused(trustcbr().args(args));
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}

@@ -3,13 +3,144 @@
 //! [`write_atomically`] replaces a file so that readers see either the old content or all
 //! of the new, never through a link planted beside it, keeping the file's mode and owner
 //! and, when the path is a symbolic link, replacing the file the link points to.
+//!
+//! A report folder is checked before any work starts ([`prepare_output_dir`]) and an
+//! earlier report in it is removed before the new one is written
+//! ([`remove_previous_report`]), so a report never mixes with another's files. The rule:
+//! the folder may be missing (it is created), empty, or hold an earlier report (it has a
+//! `summary.json`); a folder holding anything else is refused.
 
-use crate::input::special_file_kind;
+use crate::input::{FileError, special_file_kind};
 use std::ffi::{OsStr, OsString};
 use std::fs::{self, Permissions};
 use std::io::{self, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+
+/// The file that marks a folder as holding a report.
+pub const REPORT_MARKER: &str = "summary.json";
+
+/// The files of a report, besides its plots: removed with an earlier report.
+pub const REPORT_FILES: &[&str] = &["summary.json", "table.md", "trials.jsonl", "config.ron"];
+
+/// The extensions of a report's plots: removed with an earlier report.
+pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];
+
+/// Why a report folder cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The path exists and is not a folder.
+    #[error("{}: exists and is {kind}, not a folder for the report", path.display())]
+    NotAFolder {
+        /// The path given.
+        path: PathBuf,
+        /// What it is.
+        kind: &'static str,
+    },
+    /// The folder could not be created, listed or written in.
+    #[error("{}: cannot write the report in this folder: {reason}", path.display())]
+    Unwritable {
+        /// The folder.
+        path: PathBuf,
+        /// Why (shown in the message, so not chained as a source).
+        reason: io::Error,
+    },
+    /// The folder holds files that are not part of a report.
+    #[error(
+        "{}: the folder holds `{entry}`, which is not part of a trustcbr report; give an empty or new folder, or one holding an earlier report (with its {REPORT_MARKER})",
+        path.display()
+    )]
+    Foreign {
+        /// The folder.
+        path: PathBuf,
+        /// One entry that is not part of a report.
+        entry: String,
+    },
+    /// A file of an earlier report could not be removed.
+    #[error(transparent)]
+    Remove(#[from] FileError),
+}
+
+/// Checks, before any work starts, that a report can be written in `dir`: creates it if
+/// missing, refuses a path that is not a folder, a folder that cannot be written in (a
+/// temporary file is created and removed to find out: permissions, read-only file
+/// systems), and a folder that holds anything but an earlier report. Writes nothing else.
+pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
+    let unwritable = |reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    };
+    match fs::metadata(dir) {
+        Ok(meta) if !meta.is_dir() => {
+            return Err(OutputError::NotAFolder {
+                path: dir.to_owned(),
+                kind: special_file_kind(&meta.file_type()).unwrap_or("a regular file"),
+            });
+        }
+        Ok(_) => {}
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            fs::create_dir_all(dir).map_err(unwritable)?;
+        }
+        Err(e) => return Err(unwritable(e)),
+    }
+    tempfile::Builder::new()
+        .prefix(".trustcbr-probe-")
+        .tempfile_in(dir)
+        .map_err(|e| unwritable(without_temporary_path(e)))?;
+    let entries: Vec<String> = fs::read_dir(dir)
+        .map_err(unwritable)?
+        .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<io::Result<_>>()
+        .map_err(unwritable)?;
+    if entries.iter().any(|name| name == REPORT_MARKER) {
+        return Ok(());
+    }
+    match entries.into_iter().find(|name| !is_temporary_name(name)) {
+        Some(entry) => Err(OutputError::Foreign {
+            path: dir.to_owned(),
+            entry,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Removes the files of an earlier report from `dir` (only if it holds one, marked by its
+/// [`REPORT_MARKER`]): [`REPORT_FILES`] and the plots ([`REPORT_PLOT_EXTENSIONS`]). Other
+/// files stay. Returns the files removed.
+pub fn remove_previous_report(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    if !dir.join(REPORT_MARKER).is_file() {
+        return Ok(Vec::new());
+    }
+    let listing = fs::read_dir(dir).map_err(|reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    })?;
+    let mut removed = Vec::new();
+    for entry in listing.flatten() {
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_plot = path
+            .extension()
+            .and_then(OsStr::to_str)
+            .is_some_and(|ext| REPORT_PLOT_EXTENSIONS.contains(&ext));
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && (REPORT_FILES.contains(&name.as_str()) || is_plot) {
+            fs::remove_file(&path).map_err(|reason| FileError {
+                path: path.clone(),
+                reason,
+            })?;
+            removed.push(path);
+        }
+    }
+    removed.sort();
+    Ok(removed)
+}
+
+/// Whether `name` is a temporary file of [`write_atomically`] (`.NAME.tmp-...`), which
+/// an interrupted write may leave.
+fn is_temporary_name(name: &str) -> bool {
+    name.starts_with('.') && name.contains(".tmp-")
+}
 
 /// How many symbolic links [`write_atomically`] follows before giving up (as the kernel).
 const MAX_LINKS: usize = 40;
@@ -284,5 +415,84 @@ mod tests {
                 "cases.ron".to_owned(),
             ]
         );
+    }
+
+    #[test]
+    fn a_missing_report_folder_is_created_and_an_empty_one_accepted() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("a/b/report");
+        prepare_output_dir(&out).unwrap();
+        assert!(out.is_dir());
+        assert!(names_in(&out).is_empty(), "the probe file is removed");
+        prepare_output_dir(&out).unwrap();
+    }
+
+    #[test]
+    fn a_file_an_unwritable_folder_and_foreign_files_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("report");
+        fs::write(&file, b"x").unwrap();
+        let err = prepare_output_dir(&file).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: exists and is a regular file, not a folder for the report",
+                file.display()
+            )
+        );
+        let err = prepare_output_dir(Path::new("/dev/null")).unwrap_err();
+        assert!(err.to_string().contains("is a character device"), "{err}");
+        // Not writable even by root.
+        let err = prepare_output_dir(Path::new("/proc/self")).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("/proc/self: cannot write the report in this folder: "),
+            "{err}"
+        );
+        let notes = dir.path().join("notes");
+        fs::create_dir(&notes).unwrap();
+        fs::write(notes.join("todo.txt"), b"keep").unwrap();
+        let err = prepare_output_dir(&notes).unwrap_err();
+        assert!(matches!(&err, OutputError::Foreign { entry, .. } if entry == "todo.txt"));
+        assert_eq!(names_in(&notes), ["todo.txt"]);
+    }
+
+    #[test]
+    fn an_earlier_report_is_accepted_and_removed_file_by_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path();
+        for name in [
+            "summary.json",
+            "table.md",
+            "trials.jsonl",
+            "config.ron",
+            "curves-movement-balanced.svg",
+            "index.html",
+            "notes.txt",
+            ".table.md.tmp-99999999-abc",
+        ] {
+            fs::write(out.join(name), b"old").unwrap();
+        }
+        fs::create_dir(out.join("plots.svg")).unwrap();
+        prepare_output_dir(out).unwrap();
+        let removed = remove_previous_report(out).unwrap();
+        assert_eq!(removed.len(), 6);
+        assert_eq!(
+            names_in(out),
+            [".table.md.tmp-99999999-abc", "notes.txt", "plots.svg"]
+        );
+        // Without its summary the folder no longer holds a report: nothing more goes.
+        assert!(remove_previous_report(out).unwrap().is_empty());
+        assert!(matches!(
+            prepare_output_dir(out),
+            Err(OutputError::Foreign { .. })
+        ));
+    }
+
+    #[test]
+    fn temporary_files_of_an_interrupted_write_do_not_make_a_folder_foreign() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::write(dir.path().join(".summary.json.tmp-99999999-abc"), b"x").unwrap();
+        prepare_output_dir(dir.path()).unwrap();
     }
 }
