@@ -130,6 +130,18 @@ mod tests {
         assert!(err.excerpt.lines().next().unwrap().ends_with('…'));
     }
 
+    proptest::proptest! {
+        /// Any line and column give an excerpt of at most the window, the caret within it.
+        #[test]
+        fn excerpts_are_bounded(source in "[a-z \t…é]{0,400}", column in 0usize..500) {
+            let shown = excerpt(&source, 1, column);
+            if let Some((line, caret)) = shown.split_once('\n') {
+                proptest::prop_assert!(line.chars().count() <= "1 | ".len() + EXCERPT_CHARS + 2);
+                proptest::prop_assert!(caret.chars().count() <= line.chars().count() + 1);
+            }
+        }
+    }
+
     #[test]
     fn an_error_past_the_end_has_no_excerpt() {
         let err = parse_ron::<Point>("(x: 1.0,\n", Path::new("p.ron")).unwrap_err();

@@ -386,3 +386,61 @@ proptest! {
         }
     }
 }
+
+/// A JSON object of fields a request might carry, some of them given twice.
+fn object_with_repeats() -> impl Strategy<Value = Vec<u8>> {
+    let field = prop_oneof![
+        Just(r#""request":"begin""#),
+        Just(r#""request":"state""#),
+        Just(r#""outcome":"completed""#),
+        Just(r#""outcome":"interrupted""#),
+        Just(r#""weight":1.0"#),
+        Just(r#""duration_s":2.0"#),
+        Just(r#""cause":"collision""#),
+        Just(r#""behavior":"speed=3.5,padding=0.4""#),
+        Just(r#""behavior":"speed=NaN,padding=0.4""#),
+        Just(r#""behavior":{"speed":3.5,"padding":0.4,"speed":"inf"}"#),
+        Just(r#""behavior":{"speed":"nan","padding":0.4}"#),
+    ];
+    prop::collection::vec(field, 1..6).prop_flat_map(|fields| {
+        let repeat = 0..fields.len();
+        (Just(fields), repeat).prop_map(|(mut fields, k)| {
+            fields.push(fields[k]);
+            format!("{{{}}}", fields.join(",")).into_bytes()
+        })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Whatever is refused (arbitrary bytes, repeated keys, non-finite behavior values),
+    /// the episode under way, the case base and the server's draws stay as they were.
+    #[test]
+    fn refused_lines_change_nothing(
+        line in prop_oneof![
+            object_with_repeats(),
+            prop::collection::vec(any::<u8>(), 0..96),
+            any_line(),
+        ]
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = session(dir.path());
+        ok(&mut s, r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#);
+        ok(&mut s, r#"{"outcome":"completed","weight":0.5,"duration_s":1.0}"#);
+        let before = snapshot(&mut s);
+        let reply = s.handle_line(&line).unwrap();
+        if reply.get("error").is_some() {
+            prop_assert_eq!(snapshot(&mut s), before);
+            // The server's draws are untouched: after the episode, it draws what a fresh
+            // session with the same history draws.
+            ok(&mut s, r#"{"request":"abandon"}"#);
+            let drawn = ok(&mut s, r#"{"request":"begin"}"#)["behavior"].clone();
+            let dir2 = tempfile::tempdir().unwrap();
+            let mut fresh = session(dir2.path());
+            ok(&mut fresh, r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#);
+            ok(&mut fresh, r#"{"request":"abandon"}"#);
+            prop_assert_eq!(ok(&mut fresh, r#"{"request":"begin"}"#)["behavior"].clone(), drawn);
+        }
+    }
+}
