@@ -114,10 +114,19 @@ pub(crate) fn special_file_kind(file_type: &FileType) -> Option<&'static str> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use std::sync::mpsc;
     use std::time::Duration;
+
+    /// Makes a FIFO (named pipe) at `path` with `mkfifo`.
+    pub(crate) fn make_fifo(path: &Path) {
+        let made = std::process::Command::new("mkfifo")
+            .arg(path)
+            .status()
+            .unwrap();
+        assert!(made.success());
+    }
 
     /// `read_text_at_most(path, cap)`'s error, failing the test if the read takes more
     /// than five seconds (a FIFO once blocked it forever).
@@ -137,11 +146,7 @@ mod tests {
     fn fifos_devices_and_directories_are_refused_at_once() {
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("config.ron");
-        let made = std::process::Command::new("mkfifo")
-            .arg(&fifo)
-            .status()
-            .unwrap();
-        assert!(made.success());
+        make_fifo(&fifo);
         assert_eq!(
             refusal(&fifo, MAX_CONFIG_BYTES),
             format!(

@@ -362,11 +362,7 @@ mod tests {
     fn devices_fifos_and_directories_are_refused_as_output() {
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("pipe");
-        let made = std::process::Command::new("mkfifo")
-            .arg(&fifo)
-            .status()
-            .unwrap();
-        assert!(made.success());
+        crate::input::tests::make_fifo(&fifo);
         let err = write_atomically(&fifo, b"x").unwrap_err();
         assert_eq!(
             err.to_string(),

@@ -37,6 +37,22 @@ fn snapshot(s: &mut Session) -> (Value, Value) {
     )
 }
 
+/// The replies written to `output`, one JSON value per line.
+fn reply_lines(output: &[u8]) -> Vec<Value> {
+    output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect()
+}
+
+/// Serves `input` to the end and returns the replies.
+fn serve_all(s: &mut Session, input: &[u8]) -> Vec<Value> {
+    let mut output = Vec::new();
+    service::transport::serve(s, BufReader::new(input), &mut output).unwrap();
+    reply_lines(&output)
+}
+
 const INTERRUPTED: &str =
     r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#;
 const COMPLETED: &str = r#"{"outcome": "completed", "weight": 1.0, "duration_s": 8.0}"#;
@@ -265,11 +281,7 @@ fn a_failed_save_is_reported_and_stops_the_server() {
             .starts_with("case #0 was retained but could not be saved, so the server stops"),
         "{err}"
     );
-    let replies: Vec<Value> = output
-        .split(|&b| b == b'\n')
-        .filter(|l| !l.is_empty())
-        .map(|l| serde_json::from_slice(l).unwrap())
-        .collect();
+    let replies = reply_lines(&output);
     // begin, switch, then the error instead of `settled`; the `state` line is never read.
     assert_eq!(replies.len(), 3);
     assert_eq!(replies[1]["ok"], "switch");
@@ -292,13 +304,7 @@ fn a_line_of_exactly_the_limit_is_accepted_with_either_terminator() {
         input.extend_from_slice(&full);
         input.extend_from_slice(terminator);
     }
-    let mut output = Vec::new();
-    service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
-    let replies: Vec<Value> = output
-        .split(|&b| b == b'\n')
-        .filter(|l| !l.is_empty())
-        .map(|l| serde_json::from_slice(l).unwrap())
-        .collect();
+    let replies = serve_all(&mut s, &input);
     assert_eq!(replies.len(), 3);
     for reply in replies {
         assert_eq!(reply["ok"], "state", "{reply}");
@@ -317,13 +323,7 @@ fn oversize_lines_are_refused_and_the_conversation_goes_on() {
     huge.extend_from_slice(b"\"}\n");
     input.extend_from_slice(&huge);
     input.extend_from_slice(b"{\"request\":\"state\"}\n");
-    let mut output = Vec::new();
-    service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
-    let replies: Vec<Value> = output
-        .split(|&b| b == b'\n')
-        .filter(|l| !l.is_empty())
-        .map(|l| serde_json::from_slice(l).unwrap())
-        .collect();
+    let replies = serve_all(&mut s, &input);
     assert_eq!(replies.len(), 4);
     assert!(
         replies[2]["error"]
@@ -372,13 +372,7 @@ proptest! {
             input.extend_from_slice(line);
             input.push(b'\n');
         }
-        let mut output = Vec::new();
-        service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
-        let replies: Vec<Value> = output
-            .split(|&b| b == b'\n')
-            .filter(|l| !l.is_empty())
-            .map(|l| serde_json::from_slice(l).unwrap())
-            .collect();
+        let replies = serve_all(&mut s, &input);
         prop_assert_eq!(replies.len(), lines.len());
         for reply in replies {
             let object = reply.as_object().unwrap();
