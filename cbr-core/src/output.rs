@@ -359,6 +359,21 @@ mod tests {
     }
 
     #[test]
+    fn the_owner_of_the_target_is_kept_where_permitted() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        fs::write(&path, b"old").unwrap();
+        // Only a privileged process can give the file to someone else; otherwise there is
+        // no other owner to keep.
+        if std::os::unix::fs::chown(&path, Some(4321), Some(4321)).is_err() {
+            return;
+        }
+        write_atomically(&path, b"new").unwrap();
+        let meta = fs::metadata(&path).unwrap();
+        assert_eq!((meta.uid(), meta.gid()), (4321, 4321));
+    }
+
+    #[test]
     fn devices_fifos_and_directories_are_refused_as_output() {
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("pipe");
