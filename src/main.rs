@@ -267,6 +267,7 @@ fn render(args: &RenderArgs) -> Result<()> {
 fn landscape(args: &LandscapeArgs) -> Result<()> {
     let domain = UgvDomain::new(args.scenario);
     let operator = find_operator(args.scenario, &args.operator)?;
+    cbr_core::output::ensure_writable_dir(&args.out)?;
     let space = domain.space();
     let (x, y) = landscape::axes(space, &args.components)?;
     let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed);
@@ -275,8 +276,6 @@ fn landscape(args: &LandscapeArgs) -> Result<()> {
         args.scenario, operator.name, args.runs
     );
     let svg = estimate.heatmap_svg(space, x, y, &title)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     for (name, bytes) in [
         ("landscape.svg", svg.into_bytes()),
         ("landscape.csv", estimate.csv(space).into_bytes()),

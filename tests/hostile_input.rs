@@ -171,6 +171,20 @@ fn an_unusable_report_folder_is_refused_before_any_work() {
     }
     assert_eq!(std::fs::read(&file).unwrap(), b"not a folder");
     assert_eq!(std::fs::read(notes.join("todo.txt")).unwrap(), b"mine");
+    // `landscape` writes beside other files, but checks its folder first too.
+    let stderr = refused(
+        trustcbr()
+            .args([
+                "landscape",
+                "--scenario",
+                "patrol",
+                "--operator",
+                "speed-focused",
+            ])
+            .args(["--runs", "1000", "--out"])
+            .arg(&file),
+    );
+    assert!(stderr.contains("exists and is a regular file"), "{stderr}");
 }
 
 #[test]

@@ -61,11 +61,11 @@ pub enum OutputError {
     Remove(#[from] FileError),
 }
 
-/// Checks, before any work starts, that a report can be written in `dir`: creates it if
-/// missing, refuses a path that is not a folder, a folder that cannot be written in (a
-/// temporary file is created and removed to find out: permissions, read-only file
-/// systems), and a folder that holds anything but an earlier report. Writes nothing else.
-pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
+/// Checks, before any work starts, that files can be written in the folder `dir`:
+/// creates it if missing, and refuses a path that is not a folder or a folder that cannot
+/// be written in (a temporary file is created and removed to find out: permissions,
+/// read-only file systems).
+pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
     let unwritable = |reason| OutputError::Unwritable {
         path: dir.to_owned(),
         reason,
@@ -87,6 +87,18 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
         .prefix(".trustcbr-probe-")
         .tempfile_in(dir)
         .map_err(|e| unwritable(without_temporary_path(e)))?;
+    Ok(())
+}
+
+/// Checks, before any work starts, that a report can be written in `dir`: as
+/// [`ensure_writable_dir`], and refuses a folder that holds anything but an earlier
+/// report. Writes nothing but the folder.
+pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
+    ensure_writable_dir(dir)?;
+    let unwritable = |reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    };
     let entries: Vec<String> = fs::read_dir(dir)
         .map_err(unwritable)?
         .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
