@@ -286,15 +286,14 @@ fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
     }
 }
 
-/// The OS error of a failed temporary-file creation, without the random name the
-/// `tempfile` crate adds to its message (the caller names the target instead).
+/// A failed temporary-file creation without the random name the `tempfile` crate appends
+/// to its message (`... at path "..."`): the caller names the target instead.
 fn without_temporary_path(error: io::Error) -> io::Error {
-    let code = error
-        .get_ref()
-        .and_then(|inner| inner.source())
-        .and_then(|source| source.downcast_ref::<io::Error>())
-        .and_then(io::Error::raw_os_error);
-    code.map_or(error, io::Error::from_raw_os_error)
+    let message = error.to_string();
+    match message.rfind(" at path ") {
+        Some(end) => io::Error::new(error.kind(), &message[..end]),
+        None => error,
+    }
 }
 
 #[cfg(test)]
@@ -319,6 +318,13 @@ mod tests {
         write_atomically(&path, b"two").unwrap();
         assert_eq!(fs::read(&path).unwrap(), b"two");
         assert_eq!(names_in(dir.path()), ["out.txt"]);
+    }
+
+    #[test]
+    fn a_missing_folder_is_reported_without_the_temporary_name() {
+        let err = write_atomically(Path::new("/nonexistent/dir/out.txt"), b"x").unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::NotFound);
+        assert_eq!(err.to_string(), "No such file or directory (os error 2)");
     }
 
     #[test]
