@@ -7,19 +7,27 @@ is too slow (a 15 s deadline), bumps into things (too little padding, or too fas
 stop), or gets stuck (so much padding that no gap is wide enough). After every command it
 reports the outcome to the adapter and applies the behavior the reply names.
 
+    python3 examples/controller.py --cases cases.ron
     python3 examples/controller.py --server target/debug/trustcbr --cases cases.ron
     trustcbr serve --domain movement --cases cases.ron --listen 127.0.0.1:7878 &
     python3 examples/controller.py --connect 127.0.0.1:7878
+
+Without --server, the binary is the one named by the TRUSTCBR environment variable, else
+`trustcbr` on PATH (`cargo install --path .` puts it there), else the newest of
+target/release/trustcbr and target/debug/trustcbr in this repository (`cargo build`).
 
 The protocol is documented in docs/protocol.md.
 """
 
 import argparse
 import json
+import os
 import random
+import shutil
 import socket
 import subprocess
 import sys
+from pathlib import Path
 
 ROUTE_M = 30.0
 DEADLINE_S = 15.0
@@ -133,9 +141,33 @@ def episode(adapter, world, number):
             return reply
 
 
+def find_server():
+    """The trustcbr binary to spawn, or None: $TRUSTCBR, then PATH, then this repository's
+    newest build."""
+    if os.environ.get("TRUSTCBR"):
+        return os.environ["TRUSTCBR"]
+    on_path = shutil.which("trustcbr")
+    if on_path:
+        return on_path
+    repository = Path(__file__).resolve().parent.parent
+    builds = [repository / "target" / profile / "trustcbr" for profile in ("release", "debug")]
+    builds = [b for b in builds if b.is_file() and os.access(b, os.X_OK)]
+    return str(max(builds, key=lambda b: b.stat().st_mtime)) if builds else None
+
+
+NO_SERVER = (
+    "cannot find the trustcbr binary: pass --server PATH (or set TRUSTCBR=PATH), install it "
+    "with `cargo install --path .` (then `trustcbr` is on PATH), or build it in this "
+    "repository with `cargo build --release`"
+)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--server", default="trustcbr", help="the trustcbr binary to spawn")
+    parser.add_argument(
+        "--server",
+        help="the trustcbr binary to spawn (default: $TRUSTCBR, trustcbr on PATH, or this repository's build)",
+    )
     parser.add_argument("--connect", metavar="HOST:PORT", help="talk to a running `serve --listen` instead")
     parser.add_argument("--cases", default="cases.ron", help="the case base file (spawn mode)")
     parser.add_argument("--episodes", type=int, default=20)
@@ -145,7 +177,15 @@ def main():
     if args.connect:
         adapter = Adapter.connect(args.connect)
     else:
-        adapter = Adapter.spawn(args.server, "movement", args.cases, args.seed)
+        server = args.server or find_server()
+        if server is None:
+            print(NO_SERVER, file=sys.stderr)
+            return 2
+        try:
+            adapter = Adapter.spawn(server, "movement", args.cases, args.seed)
+        except OSError as e:
+            print(f"cannot run {server}: {e.strerror}; pass a trustcbr binary with --server PATH", file=sys.stderr)
+            return 2
     world = World(random.Random(args.seed))
     try:
         start = adapter.ask({"request": "state"})

@@ -2,6 +2,7 @@
 //! done by the `trust`, `domains` and `service` libraries.
 
 use anyhow::{Context, Result};
+use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{
@@ -12,7 +13,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{CaseStore, DomainDefinition, Session, transport};
 use std::io::Write;
 use std::net::SocketAddr;
-use std::num::{NonZeroU32, NonZeroUsize};
+use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -77,8 +78,8 @@ struct LandscapeArgs {
     /// Operator: a built-in name or a RON file.
     #[arg(long)]
     operator: String,
-    /// Runs per behavior.
-    #[arg(long, default_value_t = 100)]
+    /// Runs per behavior (at least 1).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
     runs: u32,
     /// The two components of the heatmap, across then up.
     #[arg(long, default_value = "speed,padding")]
@@ -97,8 +98,8 @@ struct RunOptions {
     /// Report folder.
     #[arg(long, default_value = "results")]
     out: PathBuf,
-    /// Trials per experiment and arm (overrides the config).
-    #[arg(long)]
+    /// Trials per experiment and arm, 1 to 100000 (overrides the config).
+    #[arg(long, value_parser = at_most::<NonZeroU32>(u64::from(domains::suite::MAX_TRIALS)))]
     trials: Option<NonZeroU32>,
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
@@ -114,9 +115,23 @@ struct RunOptions {
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
-    /// Worker threads (default: one per core).
-    #[arg(long)]
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
     threads: Option<NonZeroUsize>,
+}
+
+/// The most worker threads `--threads` accepts.
+const MAX_THREADS: u64 = 256;
+
+/// A parser of a count from 1 to `max`.
+fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
+    max: u64,
+) -> impl TypedValueParser<Value = T> {
+    clap::value_parser!(u64).range(1..=max).try_map(|n| {
+        NonZeroU64::new(n)
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| format!("{n} does not fit this machine"))
+    })
 }
 
 #[derive(Args)]
@@ -165,6 +180,10 @@ fn main() -> ExitCode {
 
 /// Runs a suite with progress bars on stderr, prints the table and writes the report.
 fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions) -> Result<()> {
+    cbr_core::output::prepare_output_dir(&options.out)?;
+    if let Some(dir) = &options.save_cases {
+        cbr_core::output::ensure_writable_dir(dir)?;
+    }
     if let Some(trials) = options.trials {
         config.trials = trials;
     }
@@ -222,6 +241,7 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
         command_line: std::env::args().collect(),
     };
+    cbr_core::output::remove_previous_report(&options.out)?;
     let written = write_suite_report(
         &options.out,
         &config,
@@ -289,6 +309,7 @@ fn render(args: &RenderArgs) -> Result<()> {
 fn landscape(args: &LandscapeArgs) -> Result<()> {
     let domain = UgvDomain::new(args.scenario);
     let operator = find_operator(args.scenario, &args.operator)?;
+    cbr_core::output::ensure_writable_dir(&args.out)?;
     let space = domain.space();
     let (x, y) = landscape::axes(space, &args.components)?;
     let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed);
@@ -297,8 +318,6 @@ fn landscape(args: &LandscapeArgs) -> Result<()> {
         args.scenario, operator.name, args.runs
     );
     let svg = estimate.heatmap_svg(space, x, y, &title)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     for (name, bytes) in [
         ("landscape.svg", svg.into_bytes()),
         ("landscape.csv", estimate.csv(space).into_bytes()),

@@ -68,3 +68,55 @@ fn the_example_controller_drives_the_server() {
     );
     assert!(number_after(&second, ", cases: ") >= learned);
 }
+
+/// The interpreter itself (not a shim that needs `PATH`), so `PATH` can be emptied.
+fn python3_executable() -> String {
+    let output = Command::new("python3")
+        .args(["-c", "import sys; print(sys.executable)"])
+        .output()
+        .unwrap();
+    String::from_utf8(output.stdout).unwrap().trim().to_owned()
+}
+
+#[test]
+fn the_example_controller_finds_the_server_without_path_or_says_what_to_pass() {
+    if !python3_available() {
+        eprintln!("SKIPPED: python3 is not installed, so examples/controller.py cannot run");
+        return;
+    }
+    let python = python3_executable();
+    let dir = tempfile::tempdir().unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/controller.py");
+    // In the repository, the build under `target/` is found.
+    let output = Command::new(&python)
+        .arg(&script)
+        .arg("--cases")
+        .arg(dir.path().join("cases.ron"))
+        .args(["--episodes", "1"])
+        .env("PATH", "/nonexistent")
+        .env_remove("TRUSTCBR")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("episodes: 1, trustworthy: 1"), "{stdout}");
+    // Away from the repository, the controller says what to pass.
+    let alone = dir.path().join("controller.py");
+    std::fs::copy(&script, &alone).unwrap();
+    let output = Command::new(&python)
+        .arg(&alone)
+        .env("PATH", "/nonexistent")
+        .env_remove("TRUSTCBR")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--server PATH") && stderr.contains("cargo install --path ."),
+        "{stderr}"
+    );
+}

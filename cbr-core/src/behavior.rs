@@ -127,9 +127,12 @@ pub enum SpaceError {
         /// Description of the admissible values.
         allowed: String,
     },
-    /// A behavior string leaves a component out.
-    #[error("no value given for component `{0}`")]
-    MissingComponent(String),
+    /// A behavior string leaves components out (every one is named).
+    #[error("no value given for {}", name_list("component", .0))]
+    MissingComponents(Vec<String>),
+    /// A behavior string gives a component twice.
+    #[error("component `{0}` is given twice; give each component once")]
+    RepeatedComponent(String),
     /// A behavior string is not `name=value` pairs separated by commas.
     #[error("expected `name=value[,name=value...]`, got `{0}`")]
     Syntax(String),
@@ -357,7 +360,8 @@ impl BehaviorSpace {
         }
     }
 
-    /// Parses `name=value[,name=value...]` (every component exactly once, any order).
+    /// Parses `name=value[,name=value...]` (every component exactly once, any order;
+    /// numbers must be finite and on the grid).
     pub fn parse(&self, text: &str) -> Result<Behavior, SpaceError> {
         let pairs = text
             .split(',')
@@ -370,9 +374,9 @@ impl BehaviorSpace {
         self.from_named_values(pairs)
     }
 
-    /// A behavior from `(component name, value as text)` pairs, every component at least
-    /// once, in any order (a later pair for the same component wins). Values are numbers
-    /// on a numeric grid or labels of a categorical component.
+    /// A behavior from `(component name, value as text)` pairs, every component exactly
+    /// once, in any order. Values are numbers on a numeric grid (never `NaN` or an
+    /// infinity) or labels of a categorical component.
     pub fn from_named_values<'a>(
         &self,
         pairs: impl IntoIterator<Item = (&'a str, &'a str)>,
@@ -394,13 +398,21 @@ impl BehaviorSpace {
                     value: value.trim().to_owned(),
                     allowed: describe_values(component),
                 })?;
-            indices[k] = Some(index);
+            if indices[k].replace(index).is_some() {
+                return Err(SpaceError::RepeatedComponent(name.to_owned()));
+            }
         }
-        let mut resolved = [0u16; MAX_COMPONENTS];
-        for (k, component) in self.components.iter().enumerate() {
-            resolved[k] =
-                indices[k].ok_or_else(|| SpaceError::MissingComponent(component.name.clone()))?;
+        let missing: Vec<String> = self
+            .components
+            .iter()
+            .zip(indices)
+            .filter(|(_, index)| index.is_none())
+            .map(|(component, _)| component.name.clone())
+            .collect();
+        if !missing.is_empty() {
+            return Err(SpaceError::MissingComponents(missing));
         }
+        let resolved = indices.map(|index| index.unwrap_or(0));
         Ok(Behavior::new(&resolved[..self.components.len()]))
     }
 
@@ -411,6 +423,13 @@ impl BehaviorSpace {
             .collect::<Vec<_>>()
             .join(", ")
     }
+}
+
+/// `component `a`` or `components `a`, `b``.
+fn name_list(what: &str, names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    let plural = if names.len() == 1 { "" } else { "s" };
+    format!("{what}{plural} {}", quoted.join(", "))
 }
 
 fn describe_values(component: &Component) -> String {
@@ -512,10 +531,33 @@ mod tests {
     #[test]
     fn parse_errors_name_the_problem() {
         let space = movement();
-        assert!(matches!(
-            space.parse("speed=3.5"),
-            Err(SpaceError::MissingComponent(n)) if n == "padding"
-        ));
+        assert_eq!(
+            space.parse("speed=3.5").unwrap_err().to_string(),
+            "no value given for component `padding`"
+        );
+        assert_eq!(
+            space.parse("turbo=").unwrap_err().to_string(),
+            "unknown component `turbo` (known: speed, padding)"
+        );
+        assert_eq!(
+            space.parse("").unwrap_err().to_string(),
+            "no value given for components `speed`, `padding`"
+        );
+        assert_eq!(
+            space.parse("speed=3.5,speed=4.0,padding=0.4").unwrap_err(),
+            SpaceError::RepeatedComponent("speed".into())
+        );
+        for not_a_value in ["NaN", "inf", "-inf", "+infinity"] {
+            assert_eq!(
+                space
+                    .parse(&format!("speed={not_a_value},padding=0.4"))
+                    .unwrap_err()
+                    .to_string(),
+                format!(
+                    "`{not_a_value}` is not an admissible value of `speed` (0.5 to 10 in steps of 0.5)"
+                )
+            );
+        }
         assert!(matches!(
             space.parse("speed=3.5,padding=0.4,turbo=1"),
             Err(SpaceError::UnknownComponent { .. })
@@ -542,7 +584,7 @@ mod tests {
         assert_eq!(b, space.parse("speed=3.5,padding=0.4").unwrap());
         assert!(matches!(
             space.from_named_values([("speed", "3.5")]),
-            Err(SpaceError::MissingComponent(n)) if n == "padding"
+            Err(SpaceError::MissingComponents(n)) if n == ["padding"]
         ));
     }
 
@@ -602,6 +644,20 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn parsing_arbitrary_text_never_panics_and_yields_members(
+            space in small_space(),
+            text in "[c0-9v=,.a-zNI +-]{0,40}",
+            bytes in prop::collection::vec(any::<u8>(), 0..64),
+        ) {
+            for input in [text, String::from_utf8_lossy(&bytes).into_owned()] {
+                if let Ok(behavior) = space.parse(&input) {
+                    prop_assert!(space.contains(&behavior));
+                    prop_assert_eq!(input.matches('=').count(), space.components().len());
+                }
+            }
+        }
+
         #[test]
         fn similarity_stays_in_unit_interval_and_is_symmetric(space in small_space(), seed in any::<u64>()) {
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);

@@ -2,14 +2,15 @@
 //!
 //! A [`Case`] pairs a problem with its solution. A [`CaseBase`] only grows: a case, once
 //! appended, keeps its [`CaseId`] (its position) for good, so indices built over the base
-//! stay valid. Saving writes a temporary file beside the target, syncs it and renames it
-//! over the target, so a crash leaves either the old or the new file, never a torn one.
+//! stay valid. Saving goes through [`write_atomically`], so a crash leaves either the old
+//! or the new file, never a torn one.
 
-use crate::ron_text::{FileError, RonError, parse_ron, read_text};
+use crate::input::{FileError, MAX_CASE_BASE_BYTES, read_text_at_most};
+use crate::output::write_atomically;
+use crate::ron_text::{RonError, parse_ron};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::fmt;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The stable identity of a case: its position in the case base.
@@ -31,6 +32,7 @@ impl fmt::Display for CaseId {
 
 /// A problem and the solution that worked for it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Case<P, S> {
     /// What was faced.
     pub problem: P,
@@ -133,9 +135,10 @@ impl<P: Serialize, S: Serialize> CaseBase<P, S> {
 }
 
 impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
-    /// Reads a case base written by [`Self::save_ron`]. The file is only read.
+    /// Reads a case base written by [`Self::save_ron`] (at most [`MAX_CASE_BASE_BYTES`]).
+    /// The file is only read.
     pub fn load_ron(path: &Path) -> Result<Self, CaseBaseError> {
-        let text = read_text(path)?;
+        let text = read_text_at_most(path, MAX_CASE_BASE_BYTES)?;
         Self::from_ron(&text, path)
     }
 
@@ -143,39 +146,6 @@ impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, CaseBaseError> {
         Ok(parse_ron(text, origin)?)
     }
-}
-
-/// Writes `bytes` to `path` so that readers see either the old content or all of the new:
-/// write a temporary file in the same directory, sync it, rename it over `path`, then sync
-/// the directory so the rename itself survives a power cut.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file path"))?;
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(format!(".tmp-{}", std::process::id()));
-    let temp = dir.join(temp_name);
-    let result = (|| {
-        let mut file = std::fs::File::create(&temp)?;
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)?;
-        // Persist the directory entry; not every platform lets a directory be opened.
-        if let Ok(d) = std::fs::File::open(&dir) {
-            d.sync_all().ok();
-        }
-        Ok(())
-    })();
-    if result.is_err() {
-        std::fs::remove_file(&temp).ok();
-    }
-    result
 }
 
 #[cfg(test)]
@@ -255,6 +225,16 @@ mod tests {
         };
         // `x` is the 16th character of line 4: `    (problem: [x]`.
         assert_eq!((line, column), (4, 16));
+    }
+
+    #[test]
+    fn an_unknown_field_in_a_case_is_refused_where_it_is() {
+        let text = "(cases: [(problem: [1], solution: \"a\", note: \"x\")])";
+        let err = Base::from_ron(text, Path::new("cb.ron")).unwrap_err();
+        let CaseBaseError::Parse(RonError { message, .. }) = err else {
+            panic!("expected a parse error");
+        };
+        assert!(message.contains("`note`"), "{message}");
     }
 
     #[test]

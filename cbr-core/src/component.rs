@@ -85,6 +85,21 @@ pub enum ComponentError {
         "component `{0}`: the similarity table must be square, one row per label, entries in [0, 1], 1 on the diagonal"
     )]
     BadTable(String),
+    /// A numeric grid whose largest value, `min + (count - 1) * step`, is not a finite
+    /// number.
+    #[error(
+        "component `{name}`: the grid overflows: `min` {min:e} + (`count` {count} - 1) x `step` {step:e} is not a finite number"
+    )]
+    Overflow {
+        /// Component name.
+        name: String,
+        /// The smallest value.
+        min: f64,
+        /// The distance between values.
+        step: f64,
+        /// How many values.
+        count: u16,
+    },
     /// Two categorical labels are the same.
     #[error("component `{name}`: label `{label}` appears twice")]
     DuplicateLabel {
@@ -205,6 +220,14 @@ impl Component {
                         });
                     }
                 }
+                if !(min + f64::from(count - 1) * step).is_finite() {
+                    return Err(ComponentError::Overflow {
+                        name: name(),
+                        min: *min,
+                        step: *step,
+                        count: *count,
+                    });
+                }
             }
             Values::Categorical { labels, similarity } => {
                 if labels.is_empty() {
@@ -269,13 +292,22 @@ impl Component {
     /// The numeric value at `index` rounded to 9 decimals, which removes binary noise such as
     /// `0.30000000000000004` (categorical components give the index itself).
     pub fn real_value(&self, index: u16) -> f64 {
-        (self.numeric_value(index) * 1e9).round() / 1e9
+        let value = self.numeric_value(index);
+        let scaled = value * 1e9;
+        // Beyond about 1e299 the scaled value overflows; such values have no binary noise
+        // below 1e-9 to remove.
+        if scaled.is_finite() {
+            scaled.round() / 1e9
+        } else {
+            value
+        }
     }
 
     /// The index of the admissible value nearest to `value` within 1e-6 of a step,
-    /// or `None` if `value` is not on the grid.
+    /// or `None` if `value` is not on the grid (`NaN` and infinities never are).
     pub fn index_of_numeric(&self, value: f64) -> Option<u16> {
         match &self.values {
+            Values::Numeric { .. } if !value.is_finite() => None,
             Values::Numeric { min, step, count } => {
                 let position = (value - min) / step;
                 let index = position.round();
@@ -416,6 +448,10 @@ mod tests {
         assert_eq!(c.index_of_text("3.5"), Some(6));
         assert_eq!(c.index_of_text("3.4"), None);
         assert_eq!(c.index_of_text("10.5"), None);
+        // `NaN` once fell through every range test and became the first grid value.
+        for not_a_value in ["NaN", "nan", "inf", "-inf", "infinity"] {
+            assert_eq!(c.index_of_text(not_a_value), None, "{not_a_value}");
+        }
         assert_eq!(c.display_value(6).to_string(), "3.5");
         let padding = Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap();
         assert_eq!(padding.display_value(2).to_string(), "0.3");
@@ -458,6 +494,19 @@ mod tests {
         let ok: Component =
             ron::from_str("(name: \"x\", values: Numeric(min: 0.0, step: 1.0, count: 2))").unwrap();
         assert_eq!(ok.len(), 2);
+    }
+
+    #[test]
+    fn a_grid_that_overflows_is_refused_naming_its_fields() {
+        let err = Component::numeric("speed", "m/s", 1e308, 1e308, 3).unwrap_err();
+        assert!(matches!(err, ComponentError::Overflow { count: 3, .. }));
+        assert_eq!(
+            err.to_string(),
+            "component `speed`: the grid overflows: `min` 1e308 + (`count` 3 - 1) x `step` 1e308 is not a finite number"
+        );
+        // The largest finite grids stay usable and display their values.
+        let huge = Component::numeric("x", "", 1e300, 1e300, 2).unwrap();
+        assert_eq!(huge.real_value(1), 2e300);
     }
 
     #[test]

@@ -10,18 +10,22 @@
 pub mod behavior;
 pub mod case;
 pub mod component;
+pub mod input;
 pub mod memory;
 pub mod neighbourhood;
+pub mod output;
 pub mod retrieve;
 pub mod ron_text;
 pub mod search;
 pub mod similarity;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
-pub use case::{Case, CaseBase, CaseBaseError, CaseId, write_atomically};
+pub use case::{Case, CaseBase, CaseBaseError, CaseId};
 pub use component::{Component, ComponentError, Values};
+pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use memory::CaseMemory;
+pub use output::write_atomically;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
-pub use ron_text::{FileError, RonError, parse_ron, read_text};
+pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Searcher};
 pub use similarity::SimilarityMeasure;

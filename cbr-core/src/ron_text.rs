@@ -2,7 +2,8 @@
 //! and the offending line with a caret under the column.
 //!
 //! Every RON input of the workspace (case bases, configs, operators, domain files) is read
-//! through [`read_text`] and [`parse_ron`], so every one reports its errors the same way.
+//! through [`crate::read_text`] and [`parse_ron`], so every one reports its errors the same
+//! way.
 
 use serde::de::DeserializeOwned;
 use std::fmt;
@@ -19,7 +20,9 @@ pub struct RonError {
     pub column: usize,
     /// What is wrong there, naming the field where the parser knows it.
     pub message: String,
-    /// The offending line with a caret under the column (empty past the end of the text).
+    /// The offending line with a caret under the column (empty past the end of the text);
+    /// of a line longer than [`EXCERPT_CHARS`], the window around the column, its cut ends
+    /// marked `…`.
     pub excerpt: String,
 }
 
@@ -40,24 +43,6 @@ impl fmt::Display for RonError {
     }
 }
 
-/// A file that could not be read or written.
-#[derive(Debug, thiserror::Error)]
-#[error("{}: {reason}", path.display())]
-pub struct FileError {
-    /// The file.
-    pub path: PathBuf,
-    /// What went wrong (shown in the message, so not chained as a source).
-    pub reason: std::io::Error,
-}
-
-/// The whole text of the file at `path`.
-pub fn read_text(path: &Path) -> Result<String, FileError> {
-    std::fs::read_to_string(path).map_err(|reason| FileError {
-        path: path.to_owned(),
-        reason,
-    })
-}
-
 /// Parses `text` as RON into `T`; `origin` names the source in errors.
 pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T, RonError> {
     ron::from_str(text).map_err(|e| RonError {
@@ -70,19 +55,32 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T, Ro
     })
 }
 
-/// The 1-based `line` of `text` with a caret under the 1-based `column`.
+/// The most characters of the offending line an excerpt shows.
+pub const EXCERPT_CHARS: usize = 120;
+
+/// The 1-based `line` of `text` with a caret under the 1-based `column`: the whole line,
+/// or the [`EXCERPT_CHARS`] around the column, with `…` where the line is cut.
 fn excerpt(text: &str, line: usize, column: usize) -> String {
     let Some(source) = text.lines().nth(line.saturating_sub(1)) else {
         return String::new();
     };
-    let gutter = line.to_string();
-    let indent: String = source
+    let chars: Vec<char> = source.chars().collect();
+    let at = column.saturating_sub(1).min(chars.len());
+    let start = at
+        .saturating_sub(EXCERPT_CHARS / 2)
+        .min(chars.len().saturating_sub(EXCERPT_CHARS));
+    let end = chars.len().min(start + EXCERPT_CHARS);
+    let cut_before = if start > 0 { "…" } else { "" };
+    let cut_after = if end < chars.len() { "…" } else { "" };
+    let shown: String = chars[start..end].iter().collect();
+    let indent: String = cut_before
         .chars()
-        .take(column.saturating_sub(1))
+        .chain(chars[start..at].iter().copied())
         .map(|c| if c == '\t' { '\t' } else { ' ' })
         .collect();
+    let gutter = line.to_string();
     format!(
-        "{gutter} | {source}\n{} | {indent}^",
+        "{gutter} | {cut_before}{shown}{cut_after}\n{} | {indent}^",
         " ".repeat(gutter.len())
     )
 }
@@ -107,6 +105,41 @@ mod tests {
             err.to_string(),
             "p.ron:3:4: Unexpected field named `z` in `Point`, expected either `x` or `y` instead\n3 |   z: 2.0,\n  |    ^"
         );
+    }
+
+    #[test]
+    fn a_long_line_shows_a_window_around_the_column() {
+        let padding = " ".repeat(200_000);
+        let text = format!("(x: 1.0,{padding}z: 2.0,{padding}y: 3.0)");
+        let err = parse_ron::<Point>(&text, Path::new("p.ron")).unwrap_err();
+        let (shown, caret) = err.excerpt.split_once('\n').unwrap();
+        assert!(
+            shown.starts_with("1 | …") && shown.ends_with('…'),
+            "{shown}"
+        );
+        assert_eq!(shown.chars().count(), "1 | ".len() + EXCERPT_CHARS + 2);
+        // The caret stands under the character at the column (just past the unknown
+        // field's name, as for a short line).
+        let under = caret.chars().count() - 1;
+        assert_eq!(shown.chars().nth(under), Some(':'), "{shown}\n{caret}");
+        assert_eq!(shown.chars().nth(under - 1), Some('z'), "{shown}\n{caret}");
+        // Near either end of the line, that end is shown uncut.
+        let text = format!("(x: 1.0, z: 2.0,{padding} y: 3.0)");
+        let err = parse_ron::<Point>(&text, Path::new("p.ron")).unwrap_err();
+        assert!(err.excerpt.starts_with("1 | (x: 1.0, z"), "{}", err.excerpt);
+        assert!(err.excerpt.lines().next().unwrap().ends_with('…'));
+    }
+
+    proptest::proptest! {
+        /// Any line and column give an excerpt of at most the window, the caret within it.
+        #[test]
+        fn excerpts_are_bounded(source in "[a-z \t…é]{0,400}", column in 0usize..500) {
+            let shown = excerpt(&source, 1, column);
+            if let Some((line, caret)) = shown.split_once('\n') {
+                proptest::prop_assert!(line.chars().count() <= "1 | ".len() + EXCERPT_CHARS + 2);
+                proptest::prop_assert!(caret.chars().count() <= line.chars().count() + 1);
+            }
+        }
     }
 
     #[test]

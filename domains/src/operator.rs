@@ -283,7 +283,7 @@ pub fn find_operator(
         return Ok(op.clone());
     }
     let path = Path::new(name_or_path);
-    if path.is_file() {
+    if path.exists() {
         return OperatorModel::load(path);
     }
     Err(OperatorError::Unknown {

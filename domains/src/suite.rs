@@ -25,6 +25,14 @@ pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";
 
+/// The most trials per experiment and arm a config may ask for: every trial's record is
+/// kept for the report, so this bounds a run's memory (with [`MAX_EXPERIMENTS`] and the
+/// arms, at most 10^8 records of about 200 bytes).
+pub const MAX_TRIALS: u32 = 100_000;
+
+/// The most experiments a config may list.
+pub const MAX_EXPERIMENTS: usize = 1_000;
+
 /// A set of experiments to run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -118,7 +126,7 @@ pub enum SuiteError {
     Operator(#[from] OperatorError),
     /// The adapter parameters are invalid.
     #[error("adapter: {0}")]
-    Adapter(#[from] ConfigError),
+    Adapter(ConfigError),
     /// The experiments cannot be run as planned.
     #[error(transparent)]
     Plan(#[from] PlanError),
@@ -138,6 +146,14 @@ pub enum SuiteError {
     /// The report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
+}
+
+// By hand rather than `#[from]`, which would also expose the reason as the error's
+// source and have it printed twice in a chain.
+impl From<ConfigError> for SuiteError {
+    fn from(reason: ConfigError) -> Self {
+        SuiteError::Adapter(reason)
+    }
 }
 
 impl SuiteConfig {
@@ -175,6 +191,24 @@ impl SuiteConfig {
         }
         if self.max_commands == 0 {
             return Err(invalid("max_commands".into(), "must be at least 1".into()));
+        }
+        if self.trials.get() > MAX_TRIALS {
+            return Err(invalid(
+                "trials".into(),
+                format!(
+                    "must be 1 to {MAX_TRIALS}, got {}: every trial's record is kept for the report",
+                    self.trials
+                ),
+            ));
+        }
+        if self.experiments.len() > MAX_EXPERIMENTS {
+            return Err(invalid(
+                "experiments".into(),
+                format!(
+                    "at most {MAX_EXPERIMENTS} experiments, got {}",
+                    self.experiments.len()
+                ),
+            ));
         }
         self.adapter
             .thresholds
@@ -620,6 +654,13 @@ mod tests {
                 && err.contains("known: random-walk"),
             "{err}"
         );
+        let err = SuiteConfig::from_ron(
+            "(seed: 1, trials: 100001, experiments: [(scenario: movement, operator: \"random\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("trials: must be 1 to 100000"), "{err}");
         // Thresholds no run of commands can reach: every trial would be cut off.
         let err = SuiteConfig::from_ron(
             "(seed: 1, trials: 5, max_commands: 100, adapter: (thresholds: (trustworthy: 500.0, untrustworthy: -5.0)), experiments: [(scenario: movement, operator: \"random\")])",

@@ -198,7 +198,7 @@ mod tests {
             "trustworthy: -3.0, untrustworthy: 3.0",
         );
         assert_eq!(line, 6);
-        assert!(message.contains("untrustworthy < trustworthy"), "{message}");
+        assert!(message.contains("untrustworthy < 0 < trustworthy"), "{message}");
     }
 
     #[test]
@@ -218,6 +218,33 @@ mod tests {
         let (_, _, message, _) =
             error_after(r#"labels: ["astar", "rrt"]"#, r#"labels: ["rrt", "rrt"]"#);
         assert!(message.contains("label `rrt` appears twice"), "{message}");
+    }
+
+    #[test]
+    fn a_grid_that_overflows_is_refused_at_load() {
+        let (_, _, message, _) = error_after(
+            "min: 0.5, step: 0.5, count: 20",
+            "min: 1e308, step: 1e308, count: 20",
+        );
+        assert!(
+            message.starts_with("component `speed`: the grid overflows: `min` 1e308"),
+            "{message}"
+        );
+    }
+
+    /// Every RON block of `docs/protocol.md` is a domain file that loads as written.
+    #[test]
+    fn the_documented_domain_file_loads() {
+        let doc = include_str!("../../docs/protocol.md");
+        let blocks: Vec<&str> = doc
+            .split("```ron\n")
+            .skip(1)
+            .map(|rest| rest.split("```").next().unwrap())
+            .collect();
+        assert_eq!(blocks.len(), 1);
+        let d = DomainDefinition::from_ron(blocks[0], Path::new("protocol.md")).unwrap();
+        assert_eq!(d.adapter.retriever, trust::RetrieverKind::InvertedIndex);
+        assert_eq!(d.space.size(), 8 * 10 * 3);
     }
 
     #[test]

@@ -32,13 +32,14 @@ pub fn read_line<R: BufRead + ?Sized>(
             Err(e) => return Err(e),
         };
         if available.is_empty() {
-            return Ok(read_any.then_some(finish(line, too_long)));
+            return Ok(read_any.then_some(finish(line, limit, too_long)));
         }
         read_any = true;
         let newline = available.iter().position(|&b| b == b'\n');
         let chunk = &available[..newline.unwrap_or(available.len())];
         if !too_long {
-            if line.len() + chunk.len() > limit {
+            // One byte more than the limit may be a `\r` before the newline.
+            if line.len() + chunk.len() > limit + 1 {
                 too_long = true;
                 line.clear();
             } else {
@@ -48,18 +49,20 @@ pub fn read_line<R: BufRead + ?Sized>(
         let used = chunk.len() + usize::from(newline.is_some());
         reader.consume(used);
         if newline.is_some() {
-            return Ok(Some(finish(line, too_long)));
+            return Ok(Some(finish(line, limit, too_long)));
         }
     }
 }
 
-fn finish(line: &mut Vec<u8>, too_long: bool) -> LineRead {
-    if too_long {
+/// The limit excludes the line terminator, `\n` or `\r\n`.
+fn finish(line: &mut Vec<u8>, limit: usize, too_long: bool) -> LineRead {
+    if line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    if too_long || line.len() > limit {
+        line.clear();
         LineRead::TooLong
     } else {
-        if line.last() == Some(&b'\r') {
-            line.pop();
-        }
         LineRead::Line
     }
 }
@@ -98,6 +101,18 @@ mod tests {
         let got = all_lines(b"0123456789\nok\n12345", 4, 3);
         assert_eq!(got, vec![Err(()), Ok("ok".into()), Err(())]);
         assert_eq!(all_lines(b"1234\n", 4, 2), vec![Ok("1234".into())]);
+    }
+
+    #[test]
+    fn the_limit_excludes_a_crlf_terminator() {
+        let lines = |input: &[u8]| all_lines(input, 4, 2);
+        assert_eq!(
+            lines(b"1234\r\nok\r\n"),
+            vec![Ok("1234".into()), Ok("ok".into())]
+        );
+        assert_eq!(lines(b"1234\r"), vec![Ok("1234".into())]);
+        assert_eq!(lines(b"12345\r\nok\n"), vec![Err(()), Ok("ok".into())]);
+        assert_eq!(lines(b"1234\r5\n"), vec![Err(())]);
     }
 
     #[test]

@@ -3,10 +3,14 @@
 //! A line is a JSON object. An outcome report carries an `outcome` field; every other
 //! request names itself in a `request` field. Unknown fields, wrong types, unknown names
 //! and unusable numbers are refused with an error naming the field and what it allows.
-//! Parsing never looks at the adapter: it only says what was asked.
+//! A key given twice in an object (at any depth) is refused rather than last-wins, and a
+//! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
+//! adapter: it only says what was asked.
 
-use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
+use std::fmt;
 use trust::estimate::OutcomeError;
 use trust::{Cause, Outcome, OutcomeKind};
 
@@ -55,6 +59,9 @@ pub enum RequestError {
     /// The line is not JSON.
     #[error("malformed JSON: {0}")]
     Json(String),
+    /// An object gives a key twice (the message names it and its place).
+    #[error("{0}; give each field once")]
+    RepeatedField(String),
     /// The line is JSON but not an object.
     #[error("a request must be a JSON object, got {0}")]
     NotAnObject(&'static str),
@@ -89,14 +96,24 @@ pub enum RequestError {
         /// What is wrong with it.
         message: String,
     },
-    /// The outcome's numbers are unusable (negative weight or duration).
+    /// The outcome's numbers are unusable (negative weight or duration; shown in the
+    /// message, so not chained as a source).
     #[error("invalid outcome: {0}")]
-    Outcome(#[from] OutcomeError),
+    Outcome(OutcomeError),
+}
+
+impl From<OutcomeError> for RequestError {
+    fn from(reason: OutcomeError) -> Self {
+        Self::Outcome(reason)
+    }
 }
 
 /// Parses one line (without its newline).
 pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
-    let value: Value = serde_json::from_slice(line).map_err(|e| json_error(line, &e))?;
+    let line = line
+        .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
+        .unwrap_or(line);
+    let UniqueKeys(value) = serde_json::from_slice(line).map_err(|e| json_error(line, &e))?;
     let map = match value {
         Value::Object(map) => map,
         other => return Err(RequestError::NotAnObject(json_type(&other))),
@@ -210,7 +227,82 @@ impl Fields {
     }
 }
 
+/// A JSON value whose objects, at every depth, give each key once.
+struct UniqueKeys(Value);
+
+impl<'de> Deserialize<'de> for UniqueKeys {
+    fn deserialize<D: de::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer
+            .deserialize_any(UniqueKeysVisitor)
+            .map(UniqueKeys)
+    }
+}
+
+struct UniqueKeysVisitor;
+
+impl<'de> Visitor<'de> for UniqueKeysVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a JSON value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+
+    fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+        Ok(Value::String(v.to_owned()))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<Value, E> {
+        Ok(Value::String(v))
+    }
+
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::new();
+        while let Some(UniqueKeys(item)) = seq.next_element()? {
+            items.push(item);
+        }
+        Ok(Value::Array(items))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut access: A) -> Result<Value, A::Error> {
+        let mut map = Map::new();
+        while let Some(key) = access.next_key::<String>()? {
+            if map.contains_key(&key) {
+                return Err(de::Error::custom(format_args!(
+                    "field `{key}` is given twice"
+                )));
+            }
+            let UniqueKeys(value) = access.next_value()?;
+            map.insert(key, value);
+        }
+        Ok(Value::Object(map))
+    }
+}
+
 fn json_error(line: &[u8], error: &serde_json::Error) -> RequestError {
+    if error.classify() == serde_json::error::Category::Data {
+        // The only data error a `UniqueKeys` parse raises is a repeated key.
+        return RequestError::RepeatedField(error.to_string());
+    }
     let mut message = error.to_string();
     // Python's json.dumps writes NaN and Infinity, which JSON does not have.
     let text = String::from_utf8_lossy(line);
@@ -325,10 +417,66 @@ mod tests {
         assert!(err("\u{1F600}\u{0}").starts_with("malformed JSON"));
     }
 
+    #[test]
+    fn a_key_given_twice_is_refused_at_any_depth() {
+        assert_eq!(
+            err(r#"{"outcome":"completed","outcome":"failed","weight":1,"duration_s":1}"#),
+            "field `outcome` is given twice at line 1 column 32; give each field once"
+        );
+        assert!(
+            err(r#"{"request":"begin","behavior":{"speed":3.5,"speed":4,"padding":0.4}}"#)
+                .starts_with("field `speed` is given twice at line 1 column")
+        );
+        assert!(err(r#"[{"a":1,"a":1}]"#).starts_with("field `a` is given twice"));
+    }
+
+    #[test]
+    fn a_byte_order_mark_before_the_object_is_skipped() {
+        assert_eq!(
+            parse_request(b"\xEF\xBB\xBF{\"request\":\"state\"}").unwrap(),
+            Request::State
+        );
+    }
+
+    fn any_json() -> impl Strategy<Value = Value> {
+        let leaf = prop_oneof![
+            Just(Value::Null),
+            any::<bool>().prop_map(Value::Bool),
+            any::<i64>().prop_map(Value::from),
+            any::<f64>().prop_map(Value::from),
+            "[a-z_=,.0-9]{0,12}".prop_map(Value::from),
+        ];
+        leaf.prop_recursive(3, 24, 6, |inner| {
+            prop_oneof![
+                prop::collection::vec(inner.clone(), 0..6).prop_map(Value::Array),
+                prop::collection::vec(
+                    ("(outcome|request|weight|speed|padding|[a-z]{1,3})", inner),
+                    0..6
+                )
+                .prop_map(|pairs| Value::Object(pairs.into_iter().collect())),
+            ]
+        })
+    }
+
     proptest! {
         #[test]
         fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..256)) {
             let _ = parse_request(&bytes);
+        }
+
+        /// Any JSON value (serde_json writes every key once) parses strictly to what
+        /// serde_json reads, and no request built from it panics the parser.
+        #[test]
+        fn arbitrary_json_values_parse_alike(value in any_json()) {
+            let text = value.to_string();
+            let UniqueKeys(strict) = serde_json::from_str(&text).unwrap();
+            prop_assert_eq!(strict, serde_json::from_str::<Value>(&text).unwrap());
+            let _ = parse_request(text.as_bytes());
+            let request = Value::Object(Map::from_iter([
+                ("request".to_owned(), Value::from("begin")),
+                ("behavior".to_owned(), value),
+            ]));
+            let _ = parse_request(request.to_string().as_bytes());
         }
 
         #[test]

@@ -32,9 +32,10 @@ pub struct Session {
 /// Why a session could not start or must stop.
 #[derive(Debug, thiserror::Error)]
 pub enum SessionError {
-    /// The adapter configuration is unusable.
+    /// The adapter configuration is unusable (shown in the message, so not chained as a
+    /// source).
     #[error("adapter configuration: {0}")]
-    Config(#[from] ConfigError),
+    Config(ConfigError),
     /// A retained case could not be saved.
     #[error("case #{case} was retained but could not be saved, so the server stops: {reason}")]
     Save {
@@ -43,6 +44,12 @@ pub enum SessionError {
         /// Why the save failed (shown in the message, so not chained as a source).
         reason: StoreError,
     },
+}
+
+impl From<ConfigError> for SessionError {
+    fn from(reason: ConfigError) -> Self {
+        Self::Config(reason)
+    }
 }
 
 impl Session {

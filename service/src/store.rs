@@ -22,7 +22,8 @@ pub enum StoreError {
     /// Reading, parsing or writing failed.
     #[error(transparent)]
     CaseBase(#[from] CaseBaseError),
-    /// A case does not fit the behavior space being served.
+    /// A case's behaviors have the wrong number of components or values out of range:
+    /// the case base was likely written for another domain.
     #[error(
         "{path}: case #{case} does not fit this domain's behavior space ({reason}); is this the case base of another domain?"
     )]
@@ -32,6 +33,16 @@ pub enum StoreError {
         /// The case.
         case: u32,
         /// What does not fit.
+        reason: String,
+    },
+    /// A case holds a value no case can have, whatever the domain (a negative time).
+    #[error("{path}: case #{case}: {reason}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// The case.
+        case: u32,
+        /// What is wrong.
         reason: String,
     },
     /// The directory to hold the case base does not exist.
@@ -76,10 +87,14 @@ impl CaseStore {
                 check_behavior(space, &e.behavior)
                     .map_err(|r| foreign(format!("evaluated pair {k}: {r}")))?;
                 if !(e.time.is_finite() && e.time >= 0.0) {
-                    return Err(foreign(format!(
-                        "evaluated pair {k}: time must be a finite number >= 0, got {}",
-                        e.time
-                    )));
+                    return Err(StoreError::Invalid {
+                        path: path.to_owned(),
+                        case: id.0,
+                        reason: format!(
+                            "evaluated pair {k}: time must be a finite number >= 0, got {}",
+                            e.time
+                        ),
+                    });
                 }
             }
         }
@@ -188,7 +203,59 @@ mod tests {
         let patrol = domains::spaces::patrol_space();
         let err = CaseStore::open(&path, &patrol).unwrap_err().to_string();
         assert!(err.contains("2 value indices for 4 components"), "{err}");
+        assert!(
+            err.ends_with("is this the case base of another domain?"),
+            "{err}"
+        );
         assert_eq!(std::fs::read(&path).unwrap(), before);
+    }
+
+    #[test]
+    fn a_symlinked_case_file_stays_a_link_and_its_target_is_saved() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.ron");
+        let link = dir.path().join("cases.ron");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let (store, cases) = CaseStore::open(&link, &space()).unwrap();
+        assert!(cases.is_empty());
+        store.save(&one_case()).unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert_eq!(CaseStore::open(&real, &space()).unwrap().1, one_case());
+    }
+
+    #[test]
+    fn an_unknown_field_in_an_evaluated_pair_is_refused_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let text =
+            "(cases: [(problem: [(behavior: [3, 4], time: 12.0, mood: 1)], solution: [5, 5])])";
+        std::fs::write(&path, text).unwrap();
+        let err = CaseStore::open(&path, &space()).unwrap_err().to_string();
+        assert!(err.contains("`mood`"), "{err}");
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    }
+
+    #[test]
+    fn a_bad_time_is_not_blamed_on_another_domain() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let mut cases = one_case();
+        cases.push(Case {
+            problem: vec![Evaluated {
+                behavior: Behavior::new(&[1, 1]),
+                time: -3.0,
+            }],
+            solution: Behavior::new(&[2, 2]),
+        });
+        cases.save_ron(&path).unwrap();
+        let err = CaseStore::open(&path, &space()).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{}: case #1: evaluated pair 0: time must be a finite number >= 0, got -3",
+                path.display()
+            )
+        );
     }
 
     #[test]

@@ -18,9 +18,10 @@ pub const MAX_LINE_BYTES: usize = 64 * 1024;
 /// Why serving stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum ServeError {
-    /// Reading requests or writing replies failed.
+    /// Reading requests or writing replies failed (shown in the message, so not chained
+    /// as a source).
     #[error("connection: {0}")]
-    Io(#[from] io::Error),
+    Io(io::Error),
     /// The session must stop.
     #[error(transparent)]
     Session(#[from] SessionError),
@@ -37,6 +38,12 @@ pub enum ServeError {
         /// Why binding failed (shown in the message, so not chained as a source).
         reason: io::Error,
     },
+}
+
+impl From<io::Error> for ServeError {
+    fn from(reason: io::Error) -> Self {
+        Self::Io(reason)
+    }
 }
 
 /// Serves requests from `input` until it ends, writing replies to `output`.

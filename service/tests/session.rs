@@ -37,6 +37,22 @@ fn snapshot(s: &mut Session) -> (Value, Value) {
     )
 }
 
+/// The replies written to `output`, one JSON value per line.
+fn reply_lines(output: &[u8]) -> Vec<Value> {
+    output
+        .split(|&b| b == b'\n')
+        .filter(|l| !l.is_empty())
+        .map(|l| serde_json::from_slice(l).unwrap())
+        .collect()
+}
+
+/// Serves `input` to the end and returns the replies.
+fn serve_all(s: &mut Session, input: &[u8]) -> Vec<Value> {
+    let mut output = Vec::new();
+    service::transport::serve(s, BufReader::new(input), &mut output).unwrap();
+    reply_lines(&output)
+}
+
 const INTERRUPTED: &str =
     r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#;
 const COMPLETED: &str = r#"{"outcome": "completed", "weight": 1.0, "duration_s": 8.0}"#;
@@ -101,7 +117,11 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
     );
     let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
-    let cases: [(&str, &str); 20] = [
+    let cases: [(&str, &str); 21] = [
+        (
+            r#"{"outcome":"failed","weight":1,"duration_s":1,"outcome":"completed"}"#,
+            "field `outcome` is given twice",
+        ),
         (
             r#"{"outcome": "interrupted", "weight": 1.0, "cau"#,
             "malformed JSON",
@@ -201,6 +221,26 @@ fn bad_behaviors_and_out_of_place_requests_change_nothing() {
             r#"{"request":"begin","behavior":{"speed":null,"padding":0.4}}"#,
             "field `behavior.speed`",
         ),
+        (
+            r#"{"request":"begin","behavior":"speed=NaN,padding=0.4"}"#,
+            "`NaN` is not an admissible value of `speed`",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":"inf","padding":0.4}}"#,
+            "`inf` is not an admissible value of `speed`",
+        ),
+        (
+            r#"{"request":"begin","behavior":"speed=3.5,speed=4.0,padding=0.4"}"#,
+            "component `speed` is given twice",
+        ),
+        (
+            r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4,"speed":4.0}}"#,
+            "field `speed` is given twice",
+        ),
+        (
+            r#"{"request":"begin","behavior":{}}"#,
+            "no value given for components `speed`, `padding`",
+        ),
     ];
     for (line, expected) in cases {
         let before = snapshot(&mut s);
@@ -241,11 +281,7 @@ fn a_failed_save_is_reported_and_stops_the_server() {
             .starts_with("case #0 was retained but could not be saved, so the server stops"),
         "{err}"
     );
-    let replies: Vec<Value> = output
-        .split(|&b| b == b'\n')
-        .filter(|l| !l.is_empty())
-        .map(|l| serde_json::from_slice(l).unwrap())
-        .collect();
+    let replies = reply_lines(&output);
     // begin, switch, then the error instead of `settled`; the `state` line is never read.
     assert_eq!(replies.len(), 3);
     assert_eq!(replies[1]["ok"], "switch");
@@ -255,6 +291,24 @@ fn a_failed_save_is_reported_and_stops_the_server() {
             .unwrap()
             .contains("could not be saved")
     );
+}
+
+#[test]
+fn a_line_of_exactly_the_limit_is_accepted_with_either_terminator() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let mut full = b"{\"request\":\"state\"}".to_vec();
+    full.resize(service::MAX_LINE_BYTES, b' ');
+    let mut input = Vec::new();
+    for terminator in [&b"\r\n"[..], b"\n", b""] {
+        input.extend_from_slice(&full);
+        input.extend_from_slice(terminator);
+    }
+    let replies = serve_all(&mut s, &input);
+    assert_eq!(replies.len(), 3);
+    for reply in replies {
+        assert_eq!(reply["ok"], "state", "{reply}");
+    }
 }
 
 #[test]
@@ -269,13 +323,7 @@ fn oversize_lines_are_refused_and_the_conversation_goes_on() {
     huge.extend_from_slice(b"\"}\n");
     input.extend_from_slice(&huge);
     input.extend_from_slice(b"{\"request\":\"state\"}\n");
-    let mut output = Vec::new();
-    service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
-    let replies: Vec<Value> = output
-        .split(|&b| b == b'\n')
-        .filter(|l| !l.is_empty())
-        .map(|l| serde_json::from_slice(l).unwrap())
-        .collect();
+    let replies = serve_all(&mut s, &input);
     assert_eq!(replies.len(), 4);
     assert!(
         replies[2]["error"]
@@ -324,17 +372,69 @@ proptest! {
             input.extend_from_slice(line);
             input.push(b'\n');
         }
-        let mut output = Vec::new();
-        service::transport::serve(&mut s, BufReader::new(&input[..]), &mut output).unwrap();
-        let replies: Vec<Value> = output
-            .split(|&b| b == b'\n')
-            .filter(|l| !l.is_empty())
-            .map(|l| serde_json::from_slice(l).unwrap())
-            .collect();
+        let replies = serve_all(&mut s, &input);
         prop_assert_eq!(replies.len(), lines.len());
         for reply in replies {
             let object = reply.as_object().unwrap();
             prop_assert!(object.contains_key("ok") != object.contains_key("error"));
+        }
+    }
+}
+
+/// A JSON object of fields a request might carry, some of them given twice.
+fn object_with_repeats() -> impl Strategy<Value = Vec<u8>> {
+    let field = prop_oneof![
+        Just(r#""request":"begin""#),
+        Just(r#""request":"state""#),
+        Just(r#""outcome":"completed""#),
+        Just(r#""outcome":"interrupted""#),
+        Just(r#""weight":1.0"#),
+        Just(r#""duration_s":2.0"#),
+        Just(r#""cause":"collision""#),
+        Just(r#""behavior":"speed=3.5,padding=0.4""#),
+        Just(r#""behavior":"speed=NaN,padding=0.4""#),
+        Just(r#""behavior":{"speed":3.5,"padding":0.4,"speed":"inf"}"#),
+        Just(r#""behavior":{"speed":"nan","padding":0.4}"#),
+    ];
+    prop::collection::vec(field, 1..6).prop_flat_map(|fields| {
+        let repeat = 0..fields.len();
+        (Just(fields), repeat).prop_map(|(mut fields, k)| {
+            fields.push(fields[k]);
+            format!("{{{}}}", fields.join(",")).into_bytes()
+        })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Whatever is refused (arbitrary bytes, repeated keys, non-finite behavior values),
+    /// the episode under way, the case base and the server's draws stay as they were.
+    #[test]
+    fn refused_lines_change_nothing(
+        line in prop_oneof![
+            object_with_repeats(),
+            prop::collection::vec(any::<u8>(), 0..96),
+            any_line(),
+        ]
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = session(dir.path());
+        ok(&mut s, r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#);
+        ok(&mut s, r#"{"outcome":"completed","weight":0.5,"duration_s":1.0}"#);
+        let before = snapshot(&mut s);
+        let reply = s.handle_line(&line).unwrap();
+        if reply.get("error").is_some() {
+            prop_assert_eq!(snapshot(&mut s), before);
+            // The server's draws are untouched: after the episode, it draws what a fresh
+            // session with the same history draws.
+            ok(&mut s, r#"{"request":"abandon"}"#);
+            let drawn = ok(&mut s, r#"{"request":"begin"}"#)["behavior"].clone();
+            let dir2 = tempfile::tempdir().unwrap();
+            let mut fresh = session(dir2.path());
+            ok(&mut fresh, r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#);
+            ok(&mut fresh, r#"{"request":"abandon"}"#);
+            prop_assert_eq!(ok(&mut fresh, r#"{"request":"begin"}"#)["behavior"].clone(), drawn);
         }
     }
 }

@@ -50,15 +50,28 @@ impl Default for AdapterConfig {
     }
 }
 
-/// An adapter configuration that cannot be used.
+/// An adapter configuration that cannot be used. The reason is part of the message, so
+/// it is not chained as a source too (or it would be shown twice).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConfigError {
     /// Bad thresholds.
     #[error("thresholds: {0}")]
-    Thresholds(#[from] ThresholdError),
+    Thresholds(ThresholdError),
     /// Bad lambda.
     #[error("lambda: {0}")]
-    Lambda(#[from] LambdaError),
+    Lambda(LambdaError),
+}
+
+impl From<ThresholdError> for ConfigError {
+    fn from(reason: ThresholdError) -> Self {
+        Self::Thresholds(reason)
+    }
+}
+
+impl From<LambdaError> for ConfigError {
+    fn from(reason: LambdaError) -> Self {
+        Self::Lambda(reason)
+    }
 }
 
 impl AdapterConfig {
@@ -133,12 +146,19 @@ pub enum AdapterError {
     /// `begin_episode` was called while one is under way.
     #[error("an episode is already under way")]
     EpisodeUnderWay,
-    /// The outcome's numbers are unusable.
+    /// The outcome's numbers are unusable (shown in the message, so not chained as a
+    /// source).
     #[error("invalid outcome: {0}")]
-    Outcome(#[from] OutcomeError),
+    Outcome(OutcomeError),
     /// The behavior does not belong to the adapter's space.
     #[error("the behavior does not belong to this behavior space")]
     ForeignBehavior,
+}
+
+impl From<OutcomeError> for AdapterError {
+    fn from(reason: OutcomeError) -> Self {
+        Self::Outcome(reason)
+    }
 }
 
 #[derive(Clone, Debug)]

@@ -173,7 +173,7 @@ impl Default for Thresholds {
 /// Thresholds that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error(
-    "thresholds must be finite with untrustworthy < trustworthy, got untrustworthy = {untrustworthy}, trustworthy = {trustworthy}"
+    "thresholds must be finite with untrustworthy < 0 < trustworthy (every behavior's estimate starts at 0, so a verdict needs evidence), got untrustworthy = {untrustworthy}, trustworthy = {trustworthy}"
 )]
 pub struct ThresholdError {
     /// The trustworthy threshold given.
@@ -208,7 +208,8 @@ impl Thresholds {
     pub fn validate(&self) -> Result<(), ThresholdError> {
         if self.trustworthy.is_finite()
             && self.untrustworthy.is_finite()
-            && self.untrustworthy < self.trustworthy
+            && self.untrustworthy < 0.0
+            && 0.0 < self.trustworthy
         {
             Ok(())
         } else {
@@ -296,7 +297,7 @@ mod tests {
     #[test]
     fn thresholds_are_checked_when_read() {
         let e = ron::from_str::<Thresholds>("(trustworthy: -5.0, untrustworthy: 5.0)").unwrap_err();
-        assert!(e.code.to_string().contains("untrustworthy < trustworthy"));
+        assert!(e.code.to_string().contains("untrustworthy < 0 < trustworthy"));
         assert!(
             ron::from_str::<Thresholds>("(trustworthy: 5.0, untrustworthy: -5.0, x: 1)").is_err()
         );
@@ -316,13 +317,18 @@ mod tests {
         assert!(Outcome::completed(-1.0, 1.0).validate().is_err());
         assert!(Outcome::completed(1.0, -1.0).validate().is_err());
         assert!(Outcome::completed(3.0, 0.0).validate().is_ok());
-        assert!(
-            Thresholds {
-                trustworthy: -5.0,
-                untrustworthy: 5.0
-            }
-            .validate()
-            .is_err()
-        );
+        // Inverted, and both on one side of the starting estimate 0 (a verdict before
+        // any command): refused.
+        for (trustworthy, untrustworthy) in [(-5.0, 5.0), (-1.0, -5.0), (5.0, 1.0), (5.0, 0.0)] {
+            assert!(
+                Thresholds {
+                    trustworthy,
+                    untrustworthy
+                }
+                .validate()
+                .is_err(),
+                "{trustworthy} / {untrustworthy}"
+            );
+        }
     }
 }

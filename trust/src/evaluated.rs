@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 /// A behavior found untrustworthy, with the task time it took to reach the threshold.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Evaluated {
     /// The behavior.
     pub behavior: Behavior,

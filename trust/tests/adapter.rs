@@ -174,10 +174,9 @@ fn refused_calls_leave_the_state_alone() {
     a.begin_episode(Behavior::new(&[0])).unwrap();
     a.record(&interrupt(1.0)).unwrap();
     let before = a.episode().unwrap().estimate;
-    assert!(matches!(
-        a.record(&Outcome::completed(f64::NAN, 1.0)),
-        Err(AdapterError::Outcome(_))
-    ));
+    let refused = a.record(&Outcome::completed(f64::NAN, 1.0)).unwrap_err();
+    assert!(matches!(refused, AdapterError::Outcome(_)));
+    assert!(std::error::Error::source(&refused).is_none());
     assert!(a.record(&Outcome::completed(-1.0, 1.0)).is_err());
     assert_eq!(a.episode().unwrap().estimate, before);
     assert_eq!(
@@ -197,7 +196,13 @@ fn bad_configs_are_rejected() {
     let mut reversed = AdapterConfig::default();
     reversed.thresholds.trustworthy = -5.0;
     reversed.thresholds.untrustworthy = 5.0;
-    assert!(TrustAdapter::new(space, reversed, TrustCaseBase::new(), 0).is_err());
+    let Err(refused) = TrustAdapter::new(space, reversed, TrustCaseBase::new(), 0) else {
+        panic!("reversed thresholds were accepted");
+    };
+    // The reason is in the message and not chained as a source, so a report of the whole
+    // chain shows it once.
+    assert!(refused.to_string().starts_with("thresholds: "), "{refused}");
+    assert!(std::error::Error::source(&refused).is_none());
     // Configs read from RON are checked as they are read, naming the field.
     let e = ron::from_str::<AdapterConfig>("(lambda: 0.0)").unwrap_err();
     assert!(

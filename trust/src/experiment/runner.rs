@@ -60,12 +60,12 @@ pub struct ExperimentPlan<'a, D: Domain> {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PlanError {
     /// Thresholds or lambda are unusable.
-    #[error("{plan}: {source}")]
+    #[error("{plan}: {reason}")]
     Config {
         /// The plan's name.
         plan: String,
         /// What is wrong.
-        source: ConfigError,
+        reason: ConfigError,
     },
     /// A plan has no arm.
     #[error("{plan}: no arm to run")]
@@ -215,9 +215,9 @@ pub fn run_experiments<D: Domain>(
 
 impl<D: Domain> ExperimentPlan<'_, D> {
     fn validate(&self) -> Result<(), PlanError> {
-        let config = |source: ConfigError| PlanError::Config {
+        let config = |reason: ConfigError| PlanError::Config {
             plan: self.name.clone(),
-            source,
+            reason,
         };
         self.thresholds
             .validate()
@@ -252,7 +252,7 @@ impl<D: Domain> ExperimentPlan<'_, D> {
             .build_retriever(space, self.lambda)
             .map_err(|e| PlanError::Config {
                 plan: self.name.clone(),
-                source: e.into(),
+                reason: e.into(),
             })?;
         let cases = arm.starting_cases().cloned().unwrap_or_default();
         Ok(TrustAdapter::with_parts(

@@ -1,0 +1,527 @@
+//! Writing output files safely.
+//!
+//! [`write_atomically`] replaces a file so that readers see either the old content or all
+//! of the new, never through a link planted beside it, keeping the file's mode and owner
+//! and, when the path is a symbolic link, replacing the file the link points to.
+//!
+//! A report folder is checked before any work starts ([`prepare_output_dir`]) and an
+//! earlier report in it is removed before the new one is written
+//! ([`remove_previous_report`]), so a report never mixes with another's files. The rule:
+//! the folder may be missing (it is created), empty, or hold an earlier report (it has a
+//! `summary.json`); a folder holding anything else is refused.
+
+use crate::input::{FileError, special_file_kind};
+use std::ffi::{OsStr, OsString};
+use std::fs::{self, Permissions};
+use std::io::{self, Write};
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
+use std::path::{Path, PathBuf};
+
+/// The file that marks a folder as holding a report.
+pub const REPORT_MARKER: &str = "summary.json";
+
+/// The files of a report, besides its plots: removed with an earlier report.
+pub const REPORT_FILES: &[&str] = &["summary.json", "table.md", "trials.jsonl", "config.ron"];
+
+/// The extensions of a report's plots: removed with an earlier report.
+pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];
+
+/// Why a report folder cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The path exists and is not a folder.
+    #[error("{}: exists and is {kind}, not a folder for the report", path.display())]
+    NotAFolder {
+        /// The path given.
+        path: PathBuf,
+        /// What it is.
+        kind: &'static str,
+    },
+    /// The folder could not be created, listed or written in.
+    #[error("{}: cannot write the report in this folder: {reason}", path.display())]
+    Unwritable {
+        /// The folder.
+        path: PathBuf,
+        /// Why (shown in the message, so not chained as a source).
+        reason: io::Error,
+    },
+    /// The folder holds files that are not part of a report.
+    #[error(
+        "{}: the folder holds `{entry}`, which is not part of a trustcbr report; give an empty or new folder, or one holding an earlier report (with its {REPORT_MARKER})",
+        path.display()
+    )]
+    Foreign {
+        /// The folder.
+        path: PathBuf,
+        /// One entry that is not part of a report.
+        entry: String,
+    },
+    /// A file of an earlier report could not be removed.
+    #[error(transparent)]
+    Remove(#[from] FileError),
+}
+
+/// Checks, before any work starts, that files can be written in the folder `dir`:
+/// creates it if missing, and refuses a path that is not a folder or a folder that cannot
+/// be written in (a temporary file is created and removed to find out: permissions,
+/// read-only file systems).
+pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
+    let unwritable = |reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    };
+    match fs::metadata(dir) {
+        Ok(meta) if !meta.is_dir() => {
+            return Err(OutputError::NotAFolder {
+                path: dir.to_owned(),
+                kind: special_file_kind(&meta.file_type()).unwrap_or("a regular file"),
+            });
+        }
+        Ok(_) => {}
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            fs::create_dir_all(dir).map_err(unwritable)?;
+        }
+        Err(e) => return Err(unwritable(e)),
+    }
+    tempfile::Builder::new()
+        .prefix(".trustcbr-probe-")
+        .tempfile_in(dir)
+        .map_err(|e| unwritable(without_temporary_path(e)))?;
+    Ok(())
+}
+
+/// Checks, before any work starts, that a report can be written in `dir`: as
+/// [`ensure_writable_dir`], and refuses a folder that holds anything but an earlier
+/// report. Writes nothing but the folder.
+pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
+    ensure_writable_dir(dir)?;
+    let unwritable = |reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    };
+    let entries: Vec<String> = fs::read_dir(dir)
+        .map_err(unwritable)?
+        .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<io::Result<_>>()
+        .map_err(unwritable)?;
+    if entries.iter().any(|name| name == REPORT_MARKER) {
+        return Ok(());
+    }
+    match entries.into_iter().find(|name| !is_temporary_name(name)) {
+        Some(entry) => Err(OutputError::Foreign {
+            path: dir.to_owned(),
+            entry,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Removes the files of an earlier report from `dir` (only if it holds one, marked by its
+/// [`REPORT_MARKER`]): [`REPORT_FILES`] and the plots ([`REPORT_PLOT_EXTENSIONS`]). Other
+/// files stay. Returns the files removed.
+pub fn remove_previous_report(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    if !dir.join(REPORT_MARKER).is_file() {
+        return Ok(Vec::new());
+    }
+    let listing = fs::read_dir(dir).map_err(|reason| OutputError::Unwritable {
+        path: dir.to_owned(),
+        reason,
+    })?;
+    let mut removed = Vec::new();
+    for entry in listing.flatten() {
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_plot = path
+            .extension()
+            .and_then(OsStr::to_str)
+            .is_some_and(|ext| REPORT_PLOT_EXTENSIONS.contains(&ext));
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if is_file && (REPORT_FILES.contains(&name.as_str()) || is_plot) {
+            fs::remove_file(&path).map_err(|reason| FileError {
+                path: path.clone(),
+                reason,
+            })?;
+            removed.push(path);
+        }
+    }
+    removed.sort();
+    Ok(removed)
+}
+
+/// Whether `name` is a temporary file of [`write_atomically`] (`.NAME.tmp-...`), which
+/// an interrupted write may leave.
+fn is_temporary_name(name: &str) -> bool {
+    name.starts_with('.') && name.contains(".tmp-")
+}
+
+/// How many symbolic links [`write_atomically`] follows before giving up (as the kernel).
+const MAX_LINKS: usize = 40;
+
+/// Random characters in a temporary file's name.
+const RANDOM_CHARS: usize = 10;
+
+/// Writes `bytes` to `path` so that readers see either the old content or all of the new.
+///
+/// The bytes go to a new temporary file beside the target, named `.NAME.tmp-PID-RANDOM`
+/// and created exclusively (an existing file or link of that name is never opened), with
+/// mode 0600; it is synced, given the target's mode and owner (where permitted), renamed
+/// over the target, and the directory is synced so the rename survives a power cut.
+///
+/// When `path` is a symbolic link, the file it finally points to is replaced and the link
+/// stays. A target that is a directory, FIFO, socket or device is refused. Temporary files
+/// of the same target left by writers that no longer run are removed first.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let target = final_target(path)?;
+    let existing = match fs::metadata(&target) {
+        Ok(meta) => Some(meta),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+    };
+    if let Some(kind) = existing
+        .as_ref()
+        .and_then(|meta| special_file_kind(&meta.file_type()))
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("is {kind}, not a regular file; refusing to write over it"),
+        ));
+    }
+    let name = target
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let prefix = temporary_prefix(name);
+    remove_stale_temporaries(&dir, &prefix);
+    let mut own_prefix = prefix;
+    own_prefix.push(format!("{}-", std::process::id()));
+    // A new target gets the usual mode of new files (0666 less the umask).
+    let create_mode = if existing.is_some() { 0o600 } else { 0o666 };
+    let mut temp = tempfile::Builder::new()
+        .prefix(&own_prefix)
+        .rand_bytes(RANDOM_CHARS)
+        .permissions(Permissions::from_mode(create_mode))
+        .tempfile_in(&dir)
+        .map_err(without_temporary_path)?;
+    temp.write_all(bytes)?;
+    if let Some(meta) = &existing {
+        let file = temp.as_file();
+        let created = file.metadata()?;
+        if (created.uid(), created.gid()) != (meta.uid(), meta.gid()) {
+            // Only a privileged writer may give a file away; others keep their own.
+            std::os::unix::fs::fchown(file, Some(meta.uid()), Some(meta.gid())).ok();
+        }
+        file.set_permissions(Permissions::from_mode(meta.mode() & 0o7777))?;
+    }
+    temp.as_file().sync_all()?;
+    temp.persist(&target).map_err(|e| e.error)?;
+    // Persist the directory entry; not every platform lets a directory be opened.
+    if let Ok(d) = fs::File::open(&dir) {
+        d.sync_all().ok();
+    }
+    Ok(())
+}
+
+/// The file `path` finally names: `path` itself unless it is a symbolic link, else the
+/// end of its chain of links (which need not exist yet).
+fn final_target(path: &Path) -> io::Result<PathBuf> {
+    let mut current = path.to_owned();
+    for _ in 0..=MAX_LINKS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current)?;
+                current = match current.parent() {
+                    Some(dir) => dir.join(link),
+                    None => link,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(io::Error::new(
+        io::ErrorKind::InvalidInput,
+        format!("more than {MAX_LINKS} levels of symbolic links"),
+    ))
+}
+
+/// `.NAME.tmp-`: what every temporary file of the target `NAME` starts with.
+fn temporary_prefix(name: &OsStr) -> OsString {
+    let mut prefix = OsString::from(".");
+    prefix.push(name);
+    prefix.push(".tmp-");
+    prefix
+}
+
+/// Removes the temporary files `PREFIX PID[-RANDOM]` in `dir` whose writer `PID` no longer
+/// runs (where `/proc` tells). Best effort: a file that cannot be removed stays.
+fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
+    let processes = Path::new("/proc");
+    if !processes.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(rest) = name
+            .as_encoded_bytes()
+            .strip_prefix(prefix.as_encoded_bytes())
+        else {
+            continue;
+        };
+        let pid = rest.split(|&b| b == b'-').next().unwrap_or_default();
+        let is_pid = !pid.is_empty() && pid.iter().all(u8::is_ascii_digit);
+        let is_file = entry
+            .file_type()
+            .is_ok_and(|t| t.is_file() || t.is_symlink());
+        if is_pid && is_file {
+            let pid = String::from_utf8_lossy(pid);
+            if !processes.join(pid.as_ref()).exists() {
+                fs::remove_file(entry.path()).ok();
+            }
+        }
+    }
+}
+
+/// A failed temporary-file creation without the random name the `tempfile` crate appends
+/// to its message (`... at path "..."`): the caller names the target instead.
+fn without_temporary_path(error: io::Error) -> io::Error {
+    let message = error.to_string();
+    match message.rfind(" at path ") {
+        Some(end) => io::Error::new(error.kind(), &message[..end]),
+        None => error,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::{FileTypeExt, symlink};
+
+    fn names_in(dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn writes_and_replaces_leaving_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.txt");
+        write_atomically(&path, b"one").unwrap();
+        write_atomically(&path, b"two").unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"two");
+        assert_eq!(names_in(dir.path()), ["out.txt"]);
+    }
+
+    #[test]
+    fn a_missing_folder_is_reported_without_the_temporary_name() {
+        let err = write_atomically(Path::new("/nonexistent/dir/out.txt"), b"x").unwrap_err();
+        assert_eq!(err.kind(), io::ErrorKind::NotFound);
+        assert_eq!(err.to_string(), "No such file or directory (os error 2)");
+    }
+
+    #[test]
+    fn a_link_planted_at_a_predictable_temporary_name_is_not_followed() {
+        let dir = tempfile::tempdir().unwrap();
+        let victim = dir.path().join("victim");
+        fs::write(&victim, b"precious").unwrap();
+        let path = dir.path().join("cases.ron");
+        // The name the writer once used: `.NAME.tmp-PID`.
+        let planted = dir
+            .path()
+            .join(format!(".cases.ron.tmp-{}", std::process::id()));
+        symlink(&victim, &planted).unwrap();
+        write_atomically(&path, b"cases").unwrap();
+        assert_eq!(fs::read(&victim).unwrap(), b"precious");
+        assert_eq!(fs::read(&path).unwrap(), b"cases");
+        assert!(fs::symlink_metadata(&path).unwrap().file_type().is_file());
+        assert!(fs::symlink_metadata(&planted).unwrap().is_symlink());
+    }
+
+    #[test]
+    fn a_symlinked_target_stays_a_link_and_its_file_is_replaced() {
+        let dir = tempfile::tempdir().unwrap();
+        let real_dir = dir.path().join("real");
+        fs::create_dir(&real_dir).unwrap();
+        let real = real_dir.join("cases.ron");
+        fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("cases.ron");
+        // A relative link through a second link.
+        symlink("real/cases.ron", dir.path().join("hop")).unwrap();
+        symlink("hop", &link).unwrap();
+        write_atomically(&link, b"new").unwrap();
+        assert!(fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert_eq!(fs::read_link(&link).unwrap(), Path::new("hop"));
+        assert_eq!(fs::read(&real).unwrap(), b"new");
+        assert_eq!(names_in(&real_dir), ["cases.ron"]);
+    }
+
+    #[test]
+    fn the_mode_of_the_target_is_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        fs::write(&path, b"old").unwrap();
+        fs::set_permissions(&path, Permissions::from_mode(0o640)).unwrap();
+        write_atomically(&path, b"new").unwrap();
+        assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o640);
+        fs::set_permissions(&path, Permissions::from_mode(0o604)).unwrap();
+        write_atomically(&path, b"newer").unwrap();
+        assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o604);
+    }
+
+    #[test]
+    fn the_owner_of_the_target_is_kept_where_permitted() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        fs::write(&path, b"old").unwrap();
+        // Only a privileged process can give the file to someone else; otherwise there is
+        // no other owner to keep.
+        if std::os::unix::fs::chown(&path, Some(4321), Some(4321)).is_err() {
+            return;
+        }
+        write_atomically(&path, b"new").unwrap();
+        let meta = fs::metadata(&path).unwrap();
+        assert_eq!((meta.uid(), meta.gid()), (4321, 4321));
+    }
+
+    #[test]
+    fn devices_fifos_and_directories_are_refused_as_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        crate::input::tests::make_fifo(&fifo);
+        let err = write_atomically(&fifo, b"x").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "is a FIFO (named pipe), not a regular file; refusing to write over it"
+        );
+        assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        let err = write_atomically(Path::new("/dev/null"), b"x").unwrap_err();
+        assert!(
+            err.to_string().starts_with("is a character device"),
+            "{err}"
+        );
+        // A link to a device is refused too, and stays.
+        let link = dir.path().join("null");
+        symlink("/dev/null", &link).unwrap();
+        let err = write_atomically(&link, b"x").unwrap_err();
+        assert!(
+            err.to_string().starts_with("is a character device"),
+            "{err}"
+        );
+        let err = write_atomically(dir.path(), b"x").unwrap_err();
+        assert!(err.to_string().starts_with("is a directory"), "{err}");
+        assert_eq!(names_in(dir.path()), ["null", "pipe"]);
+    }
+
+    #[test]
+    fn stale_temporary_files_of_dead_writers_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let own = std::process::id();
+        // No process has an id above the kernel's largest (2^22).
+        let dead = 99_999_999;
+        for name in [
+            format!(".cases.ron.tmp-{dead}-a1b2c3"),
+            format!(".cases.ron.tmp-{dead}"),
+            format!(".cases.ron.tmp-{own}-d4e5f6"),
+            format!(".other.ron.tmp-{dead}-a1b2c3"),
+        ] {
+            fs::write(dir.path().join(name), b"partial").unwrap();
+        }
+        write_atomically(&path, b"cases").unwrap();
+        assert_eq!(
+            names_in(dir.path()),
+            [
+                format!(".cases.ron.tmp-{own}-d4e5f6"),
+                format!(".other.ron.tmp-{dead}-a1b2c3"),
+                "cases.ron".to_owned(),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_missing_report_folder_is_created_and_an_empty_one_accepted() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("a/b/report");
+        prepare_output_dir(&out).unwrap();
+        assert!(out.is_dir());
+        assert!(names_in(&out).is_empty(), "the probe file is removed");
+        prepare_output_dir(&out).unwrap();
+    }
+
+    #[test]
+    fn a_file_an_unwritable_folder_and_foreign_files_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("report");
+        fs::write(&file, b"x").unwrap();
+        let err = prepare_output_dir(&file).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            format!(
+                "{}: exists and is a regular file, not a folder for the report",
+                file.display()
+            )
+        );
+        let err = prepare_output_dir(Path::new("/dev/null")).unwrap_err();
+        assert!(err.to_string().contains("is a character device"), "{err}");
+        // Not writable even by root.
+        let err = prepare_output_dir(Path::new("/proc/self")).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("/proc/self: cannot write the report in this folder: "),
+            "{err}"
+        );
+        let notes = dir.path().join("notes");
+        fs::create_dir(&notes).unwrap();
+        fs::write(notes.join("todo.txt"), b"keep").unwrap();
+        let err = prepare_output_dir(&notes).unwrap_err();
+        assert!(matches!(&err, OutputError::Foreign { entry, .. } if entry == "todo.txt"));
+        assert_eq!(names_in(&notes), ["todo.txt"]);
+    }
+
+    #[test]
+    fn an_earlier_report_is_accepted_and_removed_file_by_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path();
+        for name in [
+            "summary.json",
+            "table.md",
+            "trials.jsonl",
+            "config.ron",
+            "curves-movement-balanced.svg",
+            "index.html",
+            "notes.txt",
+            ".table.md.tmp-99999999-abc",
+        ] {
+            fs::write(out.join(name), b"old").unwrap();
+        }
+        fs::create_dir(out.join("plots.svg")).unwrap();
+        prepare_output_dir(out).unwrap();
+        let removed = remove_previous_report(out).unwrap();
+        assert_eq!(removed.len(), 6);
+        assert_eq!(
+            names_in(out),
+            [".table.md.tmp-99999999-abc", "notes.txt", "plots.svg"]
+        );
+        // Without its summary the folder no longer holds a report: nothing more goes.
+        assert!(remove_previous_report(out).unwrap().is_empty());
+        assert!(matches!(
+            prepare_output_dir(out),
+            Err(OutputError::Foreign { .. })
+        ));
+    }
+
+    #[test]
+    fn temporary_files_of_an_interrupted_write_do_not_make_a_folder_foreign() {
+        let dir = tempfile::tempdir().unwrap();
+        fs::write(dir.path().join(".summary.json.tmp-99999999-abc"), b"x").unwrap();
+        prepare_output_dir(dir.path()).unwrap();
+    }
+}
