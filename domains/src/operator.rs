@@ -44,6 +44,19 @@ impl Default for Weights {
 }
 
 impl Weights {
+    /// Every weight times `factor`.
+    pub fn scaled(&self, factor: f64) -> Self {
+        Self {
+            completed: self.completed * factor,
+            default: self.default * factor,
+            by_cause: self
+                .by_cause
+                .iter()
+                .map(|(&cause, &w)| (cause, w * factor))
+                .collect(),
+        }
+    }
+
     /// The weight of a failure or interruption with `cause`.
     pub fn of(&self, cause: Cause) -> f64 {
         self.by_cause.get(&cause).copied().unwrap_or(self.default)

@@ -14,10 +14,10 @@ use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
 use trust::experiment::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, UnknownArm,
-    run_experiments,
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
+    UnknownArm, run_experiments,
 };
-use trust::{ConfigError, RetrieverKind, Thresholds, TrustCaseBase};
+use trust::{ConfigError, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
 
 /// The paper's seven experiments, as shipped in the binary.
 pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");
@@ -47,6 +47,9 @@ pub struct SuiteConfig {
     /// The adapter parameters every arm shares.
     #[serde(default)]
     pub adapter: SuiteAdapter,
+    /// How the patrol operators' weights are read (`as_written` or `three_and_one`).
+    #[serde(default)]
+    pub patrol_weights: PatrolWeights,
     /// The arms to compare, by name ([`BUILTIN_ARMS`]; default: all of them). Every arm
     /// is tested against the first.
     #[serde(default = "default_arms")]
@@ -63,6 +66,21 @@ fn default_arms() -> Vec<String> {
     BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
 }
 
+/// How the patrol operators' weights are read (SPEC section 8: a missed explosive weighs
+/// three times any other outcome, on a scale the paper leaves open).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum PatrolWeights {
+    /// The operator files as written: 1/3 for every outcome, 1 for a detonation (weights
+    /// stay in `[0, 1]`).
+    #[default]
+    AsWritten,
+    /// Every patrol weight times 3: 1 for every outcome, 3 for a detonation, with the same
+    /// thresholds (each command moves the estimate three times as far).
+    ThreeAndOne,
+}
+
 /// The adapter parameters of a suite. Whether cases are reused and which search runs are
 /// the arms' business, so they are not here.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -75,6 +93,12 @@ pub struct SuiteAdapter {
     pub lambda: f64,
     /// The retriever of the arms that reuse cases (every kind gives the same answers).
     pub retriever: RetrieverKind,
+    /// Which episodes are retained as cases (SPEC section 3): `any_search` (default) or
+    /// `final_from_search`.
+    pub retention: Retention,
+    /// The unit of an evaluated pair's time (SPEC section 2): `task_seconds` (default) or
+    /// `commands`.
+    pub time_unit: TimeUnit,
 }
 
 impl Default for SuiteAdapter {
@@ -84,6 +108,20 @@ impl Default for SuiteAdapter {
             thresholds: paper.thresholds,
             lambda: paper.lambda,
             retriever: paper.retriever,
+            retention: paper.retention,
+            time_unit: paper.time_unit,
+        }
+    }
+}
+
+impl SuiteAdapter {
+    /// The parameters every arm shares.
+    pub fn settings(&self) -> TrialSettings {
+        TrialSettings {
+            thresholds: self.thresholds,
+            lambda: self.lambda,
+            retention: self.retention,
+            time_unit: self.time_unit,
         }
     }
 }
@@ -229,7 +267,7 @@ impl SuiteConfig {
             }
         }
         for (i, spec) in self.experiments.iter().enumerate() {
-            let operators = spec.operators(origin)?;
+            let operators = spec.operators(origin, self.patrol_weights)?;
             if spec.operator != RANDOM_OPERATOR
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
             {
@@ -290,18 +328,23 @@ impl ExperimentSpec {
     }
 
     /// The scenario's operators: the built-in ones, then those of `operator_files`
-    /// (relative to the directory of `origin`).
-    pub fn operators(&self, origin: &Path) -> Result<Vec<(String, OperatorModel)>, SuiteError> {
+    /// (relative to the directory of `origin`), with patrol weights read as `reading`.
+    pub fn operators(
+        &self,
+        origin: &Path,
+        reading: PatrolWeights,
+    ) -> Result<Vec<(String, OperatorModel)>, SuiteError> {
         let base = origin.parent().unwrap_or(Path::new("."));
-        let mut operators: Vec<(String, OperatorModel)> = builtin_operators(self.scenario)
-            .into_iter()
-            .map(|o| (o.name.clone(), o))
-            .collect();
+        let mut operators: Vec<OperatorModel> = builtin_operators(self.scenario);
         for file in &self.operator_files {
-            let model = OperatorModel::load(&base.join(file))?;
-            operators.push((model.name.clone(), model));
+            operators.push(OperatorModel::load(&base.join(file))?);
         }
-        Ok(operators)
+        if self.scenario == Scenario::Patrol && reading == PatrolWeights::ThreeAndOne {
+            for op in &mut operators {
+                op.weights = op.weights.scaled(3.0);
+            }
+        }
+        Ok(operators.into_iter().map(|o| (o.name.clone(), o)).collect())
     }
 }
 
@@ -374,7 +417,7 @@ pub fn run_suite(
     let operators = config
         .experiments
         .iter()
-        .map(|spec| spec.operators(origin))
+        .map(|spec| spec.operators(origin, config.patrol_weights))
         .collect::<Result<Vec<_>, _>>()?;
     let arms = builtin_arms(config).map_err(|e| SuiteError::Invalid {
         path: origin.to_owned(),
@@ -419,8 +462,7 @@ pub fn run_suite(
                 )
             },
             trials: config.trials.get(),
-            thresholds: config.adapter.thresholds,
-            lambda: config.adapter.lambda,
+            settings: config.adapter.settings(),
             arms: plan_arms,
             max_commands: config.max_commands,
         });
@@ -681,6 +723,40 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("reuse_cases"), "{err}");
+    }
+
+    #[test]
+    fn the_patrol_weight_reading_is_a_config_value() {
+        let spec = ExperimentSpec {
+            scenario: Scenario::Patrol,
+            operator: RANDOM_OPERATOR.into(),
+            operator_files: Vec::new(),
+        };
+        let origin = Path::new("x.ron");
+        let as_written = spec.operators(origin, PatrolWeights::AsWritten).unwrap();
+        let three = spec.operators(origin, PatrolWeights::ThreeAndOne).unwrap();
+        let (w, t) = (&as_written[0].1.weights, &three[0].1.weights);
+        assert!((w.completed - 1.0 / 3.0).abs() < 1e-15);
+        assert!((t.completed - 1.0).abs() < 1e-15);
+        assert!((t.of(trust::Cause::Collision) - 1.0).abs() < 1e-15);
+        assert!((t.of(trust::Cause::Detonation) - 3.0).abs() < 1e-15);
+        // Movement operators are not patrol operators: unchanged.
+        let movement = ExperimentSpec {
+            scenario: Scenario::Movement,
+            ..spec
+        };
+        let m = movement
+            .operators(origin, PatrolWeights::ThreeAndOne)
+            .unwrap();
+        assert_eq!(m[0].1.weights.completed, 1.0);
+        let config = SuiteConfig::from_ron(
+            "(seed: 1, trials: 5, patrol_weights: three_and_one, adapter: (retention: final_from_search, time_unit: commands), experiments: [(scenario: patrol, operator: \"random\")])",
+            origin,
+        )
+        .unwrap();
+        assert_eq!(config.patrol_weights, PatrolWeights::ThreeAndOne);
+        assert_eq!(config.adapter.retention, Retention::FinalFromSearch);
+        assert_eq!(config.adapter.time_unit, TimeUnit::Commands);
     }
 
     #[test]

@@ -36,6 +36,37 @@ pub struct AdapterConfig {
     pub retriever: RetrieverKind,
     /// The search strategy.
     pub search: SearchKind,
+    /// Which episodes are retained as cases (SPEC section 3, an open reading).
+    pub retention: Retention,
+    /// The unit of an evaluated pair's time `t` (SPEC section 2, an open choice).
+    pub time_unit: TimeUnit,
+}
+
+/// Which successful episodes are retained as cases. SPEC section 3 glosses the paper's
+/// rule as "the agent could not find a solution by only using the case base"; the two
+/// readings differ when a search step is followed by a successful reuse.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Retention {
+    /// Any adaptation of the episode came from the search strategy (the default: broader
+    /// problem coverage, many cases whose solution is already stored).
+    #[default]
+    AnySearch,
+    /// The final, trustworthy behavior itself came from the search strategy (few cases).
+    FinalFromSearch,
+}
+
+/// What the time `t` of an evaluated pair counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum TimeUnit {
+    /// Task seconds summed over the commands run with the behavior (the default).
+    #[default]
+    TaskSeconds,
+    /// The number of commands run with the behavior.
+    Commands,
 }
 
 impl Default for AdapterConfig {
@@ -46,6 +77,8 @@ impl Default for AdapterConfig {
             reuse_cases: true,
             retriever: RetrieverKind::default(),
             search: SearchKind::default(),
+            retention: Retention::default(),
+            time_unit: TimeUnit::default(),
         }
     }
 }
@@ -170,6 +203,8 @@ struct Episode {
     untrustworthy: u64,
     searched: u32,
     reused: u32,
+    /// Whether the behavior in use came from the search strategy.
+    current_from_search: bool,
 }
 
 /// A read-only view of the episode under way.
@@ -257,6 +292,7 @@ impl TrustAdapter {
             untrustworthy: 0,
             searched: 0,
             reused: 0,
+            current_from_search: false,
         });
         self.searcher.begin_episode(&self.space, &initial);
         Ok(())
@@ -278,7 +314,10 @@ impl TrustAdapter {
             Verdict::Untrustworthy => {
                 episode.evaluated.push(Evaluated {
                     behavior: episode.current,
-                    time: episode.estimate.elapsed_s,
+                    time: match self.config.time_unit {
+                        TimeUnit::TaskSeconds => episode.estimate.elapsed_s,
+                        TimeUnit::Commands => f64::from(episode.estimate.commands),
+                    },
                 });
                 let memory = self.config.reuse_cases.then_some(&self.memory);
                 let selection = select_behavior(
@@ -295,10 +334,12 @@ impl TrustAdapter {
                         behavior,
                     } => {
                         episode.reused += 1;
+                        episode.current_from_search = false;
                         (behavior, Source::Case { case, similarity })
                     }
                     Selection::Search(Proposal::Next(behavior)) => {
                         episode.searched += 1;
+                        episode.current_from_search = true;
                         (behavior, Source::Search)
                     }
                     Selection::Search(Proposal::Exhausted { keep }) => {
@@ -323,8 +364,12 @@ impl TrustAdapter {
     fn finish(&mut self, found_trustworthy: bool) -> EpisodeReport {
         let episode = self.episode.take().expect("an episode is under way");
         // SPEC section 3: retain when a trustworthy behavior was found and the search
-        // strategy contributed at least one adaptation.
-        let retained = (found_trustworthy && episode.searched > 0).then(|| {
+        // strategy found it, in the configured reading of "found".
+        let search_found_it = match self.config.retention {
+            Retention::AnySearch => episode.searched > 0,
+            Retention::FinalFromSearch => episode.current_from_search,
+        };
+        let retained = (found_trustworthy && search_found_it).then(|| {
             self.memory.retain(Case {
                 problem: episode.evaluated.clone(),
                 solution: episode.current,

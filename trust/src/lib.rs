@@ -28,8 +28,8 @@ pub mod select;
 pub mod testing;
 
 pub use adapter::{
-    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, Source,
-    TrustAdapter,
+    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, Retention,
+    Source, TimeUnit, TrustAdapter,
 };
 pub use domain::Domain;
 pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};

@@ -335,3 +335,113 @@ proptest! {
         }
     }
 }
+
+/// A searcher that always proposes the same untried behavior, to script episodes.
+struct Always(Behavior);
+
+impl cbr_core::Searcher for Always {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "always"
+    }
+
+    fn propose(
+        &mut self,
+        _space: &BehaviorSpace,
+        _evaluated: &[Evaluated],
+        _rng: &mut dyn rand::RngCore,
+    ) -> cbr_core::Proposal {
+        cbr_core::Proposal::Next(self.0)
+    }
+}
+
+#[test]
+fn both_readings_of_retention_and_both_units_of_time() {
+    // A case learned earlier: (0,4) was untrustworthy after 10 s, (4,4) was the answer.
+    // The episode starts at (0,0), far from the case's behaviors (no similarity), so the
+    // search moves to (0,4); that fails after 10 s too, so the case now fits and its
+    // solution (4,4) is reused and found trustworthy. A search step followed by a reuse:
+    // retained under `any_search`, not under `final_from_search`.
+    let space = grid(&[5, 5]);
+    let (start, searched, solution) = (
+        Behavior::new(&[0, 0]),
+        Behavior::new(&[0, 4]),
+        Behavior::new(&[4, 4]),
+    );
+    let run = |retention: trust::Retention, time_unit: trust::TimeUnit| {
+        let mut base = TrustCaseBase::new();
+        base.push(Case {
+            problem: vec![Evaluated {
+                behavior: searched,
+                time: if time_unit == trust::TimeUnit::Commands {
+                    5.0
+                } else {
+                    10.0
+                },
+            }],
+            solution,
+        });
+        let config = AdapterConfig {
+            retention,
+            time_unit,
+            ..AdapterConfig::default()
+        };
+        let measure = SetSimilarity::new(space.clone(), config.lambda).unwrap();
+        let mut a = TrustAdapter::with_parts(
+            space.clone(),
+            config,
+            CaseMemory::new(base, Box::new(LinearRetriever::new(measure))),
+            Box::new(Always(searched)),
+            ChaCha8Rng::seed_from_u64(1),
+        );
+        a.begin_episode(start).unwrap();
+        for _ in 0..4 {
+            a.record(&interrupt(2.0)).unwrap();
+        }
+        assert!(matches!(
+            a.record(&interrupt(2.0)).unwrap(),
+            Decision::Switch {
+                source: Source::Search,
+                ..
+            }
+        ));
+        for _ in 0..4 {
+            a.record(&interrupt(2.0)).unwrap();
+        }
+        let Decision::Switch { to, source } = a.record(&interrupt(2.0)).unwrap() else {
+            panic!("expected a switch");
+        };
+        assert_eq!(to, solution);
+        assert!(matches!(source, Source::Case { .. }), "{source:?}");
+        // Five commands of 2 s: t is 10 s, or 5 commands.
+        let times: Vec<f64> = a
+            .episode()
+            .unwrap()
+            .evaluated
+            .iter()
+            .map(|e| e.time)
+            .collect();
+        for _ in 0..4 {
+            a.record(&Outcome::completed(1.0, 1.0)).unwrap();
+        }
+        let Decision::Settled(report) = a.record(&Outcome::completed(1.0, 1.0)).unwrap() else {
+            panic!("expected the episode to end");
+        };
+        (report.retained.is_some(), times)
+    };
+    use trust::{Retention, TimeUnit};
+    assert_eq!(
+        run(Retention::AnySearch, TimeUnit::TaskSeconds),
+        (true, vec![10.0, 10.0])
+    );
+    assert_eq!(
+        run(Retention::FinalFromSearch, TimeUnit::TaskSeconds),
+        (false, vec![10.0, 10.0])
+    );
+    assert_eq!(
+        run(Retention::AnySearch, TimeUnit::Commands),
+        (true, vec![5.0, 5.0])
+    );
+}

@@ -7,12 +7,11 @@ use rand::{Rng, RngCore};
 use std::sync::Arc;
 use trust::experiment::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
 use trust::experiment::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments,
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
+    run_experiments,
 };
 use trust::search::{draw_untried, evaluated_set, longest_resisting};
-use trust::{
-    Cause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds, TrustRetriever,
-};
+use trust::{Cause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, TrustRetriever};
 
 /// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one.
 struct Toy {
@@ -131,8 +130,7 @@ fn plans<'a>(
         operators: ops,
         choice,
         trials,
-        thresholds: Thresholds::default(),
-        lambda: 0.95,
+        settings: TrialSettings::default(),
         arms: arms(),
         max_commands: 100_000,
     };

@@ -14,5 +14,5 @@ pub mod stats;
 pub use arm::{Arm, BUILTIN_ARMS, RetrieverFactory, SearcherFactory, UnknownArm};
 pub use runner::{
     ArmResult, ExperimentPlan, ExperimentResult, OperatorChoice, PairedTests, PlanError,
-    TrialRecord, run_experiments,
+    TrialRecord, TrialSettings, run_experiments,
 };

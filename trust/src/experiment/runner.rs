@@ -14,8 +14,8 @@ use super::seeds::{Purpose, stream, stream_seed};
 use super::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use crate::evaluated::validate_lambda;
 use crate::{
-    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, Thresholds, TrustAdapter,
-    TrustCaseBase, TrustMemory,
+    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, Retention, Thresholds, TimeUnit,
+    TrustAdapter, TrustCaseBase, TrustMemory,
 };
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
@@ -44,16 +44,42 @@ pub struct ExperimentPlan<'a, D: Domain> {
     pub choice: OperatorChoice,
     /// Number of trials per arm.
     pub trials: u32,
-    /// The trust thresholds (paper: +5 / -5).
-    pub thresholds: Thresholds,
-    /// Algorithm 2's behavior-similarity threshold (paper: 0.95).
-    pub lambda: f64,
+    /// The adapter parameters every arm shares.
+    pub settings: TrialSettings,
     /// The arms compared, paired trial by trial; every other arm is tested against the
     /// first.
     pub arms: Vec<Arm>,
     /// Commands after which a trial is abandoned as unfinished (a guard against operators
     /// whose outcomes never reach a threshold).
     pub max_commands: u64,
+}
+
+/// The adapter parameters every arm of an experiment shares; whether cases are reused,
+/// the retriever and the search are each arm's. The defaults are the paper's.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrialSettings {
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
+    #[serde(deserialize_with = "crate::evaluated::deserialize_lambda")]
+    pub lambda: f64,
+    /// Which episodes are retained (SPEC section 3).
+    pub retention: Retention,
+    /// The unit of `t` (SPEC section 2).
+    pub time_unit: TimeUnit,
+}
+
+impl Default for TrialSettings {
+    fn default() -> Self {
+        let paper = AdapterConfig::default();
+        Self {
+            thresholds: paper.thresholds,
+            lambda: paper.lambda,
+            retention: paper.retention,
+            time_unit: paper.time_unit,
+        }
+    }
 }
 
 /// Why experiments cannot be run.
@@ -219,10 +245,11 @@ impl<D: Domain> ExperimentPlan<'_, D> {
             plan: self.name.clone(),
             reason,
         };
-        self.thresholds
+        self.settings
+            .thresholds
             .validate()
             .map_err(|e| config(ConfigError::from(e)))?;
-        validate_lambda(self.lambda).map_err(|e| config(ConfigError::from(e)))?;
+        validate_lambda(self.settings.lambda).map_err(|e| config(ConfigError::from(e)))?;
         if self.arms.is_empty() {
             return Err(PlanError::NoArms {
                 plan: self.name.clone(),
@@ -243,13 +270,15 @@ impl<D: Domain> ExperimentPlan<'_, D> {
     fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
         let space = self.domain.space();
         let config = AdapterConfig {
-            thresholds: self.thresholds,
-            lambda: self.lambda,
+            thresholds: self.settings.thresholds,
+            lambda: self.settings.lambda,
             reuse_cases: arm.reuses_cases(),
+            retention: self.settings.retention,
+            time_unit: self.settings.time_unit,
             ..AdapterConfig::default()
         };
         let retriever = arm
-            .build_retriever(space, self.lambda)
+            .build_retriever(space, self.settings.lambda)
             .map_err(|e| PlanError::Config {
                 plan: self.name.clone(),
                 reason: e.into(),
