@@ -48,6 +48,62 @@ enum Command {
     Landscape(LandscapeArgs),
     /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
     Serve(ServeArgs),
+    /// Run a suite over several seeds and parameter values and aggregate across seeds
+    /// (`sweep FILE.ron`), or merge the folders of its shards (`sweep merge FILE.ron DIR...`).
+    Sweep(SweepArgs),
+}
+
+#[derive(Args)]
+#[command(args_conflicts_with_subcommands = true)]
+struct SweepArgs {
+    #[command(subcommand)]
+    merge: Option<SweepCommand>,
+    /// The sweep config (RON; see `domains/experiments/open-readings.ron`).
+    file: Option<PathBuf>,
+    /// Report folder.
+    #[arg(long, default_value = "sweep")]
+    out: PathBuf,
+    /// Run only shard I of N (every N-th run, from the I-th) and write its run files; merge
+    /// the shard folders with `sweep merge`.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
+    threads: Option<NonZeroUsize>,
+}
+
+#[derive(Subcommand)]
+enum SweepCommand {
+    /// Combine the run files of shard folders into the sweep's report.
+    Merge {
+        /// The sweep config the shards ran.
+        file: PathBuf,
+        /// The shard folders.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Report folder.
+        #[arg(long, default_value = "sweep")]
+        out: PathBuf,
+    },
+}
+
+/// Parses `I/N` with `1 <= I <= N`.
+fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    let (i, n) = text
+        .split_once('/')
+        .ok_or_else(|| format!("`{text}` is not I/N (e.g. 2/8)"))?;
+    let i: usize = i
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{i}` is not a number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{n}` is not a number"))?;
+    if n == 0 || i == 0 || i > n {
+        return Err(format!("shard {i}/{n}: I must be 1 to N, and N at least 1"));
+    }
+    Ok((i, n))
 }
 
 #[derive(Args)]
@@ -168,6 +224,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render(&args),
         Command::Landscape(args) => landscape(&args),
         Command::Serve(args) => serve(&args),
+        Command::Sweep(args) => sweep(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -201,20 +258,10 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
     if let Some(dir) = &options.cases {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
-    let threads = options.threads.map_or_else(
-        || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
-        NonZeroUsize::get,
-    );
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("cannot start the worker threads")?;
+    let (pool, threads) = worker_pool(options.threads)?;
     // Drawn only when stderr is a terminal.
     let bars = MultiProgress::with_draw_target(ProgressDrawTarget::stderr());
-    let style =
-        ProgressStyle::with_template("{prefix:>26} [{bar:40}] {pos}/{len} trials {elapsed}")
-            .expect("a valid template")
-            .progress_chars("=> ");
+    let style = trial_bar_style();
     let progress: Vec<ProgressBar> = config
         .experiments
         .iter()
@@ -265,6 +312,90 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
     Ok(())
 }
 
+/// A rayon pool of `threads` workers (default: one per core), and its size.
+fn worker_pool(threads: Option<NonZeroUsize>) -> Result<(rayon::ThreadPool, usize)> {
+    let threads = threads.map_or_else(
+        || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
+        NonZeroUsize::get,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    Ok((pool, threads))
+}
+
+/// The style of a progress bar counting trials, with the time left.
+fn trial_bar_style() -> ProgressStyle {
+    ProgressStyle::with_template(
+        "{prefix:>26} [{bar:40}] {pos}/{len} trials {elapsed}, about {eta} left",
+    )
+    .expect("a valid template")
+    .progress_chars("=> ")
+}
+
+/// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
+fn sweep(args: &SweepArgs) -> Result<()> {
+    use domains::sweep::{Sweep, merge, write_config, write_run};
+    if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
+        let sweep = Sweep::load(file)?;
+        let text = cbr_core::read_text(file)?;
+        cbr_core::output::ensure_writable_dir(out)?;
+        let written = merge(&sweep, &text, dirs, out)?;
+        println!(
+            "merged {} runs from {} folders; report in {} ({} files)",
+            sweep.runs().len(),
+            dirs.len(),
+            out.display(),
+            written.len()
+        );
+        return Ok(());
+    }
+    let file = args
+        .file
+        .as_ref()
+        .context("name the sweep config: trustcbr sweep FILE.ron")?;
+    let sweep = Sweep::load(file)?;
+    let text = cbr_core::read_text(file)?;
+    cbr_core::output::ensure_writable_dir(&args.out)?;
+    let runs = match args.shard {
+        Some((i, n)) => sweep.shard(i, n),
+        None => sweep.runs(),
+    };
+    let (pool, threads) = worker_pool(args.threads)?;
+    let bar =
+        ProgressBar::with_draw_target(Some(sweep.trials_in(&runs)), ProgressDrawTarget::stderr())
+            .with_style(trial_bar_style())
+            .with_prefix(format!("sweep ({} runs)", runs.len()));
+    let started = Instant::now();
+    write_config(&args.out, &text)?;
+    for &run in &runs {
+        let summary = pool.install(|| sweep.run(run, &|| bar.inc(1)))?;
+        write_run(&args.out, &sweep, run, &summary)?;
+    }
+    bar.finish();
+    let elapsed = started.elapsed().as_secs_f64();
+    if args.shard.is_some() {
+        println!(
+            "{} runs of {} on {threads} threads in {elapsed:.1} s; run files in {} (merge with `trustcbr sweep merge {} DIR...`)",
+            runs.len(),
+            sweep.runs().len(),
+            args.out.display(),
+            file.display()
+        );
+        return Ok(());
+    }
+    let written = merge(&sweep, &text, std::slice::from_ref(&args.out), &args.out)?;
+    println!(
+        "{} cells x {} seeds on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        sweep.cells.len(),
+        sweep.config.seeds.len(),
+        args.out.display(),
+        written.len()
+    );
+    Ok(())
+}
+
 fn serve(args: &ServeArgs) -> anyhow::Result<()> {
     let domain = DomainDefinition::resolve(&args.domain)?;
     let (store, cases) = CaseStore::open(&args.cases, &domain.space)?;
@@ -312,7 +443,17 @@ fn landscape(args: &LandscapeArgs) -> Result<()> {
     cbr_core::output::ensure_writable_dir(&args.out)?;
     let space = domain.space();
     let (x, y) = landscape::axes(space, &args.components)?;
-    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed);
+    let bar = ProgressBar::with_draw_target(Some(space.size()), ProgressDrawTarget::stderr())
+        .with_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:40}] {pos}/{len} behaviors {elapsed}, about {eta} left",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        )
+        .with_prefix(format!("landscape ({} runs each)", args.runs));
+    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed, &|| bar.inc(1));
+    bar.finish();
     let title = format!(
         "{}, operator {}, {} runs per behavior",
         args.scenario, operator.name, args.runs

@@ -63,7 +63,14 @@ pub enum LandscapeError {
 }
 
 /// Runs every behavior of `domain` `runs` times under `operator`, in parallel.
-pub fn estimate(domain: &UgvDomain, operator: &OperatorModel, runs: u32, seed: u64) -> Landscape {
+/// `progress()` is called after each behavior's runs.
+pub fn estimate(
+    domain: &UgvDomain,
+    operator: &OperatorModel,
+    runs: u32,
+    seed: u64,
+    progress: &(dyn Fn() + Sync),
+) -> Landscape {
     let space = domain.space();
     let tallies = (0..space.size())
         .into_par_iter()
@@ -85,6 +92,7 @@ pub fn estimate(domain: &UgvDomain, operator: &OperatorModel, runs: u32, seed: u
                     tally.causes[cause as usize] += 1;
                 }
             }
+            progress();
             tally
         })
         .collect();
@@ -300,8 +308,8 @@ mod tests {
     fn a_small_landscape_is_deterministic_and_drawable() {
         let domain = UgvDomain::new(Scenario::Movement);
         let op = &builtin_operators(Scenario::Movement)[1];
-        let a = estimate(&domain, op, 3, 9);
-        let b = estimate(&domain, op, 3, 9);
+        let a = estimate(&domain, op, 3, 9, &|| {});
+        let b = estimate(&domain, op, 3, 9, &|| {});
         assert_eq!(a.tallies, b.tallies);
         assert_eq!(a.tallies.len(), 400);
         for t in &a.tallies {

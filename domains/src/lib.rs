@@ -19,6 +19,7 @@ pub mod scenario;
 pub mod spaces;
 pub mod suite;
 pub mod svg;
+pub mod sweep;
 pub mod trace;
 pub mod ugv;
 pub mod world;

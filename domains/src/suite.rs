@@ -252,6 +252,7 @@ impl SuiteConfig {
             .thresholds
             .validate()
             .map_err(ConfigError::from)?;
+        trust::evaluated::validate_lambda(self.adapter.lambda).map_err(ConfigError::from)?;
         if self.arms.is_empty() {
             return Err(invalid("arms".into(), "at least one arm is needed".into()));
         }

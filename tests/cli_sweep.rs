@@ -1,0 +1,124 @@
+//! End-to-end tests of `trustcbr sweep`: a sweep over seeds and a parameter, split into
+//! shards and merged into the same report byte for byte.
+
+use std::path::Path;
+use std::process::Command;
+
+fn trustcbr() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+}
+
+fn succeed(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+const SUITE: &str = r#"(
+    seed: 1,
+    trials: 3,
+    arms: ["random-walk", "case-based"],
+    experiments: [(scenario: movement, operator: "balanced")],
+)"#;
+
+const SWEEP: &str = r#"(
+    suite: file("suite.ron"),
+    seeds: [1, 2, 3],
+    parameters: [retention([any_search, final_from_search]), time_unit([task_seconds, commands])],
+)"#;
+
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut found: Vec<(String, Vec<u8>)> = [
+        "sweep.md",
+        "sweep.json",
+        "sweep-retention.svg",
+        "sweep-time_unit.svg",
+    ]
+    .iter()
+    .map(|name| (name.to_string(), std::fs::read(dir.join(name)).unwrap()))
+    .collect();
+    found.sort();
+    found
+}
+
+#[test]
+fn shards_merge_into_the_report_of_one_run() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("suite.ron"), SUITE).unwrap();
+    let sweep = dir.path().join("sweep.ron");
+    std::fs::write(&sweep, SWEEP).unwrap();
+    let whole = dir.path().join("whole");
+    let stdout = succeed(trustcbr().arg("sweep").arg(&sweep).arg("--out").arg(&whole));
+    assert!(stdout.contains("3 cells x 3 seeds"), "{stdout}");
+    let md = std::fs::read_to_string(whole.join("sweep.md")).unwrap();
+    for cell in ["base", "retention=final_from_search", "time_unit=commands"] {
+        assert!(md.contains(&format!("| {cell} | case-based |")), "{md}");
+    }
+    // Three shards on 1 thread, then merged.
+    let mut shards = Vec::new();
+    for i in 1..=3 {
+        let shard = dir.path().join(format!("shard-{i}"));
+        succeed(
+            trustcbr()
+                .arg("sweep")
+                .arg(&sweep)
+                .args(["--shard", &format!("{i}/3"), "--threads", "1", "--out"])
+                .arg(&shard),
+        );
+        assert!(!shard.join("sweep.md").exists(), "a shard writes no report");
+        shards.push(shard);
+    }
+    let merged = dir.path().join("merged");
+    // A missing shard is named.
+    let output = trustcbr()
+        .args(["sweep", "merge"])
+        .arg(&sweep)
+        .args(&shards[..2])
+        .arg("--out")
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains("run the missing shard"),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    succeed(
+        trustcbr()
+            .args(["sweep", "merge"])
+            .arg(&sweep)
+            .args(&shards)
+            .arg("--out")
+            .arg(&merged),
+    );
+    assert_eq!(files(&whole), files(&merged));
+}
+
+#[test]
+fn bad_shards_and_sweeps_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("suite.ron"), SUITE).unwrap();
+    let sweep = dir.path().join("sweep.ron");
+    std::fs::write(&sweep, SWEEP).unwrap();
+    for shard in ["0/3", "4/3", "2", "a/b"] {
+        let output = trustcbr()
+            .arg("sweep")
+            .arg(&sweep)
+            .args(["--shard", shard])
+            .output()
+            .unwrap();
+        assert!(!output.status.success(), "{shard} accepted");
+    }
+    std::fs::write(&sweep, SWEEP.replace("seeds: [1, 2, 3]", "seeds: []")).unwrap();
+    let output = trustcbr().arg("sweep").arg(&sweep).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && stderr.contains("seeds"),
+        "{stderr}"
+    );
+}
