@@ -248,6 +248,8 @@ fn the_report_folder_holds_every_file() {
         "config.ron",
         "curves-toy-low.svg",
         "finals-toy-random.svg",
+        "summary.svg",
+        "report.html",
     ] {
         assert!(out.join(name).is_file(), "{name} is missing");
     }
@@ -280,6 +282,12 @@ fn the_report_folder_holds_every_file() {
     assert!(line["final"]["a"].is_f64());
     let svg = std::fs::read_to_string(out.join("curves-toy-low.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("case-based+smallest-of-four"));
+    // The page holds the same figures as the files, inline, and fetches nothing.
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(page.contains(&svg));
+    assert!(page.contains(&std::fs::read_to_string(out.join("summary.svg")).unwrap()));
+    assert!(!page.contains("url(http") && !page.contains("@import"));
+    assert!(!page.contains("<script") && !page.contains("<link") && !page.contains("src="));
 }
 
 #[test]
@@ -325,6 +333,7 @@ fn plot_names_never_collide() {
     let written = write_report(dir.path(), &entries, "()", 0.1, &Provenance::default()).unwrap();
     let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
     assert_eq!(written.len(), on_disk);
-    // Three experiments, each with a curve and a heatmap, plus the four text files.
-    assert_eq!(on_disk, 3 * 2 + 4);
+    // Three experiments, each with a curve and a heatmap, plus the four text files, the
+    // summary figure and the page.
+    assert_eq!(on_disk, 3 * 2 + 4 + 2);
 }

@@ -5,7 +5,7 @@
 //! atomically.
 
 use super::runner::{ArmResult, ExperimentResult, TrialRecord};
-use super::stats::MeanCi;
+use super::stats::{MeanCi, mean_ci95};
 use crate::named::named_behavior;
 use cbr_core::{BehaviorSpace, FileError, write_atomically};
 use plotters::prelude::*;
@@ -315,17 +315,23 @@ pub fn write_report(
     write("summary.json", &(summary + "\n"))?;
     write("trials.jsonl", &trials_jsonl(entries))?;
     write("config.ron", config_ron)?;
+    // Every figure is written as its own SVG file and the same text goes into the page.
+    let mut figures: Vec<(String, String)> = Vec::new();
+    let summary_svg = plot(&dir.join("summary.svg"), (1200, 560), |area| {
+        summary_figure(area, entries)
+    })?;
+    write("summary.svg", &summary_svg)?;
+    figures.push(("summary".into(), summary_svg));
     for (e, stem) in entries
         .iter()
         .zip(file_stems(entries.iter().map(|e| &e.result.name)))
     {
         let name = format!("curves-{stem}.svg");
-        write(
-            &name,
-            &plot(&dir.join(&name), (1000, 520), |area| {
-                learning_curves(area, e)
-            })?,
-        )?;
+        let svg = plot(&dir.join(&name), (1250, 520), |area| {
+            learning_curves(area, e)
+        })?;
+        write(&name, &svg)?;
+        figures.push((e.result.name.clone(), svg));
         // One heatmap per pair of components: the first two, then the next two, ...
         let components = e.space.components();
         for first in (0..components.len()).step_by(2) {
@@ -345,9 +351,97 @@ pub fn write_report(
                 final_behaviors(area, e, (first, second), (rows, columns))
             })?;
             write(&name, &svg)?;
+            figures.push((e.result.name.clone(), svg));
         }
     }
+    write(
+        "report.html",
+        &html_page(entries, config_ron, provenance, &figures),
+    )?;
     Ok(written)
+}
+
+/// Escapes text for HTML.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// A Markdown table as made by [`table`] and [`arms_table`], as an HTML table.
+fn html_table(markdown: &str) -> String {
+    let cells = |line: &str| -> Vec<String> {
+        line.trim()
+            .trim_matches('|')
+            .split('|')
+            .map(|c| escape(c.trim()))
+            .collect()
+    };
+    let mut lines = markdown.lines().filter(|l| l.starts_with('|'));
+    let mut html = String::from("<table>\n<thead><tr>");
+    if let Some(header) = lines.next() {
+        for c in cells(header) {
+            let _ = write!(html, "<th>{c}</th>");
+        }
+    }
+    html.push_str("</tr></thead>\n<tbody>\n");
+    for line in lines.skip(1) {
+        html.push_str("<tr>");
+        for c in cells(line) {
+            let _ = write!(html, "<td>{c}</td>");
+        }
+        html.push_str("</tr>\n");
+    }
+    html.push_str("</tbody>\n</table>\n");
+    html
+}
+
+/// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched) with the
+/// tables, the figures (the same SVG text as the files), the config and the provenance.
+fn html_page(
+    entries: &[ReportEntry<'_>],
+    config_ron: &str,
+    provenance: &Provenance,
+    figures: &[(String, String)],
+) -> String {
+    let mut page = String::from(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>trustcbr report</title>\n<style>\nbody { font-family: sans-serif; margin: 2em auto; max-width: 1300px; color: #222; }\ntable { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }\nth, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }\nth { background: #eee; }\ntd { text-align: right; }\ntd:first-child, td:nth-child(2) { text-align: left; }\nfigure { margin: 1em 0; }\nfigure svg { max-width: 100%; height: auto; }\npre { background: #f6f6f6; padding: 1em; overflow-x: auto; }\n</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n",
+    );
+    let _ = writeln!(
+        page,
+        "<p>{} {}{}. Command line: <code>{}</code>.</p>",
+        escape(&provenance.tool),
+        escape(&provenance.version),
+        provenance
+            .git_commit
+            .as_ref()
+            .map_or(String::new(), |c| format!(
+                ", commit <code>{}</code>",
+                escape(c)
+            )),
+        escape(&provenance.command_line.join(" "))
+    );
+    let _ = write!(
+        page,
+        "<h2>Behaviors evaluated: the paper's two arms</h2>\n{}<h2>Every arm: what it costs the operator</h2>\n{}",
+        html_table(&table(entries)),
+        html_table(&arms_table(entries))
+    );
+    let mut current = "";
+    for (section, svg) in figures {
+        if section != current {
+            let _ = writeln!(page, "<h2>{}</h2>", escape(section));
+            current = section;
+        }
+        let _ = write!(page, "<figure>\n{svg}\n</figure>\n");
+    }
+    let _ = write!(
+        page,
+        "<h2>Config</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
+        escape(config_ron)
+    );
+    page
 }
 
 type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
@@ -402,6 +496,48 @@ fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
     out
 }
 
+/// Width of the legend strip right of a chart, in pixels.
+const LEGEND_WIDTH: u32 = 250;
+
+/// Draws a legend of `entries` (label, colour) in `area`, top to bottom.
+fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
+    for (k, (label, color)) in entries.iter().enumerate() {
+        let y = 60 + 22 * k as i32;
+        area.draw(&PathElement::new(
+            vec![(8, y), (32, y)],
+            color.stroke_width(3),
+        ))?;
+        area.draw(&Text::new(
+            label.clone(),
+            (40, y - 7),
+            ("sans-serif", 13).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
+/// Labels integers on a log axis (`3`, `10`, `100`) and nothing in between, so counts
+/// never read `1.0` and no label is drawn twice.
+fn integer_label(v: &f64) -> String {
+    if (v - v.round()).abs() < 1e-9 && *v >= 1.0 {
+        format!("{}", v.round())
+    } else {
+        String::new()
+    }
+}
+
+/// The 95% confidence band of the moving average: mean ± t * sd / sqrt(n) over the same
+/// window, per trial.
+fn moving_band(values: &[f64], window: usize) -> Vec<(f64, f64)> {
+    (0..values.len())
+        .map(|i| {
+            let from = (i + 1).saturating_sub(window);
+            let m = mean_ci95(&values[from..=i]).expect("a non-empty window");
+            (m.mean - m.ci95, m.mean + m.ci95)
+        })
+        .collect()
+}
+
 fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
     let trials = e.result.trials().max(1) as u32;
     let top = e
@@ -412,7 +548,9 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .max()
         .unwrap_or(1)
         .max(2) as f64;
-    let mut chart = ChartBuilder::on(area)
+    let (width, _) = area.dim_in_pixel();
+    let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
+    let mut chart = ChartBuilder::on(&plot)
         .caption(
             format!("{}: behaviors evaluated per trial", e.result.name),
             ("sans-serif", 20),
@@ -423,9 +561,12 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .build_cartesian_2d(0u32..trials, (0.8f64..top * 1.2).log_scale())?;
     chart
         .configure_mesh()
-        .x_desc("trial")
+        .light_line_style(TRANSPARENT)
+        .x_desc("trial (in order; the case base grows)")
         .y_desc("behaviors evaluated (log scale)")
+        .y_label_formatter(&integer_label)
         .draw()?;
+    let mut entries = Vec::new();
     for (index, s) in e.result.arms.iter().enumerate() {
         let color = arm_color(index);
         let counts = s.counts();
@@ -433,30 +574,117 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
             counts
                 .iter()
                 .enumerate()
-                .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.35).filled())),
+                .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.25).filled())),
         )?;
-        chart
-            .draw_series(LineSeries::new(
-                moving_average(&counts, MOVING_AVERAGE_WINDOW)
-                    .into_iter()
+        let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
+        let outline: Vec<(u32, f64)> = band
+            .iter()
+            .enumerate()
+            .map(|(i, &(_, high))| (i as u32, high.max(0.8)))
+            .chain(
+                band.iter()
                     .enumerate()
-                    .map(|(i, m)| (i as u32, m)),
-                color.stroke_width(3),
-            ))?
-            .label(format!(
-                "{} (moving average of {MOVING_AVERAGE_WINDOW})",
-                s.name
-            ))
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
-            });
+                    .rev()
+                    .map(|(i, &(low, _))| (i as u32, low.max(0.8))),
+            )
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(
+            outline,
+            color.mix(0.18).filled(),
+        )))?;
+        chart.draw_series(LineSeries::new(
+            moving_average(&counts, MOVING_AVERAGE_WINDOW)
+                .into_iter()
+                .enumerate()
+                .map(|(i, m)| (i as u32, m)),
+            color.stroke_width(3),
+        ))?;
+        entries.push((s.name.clone(), color));
     }
+    side.draw(&Text::new(
+        format!("moving average of {MOVING_AVERAGE_WINDOW}, 95% CI band"),
+        (8, 30),
+        ("sans-serif", 12).into_font(),
+    ))?;
+    legend(&side, &entries)
+}
+
+/// Every experiment and arm at once: mean behaviors evaluated with its 95% confidence
+/// interval, log scale.
+fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
+    let (width, _) = area.dim_in_pixel();
+    let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
+    let arms = entries.first().map_or(0, |e| e.result.arms.len()).max(1);
+    let top = entries
+        .iter()
+        .flat_map(|e| {
+            e.result
+                .arms
+                .iter()
+                .map(|a| a.behaviors.mean + a.behaviors.ci95)
+        })
+        .fold(2.0f64, f64::max);
+    let names: Vec<String> = entries.iter().map(|e| e.result.name.clone()).collect();
+    let mut chart = ChartBuilder::on(&plot)
+        .caption(
+            "Behaviors evaluated per trial: every experiment and arm (mean, 95% CI)",
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(60)
+        .y_label_area_size(60)
+        .build_cartesian_2d(
+            -0.5..names.len() as f64 - 0.5,
+            (0.8f64..top * 1.3).log_scale(),
+        )?;
+    let label = |v: &f64| {
+        let i = v.round();
+        if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < names.len() {
+            names[i as usize].clone()
+        } else {
+            String::new()
+        }
+    };
     chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .disable_x_mesh()
+        .x_labels(names.len().max(1))
+        .x_label_formatter(&label)
+        .x_label_style(("sans-serif", 11))
+        .y_desc("behaviors evaluated (log scale)")
+        .y_label_formatter(&integer_label)
         .draw()?;
-    Ok(())
+    let mut legend_entries = Vec::new();
+    for a in 0..arms {
+        let color = arm_color(a);
+        let offset = (a as f64 + 0.5) / arms as f64 * 0.7 - 0.35;
+        let points: Vec<(f64, MeanCi)> = entries
+            .iter()
+            .enumerate()
+            .filter_map(|(x, e)| {
+                e.result
+                    .arms
+                    .get(a)
+                    .map(|r| (x as f64 + offset, r.behaviors))
+            })
+            .collect();
+        chart.draw_series(points.iter().map(|&(x, m)| {
+            PathElement::new(
+                vec![(x, (m.mean - m.ci95).max(0.8)), (x, m.mean + m.ci95)],
+                color.stroke_width(2),
+            )
+        }))?;
+        chart.draw_series(
+            points
+                .iter()
+                .map(|&(x, m)| Circle::new((x, m.mean), 4, color.filled())),
+        )?;
+        if let Some(arm) = entries.first().and_then(|e| e.result.arms.get(a)) {
+            legend_entries.push((arm.name.clone(), color));
+        }
+    }
+    legend(&side, &legend_entries)
 }
 
 /// Heatmaps of where each arm's final behaviors land, over components `x` and `y`, one

@@ -23,13 +23,29 @@ pub fn mean_ci95(values: &[f64]) -> Option<MeanCi> {
         return Some(MeanCi { mean, ci95: 0.0 });
     }
     let sd = sample_sd(values, mean);
-    let t = StudentsT::new(0.0, 1.0, (n - 1) as f64)
-        .expect("degrees of freedom >= 1")
-        .inverse_cdf(0.975);
+    let t = t_975(n - 1);
     Some(MeanCi {
         mean,
         ci95: t * sd / (n as f64).sqrt(),
     })
+}
+
+/// Student's t quantile at 0.975 for `df` degrees of freedom (at least 1). The quantile
+/// is found numerically, so small degrees of freedom (the moving windows of the learning
+/// curves ask for them thousands of times) are computed once.
+fn t_975(df: usize) -> f64 {
+    const CACHED: usize = 64;
+    static SMALL: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let quantile = |df: usize| {
+        StudentsT::new(0.0, 1.0, df as f64)
+            .expect("degrees of freedom >= 1")
+            .inverse_cdf(0.975)
+    };
+    if df <= CACHED {
+        SMALL.get_or_init(|| (1..=CACHED).map(quantile).collect())[df - 1]
+    } else {
+        quantile(df)
+    }
 }
 
 fn sample_sd(values: &[f64], mean: f64) -> f64 {
