@@ -24,8 +24,8 @@ pub mod search;
 pub mod select;
 
 pub use adapter::{
-    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, SearchKind,
-    Source, TrustAdapter,
+    Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
+    SearchKind, Source, TrustAdapter,
 };
 pub use domain::Domain;
 pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
