@@ -1,0 +1,236 @@
+//! [`PostgresStore`]: a case base in a PostgreSQL database, shared by a fleet of robots on
+//! several machines (`--cases postgres://user@host/db`).
+//!
+//! The same two tables as the SQLite store: `trustcbr_identity` (one row) and
+//! `trustcbr_cases` (`id bigint GENERATED ALWAYS AS IDENTITY`). A sequence hands out ids
+//! out of commit order when transactions overlap, and a reader that saw id 7 committed
+//! before id 6 would skip 6 for good; so every append (and the creation of the tables)
+//! first takes one transaction-scoped advisory lock, [`APPEND_LOCK`]: appends are
+//! serialized across the fleet, ids are committed in order, and "every case with an id
+//! greater than the last one seen" is exactly what a server has not seen. A commit returns
+//! once PostgreSQL has flushed it (`synchronous_commit` on, its default).
+
+use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, row};
+use postgres::fallible_iterator::FallibleIterator;
+use postgres::{Client, GenericClient, NoTls};
+use trust::TrustCase;
+
+/// The version of the layout below, recorded in every case base.
+const FORMAT: i64 = 1;
+
+/// The advisory lock key every append holds until it commits ("trustcbr" in ASCII).
+pub const APPEND_LOCK: i64 = 0x7472_7573_7463_6272;
+
+const SCHEMA: &str = "
+    CREATE TABLE IF NOT EXISTS trustcbr_identity (
+        singleton integer PRIMARY KEY CHECK (singleton = 1),
+        format bigint NOT NULL,
+        domain text NOT NULL,
+        space text NOT NULL
+    );
+    CREATE TABLE IF NOT EXISTS trustcbr_cases (
+        id bigint GENERATED ALWAYS AS IDENTITY PRIMARY KEY,
+        problem text NOT NULL,
+        solution text NOT NULL
+    );";
+
+/// A case base in a PostgreSQL database.
+pub struct PostgresStore {
+    location: String,
+    client: Client,
+    identity: Identity,
+}
+
+/// `url` with its password, if any, replaced by `***`.
+pub fn without_password(url: &str) -> String {
+    let Some(start) = url.find("://").map(|i| i + 3) else {
+        return url.to_owned();
+    };
+    let Some(at) = url[start..].find('@').map(|i| start + i) else {
+        return url.to_owned();
+    };
+    match url[start..at].find(':') {
+        Some(colon) => format!("{}:***{}", &url[..start + colon], &url[at..]),
+        None => url.to_owned(),
+    }
+}
+
+impl PostgresStore {
+    /// Connects to `url`. With an `identity`, a database without a case base gets one
+    /// recording it; without one, the case base must exist. The space recorded is not
+    /// compared here (see [`super::open`]).
+    pub fn open(url: &str, identity: Option<&Identity>) -> Result<Self, StoreError> {
+        let location = without_password(url);
+        let db = |e: postgres::Error| database_error(&location, &e);
+        let mut client = Client::connect(url, NoTls).map_err(db)?;
+        let mut transaction = client.transaction().map_err(db)?;
+        transaction
+            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
+            .map_err(db)?;
+        let exists: bool = transaction
+            .query_one("SELECT to_regclass('trustcbr_identity') IS NOT NULL", &[])
+            .map_err(db)?
+            .get(0);
+        if !exists && identity.is_none() {
+            return Err(StoreError::Missing(location));
+        }
+        transaction.batch_execute(SCHEMA).map_err(db)?;
+        let recorded = transaction
+            .query_opt("SELECT format, domain, space FROM trustcbr_identity", &[])
+            .map_err(db)?;
+        let identity = match (recorded, identity) {
+            (Some(r), _) => {
+                let format: i64 = r.get(0);
+                if format != FORMAT {
+                    return Err(StoreError::Corrupt {
+                        location,
+                        reason: format!("format {format}, this program reads format {FORMAT}"),
+                    });
+                }
+                Identity {
+                    domain: r.get(1),
+                    space: row::decode_space(&location, r.get(2))?,
+                }
+            }
+            (None, Some(identity)) => {
+                transaction
+                    .execute(
+                        "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, $1, $2, $3)",
+                        &[&FORMAT, &identity.domain, &row::encode_space(&identity.space)],
+                    )
+                    .map_err(db)?;
+                identity.clone()
+            }
+            (None, None) => return Err(StoreError::Missing(location)),
+        };
+        transaction.commit().map_err(db)?;
+        Ok(Self {
+            location,
+            client,
+            identity,
+        })
+    }
+}
+
+fn database_error(location: &str, e: &postgres::Error) -> StoreError {
+    // The database's own message (e.g. "relation ... does not exist") is the useful part.
+    let reason = match e.as_db_error() {
+        Some(db) => db.message().to_owned(),
+        None => e.to_string(),
+    };
+    StoreError::Database {
+        location: location.to_owned(),
+        reason,
+    }
+}
+
+fn read_rows(
+    client: &mut impl GenericClient,
+    location: &str,
+    after: Option<StoreId>,
+    each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
+) -> Result<(), StoreError> {
+    let db = |e: postgres::Error| database_error(location, &e);
+    let after = after.unwrap_or(StoreId::MIN);
+    let mut rows = client
+        .query_raw(
+            "SELECT id, problem, solution FROM trustcbr_cases WHERE id > $1 ORDER BY id",
+            [&after],
+        )
+        .map_err(db)?;
+    while let Some(r) = rows.next().map_err(db)? {
+        each(row::decode(location, r.get(0), r.get(1), r.get(2))?)?;
+    }
+    Ok(())
+}
+
+impl CaseStore for PostgresStore {
+    fn location(&self) -> String {
+        self.location.clone()
+    }
+
+    fn identity(&self) -> &Identity {
+        &self.identity
+    }
+
+    fn writable(&self) -> bool {
+        true
+    }
+
+    fn read_after(
+        &mut self,
+        after: Option<StoreId>,
+        each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
+    ) -> Result<(), StoreError> {
+        read_rows(&mut self.client, &self.location, after, each)
+    }
+
+    fn append(
+        &mut self,
+        case: &TrustCase,
+        after: Option<StoreId>,
+        missed: &mut dyn FnMut(StoredCase),
+    ) -> Result<StoreId, StoreError> {
+        let location = &self.location;
+        let db = |e: postgres::Error| database_error(location, &e);
+        let mut transaction = self.client.transaction().map_err(db)?;
+        transaction
+            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
+            .map_err(db)?;
+        read_rows(&mut transaction, location, after, &mut |c| {
+            missed(c);
+            Ok(())
+        })?;
+        let (problem, solution) = row::encode(case);
+        let id: StoreId = transaction
+            .query_one(
+                "INSERT INTO trustcbr_cases (problem, solution) VALUES ($1, $2) RETURNING id",
+                &[&problem, &solution],
+            )
+            .map_err(db)?
+            .get(0);
+        transaction.commit().map_err(db)?;
+        Ok(id)
+    }
+
+    fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
+        let location = &self.location;
+        let db = |e: postgres::Error| database_error(location, &e);
+        let mut transaction = self.client.transaction().map_err(db)?;
+        transaction
+            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
+            .map_err(db)?;
+        let insert = transaction
+            .prepare("INSERT INTO trustcbr_cases (problem, solution) VALUES ($1, $2)")
+            .map_err(db)?;
+        for case in cases {
+            let (problem, solution) = row::encode(case);
+            transaction
+                .execute(&insert, &[&problem, &solution])
+                .map_err(db)?;
+        }
+        transaction.commit().map_err(db)?;
+        Ok(cases.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passwords_are_not_shown() {
+        assert_eq!(
+            without_password("postgres://robot:s3cret@fleet.example/cases"),
+            "postgres://robot:***@fleet.example/cases"
+        );
+        assert_eq!(
+            without_password("postgres://robot@localhost/cases"),
+            "postgres://robot@localhost/cases"
+        );
+        assert_eq!(
+            without_password("postgresql:///cases"),
+            "postgresql:///cases"
+        );
+    }
+}

@@ -1,0 +1,255 @@
+//! [`SqliteStore`]: a case base in an SQLite database file (the default store).
+//!
+//! Two tables: `trustcbr_identity` (one row: format, domain, behavior space as JSON) and
+//! `trustcbr_cases` (`id INTEGER PRIMARY KEY AUTOINCREMENT`, evaluated pairs and solution
+//! as JSON). The database runs in WAL mode with `synchronous=FULL`, so a committed append
+//! survives a crash or a power cut; SQLite has one writer at a time, so ids are assigned in
+//! commit order and never reused. Several processes may open one file: each append takes
+//! the write lock first (`BEGIN IMMEDIATE`) and waits for it up to [`BUSY_TIMEOUT`].
+
+use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file, row};
+use rusqlite::{Connection, OpenFlags, OptionalExtension, TransactionBehavior, params};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+use trust::TrustCase;
+
+/// The version of the layout below, recorded in every case base.
+const FORMAT: i64 = 1;
+
+/// How long an append waits for another process's write to finish.
+pub const BUSY_TIMEOUT: Duration = Duration::from_secs(30);
+
+const SCHEMA: &str = "
+    CREATE TABLE IF NOT EXISTS trustcbr_identity (
+        singleton INTEGER PRIMARY KEY CHECK (singleton = 1),
+        format INTEGER NOT NULL,
+        domain TEXT NOT NULL,
+        space TEXT NOT NULL
+    );
+    CREATE TABLE IF NOT EXISTS trustcbr_cases (
+        id INTEGER PRIMARY KEY AUTOINCREMENT,
+        problem TEXT NOT NULL,
+        solution TEXT NOT NULL
+    );";
+
+/// A case base in an SQLite file.
+pub struct SqliteStore {
+    path: PathBuf,
+    connection: Connection,
+    identity: Identity,
+}
+
+impl SqliteStore {
+    /// Opens the database at `path`. With an `identity`, a missing file (or an empty
+    /// database) becomes a new case base recording it; without one, the case base must
+    /// exist. A path that is not a regular file is refused before anything opens it, and a
+    /// database holding other tables is refused untouched. The space recorded is not
+    /// compared here (see [`super::open`]).
+    pub fn open(path: &Path, identity: Option<&Identity>) -> Result<Self, StoreError> {
+        let exists = check_file(path)?;
+        if !exists && identity.is_none() {
+            return Err(StoreError::Missing(path.display().to_string()));
+        }
+        let location = path.display().to_string();
+        if exists && !starts_like_a_database(path) {
+            return Err(StoreError::Corrupt {
+                location,
+                reason: "not an SQLite database (nor empty); RON case files must end in `.ron`"
+                    .to_owned(),
+            });
+        }
+        let db = |e: rusqlite::Error| database_error(&location, e);
+        let mut flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        if identity.is_some() {
+            flags |= OpenFlags::SQLITE_OPEN_CREATE;
+        }
+        let mut connection = Connection::open_with_flags(path, flags).map_err(db)?;
+        connection.busy_timeout(BUSY_TIMEOUT).map_err(db)?;
+        let tables: Vec<String> = {
+            let mut statement = connection
+                .prepare("SELECT name FROM sqlite_master WHERE type = 'table'")
+                .map_err(db)?;
+            statement
+                .query_map([], |r| r.get(0))
+                .map_err(db)?
+                .collect::<Result<_, _>>()
+                .map_err(db)?
+        };
+        let ours = tables.iter().any(|t| t == "trustcbr_identity");
+        if !ours && tables.iter().any(|t| !t.starts_with("sqlite_")) {
+            return Err(StoreError::Corrupt {
+                location,
+                reason: format!(
+                    "an SQLite database with other tables ({}); give a new file name",
+                    tables.join(", ")
+                ),
+            });
+        }
+        connection
+            .pragma_update(None, "journal_mode", "WAL")
+            .map_err(db)?;
+        connection
+            .pragma_update(None, "synchronous", "FULL")
+            .map_err(db)?;
+        let transaction = connection
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(db)?;
+        transaction.execute_batch(SCHEMA).map_err(db)?;
+        let recorded: Option<(i64, String, String)> = transaction
+            .query_row(
+                "SELECT format, domain, space FROM trustcbr_identity",
+                [],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .optional()
+            .map_err(db)?;
+        let identity = match (recorded, identity) {
+            (Some((format, domain, space)), _) => {
+                if format != FORMAT {
+                    return Err(StoreError::Corrupt {
+                        location,
+                        reason: format!("format {format}, this program reads format {FORMAT}"),
+                    });
+                }
+                Identity {
+                    domain,
+                    space: row::decode_space(&location, &space)?,
+                }
+            }
+            (None, Some(identity)) => {
+                transaction
+                    .execute(
+                        "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, ?1, ?2, ?3)",
+                        params![FORMAT, identity.domain, row::encode_space(&identity.space)],
+                    )
+                    .map_err(db)?;
+                identity.clone()
+            }
+            (None, None) => return Err(StoreError::Missing(location)),
+        };
+        transaction.commit().map_err(db)?;
+        Ok(Self {
+            path: path.to_owned(),
+            connection,
+            identity,
+        })
+    }
+}
+
+/// Whether the file is empty or begins with SQLite's header: SQLite would take any file
+/// shorter than a page for an empty database and write over it.
+fn starts_like_a_database(path: &Path) -> bool {
+    use std::io::Read;
+    const HEADER: &[u8; 16] = b"SQLite format 3\0";
+    let mut start = Vec::with_capacity(HEADER.len());
+    let read =
+        std::fs::File::open(path).and_then(|f| f.take(HEADER.len() as u64).read_to_end(&mut start));
+    read.is_ok() && (start.is_empty() || start == HEADER)
+}
+
+fn database_error(location: &str, e: rusqlite::Error) -> StoreError {
+    StoreError::Database {
+        location: location.to_owned(),
+        reason: e.to_string(),
+    }
+}
+
+fn read_rows(
+    connection: &Connection,
+    location: &str,
+    after: Option<StoreId>,
+    each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
+) -> Result<(), StoreError> {
+    let db = |e| database_error(location, e);
+    let mut statement = connection
+        .prepare_cached(
+            "SELECT id, problem, solution FROM trustcbr_cases WHERE id > ?1 ORDER BY id",
+        )
+        .map_err(db)?;
+    let mut rows = statement
+        .query([after.unwrap_or(StoreId::MIN)])
+        .map_err(db)?;
+    while let Some(r) = rows.next().map_err(db)? {
+        let id: StoreId = r.get(0).map_err(db)?;
+        let problem = r
+            .get_ref(1)
+            .map_err(db)?
+            .as_str()
+            .map_err(|e| db(e.into()))?;
+        let solution = r
+            .get_ref(2)
+            .map_err(db)?
+            .as_str()
+            .map_err(|e| db(e.into()))?;
+        each(row::decode(location, id, problem, solution)?)?;
+    }
+    Ok(())
+}
+
+impl CaseStore for SqliteStore {
+    fn location(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    fn identity(&self) -> &Identity {
+        &self.identity
+    }
+
+    fn writable(&self) -> bool {
+        true
+    }
+
+    fn read_after(
+        &mut self,
+        after: Option<StoreId>,
+        each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
+    ) -> Result<(), StoreError> {
+        read_rows(&self.connection, &self.location(), after, each)
+    }
+
+    fn append(
+        &mut self,
+        case: &TrustCase,
+        after: Option<StoreId>,
+        missed: &mut dyn FnMut(StoredCase),
+    ) -> Result<StoreId, StoreError> {
+        let location = self.location();
+        let db = |e| database_error(&location, e);
+        let transaction = self
+            .connection
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(db)?;
+        read_rows(&transaction, &location, after, &mut |c| {
+            missed(c);
+            Ok(())
+        })?;
+        let (problem, solution) = row::encode(case);
+        transaction
+            .prepare_cached("INSERT INTO trustcbr_cases (problem, solution) VALUES (?1, ?2)")
+            .and_then(|mut s| s.execute(params![problem, solution]))
+            .map_err(db)?;
+        let id = transaction.last_insert_rowid();
+        transaction.commit().map_err(db)?;
+        Ok(id)
+    }
+
+    fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
+        let location = self.location();
+        let db = |e| database_error(&location, e);
+        let transaction = self
+            .connection
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(db)?;
+        {
+            let mut insert = transaction
+                .prepare_cached("INSERT INTO trustcbr_cases (problem, solution) VALUES (?1, ?2)")
+                .map_err(db)?;
+            for case in cases {
+                let (problem, solution) = row::encode(case);
+                insert.execute(params![problem, solution]).map_err(db)?;
+            }
+        }
+        transaction.commit().map_err(db)?;
+        Ok(cases.len())
+    }
+}
