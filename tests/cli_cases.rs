@@ -6,13 +6,7 @@ use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
-const QUICK_DOMAIN: &str = r#"(
-    space: (components: [
-        (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
-        (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
-    ]),
-    adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0), reuse_cases: false),
-)"#;
+mod support;
 
 fn trustcbr(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_trustcbr"))
@@ -71,7 +65,7 @@ fn learn(domain: &Path, cases: &Path, episodes: usize) -> Vec<serde_json::Value>
 fn a_case_base_goes_to_ron_and_back_unchanged() {
     let dir = tempfile::tempdir().unwrap();
     let domain = dir.path().join("quick.ron");
-    std::fs::write(&domain, QUICK_DOMAIN).unwrap();
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
     let db = dir.path().join("learned.db");
     learn(&domain, &db, 4);
     let info = succeeded(trustcbr(&["cases", "info", db.to_str().unwrap()]));
@@ -143,7 +137,7 @@ fn a_case_base_goes_to_ron_and_back_unchanged() {
 fn a_ron_case_file_is_served_read_only() {
     let dir = tempfile::tempdir().unwrap();
     let domain = dir.path().join("quick.ron");
-    std::fs::write(&domain, QUICK_DOMAIN).unwrap();
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
     let db = dir.path().join("learned.db");
     learn(&domain, &db, 2);
     let exported = dir.path().join("cases.ron");

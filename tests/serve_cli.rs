@@ -9,6 +9,8 @@ use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 
+mod support;
+
 /// Kills the server when the test ends, even if it fails.
 struct Server(Child);
 
@@ -97,39 +99,34 @@ fn the_example_domain_file_is_served() {
 }
 
 #[test]
-fn a_corrupt_case_base_is_refused_and_left_untouched() {
+fn corrupt_case_bases_are_refused_and_left_untouched() {
     let dir = tempfile::tempdir().unwrap();
-    let cases = dir.path().join("cases.ron");
-    let corrupt = b"(cases: [(problem: [(behavior: [1, 2], time: 3.0)], solution: [4, ";
-    std::fs::write(&cases, corrupt).unwrap();
-    let output = serve(&["--domain", "movement"], &cases)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    let stderr = failure(&output);
-    assert!(
-        stderr.contains(&format!("{}:1:", cases.display())),
-        "{stderr}"
-    );
-    assert_eq!(std::fs::read(&cases).unwrap(), corrupt);
-}
-
-#[test]
-fn a_corrupt_database_is_refused_and_left_untouched() {
-    let dir = tempfile::tempdir().unwrap();
-    let cases = dir.path().join("cases.db");
-    let corrupt = b"SQLite format 3\0 but then nothing a database holds";
-    std::fs::write(&cases, corrupt).unwrap();
-    let output = serve(&["--domain", "movement"], &cases)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    let stderr = failure(&output);
-    assert!(
-        stderr.contains(&format!("{}: ", cases.display())),
-        "{stderr}"
-    );
-    assert_eq!(std::fs::read(&cases).unwrap(), corrupt);
+    let corrupt: [(&str, &[u8], &str); 3] = [
+        // A RON file cut short: the position of the error.
+        (
+            "cases.ron",
+            b"(cases: [(problem: [(behavior: [1, 2], time: 3.0)], solution: [4, ",
+            ":1:",
+        ),
+        // SQLite's header and nothing a database holds.
+        ("cases.db", b"SQLite format 3\0 but then nothing else", ": "),
+        // Not a database at all.
+        ("notes.db", b"shopping list", ": not a trustcbr case base"),
+    ];
+    for (name, bytes, expected) in corrupt {
+        let cases = dir.path().join(name);
+        std::fs::write(&cases, bytes).unwrap();
+        let output = serve(&["--domain", "movement"], &cases)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let stderr = failure(&output);
+        assert!(
+            stderr.contains(&format!("{}{expected}", cases.display())),
+            "{stderr}"
+        );
+        assert_eq!(std::fs::read(&cases).unwrap(), bytes);
+    }
 }
 
 #[test]
@@ -217,18 +214,7 @@ fn each_tcp_connection_is_its_own_episode_over_the_shared_cases() {
         .spawn()
         .unwrap(),
     );
-    let mut log = BufReader::new(server.0.stderr.take().unwrap());
-    let addr = loop {
-        let mut line = String::new();
-        assert_ne!(
-            log.read_line(&mut line).unwrap(),
-            0,
-            "the server exited early"
-        );
-        if let Some(addr) = line.trim().strip_prefix("listening on ") {
-            break addr.to_owned();
-        }
-    };
+    let addr = support::listening_address(&mut server.0);
     let exchange = |requests: &[&str]| -> Vec<Value> {
         let stream = TcpStream::connect(&addr).unwrap();
         let mut writer = &stream;

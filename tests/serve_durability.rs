@@ -7,38 +7,23 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::Value;
 use service::DomainDefinition;
-use service::store::{self, Location, StoreId};
+use service::store::{Location, StoreId};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-/// Kill rounds; each restarts the server on the case file the previous round left.
+mod support;
+
+/// Kill rounds; each restarts the server on the case base the previous round left.
 const ROUNDS: usize = 50;
-
-/// A 5 x 5 space whose episodes retain a case in three requests: `begin`, one interruption
-/// (untrustworthy at -1: the search switches), one completion (trustworthy at +1). Case
-/// reuse is off so that every episode searches and therefore retains.
-const QUICK_DOMAIN: &str = r#"(
-    space: (components: [
-        (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
-        (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
-    ]),
-    adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0), reuse_cases: false),
-)"#;
-
-const EPISODE: [&str; 3] = [
-    r#"{"request": "begin"}"#,
-    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 4.0}"#,
-    r#"{"outcome": "completed", "weight": 1.0, "duration_s": 6.0}"#,
-];
 
 #[test]
 fn killed_servers_never_lose_acknowledged_cases() {
     let dir = tempfile::tempdir().unwrap();
     let domain_path = dir.path().join("quick.ron");
-    std::fs::write(&domain_path, QUICK_DOMAIN).unwrap();
+    std::fs::write(&domain_path, support::quick_domain(false)).unwrap();
     let domain = DomainDefinition::load(&domain_path).unwrap();
     let cases_path = dir.path().join("cases.db");
     let mut rng = ChaCha8Rng::seed_from_u64(20140929);
@@ -73,7 +58,7 @@ fn killed_servers_never_lose_acknowledged_cases() {
         // while the replies are read, then kill it after a random number of them.
         let episodes = rng.random_range(1..=6);
         for _ in 0..episodes {
-            for request in EPISODE {
+            for request in support::EPISODE {
                 writeln!(input, "{request}").unwrap();
             }
         }
@@ -125,26 +110,10 @@ fn killed_servers_never_lose_acknowledged_cases() {
 }
 
 /// The case base as it is on disk, by store id (solutions in real units); it must always
-/// open, and a missing one is empty. Store ids are unique by construction (a map would
-/// hide duplicates, so they are counted first).
+/// open, and a missing one is empty.
 fn load(path: &Path, domain: &DomainDefinition) -> BTreeMap<StoreId, Value> {
     if !path.exists() {
         return BTreeMap::new();
     }
-    let mut store = store::open_existing(&Location::Sqlite(path.to_owned()))
-        .unwrap_or_else(|e| panic!("the case base must open: {e}"));
-    let mut rows = Vec::new();
-    store
-        .read_after(None, &mut |c| {
-            rows.push((
-                c.id,
-                service::reply::behavior(&domain.space, &c.case.solution),
-            ));
-            Ok(())
-        })
-        .unwrap();
-    let count = rows.len();
-    let by_id: BTreeMap<StoreId, Value> = rows.into_iter().collect();
-    assert_eq!(by_id.len(), count, "a case id appears twice");
-    by_id
+    support::stored_solutions(&Location::Sqlite(path.to_owned()), &domain.space)
 }

@@ -9,7 +9,7 @@
 //! server lists the same cases in the same order as the store.
 
 use serde_json::Value;
-use service::store::{self, Location, StoreId};
+use service::store::{Location, StoreId};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
@@ -17,25 +17,10 @@ use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+mod support;
+
 const SERVERS: usize = 4;
 const EPISODES: usize = 200;
-
-/// A 5 x 5 space whose episodes end in three requests: `begin`, one interruption
-/// (untrustworthy at -1: switch, by search or by reusing a case), one completion
-/// (trustworthy at +1; retained when the switch came from the search).
-const QUICK_DOMAIN: &str = r#"(
-    space: (components: [
-        (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
-        (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
-    ]),
-    adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0)),
-)"#;
-
-const EPISODE: [&str; 3] = [
-    r#"{"request": "begin"}"#,
-    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 4.0}"#,
-    r#"{"outcome": "completed", "weight": 1.0, "duration_s": 6.0}"#,
-];
 
 /// One server process spoken to over its stdin and stdout.
 struct Server {
@@ -93,7 +78,7 @@ impl Drop for Server {
 /// Runs the fleet over the case base at `cases` and checks it.
 fn fleet(dir: &Path, cases: &str) {
     let domain = dir.join("quick.ron");
-    std::fs::write(&domain, QUICK_DOMAIN).unwrap();
+    std::fs::write(&domain, support::quick_domain(true)).unwrap();
     let mut servers: Vec<Server> = (0..SERVERS)
         .map(|k| Server::start(&domain, cases, k))
         .collect();
@@ -115,12 +100,12 @@ fn fleet(dir: &Path, cases: &str) {
                         held as usize >= known,
                         "a server holds {held} cases while {known} were acknowledged"
                     );
-                    server.ask(EPISODE[0]);
-                    let switched = server.ask(EPISODE[1]);
+                    server.ask(support::EPISODE[0]);
+                    let switched = server.ask(support::EPISODE[1]);
                     if switched["source"] == "case" {
                         reused.fetch_add(1, Ordering::SeqCst);
                     }
-                    let settled = server.ask(EPISODE[2]);
+                    let settled = server.ask(support::EPISODE[2]);
                     assert_eq!(settled["ok"], "settled");
                     if let Some(id) = settled["retained"].as_i64() {
                         let mut map = acknowledged.lock().unwrap();
@@ -134,24 +119,12 @@ fn fleet(dir: &Path, cases: &str) {
     });
     let acknowledged = acknowledged.into_inner().unwrap();
     let definition = service::DomainDefinition::load(&domain).unwrap();
-    let mut store = store::open_existing(&Location::parse(cases)).unwrap();
-    let mut rows: Vec<(StoreId, Value)> = Vec::new();
-    store
-        .read_after(None, &mut |c| {
-            rows.push((
-                c.id,
-                service::reply::behavior(&definition.space, &c.case.solution),
-            ));
-            Ok(())
-        })
-        .unwrap();
-    let stored: BTreeMap<StoreId, Value> = rows.iter().cloned().collect();
-    assert_eq!(stored.len(), rows.len(), "a case id is stored twice");
+    let stored = support::stored_solutions(&Location::parse(cases), &definition.space);
     assert_eq!(
         stored, acknowledged,
         "the store holds exactly the acknowledged cases"
     );
-    let ids: Vec<StoreId> = rows.iter().map(|(id, _)| *id).collect();
+    let ids: Vec<StoreId> = stored.keys().copied().collect();
     for server in &mut servers {
         let listed: Vec<StoreId> = server.ask(r#"{"request": "cases"}"#)["cases"]
             .as_array()

@@ -9,6 +9,8 @@ use std::net::TcpStream;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod support;
+
 const CONTROLLERS: usize = 32;
 const EPISODES_EACH: usize = 5;
 
@@ -26,17 +28,7 @@ impl Drop for Server {
 /// address it listens on.
 fn start(dir: &std::path::Path, extra: &[&str]) -> (Server, String) {
     let domain = dir.join("quick.ron");
-    std::fs::write(
-        &domain,
-        r#"(
-    space: (components: [
-        (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
-        (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
-    ]),
-    adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0)),
-)"#,
-    )
-    .unwrap();
+    std::fs::write(&domain, support::quick_domain(true)).unwrap();
     let mut server = Server(
         Command::new(env!("CARGO_BIN_EXE_trustcbr"))
             .args(["serve", "--domain"])
@@ -51,20 +43,7 @@ fn start(dir: &std::path::Path, extra: &[&str]) -> (Server, String) {
             .spawn()
             .unwrap(),
     );
-    let mut log = BufReader::new(server.0.stderr.take().unwrap());
-    let addr = loop {
-        let mut line = String::new();
-        assert_ne!(
-            log.read_line(&mut line).unwrap(),
-            0,
-            "the server exited early"
-        );
-        if let Some(addr) = line.trim().strip_prefix("listening on ") {
-            break addr.to_owned();
-        }
-    };
-    // Keep draining the log so the server never blocks on it.
-    std::thread::spawn(move || for _ in log.lines() {});
+    let addr = support::listening_address(&mut server.0);
     (server, addr)
 }
 

@@ -12,7 +12,7 @@
 
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, row};
 use postgres::fallible_iterator::FallibleIterator;
-use postgres::{Client, GenericClient, NoTls};
+use postgres::{Client, GenericClient, NoTls, Transaction};
 use trust::TrustCase;
 
 /// The version of the layout below, recorded in every case base.
@@ -63,10 +63,7 @@ impl PostgresStore {
         let location = without_password(url);
         let db = |e: postgres::Error| database_error(&location, &e);
         let mut client = Client::connect(url, NoTls).map_err(db)?;
-        let mut transaction = client.transaction().map_err(db)?;
-        transaction
-            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
-            .map_err(db)?;
+        let mut transaction = begin_append(&mut client, &location)?;
         let exists: bool = transaction
             .query_one("SELECT to_regclass('trustcbr_identity') IS NOT NULL", &[])
             .map_err(db)?
@@ -124,6 +121,32 @@ fn database_error(location: &str, e: &postgres::Error) -> StoreError {
     }
 }
 
+/// A transaction holding [`APPEND_LOCK`] until it ends.
+fn begin_append<'c>(client: &'c mut Client, location: &str) -> Result<Transaction<'c>, StoreError> {
+    let db = |e: postgres::Error| database_error(location, &e);
+    let mut transaction = client.transaction().map_err(db)?;
+    transaction
+        .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
+        .map_err(db)?;
+    Ok(transaction)
+}
+
+/// Inserts one case; returns its id.
+fn insert(
+    transaction: &mut Transaction<'_>,
+    location: &str,
+    case: &TrustCase,
+) -> Result<StoreId, StoreError> {
+    let (problem, solution) = row::encode(case);
+    let row = transaction
+        .query_one(
+            "INSERT INTO trustcbr_cases (problem, solution) VALUES ($1, $2) RETURNING id",
+            &[&problem, &solution],
+        )
+        .map_err(|e| database_error(location, &e))?;
+    Ok(row.get(0))
+}
+
 fn read_rows(
     client: &mut impl GenericClient,
     location: &str,
@@ -172,44 +195,27 @@ impl CaseStore for PostgresStore {
         missed: &mut dyn FnMut(StoredCase),
     ) -> Result<StoreId, StoreError> {
         let location = &self.location;
-        let db = |e: postgres::Error| database_error(location, &e);
-        let mut transaction = self.client.transaction().map_err(db)?;
-        transaction
-            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
-            .map_err(db)?;
+        let mut transaction = begin_append(&mut self.client, location)?;
         read_rows(&mut transaction, location, after, &mut |c| {
             missed(c);
             Ok(())
         })?;
-        let (problem, solution) = row::encode(case);
-        let id: StoreId = transaction
-            .query_one(
-                "INSERT INTO trustcbr_cases (problem, solution) VALUES ($1, $2) RETURNING id",
-                &[&problem, &solution],
-            )
-            .map_err(db)?
-            .get(0);
-        transaction.commit().map_err(db)?;
+        let id = insert(&mut transaction, location, case)?;
+        transaction
+            .commit()
+            .map_err(|e| database_error(location, &e))?;
         Ok(id)
     }
 
     fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
         let location = &self.location;
-        let db = |e: postgres::Error| database_error(location, &e);
-        let mut transaction = self.client.transaction().map_err(db)?;
-        transaction
-            .execute("SELECT pg_advisory_xact_lock($1)", &[&APPEND_LOCK])
-            .map_err(db)?;
-        let insert = transaction
-            .prepare("INSERT INTO trustcbr_cases (problem, solution) VALUES ($1, $2)")
-            .map_err(db)?;
+        let mut transaction = begin_append(&mut self.client, location)?;
         for case in cases {
-            let (problem, solution) = row::encode(case);
-            transaction
-                .execute(&insert, &[&problem, &solution])
-                .map_err(db)?;
+            insert(&mut transaction, location, case)?;
         }
-        transaction.commit().map_err(db)?;
+        transaction
+            .commit()
+            .map_err(|e| database_error(location, &e))?;
         Ok(cases.len())
     }
 }

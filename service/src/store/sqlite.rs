@@ -91,9 +91,7 @@ impl SqliteStore {
         connection
             .pragma_update(None, "synchronous", "FULL")
             .map_err(db)?;
-        let transaction = connection
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(db)?;
+        let transaction = begin_write(&mut connection, &location)?;
         transaction.execute_batch(SCHEMA).map_err(db)?;
         let recorded: Option<(i64, String, String)> = transaction
             .query_row(
@@ -152,6 +150,31 @@ fn database_error(location: &str, e: rusqlite::Error) -> StoreError {
         location: location.to_owned(),
         reason: e.to_string(),
     }
+}
+
+/// A transaction that holds the write lock from its start, so what it reads is what it
+/// appends after.
+fn begin_write<'c>(
+    connection: &'c mut Connection,
+    location: &str,
+) -> Result<rusqlite::Transaction<'c>, StoreError> {
+    connection
+        .transaction_with_behavior(TransactionBehavior::Immediate)
+        .map_err(|e| database_error(location, e))
+}
+
+/// Inserts one case; returns its id.
+fn insert(
+    connection: &Connection,
+    location: &str,
+    case: &TrustCase,
+) -> Result<StoreId, StoreError> {
+    let (problem, solution) = row::encode(case);
+    connection
+        .prepare_cached("INSERT INTO trustcbr_cases (problem, solution) VALUES (?1, ?2)")
+        .and_then(|mut s| s.execute(params![problem, solution]))
+        .map_err(|e| database_error(location, e))?;
+    Ok(connection.last_insert_rowid())
 }
 
 fn read_rows(
@@ -214,42 +237,27 @@ impl CaseStore for SqliteStore {
         missed: &mut dyn FnMut(StoredCase),
     ) -> Result<StoreId, StoreError> {
         let location = self.location();
-        let db = |e| database_error(&location, e);
-        let transaction = self
-            .connection
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(db)?;
+        let transaction = begin_write(&mut self.connection, &location)?;
         read_rows(&transaction, &location, after, &mut |c| {
             missed(c);
             Ok(())
         })?;
-        let (problem, solution) = row::encode(case);
+        let id = insert(&transaction, &location, case)?;
         transaction
-            .prepare_cached("INSERT INTO trustcbr_cases (problem, solution) VALUES (?1, ?2)")
-            .and_then(|mut s| s.execute(params![problem, solution]))
-            .map_err(db)?;
-        let id = transaction.last_insert_rowid();
-        transaction.commit().map_err(db)?;
+            .commit()
+            .map_err(|e| database_error(&location, e))?;
         Ok(id)
     }
 
     fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
         let location = self.location();
-        let db = |e| database_error(&location, e);
-        let transaction = self
-            .connection
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(db)?;
-        {
-            let mut insert = transaction
-                .prepare_cached("INSERT INTO trustcbr_cases (problem, solution) VALUES (?1, ?2)")
-                .map_err(db)?;
-            for case in cases {
-                let (problem, solution) = row::encode(case);
-                insert.execute(params![problem, solution]).map_err(db)?;
-            }
+        let transaction = begin_write(&mut self.connection, &location)?;
+        for case in cases {
+            insert(&transaction, &location, case)?;
         }
-        transaction.commit().map_err(db)?;
+        transaction
+            .commit()
+            .map_err(|e| database_error(&location, e))?;
         Ok(cases.len())
     }
 }
