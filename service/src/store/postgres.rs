@@ -8,7 +8,8 @@
 //! first takes one transaction-scoped advisory lock, [`APPEND_LOCK`]: appends are
 //! serialized across the fleet, ids are committed in order, and "every case with an id
 //! greater than the last one seen" is exactly what a server has not seen. A commit returns
-//! once PostgreSQL has flushed it (`synchronous_commit` on, its default).
+//! once PostgreSQL has flushed it (`synchronous_commit` on, its default). A lost connection
+//! is made again at the next use.
 
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, row};
 use postgres::fallible_iterator::FallibleIterator;
@@ -36,6 +37,8 @@ const SCHEMA: &str = "
 
 /// A case base in a PostgreSQL database.
 pub struct PostgresStore {
+    /// The URL as given (with its password), to reconnect.
+    url: String,
     location: String,
     client: Client,
     identity: Identity,
@@ -102,6 +105,7 @@ impl PostgresStore {
         };
         transaction.commit().map_err(db)?;
         Ok(Self {
+            url: url.to_owned(),
             location,
             client,
             identity,
@@ -167,6 +171,18 @@ fn read_rows(
     Ok(())
 }
 
+impl PostgresStore {
+    /// The connection, made again first if the last one was lost (the database restarted,
+    /// the network dropped); the case base's identity is not checked again.
+    fn client(&mut self) -> Result<&mut Client, StoreError> {
+        if self.client.is_closed() {
+            self.client = Client::connect(&self.url, NoTls)
+                .map_err(|e| database_error(&self.location, &e))?;
+        }
+        Ok(&mut self.client)
+    }
+}
+
 impl CaseStore for PostgresStore {
     fn location(&self) -> String {
         self.location.clone()
@@ -185,7 +201,8 @@ impl CaseStore for PostgresStore {
         after: Option<StoreId>,
         each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
     ) -> Result<(), StoreError> {
-        read_rows(&mut self.client, &self.location, after, each)
+        let location = self.location.clone();
+        read_rows(self.client()?, &location, after, each)
     }
 
     fn append(
@@ -194,8 +211,8 @@ impl CaseStore for PostgresStore {
         after: Option<StoreId>,
         missed: &mut dyn FnMut(StoredCase),
     ) -> Result<StoreId, StoreError> {
-        let location = &self.location;
-        let mut transaction = begin_append(&mut self.client, location)?;
+        let location = &self.location.clone();
+        let mut transaction = begin_append(self.client()?, location)?;
         read_rows(&mut transaction, location, after, &mut |c| {
             missed(c);
             Ok(())
@@ -208,8 +225,8 @@ impl CaseStore for PostgresStore {
     }
 
     fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
-        let location = &self.location;
-        let mut transaction = begin_append(&mut self.client, location)?;
+        let location = &self.location.clone();
+        let mut transaction = begin_append(self.client()?, location)?;
         for case in cases {
             insert(&mut transaction, location, case)?;
         }
@@ -223,6 +240,114 @@ impl CaseStore for PostgresStore {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::store::{Location, open};
+    use cbr_core::Behavior;
+    use trust::Evaluated;
+
+    /// A fresh database on the test server, dropped when the test ends; `None` (with a
+    /// message) when no server is named, which CI does not allow.
+    struct TestDatabase {
+        admin: Client,
+        name: String,
+        url: String,
+    }
+
+    impl TestDatabase {
+        fn create(name: &str) -> Option<Self> {
+            let Ok(server) = std::env::var("TRUSTCBR_TEST_POSTGRES") else {
+                assert!(
+                    std::env::var("CI").as_deref() != Ok("true"),
+                    "CI must run the PostgreSQL tests: set TRUSTCBR_TEST_POSTGRES"
+                );
+                eprintln!("skipped: set TRUSTCBR_TEST_POSTGRES=postgres://... to run {name}");
+                return None;
+            };
+            let name = format!("trustcbr_{name}_{}", std::process::id());
+            let mut admin = Client::connect(&server, NoTls).unwrap();
+            admin
+                .batch_execute(&format!("DROP DATABASE IF EXISTS {name}"))
+                .unwrap();
+            admin
+                .batch_execute(&format!("CREATE DATABASE {name}"))
+                .unwrap();
+            let (base, _) = server.rsplit_once('/').unwrap();
+            let url = format!("{base}/{name}");
+            Some(Self { admin, name, url })
+        }
+    }
+
+    impl Drop for TestDatabase {
+        fn drop(&mut self) {
+            let drop = format!("DROP DATABASE {} WITH (FORCE)", self.name);
+            self.admin.batch_execute(&drop).ok();
+        }
+    }
+
+    fn movement() -> Identity {
+        Identity {
+            domain: "movement".into(),
+            space: (*domains::spaces::movement_space()).clone(),
+        }
+    }
+
+    fn case(solution: u16) -> TrustCase {
+        TrustCase {
+            problem: vec![Evaluated {
+                behavior: Behavior::new(&[3, 4]),
+                time: 12.0,
+            }],
+            solution: Behavior::new(&[solution, solution]),
+        }
+    }
+
+    #[test]
+    fn appends_catch_up_check_the_space_and_survive_a_lost_connection() {
+        let Some(db) = TestDatabase::create("store") else {
+            return;
+        };
+        let location = Location::Postgres(db.url.clone());
+        let mut a = open(&location, &movement()).unwrap();
+        let mut b = open(&location, &movement()).unwrap();
+        let first = a
+            .append(&case(1), None, &mut |_| panic!("nothing missed"))
+            .unwrap();
+        let mut missed = Vec::new();
+        let second = b.append(&case(2), None, &mut |c| missed.push(c)).unwrap();
+        assert_eq!(missed.len(), 1);
+        assert_eq!((missed[0].id, &missed[0].case), (first, &case(1)));
+        assert!(second > first);
+        // Another space is refused, naming the difference.
+        let patrol = Identity {
+            domain: "patrol".into(),
+            space: (*domains::spaces::patrol_space()).clone(),
+        };
+        let err = open(&location, &patrol).err().unwrap().to_string();
+        assert!(
+            err.contains("number of components 2 in the case base, 4 here"),
+            "{err}"
+        );
+        // The server drops `a`'s connection: the next use fails, the one after reconnects.
+        let mut admin = Client::connect(&db.url, NoTls).unwrap();
+        admin
+            .execute(
+                "SELECT pg_terminate_backend(pid) FROM pg_stat_activity
+                 WHERE datname = current_database() AND pid <> pg_backend_pid()",
+                &[],
+            )
+            .unwrap();
+        let mut seen = Vec::new();
+        let mut read = |store: &mut Box<dyn CaseStore>| {
+            seen.clear();
+            store.read_after(Some(first), &mut |c| {
+                seen.push(c.id);
+                Ok(())
+            })
+        };
+        if read(&mut a).is_err() {
+            read(&mut a).unwrap();
+        }
+        assert_eq!(seen, vec![second]);
+    }
 
     #[test]
     fn passwords_are_not_shown() {

@@ -10,7 +10,7 @@
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file, row};
 use rusqlite::{Connection, OpenFlags, OptionalExtension, TransactionBehavior, params};
 use std::path::{Path, PathBuf};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 use trust::TrustCase;
 
 /// The version of the layout below, recorded in every case base.
@@ -58,80 +58,113 @@ impl SqliteStore {
                     .to_owned(),
             });
         }
-        let db = |e: rusqlite::Error| database_error(&location, e);
+        // Several servers starting together on a new file race to switch it to WAL, and
+        // SQLite may refuse that switch without waiting; every step below may be repeated,
+        // so a busy database is tried again until `BUSY_TIMEOUT`.
+        let deadline = Instant::now() + BUSY_TIMEOUT;
+        loop {
+            match Self::connect(path, &location, identity) {
+                Ok(store) => return Ok(store),
+                Err(Failure::Sqlite(e)) if is_busy(&e) && Instant::now() < deadline => {
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                Err(Failure::Sqlite(e)) => return Err(database_error(&location, e)),
+                Err(Failure::Store(e)) => return Err(e),
+            }
+        }
+    }
+
+    /// One attempt at [`Self::open`] once the file is known to be fit to open.
+    fn connect(path: &Path, location: &str, identity: Option<&Identity>) -> Result<Self, Failure> {
         let mut flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         if identity.is_some() {
             flags |= OpenFlags::SQLITE_OPEN_CREATE;
         }
-        let mut connection = Connection::open_with_flags(path, flags).map_err(db)?;
-        connection.busy_timeout(BUSY_TIMEOUT).map_err(db)?;
-        let tables: Vec<String> = {
-            let mut statement = connection
-                .prepare("SELECT name FROM sqlite_master WHERE type = 'table'")
-                .map_err(db)?;
-            statement
-                .query_map([], |r| r.get(0))
-                .map_err(db)?
-                .collect::<Result<_, _>>()
-                .map_err(db)?
-        };
+        let mut connection = Connection::open_with_flags(path, flags)?;
+        connection.busy_timeout(BUSY_TIMEOUT)?;
+        let tables: Vec<String> = connection
+            .prepare("SELECT name FROM sqlite_master WHERE type = 'table'")?
+            .query_map([], |r| r.get(0))?
+            .collect::<Result<_, _>>()?;
         let ours = tables.iter().any(|t| t == "trustcbr_identity");
         if !ours && tables.iter().any(|t| !t.starts_with("sqlite_")) {
-            return Err(StoreError::Corrupt {
-                location,
+            return Err(Failure::Store(StoreError::Corrupt {
+                location: location.to_owned(),
                 reason: format!(
                     "an SQLite database with other tables ({}); give a new file name",
                     tables.join(", ")
                 ),
-            });
+            }));
         }
-        connection
-            .pragma_update(None, "journal_mode", "WAL")
-            .map_err(db)?;
-        connection
-            .pragma_update(None, "synchronous", "FULL")
-            .map_err(db)?;
-        let transaction = begin_write(&mut connection, &location)?;
-        transaction.execute_batch(SCHEMA).map_err(db)?;
+        connection.pragma_update(None, "journal_mode", "WAL")?;
+        connection.pragma_update(None, "synchronous", "FULL")?;
+        let transaction = connection.transaction_with_behavior(TransactionBehavior::Immediate)?;
+        transaction.execute_batch(SCHEMA)?;
         let recorded: Option<(i64, String, String)> = transaction
             .query_row(
                 "SELECT format, domain, space FROM trustcbr_identity",
                 [],
                 |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
             )
-            .optional()
-            .map_err(db)?;
+            .optional()?;
         let identity = match (recorded, identity) {
             (Some((format, domain, space)), _) => {
                 if format != FORMAT {
-                    return Err(StoreError::Corrupt {
-                        location,
+                    return Err(Failure::Store(StoreError::Corrupt {
+                        location: location.to_owned(),
                         reason: format!("format {format}, this program reads format {FORMAT}"),
-                    });
+                    }));
                 }
                 Identity {
                     domain,
-                    space: row::decode_space(&location, &space)?,
+                    space: row::decode_space(location, &space)?,
                 }
             }
             (None, Some(identity)) => {
-                transaction
-                    .execute(
-                        "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, ?1, ?2, ?3)",
-                        params![FORMAT, identity.domain, row::encode_space(&identity.space)],
-                    )
-                    .map_err(db)?;
+                transaction.execute(
+                    "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, ?1, ?2, ?3)",
+                    params![FORMAT, identity.domain, row::encode_space(&identity.space)],
+                )?;
                 identity.clone()
             }
-            (None, None) => return Err(StoreError::Missing(location)),
+            (None, None) => {
+                return Err(Failure::Store(StoreError::Missing(location.to_owned())));
+            }
         };
-        transaction.commit().map_err(db)?;
+        transaction.commit()?;
         Ok(Self {
             path: path.to_owned(),
             connection,
             identity,
         })
     }
+}
+
+/// Why one attempt to open failed: SQLite's own error (perhaps worth another attempt), or
+/// a case base that is not fit to serve.
+enum Failure {
+    Sqlite(rusqlite::Error),
+    Store(StoreError),
+}
+
+impl From<rusqlite::Error> for Failure {
+    fn from(e: rusqlite::Error) -> Self {
+        Self::Sqlite(e)
+    }
+}
+
+impl From<StoreError> for Failure {
+    fn from(e: StoreError) -> Self {
+        Self::Store(e)
+    }
+}
+
+/// Whether SQLite refused because another connection holds a lock.
+fn is_busy(e: &rusqlite::Error) -> bool {
+    matches!(
+        e.sqlite_error_code(),
+        Some(rusqlite::ErrorCode::DatabaseBusy | rusqlite::ErrorCode::DatabaseLocked)
+    )
 }
 
 /// Whether the file is empty or begins with SQLite's header: SQLite would take any file
