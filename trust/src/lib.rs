@@ -6,7 +6,8 @@
 //! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
 //! - [`search`]: search strategies, starting with the paper's random walk.
 //! - [`retrieval`]: the retrievers a config can name.
-//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
+//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
+//!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
 //! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
 //! - [`experiment`]: trials, paired strategies, statistics and reports (SPEC section 7).

@@ -19,6 +19,9 @@ use trust::TrustCase;
 /// The version of the layout below, recorded in every case base.
 const FORMAT: i64 = 1;
 
+/// How long a connection suspected lost may take to answer before it is made again.
+const CHECK_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
+
 /// The advisory lock key every append holds until it commits ("trustcbr" in ASCII).
 pub const APPEND_LOCK: i64 = 0x7472_7573_7463_6272;
 
@@ -41,6 +44,8 @@ pub struct PostgresStore {
     url: String,
     location: String,
     client: Client,
+    /// Whether the last use failed, so the connection may be lost.
+    suspect: bool,
     identity: Identity,
 }
 
@@ -108,6 +113,7 @@ impl PostgresStore {
             url: url.to_owned(),
             location,
             client,
+            suspect: false,
             identity,
         })
     }
@@ -172,14 +178,29 @@ fn read_rows(
 }
 
 impl PostgresStore {
-    /// The connection, made again first if the last one was lost (the database restarted,
-    /// the network dropped); the case base's identity is not checked again.
+    /// The connection, made again first if it was lost (the database restarted, the
+    /// network dropped); the case base's identity is not checked again.
     fn client(&mut self) -> Result<&mut Client, StoreError> {
-        if self.client.is_closed() {
+        let lost = self.client.is_closed()
+            || (self.suspect && self.client.is_valid(CHECK_TIMEOUT).is_err());
+        if lost {
             self.client = Client::connect(&self.url, NoTls)
                 .map_err(|e| database_error(&self.location, &e))?;
         }
+        self.suspect = false;
         Ok(&mut self.client)
+    }
+
+    /// Runs `operation` on the connection, noting a failure so that the next use checks the
+    /// connection first.
+    fn with_client<R>(
+        &mut self,
+        operation: impl FnOnce(&mut Client, &str) -> Result<R, StoreError>,
+    ) -> Result<R, StoreError> {
+        let location = self.location.clone();
+        let result = operation(self.client()?, &location);
+        self.suspect = result.is_err();
+        result
     }
 }
 
@@ -201,8 +222,7 @@ impl CaseStore for PostgresStore {
         after: Option<StoreId>,
         each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
     ) -> Result<(), StoreError> {
-        let location = self.location.clone();
-        read_rows(self.client()?, &location, after, each)
+        self.with_client(|client, location| read_rows(client, location, after, each))
     }
 
     fn append(
@@ -211,29 +231,31 @@ impl CaseStore for PostgresStore {
         after: Option<StoreId>,
         missed: &mut dyn FnMut(StoredCase),
     ) -> Result<StoreId, StoreError> {
-        let location = &self.location.clone();
-        let mut transaction = begin_append(self.client()?, location)?;
-        read_rows(&mut transaction, location, after, &mut |c| {
-            missed(c);
-            Ok(())
-        })?;
-        let id = insert(&mut transaction, location, case)?;
-        transaction
-            .commit()
-            .map_err(|e| database_error(location, &e))?;
-        Ok(id)
+        self.with_client(|client, location| {
+            let mut transaction = begin_append(client, location)?;
+            read_rows(&mut transaction, location, after, &mut |c| {
+                missed(c);
+                Ok(())
+            })?;
+            let id = insert(&mut transaction, location, case)?;
+            transaction
+                .commit()
+                .map_err(|e| database_error(location, &e))?;
+            Ok(id)
+        })
     }
 
     fn append_all(&mut self, cases: &[TrustCase]) -> Result<usize, StoreError> {
-        let location = &self.location.clone();
-        let mut transaction = begin_append(self.client()?, location)?;
-        for case in cases {
-            insert(&mut transaction, location, case)?;
-        }
-        transaction
-            .commit()
-            .map_err(|e| database_error(location, &e))?;
-        Ok(cases.len())
+        self.with_client(|client, location| {
+            let mut transaction = begin_append(client, location)?;
+            for case in cases {
+                insert(&mut transaction, location, case)?;
+            }
+            transaction
+                .commit()
+                .map_err(|e| database_error(location, &e))?;
+            Ok(cases.len())
+        })
     }
 }
 
@@ -335,6 +357,11 @@ mod tests {
                 &[],
             )
             .unwrap();
+        let others = "SELECT count(*) FROM pg_stat_activity
+                      WHERE datname = current_database() AND pid <> pg_backend_pid()";
+        while admin.query_one(others, &[]).unwrap().get::<_, i64>(0) > 0 {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
         let mut seen = Vec::new();
         let mut read = |store: &mut Box<dyn CaseStore>| {
             seen.clear();
