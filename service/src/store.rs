@@ -222,8 +222,9 @@ fn check_space(store: &dyn CaseStore, space: &BehaviorSpace) -> Result<(), Store
 }
 
 /// Refuses a path that exists but is not a regular file (after following symlinks), so a
-/// FIFO or a device is never opened; a missing path must have an existing directory.
-/// Returns whether the file exists.
+/// FIFO or a device is never opened, and a symlink to nothing, so no file is created where
+/// it points; a missing path must have an existing directory. Returns whether the file
+/// exists.
 pub fn check_file(path: &Path) -> Result<bool, StoreError> {
     match std::fs::metadata(path) {
         Ok(meta) if meta.is_file() => Ok(true),
@@ -246,6 +247,10 @@ pub fn check_file(path: &Path) -> Result<bool, StoreError> {
                 kind,
             })
         }
+        Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(StoreError::NotAFile {
+            path: path.to_owned(),
+            kind: "a symlink to nothing",
+        }),
         Err(_) => {
             let dir = match path.parent() {
                 Some(d) if !d.as_os_str().is_empty() => d,
@@ -500,6 +505,16 @@ mod tests {
             err.to_string().contains("not a regular file (a device)"),
             "{err}"
         );
+        let dangling = dir.path().join("planted.db");
+        let target = dir.path().join("elsewhere.db");
+        std::os::unix::fs::symlink(&target, &dangling).unwrap();
+        let err = refused(open(&Location::Sqlite(dangling), &movement()));
+        assert!(
+            err.to_string()
+                .contains("not a regular file (a symlink to nothing)"),
+            "{err}"
+        );
+        assert!(!target.exists());
         let err = refused(open(
             &Location::parse("/nonexistent/dir/cases.db"),
             &movement(),
