@@ -7,19 +7,9 @@ use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Command, Output, Stdio};
 
 mod support;
-
-/// Kills the server when the test ends, even if it fails.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.0.kill().ok();
-        self.0.wait().ok();
-    }
-}
 
 fn serve(args: &[&str], cases: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_trustcbr"));
@@ -203,18 +193,10 @@ fn only_loopback_addresses_are_served() {
 #[test]
 fn each_tcp_connection_is_its_own_episode_over_the_shared_cases() {
     let dir = tempfile::tempdir().unwrap();
-    let mut server = Server(
-        serve(
-            &["--domain", "movement", "--listen", "127.0.0.1:0"],
-            &dir.path().join("c.db"),
-        )
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap(),
-    );
-    let addr = support::listening_address(&mut server.0);
+    let (_server, addr) = support::listening(&mut serve(
+        &["--domain", "movement", "--listen", "127.0.0.1:0"],
+        &dir.path().join("c.db"),
+    ));
     let exchange = |requests: &[&str]| -> Vec<Value> {
         let stream = TcpStream::connect(&addr).unwrap();
         let mut writer = &stream;

@@ -6,7 +6,7 @@
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 mod support;
@@ -14,37 +14,20 @@ mod support;
 const CONTROLLERS: usize = 32;
 const EPISODES_EACH: usize = 5;
 
-/// Kills the server when the test ends, even if it fails.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.0.kill().ok();
-        self.0.wait().ok();
-    }
-}
-
 /// Starts a TCP server with `extra` options on a case base in `dir`; returns it and the
 /// address it listens on.
-fn start(dir: &std::path::Path, extra: &[&str]) -> (Server, String) {
+fn start(dir: &std::path::Path, extra: &[&str]) -> (support::Server, String) {
     let domain = dir.join("quick.ron");
     std::fs::write(&domain, support::quick_domain(true)).unwrap();
-    let mut server = Server(
+    support::listening(
         Command::new(env!("CARGO_BIN_EXE_trustcbr"))
             .args(["serve", "--domain"])
             .arg(&domain)
             .arg("--cases")
             .arg(dir.join("cases.db"))
             .args(["--listen", "127.0.0.1:0"])
-            .args(extra)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap(),
-    );
-    let addr = support::listening_address(&mut server.0);
-    (server, addr)
+            .args(extra),
+    )
 }
 
 /// A controller connection: one request, one reply.

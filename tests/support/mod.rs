@@ -1,12 +1,12 @@
-//! What the process tests share: a quick domain, the address a TCP server listens on, and
-//! the cases a store holds. Each test file uses part of it.
+//! What the process tests share: a quick domain, a TCP server and the address it listens
+//! on, and the cases a store holds. Each test file uses part of it.
 #![allow(dead_code)] // every test file compiles this module and uses only some of it
 
 use serde_json::Value;
 use service::store::{self, Location, StoreId};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
-use std::process::Child;
+use std::process::{Child, Command, Stdio};
 
 /// A 5 x 5 domain whose episodes end in three requests: `begin`, one interruption
 /// (untrustworthy at -1: the adapter switches), one completion (trustworthy at +1). With
@@ -30,10 +30,29 @@ pub const EPISODE: [&str; 3] = [
     r#"{"outcome": "completed", "weight": 1.0, "duration_s": 6.0}"#,
 ];
 
-/// Reads a `serve --listen` server's stderr until it says where it listens, then keeps
-/// draining it (so the server never blocks on its log); returns the address.
-pub fn listening_address(server: &mut Child) -> String {
-    let mut log = BufReader::new(server.stderr.take().expect("stderr is piped"));
+/// A server process, killed when dropped (even when a test fails).
+pub struct Server(pub Child);
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.0.kill().ok();
+        self.0.wait().ok();
+    }
+}
+
+/// Starts `serve`, made by `command` with `--listen`, and reads its stderr until it says
+/// where it listens, then keeps draining it (so the server never blocks on its log).
+/// Returns the server and the address.
+pub fn listening(command: &mut Command) -> (Server, String) {
+    let mut server = Server(
+        command
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let mut log = BufReader::new(server.0.stderr.take().expect("stderr is piped"));
     let addr = loop {
         let mut line = String::new();
         assert_ne!(
@@ -46,7 +65,7 @@ pub fn listening_address(server: &mut Child) -> String {
         }
     };
     std::thread::spawn(move || for _ in log.lines() {});
-    addr
+    (server, addr)
 }
 
 /// Every case stored at `location`, by store id, its solution in real units of `space`;
