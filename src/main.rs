@@ -156,8 +156,8 @@ struct ServeArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// TCP: connections served at once; more are refused with an error line.
-    #[arg(long, default_value_t = Limits::default().max_connections)]
-    max_connections: usize,
+    #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
+    max_connections: NonZeroUsize,
     /// TCP: seconds a connection may stay silent before it is closed.
     #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
     idle_timeout: f64,
@@ -274,7 +274,7 @@ fn serve(args: &ServeArgs) -> anyhow::Result<()> {
                     .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
             };
             let limits = Limits {
-                max_connections: args.max_connections,
+                max_connections: args.max_connections.get(),
                 read_timeout: seconds("idle-timeout", args.idle_timeout)?,
                 write_timeout: seconds("write-timeout", args.write_timeout)?,
             };
