@@ -7,9 +7,9 @@ is too slow (a 15 s deadline), bumps into things (too little padding, or too fas
 stop), or gets stuck (so much padding that no gap is wide enough). After every command it
 reports the outcome to the adapter and applies the behavior the reply names.
 
-    python3 examples/controller.py --cases cases.ron
-    python3 examples/controller.py --server target/debug/trustcbr --cases cases.ron
-    trustcbr serve --domain movement --cases cases.ron --listen 127.0.0.1:7878 &
+    python3 examples/controller.py --cases cases.db
+    python3 examples/controller.py --server target/debug/trustcbr --cases cases.db
+    trustcbr serve --domain movement --cases cases.db --listen 127.0.0.1:7878 &
     python3 examples/controller.py --connect 127.0.0.1:7878
 
 Without --server, the binary is the one named by the TRUSTCBR environment variable, else
@@ -169,7 +169,7 @@ def main():
         help="the trustcbr binary to spawn (default: $TRUSTCBR, trustcbr on PATH, or this repository's build)",
     )
     parser.add_argument("--connect", metavar="HOST:PORT", help="talk to a running `serve --listen` instead")
-    parser.add_argument("--cases", default="cases.ron", help="the case base file (spawn mode)")
+    parser.add_argument("--cases", default="cases.db", help="the case base file (spawn mode)")
     parser.add_argument("--episodes", type=int, default=20)
     parser.add_argument("--seed", type=int, default=1)
     args = parser.parse_args()

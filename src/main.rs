@@ -10,13 +10,14 @@ use domains::{
     save_case_bases, suite_arms_table, suite_table, write_suite_report,
 };
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use service::{CaseStore, DomainDefinition, Session, transport};
+use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
 use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 use trust::Domain;
 use trust::experiment::report::Provenance;
 
@@ -51,6 +52,35 @@ enum Command {
     /// Run a suite over several seeds and parameter values and aggregate across seeds
     /// (`sweep FILE.ron`), or merge the folders of its shards (`sweep merge FILE.ron DIR...`).
     Sweep(SweepArgs),
+    /// Case bases: export to RON, import from RON, describe.
+    #[command(subcommand)]
+    Cases(CasesCommand),
+}
+
+#[derive(Subcommand)]
+enum CasesCommand {
+    /// Write a case base (with its domain and behavior space) to a RON file.
+    Export {
+        /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        cases: String,
+        /// The RON file to write.
+        out: PathBuf,
+    },
+    /// Append the cases of a RON file to a case base (created when absent).
+    Import {
+        /// The RON case file.
+        input: PathBuf,
+        /// The case base: an SQLite file or a postgres:// URL.
+        cases: String,
+        /// The domain the cases were learned in: `movement`, `patrol` or a RON domain file.
+        #[arg(long)]
+        domain: String,
+    },
+    /// Describe a case base: its domain, behavior space and cases.
+    Info {
+        /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        cases: String,
+    },
 }
 
 #[derive(Args)]
@@ -196,17 +226,28 @@ struct ServeArgs {
     /// optionally the adapter config).
     #[arg(long)]
     domain: String,
-    /// The case base: loaded if it exists, created at the first retained case, rewritten
-    /// atomically after every retained case.
+    /// The case base: an SQLite file (created when absent), a postgres:// URL, or a RON
+    /// file (served read-only).
     #[arg(long)]
-    cases: PathBuf,
+    cases: String,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
-    /// stdin/stdout. One controller connection at a time.
+    /// stdin/stdout. Each connection is its own controller, served concurrently.
     #[arg(long)]
     listen: Option<SocketAddr>,
-    /// Seed of the adapter's search and of the behaviors the server draws.
+    /// Seed of the adapter's search and of the behaviors the server draws (TCP connection
+    /// k, from 0, uses seed + k).
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// TCP: connections served at once; more are refused with an error line.
+    #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
+    max_connections: NonZeroUsize,
+    /// TCP: seconds a connection may stay silent before it is closed.
+    #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
+    idle_timeout: f64,
+    /// TCP: seconds a reply may wait for the controller to read it before the connection
+    /// is closed.
+    #[arg(long, default_value_t = Limits::default().write_timeout.as_secs_f64())]
+    write_timeout: f64,
 }
 
 fn main() -> ExitCode {
@@ -225,6 +266,7 @@ fn main() -> ExitCode {
         Command::Landscape(args) => landscape(&args),
         Command::Serve(args) => serve(&args),
         Command::Sweep(args) => sweep(&args),
+        Command::Cases(command) => cases(&command),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -398,27 +440,71 @@ fn sweep(args: &SweepArgs) -> Result<()> {
 
 fn serve(args: &ServeArgs) -> anyhow::Result<()> {
     let domain = DomainDefinition::resolve(&args.domain)?;
-    let (store, cases) = CaseStore::open(&args.cases, &domain.space)?;
-    let loaded = cases.len();
-    let mut session = Session::new(domain, store, cases, args.seed)?;
+    let location = Location::parse(&args.cases);
+    let cases = Arc::new(SharedCases::open(&domain, &location)?);
+    let loaded = cases.current(|memory, _| memory.base().len())?;
     eprintln!(
         "trustcbr serve: {} behaviors, {loaded} cases loaded from {}",
-        session.adapter().space().size(),
-        args.cases.display()
+        domain.space.size(),
+        cases.location()
     );
+    if !cases.writable() {
+        eprintln!(
+            "{} is a RON case file: served read-only, no case is retained (import it into a database with `trustcbr cases import`)",
+            cases.location()
+        );
+    }
     match args.listen {
         None => {
+            let mut session = Session::new(domain, cases, args.seed)?;
             let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
             transport::serve(&mut session, stdin, stdout)?;
         }
         Some(addr) => {
+            let seconds = |name: &str, s: f64| {
+                Duration::try_from_secs_f64(s)
+                    .ok()
+                    .filter(|d| !d.is_zero())
+                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
+            };
+            let limits = Limits {
+                max_connections: args.max_connections.get(),
+                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
+                write_timeout: seconds("write-timeout", args.write_timeout)?,
+            };
             let listener = transport::listen(addr)?;
             let bound = listener.local_addr().context("reading the bound address")?;
             // Tests and controllers read this line to learn the port when 0 was asked for.
             eprintln!("listening on {bound}");
             std::io::stderr().flush().ok();
-            transport::serve_tcp(&mut session, &listener, &mut |m| eprintln!("{m}"))?;
+            let log = Box::new(|m: &str| eprintln!("{m}"));
+            transport::serve_tcp(domain, cases, args.seed, &listener, limits, log)?;
         }
+    }
+    Ok(())
+}
+
+fn cases(command: &CasesCommand) -> Result<()> {
+    match command {
+        CasesCommand::Export { cases, out } => {
+            let written = exchange::export(&Location::parse(cases), out)?;
+            println!("wrote {written} cases to {}", out.display());
+        }
+        CasesCommand::Import {
+            input,
+            cases,
+            domain,
+        } => {
+            let domain = DomainDefinition::resolve(domain)?;
+            let location = Location::parse(cases);
+            let imported = exchange::import(input, &location, &domain)?;
+            println!(
+                "imported {imported} cases from {} into {}",
+                input.display(),
+                location.shown()
+            );
+        }
+        CasesCommand::Info { cases } => println!("{}", exchange::info(&Location::parse(cases))?),
     }
     Ok(())
 }

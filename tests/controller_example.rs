@@ -3,7 +3,6 @@
 
 use std::path::Path;
 use std::process::Command;
-use trust::TrustCaseBase;
 
 fn python3_available() -> bool {
     Command::new("python3")
@@ -50,7 +49,7 @@ fn the_example_controller_drives_the_server() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let cases = dir.path().join("cases.ron");
+    let cases = dir.path().join("cases.db");
     let first = run_controller(&cases, 1);
     assert!(
         first.contains("domain movement: 0 cases at start"),
@@ -59,7 +58,12 @@ fn the_example_controller_drives_the_server() {
     assert!(first.contains("episodes: 20, trustworthy: 20"), "{first}");
     let learned = number_after(&first, ", cases: ");
     assert!(learned > 0, "{first}");
-    assert_eq!(TrustCaseBase::load_ron(&cases).unwrap().len(), learned);
+    assert_eq!(
+        service::exchange::info(&service::Location::Sqlite(cases.clone()))
+            .unwrap()
+            .cases,
+        learned
+    );
     // A second mission starts from the case base the first one left.
     let second = run_controller(&cases, 2);
     assert!(
@@ -91,7 +95,7 @@ fn the_example_controller_finds_the_server_without_path_or_says_what_to_pass() {
     let output = Command::new(&python)
         .arg(&script)
         .arg("--cases")
-        .arg(dir.path().join("cases.ron"))
+        .arg(dir.path().join("cases.db"))
         .args(["--episodes", "1"])
         .env("PATH", "/nonexistent")
         .env_remove("TRUSTCBR")

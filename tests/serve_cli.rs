@@ -1,22 +1,15 @@
 //! `trustcbr serve` as a process: the loopback TCP mode, and the start-up errors a user can
-//! cause (bad domain file, corrupt case base, non-loopback address), each with a clear
-//! message and a non-zero exit, and no file modified.
+//! cause (bad domain file, corrupt case base, a case base of another space, a FIFO or a
+//! device as the case base, non-loopback address), each with a clear message and a
+//! non-zero exit, and no file modified.
 
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Command, Output, Stdio};
 
-/// Kills the server when the test ends, even if it fails.
-struct Server(Child);
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.0.kill().ok();
-        self.0.wait().ok();
-    }
-}
+mod support;
 
 fn serve(args: &[&str], cases: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_trustcbr"));
@@ -38,7 +31,7 @@ fn a_bad_domain_file_names_file_line_column_and_field() {
     let domain = dir.path().join("robot.ron");
     let text = "(\n    space: (components: [\n        (name: \"speed\", values: Numeric(min: 0.5, step: -0.5, count: 20)),\n    ]),\n)\n";
     std::fs::write(&domain, text).unwrap();
-    let cases = dir.path().join("cases.ron");
+    let cases = dir.path().join("cases.db");
     let output = serve(&["--domain", domain.to_str().unwrap()], &cases)
         .stdin(Stdio::null())
         .output()
@@ -60,7 +53,7 @@ fn the_example_domain_file_is_served() {
     let domain = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/domain.ron");
     let mut child = serve(
         &["--domain", domain.to_str().unwrap()],
-        &dir.path().join("c.ron"),
+        &dir.path().join("c.db"),
     )
     .stdin(Stdio::piped())
     .stdout(Stdio::piped())
@@ -96,21 +89,93 @@ fn the_example_domain_file_is_served() {
 }
 
 #[test]
-fn a_corrupt_case_base_is_refused_and_left_untouched() {
+fn corrupt_case_bases_are_refused_and_left_untouched() {
     let dir = tempfile::tempdir().unwrap();
-    let cases = dir.path().join("cases.ron");
-    let corrupt = b"(cases: [(problem: [(behavior: [1, 2], time: 3.0)], solution: [4, ";
-    std::fs::write(&cases, corrupt).unwrap();
-    let output = serve(&["--domain", "movement"], &cases)
+    let corrupt: [(&str, &[u8], &str); 3] = [
+        // A RON file cut short: the position of the error.
+        (
+            "cases.ron",
+            b"(cases: [(problem: [(behavior: [1, 2], time: 3.0)], solution: [4, ",
+            ":1:",
+        ),
+        // SQLite's header and nothing a database holds.
+        ("cases.db", b"SQLite format 3\0 but then nothing else", ": "),
+        // Not a database at all.
+        ("notes.db", b"shopping list", ": not a trustcbr case base"),
+    ];
+    for (name, bytes, expected) in corrupt {
+        let cases = dir.path().join(name);
+        std::fs::write(&cases, bytes).unwrap();
+        let output = serve(&["--domain", "movement"], &cases)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let stderr = failure(&output);
+        assert!(
+            stderr.contains(&format!("{}{expected}", cases.display())),
+            "{stderr}"
+        );
+        assert_eq!(std::fs::read(&cases).unwrap(), bytes);
+    }
+}
+
+#[test]
+fn a_case_base_of_another_space_is_refused_naming_the_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.db");
+    let created = serve(&["--domain", "movement"], &cases)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert!(created.status.success());
+    let output = serve(&["--domain", "patrol"], &cases)
         .stdin(Stdio::null())
         .output()
         .unwrap();
     let stderr = failure(&output);
     assert!(
-        stderr.contains(&format!("{}:1:", cases.display())),
+        stderr.contains(
+            "the case base was learned in another behavior space (domain `movement`): number of components 2 in the case base, 4 here"
+        ),
         "{stderr}"
     );
-    assert_eq!(std::fs::read(&cases).unwrap(), corrupt);
+}
+
+#[test]
+fn a_fifo_or_a_device_as_the_case_base_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("cases.db");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let zero = dir.path().join("zero.db");
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let zero_ron = dir.path().join("zero.ron");
+    std::os::unix::fs::symlink("/dev/zero", &zero_ron).unwrap();
+    for (path, kind) in [
+        (&fifo, "a FIFO"),
+        (&zero, "a device"),
+        (&zero_ron, "a device"),
+    ] {
+        // A server that opened the FIFO would block for ever; one that read /dev/zero
+        // would grow without bound. Both must be refused at once.
+        let output = serve(&["--domain", "movement"], path)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let stderr = failure(&output);
+        assert!(
+            stderr.contains(&format!(
+                "{}: not a regular file ({kind}); a case base must be a regular file or absent",
+                path.display()
+            )),
+            "{stderr}"
+        );
+    }
 }
 
 #[test]
@@ -118,7 +183,7 @@ fn only_loopback_addresses_are_served() {
     let dir = tempfile::tempdir().unwrap();
     let output = serve(
         &["--domain", "movement", "--listen", "0.0.0.0:0"],
-        &dir.path().join("c.ron"),
+        &dir.path().join("c.db"),
     )
     .output()
     .unwrap();
@@ -126,31 +191,12 @@ fn only_loopback_addresses_are_served() {
 }
 
 #[test]
-fn the_tcp_mode_serves_one_controller_after_another() {
+fn each_tcp_connection_is_its_own_episode_over_the_shared_cases() {
     let dir = tempfile::tempdir().unwrap();
-    let mut server = Server(
-        serve(
-            &["--domain", "movement", "--listen", "127.0.0.1:0"],
-            &dir.path().join("c.ron"),
-        )
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap(),
-    );
-    let mut log = BufReader::new(server.0.stderr.take().unwrap());
-    let addr = loop {
-        let mut line = String::new();
-        assert_ne!(
-            log.read_line(&mut line).unwrap(),
-            0,
-            "the server exited early"
-        );
-        if let Some(addr) = line.trim().strip_prefix("listening on ") {
-            break addr.to_owned();
-        }
-    };
+    let (_server, addr) = support::listening(&mut serve(
+        &["--domain", "movement", "--listen", "127.0.0.1:0"],
+        &dir.path().join("c.db"),
+    ));
     let exchange = |requests: &[&str]| -> Vec<Value> {
         let stream = TcpStream::connect(&addr).unwrap();
         let mut writer = &stream;
@@ -166,20 +212,24 @@ fn the_tcp_mode_serves_one_controller_after_another() {
             .collect()
     };
     let first = exchange(&[
-        r#"{"request": "begin", "behavior": {"speed": 2.0, "padding": 0.5}}"#,
-        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 9.0}"#,
+        r#"{"request": "begin", "behavior": {"speed": 2.0, "padding": 0.5}, "id": 1}"#,
+        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 9.0, "id": "two"}"#,
         "not json",
+        r#"{"request": "state"}"#,
     ]);
     assert_eq!(first[0]["ok"], "begun");
+    assert_eq!(first[0]["id"], 1);
     assert_eq!(first[1]["ok"], "keep");
+    assert_eq!(first[1]["id"], "two");
     assert!(
         first[2]["error"]
             .as_str()
             .unwrap()
             .starts_with("malformed JSON")
     );
-    // A second connection finds the episode where the first left it.
+    assert_eq!(first[3]["episode"]["trust"], 1.0);
+    // A second connection is another controller: no episode of its own yet.
     let second = exchange(&[r#"{"request": "state"}"#]);
-    assert_eq!(second[0]["episode"]["trust"], 1.0);
-    assert_eq!(second[0]["episode"]["behavior"]["speed"], 2.0);
+    assert_eq!(second[0]["episode"], Value::Null);
+    assert_eq!(second[0]["cases"], 0);
 }

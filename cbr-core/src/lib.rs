@@ -2,7 +2,7 @@
 //!
 //! This crate names the concepts every CBR application here shares and nothing more:
 //! [`Component`]s and the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
-//! an append-only [`CaseBase`], similarity neighbourhoods of a behavior, [`Retriever`]s
+//! an append-only [`CaseBase`], similarity neighbourhoods of a behavior, the first difference between two spaces, [`Retriever`]s
 //! (with [`LinearRetriever`] as the reference) kept in step with the base by
 //! [`CaseMemory`], and [`Searcher`]s. It knows nothing of trust, robots or experiments;
 //! those live in the `trust` and `domains` crates.
@@ -18,6 +18,7 @@ pub mod retrieve;
 pub mod ron_text;
 pub mod search;
 pub mod similarity;
+pub mod space_diff;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
 pub use case::{Case, CaseBase, CaseBaseError, CaseId};
@@ -29,3 +30,4 @@ pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Searcher};
 pub use similarity::SimilarityMeasure;
+pub use space_diff::SpaceDifference;

@@ -1,10 +1,110 @@
 //! Writing the session's answers: one JSON object each, with an `ok` field naming what it
 //! is or an `error` field saying what went wrong, and behaviors in real units.
+//!
+//! A [`Reply`] is either a JSON value or the case listing, which is written case by case
+//! as it is copied from the shared memory, so a listing never holds the case base twice.
 
+use crate::shared::SharedCases;
+use crate::store::StoreId;
 use cbr_core::{Behavior, BehaviorSpace};
 use serde_json::{Value, json};
+use std::io::{self, Write};
+use std::sync::Arc;
 use trust::named::named_behavior;
 use trust::{EpisodeReport, Evaluated};
+
+/// How many cases a listing copies from the shared memory at a time.
+const LISTING_CHUNK: usize = 256;
+
+/// One reply, ready to be written as one line.
+pub enum Reply {
+    /// A JSON object.
+    Json(Value),
+    /// `{"ok": "cases", "cases": [...]}`, streamed.
+    Cases(CaseListing),
+}
+
+/// The cases held when a `cases` request was handled, to be streamed.
+pub struct CaseListing {
+    /// The memory the cases are copied from.
+    pub cases: Arc<SharedCases>,
+    /// The behavior space, to show behaviors in real units.
+    pub space: Arc<BehaviorSpace>,
+    /// How many cases to list (those held when the request was handled).
+    pub count: usize,
+    /// The request's `id`, echoed.
+    pub id: Option<Value>,
+}
+
+impl Reply {
+    /// Echoes the request's `id` (when one was given).
+    pub fn with_id(mut self, id: Option<Value>) -> Self {
+        if let Some(id) = id {
+            match &mut self {
+                Reply::Json(Value::Object(map)) => {
+                    map.insert("id".to_owned(), id);
+                }
+                Reply::Json(_) => {}
+                Reply::Cases(listing) => listing.id = Some(id),
+            }
+        }
+        self
+    }
+
+    /// Writes the reply and its newline.
+    pub fn write_line(&self, out: &mut dyn Write) -> io::Result<()> {
+        match self {
+            Reply::Json(value) => serde_json::to_writer(&mut *out, value)?,
+            Reply::Cases(listing) => listing.write(out)?,
+        }
+        out.write_all(b"\n")
+    }
+
+    /// The reply as one JSON value (for callers in the same process, and tests).
+    pub fn into_value(self) -> Value {
+        match self {
+            Reply::Json(value) => value,
+            Reply::Cases(listing) => {
+                let mut bytes = Vec::new();
+                listing.write(&mut bytes).expect("writing to memory");
+                serde_json::from_slice(&bytes).expect("a listing is JSON")
+            }
+        }
+    }
+}
+
+impl CaseListing {
+    fn write(&self, out: &mut dyn Write) -> io::Result<()> {
+        out.write_all(br#"{"ok":"cases","cases":["#)?;
+        let mut written = 0;
+        while written < self.count {
+            let chunk = self
+                .cases
+                .copy_range(written, LISTING_CHUNK.min(self.count - written));
+            if chunk.is_empty() {
+                break;
+            }
+            for (id, case) in &chunk {
+                if written > 0 {
+                    out.write_all(b",")?;
+                }
+                let entry = json!({
+                    "id": id,
+                    "evaluated": evaluated(&self.space, &case.problem),
+                    "solution": behavior(&self.space, &case.solution),
+                });
+                serde_json::to_writer(&mut *out, &entry)?;
+                written += 1;
+            }
+        }
+        out.write_all(b"]")?;
+        if let Some(id) = &self.id {
+            out.write_all(br#","id":"#)?;
+            serde_json::to_writer(&mut *out, id)?;
+        }
+        out.write_all(b"}")
+    }
+}
 
 /// An error reply: `{"error": message}`.
 pub fn error(message: impl std::fmt::Display) -> Value {
@@ -25,11 +125,13 @@ pub fn evaluated(space: &BehaviorSpace, pairs: &[Evaluated]) -> Value {
         .collect()
 }
 
-/// The summary of a finished episode, under the `ok` name `kind`.
+/// The summary of a finished episode, under the `ok` name `kind`: `retained` is the store
+/// id of the case it retained, `cases` the number of cases held.
 pub fn episode_end(
     kind: &str,
     space: &BehaviorSpace,
     report: &EpisodeReport,
+    retained: Option<StoreId>,
     cases: usize,
 ) -> Value {
     json!({
@@ -40,7 +142,7 @@ pub fn episode_end(
         "commands": report.commands,
         "searched": report.searched,
         "reused": report.reused,
-        "retained": report.retained.map(|id| id.0),
+        "retained": retained,
         "cases": cases,
     })
 }

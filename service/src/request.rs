@@ -1,7 +1,8 @@
 //! Parsing one protocol line into a typed [`Request`].
 //!
 //! A line is a JSON object. An outcome report carries an `outcome` field; every other
-//! request names itself in a `request` field. Unknown fields, wrong types, unknown names
+//! request names itself in a `request` field. Any request may carry an `id` (a JSON
+//! scalar) that the reply echoes. Unknown fields, wrong types, unknown names
 //! and unusable numbers are refused with an error naming the field and what it allows.
 //! A key given twice in an object (at any depth) is refused rather than last-wins, and a
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
@@ -108,16 +109,64 @@ impl From<OutcomeError> for RequestError {
     }
 }
 
-/// Parses one line (without its newline).
-pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
+/// One request line: the request, and the `id` the controller gave it (echoed in the
+/// reply).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Envelope {
+    /// The optional `id` field: any JSON scalar (string, number, boolean, null).
+    pub id: Option<Value>,
+    /// The request, or why the line is not one.
+    pub request: Result<Request, RequestError>,
+}
+
+/// Parses one line (without its newline; a leading UTF-8 byte-order mark is skipped),
+/// with its `id`. A key given twice is refused.
+pub fn parse_line(line: &[u8]) -> Envelope {
     let line = line
         .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
         .unwrap_or(line);
-    let UniqueKeys(value) = serde_json::from_slice(line).map_err(|e| json_error(line, &e))?;
-    let map = match value {
-        Value::Object(map) => map,
-        other => return Err(RequestError::NotAnObject(json_type(&other))),
+    let value: Value = match serde_json::from_slice::<UniqueKeys>(line) {
+        Ok(UniqueKeys(value)) => value,
+        Err(e) => {
+            return Envelope {
+                id: None,
+                request: Err(json_error(line, &e)),
+            };
+        }
     };
+    let mut map = match value {
+        Value::Object(map) => map,
+        other => {
+            return Envelope {
+                id: None,
+                request: Err(RequestError::NotAnObject(json_type(&other))),
+            };
+        }
+    };
+    match map.remove("id") {
+        Some(id @ (Value::Array(_) | Value::Object(_))) => Envelope {
+            id: None,
+            request: Err(RequestError::Field {
+                field: "id".to_owned(),
+                message: format!(
+                    "expected a string, a number, a boolean or null, got {}",
+                    json_type(&id)
+                ),
+            }),
+        },
+        id => Envelope {
+            id,
+            request: parse_object(map),
+        },
+    }
+}
+
+/// Parses one line (without its newline); an `id` field is allowed and ignored.
+pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
+    parse_line(line).request
+}
+
+fn parse_object(map: Map<String, Value>) -> Result<Request, RequestError> {
     if map.contains_key("request") {
         parse_named(map)
     } else if map.contains_key("outcome") {
@@ -415,6 +464,29 @@ mod tests {
             "field `behavior.speed`: expected a number or a label, got a boolean"
         );
         assert!(err("\u{1F600}\u{0}").starts_with("malformed JSON"));
+    }
+
+    #[test]
+    fn ids_are_scalars_taken_apart_from_the_request() {
+        let e = parse_line(br#"{"request":"state","id":17}"#);
+        assert_eq!(e.id, Some(Value::from(17)));
+        assert_eq!(e.request, Ok(Request::State));
+        let e =
+            parse_line(br#"{"id":"robot-3/42","outcome":"completed","weight":1,"duration_s":2}"#);
+        assert_eq!(e.id, Some(Value::from("robot-3/42")));
+        assert_eq!(
+            e.request,
+            Ok(Request::Outcome(Outcome::completed(1.0, 2.0)))
+        );
+        let e = parse_line(br#"{"request":"state","id":[1]}"#);
+        assert_eq!(e.id, None);
+        assert_eq!(
+            e.request.unwrap_err().to_string(),
+            "field `id`: expected a string, a number, a boolean or null, got an array"
+        );
+        let e = parse_line(br#"{"request":"fly","id":true}"#);
+        assert_eq!(e.id, Some(Value::Bool(true)));
+        assert!(e.request.is_err());
     }
 
     #[test]

@@ -1,31 +1,37 @@
-//! [`Session`]: the protocol's request handler over one [`TrustAdapter`].
+//! [`Session`]: the protocol's request handler for one controller.
 //!
-//! A session turns each request line into exactly one reply and does no I/O of its own
-//! beyond saving the case base, so it can be tested without pipes or sockets. A request
-//! that is refused (malformed, out of place, unusable numbers) gets an error reply and
-//! leaves the adapter, the case base and the session's random stream unchanged. A case the
-//! adapter retains is saved before the reply that reports it is returned; if that save
-//! fails the session reports [`SessionError::Save`] and the server must stop, so that no
-//! reply ever acknowledges a case that is not on disk.
+//! A session is one robot's [`Adaptation`] (its episode and search) over the server's
+//! [`SharedCases`]: several sessions, one per connection, share one case memory. A session
+//! turns each request line into exactly one reply and does no I/O of its own beyond the
+//! case store, so it can be tested without pipes or sockets. A request that is refused
+//! (malformed, out of place, unusable numbers, a case store that cannot be read) gets an
+//! error reply and leaves the episode, the case base and the session's random stream
+//! unchanged. Before every outcome is recorded the memory catches up with the store, so a
+//! selection sees every case any process has retained. A case the episode retains is
+//! stored durably before the reply that reports it is returned; if that fails the session
+//! reports [`SessionError::Save`] and the server must stop, so that no reply ever
+//! acknowledges a case that is not stored.
 
 use crate::domain::DomainDefinition;
-use crate::reply;
-use crate::request::{BehaviorSpec, Request, parse_request};
-use crate::store::{CaseStore, StoreError};
+use crate::reply::{self, CaseListing, Reply};
+use crate::request::{BehaviorSpec, Request, parse_line};
+use crate::shared::SharedCases;
+use crate::store::{StoreError, StoreId};
 use cbr_core::Behavior;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
-use trust::{ConfigError, Decision, Outcome, Source, TrustAdapter, TrustCaseBase};
+use std::sync::Arc;
+use trust::{Adaptation, ConfigError, Decision, Outcome, Source};
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
 const DRAW_STREAM: u64 = 1;
 
-/// The state of one served adapter.
+/// The state of one controller's conversation.
 pub struct Session {
     domain: String,
-    adapter: TrustAdapter,
-    store: CaseStore,
+    adaptation: Adaptation,
+    cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
 }
 
@@ -36,14 +42,10 @@ pub enum SessionError {
     /// source).
     #[error("adapter configuration: {0}")]
     Config(ConfigError),
-    /// A retained case could not be saved.
-    #[error("case #{case} was retained but could not be saved, so the server stops: {reason}")]
-    Save {
-        /// The case.
-        case: u32,
-        /// Why the save failed (shown in the message, so not chained as a source).
-        reason: StoreError,
-    },
+    /// A retained case could not be stored (shown in the message, so not chained as a
+    /// source).
+    #[error("a case was retained but could not be stored, so the server stops: {0}")]
+    Save(StoreError),
 }
 
 impl From<ConfigError> for SessionError {
@@ -53,57 +55,59 @@ impl From<ConfigError> for SessionError {
 }
 
 impl Session {
-    /// A session serving `domain` from the case base `cases` kept in `store`; `seed` drives
-    /// the adapter's search and the server's draws of initial behaviors.
+    /// A session serving `domain` over the shared case memory `cases`; `seed` drives the
+    /// adapter's search and the server's draws of initial behaviors.
     pub fn new(
         domain: DomainDefinition,
-        store: CaseStore,
-        cases: TrustCaseBase,
+        cases: Arc<SharedCases>,
         seed: u64,
     ) -> Result<Self, SessionError> {
-        let adapter = TrustAdapter::new(domain.space, domain.adapter, cases, seed)?;
+        let adaptation = Adaptation::new(domain.space, domain.adapter, seed)?;
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
         Ok(Self {
             domain: domain.name,
-            adapter,
-            store,
+            adaptation,
+            cases,
             draws,
         })
     }
 
-    /// Handles one request line (without its newline) and returns the reply.
-    pub fn handle_line(&mut self, line: &[u8]) -> Result<Value, SessionError> {
-        match parse_request(line) {
-            Ok(request) => self.handle(request),
-            Err(e) => Ok(reply::error(e)),
-        }
+    /// Handles one request line (without its newline) and returns the reply, which echoes
+    /// the request's `id`.
+    pub fn handle_line(&mut self, line: &[u8]) -> Result<Reply, SessionError> {
+        let envelope = parse_line(line);
+        let reply = match envelope.request {
+            Ok(request) => self.handle(request)?,
+            Err(e) => Reply::Json(reply::error(e)),
+        };
+        Ok(reply.with_id(envelope.id))
     }
 
     /// Handles one parsed request and returns the reply.
-    pub fn handle(&mut self, request: Request) -> Result<Value, SessionError> {
-        Ok(match request {
+    pub fn handle(&mut self, request: Request) -> Result<Reply, SessionError> {
+        Ok(Reply::Json(match request {
             Request::Begin(spec) => self.begin(spec.as_ref()),
-            Request::Outcome(outcome) => return self.outcome(&outcome),
+            Request::Outcome(outcome) => return self.outcome(&outcome).map(Reply::Json),
             Request::State => self.state(),
-            Request::Cases => self.cases(),
+            Request::Cases => return Ok(self.cases()),
             Request::Abandon => self.abandon(),
             Request::Config => self.config(),
-        })
+        }))
     }
 
-    /// The adapter served.
-    pub fn adapter(&self) -> &TrustAdapter {
-        &self.adapter
+    /// This controller's adaptation (its episode, the space, the configuration).
+    pub fn adaptation(&self) -> &Adaptation {
+        &self.adaptation
     }
 
     fn begin(&mut self, spec: Option<&BehaviorSpec>) -> Value {
-        if self.adapter.episode().is_some() {
+        if self.adaptation.episode().is_some() {
             return reply::error(
                 "an episode is already under way: report its outcomes, or end it with {\"request\": \"abandon\"}",
             );
         }
-        let space = self.adapter.space().clone();
+        let space = self.adaptation.space().clone();
         let (initial, chosen_by) = match spec {
             None => (space.draw(&mut self.draws), "server"),
             Some(spec) => {
@@ -118,7 +122,7 @@ impl Session {
                 }
             }
         };
-        match self.adapter.begin_episode(initial) {
+        match self.adaptation.begin_episode(initial) {
             Ok(()) => json!({
                 "ok": "begun",
                 "behavior": reply::behavior(&space, &initial),
@@ -129,7 +133,7 @@ impl Session {
     }
 
     fn outcome(&mut self, outcome: &Outcome) -> Result<Value, SessionError> {
-        let Some(episode) = self.adapter.episode() else {
+        let Some(episode) = self.adaptation.episode() else {
             return Ok(reply::error(
                 "no episode is under way: start one with {\"request\": \"begin\"}",
             ));
@@ -142,38 +146,56 @@ impl Session {
                 outcome.duration_s
             )));
         }
-        let decision = match self.adapter.record(outcome) {
-            Ok(decision) => decision,
-            Err(e) => return Ok(reply::error(e)),
+        let adaptation = &mut self.adaptation;
+        let recorded = self.cases.current(|memory, ids| {
+            adaptation.record(outcome, memory).map(|decision| {
+                // A reused case is shown by its store id.
+                let reused = match &decision {
+                    Decision::Switch {
+                        source: Source::Case { case, .. },
+                        ..
+                    } => Some(ids[case.index()]),
+                    _ => None,
+                };
+                (decision, reused, ids.len())
+            })
+        });
+        let (decision, reused, held) = match recorded {
+            Ok(Ok(recorded)) => recorded,
+            Ok(Err(e)) => return Ok(reply::error(e)),
+            Err(e) => return Ok(store_unavailable(&e)),
         };
-        let space = self.adapter.space().clone();
+        let space = self.adaptation.space().clone();
         Ok(match decision {
             Decision::Keep => {
-                let episode = self.adapter.episode();
+                let episode = self.adaptation.episode();
                 json!({
                     "ok": "keep",
                     "behavior": episode.map(|e| reply::behavior(&space, &e.current)),
                     "trust": episode.map(|e| e.estimate.value),
                 })
             }
-            Decision::Switch { to, source } => switch(&space, &to, source),
+            Decision::Switch { to, source } => switch(&space, &to, source, reused),
             Decision::Settled(report) => {
-                if let Some(case) = report.retained {
-                    self.store
-                        .save(self.adapter.cases())
-                        .map_err(|reason| SessionError::Save {
-                            case: case.0,
-                            reason,
-                        })?;
-                }
-                reply::episode_end("settled", &space, &report, self.adapter.cases().len())
+                let (retained, held) = match self.adaptation.case_to_retain(&report) {
+                    Some(case) if self.cases.writable() => {
+                        let (id, held) = self.cases.retain(case).map_err(SessionError::Save)?;
+                        (Some(id), held)
+                    }
+                    _ => (None, held),
+                };
+                reply::episode_end("settled", &space, &report, retained, held)
             }
         })
     }
 
     fn state(&self) -> Value {
-        let space = self.adapter.space();
-        let episode = self.adapter.episode().map(|e| {
+        let held = match self.cases.current(|memory, _| memory.base().len()) {
+            Ok(held) => held,
+            Err(e) => return store_unavailable(&e),
+        };
+        let space = self.adaptation.space();
+        let episode = self.adaptation.episode().map(|e| {
             json!({
                 "behavior": reply::behavior(space, &e.current),
                 "trust": e.estimate.value,
@@ -187,35 +209,31 @@ impl Session {
             "ok": "state",
             "domain": self.domain,
             "episode": episode,
-            "cases": self.adapter.cases().len(),
+            "cases": held,
         })
     }
 
-    fn cases(&self) -> Value {
-        let space = self.adapter.space();
-        let cases: Vec<Value> = self
-            .adapter
-            .cases()
-            .iter()
-            .map(|(id, case)| {
-                json!({
-                    "id": id.0,
-                    "evaluated": reply::evaluated(space, &case.problem),
-                    "solution": reply::behavior(space, &case.solution),
-                })
-            })
-            .collect();
-        json!({ "ok": "cases", "cases": cases })
+    fn cases(&self) -> Reply {
+        match self.cases.current(|memory, _| memory.base().len()) {
+            Ok(count) => Reply::Cases(CaseListing {
+                cases: self.cases.clone(),
+                space: self.adaptation.space().clone(),
+                count,
+                id: None,
+            }),
+            Err(e) => Reply::Json(store_unavailable(&e)),
+        }
     }
 
     fn abandon(&mut self) -> Value {
-        match self.adapter.abandon_episode() {
-            Some(report) => reply::episode_end(
-                "abandoned",
-                self.adapter.space(),
-                &report,
-                self.adapter.cases().len(),
-            ),
+        let held = match self.cases.current(|memory, _| memory.base().len()) {
+            Ok(held) => held,
+            Err(e) => return store_unavailable(&e),
+        };
+        match self.adaptation.abandon_episode() {
+            Some(report) => {
+                reply::episode_end("abandoned", self.adaptation.space(), &report, None, held)
+            }
             None => reply::error("no episode is under way: there is nothing to abandon"),
         }
     }
@@ -224,23 +242,32 @@ impl Session {
         json!({
             "ok": "config",
             "domain": self.domain,
-            "space": self.adapter.space().as_ref(),
-            "behaviors": self.adapter.space().size(),
-            "adapter": self.adapter.config(),
+            "space": self.adaptation.space().as_ref(),
+            "behaviors": self.adaptation.space().size(),
+            "adapter": self.adaptation.config(),
         })
     }
 }
 
-fn switch(space: &cbr_core::BehaviorSpace, to: &Behavior, source: Source) -> Value {
+fn store_unavailable(e: &StoreError) -> Value {
+    reply::error(format_args!("the case base cannot be read: {e}"))
+}
+
+fn switch(
+    space: &cbr_core::BehaviorSpace,
+    to: &Behavior,
+    source: Source,
+    reused: Option<StoreId>,
+) -> Value {
     let mut reply = json!({
         "ok": "switch",
         "behavior": reply::behavior(space, to),
     });
     match source {
         Source::Search => reply["source"] = json!("search"),
-        Source::Case { case, similarity } => {
+        Source::Case { similarity, .. } => {
             reply["source"] = json!("case");
-            reply["case"] = json!(case.0);
+            reply["case"] = json!(reused);
             reply["similarity"] = json!(similarity);
         }
     }

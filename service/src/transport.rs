@@ -1,16 +1,27 @@
-//! Running a [`Session`] over a byte stream: stdin/stdout, or one loopback TCP connection
-//! at a time.
+//! Running sessions over byte streams: one on stdin/stdout, or one per loopback TCP
+//! connection, concurrently.
 //!
 //! Every line read gets exactly one reply line, flushed at once. Lines longer than
 //! [`MAX_LINE_BYTES`] are discarded without being held in memory and answered with an
-//! error; the conversation then goes on. Only a failed case-base save ends the session
+//! error; the conversation then goes on. Only a failed case-base save ends the server
 //! (see [`SessionError::Save`]).
+//!
+//! Over TCP every connection gets its own thread and its own [`Session`] (its own episode)
+//! over the server's one [`SharedCases`]. A connection idle longer than its read timeout,
+//! or that does not take its replies within the write timeout, is closed, so a stalled,
+//! slow or non-reading controller holds only its own thread; beyond
+//! [`Limits::max_connections`] a new connection gets one error line and is closed.
 
+use crate::domain::DomainDefinition;
 use crate::lines::{LineRead, read_line};
-use crate::reply;
+use crate::reply::{self, Reply};
 use crate::session::{Session, SessionError};
+use crate::shared::SharedCases;
 use std::io::{self, BufRead, BufReader, BufWriter, Write};
-use std::net::{SocketAddr, TcpListener};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
 
 /// The longest request line accepted, newline excluded.
 pub const MAX_LINE_BYTES: usize = 64 * 1024;
@@ -52,24 +63,23 @@ pub fn serve<R: BufRead, W: Write>(
     mut input: R,
     output: W,
 ) -> Result<(), ServeError> {
-    // Each reply goes out whole, in one write, when it is flushed.
+    // Each reply goes out when it is flushed; a case listing may take several writes.
     let mut output = BufWriter::new(output);
     let mut line = Vec::new();
     while let Some(read) = read_line(&mut input, MAX_LINE_BYTES, &mut line)? {
         let (answer, stop) = match read {
             LineRead::TooLong => (
-                reply::error(format_args!(
+                Reply::Json(reply::error(format_args!(
                     "line too long: a request line may hold at most {MAX_LINE_BYTES} bytes; it was discarded"
-                )),
+                ))),
                 None,
             ),
             LineRead::Line => match session.handle_line(&line) {
                 Ok(answer) => (answer, None),
-                Err(e) => (reply::error(&e), Some(e)),
+                Err(e) => (Reply::Json(reply::error(&e)), Some(e)),
             },
         };
-        serde_json::to_writer(&mut output, &answer).map_err(io::Error::from)?;
-        output.write_all(b"\n")?;
+        answer.write_line(&mut output)?;
         output.flush()?;
         if let Some(e) = stop {
             return Err(e.into());
@@ -86,34 +96,166 @@ pub fn listen(addr: SocketAddr) -> Result<TcpListener, ServeError> {
     TcpListener::bind(addr).map_err(|reason| ServeError::Bind { addr, reason })
 }
 
-/// Serves controllers connecting to `listener`, one connection at a time, for ever (or
-/// until the session must stop). The adapter's state carries over from one connection to
-/// the next. `log` hears of connections opening and closing.
+/// The bounds that keep one controller from holding up the others.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Connections served at once; more are refused with an error line.
+    pub max_connections: usize,
+    /// How long a connection may stay silent before it is closed.
+    pub read_timeout: Duration,
+    /// How long a reply may wait for the controller to read it before the connection is
+    /// closed.
+    pub write_timeout: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_connections: 64,
+            read_timeout: Duration::from_secs(300),
+            write_timeout: Duration::from_secs(10),
+        }
+    }
+}
+
+/// What the connection threads share with the accepting loop.
+struct Server {
+    domain: DomainDefinition,
+    cases: Arc<SharedCases>,
+    seed: u64,
+    limits: Limits,
+    open: AtomicUsize,
+    /// Set by a connection whose session must stop the server.
+    failed: Mutex<Option<SessionError>>,
+    stopping: AtomicBool,
+    log: Box<dyn Fn(&str) + Send + Sync>,
+}
+
+/// Serves controllers connecting to `listener`, each on its own thread with its own
+/// session (connection `k`, counting from 0, seeded with `seed + k`) over the shared case
+/// memory `cases`, for ever or until a session must stop. `log` hears of connections
+/// opening, closing and being refused.
 pub fn serve_tcp(
-    session: &mut Session,
+    domain: DomainDefinition,
+    cases: Arc<SharedCases>,
+    seed: u64,
     listener: &TcpListener,
-    log: &mut dyn FnMut(&str),
+    limits: Limits,
+    log: Box<dyn Fn(&str) + Send + Sync>,
 ) -> Result<(), ServeError> {
-    for stream in listener.incoming() {
+    let local = listener.local_addr()?;
+    let server = Arc::new(Server {
+        domain,
+        cases,
+        seed,
+        limits,
+        open: AtomicUsize::new(0),
+        failed: Mutex::new(None),
+        stopping: AtomicBool::new(false),
+        log,
+    });
+    for (k, stream) in (0u64..).zip(listener.incoming()) {
+        if server.stopping.load(Ordering::SeqCst) {
+            break;
+        }
         let stream = match stream {
             Ok(s) => s,
             Err(e) => {
-                log(&format!("accept failed: {e}"));
+                (server.log)(&format!("accept failed: {e}"));
                 continue;
             }
         };
         let peer = stream
             .peer_addr()
             .map_or_else(|_| "unknown peer".to_owned(), |a| a.to_string());
-        log(&format!("controller connected from {peer}"));
-        let reader = BufReader::new(stream.try_clone()?);
-        match serve(session, reader, &stream) {
-            Ok(()) => log(&format!("controller {peer} disconnected")),
-            Err(ServeError::Io(e)) => log(&format!("controller {peer} dropped: {e}")),
-            Err(e) => return Err(e),
+        if server.open.fetch_add(1, Ordering::SeqCst) >= limits.max_connections {
+            server.open.fetch_sub(1, Ordering::SeqCst);
+            (server.log)(&format!(
+                "controller {peer} refused: {} connections already open",
+                limits.max_connections
+            ));
+            refuse(&stream, limits);
+            continue;
+        }
+        let worker = server.clone();
+        let name = peer.clone();
+        let spawned = std::thread::Builder::new()
+            .name(format!("controller {peer}"))
+            .spawn(move || {
+                worker.connection(stream, &peer, k);
+                worker.open.fetch_sub(1, Ordering::SeqCst);
+                if worker.stopping.load(Ordering::SeqCst) {
+                    // Wake the accepting loop so it sees the server must stop.
+                    TcpStream::connect(local).ok();
+                }
+            });
+        if let Err(e) = spawned {
+            server.open.fetch_sub(1, Ordering::SeqCst);
+            (server.log)(&format!("cannot start a thread for {name}: {e}"));
         }
     }
-    Ok(())
+    match server
+        .failed
+        .lock()
+        .expect("no thread panics holding it")
+        .take()
+    {
+        Some(e) => Err(e.into()),
+        None => Ok(()),
+    }
+}
+impl Server {
+    /// Serves one controller until it disconnects, times out or its session must stop.
+    fn connection(&self, stream: TcpStream, peer: &str, k: u64) {
+        (self.log)(&format!("controller connected from {peer}"));
+        let served = (|| {
+            stream.set_read_timeout(Some(self.limits.read_timeout))?;
+            stream.set_write_timeout(Some(self.limits.write_timeout))?;
+            let mut session = Session::new(
+                self.domain.clone(),
+                self.cases.clone(),
+                self.seed.wrapping_add(k),
+            )?;
+            let reader = BufReader::new(stream.try_clone()?);
+            serve(&mut session, reader, &stream)
+        })();
+        match served {
+            Ok(()) => (self.log)(&format!("controller {peer} disconnected")),
+            Err(ServeError::Io(e))
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) =>
+            {
+                (self.log)(&format!(
+                    "controller {peer} timed out (silent for {} s, or not reading its replies for {} s): closed",
+                    self.limits.read_timeout.as_secs_f64(),
+                    self.limits.write_timeout.as_secs_f64()
+                ));
+            }
+            Err(ServeError::Io(e)) => (self.log)(&format!("controller {peer} dropped: {e}")),
+            Err(ServeError::Session(e)) => {
+                (self.log)(&format!("controller {peer}: {e}"));
+                self.failed
+                    .lock()
+                    .expect("no thread panics holding it")
+                    .get_or_insert(e);
+                self.stopping.store(true, Ordering::SeqCst);
+            }
+            Err(e) => (self.log)(&format!("controller {peer}: {e}")),
+        }
+    }
+}
+
+/// Tells a controller beyond the connection limit why it is closed.
+fn refuse(stream: &TcpStream, limits: Limits) {
+    stream.set_write_timeout(Some(limits.write_timeout)).ok();
+    let answer = reply::error(format_args!(
+        "the server is serving {} controllers, its limit: try again later",
+        limits.max_connections
+    ));
+    let mut writer = stream;
+    Reply::Json(answer).write_line(&mut writer).ok();
 }
 
 #[cfg(test)]

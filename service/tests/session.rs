@@ -3,23 +3,41 @@
 
 use proptest::prelude::*;
 use serde_json::{Value, json};
-use service::{CaseStore, DomainDefinition, Session};
+use service::{DomainDefinition, Location, Session, SharedCases};
 use std::io::BufReader;
 use std::path::Path;
+use std::sync::Arc;
 use trust::TrustCaseBase;
 
-/// A movement session whose episodes settle after one command either way (thresholds
-/// +1 / -1), with its case file in `dir`.
-fn session(dir: &Path) -> Session {
+/// The movement domain with episodes that settle after one command either way
+/// (thresholds +1 / -1).
+fn quick_movement() -> DomainDefinition {
     let mut domain = DomainDefinition::resolve("movement").unwrap();
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
-    let (store, cases) = CaseStore::open(&dir.join("cases.ron"), &domain.space).unwrap();
-    Session::new(domain, store, cases, 7).unwrap()
+    domain
+}
+
+/// The case base `cases.db` in `dir`, opened as a server would.
+fn open_cases(dir: &Path) -> Arc<SharedCases> {
+    let location = Location::Sqlite(dir.join("cases.db"));
+    Arc::new(SharedCases::open(&quick_movement(), &location).unwrap())
+}
+
+/// A quick movement session over the case base in `dir`.
+fn session(dir: &Path) -> Session {
+    Session::new(quick_movement(), open_cases(dir), 7).unwrap()
+}
+
+/// Every case stored in `dir`'s case base, read afresh as another process would.
+fn stored(dir: &Path) -> TrustCaseBase {
+    open_cases(dir)
+        .current(|memory, _| memory.base().clone())
+        .unwrap()
 }
 
 fn ask(s: &mut Session, line: &str) -> Value {
-    s.handle_line(line.as_bytes()).unwrap()
+    s.handle_line(line.as_bytes()).unwrap().into_value()
 }
 
 fn ok(s: &mut Session, line: &str) -> Value {
@@ -78,17 +96,27 @@ fn an_episode_over_the_protocol() {
         begun["behavior"]
     );
     assert_eq!(state["episode"]["evaluated"][0]["time"], 10.0);
-    // One completion: trustworthy; searched once, so the case is retained and saved.
-    assert!(!dir.path().join("cases.ron").exists());
+    // One completion: trustworthy; searched once, so the case is retained and stored.
+    assert!(stored(dir.path()).is_empty());
     let settled = ok(&mut s, COMPLETED);
     assert_eq!(settled["ok"], "settled");
     assert_eq!(settled["trustworthy"], true);
-    assert_eq!(settled["retained"], 0);
+    assert_eq!(
+        settled["retained"], 1,
+        "the first id of an SQLite case base"
+    );
     assert_eq!(settled["behaviors_evaluated"], 2);
-    let on_disk = TrustCaseBase::load_ron(&dir.path().join("cases.ron")).unwrap();
-    assert_eq!(&on_disk, s.adapter().cases());
-    let cases = ok(&mut s, r#"{"request":"cases"}"#);
+    assert_eq!(settled["cases"], 1);
+    let on_disk = stored(dir.path());
+    assert_eq!(on_disk.len(), 1);
+    assert_eq!(
+        service::reply::behavior(s.adaptation().space(), &on_disk.cases()[0].solution),
+        settled["behavior"]
+    );
+    let cases = ok(&mut s, r#"{"request":"cases","id":"list-1"}"#);
+    assert_eq!(cases["cases"][0]["id"], 1);
     assert_eq!(cases["cases"][0]["solution"], settled["behavior"]);
+    assert_eq!(cases["id"], "list-1");
     assert_eq!(ok(&mut s, r#"{"request":"state"}"#)["episode"], Value::Null);
     // The server waits for the next begin; it may draw the behavior itself.
     let begun = ok(&mut s, r#"{"request":"begin"}"#);
@@ -261,11 +289,16 @@ fn bad_behaviors_and_out_of_place_requests_change_nothing() {
 #[test]
 fn a_failed_save_is_reported_and_stops_the_server() {
     let dir = tempfile::tempdir().unwrap();
-    let gone = dir.path().join("gone");
-    std::fs::create_dir(&gone).unwrap();
-    let mut s = session(&gone);
-    // The directory disappears after start-up: the first retention cannot be saved.
-    std::fs::remove_dir(&gone).unwrap();
+    let mut s = session(dir.path());
+    // After start-up the database starts refusing new cases (as a full disk would): the
+    // first retention cannot be stored.
+    rusqlite::Connection::open(dir.path().join("cases.db"))
+        .unwrap()
+        .execute_batch(
+            "CREATE TRIGGER refuse BEFORE INSERT ON trustcbr_cases
+             BEGIN SELECT RAISE(FAIL, 'database or disk is full'); END;",
+        )
+        .unwrap();
     let input = [
         r#"{"request":"begin"}"#,
         INTERRUPTED,
@@ -278,7 +311,7 @@ fn a_failed_save_is_reported_and_stops_the_server() {
         .unwrap_err();
     assert!(
         err.to_string()
-            .starts_with("case #0 was retained but could not be saved, so the server stops"),
+            .starts_with("a case was retained but could not be stored, so the server stops"),
         "{err}"
     );
     let replies = reply_lines(&output);
@@ -289,8 +322,9 @@ fn a_failed_save_is_reported_and_stops_the_server() {
         replies[2]["error"]
             .as_str()
             .unwrap()
-            .contains("could not be saved")
+            .contains("database or disk is full")
     );
+    assert!(stored(dir.path()).is_empty());
 }
 
 #[test]
@@ -423,7 +457,7 @@ proptest! {
         ok(&mut s, r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#);
         ok(&mut s, r#"{"outcome":"completed","weight":0.5,"duration_s":1.0}"#);
         let before = snapshot(&mut s);
-        let reply = s.handle_line(&line).unwrap();
+        let reply = s.handle_line(&line).unwrap().into_value();
         if reply.get("error").is_some() {
             prop_assert_eq!(snapshot(&mut s), before);
             // The server's draws are untouched: after the episode, it draws what a fresh

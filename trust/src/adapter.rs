@@ -2,9 +2,11 @@
 //!
 //! Report every command's outcome with [`TrustAdapter::record`]; the answer says whether to
 //! keep the current behavior, switch to another, or that the episode is over (a trustworthy
-//! behavior was found, or every behavior was tried). The adapter owns the episode (the
-//! evaluated pairs `E_past`), the case memory and the search strategy, and retains a case at
-//! the end of an episode as SPEC section 3 says.
+//! behavior was found, or every behavior was tried). An [`Adaptation`] holds one robot's
+//! episode (the evaluated pairs `E_past`) and search strategy and selects from a case memory
+//! it is handed; the [`TrustAdapter`] pairs one with the memory it owns and retains a case at
+//! the end of an episode as SPEC section 3 says. Robots sharing one case memory each drive
+//! their own `Adaptation`.
 
 use crate::estimate::{
     Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate, Verdict,
@@ -13,7 +15,7 @@ use crate::evaluated::{LambdaError, validate_lambda};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
-use crate::{Evaluated, TrustCaseBase, TrustMemory};
+use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
 use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -114,6 +116,16 @@ impl AdapterConfig {
         validate_lambda(self.lambda)?;
         Ok(())
     }
+
+    /// The case memory this config's retriever keeps over `cases` in `space`.
+    pub fn memory(
+        &self,
+        space: Arc<BehaviorSpace>,
+        cases: TrustCaseBase,
+    ) -> Result<TrustMemory, ConfigError> {
+        let retriever = self.retriever.build(space, self.lambda)?;
+        Ok(TrustMemory::new(cases, retriever))
+    }
 }
 
 /// Where a new behavior came from.
@@ -148,6 +160,8 @@ pub struct EpisodeReport {
     pub searched: u32,
     /// Adaptations that reused a case.
     pub reused: u32,
+    /// Whether the behavior settled on came from the search strategy.
+    pub settled_from_search: bool,
     /// The case retained at the end of the episode, if any.
     pub retained: Option<CaseId>,
     /// The evaluated pairs `E_past`, in order.
@@ -220,58 +234,52 @@ pub struct EpisodeView<'a> {
     pub commands: u64,
 }
 
-/// The online trust-guided adapter.
-pub struct TrustAdapter {
+/// One robot's half of the adapter: the episode under way, the search strategy and its
+/// randomness. The case memory it selects from is passed to [`Adaptation::record`], so
+/// several adaptations (several robots) can share one memory; the caller retains the case
+/// [`Adaptation::case_to_retain`] names, in its memory, after the episode ends.
+pub struct Adaptation {
     space: Arc<BehaviorSpace>,
     config: AdapterConfig,
-    memory: TrustMemory,
     searcher: Box<TrustSearcher>,
     rng: ChaCha8Rng,
     episode: Option<Episode>,
 }
 
-impl TrustAdapter {
-    /// An adapter over `space` with `config`, starting from the case base `cases`; its
-    /// search randomness comes from `seed`.
+impl Adaptation {
+    /// An adaptation over `space` with `config`; its search randomness comes from `seed`.
     pub fn new(
         space: Arc<BehaviorSpace>,
         config: AdapterConfig,
-        cases: TrustCaseBase,
         seed: u64,
     ) -> Result<Self, ConfigError> {
         config.validate()?;
-        let retriever = config.retriever.build(space.clone(), config.lambda)?;
         let searcher = config.search.build();
         Ok(Self::with_parts(
             space,
             config,
-            TrustMemory::new(cases, retriever),
             searcher,
             ChaCha8Rng::seed_from_u64(seed),
         ))
     }
 
-    /// An adapter from ready-made parts (a custom retriever or search strategy). The
-    /// config's `retriever` and `search` fields are then informational only.
+    /// An adaptation from a ready-made search strategy.
     pub fn with_parts(
         space: Arc<BehaviorSpace>,
         config: AdapterConfig,
-        memory: TrustMemory,
         searcher: Box<TrustSearcher>,
         rng: ChaCha8Rng,
     ) -> Self {
         Self {
             space,
             config,
-            memory,
             searcher,
             rng,
             episode: None,
         }
     }
 
-    /// Restarts the search randomness from `seed` (the experiment runner gives every
-    /// trial its own stream).
+    /// Restarts the search randomness from `seed`.
     pub fn reseed(&mut self, seed: u64) {
         self.rng = ChaCha8Rng::seed_from_u64(seed);
     }
@@ -298,8 +306,14 @@ impl TrustAdapter {
         Ok(())
     }
 
-    /// Records one command's outcome for the behavior in use and decides what to do next.
-    pub fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
+    /// Records one command's outcome for the behavior in use and decides what to do next,
+    /// selecting from `memory` when the behavior turns untrustworthy. A settled episode's
+    /// report has `retained: None`: the caller retains [`Self::case_to_retain`].
+    pub fn record(
+        &mut self,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> Result<Decision, AdapterError> {
         outcome.validate()?;
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
         episode.estimate.record(outcome);
@@ -319,7 +333,7 @@ impl TrustAdapter {
                         TimeUnit::Commands => f64::from(episode.estimate.commands),
                     },
                 });
-                let memory = self.config.reuse_cases.then_some(&self.memory);
+                let memory = self.config.reuse_cases.then_some(memory);
                 let selection = select_behavior(
                     &episode.evaluated,
                     memory,
@@ -354,6 +368,20 @@ impl TrustAdapter {
         }
     }
 
+    /// The case a finished episode retains (SPEC section 3): its evaluated pairs and the
+    /// behavior found, when a trustworthy behavior was found and the search strategy found
+    /// it, in the configured reading of "found" ([`Retention`]).
+    pub fn case_to_retain(&self, report: &EpisodeReport) -> Option<TrustCase> {
+        let search_found_it = match self.config.retention {
+            Retention::AnySearch => report.searched > 0,
+            Retention::FinalFromSearch => report.settled_from_search,
+        };
+        (report.found_trustworthy && search_found_it).then(|| Case {
+            problem: report.evaluated.clone(),
+            solution: report.settled,
+        })
+    }
+
     /// Ends the episode under way without a trustworthy behavior and without retaining a
     /// case (the operator left). Returns its report, or `None` if none was under way.
     pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
@@ -363,18 +391,6 @@ impl TrustAdapter {
 
     fn finish(&mut self, found_trustworthy: bool) -> EpisodeReport {
         let episode = self.episode.take().expect("an episode is under way");
-        // SPEC section 3: retain when a trustworthy behavior was found and the search
-        // strategy found it, in the configured reading of "found".
-        let search_found_it = match self.config.retention {
-            Retention::AnySearch => episode.searched > 0,
-            Retention::FinalFromSearch => episode.current_from_search,
-        };
-        let retained = (found_trustworthy && search_found_it).then(|| {
-            self.memory.retain(Case {
-                problem: episode.evaluated.clone(),
-                solution: episode.current,
-            })
-        });
         let settled = if found_trustworthy {
             Some(&episode.current)
         } else {
@@ -395,7 +411,8 @@ impl TrustAdapter {
             untrustworthy: episode.untrustworthy,
             searched: episode.searched,
             reused: episode.reused,
-            retained,
+            settled_from_search: episode.current_from_search,
+            retained: None,
             evaluated: episode.evaluated,
         }
     }
@@ -423,6 +440,92 @@ impl TrustAdapter {
     /// The configuration.
     pub fn config(&self) -> &AdapterConfig {
         &self.config
+    }
+}
+
+/// The online trust-guided adapter: one [`Adaptation`] and the case memory it owns.
+pub struct TrustAdapter {
+    adaptation: Adaptation,
+    memory: TrustMemory,
+}
+
+impl TrustAdapter {
+    /// An adapter over `space` with `config`, starting from the case base `cases`; its
+    /// search randomness comes from `seed`.
+    pub fn new(
+        space: Arc<BehaviorSpace>,
+        config: AdapterConfig,
+        cases: TrustCaseBase,
+        seed: u64,
+    ) -> Result<Self, ConfigError> {
+        let memory = config.memory(space.clone(), cases)?;
+        let adaptation = Adaptation::new(space, config, seed)?;
+        Ok(Self { adaptation, memory })
+    }
+
+    /// An adapter from ready-made parts (a custom retriever or search strategy). The
+    /// config's `retriever` and `search` fields are then informational only.
+    pub fn with_parts(
+        space: Arc<BehaviorSpace>,
+        config: AdapterConfig,
+        memory: TrustMemory,
+        searcher: Box<TrustSearcher>,
+        rng: ChaCha8Rng,
+    ) -> Self {
+        Self {
+            adaptation: Adaptation::with_parts(space, config, searcher, rng),
+            memory,
+        }
+    }
+
+    /// Restarts the search randomness from `seed` (the experiment runner gives every
+    /// trial its own stream).
+    pub fn reseed(&mut self, seed: u64) {
+        self.adaptation.reseed(seed);
+    }
+
+    /// Starts an episode (a new operator, a new mission) with `initial` in use.
+    pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        self.adaptation.begin_episode(initial)
+    }
+
+    /// Records one command's outcome for the behavior in use and decides what to do next;
+    /// a settled episode retains its case (SPEC section 3) before the report is returned.
+    pub fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
+        let mut decision = self.adaptation.record(outcome, &self.memory)?;
+        if let Decision::Settled(report) = &mut decision {
+            report.retained = self
+                .adaptation
+                .case_to_retain(report)
+                .map(|case| self.memory.retain(case));
+        }
+        Ok(decision)
+    }
+
+    /// Ends the episode under way without a trustworthy behavior and without retaining a
+    /// case (the operator left). Returns its report, or `None` if none was under way.
+    pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        self.adaptation.abandon_episode()
+    }
+
+    /// Whether the search strategy carries knowledge from one episode into the next.
+    pub fn learns_across_episodes(&self) -> bool {
+        self.adaptation.learns_across_episodes()
+    }
+
+    /// The episode under way, if any.
+    pub fn episode(&self) -> Option<EpisodeView<'_>> {
+        self.adaptation.episode()
+    }
+
+    /// The behavior space.
+    pub fn space(&self) -> &Arc<BehaviorSpace> {
+        self.adaptation.space()
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &AdapterConfig {
+        self.adaptation.config()
     }
 
     /// The case base (every retained case, in order).

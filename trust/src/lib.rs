@@ -7,7 +7,8 @@
 //! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
 //!   and model-based search.
 //! - [`retrieval`]: the retrievers a config can name.
-//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds.
+//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
+//!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
 //! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
 //! - [`experiment`]: trials, paired arms, statistics and reports (SPEC section 7).
@@ -28,8 +29,8 @@ pub mod select;
 pub mod testing;
 
 pub use adapter::{
-    AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView, Retention,
-    Source, TimeUnit, TrustAdapter,
+    Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
+    Retention, Source, TimeUnit, TrustAdapter,
 };
 pub use domain::Domain;
 pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};

@@ -1,0 +1,97 @@
+//! `trustcbr cases export | import | info`: moving case bases between stores and looking
+//! at one.
+//!
+//! RON is the human-readable exchange format: `export` writes a case base (with its domain
+//! and behavior space) to a RON file, `import` appends the cases of a RON file to a
+//! database (created when absent) after checking every case against the domain's space,
+//! and `info` describes a case base. None of them modifies its source.
+
+use crate::domain::DomainDefinition;
+use crate::store::{self, Identity, Location, StoreError, StoreId, ron_file};
+use cbr_core::BehaviorSpace;
+use std::fmt;
+use std::path::Path;
+use trust::TrustCase;
+
+/// What `cases info` shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseBaseInfo {
+    /// The store.
+    pub location: String,
+    /// The domain and space recorded.
+    pub identity: Identity,
+    /// How many cases it holds.
+    pub cases: usize,
+    /// The smallest and largest case ids, if it holds any.
+    pub ids: Option<(StoreId, StoreId)>,
+}
+
+impl fmt::Display for CaseBaseInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let space = &self.identity.space;
+        writeln!(f, "case base: {}", self.location)?;
+        writeln!(f, "domain:    {}", self.identity.domain)?;
+        writeln!(f, "space:     {}", describe(space))?;
+        write!(f, "cases:     {}", self.cases)?;
+        if let Some((first, last)) = self.ids {
+            write!(f, " (ids {first} to {last})")?;
+        }
+        Ok(())
+    }
+}
+
+fn describe(space: &BehaviorSpace) -> String {
+    let components: Vec<String> = space
+        .components()
+        .iter()
+        .zip(space.weights())
+        .map(|(c, w)| format!("{} ({} values, weight {w})", c.name, c.len()))
+        .collect();
+    format!("{} behaviors: {}", space.size(), components.join(", "))
+}
+
+/// Describes the case base at `location`.
+pub fn info(location: &Location) -> Result<CaseBaseInfo, StoreError> {
+    let mut store = store::open_existing(location)?;
+    let mut cases = 0;
+    let mut ids = None;
+    store.read_after(None, &mut |stored| {
+        cases += 1;
+        let (first, _) = ids.unwrap_or((stored.id, stored.id));
+        ids = Some((first, stored.id));
+        Ok(())
+    })?;
+    Ok(CaseBaseInfo {
+        location: store.location(),
+        identity: store.identity().clone(),
+        cases,
+        ids,
+    })
+}
+
+/// Writes the case base at `from` to the RON file `to`; returns how many cases.
+pub fn export(from: &Location, to: &Path) -> Result<usize, StoreError> {
+    let mut store = store::open_existing(from)?;
+    ron_file::export(store.as_mut(), to)
+}
+
+/// Appends every case of the RON file `from` to the case base at `to` (created when
+/// absent), learned in `domain`'s space. A file recording another space, or a case that
+/// does not fit the space, is refused and nothing is appended. Returns how many cases.
+pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<usize, StoreError> {
+    let identity = Identity {
+        domain: domain.name.clone(),
+        space: (*domain.space).clone(),
+    };
+    let source = Location::Ron(from.to_owned());
+    let mut reader = store::open(&source, &identity)?;
+    let location = reader.location();
+    let mut cases: Vec<TrustCase> = Vec::new();
+    reader.read_after(None, &mut |stored| {
+        store::check_case(&location, &stored, &identity.space)?;
+        cases.push(stored.case);
+        Ok(())
+    })?;
+    let mut target = store::open(to, &identity)?;
+    target.append_all(&cases)
+}

@@ -1,0 +1,141 @@
+//! [`RonStore`]: a case base in a RON file, the human-readable exchange format.
+//!
+//! ```ron
+//! (
+//!     domain: "movement",
+//!     space: (components: [...], weights: [1.0, 1.0]),
+//!     cases: [(problem: [(behavior: [3, 4], time: 12.0)], solution: [5, 5])],
+//! )
+//! ```
+//!
+//! `domain` and `space` are optional, so case files written before case bases recorded
+//! their space still open (their cases are then only checked to fit the space served). A
+//! RON case base is read once and never written: serving one reuses its cases and retains
+//! none; `trustcbr cases import` converts it into a database, `trustcbr cases export`
+//! writes one. A case's id in a RON file is its position, from 0.
+
+use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file};
+use cbr_core::{BehaviorSpace, CaseBaseError, FileError, parse_ron, read_text};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use trust::TrustCase;
+
+/// The layout of a RON case file.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    domain: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    space: Option<BehaviorSpace>,
+    cases: Vec<TrustCase>,
+}
+
+/// A RON case file, read once at open.
+pub struct RonStore {
+    path: PathBuf,
+    identity: Identity,
+    cases: Vec<TrustCase>,
+}
+
+impl RonStore {
+    /// Reads the case file at `path`. Its identity is the one it records or, for a file
+    /// recording none, `identity`; with neither it is refused.
+    pub fn open(path: &Path, identity: Option<&Identity>) -> Result<Self, StoreError> {
+        if !check_file(path)? {
+            return Err(StoreError::Missing(path.display().to_string()));
+        }
+        let text = read_text(path).map_err(CaseBaseError::from)?;
+        let file: CaseFile = parse_ron(&text, path).map_err(CaseBaseError::from)?;
+        let identity = match (file.space, identity) {
+            (Some(space), _) => Identity {
+                domain: file.domain.unwrap_or_default(),
+                space,
+            },
+            (None, Some(identity)) => identity.clone(),
+            (None, None) => {
+                return Err(StoreError::Corrupt {
+                    location: path.display().to_string(),
+                    reason: "the file records no behavior space; name the domain its cases belong to (`--domain`)".to_owned(),
+                });
+            }
+        };
+        Ok(Self {
+            path: path.to_owned(),
+            identity,
+            cases: file.cases,
+        })
+    }
+}
+
+impl CaseStore for RonStore {
+    fn location(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    fn identity(&self) -> &Identity {
+        &self.identity
+    }
+
+    fn writable(&self) -> bool {
+        false
+    }
+
+    fn read_after(
+        &mut self,
+        after: Option<StoreId>,
+        each: &mut dyn FnMut(StoredCase) -> Result<(), StoreError>,
+    ) -> Result<(), StoreError> {
+        let first = after.map_or(0, |a| usize::try_from(a + 1).unwrap_or(0));
+        for (position, case) in self.cases.iter().enumerate().skip(first) {
+            each(StoredCase {
+                id: position as StoreId,
+                case: case.clone(),
+            })?;
+        }
+        Ok(())
+    }
+
+    fn append(
+        &mut self,
+        _case: &TrustCase,
+        _after: Option<StoreId>,
+        _missed: &mut dyn FnMut(StoredCase),
+    ) -> Result<StoreId, StoreError> {
+        Err(StoreError::ReadOnly(self.path.clone()))
+    }
+
+    fn append_all(&mut self, _cases: &[TrustCase]) -> Result<usize, StoreError> {
+        Err(StoreError::ReadOnly(self.path.clone()))
+    }
+}
+
+/// Writes every case of `store`, with its identity, to the RON file `out` (atomically).
+/// Returns how many cases were written.
+pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError> {
+    let mut cases = Vec::new();
+    store.read_after(None, &mut |stored| {
+        cases.push(stored.case);
+        Ok(())
+    })?;
+    let identity = store.identity();
+    let file = CaseFile {
+        domain: Some(identity.domain.clone()),
+        space: Some(identity.space.clone()),
+        cases,
+    };
+    let text =
+        ron::ser::to_string_pretty(&file, ron::ser::PrettyConfig::default()).map_err(|e| {
+            CaseBaseError::Serialize {
+                path: out.to_owned(),
+                message: e.to_string(),
+            }
+        })?;
+    cbr_core::write_atomically(out, text.as_bytes()).map_err(|reason| {
+        CaseBaseError::Io(FileError {
+            path: out.to_owned(),
+            reason,
+        })
+    })?;
+    Ok(file.cases.len())
+}

@@ -1,0 +1,166 @@
+//! `trustcbr cases export | import | info` as processes: a case base learned by `serve`
+//! goes to RON and back into another database unchanged; a RON file of another space is
+//! refused naming the difference; a RON case file is served read-only.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+mod support;
+
+fn trustcbr(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn succeeded(output: Output) -> String {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// Runs `serve` on `cases` for `episodes` episodes that each retain a case; returns its
+/// replies.
+fn learn(domain: &Path, cases: &Path, episodes: usize) -> Vec<serde_json::Value> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+        .args(["serve", "--domain"])
+        .arg(domain)
+        .arg("--cases")
+        .arg(cases)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = child.stdin.take().unwrap();
+    for _ in 0..episodes {
+        writeln!(input, r#"{{"request": "begin"}}"#).unwrap();
+        writeln!(
+            input,
+            r#"{{"outcome": "interrupted", "weight": 1, "cause": "stuck", "duration_s": 3}}"#
+        )
+        .unwrap();
+        writeln!(
+            input,
+            r#"{{"outcome": "completed", "weight": 1, "duration_s": 5}}"#
+        )
+        .unwrap();
+    }
+    drop(input);
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    succeeded(output)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .chain(std::iter::once(serde_json::Value::String(stderr)))
+        .collect()
+}
+
+#[test]
+fn a_case_base_goes_to_ron_and_back_unchanged() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let db = dir.path().join("learned.db");
+    learn(&domain, &db, 4);
+    let info = succeeded(trustcbr(&["cases", "info", db.to_str().unwrap()]));
+    assert!(
+        info.contains(&format!("domain:    {}", domain.display())),
+        "{info}"
+    );
+    assert!(
+        info.contains("25 behaviors: speed (5 values, weight 1), padding (5 values, weight 1)"),
+        "{info}"
+    );
+    assert!(info.contains("cases:     4 (ids 1 to 4)"), "{info}");
+
+    let exported = dir.path().join("exported.ron");
+    let said = succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    assert_eq!(
+        said.trim(),
+        format!("wrote 4 cases to {}", exported.display())
+    );
+    let text = std::fs::read_to_string(&exported).unwrap();
+    assert!(
+        text.contains("space:") && text.contains("\"speed\""),
+        "{text}"
+    );
+
+    let copy = dir.path().join("copy.db");
+    succeeded(trustcbr(&[
+        "cases",
+        "import",
+        exported.to_str().unwrap(),
+        copy.to_str().unwrap(),
+        "--domain",
+        domain.to_str().unwrap(),
+    ]));
+    let again = dir.path().join("again.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        copy.to_str().unwrap(),
+        again.to_str().unwrap(),
+    ]));
+    assert_eq!(std::fs::read_to_string(&again).unwrap(), text);
+
+    // The movement space differs from this file's: refused, and nothing is created.
+    let other = dir.path().join("other.db");
+    let output = trustcbr(&[
+        "cases",
+        "import",
+        exported.to_str().unwrap(),
+        other.to_str().unwrap(),
+        "--domain",
+        "movement",
+    ]);
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("component 0 (speed): min 1 in the case base, 0.5 here"),
+        "{stderr}"
+    );
+    assert!(!other.exists());
+}
+
+#[test]
+fn a_ron_case_file_is_served_read_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let db = dir.path().join("learned.db");
+    learn(&domain, &db, 2);
+    let exported = dir.path().join("cases.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    let before = std::fs::read(&exported).unwrap();
+    let replies = learn(&domain, &exported, 2);
+    let stderr = replies.last().unwrap().as_str().unwrap();
+    assert!(stderr.contains("2 cases loaded"), "{stderr}");
+    assert!(
+        stderr.contains("served read-only, no case is retained"),
+        "{stderr}"
+    );
+    let settled: Vec<_> = replies.iter().filter(|r| r["ok"] == "settled").collect();
+    assert_eq!(settled.len(), 2);
+    assert!(
+        settled
+            .iter()
+            .all(|r| r["retained"].is_null() && r["cases"] == 2)
+    );
+    assert_eq!(std::fs::read(&exported).unwrap(), before);
+}

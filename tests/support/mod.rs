@@ -1,0 +1,90 @@
+//! What the process tests share: a quick domain, a TCP server and the address it listens
+//! on, and the cases a store holds. Each test file uses part of it.
+#![allow(dead_code)] // every test file compiles this module and uses only some of it
+
+use serde_json::Value;
+use service::store::{self, Location, StoreId};
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+/// A 5 x 5 domain whose episodes end in three requests: `begin`, one interruption
+/// (untrustworthy at -1: the adapter switches), one completion (trustworthy at +1). With
+/// `reuse_cases` off every switch comes from the search, so every episode retains a case.
+pub fn quick_domain(reuse_cases: bool) -> String {
+    format!(
+        r#"(
+    space: (components: [
+        (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
+        (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
+    ]),
+    adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0), reuse_cases: {reuse_cases}),
+)"#
+    )
+}
+
+/// The three requests of a quick episode.
+pub const EPISODE: [&str; 3] = [
+    r#"{"request": "begin"}"#,
+    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 4.0}"#,
+    r#"{"outcome": "completed", "weight": 1.0, "duration_s": 6.0}"#,
+];
+
+/// A server process, killed when dropped (even when a test fails).
+pub struct Server(pub Child);
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.0.kill().ok();
+        self.0.wait().ok();
+    }
+}
+
+/// Starts `serve`, made by `command` with `--listen`, and reads its stderr until it says
+/// where it listens, then keeps draining it (so the server never blocks on its log).
+/// Returns the server and the address.
+pub fn listening(command: &mut Command) -> (Server, String) {
+    let mut server = Server(
+        command
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let mut log = BufReader::new(server.0.stderr.take().expect("stderr is piped"));
+    let addr = loop {
+        let mut line = String::new();
+        assert_ne!(
+            log.read_line(&mut line).unwrap(),
+            0,
+            "the server exited early"
+        );
+        if let Some(addr) = line.trim().strip_prefix("listening on ") {
+            break addr.to_owned();
+        }
+    };
+    std::thread::spawn(move || for _ in log.lines() {});
+    (server, addr)
+}
+
+/// Every case stored at `location`, by store id, its solution in real units of `space`;
+/// the store must open, and no id may appear twice.
+pub fn stored_solutions(
+    location: &Location,
+    space: &cbr_core::BehaviorSpace,
+) -> BTreeMap<StoreId, Value> {
+    let mut store =
+        store::open_existing(location).unwrap_or_else(|e| panic!("the case base must open: {e}"));
+    let mut rows = Vec::new();
+    store
+        .read_after(None, &mut |c| {
+            rows.push((c.id, service::reply::behavior(space, &c.case.solution)));
+            Ok(())
+        })
+        .unwrap();
+    let count = rows.len();
+    let by_id: BTreeMap<StoreId, Value> = rows.into_iter().collect();
+    assert_eq!(by_id.len(), count, "a case id appears twice");
+    by_id
+}
