@@ -198,7 +198,10 @@ mod tests {
             "trustworthy: -3.0, untrustworthy: 3.0",
         );
         assert_eq!(line, 6);
-        assert!(message.contains("untrustworthy < 0 < trustworthy"), "{message}");
+        assert!(
+            message.contains("untrustworthy < 0 < trustworthy"),
+            "{message}"
+        );
     }
 
     #[test]

@@ -297,7 +297,11 @@ mod tests {
     #[test]
     fn thresholds_are_checked_when_read() {
         let e = ron::from_str::<Thresholds>("(trustworthy: -5.0, untrustworthy: 5.0)").unwrap_err();
-        assert!(e.code.to_string().contains("untrustworthy < 0 < trustworthy"));
+        assert!(
+            e.code
+                .to_string()
+                .contains("untrustworthy < 0 < trustworthy")
+        );
         assert!(
             ron::from_str::<Thresholds>("(trustworthy: 5.0, untrustworthy: -5.0, x: 1)").is_err()
         );
