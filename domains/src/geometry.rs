@@ -181,17 +181,6 @@ impl Shape {
         }
     }
 
-    /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
-    /// with a quick answer when the segment's box is that far from the shape's box.
-    pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
-        let (min, max) = self.bounds();
-        let far = a.x.max(b.x) < min.x - clearance
-            || a.x.min(b.x) > max.x + clearance
-            || a.y.max(b.y) < min.y - clearance
-            || a.y.min(b.y) > max.y + clearance;
-        far || self.distance_to_segment(a, b) >= clearance
-    }
-
     /// Distance from `p` to the shape (0 inside).
     pub fn distance_to_point(&self, p: Vec2) -> f64 {
         match self {
@@ -285,9 +274,42 @@ impl Shape {
     }
 }
 
+/// A shape with its bounding box, computed once: the form in which the planner and the
+/// object placement test the same shapes again and again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundedShape {
+    shape: Shape,
+    min: Vec2,
+    max: Vec2,
+}
+
+impl BoundedShape {
+    /// `shape` and its box ([`Shape::bounds`]).
+    pub fn new(shape: &Shape) -> Self {
+        let (min, max) = shape.bounds();
+        Self {
+            shape: shape.clone(),
+            min,
+            max,
+        }
+    }
+
+    /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
+    /// with a quick answer when the segment's box is that far from the shape's box.
+    pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
+        let (min, max) = (self.min, self.max);
+        let far = a.x.max(b.x) < min.x - clearance
+            || a.x.min(b.x) > max.x + clearance
+            || a.y.max(b.y) < min.y - clearance
+            || a.y.min(b.y) > max.y + clearance;
+        far || self.shape.distance_to_segment(a, b) >= clearance
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn point_segment_distance_by_hand() {
@@ -324,6 +346,27 @@ mod tests {
         for i in 0..8 {
             let (a, b) = (out[i], out[(i + 1) % 8]);
             assert!(rect.distance_to_segment(a, b) >= 0.5 - 1e-9);
+        }
+    }
+
+    proptest! {
+        /// The quick answer from the stored box never contradicts the exact distance.
+        #[test]
+        fn bounded_shapes_keep_clear_exactly_when_the_distance_says_so(
+            ax in -5.0f64..15.0, ay in -5.0f64..15.0,
+            bx in -5.0f64..15.0, by in -5.0f64..15.0,
+            clearance in 0.0f64..3.0, point: bool,
+        ) {
+            let a = Vec2::new(ax, ay);
+            let b = if point { a } else { Vec2::new(bx, by) };
+            for shape in [Shape::rect(2.0, 3.0, 6.0, 4.5), Shape::circle(7.0, 7.0, 0.3)] {
+                let bounded = BoundedShape::new(&shape);
+                prop_assert_eq!((bounded.min, bounded.max), shape.bounds());
+                prop_assert_eq!(
+                    bounded.keeps_clear(a, b, clearance),
+                    shape.distance_to_segment(a, b) >= clearance
+                );
+            }
         }
     }
 

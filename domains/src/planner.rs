@@ -5,7 +5,7 @@
 //! A path exists or not; when it does not, the robot is stuck. The planner knows nothing
 //! of speeds or operators.
 
-use crate::geometry::{Shape, Vec2, within};
+use crate::geometry::{BoundedShape, Shape, Vec2, within};
 use petgraph::graph::{NodeIndex, UnGraph};
 
 /// Tolerance for "at least the clearance" comparisons (m): grown corners sit exactly at the
@@ -41,17 +41,24 @@ pub struct VisibilityGraph {
     waypoints: Vec<Option<(usize, u32)>>,
 }
 
+/// The obstacles of a [`Problem`] with their boxes, computed once per visibility graph.
+struct Obstacles {
+    fixed: Vec<BoundedShape>,
+    optional: Vec<BoundedShape>,
+}
+
 impl Problem<'_> {
     /// Which optional obstacles segment `a`-`b` comes closer to than the clearance, or
     /// `None` when a fixed obstacle or the map edge does.
-    fn blockers(&self, a: Vec2, b: Vec2) -> Option<u32> {
+    fn blockers(&self, obstacles: &Obstacles, a: Vec2, b: Vec2) -> Option<u32> {
         let c = self.clearance - SLACK;
         let inside = |p: Vec2| within(p, self.size, c);
-        if !(inside(a) && inside(b) && self.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
+        if !(inside(a) && inside(b) && obstacles.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
             return None;
         }
         Some(
-            self.optional
+            obstacles
+                .optional
                 .iter()
                 .enumerate()
                 .filter(|(_, o)| !o.keeps_clear(a, b, c))
@@ -61,6 +68,11 @@ impl Problem<'_> {
 
     /// The visibility graph through `waypoints`.
     pub fn visibility(&self, waypoints: &[Vec2]) -> VisibilityGraph {
+        let bounded = |shapes: &[&Shape]| shapes.iter().map(|s| BoundedShape::new(s)).collect();
+        let obstacles = Obstacles {
+            fixed: bounded(&self.fixed),
+            optional: bounded(&self.optional),
+        };
         let mut corners = Vec::new();
         for shape in self.fixed.iter().chain(&self.optional) {
             shape.inflated_vertices(self.clearance + 2.0 * SLACK, &mut corners);
@@ -69,13 +81,13 @@ impl Problem<'_> {
         let mut node_blockers = Vec::new();
         let mut waypoint_nodes = Vec::new();
         for &p in waypoints {
-            let blockers = self.blockers(p, p);
+            let blockers = self.blockers(&obstacles, p, p);
             waypoint_nodes.push(blockers.map(|b| (nodes.len(), b)));
             nodes.push(p);
             node_blockers.push(blockers.unwrap_or(u32::MAX));
         }
         for p in corners {
-            if let Some(b) = self.blockers(p, p) {
+            if let Some(b) = self.blockers(&obstacles, p, p) {
                 nodes.push(p);
                 node_blockers.push(b);
             }
@@ -89,7 +101,7 @@ impl Problem<'_> {
                 if node_blockers[j] == u32::MAX {
                     continue;
                 }
-                if let Some(b) = self.blockers(nodes[i], nodes[j]) {
+                if let Some(b) = self.blockers(&obstacles, nodes[i], nodes[j]) {
                     edges.push((i, j, nodes[i].dist(nodes[j]), b));
                 }
             }

@@ -242,9 +242,4 @@ impl World {
                 .map(|(_, h)| &h.shape),
         )
     }
-
-    /// Whether `p` is inside the map with `margin` to spare from its edge.
-    pub fn inside(&self, p: Vec2, margin: f64) -> bool {
-        crate::geometry::within(p, self.size, margin)
-    }
 }
