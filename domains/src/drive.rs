@@ -66,22 +66,30 @@ pub fn drive(
         drawn.push((0, x));
     }
     let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
+    // Each stretch's peak speed and the error's spread at that speed.
+    let speeds: Vec<(f64, f64)> = profile
+        .peaks()
+        .map(|v| (v, robot.cross_track_sd(v)))
+        .collect();
+    let mut stretch = None;
     let last = plan.samples.len() - 1;
     let mut error = 0.0;
-    for (k, sample) in plan.samples.iter().enumerate() {
+    // Samples far from every obstacle draw nothing and change nothing, so only the close
+    // ones (and the goal) are visited; the marks passed on the way are timed on arrival
+    // at the next visited sample, with the delay that held there all along.
+    for k in plan.samples_closer_than(negligible) {
+        let sample = &plan.samples[k];
         while next_mark < marks.len() && marks[next_mark].s <= sample.s {
             mark_times.push(profile.time_at(marks[next_mark].s) + delay);
             delay += marks[next_mark].dwell;
             next_mark += 1;
         }
-        if sample.gap_left.min(sample.gap_right) >= negligible && k != last {
-            continue;
-        }
         let rho = (-(sample.s - x_at) / robot.error_correlation).exp();
         x = rho * x + (1.0 - rho * rho).sqrt() * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
-        let v = profile.stretch_peak(sample.s);
-        error = robot.cross_track_sd(v) * x;
+        stretch = profile.stretch_index(sample.s, stretch);
+        let (v, spread) = stretch.map_or((0.0, robot.cross_track_sd(0.0)), |i| speeds[i]);
+        error = spread * x;
         if error > sample.gap_left || -error > sample.gap_right {
             let at = sample.at + sample.left * error;
             trace.push(
@@ -156,7 +164,7 @@ fn profile(plan: &Plan, robot: &Robot, speed: f64, marks: &[Mark]) -> Profile {
     let corners = plan
         .arc
         .iter()
-        .zip(&angles)
+        .zip(angles)
         .enumerate()
         .map(|(i, (&s, &theta))| {
             let limit = if i == 0 || i == last {

@@ -185,7 +185,15 @@ pub struct Plan {
     pub arc: Vec<f64>,
     /// The clearance profile, every [`SAMPLE_SPACING`] or closer, way-points included.
     pub samples: Vec<Sample>,
+    /// The turning angle at each way-point ([`Plan::turn_angles`]).
+    turns: Vec<f64>,
+    /// The least gap (either side) of each block of [`GAP_BLOCK`] samples, so a drive
+    /// skips the blocks far from every obstacle without looking at their samples.
+    block_gaps: Vec<f64>,
 }
+
+/// Samples per block of [`Plan::samples_closer_than`]'s index.
+const GAP_BLOCK: usize = 16;
 
 impl Plan {
     /// Measures `points`: arc lengths, and at every sample the gap between the robot's
@@ -215,10 +223,17 @@ impl Plan {
                 ));
             }
         }
+        let turns = turn_angles(&points);
+        let block_gaps = samples
+            .chunks(GAP_BLOCK)
+            .map(|block| block.iter().map(Sample::gap).fold(f64::INFINITY, f64::min))
+            .collect();
         Self {
             points,
             arc,
             samples,
+            turns,
+            block_gaps,
         }
     }
 
@@ -284,14 +299,28 @@ impl Plan {
         )
     }
 
-    /// The point of the path nearest to `p`: its arc length and distance.
+    /// The point of the path nearest to `p`: its arc length and distance. The first
+    /// segment at the least distance wins a tie.
+    ///
+    /// Segments are compared by squared distance; the distance itself (a `hypot`) is
+    /// computed only for a segment that is not clearly farther than the best so far, so
+    /// the answer is the one comparing every segment's distance would give, bit for bit.
     pub fn nearest(&self, p: Vec2) -> (f64, f64) {
+        // Squared distances computed this far apart order the distances the same way
+        // (each is within a few ulps of the true value, as is `hypot`).
+        const CLEARLY_FARTHER: f64 = 1.0 + 1e-12;
         let mut best = (0.0, f64::INFINITY);
+        let mut best_squared = f64::INFINITY;
         for (k, w) in self.points.windows(2).enumerate() {
             let q = crate::geometry::closest_on_segment(p, w[0], w[1]);
+            let squared = (p - q).dot(p - q);
+            if squared > best_squared * CLEARLY_FARTHER {
+                continue;
+            }
             let d = p.dist(q);
             if d < best.1 {
                 best = (self.arc[k] + w[0].dist(q), d);
+                best_squared = squared;
             }
         }
         best
@@ -299,20 +328,46 @@ impl Plan {
 
     /// The turning angle at each interior way-point (radians, 0 for straight on); the first
     /// and last entries are 0.
-    pub fn turn_angles(&self) -> Vec<f64> {
-        let mut angles = vec![0.0; self.points.len()];
-        for (i, w) in self.points.windows(3).enumerate() {
-            let a = (w[1] - w[0]).unit();
-            let b = (w[2] - w[1]).unit();
-            angles[i + 1] = a.cross(b).atan2(a.dot(b)).abs();
-        }
-        angles
+    pub fn turn_angles(&self) -> &[f64] {
+        &self.turns
     }
+
+    /// The indices of the samples whose gap on either side is below `gap`, in order, and
+    /// always the last sample (the goal).
+    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = usize> + '_ {
+        let last = self.samples.len() - 1;
+        self.block_gaps
+            .iter()
+            .enumerate()
+            .filter(move |&(b, &least)| least < gap || (b + 1) * GAP_BLOCK > last)
+            .flat_map(move |(b, _)| b * GAP_BLOCK..((b + 1) * GAP_BLOCK).min(last + 1))
+            .filter(move |&k| self.samples[k].gap() < gap || k == last)
+    }
+}
+
+impl Sample {
+    /// The smaller of the two gaps (m).
+    pub fn gap(&self) -> f64 {
+        self.gap_left.min(self.gap_right)
+    }
+}
+
+/// The turning angle at each interior way-point of `points` (radians, 0 for straight on);
+/// the first and last entries are 0.
+fn turn_angles(points: &[Vec2]) -> Vec<f64> {
+    let mut angles = vec![0.0; points.len()];
+    for (i, w) in points.windows(3).enumerate() {
+        let a = (w[1] - w[0]).unit();
+        let b = (w[2] - w[1]).unit();
+        angles[i + 1] = a.cross(b).atan2(a.dot(b)).abs();
+    }
+    angles
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn goes_around_a_box_at_the_clearance() {
@@ -369,6 +424,53 @@ mod tests {
         let free = graph.route(0).expect("passes when nobody is there");
         assert_eq!(free.len(), 2, "straight through");
         assert!(graph.route(1).is_none());
+    }
+
+    proptest! {
+        /// The squared-distance scan answers exactly as comparing every segment's
+        /// distance does, ties (a corner nearest to two segments) included.
+        #[test]
+        fn nearest_equals_the_distance_scan(
+            corners in proptest::collection::vec((0.0f64..20.0, 0.0f64..20.0), 2..8),
+            px in -5.0f64..25.0, py in -5.0f64..25.0, at_corner: bool,
+        ) {
+            let points: Vec<Vec2> = corners.iter().map(|&(x, y)| Vec2::new(x, y)).collect();
+            let plan = Plan::new(points.clone(), &[], 0.5, Vec2::new(20.0, 20.0));
+            let p = if at_corner { points[points.len() / 2] } else { Vec2::new(px, py) };
+            let mut expected = (0.0, f64::INFINITY);
+            for (k, w) in points.windows(2).enumerate() {
+                let q = crate::geometry::closest_on_segment(p, w[0], w[1]);
+                if p.dist(q) < expected.1 {
+                    expected = (plan.arc[k] + w[0].dist(q), p.dist(q));
+                }
+            }
+            let found = plan.nearest(p);
+            prop_assert_eq!(found.0.to_bits(), expected.0.to_bits());
+            prop_assert_eq!(found.1.to_bits(), expected.1.to_bits());
+        }
+    }
+
+    #[test]
+    fn the_close_samples_are_those_a_full_scan_finds() {
+        let cones = [Shape::circle(5.0, 6.0, 0.2), Shape::circle(9.3, 4.2, 0.2)];
+        let plan = Plan::new(
+            vec![
+                Vec2::new(1.0, 5.0),
+                Vec2::new(13.0, 5.0),
+                Vec2::new(13.0, 14.0),
+            ],
+            &[&cones[0], &cones[1]],
+            0.5,
+            Vec2::new(100.0, 100.0),
+        );
+        let last = plan.samples.len() - 1;
+        for gap in [-1.0, 0.0, 0.3, 0.6, 1.0, 2.0, f64::INFINITY] {
+            let scan: Vec<usize> = (0..plan.samples.len())
+                .filter(|&k| plan.samples[k].gap() < gap || k == last)
+                .collect();
+            let found: Vec<usize> = plan.samples_closer_than(gap).collect();
+            assert_eq!(found, scan, "gap {gap}");
+        }
     }
 
     #[test]
