@@ -88,7 +88,7 @@ pub fn drive(
         x = rho * x + (1.0 - rho * rho).sqrt() * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
         stretch = profile.stretch_index(sample.s, stretch);
-        let (v, spread) = stretch.map_or((0.0, robot.cross_track_sd(0.0)), |i| speeds[i]);
+        let (v, spread) = stretch.map_or_else(|| (0.0, robot.cross_track_sd(0.0)), |i| speeds[i]);
         error = spread * x;
         if error > sample.gap_left || -error > sample.gap_right {
             let at = sample.at + sample.left * error;
