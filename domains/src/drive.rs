@@ -72,6 +72,8 @@ pub fn drive(
         .map(|v| (v, robot.cross_track_sd(v)))
         .collect();
     let mut stretch = None;
+    // The last sample the error was drawn at.
+    let mut previous = None;
     let last = plan.samples.len() - 1;
     let mut error = 0.0;
     // Samples far from every obstacle draw nothing and change nothing, so only the close
@@ -84,9 +86,14 @@ pub fn drive(
             delay += marks[next_mark].dwell;
             next_mark += 1;
         }
-        let rho = (-(sample.s - x_at) / robot.error_correlation).exp();
-        x = rho * x + (1.0 - rho * rho).sqrt() * rng.sample::<f64, _>(StandardNormal);
+        let (rho, fresh) = match previous {
+            Some(p) if p + 1 == k => plan.error_transition(robot, k),
+            _ => None,
+        }
+        .unwrap_or_else(|| robot.error_transition(sample.s - x_at));
+        x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
+        previous = Some(k);
         stretch = profile.stretch_index(sample.s, stretch);
         let (v, spread) = stretch.map_or_else(|| (0.0, robot.cross_track_sd(0.0)), |i| speeds[i]);
         error = spread * x;
@@ -200,7 +207,7 @@ mod tests {
         Plan::new(
             vec![Vec2::new(10.0, 10.0), Vec2::new(10.0 + length, 10.0)],
             &[],
-            0.45,
+            &Robot::wheeled_ugv(),
             Vec2::new(1000.0, 1000.0),
         )
     }

@@ -6,6 +6,7 @@
 //! of speeds or operators.
 
 use crate::geometry::{BoundedShape, Shape, Vec2, within};
+use crate::world::Robot;
 use petgraph::graph::{NodeIndex, UnGraph};
 
 /// Tolerance for "at least the clearance" comparisons (m): grown corners sit exactly at the
@@ -190,15 +191,22 @@ pub struct Plan {
     /// The least gap (either side) of each block of [`GAP_BLOCK`] samples, so a drive
     /// skips the blocks far from every obstacle without looking at their samples.
     block_gaps: Vec<f64>,
+    /// The robot's error correlation length the transitions are for (m).
+    error_correlation: f64,
+    /// Per sample, [`Robot::error_transition`] from the sample before it (the first: from
+    /// the start), so a drive drawing the error at neighbouring samples needs no `exp`.
+    transitions: Vec<(f64, f64)>,
 }
 
 /// Samples per block of [`Plan::samples_closer_than`]'s index.
 const GAP_BLOCK: usize = 16;
 
 impl Plan {
-    /// Measures `points`: arc lengths, and at every sample the gap between the robot's
-    /// body (a disc of `robot_radius`) and the nearest obstacle on each side.
-    pub fn new(points: Vec<Vec2>, obstacles: &[&Shape], robot_radius: f64, size: Vec2) -> Self {
+    /// Measures `points` for `robot`: arc lengths, at every sample the gap between the
+    /// robot's body (a disc of its radius) and the nearest obstacle on each side, and the
+    /// cross-track error's transition from the sample before.
+    pub fn new(points: Vec<Vec2>, obstacles: &[&Shape], robot: &Robot, size: Vec2) -> Self {
+        let robot_radius = robot.radius;
         let mut arc = vec![0.0];
         for w in points.windows(2) {
             arc.push(arc[arc.len() - 1] + w[0].dist(w[1]));
@@ -228,13 +236,30 @@ impl Plan {
             .chunks(GAP_BLOCK)
             .map(|block| block.iter().map(Sample::gap).fold(f64::INFINITY, f64::min))
             .collect();
+        let mut from = 0.0;
+        let transitions = samples
+            .iter()
+            .map(|sample| {
+                let transition = robot.error_transition(sample.s - from);
+                from = sample.s;
+                transition
+            })
+            .collect();
         Self {
             points,
             arc,
             samples,
             turns,
             block_gaps,
+            error_correlation: robot.error_correlation,
+            transitions,
         }
+    }
+
+    /// [`Robot::error_transition`] from sample `k - 1` to sample `k`, when this plan was
+    /// measured for a robot with `robot`'s error correlation.
+    pub fn error_transition(&self, robot: &Robot, k: usize) -> Option<(f64, f64)> {
+        (robot.error_correlation == self.error_correlation).then(|| self.transitions[k])
     }
 
     fn measure(
@@ -369,6 +394,13 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    fn robot(radius: f64) -> Robot {
+        Robot {
+            radius,
+            ..Robot::wheeled_ugv()
+        }
+    }
+
     #[test]
     fn goes_around_a_box_at_the_clearance() {
         let wall = Shape::rect(4.0, 0.0, 6.0, 6.0);
@@ -435,7 +467,7 @@ mod tests {
             px in -5.0f64..25.0, py in -5.0f64..25.0, at_corner: bool,
         ) {
             let points: Vec<Vec2> = corners.iter().map(|&(x, y)| Vec2::new(x, y)).collect();
-            let plan = Plan::new(points.clone(), &[], 0.5, Vec2::new(20.0, 20.0));
+            let plan = Plan::new(points.clone(), &[], &robot(0.5), Vec2::new(20.0, 20.0));
             let p = if at_corner { points[points.len() / 2] } else { Vec2::new(px, py) };
             let mut expected = (0.0, f64::INFINITY);
             for (k, w) in points.windows(2).enumerate() {
@@ -460,7 +492,7 @@ mod tests {
                 Vec2::new(13.0, 14.0),
             ],
             &[&cones[0], &cones[1]],
-            0.5,
+            &robot(0.5),
             Vec2::new(100.0, 100.0),
         );
         let last = plan.samples.len() - 1;
@@ -474,12 +506,38 @@ mod tests {
     }
 
     #[test]
+    fn stored_error_transitions_are_the_robots_between_neighbouring_samples() {
+        let plan = Plan::new(
+            vec![
+                Vec2::new(1.0, 5.0),
+                Vec2::new(13.0, 5.0),
+                Vec2::new(13.7, 14.1),
+            ],
+            &[],
+            &robot(0.5),
+            Vec2::new(100.0, 100.0),
+        );
+        for k in 1..plan.samples.len() {
+            let ds = plan.samples[k].s - plan.samples[k - 1].s;
+            assert_eq!(
+                plan.error_transition(&robot(0.5), k),
+                Some(robot(0.5).error_transition(ds))
+            );
+        }
+        let other = Robot {
+            error_correlation: 3.0,
+            ..robot(0.5)
+        };
+        assert_eq!(plan.error_transition(&other, 1), None);
+    }
+
+    #[test]
     fn samples_measure_the_gap_on_each_side() {
         let cone = Shape::circle(5.0, 1.0, 0.2);
         let plan = Plan::new(
             vec![Vec2::new(0.0, 0.0), Vec2::new(10.0, 0.0)],
             &[&cone],
-            0.5,
+            &robot(0.5),
             Vec2::new(100.0, 100.0),
         );
         let at_cone = plan

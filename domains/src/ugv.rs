@@ -165,7 +165,7 @@ impl UgvDomain {
                 Some(Plan::new(
                     points,
                     &obstacles,
-                    self.world.robot.radius,
+                    &self.world.robot,
                     self.world.size,
                 ))
             })
