@@ -72,8 +72,10 @@ pub fn drive(
         .map(|v| (v, robot.cross_track_sd(v)))
         .collect();
     let mut stretch = None;
-    // The last sample the error was drawn at.
+    // The last sample the error was drawn at, and the plan's stored transitions from
+    // each sample's predecessor.
     let mut previous = None;
+    let transitions = plan.error_transitions(robot);
     let last = plan.samples.len() - 1;
     let mut error = 0.0;
     // Samples far from every obstacle draw nothing and change nothing, so only the close
@@ -86,11 +88,10 @@ pub fn drive(
             delay += marks[next_mark].dwell;
             next_mark += 1;
         }
-        let (rho, fresh) = match previous {
-            Some(p) if p + 1 == k => plan.error_transition(robot, k),
-            _ => None,
-        }
-        .unwrap_or_else(|| robot.error_transition(sample.s - x_at));
+        let (rho, fresh) = match (transitions, previous) {
+            (Some(stored), Some(p)) if p + 1 == k => stored[k],
+            _ => robot.error_transition(sample.s - x_at),
+        };
         x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
         previous = Some(k);

@@ -206,6 +206,17 @@ impl Shape {
                 if Self::contains(v, a) || Self::contains(v, b) {
                     return 0.0;
                 }
+                if a == b {
+                    // What `segment_segment_distance` computes for a point, without its
+                    // crossing test: a crossing puts one of these three at 0 anyway.
+                    return Self::edges(v)
+                        .map(|(c, d)| {
+                            point_segment_distance(a, c, d)
+                                .min(c.dist(a))
+                                .min(d.dist(a))
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                }
                 Self::edges(v)
                     .map(|(c, d)| segment_segment_distance(a, b, c, d))
                     .fold(f64::INFINITY, f64::min)
@@ -367,6 +378,35 @@ mod tests {
                     shape.distance_to_segment(a, b) >= clearance
                 );
             }
+        }
+    }
+
+    proptest! {
+        /// A point's distance to a polygon is the segment computation's, bit for bit,
+        /// corners and crossings included.
+        #[test]
+        fn a_point_is_a_segment_of_length_zero(
+            px in -3.0f64..9.0, py in -3.0f64..9.0, corner in 0usize..8, on_corner: bool,
+        ) {
+            let shape = Shape::Polygon(vec![
+                Vec2::new(0.0, 0.0),
+                Vec2::new(4.1, 0.3),
+                Vec2::new(5.0, 3.7),
+                Vec2::new(1.3, 6.0),
+            ]);
+            let Shape::Polygon(v) = &shape else { unreachable!() };
+            // Just outside a corner, where the corner's own distance decides.
+            let centre = Vec2::new(2.6, 2.5);
+            let near = v[corner % 4] + (v[corner % 4] - centre) * 1e-9;
+            let p = if on_corner { near } else { Vec2::new(px, py) };
+            let expected = if Shape::contains(v, p) {
+                0.0
+            } else {
+                Shape::edges(v)
+                    .map(|(c, d)| segment_segment_distance(p, p, c, d))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            prop_assert_eq!(shape.distance_to_segment(p, p).to_bits(), expected.to_bits());
         }
     }
 

@@ -256,10 +256,10 @@ impl Plan {
         }
     }
 
-    /// [`Robot::error_transition`] from sample `k - 1` to sample `k`, when this plan was
-    /// measured for a robot with `robot`'s error correlation.
-    pub fn error_transition(&self, robot: &Robot, k: usize) -> Option<(f64, f64)> {
-        (robot.error_correlation == self.error_correlation).then(|| self.transitions[k])
+    /// Per sample `k`, [`Robot::error_transition`] from sample `k - 1` to sample `k`, when
+    /// this plan was measured for a robot with `robot`'s error correlation.
+    pub fn error_transitions(&self, robot: &Robot) -> Option<&[(f64, f64)]> {
+        (robot.error_correlation == self.error_correlation).then_some(&self.transitions[..])
     }
 
     fn measure(
@@ -327,28 +327,31 @@ impl Plan {
     /// The point of the path nearest to `p`: its arc length and distance. The first
     /// segment at the least distance wins a tie.
     ///
-    /// Segments are compared by squared distance; the distance itself (a `hypot`) is
-    /// computed only for a segment that is not clearly farther than the best so far, so
-    /// the answer is the one comparing every segment's distance would give, bit for bit.
+    /// Segments are compared by squared distance; distances (a `hypot` each) are compared
+    /// only when two squared distances are too close to tell apart, and the arc length is
+    /// measured for the winner alone, so the answer is the one comparing every segment's
+    /// distance would give, bit for bit.
     pub fn nearest(&self, p: Vec2) -> (f64, f64) {
-        // Squared distances computed this far apart order the distances the same way
+        // Squared distances further apart than this order the distances the same way
         // (each is within a few ulps of the true value, as is `hypot`).
-        const CLEARLY_FARTHER: f64 = 1.0 + 1e-12;
-        let mut best = (0.0, f64::INFINITY);
-        let mut best_squared = f64::INFINITY;
+        const APART: f64 = 1.0 + 1e-12;
+        let mut best: Option<(usize, Vec2, f64)> = None;
         for (k, w) in self.points.windows(2).enumerate() {
             let q = crate::geometry::closest_on_segment(p, w[0], w[1]);
             let squared = (p - q).dot(p - q);
-            if squared > best_squared * CLEARLY_FARTHER {
-                continue;
-            }
-            let d = p.dist(q);
-            if d < best.1 {
-                best = (self.arc[k] + w[0].dist(q), d);
-                best_squared = squared;
+            let closer = match best {
+                None => true,
+                Some((_, _, least)) if squared > least * APART => false,
+                Some((_, _, least)) if squared * APART < least => true,
+                Some((_, at, _)) => p.dist(q) < p.dist(at),
+            };
+            if closer {
+                best = Some((k, q, squared));
             }
         }
-        best
+        best.map_or((0.0, f64::INFINITY), |(k, q, _)| {
+            (self.arc[k] + self.points[k].dist(q), p.dist(q))
+        })
     }
 
     /// The turning angle at each interior way-point (radians, 0 for straight on); the first
@@ -517,18 +520,16 @@ mod tests {
             &robot(0.5),
             Vec2::new(100.0, 100.0),
         );
-        for k in 1..plan.samples.len() {
-            let ds = plan.samples[k].s - plan.samples[k - 1].s;
-            assert_eq!(
-                plan.error_transition(&robot(0.5), k),
-                Some(robot(0.5).error_transition(ds))
-            );
+        let transitions = plan.error_transitions(&robot(0.5)).unwrap();
+        for (pair, &transition) in plan.samples.windows(2).zip(&transitions[1..]) {
+            let ds = pair[1].s - pair[0].s;
+            assert_eq!(transition, robot(0.5).error_transition(ds));
         }
         let other = Robot {
             error_correlation: 3.0,
             ..robot(0.5)
         };
-        assert_eq!(plan.error_transition(&other, 1), None);
+        assert_eq!(plan.error_transitions(&other), None);
     }
 
     #[test]
