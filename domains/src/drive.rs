@@ -66,12 +66,10 @@ pub fn drive(
         drawn.push((0, x));
     }
     let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
-    // Each stretch's peak speed and the error's spread at that speed.
-    let speeds: Vec<(f64, f64)> = profile
-        .peaks()
-        .map(|v| (v, robot.cross_track_sd(v)))
-        .collect();
+    // The stretch of the profile the last drawn sample lay on, its peak speed and the
+    // error's spread at that speed (computed once per stretch, not per sample).
     let mut stretch = None;
+    let mut speed_and_spread = (0.0, robot.cross_track_sd(0.0));
     // The last sample the error was drawn at, and the plan's stored transitions from
     // each sample's predecessor.
     let mut previous = None;
@@ -95,8 +93,13 @@ pub fn drive(
         x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
         previous = Some(k);
-        stretch = profile.stretch_index(sample.s, stretch);
-        let (v, spread) = stretch.map_or_else(|| (0.0, robot.cross_track_sd(0.0)), |i| speeds[i]);
+        let here = profile.stretch_index(sample.s, stretch);
+        if here != stretch {
+            stretch = here;
+            let v = here.map_or(0.0, |i| profile.peak(i));
+            speed_and_spread = (v, robot.cross_track_sd(v));
+        }
+        let (v, spread) = speed_and_spread;
         error = spread * x;
         if error > sample.gap_left || -error > sample.gap_right {
             let at = sample.at + sample.left * error;
@@ -188,8 +191,16 @@ fn profile(plan: &Plan, robot: &Robot, speed: f64, marks: &[Mark]) -> Profile {
         .iter()
         .filter(|m| m.dwell > 0.0)
         .map(|m| Station { s: m.s, limit: 0.0 });
-    let mut stations: Vec<Station> = corners.chain(stops).collect();
-    stations.sort_by(|a, b| a.s.total_cmp(&b.s));
+    // Both are sorted along the path: merge them, a corner before a stop at the same place.
+    let mut stops = stops.peekable();
+    let mut stations = Vec::with_capacity(plan.points.len() + marks.len());
+    for corner in corners {
+        while let Some(stop) = stops.next_if(|stop| stop.s.total_cmp(&corner.s).is_lt()) {
+            stations.push(stop);
+        }
+        stations.push(corner);
+    }
+    stations.extend(stops);
     Profile::new(&stations, speed, robot.accel, robot.decel)
 }
 

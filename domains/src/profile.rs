@@ -96,12 +96,12 @@ impl Profile {
         self.stretch_at(s).map_or(0.0, |st| st.peak)
     }
 
-    /// The peak speed of each stretch, in order along the path (m/s).
-    pub fn peaks(&self) -> impl Iterator<Item = f64> + '_ {
-        self.stretches.iter().map(|st| st.peak)
+    /// The peak speed of stretch `index` (m/s).
+    pub fn peak(&self, index: usize) -> f64 {
+        self.stretches[index].peak
     }
 
-    /// The index (into [`Profile::peaks`]) of the stretch containing `s`, `None` before
+    /// The index ([`Profile::peak`]) of the stretch containing `s`, `None` before
     /// the first; the same stretch as [`Profile::stretch_peak`]'s. `from` is a stretch
     /// that starts at or before `s` (the answer for an earlier position), so a walk along
     /// the path finds each stretch by stepping forward rather than by a search.
@@ -222,13 +222,16 @@ mod tests {
             },
         ];
         let p = Profile::new(&stations, 6.0, 2.0, 3.0);
-        let peaks: Vec<f64> = p.peaks().collect();
         let mut from = None;
         for k in 0..=320 {
             let s = k as f64 * 0.1 - 0.5;
             let found = p.stretch_index(s, from);
             assert_eq!(found, p.stretch_index(s, None), "at {s}");
-            assert_eq!(found.map_or(0.0, |i| peaks[i]), p.stretch_peak(s), "at {s}");
+            assert_eq!(
+                found.map_or(0.0, |i| p.peak(i)),
+                p.stretch_peak(s),
+                "at {s}"
+            );
             from = found;
         }
     }

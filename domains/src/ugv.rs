@@ -202,7 +202,10 @@ impl UgvDomain {
             settings,
             humans,
             plan,
-            trace: Trace::default(),
+            // Room for an event or two per object, a few collisions and the arrival.
+            trace: Trace {
+                events: Vec::with_capacity(2 * objects.len() + 4),
+            },
             driven: Vec::new(),
             objects: objects
                 .iter()
