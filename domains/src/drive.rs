@@ -79,12 +79,14 @@ pub fn drive(
     // Samples far from every obstacle draw nothing and change nothing, so only the close
     // ones (and the goal) are visited; the marks passed on the way are timed on arrival
     // at the next visited sample, with the delay that held there all along.
-    for k in plan.samples_closer_than(negligible) {
-        let sample = &plan.samples[k];
-        while next_mark < marks.len() && marks[next_mark].s <= sample.s {
-            mark_times.push(profile.time_at(marks[next_mark].s) + delay);
+    let mark_at = |i: usize| marks.get(i).map_or(f64::INFINITY, |m| m.s);
+    let mut next_mark_at = mark_at(0);
+    for (k, sample) in plan.samples_closer_than(negligible) {
+        while next_mark_at <= sample.s {
+            mark_times.push(profile.time_at(next_mark_at) + delay);
             delay += marks[next_mark].dwell;
             next_mark += 1;
+            next_mark_at = mark_at(next_mark);
         }
         let (rho, fresh) = match (transitions, previous) {
             (Some(stored), Some(p)) if p + 1 == k => stored[k],

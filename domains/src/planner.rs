@@ -360,16 +360,22 @@ impl Plan {
         &self.turns
     }
 
-    /// The indices of the samples whose gap on either side is below `gap`, in order, and
-    /// always the last sample (the goal).
-    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = usize> + '_ {
+    /// The samples whose gap on either side is below `gap`, with their indices, in order,
+    /// and always the last sample (the goal).
+    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = (usize, &Sample)> + '_ {
         let last = self.samples.len() - 1;
-        self.block_gaps
-            .iter()
+        self.samples
+            .chunks(GAP_BLOCK)
+            .zip(&self.block_gaps)
             .enumerate()
-            .filter(move |&(b, &least)| least < gap || (b + 1) * GAP_BLOCK > last)
-            .flat_map(move |(b, _)| b * GAP_BLOCK..((b + 1) * GAP_BLOCK).min(last + 1))
-            .filter(move |&k| self.samples[k].gap() < gap || k == last)
+            .filter(move |&(b, (_, &least))| least < gap || (b + 1) * GAP_BLOCK > last)
+            .flat_map(|(b, (block, _))| {
+                block
+                    .iter()
+                    .enumerate()
+                    .map(move |(i, sample)| (b * GAP_BLOCK + i, sample))
+            })
+            .filter(move |&(k, sample)| sample.gap() < gap || k == last)
     }
 }
 
@@ -503,7 +509,7 @@ mod tests {
             let scan: Vec<usize> = (0..plan.samples.len())
                 .filter(|&k| plan.samples[k].gap() < gap || k == last)
                 .collect();
-            let found: Vec<usize> = plan.samples_closer_than(gap).collect();
+            let found: Vec<usize> = plan.samples_closer_than(gap).map(|(k, _)| k).collect();
             assert_eq!(found, scan, "gap {gap}");
         }
     }
