@@ -66,22 +66,43 @@ pub fn drive(
         drawn.push((0, x));
     }
     let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
+    // The stretch of the profile the last drawn sample lay on, its peak speed and the
+    // error's spread at that speed (computed once per stretch, not per sample).
+    let mut stretch = None;
+    let mut speed_and_spread = (0.0, robot.cross_track_sd(0.0));
+    // The last sample the error was drawn at, and the plan's stored transitions from
+    // each sample's predecessor.
+    let mut previous = None;
+    let transitions = plan.error_transitions(robot);
     let last = plan.samples.len() - 1;
     let mut error = 0.0;
-    for (k, sample) in plan.samples.iter().enumerate() {
-        while next_mark < marks.len() && marks[next_mark].s <= sample.s {
-            mark_times.push(profile.time_at(marks[next_mark].s) + delay);
+    // Samples far from every obstacle draw nothing and change nothing, so only the close
+    // ones (and the goal) are visited; the marks passed on the way are timed on arrival
+    // at the next visited sample, with the delay that held there all along.
+    let mark_at = |i: usize| marks.get(i).map_or(f64::INFINITY, |m| m.s);
+    let mut next_mark_at = mark_at(0);
+    for (k, sample) in plan.samples_closer_than(negligible) {
+        while next_mark_at <= sample.s {
+            mark_times.push(profile.time_at(next_mark_at) + delay);
             delay += marks[next_mark].dwell;
             next_mark += 1;
+            next_mark_at = mark_at(next_mark);
         }
-        if sample.gap_left.min(sample.gap_right) >= negligible && k != last {
-            continue;
-        }
-        let rho = (-(sample.s - x_at) / robot.error_correlation).exp();
-        x = rho * x + (1.0 - rho * rho).sqrt() * rng.sample::<f64, _>(StandardNormal);
+        let (rho, fresh) = match (transitions, previous) {
+            (Some(stored), Some(p)) if p + 1 == k => stored[k],
+            _ => robot.error_transition(sample.s - x_at),
+        };
+        x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
-        let v = profile.stretch_peak(sample.s);
-        error = robot.cross_track_sd(v) * x;
+        previous = Some(k);
+        let here = profile.stretch_index(sample.s, stretch);
+        if here != stretch {
+            stretch = here;
+            let v = here.map_or(0.0, |i| profile.peak(i));
+            speed_and_spread = (v, robot.cross_track_sd(v));
+        }
+        let (v, spread) = speed_and_spread;
+        error = spread * x;
         if error > sample.gap_left || -error > sample.gap_right {
             let at = sample.at + sample.left * error;
             trace.push(
@@ -156,7 +177,7 @@ fn profile(plan: &Plan, robot: &Robot, speed: f64, marks: &[Mark]) -> Profile {
     let corners = plan
         .arc
         .iter()
-        .zip(&angles)
+        .zip(angles)
         .enumerate()
         .map(|(i, (&s, &theta))| {
             let limit = if i == 0 || i == last {
@@ -172,8 +193,16 @@ fn profile(plan: &Plan, robot: &Robot, speed: f64, marks: &[Mark]) -> Profile {
         .iter()
         .filter(|m| m.dwell > 0.0)
         .map(|m| Station { s: m.s, limit: 0.0 });
-    let mut stations: Vec<Station> = corners.chain(stops).collect();
-    stations.sort_by(|a, b| a.s.total_cmp(&b.s));
+    // Both are sorted along the path: merge them, a corner before a stop at the same place.
+    let mut stops = stops.peekable();
+    let mut stations = Vec::with_capacity(plan.points.len() + marks.len());
+    for corner in corners {
+        while let Some(stop) = stops.next_if(|stop| stop.s.total_cmp(&corner.s).is_lt()) {
+            stations.push(stop);
+        }
+        stations.push(corner);
+    }
+    stations.extend(stops);
     Profile::new(&stations, speed, robot.accel, robot.decel)
 }
 
@@ -192,7 +221,7 @@ mod tests {
         Plan::new(
             vec![Vec2::new(10.0, 10.0), Vec2::new(10.0 + length, 10.0)],
             &[],
-            0.45,
+            &Robot::wheeled_ugv(),
             Vec2::new(1000.0, 1000.0),
         )
     }

@@ -181,17 +181,6 @@ impl Shape {
         }
     }
 
-    /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
-    /// with a quick answer when the segment's box is that far from the shape's box.
-    pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
-        let (min, max) = self.bounds();
-        let far = a.x.max(b.x) < min.x - clearance
-            || a.x.min(b.x) > max.x + clearance
-            || a.y.max(b.y) < min.y - clearance
-            || a.y.min(b.y) > max.y + clearance;
-        far || self.distance_to_segment(a, b) >= clearance
-    }
-
     /// Distance from `p` to the shape (0 inside).
     pub fn distance_to_point(&self, p: Vec2) -> f64 {
         match self {
@@ -216,6 +205,17 @@ impl Shape {
             Shape::Polygon(v) => {
                 if Self::contains(v, a) || Self::contains(v, b) {
                     return 0.0;
+                }
+                if a == b {
+                    // What `segment_segment_distance` computes for a point, without its
+                    // crossing test: a crossing puts one of these three at 0 anyway.
+                    return Self::edges(v)
+                        .map(|(c, d)| {
+                            point_segment_distance(a, c, d)
+                                .min(c.dist(a))
+                                .min(d.dist(a))
+                        })
+                        .fold(f64::INFINITY, f64::min);
                 }
                 Self::edges(v)
                     .map(|(c, d)| segment_segment_distance(a, b, c, d))
@@ -285,9 +285,42 @@ impl Shape {
     }
 }
 
+/// A shape with its bounding box, computed once: the form in which the planner and the
+/// object placement test the same shapes again and again.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundedShape {
+    shape: Shape,
+    min: Vec2,
+    max: Vec2,
+}
+
+impl BoundedShape {
+    /// `shape` and its box ([`Shape::bounds`]).
+    pub fn new(shape: &Shape) -> Self {
+        let (min, max) = shape.bounds();
+        Self {
+            shape: shape.clone(),
+            min,
+            max,
+        }
+    }
+
+    /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
+    /// with a quick answer when the segment's box is that far from the shape's box.
+    pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {
+        let (min, max) = (self.min, self.max);
+        let far = a.x.max(b.x) < min.x - clearance
+            || a.x.min(b.x) > max.x + clearance
+            || a.y.max(b.y) < min.y - clearance
+            || a.y.min(b.y) > max.y + clearance;
+        far || self.shape.distance_to_segment(a, b) >= clearance
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
     fn point_segment_distance_by_hand() {
@@ -324,6 +357,56 @@ mod tests {
         for i in 0..8 {
             let (a, b) = (out[i], out[(i + 1) % 8]);
             assert!(rect.distance_to_segment(a, b) >= 0.5 - 1e-9);
+        }
+    }
+
+    proptest! {
+        /// The quick answer from the stored box never contradicts the exact distance.
+        #[test]
+        fn bounded_shapes_keep_clear_exactly_when_the_distance_says_so(
+            ax in -5.0f64..15.0, ay in -5.0f64..15.0,
+            bx in -5.0f64..15.0, by in -5.0f64..15.0,
+            clearance in 0.0f64..3.0, point: bool,
+        ) {
+            let a = Vec2::new(ax, ay);
+            let b = if point { a } else { Vec2::new(bx, by) };
+            for shape in [Shape::rect(2.0, 3.0, 6.0, 4.5), Shape::circle(7.0, 7.0, 0.3)] {
+                let bounded = BoundedShape::new(&shape);
+                prop_assert_eq!((bounded.min, bounded.max), shape.bounds());
+                prop_assert_eq!(
+                    bounded.keeps_clear(a, b, clearance),
+                    shape.distance_to_segment(a, b) >= clearance
+                );
+            }
+        }
+    }
+
+    proptest! {
+        /// A point's distance to a polygon is the segment computation's, bit for bit,
+        /// corners and crossings included.
+        #[test]
+        fn a_point_is_a_segment_of_length_zero(
+            px in -3.0f64..9.0, py in -3.0f64..9.0, corner in 0usize..8, on_corner: bool,
+        ) {
+            let shape = Shape::Polygon(vec![
+                Vec2::new(0.0, 0.0),
+                Vec2::new(4.1, 0.3),
+                Vec2::new(5.0, 3.7),
+                Vec2::new(1.3, 6.0),
+            ]);
+            let Shape::Polygon(v) = &shape else { unreachable!() };
+            // Just outside a corner, where the corner's own distance decides.
+            let centre = Vec2::new(2.6, 2.5);
+            let near = v[corner % 4] + (v[corner % 4] - centre) * 1e-9;
+            let p = if on_corner { near } else { Vec2::new(px, py) };
+            let expected = if Shape::contains(v, p) {
+                0.0
+            } else {
+                Shape::edges(v)
+                    .map(|(c, d)| segment_segment_distance(p, p, c, d))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            prop_assert_eq!(shape.distance_to_segment(p, p).to_bits(), expected.to_bits());
         }
     }
 

@@ -7,7 +7,7 @@
 //! `p_frame / (1 + (v * exposure / blur_tolerance)^2)`: motion blur of `v * exposure`
 //! metres smears the object's features. Faster means fewer and blurrier frames.
 
-use crate::geometry::Vec2;
+use crate::geometry::{BoundedShape, Vec2, within};
 use crate::world::World;
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
@@ -63,30 +63,59 @@ pub struct SuspiciousObject {
     pub explosive: bool,
 }
 
+/// The ground the objects are placed on, measured once per world: the patrol line's legs
+/// (start, direction, length) and the obstacles an object keeps clear of, with their
+/// bounding boxes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatrolGround {
+    legs: Vec<(Vec2, Vec2, f64)>,
+    total: f64,
+    size: Vec2,
+    obstacles: Vec<BoundedShape>,
+}
+
+impl PatrolGround {
+    /// The ground of `world`'s patrol route.
+    pub fn new(world: &World) -> Self {
+        let legs: Vec<(Vec2, Vec2, f64)> = world
+            .patrol_route
+            .windows(2)
+            .map(|w| (w[0], (w[1] - w[0]).unit(), w[0].dist(w[1])))
+            .collect();
+        Self {
+            total: legs.iter().map(|leg| leg.2).sum(),
+            legs,
+            size: world.size,
+            obstacles: world
+                .obstacles
+                .iter()
+                .map(|o| BoundedShape::new(&o.shape))
+                .collect(),
+        }
+    }
+}
+
 impl PatrolSetup {
     /// Places the run's objects near the patrol route, in open ground; between 0 and
     /// `max_explosive` of them (uniform) are explosive.
-    pub fn place(&self, world: &World, rng: &mut dyn RngCore) -> Vec<SuspiciousObject> {
-        let line = &world.patrol_route;
-        let lengths: Vec<f64> = line.windows(2).map(|w| w[0].dist(w[1])).collect();
-        let total: f64 = lengths.iter().sum();
+    pub fn place(&self, ground: &PatrolGround, rng: &mut dyn RngCore) -> Vec<SuspiciousObject> {
         let mut objects = Vec::with_capacity(self.objects);
         while objects.len() < self.objects {
-            let mut s = rng.random_range(0.0..total);
+            let mut s = rng.random_range(0.0..ground.total);
             let mut k = 0;
-            while k + 1 < lengths.len() && s > lengths[k] {
-                s -= lengths[k];
+            while k + 1 < ground.legs.len() && s > ground.legs[k].2 {
+                s -= ground.legs[k].2;
                 k += 1;
             }
-            let dir = (line[k + 1] - line[k]).unit();
+            let (start, dir, _) = ground.legs[k];
             let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
             let offset = rng.random_range(self.lateral_band.0..self.lateral_band.1) * side;
-            let at = line[k] + dir * s + dir.left() * offset;
-            let open = world.inside(at, self.free_space)
-                && world
+            let at = start + dir * s + dir.left() * offset;
+            let open = within(at, ground.size, self.free_space)
+                && ground
                     .obstacles
                     .iter()
-                    .all(|o| o.shape.keeps_clear(at, at, self.free_space));
+                    .all(|o| o.keeps_clear(at, at, self.free_space));
             if open {
                 objects.push(SuspiciousObject {
                     at,
@@ -150,10 +179,11 @@ mod tests {
     fn objects_lie_in_open_ground_with_up_to_three_explosives() {
         let world = World::urban_block();
         let setup = PatrolSetup::default();
+        let ground = PatrolGround::new(&world);
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         let mut seen = [false; 4];
         for _ in 0..200 {
-            let objects = setup.place(&world, &mut rng);
+            let objects = setup.place(&ground, &mut rng);
             assert_eq!(objects.len(), 6);
             let explosive = objects.iter().filter(|o| o.explosive).count();
             seen[explosive] = true;

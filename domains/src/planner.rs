@@ -5,7 +5,8 @@
 //! A path exists or not; when it does not, the robot is stuck. The planner knows nothing
 //! of speeds or operators.
 
-use crate::geometry::{Shape, Vec2, within};
+use crate::geometry::{BoundedShape, Shape, Vec2, within};
+use crate::world::Robot;
 use petgraph::graph::{NodeIndex, UnGraph};
 
 /// Tolerance for "at least the clearance" comparisons (m): grown corners sit exactly at the
@@ -41,17 +42,24 @@ pub struct VisibilityGraph {
     waypoints: Vec<Option<(usize, u32)>>,
 }
 
+/// The obstacles of a [`Problem`] with their boxes, computed once per visibility graph.
+struct Obstacles {
+    fixed: Vec<BoundedShape>,
+    optional: Vec<BoundedShape>,
+}
+
 impl Problem<'_> {
     /// Which optional obstacles segment `a`-`b` comes closer to than the clearance, or
     /// `None` when a fixed obstacle or the map edge does.
-    fn blockers(&self, a: Vec2, b: Vec2) -> Option<u32> {
+    fn blockers(&self, obstacles: &Obstacles, a: Vec2, b: Vec2) -> Option<u32> {
         let c = self.clearance - SLACK;
         let inside = |p: Vec2| within(p, self.size, c);
-        if !(inside(a) && inside(b) && self.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
+        if !(inside(a) && inside(b) && obstacles.fixed.iter().all(|o| o.keeps_clear(a, b, c))) {
             return None;
         }
         Some(
-            self.optional
+            obstacles
+                .optional
                 .iter()
                 .enumerate()
                 .filter(|(_, o)| !o.keeps_clear(a, b, c))
@@ -61,6 +69,11 @@ impl Problem<'_> {
 
     /// The visibility graph through `waypoints`.
     pub fn visibility(&self, waypoints: &[Vec2]) -> VisibilityGraph {
+        let bounded = |shapes: &[&Shape]| shapes.iter().map(|s| BoundedShape::new(s)).collect();
+        let obstacles = Obstacles {
+            fixed: bounded(&self.fixed),
+            optional: bounded(&self.optional),
+        };
         let mut corners = Vec::new();
         for shape in self.fixed.iter().chain(&self.optional) {
             shape.inflated_vertices(self.clearance + 2.0 * SLACK, &mut corners);
@@ -69,13 +82,13 @@ impl Problem<'_> {
         let mut node_blockers = Vec::new();
         let mut waypoint_nodes = Vec::new();
         for &p in waypoints {
-            let blockers = self.blockers(p, p);
+            let blockers = self.blockers(&obstacles, p, p);
             waypoint_nodes.push(blockers.map(|b| (nodes.len(), b)));
             nodes.push(p);
             node_blockers.push(blockers.unwrap_or(u32::MAX));
         }
         for p in corners {
-            if let Some(b) = self.blockers(p, p) {
+            if let Some(b) = self.blockers(&obstacles, p, p) {
                 nodes.push(p);
                 node_blockers.push(b);
             }
@@ -89,7 +102,7 @@ impl Problem<'_> {
                 if node_blockers[j] == u32::MAX {
                     continue;
                 }
-                if let Some(b) = self.blockers(nodes[i], nodes[j]) {
+                if let Some(b) = self.blockers(&obstacles, nodes[i], nodes[j]) {
                     edges.push((i, j, nodes[i].dist(nodes[j]), b));
                 }
             }
@@ -173,12 +186,27 @@ pub struct Plan {
     pub arc: Vec<f64>,
     /// The clearance profile, every [`SAMPLE_SPACING`] or closer, way-points included.
     pub samples: Vec<Sample>,
+    /// The turning angle at each way-point ([`Plan::turn_angles`]).
+    turns: Vec<f64>,
+    /// The least gap (either side) of each block of [`GAP_BLOCK`] samples, so a drive
+    /// skips the blocks far from every obstacle without looking at their samples.
+    block_gaps: Vec<f64>,
+    /// The robot's error correlation length the transitions are for (m).
+    error_correlation: f64,
+    /// Per sample, [`Robot::error_transition`] from the sample before it (the first: from
+    /// the start), so a drive drawing the error at neighbouring samples needs no `exp`.
+    transitions: Vec<(f64, f64)>,
 }
 
+/// Samples per block of [`Plan::samples_closer_than`]'s index.
+const GAP_BLOCK: usize = 16;
+
 impl Plan {
-    /// Measures `points`: arc lengths, and at every sample the gap between the robot's
-    /// body (a disc of `robot_radius`) and the nearest obstacle on each side.
-    pub fn new(points: Vec<Vec2>, obstacles: &[&Shape], robot_radius: f64, size: Vec2) -> Self {
+    /// Measures `points` for `robot`: arc lengths, at every sample the gap between the
+    /// robot's body (a disc of its radius) and the nearest obstacle on each side, and the
+    /// cross-track error's transition from the sample before.
+    pub fn new(points: Vec<Vec2>, obstacles: &[&Shape], robot: &Robot, size: Vec2) -> Self {
+        let robot_radius = robot.radius;
         let mut arc = vec![0.0];
         for w in points.windows(2) {
             arc.push(arc[arc.len() - 1] + w[0].dist(w[1]));
@@ -203,11 +231,35 @@ impl Plan {
                 ));
             }
         }
+        let turns = turn_angles(&points);
+        let block_gaps = samples
+            .chunks(GAP_BLOCK)
+            .map(|block| block.iter().map(Sample::gap).fold(f64::INFINITY, f64::min))
+            .collect();
+        let mut from = 0.0;
+        let transitions = samples
+            .iter()
+            .map(|sample| {
+                let transition = robot.error_transition(sample.s - from);
+                from = sample.s;
+                transition
+            })
+            .collect();
         Self {
             points,
             arc,
             samples,
+            turns,
+            block_gaps,
+            error_correlation: robot.error_correlation,
+            transitions,
         }
+    }
+
+    /// Per sample `k`, [`Robot::error_transition`] from sample `k - 1` to sample `k`, when
+    /// this plan was measured for a robot with `robot`'s error correlation.
+    pub fn error_transitions(&self, robot: &Robot) -> Option<&[(f64, f64)]> {
+        (robot.error_correlation == self.error_correlation).then_some(&self.transitions[..])
     }
 
     fn measure(
@@ -272,35 +324,91 @@ impl Plan {
         )
     }
 
-    /// The point of the path nearest to `p`: its arc length and distance.
+    /// The point of the path nearest to `p`: its arc length and distance. The first
+    /// segment at the least distance wins a tie.
+    ///
+    /// Segments are compared by squared distance; distances (a `hypot` each) are compared
+    /// only when two squared distances are too close to tell apart, and the arc length is
+    /// measured for the winner alone, so the answer is the one comparing every segment's
+    /// distance would give, bit for bit.
     pub fn nearest(&self, p: Vec2) -> (f64, f64) {
-        let mut best = (0.0, f64::INFINITY);
+        // Squared distances further apart than this order the distances the same way
+        // (each is within a few ulps of the true value, as is `hypot`).
+        const APART: f64 = 1.0 + 1e-12;
+        let mut best: Option<(usize, Vec2, f64)> = None;
         for (k, w) in self.points.windows(2).enumerate() {
             let q = crate::geometry::closest_on_segment(p, w[0], w[1]);
-            let d = p.dist(q);
-            if d < best.1 {
-                best = (self.arc[k] + w[0].dist(q), d);
+            let squared = (p - q).dot(p - q);
+            let closer = match best {
+                None => true,
+                Some((_, _, least)) if squared > least * APART => false,
+                Some((_, _, least)) if squared * APART < least => true,
+                Some((_, at, _)) => p.dist(q) < p.dist(at),
+            };
+            if closer {
+                best = Some((k, q, squared));
             }
         }
-        best
+        best.map_or((0.0, f64::INFINITY), |(k, q, _)| {
+            (self.arc[k] + self.points[k].dist(q), p.dist(q))
+        })
     }
 
     /// The turning angle at each interior way-point (radians, 0 for straight on); the first
     /// and last entries are 0.
-    pub fn turn_angles(&self) -> Vec<f64> {
-        let mut angles = vec![0.0; self.points.len()];
-        for (i, w) in self.points.windows(3).enumerate() {
-            let a = (w[1] - w[0]).unit();
-            let b = (w[2] - w[1]).unit();
-            angles[i + 1] = a.cross(b).atan2(a.dot(b)).abs();
-        }
-        angles
+    pub fn turn_angles(&self) -> &[f64] {
+        &self.turns
     }
+
+    /// The samples whose gap on either side is below `gap`, with their indices, in order,
+    /// and always the last sample (the goal).
+    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = (usize, &Sample)> + '_ {
+        let last = self.samples.len() - 1;
+        self.samples
+            .chunks(GAP_BLOCK)
+            .zip(&self.block_gaps)
+            .enumerate()
+            .filter(move |&(b, (_, &least))| least < gap || (b + 1) * GAP_BLOCK > last)
+            .flat_map(|(b, (block, _))| {
+                block
+                    .iter()
+                    .enumerate()
+                    .map(move |(i, sample)| (b * GAP_BLOCK + i, sample))
+            })
+            .filter(move |&(k, sample)| sample.gap() < gap || k == last)
+    }
+}
+
+impl Sample {
+    /// The smaller of the two gaps (m).
+    pub fn gap(&self) -> f64 {
+        self.gap_left.min(self.gap_right)
+    }
+}
+
+/// The turning angle at each interior way-point of `points` (radians, 0 for straight on);
+/// the first and last entries are 0.
+fn turn_angles(points: &[Vec2]) -> Vec<f64> {
+    let mut angles = vec![0.0; points.len()];
+    for (i, w) in points.windows(3).enumerate() {
+        let a = (w[1] - w[0]).unit();
+        let b = (w[2] - w[1]).unit();
+        angles[i + 1] = a.cross(b).atan2(a.dot(b)).abs();
+    }
+    angles
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    fn robot(radius: f64) -> Robot {
+        Robot {
+            radius,
+            ..Robot::wheeled_ugv()
+        }
+    }
 
     #[test]
     fn goes_around_a_box_at_the_clearance() {
@@ -359,13 +467,84 @@ mod tests {
         assert!(graph.route(1).is_none());
     }
 
+    proptest! {
+        /// The squared-distance scan answers exactly as comparing every segment's
+        /// distance does, ties (a corner nearest to two segments) included.
+        #[test]
+        fn nearest_equals_the_distance_scan(
+            corners in proptest::collection::vec((0.0f64..20.0, 0.0f64..20.0), 2..8),
+            px in -5.0f64..25.0, py in -5.0f64..25.0, at_corner: bool,
+        ) {
+            let points: Vec<Vec2> = corners.iter().map(|&(x, y)| Vec2::new(x, y)).collect();
+            let plan = Plan::new(points.clone(), &[], &robot(0.5), Vec2::new(20.0, 20.0));
+            let p = if at_corner { points[points.len() / 2] } else { Vec2::new(px, py) };
+            let mut expected = (0.0, f64::INFINITY);
+            for (k, w) in points.windows(2).enumerate() {
+                let q = crate::geometry::closest_on_segment(p, w[0], w[1]);
+                if p.dist(q) < expected.1 {
+                    expected = (plan.arc[k] + w[0].dist(q), p.dist(q));
+                }
+            }
+            let found = plan.nearest(p);
+            prop_assert_eq!(found.0.to_bits(), expected.0.to_bits());
+            prop_assert_eq!(found.1.to_bits(), expected.1.to_bits());
+        }
+    }
+
+    #[test]
+    fn the_close_samples_are_those_a_full_scan_finds() {
+        let cones = [Shape::circle(5.0, 6.0, 0.2), Shape::circle(9.3, 4.2, 0.2)];
+        let plan = Plan::new(
+            vec![
+                Vec2::new(1.0, 5.0),
+                Vec2::new(13.0, 5.0),
+                Vec2::new(13.0, 14.0),
+            ],
+            &[&cones[0], &cones[1]],
+            &robot(0.5),
+            Vec2::new(100.0, 100.0),
+        );
+        let last = plan.samples.len() - 1;
+        for gap in [-1.0, 0.0, 0.3, 0.6, 1.0, 2.0, f64::INFINITY] {
+            let scan: Vec<usize> = (0..plan.samples.len())
+                .filter(|&k| plan.samples[k].gap() < gap || k == last)
+                .collect();
+            let found: Vec<usize> = plan.samples_closer_than(gap).map(|(k, _)| k).collect();
+            assert_eq!(found, scan, "gap {gap}");
+        }
+    }
+
+    #[test]
+    fn stored_error_transitions_are_the_robots_between_neighbouring_samples() {
+        let plan = Plan::new(
+            vec![
+                Vec2::new(1.0, 5.0),
+                Vec2::new(13.0, 5.0),
+                Vec2::new(13.7, 14.1),
+            ],
+            &[],
+            &robot(0.5),
+            Vec2::new(100.0, 100.0),
+        );
+        let transitions = plan.error_transitions(&robot(0.5)).unwrap();
+        for (pair, &transition) in plan.samples.windows(2).zip(&transitions[1..]) {
+            let ds = pair[1].s - pair[0].s;
+            assert_eq!(transition, robot(0.5).error_transition(ds));
+        }
+        let other = Robot {
+            error_correlation: 3.0,
+            ..robot(0.5)
+        };
+        assert_eq!(plan.error_transitions(&other), None);
+    }
+
     #[test]
     fn samples_measure_the_gap_on_each_side() {
         let cone = Shape::circle(5.0, 1.0, 0.2);
         let plan = Plan::new(
             vec![Vec2::new(0.0, 0.0), Vec2::new(10.0, 0.0)],
             &[&cone],
-            0.5,
+            &robot(0.5),
             Vec2::new(100.0, 100.0),
         );
         let at_cone = plan

@@ -79,8 +79,7 @@ impl Profile {
     }
 
     fn stretch_at(&self, s: f64) -> Option<&Stretch> {
-        let k = self.stretches.partition_point(|st| st.s0 <= s);
-        self.stretches.get(k.checked_sub(1)?)
+        self.stretch_index(s, None).map(|k| &self.stretches[k])
     }
 
     /// Time at which the robot passes arc length `s` (s).
@@ -95,6 +94,31 @@ impl Profile {
     /// high stand-in for the speed at `s`.
     pub fn stretch_peak(&self, s: f64) -> f64 {
         self.stretch_at(s).map_or(0.0, |st| st.peak)
+    }
+
+    /// The peak speed of stretch `index` (m/s).
+    pub fn peak(&self, index: usize) -> f64 {
+        self.stretches[index].peak
+    }
+
+    /// The index ([`Profile::peak`]) of the stretch containing `s`, `None` before
+    /// the first; the same stretch as [`Profile::stretch_peak`]'s. `from` is a stretch
+    /// that starts at or before `s` (the answer for an earlier position), so a walk along
+    /// the path finds each stretch by stepping forward rather than by a search.
+    pub fn stretch_index(&self, s: f64, from: Option<usize>) -> Option<usize> {
+        let mut k = match from {
+            Some(k) if self.stretches[k].s0 <= s => k,
+            _ => {
+                return self
+                    .stretches
+                    .partition_point(|st| st.s0 <= s)
+                    .checked_sub(1);
+            }
+        };
+        while k + 1 < self.stretches.len() && self.stretches[k + 1].s0 <= s {
+            k += 1;
+        }
+        Some(k)
     }
 }
 
@@ -180,6 +204,36 @@ mod tests {
         assert!((p.total() - 20.0).abs() < 1e-9);
         assert!((p.time_at(50.0) - 10.0).abs() < 1e-9);
         assert!((p.time_at(25.0) - 5.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn stepping_forward_finds_the_stretch_a_search_finds() {
+        let stations = [
+            Station { s: 0.0, limit: 0.0 },
+            Station { s: 7.0, limit: 2.0 },
+            Station { s: 7.0, limit: 0.0 },
+            Station {
+                s: 12.5,
+                limit: 3.0,
+            },
+            Station {
+                s: 30.0,
+                limit: 0.0,
+            },
+        ];
+        let p = Profile::new(&stations, 6.0, 2.0, 3.0);
+        let mut from = None;
+        for k in 0..=320 {
+            let s = k as f64 * 0.1 - 0.5;
+            let found = p.stretch_index(s, from);
+            assert_eq!(found, p.stretch_index(s, None), "at {s}");
+            assert_eq!(
+                found.map_or(0.0, |i| p.peak(i)),
+                p.stretch_peak(s),
+                "at {s}"
+            );
+            from = found;
+        }
     }
 
     #[test]

@@ -10,7 +10,7 @@ use crate::detector::Detector;
 use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
 use crate::operator::OperatorModel;
-use crate::patrol::{PatrolSetup, SuspiciousObject};
+use crate::patrol::{PatrolGround, PatrolSetup, SuspiciousObject};
 use crate::planner::{Plan, Problem, VisibilityGraph};
 use crate::profile::point_to_point;
 use crate::scenario::Scenario;
@@ -69,6 +69,8 @@ pub struct UgvDomain {
     world: World,
     detector: Detector,
     patrol: PatrolSetup,
+    /// Where the patrol's objects may lie, measured once.
+    ground: PatrolGround,
     /// Per padding: the visibility graph for every set of people.
     visibility: Box<[OnceLock<VisibilityGraph>]>,
     /// Per padding and set of people: the plan.
@@ -83,6 +85,7 @@ impl UgvDomain {
     pub fn new(scenario: Scenario) -> Self {
         let space = scenario.space();
         let world = World::urban_block();
+        let ground = PatrolGround::new(&world);
         let paddings = space
             .component_index("padding")
             .map_or(1, |i| space.components()[i].len());
@@ -98,6 +101,7 @@ impl UgvDomain {
             world,
             detector: Detector::default(),
             patrol: PatrolSetup::default(),
+            ground,
             visibility,
             plans,
             components,
@@ -161,7 +165,7 @@ impl UgvDomain {
                 Some(Plan::new(
                     points,
                     &obstacles,
-                    self.world.robot.radius,
+                    &self.world.robot,
                     self.world.size,
                 ))
             })
@@ -191,14 +195,17 @@ impl UgvDomain {
         }
         let objects = match self.scenario {
             Scenario::Movement => Vec::new(),
-            Scenario::Patrol => self.patrol.place(&self.world, rng),
+            Scenario::Patrol => self.patrol.place(&self.ground, rng),
         };
         let plan = self.plan(behavior, humans);
         let mut run = Run {
             settings,
             humans,
             plan,
-            trace: Trace::default(),
+            // Room for an event or two per object, a few collisions and the arrival.
+            trace: Trace {
+                events: Vec::with_capacity(2 * objects.len() + 4),
+            },
             driven: Vec::new(),
             objects: objects
                 .iter()

@@ -110,6 +110,14 @@ impl Robot {
     pub fn cross_track_sd(&self, speed: f64) -> f64 {
         self.localisation_sd.hypot(self.control_lag * speed)
     }
+
+    /// The Ornstein-Uhlenbeck transition of the cross-track error (in units of its
+    /// standard deviation) over `distance` metres of path: the correlation kept, `rho`,
+    /// and the weight of a fresh standard normal draw, `sqrt(1 - rho^2)`.
+    pub fn error_transition(&self, distance: f64) -> (f64, f64) {
+        let rho = (-distance / self.error_correlation).exp();
+        (rho, (1.0 - rho * rho).sqrt())
+    }
 }
 
 /// The whole map.
@@ -241,10 +249,5 @@ impl World {
                 .filter(move |(i, _)| mask & (1 << i) != 0)
                 .map(|(_, h)| &h.shape),
         )
-    }
-
-    /// Whether `p` is inside the map with `margin` to spare from its edge.
-    pub fn inside(&self, p: Vec2, margin: f64) -> bool {
-        crate::geometry::within(p, self.size, margin)
     }
 }
