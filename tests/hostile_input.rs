@@ -109,7 +109,7 @@ fn a_closed_reply_stream_is_reported_once() {
     let dir = tempfile::tempdir().unwrap();
     let mut server = trustcbr()
         .args(["serve", "--domain", "movement", "--cases"])
-        .arg(dir.path().join("cases.ron"))
+        .arg(dir.path().join("cases.db"))
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
