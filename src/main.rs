@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{
     Scenario, StartingCases, SuiteConfig, UgvDomain, find_operator, landscape, run_suite,
-    save_case_bases, suite_arms_table, suite_table, write_suite_report,
+    save_case_bases, suite_best_arms, suite_table, write_suite_report,
 };
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
@@ -322,8 +322,12 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
     for bar in &progress {
         bar.finish();
     }
+    println!("Behaviors evaluated per trial (mean ± 95% CI), the paper's two arms:\n");
     println!("{}", suite_table(&config, &results));
-    println!("{}", suite_arms_table(&config, &results));
+    print!("{}", suite_best_arms(&config, &results));
+    println!(
+        "Every arm, with what it costs the operator: table.md and report.html in the report.\n"
+    );
     let provenance = Provenance {
         tool: env!("CARGO_PKG_NAME").to_owned(),
         version: env!("CARGO_PKG_VERSION").to_owned(),

@@ -232,7 +232,7 @@ fn arms_are_chosen_by_name_and_unknown_names_are_listed() {
     .unwrap();
     let stdout = run(&config, &dir.path().join("one-arm"), "2");
     assert!(
-        stdout.contains("case-based: behaviors evaluated"),
+        stdout.contains("| Scenario | Operator | Trials | case-based |"),
         "{stdout}"
     );
 }
@@ -330,5 +330,36 @@ fn a_report_reruns_by_itself_with_its_operator_files() {
     assert_eq!(
         std::fs::read(moved.join("trials.jsonl")).unwrap(),
         std::fs::read(second.join("trials.jsonl")).unwrap()
+    );
+}
+
+#[test]
+fn the_printed_tables_fit_a_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    let stdout = succeed(
+        trustcbr()
+            .args(["reproduce", "--trials", "2", "--out"])
+            .arg(&out),
+    );
+    // The last line names the report folder, whose path is the user's.
+    for line in stdout
+        .lines()
+        .filter(|l| !l.contains(out.to_str().unwrap()))
+    {
+        assert!(
+            line.chars().count() <= 100,
+            "{} columns: {line}",
+            line.chars().count()
+        );
+    }
+    assert!(
+        stdout.contains("patrol/random: fewest behaviors"),
+        "{stdout}"
+    );
+    assert!(
+        std::fs::read_to_string(out.join("table.md"))
+            .unwrap()
+            .contains("| Wilcoxon p |")
     );
 }

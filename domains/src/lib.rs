@@ -28,7 +28,7 @@ pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators, fin
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
 pub use suite::{
-    StartingCases, SuiteConfig, run_suite, save_case_bases, suite_arms_table, suite_table,
+    StartingCases, SuiteConfig, run_suite, save_case_bases, suite_best_arms, suite_table,
     write_suite_report,
 };
 pub use trace::{Event, EventKind, Trace};

@@ -528,10 +528,10 @@ pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
     trust::experiment::report::table(&entries(config, results, &spaces))
 }
 
-/// Every arm of every experiment, with what it costs the operator, in Markdown.
-pub fn suite_arms_table(config: &SuiteConfig, results: &SuiteResults) -> String {
+/// One line per experiment: the arm that needed the fewest behaviors, against the first.
+pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
     let spaces = scenario_spaces();
-    trust::experiment::report::arms_table(&entries(config, results, &spaces))
+    trust::experiment::report::best_arms(&entries(config, results, &spaces))
 }
 
 /// Writes the report folder for a suite run. The report reruns by itself: every operator
