@@ -22,7 +22,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::experiment::report::file_stems;
+use trust::experiment::report::{category_label, file_stems};
 use trust::experiment::stats::mean_ci95;
 use trust::{Retention, Thresholds, TimeUnit};
 
@@ -719,14 +719,7 @@ fn plot_parameter(
                 .y_label_area_size(50)
                 .build_cartesian_2d(-0.5..n as f64 - 0.5, (0.9f64..top * 1.3).log_scale())?;
             let labels: Vec<String> = axis.iter().map(|(l, _)| l.clone()).collect();
-            let label = |v: &f64| {
-                let i = v.round();
-                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels.len() {
-                    labels[i as usize].clone()
-                } else {
-                    String::new()
-                }
-            };
+            let label = category_label(&labels);
             chart
                 .configure_mesh()
                 .disable_x_mesh()

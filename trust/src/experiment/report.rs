@@ -546,6 +546,19 @@ fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
     Ok(())
 }
 
+/// Labels the categories of an axis whose category `i` sits at `i`: `labels[i]` at the
+/// integers, nothing in between.
+pub fn category_label(labels: &[String]) -> impl Fn(&f64) -> String + '_ {
+    move |v: &f64| {
+        let i = v.round();
+        if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels.len() {
+            labels[i as usize].clone()
+        } else {
+            String::new()
+        }
+    }
+}
+
 /// Labels integers on a log axis (`3`, `10`, `100`) and nothing in between, so counts
 /// never read `1.0` and no label is drawn twice.
 fn integer_label(v: &f64) -> String {
@@ -667,14 +680,7 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
             -0.5..names.len() as f64 - 0.5,
             (0.8f64..top * 1.3).log_scale(),
         )?;
-    let label = |v: &f64| {
-        let i = v.round();
-        if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < names.len() {
-            names[i as usize].clone()
-        } else {
-            String::new()
-        }
-    };
+    let label = category_label(&names);
     chart
         .configure_mesh()
         .light_line_style(TRANSPARENT)
@@ -764,17 +770,13 @@ fn final_behaviors(
             .y_label_area_size(50)
             .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
         // Cells are centred on their index; label each index with its real value.
-        let label = |component: usize, n: usize| {
-            move |v: &f64| {
-                let i = v.round();
-                if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < n {
-                    components[component].display_value(i as u16).to_string()
-                } else {
-                    String::new()
-                }
-            }
+        let values = |component: usize, n: usize| -> Vec<String> {
+            (0..n)
+                .map(|i| components[component].display_value(i as u16).to_string())
+                .collect()
         };
-        let (x_label, y_label) = (label(x, nx), label(y, ny));
+        let (x_values, y_values) = (values(x, nx), values(y, ny));
+        let (x_label, y_label) = (category_label(&x_values), category_label(&y_values));
         chart
             .configure_mesh()
             .disable_mesh()

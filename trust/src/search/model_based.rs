@@ -28,6 +28,7 @@ use super::longest_resisting;
 use super::untried::{draw_untried, evaluated_set};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use faer::linalg::solvers::Llt;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::prelude::*;
 use faer::{Mat, Side};
@@ -229,27 +230,38 @@ fn fit(
     let kernels = KernelTables::new(space, sharpness);
     let n = observed.len();
     let y = Mat::from_fn(n, 1, |i, _| residuals[i]);
-    let mut jitter = JITTER;
+    let covariance = Mat::from_fn(n, n, |i, j| {
+        let k = kernels.kernel(&observed[i].behavior, &observed[j].behavior);
+        if i == j {
+            k + NOISE_VARIANCE / observed[i].commands
+        } else {
+            k
+        }
+    });
+    let llt = factor_with_jitter(&covariance, JITTER)?;
+    let alpha = llt.solve(&y);
+    let lower = llt.L().to_owned();
+    let fit_term: f64 = (0..n).map(|i| y[(i, 0)] * alpha[(i, 0)]).sum();
+    let log_det: f64 = (0..n).map(|i| lower[(i, i)].ln()).sum();
+    Some(Fit {
+        kernels,
+        lower,
+        alpha,
+        log_likelihood: -0.5 * fit_term - log_det,
+    })
+}
+
+/// The Cholesky factorisation of `matrix + jitter I`, the jitter starting at `first` and
+/// growing tenfold (eight tries) while the matrix is not positive definite.
+fn factor_with_jitter(matrix: &Mat<f64>, first: f64) -> Option<Llt<f64>> {
+    let n = matrix.nrows();
+    let mut jitter = first;
     for _ in 0..8 {
-        let covariance = Mat::from_fn(n, n, |i, j| {
-            let k = kernels.kernel(&observed[i].behavior, &observed[j].behavior);
-            if i == j {
-                k + NOISE_VARIANCE / observed[i].commands + jitter
-            } else {
-                k
-            }
+        let jittered = Mat::from_fn(n, n, |i, j| {
+            matrix[(i, j)] + if i == j { jitter } else { 0.0 }
         });
-        if let Ok(llt) = covariance.llt(Side::Lower) {
-            let alpha = llt.solve(&y);
-            let lower = llt.L().to_owned();
-            let fit_term: f64 = (0..n).map(|i| y[(i, 0)] * alpha[(i, 0)]).sum();
-            let log_det: f64 = (0..n).map(|i| lower[(i, i)].ln()).sum();
-            return Some(Fit {
-                kernels,
-                lower,
-                alpha,
-                log_likelihood: -0.5 * fit_term - log_det,
-            });
+        if let Ok(llt) = jittered.llt(Side::Lower) {
+            return Some(llt);
         }
         jitter *= 10.0;
     }
@@ -286,26 +298,17 @@ impl Fit {
         let (means, covariance) = self.posterior(observed, candidates);
         let c = candidates.len();
         let normals: Vec<f64> = (0..c).map(|_| StandardNormal.sample(&mut *rng)).collect();
-        let mut jitter = POSTERIOR_JITTER;
-        for _ in 0..8 {
-            let jittered = Mat::from_fn(c, c, |i, j| {
-                covariance[(i, j)] + if i == j { jitter } else { 0.0 }
-            });
-            if let Ok(llt) = jittered.llt(Side::Lower) {
-                let factor = llt.L();
-                return Some(
-                    (0..c)
-                        .map(|j| {
-                            prior_means[j]
-                                + means[j]
-                                + (0..=j).map(|k| factor[(j, k)] * normals[k]).sum::<f64>()
-                        })
-                        .collect(),
-                );
-            }
-            jitter *= 10.0;
-        }
-        None
+        let llt = factor_with_jitter(&covariance, POSTERIOR_JITTER)?;
+        let factor = llt.L();
+        Some(
+            (0..c)
+                .map(|j| {
+                    prior_means[j]
+                        + means[j]
+                        + (0..=j).map(|k| factor[(j, k)] * normals[k]).sum::<f64>()
+                })
+                .collect(),
+        )
     }
 }
 
