@@ -160,6 +160,23 @@ const MAX_LINKS: usize = 40;
 /// Random characters in a temporary file's name.
 const RANDOM_CHARS: usize = 10;
 
+/// Writes `text` atomically ([`write_atomically`]) as the file `name` in `dir`, creating
+/// `dir` and any folder `name` names first. Returns the file's path; an error names the
+/// file or folder.
+pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<PathBuf, FileError> {
+    let path = dir.join(name);
+    let folder = path.parent().unwrap_or(dir);
+    fs::create_dir_all(folder).map_err(|reason| FileError {
+        path: folder.to_owned(),
+        reason,
+    })?;
+    write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
+        path: path.clone(),
+        reason,
+    })?;
+    Ok(path)
+}
+
 /// Writes `bytes` to `path` so that readers see either the old content or all of the new.
 ///
 /// The bytes go to a new temporary file beside the target, named `.NAME.tmp-PID-RANDOM`

@@ -8,7 +8,9 @@
 //! ([`save_case_bases`]) and an arm can start from them ([`StartingCases`]).
 
 use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
-use cbr_core::{BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text};
+use cbr_core::{
+    BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
+};
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -555,18 +557,7 @@ pub fn write_suite_report(
         provenance,
     )?;
     for (source, copy) in copies {
-        let target = dir.join(&copy);
-        let folder = target.parent().expect("a file in a folder");
-        std::fs::create_dir_all(folder).map_err(|reason| FileError {
-            path: folder.to_owned(),
-            reason,
-        })?;
-        let text = read_text(&source)?;
-        cbr_core::write_atomically(&target, text.as_bytes()).map_err(|reason| FileError {
-            path: target.clone(),
-            reason,
-        })?;
-        written.push(target);
+        written.push(write_file_in(dir, copy, &read_text(&source)?)?);
     }
     Ok(written)
 }

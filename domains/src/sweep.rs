@@ -15,7 +15,7 @@
 //! report is byte-for-byte the report of a single run.
 
 use crate::suite::{PatrolWeights, SuiteConfig, SuiteError, SuiteResults, run_suite};
-use cbr_core::{FileError, RonError, parse_ron, read_text, write_atomically};
+use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -475,32 +475,13 @@ pub fn write_run(
     run: RunId,
     summary: &RunSummary,
 ) -> Result<PathBuf, SweepError> {
-    let path = dir.join(sweep.run_file(run));
-    let folder = path.parent().expect("run files are in folders");
-    std::fs::create_dir_all(folder).map_err(|reason| FileError {
-        path: folder.to_owned(),
-        reason,
-    })?;
-    write_atomically(&path, summary.to_json().as_bytes()).map_err(|reason| FileError {
-        path: path.clone(),
-        reason,
-    })?;
-    Ok(path)
+    Ok(write_file_in(dir, sweep.run_file(run), &summary.to_json())?)
 }
 
 /// Writes the sweep config's text into `dir` as `sweep.ron` (every shard folder carries
 /// it, so a merge can check that its folders belong to one sweep).
 pub fn write_config(dir: &Path, text: &str) -> Result<PathBuf, SweepError> {
-    std::fs::create_dir_all(dir).map_err(|reason| FileError {
-        path: dir.to_owned(),
-        reason,
-    })?;
-    let path = dir.join("sweep.ron");
-    write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
-        path: path.clone(),
-        reason,
-    })?;
-    Ok(path)
+    Ok(write_file_in(dir, "sweep.ron", text)?)
 }
 
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
@@ -563,10 +544,6 @@ pub fn write_report(
     summaries: &[(RunId, RunSummary)],
     out: &Path,
 ) -> Result<Vec<PathBuf>, SweepError> {
-    std::fs::create_dir_all(out).map_err(|reason| FileError {
-        path: out.to_owned(),
-        reason,
-    })?;
     let mut series: Series = BTreeMap::new();
     let mut order: Vec<String> = Vec::new();
     let mut arm_order: Vec<Vec<String>> = vec![Vec::new(); sweep.cells.len()];
@@ -629,12 +606,7 @@ pub fn write_report(
     }
     let mut written = Vec::new();
     let mut write = |name: &str, text: &str| -> Result<(), SweepError> {
-        let path = out.join(name);
-        write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
-            path: path.clone(),
-            reason,
-        })?;
-        written.push(path);
+        written.push(write_file_in(out, name, text)?);
         Ok(())
     };
     write("sweep.md", &md)?;

@@ -10,7 +10,7 @@ use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
 };
-use trust::search::{draw_untried, evaluated_set, longest_resisting};
+use trust::search::{draw_untried, propose_untried};
 use trust::{Cause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, TrustRetriever};
 
 /// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one.
@@ -76,18 +76,11 @@ impl Searcher for SmallestOfFour {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        let Some(e_max) = longest_resisting(evaluated) else {
-            return Proposal::Next(space.draw(rng));
-        };
-        match draw_untried(space, &evaluated_set(evaluated), 4, rng)
-            .into_iter()
-            .min_by_key(|b| space.rank(b))
-        {
-            Some(b) => Proposal::Next(b),
-            None => Proposal::Exhausted {
-                keep: e_max.behavior,
-            },
-        }
+        propose_untried(space, evaluated, rng, |tried, rng| {
+            draw_untried(space, tried, 4, rng)
+                .into_iter()
+                .min_by_key(|b| space.rank(b))
+        })
     }
 }
 

@@ -7,7 +7,7 @@
 use super::runner::{ArmResult, ExperimentResult, TrialRecord};
 use super::stats::{MeanCi, mean_ci95};
 use crate::named::named_behavior;
-use cbr_core::{BehaviorSpace, FileError, write_atomically};
+use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
@@ -318,18 +318,9 @@ pub fn write_report(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, ReportError> {
-    std::fs::create_dir_all(dir).map_err(|reason| FileError {
-        path: dir.to_owned(),
-        reason,
-    })?;
     let mut written = Vec::new();
     let mut write = |name: &str, text: &str| -> Result<(), ReportError> {
-        let path = dir.join(name);
-        write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
-            path: path.clone(),
-            reason,
-        })?;
-        written.push(path);
+        written.push(write_file_in(dir, name, text)?);
         Ok(())
     };
     write(

@@ -19,8 +19,8 @@
 //! overall rate. Drawing the pool at random keeps the search exploring where the counts
 //! say nothing; no rule about any particular domain or cause is written here.
 
-use super::longest_resisting;
-use super::untried::{draw_untried, evaluated_set};
+use super::propose_untried;
+use super::untried::draw_untried;
 use crate::estimate::{Cause, OutcomeKind};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
@@ -201,27 +201,20 @@ impl Searcher for CauseAware {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        let Some(e_max) = longest_resisting(evaluated) else {
-            return Proposal::Next(space.draw(rng));
-        };
-        let pool = draw_untried(space, &evaluated_set(evaluated), CAUSE_AWARE_POOL, rng);
-        let tables = self.log_rate_tables(space);
-        let best = pool
-            .iter()
-            .map(|b| (predicted_burden(&tables, b), *b))
-            .fold(
-                None,
-                |best: Option<(f64, Behavior)>, (score, b)| match best {
-                    Some((s, _)) if s <= score => best,
-                    _ => Some((score, b)),
-                },
-            );
-        match best {
-            Some((_, b)) => Proposal::Next(b),
-            None => Proposal::Exhausted {
-                keep: e_max.behavior,
-            },
-        }
+        propose_untried(space, evaluated, rng, |tried, rng| {
+            let pool = draw_untried(space, tried, CAUSE_AWARE_POOL, rng);
+            let tables = self.log_rate_tables(space);
+            pool.iter()
+                .map(|b| (predicted_burden(&tables, b), *b))
+                .fold(
+                    None,
+                    |best: Option<(f64, Behavior)>, (score, b)| match best {
+                        Some((s, _)) if s <= score => best,
+                        _ => Some((score, b)),
+                    },
+                )
+                .map(|(_, b)| b)
+        })
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {

@@ -22,8 +22,10 @@ pub use uniform::Uniform;
 pub use untried::{draw_untried, evaluated_set};
 
 use crate::{Evaluated, Outcome};
-use cbr_core::Searcher;
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use rand::RngCore;
 use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
 
 /// A search strategy as the trust adapter drives it.
 pub type TrustSearcher = dyn Searcher<Evidence = Evaluated, Feedback = Outcome>;
@@ -36,6 +38,26 @@ pub fn longest_resisting(evaluated: &[Evaluated]) -> Option<&Evaluated> {
             Some(b) if b.time >= e.time => Some(b),
             _ => Some(e),
         })
+}
+
+/// The frame every search among untried behaviors shares: with no evidence yet, a uniform
+/// draw; otherwise `choose` picks one of the untried behaviors (it is handed the set of
+/// evaluated ones), and when it finds none the space is exhausted and `E_max` is kept.
+pub fn propose_untried(
+    space: &BehaviorSpace,
+    evaluated: &[Evaluated],
+    rng: &mut dyn RngCore,
+    choose: impl FnOnce(&HashSet<Behavior>, &mut dyn RngCore) -> Option<Behavior>,
+) -> Proposal {
+    let Some(e_max) = longest_resisting(evaluated) else {
+        return Proposal::Next(space.draw(rng));
+    };
+    match choose(&evaluated_set(evaluated), rng) {
+        Some(b) => Proposal::Next(b),
+        None => Proposal::Exhausted {
+            keep: e_max.behavior,
+        },
+    }
 }
 
 /// The built-in search strategies a config can name.

@@ -24,8 +24,8 @@
 //! factorisation and triangular solves) is faer's, run sequentially so results do not
 //! depend on threads.
 
-use super::longest_resisting;
-use super::untried::{draw_untried, evaluated_set};
+use super::propose_untried;
+use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
 use faer::linalg::solvers::Llt;
@@ -147,6 +147,46 @@ impl ModelBased {
     /// The prior mean at `behavior`, in units of the largest weight seen, in `[-1, 1]`.
     fn prior_mean(&self, behavior: &Behavior) -> f64 {
         (self.population.mean(behavior) / self.largest_weight).clamp(-1.0, 1.0)
+    }
+
+    /// The untried behavior to try: the best of one joint posterior draw over the
+    /// candidates; the first candidate while there is nothing to fit. `None` when every
+    /// behavior has been tried.
+    fn choose(
+        &self,
+        space: &BehaviorSpace,
+        tried: &HashSet<Behavior>,
+        rng: &mut dyn RngCore,
+    ) -> Option<Behavior> {
+        let candidates = self.candidates(space, tried, rng);
+        let &first = candidates.first()?;
+        if self.observed.is_empty() || self.largest_weight <= 0.0 {
+            return Some(first);
+        }
+        let residuals: Vec<f64> = self
+            .observed
+            .iter()
+            .map(|o| o.sum / o.commands / self.largest_weight - self.prior_mean(&o.behavior))
+            .collect();
+        let best_fit = SHARPNESS_CHOICES
+            .iter()
+            .filter_map(|&p| fit(space, &self.observed, &residuals, p))
+            .fold(None, |best: Option<Fit>, f| match best {
+                Some(b) if b.log_likelihood >= f.log_likelihood => Some(b),
+                _ => Some(f),
+            });
+        let Some(surrogate) = best_fit else {
+            return Some(first);
+        };
+        let prior_means: Vec<f64> = candidates.iter().map(|c| self.prior_mean(c)).collect();
+        let Some(scores) = surrogate.sample(&self.observed, &candidates, &prior_means, rng) else {
+            return Some(first);
+        };
+        let best = scores
+            .iter()
+            .enumerate()
+            .fold(0, |best, (j, &s)| if s > scores[best] { j } else { best });
+        Some(candidates[best])
     }
 
     /// The untried candidates: a uniform pool plus the untried neighbours of the best
@@ -349,42 +389,9 @@ impl Searcher for ModelBased {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        let Some(e_max) = longest_resisting(evaluated) else {
-            return Proposal::Next(space.draw(rng));
-        };
-        let candidates = self.candidates(space, &evaluated_set(evaluated), rng);
-        let Some(&first) = candidates.first() else {
-            return Proposal::Exhausted {
-                keep: e_max.behavior,
-            };
-        };
-        if self.observed.is_empty() || self.largest_weight <= 0.0 {
-            return Proposal::Next(first);
-        }
-        let residuals: Vec<f64> = self
-            .observed
-            .iter()
-            .map(|o| o.sum / o.commands / self.largest_weight - self.prior_mean(&o.behavior))
-            .collect();
-        let best_fit = SHARPNESS_CHOICES
-            .iter()
-            .filter_map(|&p| fit(space, &self.observed, &residuals, p))
-            .fold(None, |best: Option<Fit>, f| match best {
-                Some(b) if b.log_likelihood >= f.log_likelihood => Some(b),
-                _ => Some(f),
-            });
-        let Some(surrogate) = best_fit else {
-            return Proposal::Next(first);
-        };
-        let prior_means: Vec<f64> = candidates.iter().map(|c| self.prior_mean(c)).collect();
-        let Some(scores) = surrogate.sample(&self.observed, &candidates, &prior_means, rng) else {
-            return Proposal::Next(first);
-        };
-        let best = scores
-            .iter()
-            .enumerate()
-            .fold(0, |best, (j, &s)| if s > scores[best] { j } else { best });
-        Proposal::Next(candidates[best])
+        propose_untried(space, evaluated, rng, |tried, rng| {
+            self.choose(space, tried, rng)
+        })
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {

@@ -5,8 +5,8 @@
 //! an order of magnitude fewer behaviors than the paper's random walk in patrol, so every
 //! claim about a strategy is made against it as well.
 
-use super::longest_resisting;
-use super::untried::{draw_untried, evaluated_set};
+use super::propose_untried;
+use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
 use cbr_core::{BehaviorSpace, Proposal, Searcher};
 use rand::RngCore;
@@ -37,14 +37,8 @@ impl Searcher for Uniform {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        let Some(e_max) = longest_resisting(evaluated) else {
-            return Proposal::Next(space.draw(rng));
-        };
-        match draw_untried(space, &evaluated_set(evaluated), 1, rng).first() {
-            Some(&b) => Proposal::Next(b),
-            None => Proposal::Exhausted {
-                keep: e_max.behavior,
-            },
-        }
+        propose_untried(space, evaluated, rng, |tried, rng| {
+            draw_untried(space, tried, 1, rng).first().copied()
+        })
     }
 }
