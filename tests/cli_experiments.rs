@@ -1,11 +1,10 @@
 //! End-to-end tests of `trustcbr run`, `reproduce` and `config` on small configs.
 
-use std::path::Path;
-use std::process::Command;
+mod support;
 
-fn trustcbr() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
-}
+use std::path::Path;
+use support::{succeed, trustcbr};
+use trust::experiment::BUILTIN_ARMS as ARMS;
 
 const SMALL: &str = r#"(
     seed: 7,
@@ -15,28 +14,6 @@ const SMALL: &str = r#"(
         (scenario: patrol, operator: "random"),
     ],
 )"#;
-
-/// The built-in arms, in report order.
-const ARMS: [&str; 7] = [
-    "random-walk",
-    "case-based",
-    "uniform",
-    "cause-aware",
-    "model-based",
-    "case-based+cause-aware",
-    "case-based+model-based",
-];
-
-/// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
-fn succeed(command: &mut Command) -> String {
-    let output = command.output().unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
-}
 
 fn run(config: &Path, out: &Path, threads: &str) -> String {
     succeed(

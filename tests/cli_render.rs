@@ -1,10 +1,8 @@
 //! End-to-end: the `render` and `landscape` subcommands write the files they promise.
 
-use std::process::Command;
+mod support;
 
-fn trustcbr() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
-}
+use support::trustcbr;
 
 #[test]
 fn render_writes_an_svg_of_one_run() {

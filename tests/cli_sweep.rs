@@ -1,22 +1,10 @@
 //! End-to-end tests of `trustcbr sweep`: a sweep over seeds and a parameter, split into
 //! shards and merged into the same report byte for byte.
 
+mod support;
+
 use std::path::Path;
-use std::process::Command;
-
-fn trustcbr() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
-}
-
-fn succeed(command: &mut Command) -> String {
-    let output = command.output().unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    String::from_utf8(output.stdout).unwrap()
-}
+use support::{succeed, trustcbr};
 
 const SUITE: &str = r#"(
     seed: 1,

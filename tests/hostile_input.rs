@@ -1,12 +1,11 @@
 //! End-to-end: hostile command-line input is refused at once, with a message naming the
 //! problem, before any work is done.
 
+mod support;
+
 use std::path::Path;
 use std::process::{Command, Output};
-
-fn trustcbr() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
-}
+use support::trustcbr;
 
 /// Runs `command`, checks that it failed with an error (status 1, or 2 for a usage error)
 /// rather than a panic, and returns its stderr.

@@ -1,5 +1,6 @@
-//! What the process tests share: a quick domain, a TCP server and the address it listens
-//! on, and the cases a store holds. Each test file uses part of it.
+//! What the process tests share: the binary as a command and a run that must succeed, a
+//! quick domain, a TCP server and the address it listens on, and the cases a store holds.
+//! Each test file uses part of it.
 #![allow(dead_code)] // every test file compiles this module and uses only some of it
 
 use serde_json::Value;
@@ -7,6 +8,22 @@ use service::store::{self, Location, StoreId};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
+
+/// The `trustcbr` binary under test, as a command to complete.
+pub fn trustcbr() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+}
+
+/// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
+pub fn succeed(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
 
 /// A 5 x 5 domain whose episodes end in three requests: `begin`, one interruption
 /// (untrustworthy at -1: the adapter switches), one completion (trustworthy at +1). With

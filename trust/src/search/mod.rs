@@ -105,3 +105,20 @@ impl SearchKind {
         }
     }
 }
+
+/// A space of numeric components `c0, c1, ...` with `sizes[k]` values each, for the
+/// searchers' unit tests.
+#[cfg(test)]
+pub(crate) fn grid(sizes: &[u16]) -> BehaviorSpace {
+    BehaviorSpace::new(
+        sizes
+            .iter()
+            .enumerate()
+            .map(|(k, &n)| {
+                cbr_core::Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n)
+                    .expect("a valid grid")
+            })
+            .collect(),
+    )
+    .expect("a valid space")
+}

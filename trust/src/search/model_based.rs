@@ -402,12 +402,12 @@ impl Searcher for ModelBased {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use crate::search::grid;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
     fn line(n: u16) -> BehaviorSpace {
-        BehaviorSpace::new(vec![Component::numeric("x", "", 0.0, 1.0, n).unwrap()]).unwrap()
+        grid(&[n])
     }
 
     #[test]

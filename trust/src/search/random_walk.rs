@@ -109,21 +109,10 @@ impl Searcher for RandomWalk {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use crate::search::grid;
     use proptest::prelude::*;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    fn grid(sizes: &[u16]) -> BehaviorSpace {
-        BehaviorSpace::new(
-            sizes
-                .iter()
-                .enumerate()
-                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
-                .collect(),
-        )
-        .unwrap()
-    }
 
     fn ev(indices: &[u16], time: f64) -> Evaluated {
         Evaluated {

@@ -55,25 +55,14 @@ pub fn draw_untried(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use crate::search::grid;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-
-    fn space(sizes: &[u16]) -> BehaviorSpace {
-        BehaviorSpace::new(
-            sizes
-                .iter()
-                .enumerate()
-                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
-                .collect(),
-        )
-        .unwrap()
-    }
 
     #[test]
     fn draws_distinct_untried_behaviors_by_both_methods() {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let big = space(&[40, 40]);
+        let big = grid(&[40, 40]);
         let tried: HashSet<Behavior> = [Behavior::new(&[0, 0])].into();
         // 1,599 untried, 10 wanted: rejection sampling.
         let drawn = draw_untried(&big, &tried, 10, &mut rng);
@@ -81,7 +70,7 @@ mod tests {
         assert_eq!(drawn.iter().collect::<HashSet<_>>().len(), 10);
         assert!(drawn.iter().all(|b| !tried.contains(b)));
         // 3 x 3 with 7 tried: two remain, both returned whatever is asked.
-        let small = space(&[3, 3]);
+        let small = grid(&[3, 3]);
         let tried: HashSet<Behavior> = small.iter().take(7).collect();
         let drawn = draw_untried(&small, &tried, 5, &mut rng);
         let rest: HashSet<Behavior> = small.iter().skip(7).collect();
