@@ -224,6 +224,8 @@ pub struct Sweep {
     pub origin: PathBuf,
     /// The cells, in report order.
     pub cells: Vec<Cell>,
+    /// Each cell's folder name under `runs/` ([`file_stems`] of the labels).
+    folders: Vec<String>,
 }
 
 impl Sweep {
@@ -289,10 +291,12 @@ impl Sweep {
                     reason,
                 })?;
         }
+        let folders = file_stems(cells.iter().map(|c| &c.label));
         Ok(Self {
             config,
             origin,
             cells,
+            folders,
         })
     }
 
@@ -325,9 +329,8 @@ impl Sweep {
 
     /// The run file of `run`, relative to a sweep folder.
     pub fn run_file(&self, run: RunId) -> PathBuf {
-        let stems = file_stems(self.cells.iter().map(|c| &c.label));
         Path::new("runs")
-            .join(&stems[run.cell])
+            .join(&self.folders[run.cell])
             .join(format!("seed-{}.json", self.config.seeds[run.seed]))
     }
 
