@@ -10,8 +10,8 @@ const SMALL: &str = r#"(
     seed: 7,
     trials: 4,
     experiments: [
-        (scenario: movement, operator: "balanced"),
-        (scenario: patrol, operator: "random"),
+        (scenario: "movement", operator: "balanced"),
+        (scenario: "patrol", operator: "random"),
     ],
 )"#;
 
@@ -292,7 +292,7 @@ fn a_report_reruns_by_itself_with_its_operator_files() {
     let config = dir.path().join("custom.ron");
     std::fs::write(
         &config,
-        "(seed: 3, trials: 2, arms: [\"uniform\"], experiments: [(scenario: movement, operator: \"hasty\", operator_files: [\"ops/hasty.ron\"])])",
+        "(seed: 3, trials: 2, arms: [\"uniform\"], experiments: [(scenario: \"movement\", operator: \"hasty\", operator_files: [\"ops/hasty.ron\"])])",
     )
     .unwrap();
     let first = dir.path().join("first");

@@ -10,7 +10,7 @@ const SUITE: &str = r#"(
     seed: 1,
     trials: 3,
     arms: ["random-walk", "case-based"],
-    experiments: [(scenario: movement, operator: "balanced")],
+    experiments: [(scenario: "movement", operator: "balanced")],
 )"#;
 
 const SWEEP: &str = r#"(

@@ -130,7 +130,7 @@ fn a_closed_reply_stream_is_reported_once() {
 }
 
 const TINY: &str =
-    "(seed: 1, trials: 1, experiments: [(scenario: movement, operator: \"balanced\")])";
+    "(seed: 1, trials: 1, experiments: [(scenario: \"movement\", operator: \"balanced\")])";
 
 /// `trustcbr run` of the one-trial config `TINY` (written in `dir`) into `out`.
 fn run_tiny(dir: &Path, out: &Path) -> Command {

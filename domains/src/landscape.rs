@@ -6,9 +6,7 @@
 //! Each behavior's runs draw from their own ChaCha8 stream (the seed, stream = the
 //! behavior's rank), so the estimate does not depend on the number of threads.
 
-use crate::operator::OperatorModel;
 use crate::svg::Svg;
-use crate::ugv::UgvDomain;
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -64,9 +62,9 @@ pub enum LandscapeError {
 
 /// Runs every behavior of `domain` `runs` times under `operator`, in parallel.
 /// `progress()` is called after each behavior's runs.
-pub fn estimate(
-    domain: &UgvDomain,
-    operator: &OperatorModel,
+pub fn estimate<D: Domain>(
+    domain: &D,
+    operator: &D::Operator,
     runs: u32,
     seed: u64,
     progress: &(dyn Fn() + Sync),

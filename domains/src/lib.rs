@@ -17,9 +17,7 @@ pub mod profile;
 pub mod render;
 pub mod scenario;
 pub mod spaces;
-pub mod suite;
 pub mod svg;
-pub mod sweep;
 pub mod trace;
 pub mod ugv;
 pub mod world;
@@ -27,10 +25,10 @@ pub mod world;
 pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators, find_operator};
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
-pub use suite::{
-    StartingCases, SuiteConfig, run_suite, save_case_bases, suite_best_arms, suite_table,
-    write_suite_report,
-};
 pub use trace::{Event, EventKind, Trace};
 pub use ugv::{Run, Settings, UgvDomain};
 pub use world::World;
+
+/// The paper's seven experiments as a suite config (RON): the suite the `trustcbr` tool's
+/// `reproduce` runs and `config` prints.
+pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");

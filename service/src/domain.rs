@@ -1,8 +1,8 @@
 //! The domain to serve: a behavior space and the adapter configuration.
 //!
-//! Either a built-in domain (`movement`, `patrol`: the paper's spaces with the paper's
-//! adapter defaults) or a RON file declaring a space, and optionally the adapter config,
-//! without writing Rust:
+//! Either a domain the tool's catalog builds (for `trustcbr`, `movement` and `patrol`: the
+//! paper's spaces with the paper's adapter defaults) or a RON file declaring a space, and
+//! optionally the adapter config, without writing Rust:
 //!
 //! ```ron
 //! (
@@ -26,7 +26,7 @@ use trust::AdapterConfig;
 /// A domain ready to serve.
 #[derive(Clone, Debug)]
 pub struct DomainDefinition {
-    /// How the domain was named (`movement`, `patrol` or the file path).
+    /// How the domain was named (a scenario name or the file path).
     pub name: String,
     /// The behavior space.
     pub space: Arc<BehaviorSpace>,
@@ -47,8 +47,13 @@ struct DomainFile {
 #[derive(Debug, thiserror::Error)]
 pub enum DomainError {
     /// The name is neither a built-in domain nor an existing file.
-    #[error("`{0}` is neither a built-in domain (movement, patrol) nor an existing file")]
-    Unknown(String),
+    #[error("`{name}` is neither a built-in domain ({known}) nor an existing file")]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// The built-in domains, comma-separated.
+        known: String,
+    },
     /// The file could not be read.
     #[error(transparent)]
     Io(#[from] FileError),
@@ -58,19 +63,32 @@ pub enum DomainError {
 }
 
 impl DomainDefinition {
-    /// Resolves `movement`, `patrol`, or a path to a RON domain file.
-    pub fn resolve(name: &str) -> Result<Self, DomainError> {
-        let builtin = |space| Self {
+    /// A built-in domain: `space` under the paper's adapter defaults.
+    pub fn builtin(name: &str, space: Arc<BehaviorSpace>) -> Self {
+        Self {
             name: name.to_owned(),
             space,
             adapter: AdapterConfig::default(),
-        };
-        match name {
-            "movement" => Ok(builtin(domains::spaces::movement_space())),
-            "patrol" => Ok(builtin(domains::spaces::patrol_space())),
-            path if !Path::new(path).exists() => Err(DomainError::Unknown(path.to_owned())),
-            path => Self::load(Path::new(path)),
         }
+    }
+
+    /// Resolves a built-in domain's name (`builtin` finds it; `known` lists them for the
+    /// error), or else a path to a RON domain file.
+    pub fn resolve(
+        name: &str,
+        known: &[String],
+        builtin: impl FnOnce(&str) -> Option<Self>,
+    ) -> Result<Self, DomainError> {
+        if let Some(domain) = builtin(name) {
+            return Ok(domain);
+        }
+        if !Path::new(name).exists() {
+            return Err(DomainError::Unknown {
+                name: name.to_owned(),
+                known: known.join(", "),
+            });
+        }
+        Self::load(Path::new(name))
     }
 
     /// Reads and checks a RON domain file.
@@ -250,23 +268,24 @@ mod tests {
         assert_eq!(d.space.size(), 8 * 10 * 3);
     }
 
+    /// Resolves `name` with `movement` as the only built-in domain.
+    fn resolve(name: &str) -> Result<DomainDefinition, DomainError> {
+        DomainDefinition::resolve(name, &["movement".to_owned()], |n| {
+            (n == "movement")
+                .then(|| DomainDefinition::builtin(n, domains::spaces::movement_space()))
+        })
+    }
+
     #[test]
     fn builtin_names_and_missing_files() {
-        assert_eq!(
-            DomainDefinition::resolve("movement").unwrap().space.size(),
-            400
-        );
-        assert_eq!(
-            DomainDefinition::resolve("patrol").unwrap().space.size(),
-            16_000
-        );
-        let err = DomainDefinition::resolve("/nonexistent/robot.ron").unwrap_err();
+        assert_eq!(resolve("movement").unwrap().space.size(), 400);
+        let err = resolve("/nonexistent/robot.ron").unwrap_err();
         assert_eq!(
             err.to_string(),
-            "`/nonexistent/robot.ron` is neither a built-in domain (movement, patrol) nor an existing file"
+            "`/nonexistent/robot.ron` is neither a built-in domain (movement) nor an existing file"
         );
         let dir = tempfile::tempdir().unwrap();
-        let err = DomainDefinition::resolve(dir.path().to_str().unwrap()).unwrap_err();
+        let err = resolve(dir.path().to_str().unwrap()).unwrap_err();
         assert!(matches!(err, DomainError::Io(_)), "{err}");
     }
 

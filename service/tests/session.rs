@@ -12,7 +12,7 @@ use trust::TrustCaseBase;
 /// The movement domain with episodes that settle after one command either way
 /// (thresholds +1 / -1).
 fn quick_movement() -> DomainDefinition {
-    let mut domain = DomainDefinition::resolve("movement").unwrap();
+    let mut domain = DomainDefinition::builtin("movement", domains::spaces::movement_space());
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
     domain

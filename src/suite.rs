@@ -1,28 +1,30 @@
-//! The experiment suite over the built-in UGV domains.
+//! The experiment suite over a catalog's domains.
 //!
 //! A suite config (RON) names experiments by scenario and operator, the arms to compare,
-//! the trials, seed and adapter parameters; [`run_suite`] turns it into
-//! [`ExperimentPlan`]s for the generic runner in `trust::experiment` and
-//! [`write_suite_report`] writes the report folder. The paper's seven experiments are the
-//! embedded default, [`PAPER_CONFIG`]. Each experiment's learned case bases can be saved
-//! ([`save_case_bases`]) and an arm can start from them ([`StartingCases`]).
+//! the trials, seed, adapter parameters and the domain's readings; [`run_suite`] turns it
+//! into [`ExperimentPlan`]s for the generic runner in `trust::experiment`, over the
+//! domains a [`Catalog`] builds, and [`write_suite_report`] writes the report folder. The
+//! catalog embeds the suite `reproduce` runs ([`Catalog::default_suite`]). Each
+//! experiment's learned case bases can be saved ([`save_case_bases`]) and an arm can start
+//! from them ([`StartingCases`]).
 
-use crate::{OperatorError, OperatorModel, Scenario, UgvDomain, builtin_operators};
+use crate::catalog::{
+    Catalog, CatalogError, OperatorOf, Readings, UnknownScenario, domain_of, resolve_readings,
+};
 use cbr_core::{
     BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
 };
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
 use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
     UnknownArm, run_experiments,
 };
-use trust::{ConfigError, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
-
-/// The paper's seven experiments, as shipped in the binary.
-pub const PAPER_CONFIG: &str = include_str!("../experiments/paper.ron");
+use trust::{ConfigError, Domain, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
 
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";
@@ -34,6 +36,9 @@ pub const MAX_TRIALS: u32 = 100_000;
 
 /// The most experiments a config may list.
 pub const MAX_EXPERIMENTS: usize = 1_000;
+
+/// How errors name the catalog's embedded suite.
+pub const EMBEDDED_ORIGIN: &str = "<embedded suite>";
 
 /// A set of experiments to run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,9 +54,10 @@ pub struct SuiteConfig {
     /// The adapter parameters every arm shares.
     #[serde(default)]
     pub adapter: SuiteAdapter,
-    /// How the patrol operators' weights are read (`as_written` or `three_and_one`).
-    #[serde(default)]
-    pub patrol_weights: PatrolWeights,
+    /// The domain's readings, by name ([`Catalog::readings`]; each left out keeps its
+    /// default), e.g. `{"patrol_weights": "three_and_one"}`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub readings: BTreeMap<String, String>,
     /// The arms to compare, by name ([`BUILTIN_ARMS`]; default: all of them). Every arm
     /// is tested against the first.
     #[serde(default = "default_arms")]
@@ -66,21 +72,6 @@ fn default_max_commands() -> u64 {
 
 fn default_arms() -> Vec<String> {
     BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
-}
-
-/// How the patrol operators' weights are read (SPEC section 8: a missed explosive weighs
-/// three times any other outcome, on a scale the paper leaves open).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum PatrolWeights {
-    /// The operator files as written: 1/3 for every outcome, 1 for a detonation (weights
-    /// stay in `[0, 1]`).
-    #[default]
-    AsWritten,
-    /// Every patrol weight times 3: 1 for every outcome, 3 for a detonation, with the same
-    /// thresholds (each command moves the estimate three times as far).
-    ThreeAndOne,
 }
 
 /// The adapter parameters of a suite. Whether cases are reused and which search runs are
@@ -132,14 +123,36 @@ impl SuiteAdapter {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentSpec {
-    /// The scenario.
-    pub scenario: Scenario,
+    /// The scenario, by the catalog's name for it (a RON string: `"movement"`).
+    #[serde(deserialize_with = "deserialize_scenario")]
+    pub scenario: String,
     /// An operator's name, or `random` to draw one per trial.
     pub operator: String,
     /// Extra operator files (RON), relative to the config file; they join the scenario's
     /// built-in operators.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operator_files: Vec<PathBuf>,
+}
+
+/// A scenario name: a string. A bare identifier (`scenario: movement`, as configs spelled
+/// it before scenarios were the catalog's) is refused with the spelling to use.
+fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    struct Name;
+    impl serde::de::Visitor<'_> for Name {
+        type Value = String;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a scenario name as a string, e.g. `scenario: \"movement\"`")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
+            Ok(name.to_owned())
+        }
+        fn visit_unit<E: serde::de::Error>(self) -> Result<String, E> {
+            Err(E::custom(
+                "a scenario name is a string: write `scenario: \"movement\"`, not `scenario: movement`",
+            ))
+        }
+    }
+    d.deserialize_any(Name)
 }
 
 /// Why a suite cannot be run.
@@ -163,7 +176,7 @@ pub enum SuiteError {
     },
     /// An operator file is invalid.
     #[error(transparent)]
-    Operator(#[from] OperatorError),
+    Operator(#[from] CatalogError),
     /// The adapter parameters are invalid.
     #[error("adapter: {0}")]
     Adapter(ConfigError),
@@ -181,7 +194,7 @@ pub enum SuiteError {
         /// The case's position.
         case: usize,
         /// The scenario.
-        scenario: Scenario,
+        scenario: String,
     },
     /// The report could not be written.
     #[error(transparent)]
@@ -197,27 +210,31 @@ impl From<ConfigError> for SuiteError {
 }
 
 impl SuiteConfig {
-    /// The paper's seven experiments.
-    pub fn paper() -> Self {
-        Self::from_ron(PAPER_CONFIG, Path::new("<embedded paper.ron>"))
-            .expect("the embedded config is valid")
+    /// The suite the catalog embeds ([`Catalog::default_suite`], what `reproduce` runs).
+    pub fn embedded<C: Catalog>(catalog: &C) -> Result<Self, SuiteError> {
+        Self::from_ron(catalog, catalog.default_suite(), Path::new(EMBEDDED_ORIGIN))
     }
 
-    /// Reads and checks a suite config file.
-    pub fn load(path: &Path) -> Result<Self, SuiteError> {
+    /// Reads and checks a suite config file against `catalog`.
+    pub fn load<C: Catalog>(catalog: &C, path: &Path) -> Result<Self, SuiteError> {
         let text = read_text(path)?;
-        Self::from_ron(&text, path)
+        Self::from_ron(catalog, &text, path)
     }
 
     /// Parses and checks a suite config; `origin` names the source in errors.
-    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, SuiteError> {
+    pub fn from_ron<C: Catalog>(
+        catalog: &C,
+        text: &str,
+        origin: &Path,
+    ) -> Result<Self, SuiteError> {
         let config: Self = parse_ron(text, origin)?;
-        config.validate(origin)?;
+        config.validate(catalog, origin)?;
         Ok(config)
     }
 
-    /// Checks every field; `origin` names the file in errors and anchors operator files.
-    pub fn validate(&self, origin: &Path) -> Result<(), SuiteError> {
+    /// Checks every field against `catalog`; `origin` names the file in errors and anchors
+    /// operator files.
+    pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
         let invalid = |field: String, message: String| SuiteError::Invalid {
             path: origin.to_owned(),
             field,
@@ -269,8 +286,18 @@ impl SuiteConfig {
                 ));
             }
         }
+        let readings = resolve_readings(catalog, &self.readings)
+            .map_err(|e| invalid("readings".into(), e.to_string()))?;
         for (i, spec) in self.experiments.iter().enumerate() {
-            let operators = spec.operators(origin, self.patrol_weights)?;
+            if catalog.domain(&spec.scenario).is_none() {
+                return Err(invalid(
+                    format!("experiments[{i}].scenario"),
+                    domain_of(catalog, &spec.scenario)
+                        .err()
+                        .map_or_else(String::new, |e| e.to_string()),
+                ));
+            }
+            let operators = spec.operators(catalog, origin, &readings)?;
             if spec.operator != RANDOM_OPERATOR
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
             {
@@ -288,20 +315,22 @@ impl SuiteConfig {
             // A trial ends when a behavior reaches the trustworthy threshold; if no
             // operator of the experiment lets one reach it within `max_commands`, every
             // trial would be cut off and report a count that means nothing.
-            let judges: Vec<&(String, OperatorModel)> = operators
+            let judges: Vec<&(String, OperatorOf<C>)> = operators
                 .iter()
                 .filter(|(name, _)| spec.operator == RANDOM_OPERATOR || *name == spec.operator)
                 .collect();
             let trustworthy = self.adapter.thresholds.trustworthy;
-            if let Some((name, op)) = judges
-                .iter()
-                .find(|(_, op)| op.weights.completed * (self.max_commands as f64) < trustworthy)
-            {
+            if let Some((name, completed)) = judges.iter().find_map(|(name, op)| {
+                catalog
+                    .completion_weight(op)
+                    .filter(|w| w * (self.max_commands as f64) < trustworthy)
+                    .map(|w| (name, w))
+            }) {
                 return Err(invalid(
                     format!("experiments[{i}]"),
                     format!(
-                        "operator `{name}` weighs a completion {}, so {} commands (max_commands) can never reach the trustworthy threshold {trustworthy}: every trial would be cut off",
-                        op.weights.completed, self.max_commands
+                        "operator `{name}` weighs a completion {completed}, so {} commands (max_commands) can never reach the trustworthy threshold {trustworthy}: every trial would be cut off",
+                        self.max_commands
                     ),
                 ));
             }
@@ -330,24 +359,20 @@ impl ExperimentSpec {
         format!("{}/{}", self.scenario, self.operator)
     }
 
-    /// The scenario's operators: the built-in ones, then those of `operator_files`
-    /// (relative to the directory of `origin`), with patrol weights read as `reading`.
-    pub fn operators(
+    /// The scenario's operators: the catalog's built-in ones, then those of
+    /// `operator_files` (relative to the directory of `origin`), as `readings` read them.
+    pub fn operators<C: Catalog>(
         &self,
+        catalog: &C,
         origin: &Path,
-        reading: PatrolWeights,
-    ) -> Result<Vec<(String, OperatorModel)>, SuiteError> {
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
         let base = origin.parent().unwrap_or(Path::new("."));
-        let mut operators: Vec<OperatorModel> = builtin_operators(self.scenario);
+        let mut operators = catalog.operators(&self.scenario, readings);
         for file in &self.operator_files {
-            operators.push(OperatorModel::load(&base.join(file))?);
+            operators.push(catalog.load_operator(&self.scenario, &base.join(file), readings)?);
         }
-        if self.scenario == Scenario::Patrol && reading == PatrolWeights::ThreeAndOne {
-            for op in &mut operators {
-                op.weights = op.weights.scaled(3.0);
-            }
-        }
-        Ok(operators.into_iter().map(|o| (o.name.clone(), o)).collect())
+        Ok(operators)
     }
 }
 
@@ -355,6 +380,8 @@ impl ExperimentSpec {
 pub struct SuiteResults {
     /// One result per experiment, in config order.
     pub results: Vec<ExperimentResult>,
+    /// The behavior space of each experiment, in config order.
+    pub spaces: Vec<Arc<BehaviorSpace>>,
 }
 
 /// Case bases saved by an earlier run ([`save_case_bases`]): `DIR/EXPERIMENT/ARM.ron`, the
@@ -371,7 +398,7 @@ impl StartingCases {
         &self,
         stem: &str,
         arm: &str,
-        scenario: Scenario,
+        scenario: &str,
         space: &BehaviorSpace,
     ) -> Result<Option<TrustCaseBase>, SuiteError> {
         let path = self.dir.join(stem).join(format!("{arm}.ron"));
@@ -389,7 +416,7 @@ impl StartingCases {
                 return Err(SuiteError::ForeignCases {
                     path,
                     case: id.index(),
-                    scenario,
+                    scenario: scenario.to_owned(),
                 });
             }
         }
@@ -406,43 +433,58 @@ fn builtin_arms(config: &SuiteConfig) -> Result<Vec<Arm>, UnknownArm> {
         .collect()
 }
 
-/// Runs every experiment of `config` (operator files relative to `origin`) on the current
-/// rayon pool, arms that reuse cases starting from `starting` when given;
-/// `progress(experiment)` is called after every trial.
-pub fn run_suite(
+/// Runs every experiment of `config` (operator files relative to `origin`) over the
+/// domains of `catalog` on the current rayon pool, arms that reuse cases starting from
+/// `starting` when given; `progress(experiment)` is called after every trial.
+pub fn run_suite<C: Catalog>(
+    catalog: &C,
     config: &SuiteConfig,
     origin: &Path,
     starting: Option<&StartingCases>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<SuiteResults, SuiteError> {
-    let movement = UgvDomain::new(Scenario::Movement);
-    let patrol = UgvDomain::new(Scenario::Patrol);
+    let invalid = |field: String, message: String| SuiteError::Invalid {
+        path: origin.to_owned(),
+        field,
+        message,
+    };
+    let readings = resolve_readings(catalog, &config.readings)
+        .map_err(|e| invalid("readings".into(), e.to_string()))?;
+    // One domain per scenario, built once and shared by its experiments.
+    let mut scenarios: Vec<&str> = Vec::new();
+    for spec in &config.experiments {
+        if !scenarios.contains(&spec.scenario.as_str()) {
+            scenarios.push(&spec.scenario);
+        }
+    }
+    let domains = scenarios
+        .iter()
+        .map(|s| domain_of(catalog, s))
+        .collect::<Result<Vec<C::Domain>, UnknownScenario>>()
+        .map_err(|e| invalid("experiments".into(), e.to_string()))?;
+    let domain_of_spec = |spec: &ExperimentSpec| {
+        let k = scenarios
+            .iter()
+            .position(|s| *s == spec.scenario)
+            .expect("every scenario has a domain");
+        &domains[k]
+    };
     let operators = config
         .experiments
         .iter()
-        .map(|spec| spec.operators(origin, config.patrol_weights))
+        .map(|spec| spec.operators(catalog, origin, &readings))
         .collect::<Result<Vec<_>, _>>()?;
-    let arms = builtin_arms(config).map_err(|e| SuiteError::Invalid {
-        path: origin.to_owned(),
-        field: "arms".into(),
-        message: e.to_string(),
-    })?;
+    let arms = builtin_arms(config).map_err(|e| invalid("arms".into(), e.to_string()))?;
     let stems = file_stems(config.experiments.iter().map(|s| s.name()));
-    let mut plans: Vec<ExperimentPlan<'_, UgvDomain>> = Vec::new();
+    let mut plans: Vec<ExperimentPlan<'_, C::Domain>> = Vec::new();
     for ((spec, operators), stem) in config.experiments.iter().zip(&operators).zip(&stems) {
-        let domain = match spec.scenario {
-            Scenario::Movement => &movement,
-            Scenario::Patrol => &patrol,
-        };
+        let domain = domain_of_spec(spec);
         let mut plan_arms = Vec::with_capacity(arms.len());
         for arm in &arms {
             let saved = match starting {
-                Some(s) if arm.reuses_cases() => s.load(
-                    stem,
-                    arm.name(),
-                    spec.scenario,
-                    trust::Domain::space(domain),
-                )?,
+                Some(s) if arm.reuses_cases() => {
+                    s.load(stem, arm.name(), &spec.scenario, domain.space())?
+                }
                 _ => None,
             };
             plan_arms.push(match saved {
@@ -450,20 +492,26 @@ pub fn run_suite(
                 None => arm.clone(),
             });
         }
+        let choice = if spec.operator == RANDOM_OPERATOR {
+            OperatorChoice::Random
+        } else {
+            OperatorChoice::Fixed(
+                operators
+                    .iter()
+                    .position(|(n, _)| *n == spec.operator)
+                    .ok_or_else(|| {
+                        invalid(
+                            "experiments".into(),
+                            format!("unknown operator `{}`", spec.operator),
+                        )
+                    })?,
+            )
+        };
         plans.push(ExperimentPlan {
             name: spec.name(),
             domain,
             operators,
-            choice: if spec.operator == RANDOM_OPERATOR {
-                OperatorChoice::Random
-            } else {
-                OperatorChoice::Fixed(
-                    operators
-                        .iter()
-                        .position(|(n, _)| *n == spec.operator)
-                        .expect("validated"),
-                )
-            },
+            choice,
             trials: config.trials.get(),
             settings: config.adapter.settings(),
             arms: plan_arms,
@@ -471,7 +519,12 @@ pub fn run_suite(
         });
     }
     let results = run_experiments(&plans, config.seed, progress)?;
-    Ok(SuiteResults { results })
+    let spaces = config
+        .experiments
+        .iter()
+        .map(|spec| domain_of_spec(spec).space().clone())
+        .collect();
+    Ok(SuiteResults { results, spaces })
 }
 
 /// Saves the case base each case-reusing arm ended every experiment with, as
@@ -502,38 +555,29 @@ pub fn save_case_bases(
 }
 
 /// The report entries of a suite's results.
-fn entries<'a>(
-    config: &'a SuiteConfig,
-    results: &'a SuiteResults,
-    spaces: &'a [(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)],
-) -> Vec<ReportEntry<'a>> {
+fn entries<'a>(config: &'a SuiteConfig, results: &'a SuiteResults) -> Vec<ReportEntry<'a>> {
     config
         .experiments
         .iter()
         .zip(&results.results)
-        .map(|(spec, result)| ReportEntry {
+        .zip(&results.spaces)
+        .map(|((spec, result), space)| ReportEntry {
             result,
-            scenario: spec.scenario.as_str(),
+            scenario: &spec.scenario,
             operator: &spec.operator,
-            space: &spaces
-                .iter()
-                .find(|(s, _)| *s == spec.scenario)
-                .expect("every scenario has a space")
-                .1,
+            space,
         })
         .collect()
 }
 
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
-    let spaces = scenario_spaces();
-    trust::experiment::report::table(&entries(config, results, &spaces))
+    trust::experiment::report::table(&entries(config, results))
 }
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
-    let spaces = scenario_spaces();
-    trust::experiment::report::best_arms(&entries(config, results, &spaces))
+    trust::experiment::report::best_arms(&entries(config, results))
 }
 
 /// Writes the report folder for a suite run. The report reruns by itself: every operator
@@ -547,11 +591,10 @@ pub fn write_suite_report(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
-    let spaces = scenario_spaces();
     let (portable, copies) = config.with_operator_files_in("operators", origin);
     let mut written = write_report(
         dir,
-        &entries(config, results, &spaces),
+        &entries(config, results),
         &portable.to_ron(),
         elapsed_s,
         provenance,
@@ -606,17 +649,15 @@ impl SuiteConfig {
     }
 }
 
-fn scenario_spaces() -> Vec<(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)> {
-    Scenario::ALL.iter().map(|&s| (s, s.space())).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::UgvCatalog;
+    use crate::ugv::{PATROL_WEIGHTS, THREE_AND_ONE};
 
     #[test]
     fn the_paper_config_has_the_seven_experiments() {
-        let config = SuiteConfig::paper();
+        let config = SuiteConfig::embedded(&UgvCatalog).unwrap();
         assert_eq!(config.trials.get(), 500);
         let names: Vec<String> = config
             .experiments
@@ -648,12 +689,14 @@ mod tests {
     #[test]
     fn config_errors_name_the_place() {
         let origin = Path::new("exp.ron");
-        let err = SuiteConfig::from_ron("(seed: 1, trials: 0, experiments: [])", origin)
-            .unwrap_err()
-            .to_string();
+        let err =
+            SuiteConfig::from_ron(&UgvCatalog, "(seed: 1, trials: 0, experiments: [])", origin)
+                .unwrap_err()
+                .to_string();
         assert!(err.starts_with("exp.ron:1:"), "{err}");
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5,\n experiments: [(scenario: movement, operator: \"careful\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5,\n experiments: [(scenario: \"movement\", operator: \"careful\")])",
             origin,
         )
         .unwrap_err()
@@ -663,21 +706,27 @@ mod tests {
             "{err}"
         );
         let err = SuiteConfig::from_ron(
+            &UgvCatalog,
             "(seed: 1, trials: 5,\n  experiments: [(scenario: underwater, operator: \"random\")])",
             origin,
         )
         .unwrap_err()
         .to_string();
-        assert!(err.starts_with("exp.ron:2:"), "{err}");
+        assert!(
+            err.starts_with("exp.ron:2:") && err.contains("write `scenario: \"movement\"`"),
+            "{err}"
+        );
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5, adapter: (lambda: 1.5), experiments: [(scenario: movement, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5, adapter: (lambda: 1.5), experiments: [(scenario: \"movement\", operator: \"random\")])",
             origin,
         )
         .unwrap_err()
         .to_string();
         assert!(err.contains("lambda"), "{err}");
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5, arms: [\"uniform\", \"annealing\"], experiments: [(scenario: movement, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5, arms: [\"uniform\", \"annealing\"], experiments: [(scenario: \"movement\", operator: \"random\")])",
             origin,
         )
         .unwrap_err()
@@ -689,7 +738,8 @@ mod tests {
             "{err}"
         );
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 100001, experiments: [(scenario: movement, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 100001, experiments: [(scenario: \"movement\", operator: \"random\")])",
             origin,
         )
         .unwrap_err()
@@ -697,7 +747,8 @@ mod tests {
         assert!(err.contains("trials: must be 1 to 100000"), "{err}");
         // Thresholds no run of commands can reach: every trial would be cut off.
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5, max_commands: 100, adapter: (thresholds: (trustworthy: 500.0, untrustworthy: -5.0)), experiments: [(scenario: movement, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5, max_commands: 100, adapter: (thresholds: (trustworthy: 500.0, untrustworthy: -5.0)), experiments: [(scenario: \"movement\", operator: \"random\")])",
             origin,
         )
         .unwrap_err()
@@ -709,7 +760,8 @@ mod tests {
         );
         // Case reuse and the search strategy are the arms' business.
         let err = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5, adapter: (reuse_cases: false), experiments: [(scenario: movement, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5, adapter: (reuse_cases: false), experiments: [(scenario: \"movement\", operator: \"random\")])",
             origin,
         )
         .unwrap_err()
@@ -720,35 +772,75 @@ mod tests {
     #[test]
     fn the_patrol_weight_reading_is_a_config_value() {
         let spec = ExperimentSpec {
-            scenario: Scenario::Patrol,
+            scenario: "patrol".into(),
             operator: RANDOM_OPERATOR.into(),
             operator_files: Vec::new(),
         };
         let origin = Path::new("x.ron");
-        let as_written = spec.operators(origin, PatrolWeights::AsWritten).unwrap();
-        let three = spec.operators(origin, PatrolWeights::ThreeAndOne).unwrap();
-        let (w, t) = (&as_written[0].1.weights, &three[0].1.weights);
+        let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();
+        let chosen = BTreeMap::from([(PATROL_WEIGHTS.to_owned(), THREE_AND_ONE.to_owned())]);
+        let three = resolve_readings(&UgvCatalog, &chosen).unwrap();
+        let w = &spec.operators(&UgvCatalog, origin, &as_written).unwrap()[0]
+            .1
+            .weights;
+        let t = &spec.operators(&UgvCatalog, origin, &three).unwrap()[0]
+            .1
+            .weights;
         assert!((w.completed - 1.0 / 3.0).abs() < 1e-15);
         assert!((t.completed - 1.0).abs() < 1e-15);
         assert!((t.of(trust::Cause::Collision) - 1.0).abs() < 1e-15);
         assert!((t.of(trust::Cause::Detonation) - 3.0).abs() < 1e-15);
         // Movement operators are not patrol operators: unchanged.
         let movement = ExperimentSpec {
-            scenario: Scenario::Movement,
+            scenario: "movement".into(),
             ..spec
         };
-        let m = movement
-            .operators(origin, PatrolWeights::ThreeAndOne)
-            .unwrap();
+        let m = movement.operators(&UgvCatalog, origin, &three).unwrap();
         assert_eq!(m[0].1.weights.completed, 1.0);
         let config = SuiteConfig::from_ron(
-            "(seed: 1, trials: 5, patrol_weights: three_and_one, adapter: (retention: final_from_search, time_unit: commands), experiments: [(scenario: patrol, operator: \"random\")])",
+            &UgvCatalog,
+            "(seed: 1, trials: 5, readings: {\"patrol_weights\": \"three_and_one\"}, adapter: (retention: final_from_search, time_unit: commands), experiments: [(scenario: \"patrol\", operator: \"random\")])",
             origin,
         )
         .unwrap();
-        assert_eq!(config.patrol_weights, PatrolWeights::ThreeAndOne);
+        assert_eq!(config.readings, chosen);
         assert_eq!(config.adapter.retention, Retention::FinalFromSearch);
         assert_eq!(config.adapter.time_unit, TimeUnit::Commands);
+        // A reading or value the catalog does not declare is named with what is allowed.
+        for (readings, wanted) in [
+            (
+                "{\"weights\": \"x\"}",
+                "unknown reading `weights` (known: patrol_weights)",
+            ),
+            (
+                "{\"patrol_weights\": \"double\"}",
+                "has no value `double` (allowed: as_written, three_and_one)",
+            ),
+        ] {
+            let err = SuiteConfig::from_ron(
+                &UgvCatalog,
+                &format!("(seed: 1, trials: 5, readings: {readings}, experiments: [(scenario: \"patrol\", operator: \"random\")])"),
+                origin,
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(err.contains("readings") && err.contains(wanted), "{err}");
+        }
+    }
+
+    #[test]
+    fn an_unknown_scenario_lists_the_catalog_s() {
+        let err = SuiteConfig::from_ron(
+            &UgvCatalog,
+            "(seed: 1, trials: 5, experiments: [(scenario: \"underwater\", operator: \"random\")])",
+            Path::new("exp.ron"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            err,
+            "exp.ron: experiments[0].scenario: unknown scenario `underwater` (known: movement, patrol)"
+        );
     }
 
     #[test]
@@ -762,10 +854,12 @@ mod tests {
         let config = dir.path().join("suite.ron");
         std::fs::write(
             &config,
-            "(seed: 1, trials: 5, experiments: [(scenario: movement, operator: \"numb\", operator_files: [\"numb.ron\"])])",
+            "(seed: 1, trials: 5, experiments: [(scenario: \"movement\", operator: \"numb\", operator_files: [\"numb.ron\"])])",
         )
         .unwrap();
-        let err = SuiteConfig::load(&config).unwrap_err().to_string();
+        let err = SuiteConfig::load(&UgvCatalog, &config)
+            .unwrap_err()
+            .to_string();
         assert!(
             err.contains("operator `numb` weighs a completion 0") && err.contains("cut off"),
             "{err}"
@@ -774,8 +868,9 @@ mod tests {
 
     #[test]
     fn the_config_round_trips() {
-        let config = SuiteConfig::paper();
-        let back = SuiteConfig::from_ron(&config.to_ron(), Path::new("x.ron")).unwrap();
+        let config = SuiteConfig::embedded(&UgvCatalog).unwrap();
+        let back =
+            SuiteConfig::from_ron(&UgvCatalog, &config.to_ron(), Path::new("x.ron")).unwrap();
         assert_eq!(back, config);
     }
 }

@@ -2,8 +2,8 @@
 //! across seeds.
 //!
 //! A [`SweepConfig`] (RON) names a base suite, the seeds, and the parameters to vary
-//! ([`Parameter`]: lambda, thresholds, the retention reading, the unit of `t`, the patrol
-//! weight reading, the arms). Its *cells* are the base and, one parameter at a time, each
+//! ([`Parameter`]: lambda, thresholds, the retention reading, the unit of `t`, the arms,
+//! and any reading the catalog's domain declares, such as the UGV patrol weight reading). Its *cells* are the base and, one parameter at a time, each
 //! of its other values (or, with `design: grid`, every combination). Every (cell, seed)
 //! pair is one *run* of the suite, summarised into a small JSON file
 //! (`runs/CELL/seed-SEED.json`); the report aggregates the runs of each cell across seeds
@@ -14,7 +14,8 @@
 //! report is a function of the run files alone (no timings, fixed order), so a merged
 //! report is byte-for-byte the report of a single run.
 
-use crate::suite::{PatrolWeights, SuiteConfig, SuiteError, SuiteResults, run_suite};
+use crate::catalog::{Catalog, resolve_readings};
+use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
 use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -55,8 +56,9 @@ pub struct SweepConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SuiteSource {
-    /// The paper's seven experiments (embedded).
-    Paper,
+    /// The catalog's embedded suite (what `reproduce` runs; for the UGV catalog, the
+    /// paper's seven experiments).
+    Embedded,
     /// A suite config file, relative to the sweep file.
     File(PathBuf),
 }
@@ -85,21 +87,22 @@ pub enum Parameter {
     Retention(Vec<Retention>),
     /// The unit of `t`.
     TimeUnit(Vec<TimeUnit>),
-    /// The patrol weight reading.
-    PatrolWeights(Vec<PatrolWeights>),
+    /// A reading the catalog's domain declares, by name, and its values, e.g.
+    /// `reading("patrol_weights", ["as_written", "three_and_one"])`.
+    Reading(String, Vec<String>),
     /// The arms compared.
     Arms(Vec<Vec<String>>),
 }
 
 impl Parameter {
     /// The parameter's name in reports.
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             Parameter::Lambda(_) => "lambda",
             Parameter::Thresholds(_) => "thresholds",
             Parameter::Retention(_) => "retention",
             Parameter::TimeUnit(_) => "time_unit",
-            Parameter::PatrolWeights(_) => "patrol_weights",
+            Parameter::Reading(name, _) => name,
             Parameter::Arms(_) => "arms",
         }
     }
@@ -110,7 +113,7 @@ impl Parameter {
             Parameter::Thresholds(v) => v.len(),
             Parameter::Retention(v) => v.len(),
             Parameter::TimeUnit(v) => v.len(),
-            Parameter::PatrolWeights(v) => v.len(),
+            Parameter::Reading(_, v) => v.len(),
             Parameter::Arms(v) => v.len(),
         }
     }
@@ -134,9 +137,9 @@ impl Parameter {
                 suite.adapter.time_unit = v[i];
                 ron_name(&v[i])
             }
-            Parameter::PatrolWeights(v) => {
-                suite.patrol_weights = v[i];
-                ron_name(&v[i])
+            Parameter::Reading(name, v) => {
+                suite.readings.insert(name.clone(), v[i].clone());
+                v[i].clone()
             }
             Parameter::Arms(v) => {
                 suite.arms = v[i].clone();
@@ -229,15 +232,19 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    /// Reads and checks a sweep file.
-    pub fn load(path: &Path) -> Result<Self, SweepError> {
+    /// Reads and checks a sweep file against `catalog`.
+    pub fn load<C: Catalog>(catalog: &C, path: &Path) -> Result<Self, SweepError> {
         let text = read_text(path)?;
         let config: SweepConfig = parse_ron(&text, path)?;
-        Self::new(config, path)
+        Self::new(catalog, config, path)
     }
 
-    /// Checks `config` (read from `path`) and forms its cells.
-    pub fn new(config: SweepConfig, path: &Path) -> Result<Self, SweepError> {
+    /// Checks `config` (read from `path`) against `catalog` and forms its cells.
+    pub fn new<C: Catalog>(
+        catalog: &C,
+        config: SweepConfig,
+        path: &Path,
+    ) -> Result<Self, SweepError> {
         let invalid = |field: &str, message: String| SweepError::Invalid {
             path: path.to_owned(),
             field: field.to_owned(),
@@ -255,17 +262,23 @@ impl Sweep {
             }
         }
         let (base, origin) = match &config.suite {
-            SuiteSource::Paper => (SuiteConfig::paper(), PathBuf::from(".")),
+            SuiteSource::Embedded => (
+                SuiteConfig::embedded(catalog),
+                PathBuf::from(EMBEDDED_ORIGIN),
+            ),
             SuiteSource::File(file) => {
                 let file = path.parent().unwrap_or(Path::new(".")).join(file);
-                let suite = SuiteConfig::load(&file).map_err(|reason| SweepError::Suite {
-                    cell: "base".into(),
-                    reason,
-                })?;
-                (suite, file)
+                (SuiteConfig::load(catalog, &file), file)
             }
         };
-        let mut base = base;
+        let mut base = base.map_err(|reason| SweepError::Suite {
+            cell: "base".into(),
+            reason,
+        })?;
+        // Every reading spelled out, so a cell setting a reading to its default is the
+        // base cell.
+        base.readings = resolve_readings(catalog, &base.readings)
+            .map_err(|e| invalid("suite", e.to_string()))?;
         if let Some(trials) = config.trials {
             base.trials = trials;
         }
@@ -285,7 +298,7 @@ impl Sweep {
         }
         for cell in &cells {
             cell.suite
-                .validate(&origin)
+                .validate(catalog, &origin)
                 .map_err(|reason| SweepError::Suite {
                     cell: cell.label.clone(),
                     reason,
@@ -336,16 +349,22 @@ impl Sweep {
 
     /// Runs `run` on the current rayon pool and returns its summary;
     /// `progress()` is called after every trial.
-    pub fn run(&self, run: RunId, progress: &(dyn Fn() + Sync)) -> Result<RunSummary, SweepError> {
+    pub fn run<C: Catalog>(
+        &self,
+        catalog: &C,
+        run: RunId,
+        progress: &(dyn Fn() + Sync),
+    ) -> Result<RunSummary, SweepError> {
         let cell = &self.cells[run.cell];
         let mut suite = cell.suite.clone();
         suite.seed = self.config.seeds[run.seed];
-        let results = run_suite(&suite, &self.origin, None, &|_| progress()).map_err(|reason| {
-            SweepError::Suite {
-                cell: cell.label.clone(),
-                reason,
-            }
-        })?;
+        let results =
+            run_suite(catalog, &suite, &self.origin, None, &|_| progress()).map_err(|reason| {
+                SweepError::Suite {
+                    cell: cell.label.clone(),
+                    reason,
+                }
+            })?;
         Ok(RunSummary::of(&suite, &results))
     }
 }
@@ -753,9 +772,11 @@ fn plot_parameter(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::UgvCatalog;
 
     fn sweep(text: &str) -> Sweep {
         Sweep::new(
+            &UgvCatalog,
             parse_ron(text, Path::new("s.ron")).unwrap(),
             Path::new("s.ron"),
         )
@@ -765,7 +786,7 @@ mod tests {
     #[test]
     fn cells_one_at_a_time_and_as_a_grid() {
         let s = sweep(
-            "(suite: paper, seeds: [1, 2], parameters: [lambda([0.9, 0.95]), retention([any_search, final_from_search])])",
+            "(suite: embedded, seeds: [1, 2], parameters: [lambda([0.9, 0.95]), retention([any_search, final_from_search])])",
         );
         // 0.95 and any_search are the paper's: the base cell.
         let labels: Vec<&str> = s.cells.iter().map(|c| c.label.as_str()).collect();
@@ -776,7 +797,7 @@ mod tests {
         assert_eq!(s.runs().len(), 6);
         assert_eq!(s.cells[1].suite.adapter.lambda, 0.9);
         let g = sweep(
-            "(suite: paper, seeds: [1], design: grid, parameters: [lambda([0.9, 0.95]), time_unit([task_seconds, commands])])",
+            "(suite: embedded, seeds: [1], design: grid, parameters: [lambda([0.9, 0.95]), time_unit([task_seconds, commands])])",
         );
         assert_eq!(g.cells.len(), 4);
         assert_eq!(g.cells[3].label, "lambda=0.95,time_unit=commands");
@@ -785,7 +806,7 @@ mod tests {
 
     #[test]
     fn shards_partition_the_runs() {
-        let s = sweep("(suite: paper, seeds: [1, 2, 3], parameters: [lambda([0.9, 0.8])])");
+        let s = sweep("(suite: embedded, seeds: [1, 2, 3], parameters: [lambda([0.9, 0.8])])");
         let mut all: Vec<RunId> = (1..=4).flat_map(|i| s.shard(i, 4)).collect();
         all.sort_by_key(|r| (r.cell, r.seed));
         assert_eq!(all, s.runs());
@@ -795,8 +816,9 @@ mod tests {
     #[test]
     fn bad_sweeps_are_named() {
         let err = Sweep::new(
+            &UgvCatalog,
             parse_ron(
-                "(suite: paper, seeds: [], parameters: [])",
+                "(suite: embedded, seeds: [], parameters: [])",
                 Path::new("s.ron"),
             )
             .unwrap(),
@@ -806,8 +828,9 @@ mod tests {
         .to_string();
         assert!(err.contains("seeds"), "{err}");
         let err = Sweep::new(
+            &UgvCatalog,
             parse_ron(
-                "(suite: paper, seeds: [1], parameters: [lambda([1.5])])",
+                "(suite: embedded, seeds: [1], parameters: [lambda([1.5])])",
                 Path::new("s.ron"),
             )
             .unwrap(),

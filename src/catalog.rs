@@ -1,0 +1,268 @@
+//! The catalog of domains a command-line tool offers: the one door through which a task
+//! plug-in reaches `run`, `reproduce`, `sweep`, `landscape`, `render`, `serve` and the
+//! report.
+//!
+//! A [`Catalog`] names its scenarios, builds the [`Domain`] of each, finds operators by
+//! name or loads them from a file, declares the domain's *readings* (choices the domain
+//! leaves open, which a suite config may set and a sweep may vary) and embeds the suite
+//! `reproduce` runs. The shipped tool is [`crate::cli::main`] over the UGV catalog
+//! ([`crate::UgvCatalog`]); a user's crate gets the same tool for its own domains with
+//!
+//! ```no_run
+//! # struct MyCatalog;
+//! # impl trustcbr::Catalog for MyCatalog {
+//! #     type Domain = trustcbr::testing::Toy;
+//! #     fn scenarios(&self) -> Vec<String> { vec![] }
+//! #     fn domain(&self, _: &str) -> Option<Self::Domain> { None }
+//! #     fn operators(&self, _: &str, _: &trustcbr::Readings) -> Vec<(String, ())> { vec![] }
+//! #     fn load_operator(&self, _: &str, p: &std::path::Path, _: &trustcbr::Readings)
+//! #         -> Result<(String, ()), trustcbr::CatalogError> { unimplemented!() }
+//! #     fn default_suite(&self) -> &str { "" }
+//! # }
+//! fn main() -> std::process::ExitCode {
+//!     trustcbr::cli::main(MyCatalog)
+//! }
+//! ```
+
+use cbr_core::Behavior;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use trust::Domain;
+
+/// The operator type of a catalog's domain.
+pub type OperatorOf<C> = <<C as Catalog>::Domain as Domain>::Operator;
+
+/// The chosen value of every reading a catalog declares, by reading name (a suite fills in
+/// each reading's default).
+pub type Readings = BTreeMap<String, String>;
+
+/// A choice the domain leaves open (e.g. how the paper's patrol weights are scaled): a
+/// name, its admissible values (the first is the default) and what it means.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Reading {
+    /// The name a suite config uses (`readings: {"NAME": "VALUE"}`) and a sweep varies.
+    pub name: String,
+    /// The admissible values; the first is the default.
+    pub values: Vec<String>,
+    /// One line on what the reading changes.
+    pub about: String,
+}
+
+/// Who the tool is: its name and version, shown by `--help`, `--version` and written into
+/// every report's provenance.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ToolInfo {
+    /// The tool's name (e.g. `trustcbr`).
+    pub name: String,
+    /// Its version.
+    pub version: String,
+    /// The commit it was built from, when known.
+    pub git_commit: Option<String>,
+    /// One line on what it does.
+    pub about: String,
+}
+
+/// An operator that could not be loaded: why, in the catalog's own error type, and the
+/// file when the reason does not name it already.
+#[derive(Debug, thiserror::Error)]
+#[error("{}{reason}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+pub struct CatalogError {
+    /// The operator file, shown before the reason when given.
+    pub path: Option<PathBuf>,
+    /// Why it cannot be used.
+    pub reason: Box<dyn std::error::Error + Send + Sync>,
+}
+
+/// The domains a tool offers, by scenario name. See the [module documentation](self).
+pub trait Catalog: Send + Sync {
+    /// The domain type every scenario builds (an enum when scenarios differ in type).
+    type Domain: Domain;
+
+    /// The tool's name, version and description (default: this library's).
+    fn tool(&self) -> ToolInfo {
+        ToolInfo {
+            name: env!("CARGO_PKG_NAME").to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
+            about: env!("CARGO_PKG_DESCRIPTION").to_owned(),
+        }
+    }
+
+    /// The scenario names, in the order help and errors list them.
+    fn scenarios(&self) -> Vec<String>;
+
+    /// The domain of `scenario`, or `None` when the catalog does not know it.
+    fn domain(&self, scenario: &str) -> Option<Self::Domain>;
+
+    /// The built-in operators of `scenario`, by name, as `readings` read them.
+    fn operators(&self, scenario: &str, readings: &Readings) -> Vec<(String, OperatorOf<Self>)>;
+
+    /// Loads an operator of `scenario` from a file (a suite's `operator_files`, or a file
+    /// given where an operator name is expected), as `readings` read it; returns its name
+    /// and the operator.
+    fn load_operator(
+        &self,
+        scenario: &str,
+        path: &Path,
+        readings: &Readings,
+    ) -> Result<(String, OperatorOf<Self>), CatalogError>;
+
+    /// The readings the domain leaves open (default: none).
+    fn readings(&self) -> Vec<Reading> {
+        Vec::new()
+    }
+
+    /// The weight a completion carries for `operator`, when the operator has one: a suite
+    /// refuses an experiment whose operators could never reach the trustworthy threshold
+    /// within its `max_commands`. `None` (the default) skips that check.
+    fn completion_weight(&self, operator: &OperatorOf<Self>) -> Option<f64> {
+        let _ = operator;
+        None
+    }
+
+    /// The suite config (RON) `reproduce` runs and `config` prints.
+    fn default_suite(&self) -> &str;
+
+    /// One run of `behavior` under `operator` drawn as SVG, for `render` (default: the
+    /// domain has no picture).
+    fn render(
+        &self,
+        domain: &Self::Domain,
+        behavior: &Behavior,
+        operator: &OperatorOf<Self>,
+        seed: u64,
+    ) -> Option<String> {
+        let _ = (domain, behavior, operator, seed);
+        None
+    }
+}
+
+/// An operator named on the command line: a built-in name of `scenario`, or else a file.
+pub fn find_operator<C: Catalog>(
+    catalog: &C,
+    scenario: &str,
+    name: &str,
+    readings: &Readings,
+) -> Result<(String, OperatorOf<C>), FindOperatorError> {
+    if let Some(found) = catalog
+        .operators(scenario, readings)
+        .into_iter()
+        .find(|(n, _)| n == name)
+    {
+        return Ok(found);
+    }
+    if Path::new(name).is_file() {
+        return Ok(catalog.load_operator(scenario, Path::new(name), readings)?);
+    }
+    let known: Vec<String> = catalog
+        .operators(scenario, readings)
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect();
+    Err(FindOperatorError::Unknown {
+        name: name.to_owned(),
+        scenario: scenario.to_owned(),
+        known: known.join(", "),
+    })
+}
+
+/// A scenario named on the command line or in a config that the catalog does not know.
+#[derive(Debug, thiserror::Error)]
+#[error("unknown scenario `{name}` (known: {known})")]
+pub struct UnknownScenario {
+    /// The name given.
+    pub name: String,
+    /// The catalog's scenarios, comma-separated.
+    pub known: String,
+}
+
+/// The domain of `scenario`, or an error listing the catalog's scenarios.
+pub fn domain_of<C: Catalog>(catalog: &C, scenario: &str) -> Result<C::Domain, UnknownScenario> {
+    catalog.domain(scenario).ok_or_else(|| UnknownScenario {
+        name: scenario.to_owned(),
+        known: catalog.scenarios().join(", "),
+    })
+}
+
+/// An operator that cannot be found.
+#[derive(Debug, thiserror::Error)]
+pub enum FindOperatorError {
+    /// Neither a built-in operator of the scenario nor a file.
+    #[error("`{name}` is neither an operator of {scenario} ({known}) nor an operator file")]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// The scenario.
+        scenario: String,
+        /// The scenario's built-in operators, comma-separated.
+        known: String,
+    },
+    /// The file does not hold a usable operator.
+    #[error(transparent)]
+    File(#[from] CatalogError),
+}
+
+/// Every reading of `catalog` with its value: `chosen` where it names one, the default
+/// otherwise. Errors name the reading or value and list what is allowed.
+pub fn resolve_readings<C: Catalog>(
+    catalog: &C,
+    chosen: &BTreeMap<String, String>,
+) -> Result<Readings, ReadingError> {
+    let declared = catalog.readings();
+    for (name, value) in chosen {
+        let Some(reading) = declared.iter().find(|r| r.name == *name) else {
+            return Err(ReadingError::UnknownReading {
+                name: name.clone(),
+                known: if declared.is_empty() {
+                    "none".into()
+                } else {
+                    declared
+                        .iter()
+                        .map(|r| r.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+            });
+        };
+        if !reading.values.contains(value) {
+            return Err(ReadingError::UnknownValue {
+                name: name.clone(),
+                value: value.clone(),
+                known: reading.values.join(", "),
+            });
+        }
+    }
+    Ok(declared
+        .into_iter()
+        .map(|r| {
+            let value = chosen
+                .get(&r.name)
+                .cloned()
+                .unwrap_or_else(|| r.values[0].clone());
+            (r.name, value)
+        })
+        .collect())
+}
+
+/// A reading or value the catalog does not declare.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ReadingError {
+    /// No reading of that name.
+    #[error("unknown reading `{name}` (known: {known})")]
+    UnknownReading {
+        /// The name given.
+        name: String,
+        /// The declared readings.
+        known: String,
+    },
+    /// The reading has no such value.
+    #[error("reading `{name}` has no value `{value}` (allowed: {known})")]
+    UnknownValue {
+        /// The reading.
+        name: String,
+        /// The value given.
+        value: String,
+        /// The admissible values.
+        known: String,
+    },
+}

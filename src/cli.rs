@@ -1,0 +1,639 @@
+//! The command-line tool over any [`Catalog`]: argument parsing and glue only; the work is
+//! done by the suite, the sweep and the `trust` and `service` libraries.
+//!
+//! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
+//! `landscape`, `serve` and `cases`, for the catalog's scenarios. The shipped `trustcbr`
+//! binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own domains
+//! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
+
+use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
+use crate::suite::{
+    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite, save_case_bases,
+    suite_best_arms, suite_table, write_suite_report,
+};
+use anyhow::{Context, Result};
+use clap::builder::TypedValueParser;
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use domains::landscape;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
+use std::io::Write;
+use std::net::SocketAddr;
+use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use trust::Domain;
+use trust::experiment::report::Provenance;
+
+/// The command line; name, version and description come from the catalog.
+#[derive(Parser)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run the embedded suite (for the UGV scenarios, the paper's seven experiments; see
+    /// `config`).
+    Reproduce(RunOptions),
+    /// Run the experiments of a config file (start from `trustcbr config`).
+    Run {
+        /// The experiment config (RON).
+        config: PathBuf,
+        #[command(flatten)]
+        options: RunOptions,
+    },
+    /// Print the embedded suite config, to copy and edit.
+    Config,
+    /// Simulate one run and draw it as SVG.
+    Render(RenderArgs),
+    /// Estimate, for every behavior, how often an operator lets a run complete; write
+    /// `landscape.svg` (heatmap) and `landscape.csv`.
+    Landscape(LandscapeArgs),
+    /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
+    Serve(ServeArgs),
+    /// Run a suite over several seeds and parameter values and aggregate across seeds
+    /// (`sweep FILE.ron`), or merge the folders of its shards (`sweep merge FILE.ron DIR...`).
+    Sweep(SweepArgs),
+    /// Case bases: export to RON, import from RON, describe.
+    #[command(subcommand)]
+    Cases(CasesCommand),
+}
+
+#[derive(Subcommand)]
+enum CasesCommand {
+    /// Write a case base (with its domain and behavior space) to a RON file.
+    Export {
+        /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        cases: String,
+        /// The RON file to write.
+        out: PathBuf,
+    },
+    /// Append the cases of a RON file to a case base (created when absent).
+    Import {
+        /// The RON case file.
+        input: PathBuf,
+        /// The case base: an SQLite file or a postgres:// URL.
+        cases: String,
+        /// The domain the cases were learned in: a scenario name or a RON domain file.
+        #[arg(long)]
+        domain: String,
+    },
+    /// Describe a case base: its domain, behavior space and cases.
+    Info {
+        /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        cases: String,
+    },
+}
+
+#[derive(Args)]
+#[command(args_conflicts_with_subcommands = true)]
+struct SweepArgs {
+    #[command(subcommand)]
+    merge: Option<SweepCommand>,
+    /// The sweep config (RON; for example `domains/experiments/open-readings.ron`).
+    file: Option<PathBuf>,
+    /// Report folder.
+    #[arg(long, default_value = "sweep")]
+    out: PathBuf,
+    /// Run only shard I of N (every N-th run, from the I-th) and write its run files; merge
+    /// the shard folders with `sweep merge`.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
+    threads: Option<NonZeroUsize>,
+}
+
+#[derive(Subcommand)]
+enum SweepCommand {
+    /// Combine the run files of shard folders into the sweep's report.
+    Merge {
+        /// The sweep config the shards ran.
+        file: PathBuf,
+        /// The shard folders.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Report folder.
+        #[arg(long, default_value = "sweep")]
+        out: PathBuf,
+    },
+}
+
+/// Parses `I/N` with `1 <= I <= N`.
+fn parse_shard(text: &str) -> Result<(usize, usize), String> {
+    let (i, n) = text
+        .split_once('/')
+        .ok_or_else(|| format!("`{text}` is not I/N (e.g. 2/8)"))?;
+    let i: usize = i
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{i}` is not a number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{n}` is not a number"))?;
+    if n == 0 || i == 0 || i > n {
+        return Err(format!("shard {i}/{n}: I must be 1 to N, and N at least 1"));
+    }
+    Ok((i, n))
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// The scenario (e.g. `movement`).
+    #[arg(long)]
+    scenario: String,
+    /// The behavior, e.g. `speed=3.5,padding=0.4` (every component of the scenario's space).
+    #[arg(long)]
+    behavior: String,
+    /// Seed of the run.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Operator judging the run: a built-in name or an operator file (default: the first
+    /// built-in operator of the scenario).
+    #[arg(long)]
+    operator: Option<String>,
+    /// Output SVG file.
+    #[arg(short = 'o', long, default_value = "run.svg")]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct LandscapeArgs {
+    /// The scenario (e.g. `patrol`).
+    #[arg(long)]
+    scenario: String,
+    /// Operator: a built-in name or an operator file.
+    #[arg(long)]
+    operator: String,
+    /// Runs per behavior (at least 1).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    runs: u32,
+    /// The two components of the heatmap, across then up (default: the first two).
+    #[arg(long)]
+    components: Option<String>,
+    /// Master seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output directory.
+    #[arg(long, default_value = ".")]
+    out: PathBuf,
+}
+
+/// Options shared by `reproduce` and `run`.
+#[derive(Args)]
+struct RunOptions {
+    /// Report folder.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Trials per experiment and arm, 1 to 100000 (overrides the config).
+    #[arg(long, value_parser = at_most::<NonZeroU32>(u64::from(MAX_TRIALS)))]
+    trials: Option<NonZeroU32>,
+    /// The arms to compare, by name, comma-separated (overrides the config), e.g.
+    /// `random-walk,case-based`.
+    #[arg(long, value_delimiter = ',')]
+    arms: Option<Vec<String>>,
+    /// Save the case base each case-reusing arm ends every experiment with, as
+    /// `DIR/EXPERIMENT/ARM.ron`.
+    #[arg(long, value_name = "DIR")]
+    save_cases: Option<PathBuf>,
+    /// Start case-reusing arms from the case bases saved in DIR by `--save-cases`.
+    #[arg(long, value_name = "DIR")]
+    cases: Option<PathBuf>,
+    /// Master seed (overrides the config).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads, 1 to 256 (default: one per core).
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
+    threads: Option<NonZeroUsize>,
+}
+
+/// The most worker threads `--threads` accepts.
+const MAX_THREADS: u64 = 256;
+
+/// A parser of a count from 1 to `max`.
+fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
+    max: u64,
+) -> impl TypedValueParser<Value = T> {
+    clap::value_parser!(u64).range(1..=max).try_map(|n| {
+        NonZeroU64::new(n)
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| format!("{n} does not fit this machine"))
+    })
+}
+
+#[derive(Args)]
+struct ServeArgs {
+    /// A scenario name (e.g. `movement`), or a RON domain file declaring a behavior space
+    /// (and optionally the adapter config).
+    #[arg(long)]
+    domain: String,
+    /// The case base: an SQLite file (created when absent), a postgres:// URL, or a RON
+    /// file (served read-only).
+    #[arg(long)]
+    cases: String,
+    /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
+    /// stdin/stdout. Each connection is its own controller, served concurrently.
+    #[arg(long)]
+    listen: Option<SocketAddr>,
+    /// Seed of the adapter's search and of the behaviors the server draws (TCP connection
+    /// k, from 0, uses seed + k).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// TCP: connections served at once; more are refused with an error line.
+    #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
+    max_connections: NonZeroUsize,
+    /// TCP: seconds a connection may stay silent before it is closed.
+    #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
+    idle_timeout: f64,
+    /// TCP: seconds a reply may wait for the controller to read it before the connection
+    /// is closed.
+    #[arg(long, default_value_t = Limits::default().write_timeout.as_secs_f64())]
+    write_timeout: f64,
+}
+
+/// Runs the command-line tool over `catalog` with the process's arguments, printing any
+/// error to stderr; returns the process's exit code.
+pub fn main<C: Catalog>(catalog: C) -> ExitCode {
+    let tool = catalog.tool();
+    let matches = Cli::command()
+        .name(tool.name.clone())
+        .bin_name(tool.name.clone())
+        .version(tool.version.clone())
+        .about(tool.about.clone())
+        .get_matches();
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
+    let result = match cli.command {
+        Command::Reproduce(options) => SuiteConfig::embedded(&catalog)
+            .map_err(Into::into)
+            .and_then(|suite| {
+                run_experiments(&catalog, suite, Path::new(EMBEDDED_ORIGIN), &options)
+            }),
+        Command::Run { config, options } => SuiteConfig::load(&catalog, &config)
+            .map_err(Into::into)
+            .and_then(|suite| run_experiments(&catalog, suite, &config, &options)),
+        Command::Config => {
+            print!("{}", catalog.default_suite());
+            Ok(())
+        }
+        Command::Render(args) => render(&catalog, &args),
+        Command::Landscape(args) => landscape(&catalog, &args),
+        Command::Serve(args) => serve(&catalog, &args),
+        Command::Sweep(args) => sweep(&catalog, &args),
+        Command::Cases(command) => cases(&catalog, &command),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs a suite with progress bars on stderr, prints the table and writes the report.
+fn run_experiments<C: Catalog>(
+    catalog: &C,
+    mut config: SuiteConfig,
+    origin: &Path,
+    options: &RunOptions,
+) -> Result<()> {
+    cbr_core::output::prepare_output_dir(&options.out)?;
+    if let Some(dir) = &options.save_cases {
+        cbr_core::output::ensure_writable_dir(dir)?;
+    }
+    if let Some(trials) = options.trials {
+        config.trials = trials;
+    }
+    if let Some(seed) = options.seed {
+        config.seed = seed;
+    }
+    if let Some(arms) = &options.arms {
+        config.arms = arms.clone();
+        config.validate(catalog, origin)?;
+    }
+    let starting = options
+        .cases
+        .as_ref()
+        .map(|dir| StartingCases { dir: dir.clone() });
+    if let Some(dir) = &options.cases {
+        anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
+    }
+    let (pool, threads) = worker_pool(options.threads)?;
+    // Drawn only when stderr is a terminal.
+    let bars = MultiProgress::with_draw_target(ProgressDrawTarget::stderr());
+    let style = trial_bar_style();
+    let progress: Vec<ProgressBar> = config
+        .experiments
+        .iter()
+        .map(|spec| {
+            bars.add(
+                ProgressBar::new(config.arms.len() as u64 * u64::from(config.trials.get()))
+                    .with_style(style.clone())
+                    .with_prefix(spec.name()),
+            )
+        })
+        .collect();
+    let started = Instant::now();
+    let results = pool.install(|| {
+        run_suite(catalog, &config, origin, starting.as_ref(), &|i| {
+            progress[i].inc(1);
+        })
+    })?;
+    let elapsed = started.elapsed().as_secs_f64();
+    for bar in &progress {
+        bar.finish();
+    }
+    println!("Behaviors evaluated per trial (mean ± 95% CI), the paper's two arms:\n");
+    println!("{}", suite_table(&config, &results));
+    print!("{}", suite_best_arms(&config, &results));
+    println!(
+        "Every arm, with what it costs the operator: table.md and report.html in the report.\n"
+    );
+    let tool = catalog.tool();
+    let provenance = Provenance {
+        tool: tool.name,
+        version: tool.version,
+        git_commit: tool.git_commit,
+        command_line: std::env::args().collect(),
+    };
+    cbr_core::output::remove_previous_report(&options.out)?;
+    let written = write_suite_report(
+        &options.out,
+        &config,
+        origin,
+        &results,
+        elapsed,
+        &provenance,
+    )?;
+    println!(
+        "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        config.experiments.len(),
+        config.trials,
+        config.arms.len(),
+        options.out.display(),
+        written.len()
+    );
+    if let Some(dir) = &options.save_cases {
+        let saved = save_case_bases(dir, &config, &results)?;
+        println!("saved {} case bases in {}", saved.len(), dir.display());
+    }
+    Ok(())
+}
+
+/// A rayon pool of `threads` workers (default: one per core), and its size.
+fn worker_pool(threads: Option<NonZeroUsize>) -> Result<(rayon::ThreadPool, usize)> {
+    let threads = threads.map_or_else(
+        || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
+        NonZeroUsize::get,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    Ok((pool, threads))
+}
+
+/// The style of a progress bar counting trials, with the time left.
+fn trial_bar_style() -> ProgressStyle {
+    ProgressStyle::with_template(
+        "{prefix:>26} [{bar:40}] {pos}/{len} trials {elapsed}, about {eta} left",
+    )
+    .expect("a valid template")
+    .progress_chars("=> ")
+}
+
+/// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
+fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
+    use crate::sweep::{Sweep, merge, write_config, write_run};
+    if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
+        let sweep = Sweep::load(catalog, file)?;
+        let text = cbr_core::read_text(file)?;
+        cbr_core::output::ensure_writable_dir(out)?;
+        let written = merge(&sweep, &text, dirs, out)?;
+        println!(
+            "merged {} runs from {} folders; report in {} ({} files)",
+            sweep.runs().len(),
+            dirs.len(),
+            out.display(),
+            written.len()
+        );
+        return Ok(());
+    }
+    let file = args.file.as_ref().with_context(|| {
+        format!(
+            "name the sweep config: {} sweep FILE.ron",
+            catalog.tool().name
+        )
+    })?;
+    let sweep = Sweep::load(catalog, file)?;
+    let text = cbr_core::read_text(file)?;
+    cbr_core::output::ensure_writable_dir(&args.out)?;
+    let runs = match args.shard {
+        Some((i, n)) => sweep.shard(i, n),
+        None => sweep.runs(),
+    };
+    let (pool, threads) = worker_pool(args.threads)?;
+    let bar =
+        ProgressBar::with_draw_target(Some(sweep.trials_in(&runs)), ProgressDrawTarget::stderr())
+            .with_style(trial_bar_style())
+            .with_prefix(format!("sweep ({} runs)", runs.len()));
+    let started = Instant::now();
+    write_config(&args.out, &text)?;
+    for &run in &runs {
+        let summary = pool.install(|| sweep.run(catalog, run, &|| bar.inc(1)))?;
+        write_run(&args.out, &sweep, run, &summary)?;
+    }
+    bar.finish();
+    let elapsed = started.elapsed().as_secs_f64();
+    if args.shard.is_some() {
+        println!(
+            "{} runs of {} on {threads} threads in {elapsed:.1} s; run files in {} (merge with `{} sweep merge {} DIR...`)",
+            runs.len(),
+            sweep.runs().len(),
+            args.out.display(),
+            catalog.tool().name,
+            file.display()
+        );
+        return Ok(());
+    }
+    let written = merge(&sweep, &text, std::slice::from_ref(&args.out), &args.out)?;
+    println!(
+        "{} cells x {} seeds on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        sweep.cells.len(),
+        sweep.config.seeds.len(),
+        args.out.display(),
+        written.len()
+    );
+    Ok(())
+}
+
+/// The domain `serve` and `cases import` name: a scenario of the catalog (its space and
+/// the paper's adapter defaults) or a RON domain file.
+fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition> {
+    Ok(DomainDefinition::resolve(
+        name,
+        &catalog.scenarios(),
+        |scenario| {
+            catalog
+                .domain(scenario)
+                .map(|d| DomainDefinition::builtin(scenario, d.space().clone()))
+        },
+    )?)
+}
+
+fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
+    let domain = served_domain(catalog, &args.domain)?;
+    let location = Location::parse(&args.cases);
+    let cases = Arc::new(SharedCases::open(&domain, &location)?);
+    let loaded = cases.current(|memory, _| memory.base().len())?;
+    eprintln!(
+        "trustcbr serve: {} behaviors, {loaded} cases loaded from {}",
+        domain.space.size(),
+        cases.location()
+    );
+    if !cases.writable() {
+        eprintln!(
+            "{} is a RON case file: served read-only, no case is retained (import it into a database with `trustcbr cases import`)",
+            cases.location()
+        );
+    }
+    match args.listen {
+        None => {
+            let mut session = Session::new(domain, cases, args.seed)?;
+            let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
+            transport::serve(&mut session, stdin, stdout)?;
+        }
+        Some(addr) => {
+            let seconds = |name: &str, s: f64| {
+                Duration::try_from_secs_f64(s)
+                    .ok()
+                    .filter(|d| !d.is_zero())
+                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
+            };
+            let limits = Limits {
+                max_connections: args.max_connections.get(),
+                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
+                write_timeout: seconds("write-timeout", args.write_timeout)?,
+            };
+            let listener = transport::listen(addr)?;
+            let bound = listener.local_addr().context("reading the bound address")?;
+            // Tests and controllers read this line to learn the port when 0 was asked for.
+            eprintln!("listening on {bound}");
+            std::io::stderr().flush().ok();
+            let log = Box::new(|m: &str| eprintln!("{m}"));
+            transport::serve_tcp(domain, cases, args.seed, &listener, limits, log)?;
+        }
+    }
+    Ok(())
+}
+
+fn cases<C: Catalog>(catalog: &C, command: &CasesCommand) -> Result<()> {
+    match command {
+        CasesCommand::Export { cases, out } => {
+            let written = exchange::export(&Location::parse(cases), out)?;
+            println!("wrote {written} cases to {}", out.display());
+        }
+        CasesCommand::Import {
+            input,
+            cases,
+            domain,
+        } => {
+            let domain = served_domain(catalog, domain)?;
+            let location = Location::parse(cases);
+            let imported = exchange::import(input, &location, &domain)?;
+            println!(
+                "imported {imported} cases from {} into {}",
+                input.display(),
+                location.shown()
+            );
+        }
+        CasesCommand::Info { cases } => println!("{}", exchange::info(&Location::parse(cases))?),
+    }
+    Ok(())
+}
+
+fn render<C: Catalog>(catalog: &C, args: &RenderArgs) -> Result<()> {
+    let domain = domain_of(catalog, &args.scenario)?;
+    let behavior = domain.space().parse(&args.behavior)?;
+    let readings = resolve_readings(catalog, &Default::default())?;
+    let (_, operator) = match &args.operator {
+        Some(name) => find_operator(catalog, &args.scenario, name, &readings)?,
+        None => catalog
+            .operators(&args.scenario, &readings)
+            .into_iter()
+            .next()
+            .with_context(|| {
+                format!(
+                    "{} has no built-in operator: name one with --operator",
+                    args.scenario
+                )
+            })?,
+    };
+    let svg = catalog
+        .render(&domain, &behavior, &operator, args.seed)
+        .with_context(|| {
+            format!(
+                "{} draws no pictures of {} runs",
+                catalog.tool().name,
+                args.scenario
+            )
+        })?;
+    cbr_core::write_atomically(&args.output, svg.as_bytes())
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    println!("wrote {}", args.output.display());
+    Ok(())
+}
+
+fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
+    let domain = domain_of(catalog, &args.scenario)?;
+    let readings = resolve_readings(catalog, &Default::default())?;
+    let (operator_name, operator) =
+        find_operator(catalog, &args.scenario, &args.operator, &readings)?;
+    cbr_core::output::ensure_writable_dir(&args.out)?;
+    let space = domain.space();
+    let components = match &args.components {
+        Some(names) => names.clone(),
+        None => space
+            .components()
+            .iter()
+            .take(2)
+            .map(|c| c.name.as_str())
+            .collect::<Vec<_>>()
+            .join(","),
+    };
+    let (x, y) = landscape::axes(space, &components)?;
+    let bar = ProgressBar::with_draw_target(Some(space.size()), ProgressDrawTarget::stderr())
+        .with_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:40}] {pos}/{len} behaviors {elapsed}, about {eta} left",
+            )
+            .expect("a valid template")
+            .progress_chars("=> "),
+        )
+        .with_prefix(format!("landscape ({} runs each)", args.runs));
+    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed, &|| bar.inc(1));
+    bar.finish();
+    let title = format!(
+        "{}, operator {}, {} runs per behavior",
+        args.scenario, operator_name, args.runs
+    );
+    let svg = estimate.heatmap_svg(space, x, y, &title)?;
+    for (name, bytes) in [
+        ("landscape.svg", svg.into_bytes()),
+        ("landscape.csv", estimate.csv(space).into_bytes()),
+    ] {
+        let path = args.out.join(name);
+        cbr_core::write_atomically(&path, &bytes)
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}

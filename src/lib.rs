@@ -1,0 +1,30 @@
+//! `trustcbr`: the command-line tool for trust-guided behavior adaptation, as a library.
+//!
+//! The tool runs experiments (`reproduce`, `run`, `sweep`), draws runs and landscapes
+//! (`render`, `landscape`), serves the online adapter to robot controllers (`serve`) and
+//! manages case bases (`cases`) for the scenarios of a [`Catalog`]. The shipped binary is
+//! [`cli::main`] over [`UgvCatalog`] (the paper's movement and patrol scenarios); a task
+//! plug-in in its own crate implements [`trust::Domain`] and [`Catalog`] and gets the whole
+//! tool with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`
+//! (`docs/plugin-guide.md`).
+//!
+//! - [`catalog`]: the [`Catalog`] trait and what it names (scenarios, operators, readings);
+//! - [`suite`]: suite configs (RON) and their runs and reports;
+//! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
+//! - [`cli`]: the command line;
+//! - [`ugv`]: the built-in catalog.
+
+pub mod catalog;
+pub mod cli;
+pub mod suite;
+pub mod sweep;
+pub mod ugv;
+
+pub use catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo};
+pub use ugv::UgvCatalog;
+
+// The crates a plug-in's code names, re-exported so a plug-in depends on one version of
+// each.
+pub use cbr_core;
+pub use rand;
+pub use trust;

@@ -1,0 +1,107 @@
+//! The built-in catalog: the paper's movement and patrol scenarios over the UGV world
+//! (`domains`), with the SPEC operators, the patrol weight reading and the paper's seven
+//! experiments as the embedded suite. The shipped `trustcbr` binary is
+//! [`crate::cli::main`] over this catalog.
+
+use crate::catalog::{Catalog, CatalogError, Reading, Readings};
+use cbr_core::Behavior;
+use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
+use std::path::Path;
+
+/// The name of the reading of the patrol operators' weights (SPEC section 8).
+pub const PATROL_WEIGHTS: &str = "patrol_weights";
+
+/// The patrol weights as the operator files write them: 1/3 for every outcome, 1 for a
+/// detonation (weights stay in `[0, 1]`).
+pub const AS_WRITTEN: &str = "as_written";
+
+/// Every patrol weight times 3: 1 for every outcome, 3 for a detonation, with the same
+/// thresholds (each command moves the estimate three times as far).
+pub const THREE_AND_ONE: &str = "three_and_one";
+
+/// The UGV scenarios (`movement`, `patrol`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UgvCatalog;
+
+impl UgvCatalog {
+    /// `operator` as `readings` read it: patrol weights tripled under `three_and_one`.
+    fn read(scenario: Scenario, mut operator: OperatorModel, readings: &Readings) -> OperatorModel {
+        let tripled = readings.get(PATROL_WEIGHTS).map(String::as_str) == Some(THREE_AND_ONE);
+        if scenario == Scenario::Patrol && tripled {
+            operator.weights = operator.weights.scaled(3.0);
+        }
+        operator
+    }
+}
+
+impl Catalog for UgvCatalog {
+    type Domain = UgvDomain;
+
+    fn scenarios(&self) -> Vec<String> {
+        Scenario::ALL
+            .iter()
+            .map(|s| s.as_str().to_owned())
+            .collect()
+    }
+
+    fn domain(&self, scenario: &str) -> Option<UgvDomain> {
+        scenario.parse().ok().map(UgvDomain::new)
+    }
+
+    fn operators(&self, scenario: &str, readings: &Readings) -> Vec<(String, OperatorModel)> {
+        let Ok(scenario) = scenario.parse::<Scenario>() else {
+            return Vec::new();
+        };
+        builtin_operators(scenario)
+            .into_iter()
+            .map(|o| (o.name.clone(), Self::read(scenario, o, readings)))
+            .collect()
+    }
+
+    fn load_operator(
+        &self,
+        scenario: &str,
+        path: &Path,
+        readings: &Readings,
+    ) -> Result<(String, OperatorModel), CatalogError> {
+        let scenario: Scenario = scenario.parse().map_err(|e| CatalogError {
+            path: Some(path.to_owned()),
+            reason: Box::new(e),
+        })?;
+        // The operator's own errors name the file already.
+        let operator = OperatorModel::load(path).map_err(|e| CatalogError {
+            path: None,
+            reason: Box::new(e),
+        })?;
+        Ok((
+            operator.name.clone(),
+            Self::read(scenario, operator, readings),
+        ))
+    }
+
+    fn readings(&self) -> Vec<Reading> {
+        vec![Reading {
+            name: PATROL_WEIGHTS.to_owned(),
+            values: vec![AS_WRITTEN.to_owned(), THREE_AND_ONE.to_owned()],
+            about: "how the patrol operators' weights are scaled (SPEC section 8)".to_owned(),
+        }]
+    }
+
+    fn completion_weight(&self, operator: &OperatorModel) -> Option<f64> {
+        Some(operator.weights.completed)
+    }
+
+    fn default_suite(&self) -> &str {
+        domains::PAPER_CONFIG
+    }
+
+    fn render(
+        &self,
+        domain: &UgvDomain,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        seed: u64,
+    ) -> Option<String> {
+        Some(domains::render_run(domain, behavior, operator, seed))
+    }
+}
