@@ -9,18 +9,61 @@
 //! ([`crate::UgvCatalog`]); a user's crate gets the same tool for its own domains with
 //!
 //! ```no_run
-//! # struct MyCatalog;
-//! # impl trustcbr::Catalog for MyCatalog {
-//! #     type Domain = trustcbr::testing::Toy;
-//! #     fn scenarios(&self) -> Vec<String> { vec![] }
-//! #     fn domain(&self, _: &str) -> Option<Self::Domain> { None }
-//! #     fn operators(&self, _: &str, _: &trustcbr::Readings) -> Vec<(String, ())> { vec![] }
-//! #     fn load_operator(&self, _: &str, p: &std::path::Path, _: &trustcbr::Readings)
-//! #         -> Result<(String, ()), trustcbr::CatalogError> { unimplemented!() }
-//! #     fn default_suite(&self) -> &str { "" }
-//! # }
-//! fn main() -> std::process::ExitCode {
-//!     trustcbr::cli::main(MyCatalog)
+//! use std::path::Path;
+//! use std::process::ExitCode;
+//! use std::sync::Arc;
+//! use trustcbr::cbr_core::{Behavior, BehaviorSpace, Component};
+//! use trustcbr::rand::{Rng, RngCore};
+//! use trustcbr::trust::{Domain, Outcome, OutcomeKind};
+//! use trustcbr::{Catalog, CatalogError, Readings};
+//!
+//! /// A lamp whose brightness an operator likes or not.
+//! struct Lamp(Arc<BehaviorSpace>);
+//!
+//! impl Domain for Lamp {
+//!     type Operator = f64; // the brightness the operator wants
+//!     fn name(&self) -> &str {
+//!         "lamp"
+//!     }
+//!     fn space(&self) -> &Arc<BehaviorSpace> {
+//!         &self.0
+//!     }
+//!     fn run(&self, b: &Behavior, wanted: &f64, rng: &mut dyn RngCore) -> Outcome {
+//!         let brightness = self.0.components()[0].real_value(b.get(0));
+//!         if rng.random::<f64>() < 1.0 - (brightness - wanted).abs() {
+//!             Outcome::completed(1.0, 1.0)
+//!         } else {
+//!             Outcome { kind: OutcomeKind::Interrupted, weight: 1.0, cause: None, duration_s: 1.0 }
+//!         }
+//!     }
+//! }
+//!
+//! struct LampCatalog;
+//!
+//! impl Catalog for LampCatalog {
+//!     type Domain = Lamp;
+//!     fn scenarios(&self) -> Vec<String> {
+//!         vec!["lamp".into()]
+//!     }
+//!     fn domain(&self, scenario: &str) -> Option<Lamp> {
+//!         let level = Component::numeric("brightness", "", 0.0, 0.1, 11).ok()?;
+//!         (scenario == "lamp").then(|| Lamp(Arc::new(BehaviorSpace::new(vec![level]).unwrap())))
+//!     }
+//!     fn operators(&self, _: &str, _: &Readings) -> Vec<(String, f64)> {
+//!         vec![("dim".into(), 0.2), ("bright".into(), 0.9)]
+//!     }
+//!     fn load_operator(&self, _: &str, path: &Path, _: &Readings)
+//!         -> Result<(String, f64), CatalogError> {
+//!         Err(CatalogError { path: Some(path.into()), reason: "lamps have no operator files".into() })
+//!     }
+//!     fn default_suite(&self) -> &str {
+//!         r#"(seed: 1, trials: 100, arms: ["random-walk", "case-based"],
+//!             experiments: [(scenario: "lamp", operator: "random")])"#
+//!     }
+//! }
+//!
+//! fn main() -> ExitCode {
+//!     trustcbr::cli::main(LampCatalog)
 //! }
 //! ```
 

@@ -14,6 +14,8 @@
 //! - [`cli`]: the command line;
 //! - [`ugv`]: the built-in catalog.
 
+#![deny(missing_docs)]
+
 pub mod catalog;
 pub mod cli;
 pub mod suite;

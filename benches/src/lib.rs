@@ -24,6 +24,8 @@
 //! Queries are drawn the same way from another seed. `docs/benchmarks.md` gives the
 //! achieved statistics and how to measure the real lengths again.
 
+#![deny(missing_docs)]
+
 use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
 use rand::seq::SliceRandom;
 use rand::{Rng, RngCore, SeedableRng};

@@ -7,6 +7,8 @@
 //! [`CaseMemory`], and [`Searcher`]s. It knows nothing of trust, robots or experiments;
 //! those live in the `trust` and `domains` crates.
 
+#![deny(missing_docs)]
+
 pub mod behavior;
 pub mod case;
 pub mod component;
@@ -31,3 +33,7 @@ pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Searcher};
 pub use similarity::SimilarityMeasure;
 pub use space_diff::SpaceDifference;
+
+/// The random-number crate of `BehaviorSpace::draw` and the `Searcher` trait, re-exported so
+/// a user names the same version.
+pub use rand;

@@ -21,6 +21,8 @@
 //!
 //! This crate holds no adaptation logic: that is `trust`'s.
 
+#![deny(missing_docs)]
+
 pub mod domain;
 pub mod exchange;
 pub mod lines;

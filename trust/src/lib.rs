@@ -16,6 +16,8 @@
 //!
 //! This crate knows nothing of any particular robot or simulator.
 
+#![deny(missing_docs)]
+
 pub mod adapter;
 pub mod domain;
 pub mod estimate;
@@ -49,3 +51,7 @@ pub type TrustCaseBase = CaseBase<Vec<Evaluated>, Behavior>;
 pub type TrustMemory = CaseMemory<Vec<Evaluated>, Behavior>;
 /// A retriever over the trust case base.
 pub type TrustRetriever = dyn Retriever<Vec<Evaluated>, Behavior>;
+
+/// The random-number crate of `Domain::run` and the searchers, re-exported so a user
+/// names the same version.
+pub use rand;
