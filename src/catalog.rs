@@ -70,7 +70,8 @@
 use cbr_core::Behavior;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use trust::Domain;
+use trust::experiment::Arm;
+use trust::{Domain, RetrieverKind};
 
 /// The operator type of a catalog's domain.
 pub type OperatorOf<C> = <<C as Catalog>::Domain as Domain>::Operator;
@@ -161,6 +162,15 @@ pub trait Catalog: Send + Sync {
     fn completion_weight(&self, operator: &OperatorOf<Self>) -> Option<f64> {
         let _ = operator;
         None
+    }
+
+    /// Arms of the catalog's own (a user's searcher or retriever, through
+    /// [`Arm::search_only`] and [`Arm::case_based`]), which configs and `--arms` name like
+    /// the built-in ones; a name here hides a built-in arm of the same name. `retriever` is
+    /// the suite's choice for case-reusing arms. Default: none.
+    fn arms(&self, retriever: RetrieverKind) -> Vec<Arm> {
+        let _ = retriever;
+        Vec::new()
     }
 
     /// The suite config (RON) `reproduce` runs and `config` prints.

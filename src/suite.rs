@@ -22,7 +22,7 @@ use std::sync::Arc;
 use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
 use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
-    UnknownArm, run_experiments,
+    run_experiments,
 };
 use trust::{ConfigError, Domain, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
 
@@ -58,8 +58,9 @@ pub struct SuiteConfig {
     /// default), e.g. `{"patrol_weights": "three_and_one"}`.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub readings: BTreeMap<String, String>,
-    /// The arms to compare, by name ([`BUILTIN_ARMS`]; default: all of them). Every arm
-    /// is tested against the first.
+    /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
+    /// ([`Catalog::arms`]); default: every built-in arm. Every arm is tested against the
+    /// first.
     #[serde(default = "default_arms")]
     pub arms: Vec<String>,
     /// The experiments, in report order.
@@ -276,8 +277,8 @@ impl SuiteConfig {
             return Err(invalid("arms".into(), "at least one arm is needed".into()));
         }
         for (i, name) in self.arms.iter().enumerate() {
-            if let Err(e) = Arm::builtin(name, self.adapter.retriever) {
-                return Err(invalid(format!("arms[{i}]"), e.to_string()));
+            if let Err(e) = arm_named(catalog, name, self.adapter.retriever) {
+                return Err(invalid(format!("arms[{i}]"), e));
             }
             if self.arms[..i].contains(name) {
                 return Err(invalid(
@@ -424,13 +425,21 @@ impl StartingCases {
     }
 }
 
-/// The arms of `config`, built-in ones by name.
-fn builtin_arms(config: &SuiteConfig) -> Result<Vec<Arm>, UnknownArm> {
-    config
-        .arms
-        .iter()
-        .map(|name| Arm::builtin(name, config.adapter.retriever))
-        .collect()
+/// The arm `name`: the catalog's own arm of that name, or else a built-in one; the error
+/// lists every name known.
+fn arm_named<C: Catalog>(catalog: &C, name: &str, retriever: RetrieverKind) -> Result<Arm, String> {
+    let own = catalog.arms(retriever);
+    if let Some(arm) = own.iter().find(|a| a.name() == name) {
+        return Ok(arm.clone());
+    }
+    Arm::builtin(name, retriever).map_err(|_| {
+        let known: Vec<&str> = BUILTIN_ARMS
+            .iter()
+            .copied()
+            .chain(own.iter().map(Arm::name))
+            .collect();
+        format!("unknown arm `{name}` (known: {})", known.join(", "))
+    })
 }
 
 /// Runs every experiment of `config` (operator files relative to `origin`) over the
@@ -474,7 +483,12 @@ pub fn run_suite<C: Catalog>(
         .iter()
         .map(|spec| spec.operators(catalog, origin, &readings))
         .collect::<Result<Vec<_>, _>>()?;
-    let arms = builtin_arms(config).map_err(|e| invalid("arms".into(), e.to_string()))?;
+    let arms = config
+        .arms
+        .iter()
+        .map(|name| arm_named(catalog, name, config.adapter.retriever))
+        .collect::<Result<Vec<Arm>, String>>()
+        .map_err(|e| invalid("arms".into(), e))?;
     let stems = file_stems(config.experiments.iter().map(|s| s.name()));
     let mut plans: Vec<ExperimentPlan<'_, C::Domain>> = Vec::new();
     for ((spec, operators), stem) in config.experiments.iter().zip(&operators).zip(&stems) {
@@ -872,5 +886,74 @@ mod tests {
         let back =
             SuiteConfig::from_ron(&UgvCatalog, &config.to_ron(), Path::new("x.ron")).unwrap();
         assert_eq!(back, config);
+    }
+
+    /// The UGV catalog with one arm of its own: uniform search under another name.
+    struct WithOwnArm;
+
+    impl Catalog for WithOwnArm {
+        type Domain = domains::UgvDomain;
+        fn scenarios(&self) -> Vec<String> {
+            UgvCatalog.scenarios()
+        }
+        fn domain(&self, scenario: &str) -> Option<Self::Domain> {
+            UgvCatalog.domain(scenario)
+        }
+        fn operators(
+            &self,
+            scenario: &str,
+            readings: &Readings,
+        ) -> Vec<(String, OperatorOf<Self>)> {
+            UgvCatalog.operators(scenario, readings)
+        }
+        fn load_operator(
+            &self,
+            scenario: &str,
+            path: &Path,
+            readings: &Readings,
+        ) -> Result<(String, OperatorOf<Self>), CatalogError> {
+            UgvCatalog.load_operator(scenario, path, readings)
+        }
+        fn arms(&self, _: RetrieverKind) -> Vec<Arm> {
+            vec![Arm::search_only("mine", |_| {
+                trust::SearchKind::Uniform.build()
+            })]
+        }
+        fn default_suite(&self) -> &str {
+            UgvCatalog.default_suite()
+        }
+    }
+
+    #[test]
+    fn a_catalog_s_own_arms_are_named_like_built_in_ones() {
+        let origin = Path::new("own.ron");
+        let config = SuiteConfig::from_ron(
+            &WithOwnArm,
+            "(seed: 1, trials: 3, arms: [\"random-walk\", \"mine\"], experiments: [(scenario: \"movement\", operator: \"balanced\")])",
+            origin,
+        )
+        .unwrap();
+        let results = run_suite(&WithOwnArm, &config, origin, None, &|_| ()).unwrap();
+        let names: Vec<&str> = results.results[0]
+            .arms
+            .iter()
+            .map(|a| a.name.as_str())
+            .collect();
+        assert_eq!(names, ["random-walk", "mine"]);
+        let err = SuiteConfig::from_ron(
+            &WithOwnArm,
+            "(seed: 1, trials: 3, arms: [\"yours\"], experiments: [(scenario: \"movement\", operator: \"balanced\")])",
+            origin,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("arms[0]")
+                && err.contains("unknown arm `yours`")
+                && err.ends_with(
+                    "model-based, case-based+cause-aware, case-based+model-based, mine)"
+                ),
+            "{err}"
+        );
     }
 }
