@@ -190,10 +190,9 @@ impl WarehouseOperator {
                 break;
             }
             match event {
-                Some(Event::Collision) => {
-                    if rng.random::<f64>() < self.p_collision {
-                        return self.ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t);
-                    }
+                // The reaction is drawn at every collision, in trace order.
+                Some(Event::Collision) if rng.random::<f64>() < self.p_collision => {
+                    return self.ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t);
                 }
                 Some(Event::ItemNotFound) => {
                     return self.ending(OutcomeKind::Failed, WarehouseCause::ItemNotFound, t);
@@ -207,7 +206,7 @@ impl WarehouseOperator {
                     }
                     return Outcome::completed(self.weights.completed, t);
                 }
-                None => {}
+                Some(Event::Collision) | None => {}
             }
         }
         self.ending(OutcomeKind::Failed, WarehouseCause::TooSlow, give_up)
