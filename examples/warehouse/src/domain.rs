@@ -1,0 +1,153 @@
+//! `WarehouseDomain`: one pick (shelf to packing station) behind the `trust::Domain`
+//! contract.
+//!
+//! A pick draws the item and how far its shelf is, drives out (people may cross), finds
+//! the slot or not (the map), grasps (the gripper and its force), drives back carrying
+//! the item (braking for crossings may shake it loose) and sets it down. The result is a
+//! [`Trace`]; the operator turns it into an `Outcome`. Every draw comes from the
+//! generator passed in, in a fixed order, so a seed gives one pick.
+
+use crate::gripper::{Grasp, Gripper};
+use crate::items::draw_item;
+use crate::map::MapSource;
+use crate::motion::{NOMINAL_ACCEL, drive_leg};
+use crate::operator::WarehouseOperator;
+use crate::space::{GRIP_FORCE, GRIPPER, MAP, SPEED, warehouse_space};
+use crate::trace::{Event, Trace};
+use rand::{Rng, RngCore};
+use std::convert::Infallible;
+use std::ops::ControlFlow;
+use std::sync::Arc;
+use trustcbr::cbr_core::{Behavior, BehaviorSpace};
+use trustcbr::rand;
+use trustcbr::trust::{Domain, Outcome};
+
+/// The scenario's name.
+pub const PICKING: &str = "picking";
+
+/// How far the shelf is from the packing station along the aisles (m): uniform between
+/// these (a 40 m deep picking zone, the nearest aisle 10 m from the station).
+pub const SHELF_DISTANCE_M: (f64, f64) = (10.0, 40.0);
+
+/// Time to scan the slot's label before grasping (s).
+pub const LABEL_SCAN_S: f64 = 1.0;
+
+/// A behavior's settings in their own terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// The gripper module.
+    pub gripper: Gripper,
+    /// The planner's map.
+    pub map: MapSource,
+    /// Commanded speed (m/s).
+    pub speed: f64,
+    /// Commanded grip force (N).
+    pub grip_force: f64,
+}
+
+/// The warehouse picking task.
+pub struct WarehouseDomain {
+    space: Arc<BehaviorSpace>,
+    /// Component index of gripper, map, speed, grip force.
+    components: [usize; 4],
+}
+
+impl Default for WarehouseDomain {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl WarehouseDomain {
+    /// The picking task over [`warehouse_space`].
+    pub fn new() -> Self {
+        let space = warehouse_space();
+        let components = [GRIPPER, MAP, SPEED, GRIP_FORCE]
+            .map(|name| space.component_index(name).expect("the space has it"));
+        Self { space, components }
+    }
+
+    /// The behavior's settings.
+    pub fn settings(&self, behavior: &Behavior) -> Settings {
+        let [gripper, map, speed, grip_force] = self.components;
+        let numeric = |k: usize| self.space.components()[k].numeric_value(behavior.get(k));
+        Settings {
+            gripper: Gripper::ALL[usize::from(behavior.get(gripper))],
+            map: MapSource::ALL[usize::from(behavior.get(map))],
+            speed: numeric(speed),
+            grip_force: numeric(grip_force),
+        }
+    }
+
+    /// Simulates one pick with `settings`, drawing all randomness from `rng`.
+    pub fn simulate(&self, settings: Settings, rng: &mut dyn RngCore) -> Trace {
+        let mut trace = Trace::default();
+        let speed = settings.map.driving_speed(settings.speed);
+        let item = draw_item(rng);
+        let (near, far) = SHELF_DISTANCE_M;
+        let distance = near + (far - near) * rng.random::<f64>();
+        let mut t = 0.0;
+        let ControlFlow::Continue(outbound) = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.collided {
+                trace.push(t + at, Event::Collision);
+            }
+            ControlFlow::<Infallible>::Continue(())
+        });
+        t += outbound;
+        t += LABEL_SCAN_S;
+        if rng.random::<f64>() < settings.map.misplaced_share() {
+            trace.push(t, Event::ItemNotFound);
+            return trace;
+        }
+        t += settings.gripper.grasp_time();
+        let grasp = Grasp::new(settings.gripper, settings.grip_force, &item, rng);
+        // Lifting off and pulling away at the nominal acceleration.
+        if grasp.slips(NOMINAL_ACCEL) {
+            trace.push(t, Event::DroppedItem);
+            return trace;
+        }
+        let back = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.collided {
+                trace.push(t + at, Event::Collision);
+            }
+            if grasp.slips(stop.decel) {
+                trace.push(t + at, Event::DroppedItem);
+                return ControlFlow::Break(());
+            }
+            ControlFlow::Continue(())
+        });
+        let ControlFlow::Continue(duration) = back else {
+            return trace;
+        };
+        t += duration + settings.gripper.release_time();
+        trace.push(
+            t,
+            Event::Delivered {
+                crushed: grasp.crushed,
+            },
+        );
+        trace
+    }
+}
+
+impl Domain for WarehouseDomain {
+    type Operator = WarehouseOperator;
+
+    fn name(&self) -> &str {
+        PICKING
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    fn run(
+        &self,
+        behavior: &Behavior,
+        operator: &WarehouseOperator,
+        rng: &mut dyn RngCore,
+    ) -> Outcome {
+        let trace = self.simulate(self.settings(behavior), rng);
+        operator.judge(&trace, rng)
+    }
+}

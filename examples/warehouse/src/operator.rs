@@ -1,0 +1,247 @@
+//! The simulated operators, as data: what each watches in a pick and how much each ending
+//! weighs. A new operator is a RON file.
+//!
+//! The operator reads the trace in time order. When its deadline `t_complete` passes it
+//! interrupts with probability `p_deadline`; if it lets the robot go on, it gives up at
+//! `give_up_factor x t_complete` (the pick fails, too slow). On each collision it
+//! interrupts with probability `p_collision`. A slot not found and a dropped item fail the
+//! pick. A delivered item completes it, unless it arrived crushed and the packer notices
+//! (probability `p_crushed`), which fails it.
+
+use crate::cause::WarehouseCause;
+use crate::trace::{Event, Trace};
+use rand::{Rng, RngCore};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use trustcbr::cbr_core::{FileError, RonError, parse_ron, read_text};
+use trustcbr::rand;
+use trustcbr::trust::{Outcome, OutcomeKind};
+
+/// How much each ending of a pick weighs in the trust estimate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Weights {
+    /// Weight of a completed pick.
+    #[serde(default = "one")]
+    pub completed: f64,
+    /// Weight of a failure or interruption whose cause is not in `by_cause`.
+    #[serde(default = "one")]
+    pub default: f64,
+    /// Weights by cause name (e.g. `{"dropped-item": 1.0}`).
+    #[serde(default)]
+    pub by_cause: BTreeMap<WarehouseCause, f64>,
+}
+
+impl Weights {
+    /// The weight of a failure or interruption with `cause`.
+    pub fn of(&self, cause: WarehouseCause) -> f64 {
+        self.by_cause.get(&cause).copied().unwrap_or(self.default)
+    }
+}
+
+impl Default for Weights {
+    fn default() -> Self {
+        Self {
+            completed: 1.0,
+            default: 1.0,
+            by_cause: BTreeMap::new(),
+        }
+    }
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+fn two() -> f64 {
+    2.0
+}
+
+/// A simulated warehouse operator.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WarehouseOperator {
+    /// The operator's name (e.g. `throughput-focused`).
+    pub name: String,
+    /// The time the operator allows for one pick (s).
+    pub t_complete: f64,
+    /// Probability of interrupting when `t_complete` passes.
+    pub p_deadline: f64,
+    /// Probability of interrupting on each collision.
+    pub p_collision: f64,
+    /// Probability that a crushed item is noticed at packing (and the pick failed).
+    pub p_crushed: f64,
+    /// The operator gives up at this multiple of `t_complete` (the pick fails, too slow).
+    #[serde(default = "two")]
+    pub give_up_factor: f64,
+    /// Outcome weights.
+    #[serde(default)]
+    pub weights: Weights,
+}
+
+/// Why an operator file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum OperatorError {
+    /// The file could not be read.
+    #[error(transparent)]
+    Io(#[from] FileError),
+    /// The file is not a valid operator in RON (the error names line:column).
+    #[error(transparent)]
+    Syntax(#[from] RonError),
+    /// A value is out of its allowed range.
+    #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
+    Range {
+        /// The file.
+        file: PathBuf,
+        /// The operator's name.
+        operator: String,
+        /// The field, e.g. `p_collision` or `weights.by_cause.dropped-item`.
+        field: String,
+        /// The allowed range.
+        allowed: &'static str,
+        /// The value given.
+        value: f64,
+    },
+}
+
+impl WarehouseOperator {
+    /// Parses and validates an operator; `origin` names the source in errors.
+    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, OperatorError> {
+        let operator: Self = parse_ron(text, origin)?;
+        operator.validate(origin)?;
+        Ok(operator)
+    }
+
+    /// Reads, parses and validates an operator file.
+    pub fn load(path: &Path) -> Result<Self, OperatorError> {
+        Self::from_ron(&read_text(path)?, path)
+    }
+
+    fn validate(&self, origin: &Path) -> Result<(), OperatorError> {
+        let range = |field: String, allowed, value| OperatorError::Range {
+            file: origin.to_owned(),
+            operator: self.name.clone(),
+            field,
+            allowed,
+            value,
+        };
+        for (field, p) in [
+            ("p_deadline", self.p_deadline),
+            ("p_collision", self.p_collision),
+            ("p_crushed", self.p_crushed),
+        ] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(range(field.into(), "a probability in [0, 1]", p));
+            }
+        }
+        if !(self.t_complete.is_finite() && self.t_complete > 0.0) {
+            return Err(range(
+                "t_complete".into(),
+                "a finite number of seconds > 0",
+                self.t_complete,
+            ));
+        }
+        if !(self.give_up_factor.is_finite() && self.give_up_factor >= 1.0) {
+            return Err(range(
+                "give_up_factor".into(),
+                "a finite number >= 1",
+                self.give_up_factor,
+            ));
+        }
+        let weights = [
+            ("weights.completed".to_owned(), self.weights.completed),
+            ("weights.default".to_owned(), self.weights.default),
+        ]
+        .into_iter()
+        .chain(
+            self.weights
+                .by_cause
+                .iter()
+                .map(|(cause, &w)| (format!("weights.by_cause.{cause}"), w)),
+        );
+        for (field, w) in weights {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(range(field, "a finite number >= 0", w));
+            }
+        }
+        Ok(())
+    }
+
+    /// Watches a pick and decides how it ends; random reactions draw from `rng`.
+    pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Outcome {
+        let give_up = self.t_complete * self.give_up_factor;
+        let mut deadline_seen = false;
+        // A trace without an ending (never the simulation's) is a pick that never ends:
+        // the operator waits for it past every deadline.
+        let events = trace.events.iter().map(|&(t, e)| (t, Some(e)));
+        for (t, event) in events.chain([(f64::INFINITY, None)]) {
+            if !deadline_seen && t > self.t_complete {
+                deadline_seen = true;
+                if rng.random::<f64>() < self.p_deadline {
+                    return self.ending(
+                        OutcomeKind::Interrupted,
+                        WarehouseCause::TooSlow,
+                        self.t_complete,
+                    );
+                }
+            }
+            if t > give_up {
+                break;
+            }
+            match event {
+                // The reaction is drawn at every collision, in trace order.
+                Some(Event::Collision) if rng.random::<f64>() < self.p_collision => {
+                    return self.ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t);
+                }
+                Some(Event::ItemNotFound) => {
+                    return self.ending(OutcomeKind::Failed, WarehouseCause::ItemNotFound, t);
+                }
+                Some(Event::DroppedItem) => {
+                    return self.ending(OutcomeKind::Failed, WarehouseCause::DroppedItem, t);
+                }
+                Some(Event::Delivered { crushed }) => {
+                    if crushed && rng.random::<f64>() < self.p_crushed {
+                        return self.ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t);
+                    }
+                    return Outcome::completed(self.weights.completed, t);
+                }
+                Some(Event::Collision) | None => {}
+            }
+        }
+        self.ending(OutcomeKind::Failed, WarehouseCause::TooSlow, give_up)
+    }
+
+    /// A failure or interruption with `cause` at `t`, weighted by this operator.
+    fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Outcome {
+        Outcome {
+            kind,
+            weight: self.weights.of(cause),
+            cause: Some(cause.to_trust()),
+            duration_s: t,
+        }
+    }
+}
+
+/// The operators shipped with the crate (`operators/*.ron`), in this order.
+pub fn builtin_operators() -> Vec<WarehouseOperator> {
+    [
+        (
+            "operators/throughput-focused.ron",
+            include_str!("../operators/throughput-focused.ron"),
+        ),
+        (
+            "operators/care-focused.ron",
+            include_str!("../operators/care-focused.ron"),
+        ),
+        (
+            "operators/balanced.ron",
+            include_str!("../operators/balanced.ron"),
+        ),
+    ]
+    .into_iter()
+    .map(|(origin, text)| {
+        WarehouseOperator::from_ron(text, Path::new(origin)).expect("shipped operators are valid")
+    })
+    .collect()
+}

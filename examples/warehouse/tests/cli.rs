@@ -1,0 +1,244 @@
+//! The `warehouse` binary end to end, as a user runs it: the embedded suite (case reuse
+//! and the informed searches beat the random walk), and every other command of the tool
+//! over the warehouse catalog.
+
+use serde_json::Value;
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+fn warehouse() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_warehouse"))
+}
+
+/// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
+fn succeed(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// Runs `command`, asserts that it failed, returns stderr.
+fn fail(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    assert!(!output.status.success());
+    String::from_utf8(output.stderr).unwrap()
+}
+
+fn json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The arms that must need fewer behaviors than the paper's random walk: case reuse, and
+/// the informed searches with and without it.
+const BETTER_THAN_THE_WALK: [&str; 5] = [
+    "case-based",
+    "cause-aware",
+    "model-based",
+    "case-based+cause-aware",
+    "case-based+model-based",
+];
+
+#[test]
+fn reproduce_case_reuse_and_informed_search_beat_the_random_walk() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let stdout = succeed(warehouse().arg("reproduce").arg("--out").arg(&out));
+    assert!(
+        stdout.contains("| picking | care-focused | 200 |"),
+        "{stdout}"
+    );
+    let summary = json(&out.join("summary.json"));
+    assert_eq!(summary["provenance"]["tool"], "warehouse");
+    let experiments = summary["experiments"].as_array().unwrap();
+    assert_eq!(experiments.len(), 4);
+    for experiment in experiments {
+        let name = experiment["name"].as_str().unwrap();
+        assert_eq!(experiment["arms"][0], "random-walk", "{name}");
+        let walk = experiment["strategies"]["random-walk"]["mean"]
+            .as_f64()
+            .unwrap();
+        for arm in BETTER_THAN_THE_WALK {
+            let s = &experiment["strategies"][arm];
+            let mean = s["mean"].as_f64().unwrap();
+            let p = s["t_test_p_vs_first"].as_f64().unwrap();
+            assert!(
+                mean < walk && p < 0.01,
+                "{name}: {arm} needs {mean} behaviors against the walk's {walk}, p = {p}"
+            );
+            assert_eq!(s["truncated"], 0, "{name}: {arm}");
+        }
+    }
+}
+
+/// A small suite with an operator of the user's own, from a file next to it.
+const SUITE: &str = r#"(
+    seed: 5,
+    trials: 6,
+    arms: ["random-walk", "case-based", "cause-aware"],
+    experiments: [
+        (scenario: "picking", operator: "night-shift", operator_files: ["night-shift.ron"]),
+        (scenario: "picking", operator: "random", operator_files: ["night-shift.ron"]),
+    ],
+)"#;
+
+const NIGHT_SHIFT: &str = r#"(
+    name: "night-shift",
+    t_complete: 60.0,
+    p_deadline: 0.5,
+    p_collision: 0.5,
+    p_crushed: 0.5,
+    weights: (by_cause: {"dropped-item": 1.0, "too-slow": 0.5}),
+)"#;
+
+#[test]
+fn run_config_and_operator_files_with_results_independent_of_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("suite.ron");
+    std::fs::write(&config, SUITE).unwrap();
+    std::fs::write(dir.path().join("night-shift.ron"), NIGHT_SHIFT).unwrap();
+    let trials = |threads: &str| {
+        let out = dir.path().join(format!("report-{threads}"));
+        let stdout = succeed(
+            warehouse()
+                .arg("run")
+                .arg(&config)
+                .args(["--threads", threads, "--out"])
+                .arg(&out),
+        );
+        assert!(stdout.contains("| picking | night-shift | 6 |"), "{stdout}");
+        std::fs::read_to_string(out.join("trials.jsonl")).unwrap()
+    };
+    let one = trials("1");
+    assert_eq!(one, trials("2"));
+    let first: Value = serde_json::from_str(one.lines().next().unwrap()).unwrap();
+    let last = first["final"].as_object().unwrap();
+    let mut names: Vec<&str> = last.keys().map(String::as_str).collect();
+    names.sort();
+    assert_eq!(names, ["grip_force", "gripper", "map", "speed"]);
+
+    // `config` prints the embedded suite, which `run` accepts as it is.
+    let printed = succeed(warehouse().arg("config"));
+    assert!(
+        printed.contains("operator: \"throughput-focused\""),
+        "{printed}"
+    );
+
+    // A scenario the catalog does not know is refused with the known ones listed.
+    let wrong = dir.path().join("wrong.ron");
+    std::fs::write(&wrong, SUITE.replace("\"picking\"", "\"movement\"")).unwrap();
+    let err = fail(warehouse().arg("run").arg(&wrong));
+    assert!(
+        err.contains("unknown scenario `movement` (known: picking)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn landscape_sweep_serve_and_render() {
+    let dir = tempfile::tempdir().unwrap();
+    // Landscape over the two categorical components.
+    let out = dir.path().join("landscape");
+    succeed(
+        warehouse()
+            .args([
+                "landscape",
+                "--scenario",
+                "picking",
+                "--operator",
+                "balanced",
+            ])
+            .args(["--runs", "4", "--components", "gripper,map", "--out"])
+            .arg(&out),
+    );
+    let csv = std::fs::read_to_string(out.join("landscape.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 1_800);
+    assert!(
+        csv.lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("suction,as-built,0.25,5,4,"),
+        "{csv}"
+    );
+    assert!(
+        std::fs::read_to_string(out.join("landscape.svg"))
+            .unwrap()
+            .contains("<svg")
+    );
+
+    // A sweep over two seeds and two values of lambda, on the embedded suite.
+    let sweep = dir.path().join("sweep.ron");
+    std::fs::write(
+        &sweep,
+        r#"(suite: embedded, trials: Some(3), arms: Some(["random-walk", "case-based"]),
+            seeds: [1, 2], parameters: [lambda([0.9, 0.95])])"#,
+    )
+    .unwrap();
+    let out = dir.path().join("sweep");
+    let stdout = succeed(warehouse().arg("sweep").arg(&sweep).arg("--out").arg(&out));
+    assert!(stdout.contains("2 cells x 2 seeds"), "{stdout}");
+    assert!(
+        std::fs::read_to_string(out.join("sweep.md"))
+            .unwrap()
+            .contains("| lambda=0.9 |")
+    );
+
+    // Serve the picking scenario over stdin/stdout: begin, then one interruption.
+    let mut server = warehouse()
+        .args(["serve", "--domain", "picking", "--cases"])
+        .arg(dir.path().join("cases.sqlite"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    server
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(
+            concat!(
+                r#"{"id": 1, "request": "begin"}"#,
+                "\n",
+                r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 12.0}"#,
+                "\n"
+            )
+            .as_bytes(),
+        )
+        .unwrap();
+    let output = server.wait_with_output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let replies: Vec<Value> = String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(replies.len(), 2, "{replies:?}");
+    assert_eq!(replies[0]["ok"], "begun", "{replies:?}");
+    let behavior = replies[0]["behavior"].as_object().expect("a behavior");
+    assert_eq!(behavior.len(), 4, "{behavior:?}");
+    assert!(behavior["gripper"].is_string(), "{behavior:?}");
+    assert_eq!(replies[1]["id"], 2);
+    assert_eq!(replies[1]["trust"], -1.0, "{replies:?}");
+
+    // The warehouse draws no pictures.
+    let err = fail(warehouse().args([
+        "render",
+        "--scenario",
+        "picking",
+        "--behavior",
+        "gripper=suction,map=live,speed=1,grip_force=50",
+    ]));
+    assert!(
+        err.contains("warehouse draws no pictures of picking runs"),
+        "{err}"
+    );
+}
