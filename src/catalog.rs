@@ -42,6 +42,9 @@
 //!
 //! impl Catalog for LampCatalog {
 //!     type Domain = Lamp;
+//!     fn tool(&self) -> trustcbr::ToolInfo {
+//!         trustcbr::tool_info!()
+//!     }
 //!     fn scenarios(&self) -> Vec<String> {
 //!         vec!["lamp".into()]
 //!     }
@@ -106,6 +109,21 @@ pub struct ToolInfo {
     pub about: String,
 }
 
+/// The [`ToolInfo`] of the crate that invokes it: its package name, version and
+/// description, and the commit in `TRUSTCBR_GIT_COMMIT` when its build script sets that
+/// variable (`cargo:rustc-env=TRUSTCBR_GIT_COMMIT=...`, as this crate's `build.rs` does).
+#[macro_export]
+macro_rules! tool_info {
+    () => {
+        $crate::ToolInfo {
+            name: env!("CARGO_PKG_NAME").to_owned(),
+            version: env!("CARGO_PKG_VERSION").to_owned(),
+            git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
+            about: env!("CARGO_PKG_DESCRIPTION").to_owned(),
+        }
+    };
+}
+
 /// An operator that could not be loaded: why, in the catalog's own error type, and the
 /// file when the reason does not name it already.
 #[derive(Debug, thiserror::Error)]
@@ -122,15 +140,9 @@ pub trait Catalog: Send + Sync {
     /// The domain type every scenario builds (an enum when scenarios differ in type).
     type Domain: Domain;
 
-    /// The tool's name, version and description (default: this library's).
-    fn tool(&self) -> ToolInfo {
-        ToolInfo {
-            name: env!("CARGO_PKG_NAME").to_owned(),
-            version: env!("CARGO_PKG_VERSION").to_owned(),
-            git_commit: option_env!("TRUSTCBR_GIT_COMMIT").map(str::to_owned),
-            about: env!("CARGO_PKG_DESCRIPTION").to_owned(),
-        }
-    }
+    /// The tool's name, version and description: [`tool_info!`](crate::tool_info) gives
+    /// the calling crate's.
+    fn tool(&self) -> ToolInfo;
 
     /// The scenario names, in the order help and errors list them.
     fn scenarios(&self) -> Vec<String>;
@@ -138,7 +150,9 @@ pub trait Catalog: Send + Sync {
     /// The domain of `scenario`, or `None` when the catalog does not know it.
     fn domain(&self, scenario: &str) -> Option<Self::Domain>;
 
-    /// The built-in operators of `scenario`, by name, as `readings` read them.
+    /// The built-in operators of `scenario`, by name, as `readings` read them. This and
+    /// [`Catalog::load_operator`] are only asked about a scenario for which
+    /// [`Catalog::domain`] gave a domain.
     fn operators(&self, scenario: &str, readings: &Readings) -> Vec<(String, OperatorOf<Self>)>;
 
     /// Loads an operator of `scenario` from a file (a suite's `operator_files`, or a file
@@ -204,7 +218,8 @@ pub fn find_operator<C: Catalog>(
     {
         return Ok(found);
     }
-    if Path::new(name).is_file() {
+    // Any existing path is the catalog's to read, so a FIFO or a folder gets its refusal.
+    if Path::new(name).exists() {
         return Ok(catalog.load_operator(scenario, Path::new(name), readings)?);
     }
     let known: Vec<String> = catalog

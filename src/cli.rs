@@ -36,10 +36,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run the embedded suite (for the UGV scenarios, the paper's seven experiments; see
-    /// `config`).
+    /// Run the embedded suite (see `config`).
     Reproduce(RunOptions),
-    /// Run the experiments of a config file (start from `trustcbr config`).
+    /// Run the experiments of a config file (start from the output of `config`).
     Run {
         /// The experiment config (RON).
         config: PathBuf,
@@ -94,7 +93,7 @@ enum CasesCommand {
 struct SweepArgs {
     #[command(subcommand)]
     merge: Option<SweepCommand>,
-    /// The sweep config (RON; for example `domains/experiments/open-readings.ron`).
+    /// The sweep config (RON).
     file: Option<PathBuf>,
     /// Report folder.
     #[arg(long, default_value = "sweep")]
@@ -147,7 +146,8 @@ struct RenderArgs {
     /// The scenario (e.g. `movement`).
     #[arg(long)]
     scenario: String,
-    /// The behavior, e.g. `speed=3.5,padding=0.4` (every component of the scenario's space).
+    /// The behavior: every component of the scenario's space as NAME=VALUE, comma-separated
+    /// (e.g. `speed=3.5,padding=0.4`).
     #[arg(long)]
     behavior: String,
     /// Seed of the run.
@@ -351,7 +351,7 @@ fn run_experiments<C: Catalog>(
     for bar in &progress {
         bar.finish();
     }
-    println!("Behaviors evaluated per trial (mean ± 95% CI), the paper's two arms:\n");
+    println!("Behaviors evaluated per trial (mean ± 95% CI), the first two arms:\n");
     println!("{}", suite_table(&config, &results));
     print!("{}", suite_best_arms(&config, &results));
     println!(
@@ -495,14 +495,16 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     let cases = Arc::new(SharedCases::open(&domain, &location)?);
     let loaded = cases.current(|memory, _| memory.base().len())?;
     eprintln!(
-        "trustcbr serve: {} behaviors, {loaded} cases loaded from {}",
+        "{} serve: {} behaviors, {loaded} cases loaded from {}",
+        catalog.tool().name,
         domain.space.size(),
         cases.location()
     );
     if !cases.writable() {
         eprintln!(
-            "{} is a RON case file: served read-only, no case is retained (import it into a database with `trustcbr cases import`)",
-            cases.location()
+            "{} is a RON case file: served read-only, no case is retained (import it into a database with `{} cases import`)",
+            cases.location(),
+            catalog.tool().name
         );
     }
     match args.listen {

@@ -22,7 +22,7 @@ pub mod suite;
 pub mod sweep;
 pub mod ugv;
 
-pub use catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo};
+pub use catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo, UnknownScenario};
 pub use ugv::UgvCatalog;
 
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of

@@ -893,6 +893,9 @@ mod tests {
 
     impl Catalog for WithOwnArm {
         type Domain = domains::UgvDomain;
+        fn tool(&self) -> crate::ToolInfo {
+            crate::tool_info!()
+        }
         fn scenarios(&self) -> Vec<String> {
             UgvCatalog.scenarios()
         }

@@ -3,7 +3,7 @@
 //! experiments as the embedded suite. The shipped `trustcbr` binary is
 //! [`crate::cli::main`] over this catalog.
 
-use crate::catalog::{Catalog, CatalogError, Reading, Readings};
+use crate::catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo};
 use cbr_core::Behavior;
 use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
 use std::path::Path;
@@ -36,6 +36,10 @@ impl UgvCatalog {
 
 impl Catalog for UgvCatalog {
     type Domain = UgvDomain;
+
+    fn tool(&self) -> ToolInfo {
+        crate::tool_info!()
+    }
 
     fn scenarios(&self) -> Vec<String> {
         Scenario::ALL

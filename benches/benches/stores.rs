@@ -37,7 +37,7 @@ fn fill(location: &Location, domain: &DomainDefinition) {
 }
 
 fn bench_store(c: &mut Criterion, name: &str, location: &Location) {
-    let domain = DomainDefinition::resolve("patrol").expect("a built-in domain");
+    let domain = DomainDefinition::builtin("patrol", domains::spaces::patrol_space());
     fill(location, &domain);
     let mut group = c.benchmark_group("stores");
     group

@@ -274,6 +274,7 @@ fn color(p: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ugv::UgvDomain;
     use crate::{Scenario, builtin_operators};
 
     #[test]

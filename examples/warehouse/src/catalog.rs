@@ -4,7 +4,6 @@
 use crate::domain::{PICKING, WarehouseDomain};
 use crate::operator::{WarehouseOperator, builtin_operators};
 use std::path::Path;
-use trustcbr::catalog::UnknownScenario;
 use trustcbr::{Catalog, CatalogError, Readings, ToolInfo};
 
 /// The suite `reproduce` runs and `config` prints (`experiments/suite.ron`).
@@ -18,12 +17,7 @@ impl Catalog for WarehouseCatalog {
     type Domain = WarehouseDomain;
 
     fn tool(&self) -> ToolInfo {
-        ToolInfo {
-            name: env!("CARGO_PKG_NAME").to_owned(),
-            version: env!("CARGO_PKG_VERSION").to_owned(),
-            git_commit: None,
-            about: env!("CARGO_PKG_DESCRIPTION").to_owned(),
-        }
+        trustcbr::tool_info!()
     }
 
     fn scenarios(&self) -> Vec<String> {
@@ -34,10 +28,8 @@ impl Catalog for WarehouseCatalog {
         (scenario == PICKING).then(WarehouseDomain::new)
     }
 
-    fn operators(&self, scenario: &str, _: &Readings) -> Vec<(String, WarehouseOperator)> {
-        if scenario != PICKING {
-            return Vec::new();
-        }
+    // The tool asks for operators only of a scenario `domain` knows: `picking`.
+    fn operators(&self, _: &str, _: &Readings) -> Vec<(String, WarehouseOperator)> {
         builtin_operators()
             .into_iter()
             .map(|o| (o.name.clone(), o))
@@ -46,19 +38,10 @@ impl Catalog for WarehouseCatalog {
 
     fn load_operator(
         &self,
-        scenario: &str,
+        _: &str,
         path: &Path,
         _: &Readings,
     ) -> Result<(String, WarehouseOperator), CatalogError> {
-        if scenario != PICKING {
-            return Err(CatalogError {
-                path: Some(path.to_owned()),
-                reason: Box::new(UnknownScenario {
-                    name: scenario.to_owned(),
-                    known: PICKING.to_owned(),
-                }),
-            });
-        }
         // The operator's errors name the file already.
         let operator = WarehouseOperator::load(path).map_err(|e| CatalogError {
             path: None,
