@@ -5,7 +5,7 @@
 //! draws, enumerates, ranks, measures (similarity, number of changes) and displays
 //! behaviors in real units. Neither knows what the behaviors are used for.
 
-use crate::component::{Component, ComponentError};
+use crate::component::{ComponentError, NamedComponent};
 use crate::similarity::SimilarityMeasure;
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
@@ -141,7 +141,7 @@ pub enum SpaceError {
 /// The Cartesian product of a list of components, with component weights for similarity.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BehaviorSpace {
-    components: Vec<Component>,
+    components: Vec<NamedComponent>,
     weights: Vec<f64>,
     #[serde(skip)]
     weight_sum: f64,
@@ -152,7 +152,7 @@ pub struct BehaviorSpace {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SpaceDefinition {
-    components: Vec<Component>,
+    components: Vec<NamedComponent>,
     /// Empty means equal weights.
     #[serde(default)]
     weights: Vec<f64>,
@@ -168,13 +168,13 @@ impl<'de> Deserialize<'de> for BehaviorSpace {
 
 impl BehaviorSpace {
     /// A space with equal component weights.
-    pub fn new(components: Vec<Component>) -> Result<Self, SpaceError> {
+    pub fn new(components: Vec<NamedComponent>) -> Result<Self, SpaceError> {
         Self::with_weights(components, None)
     }
 
     /// A space with the given component weights (equal weights when `None`).
     pub fn with_weights(
-        components: Vec<Component>,
+        components: Vec<NamedComponent>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self, SpaceError> {
         if components.is_empty() || components.len() > MAX_COMPONENTS {
@@ -207,7 +207,7 @@ impl BehaviorSpace {
     }
 
     /// The components, in order.
-    pub fn components(&self) -> &[Component] {
+    pub fn components(&self) -> &[NamedComponent] {
         &self.components
     }
 
@@ -293,7 +293,10 @@ impl BehaviorSpace {
 
     /// The largest number of changes between any two behaviors of the space.
     pub fn max_changes(&self) -> u32 {
-        self.components.iter().map(Component::max_changes).sum()
+        self.components
+            .iter()
+            .map(NamedComponent::max_changes)
+            .sum()
     }
 
     /// Calls `visit` for every behavior exactly `changes` changes away from `center`.
@@ -322,7 +325,7 @@ impl BehaviorSpace {
         }
         let spare: u32 = self.components[component + 1..]
             .iter()
-            .map(Component::max_changes)
+            .map(NamedComponent::max_changes)
             .sum();
         let c = &self.components[component];
         let here = center.get(component);
@@ -376,7 +379,7 @@ impl BehaviorSpace {
 
     /// A behavior from `(component name, value as text)` pairs, every component exactly
     /// once, in any order. Values are numbers on a numeric grid (never `NaN` or an
-    /// infinity) or labels of a categorical component.
+    /// infinity), labels of a categorical component, or what a custom kind parses.
     pub fn from_named_values<'a>(
         &self,
         pairs: impl IntoIterator<Item = (&'a str, &'a str)>,
@@ -396,7 +399,7 @@ impl BehaviorSpace {
                 .ok_or_else(|| SpaceError::BadValue {
                     name: name.to_owned(),
                     value: value.trim().to_owned(),
-                    allowed: describe_values(component),
+                    allowed: component.describe_values(),
                 })?;
             if indices[k].replace(index).is_some() {
                 return Err(SpaceError::RepeatedComponent(name.to_owned()));
@@ -430,21 +433,6 @@ fn name_list(what: &str, names: &[String]) -> String {
     let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
     let plural = if names.len() == 1 { "" } else { "s" };
     format!("{what}{plural} {}", quoted.join(", "))
-}
-
-fn describe_values(component: &Component) -> String {
-    let last = component.len() as u16 - 1;
-    match &component.values {
-        crate::component::Values::Numeric { step, .. } => format!(
-            "{} to {} in steps of {}",
-            component.display_value(0),
-            component.display_value(last),
-            step
-        ),
-        crate::component::Values::Categorical { labels, .. } => {
-            format!("one of {}", labels.join(", "))
-        }
-    }
 }
 
 impl SimilarityMeasure<Behavior> for BehaviorSpace {
@@ -489,8 +477,8 @@ mod tests {
 
     fn movement() -> BehaviorSpace {
         BehaviorSpace::new(vec![
-            Component::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
-            Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+            NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
+            NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
         ])
         .unwrap()
     }
@@ -631,11 +619,11 @@ mod tests {
                 .map(|(k, &(n, numeric))| {
                     let name = format!("c{k}");
                     if numeric {
-                        Component::numeric(&name, "", 0.0, 0.5, n).unwrap()
+                        NamedComponent::numeric(&name, "", 0.0, 0.5, n).unwrap()
                     } else {
                         let labels: Vec<String> = (0..n).map(|i| format!("v{i}")).collect();
                         let refs: Vec<&str> = labels.iter().map(String::as_str).collect();
-                        Component::categorical(&name, &refs).unwrap()
+                        NamedComponent::categorical(&name, &refs).unwrap()
                     }
                 })
                 .collect();
