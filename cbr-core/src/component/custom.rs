@@ -6,7 +6,8 @@
 //! symmetric, never from a value to itself, connecting every value; every shown value
 //! parses back to its index; axis values finite; the definition reads back to itself. The
 //! number of changes between two values is the shortest path of adjacent values between
-//! them, tabled here once, so custom kinds have at most [`MAX_CUSTOM_VALUES`] values.
+//! them. Similarities and changes are tabled here once, so retrieval and search read no
+//! trait object, and custom kinds have at most [`MAX_CUSTOM_VALUES`] values.
 //!
 //! A kind is stored as its name and its *definition*, the kind's own serde form held as a
 //! self-describing value: `Custom(kind: "log-grid", definition: {"min": 1.0, ...})` in RON,
@@ -20,8 +21,8 @@ use std::collections::VecDeque;
 use std::fmt;
 use std::sync::Arc;
 
-/// Largest number of values of a custom kind (every pair is checked and its number of
-/// changes tabled when the kind is wrapped).
+/// Largest number of values of a custom kind (every pair is checked, and its similarity
+/// and number of changes tabled, when the kind is wrapped: at most 10 MiB).
 pub const MAX_CUSTOM_VALUES: usize = 1024;
 
 /// A user's kind of component that can be stored: a [`Component`] with a serde form and a
@@ -47,6 +48,9 @@ struct Checked {
     component: Box<dyn Component>,
     definition: serde_json::Value,
     len: usize,
+    /// Similarity of values `a` and `b` at `a * len + b` (the hot path reads no trait
+    /// object).
+    similarities: Vec<f64>,
     /// Number of changes between values `a` and `b` at `a * len + b`.
     changes: Vec<u16>,
     max_changes: u32,
@@ -165,7 +169,8 @@ impl CustomComponent {
         if len == 0 || len > MAX_CUSTOM_VALUES {
             return Err(fail(KindProblem::ValueCount(len)));
         }
-        let neighbours = check_similarity_and_adjacency(&component).map_err(fail)?;
+        let (similarities, neighbours) =
+            check_similarity_and_adjacency(&component).map_err(fail)?;
         let changes = path_lengths(&component, &neighbours).map_err(fail)?;
         check_values(&component).map_err(fail)?;
         let max_changes = changes.iter().copied().max().map_or(0, u32::from);
@@ -175,6 +180,7 @@ impl CustomComponent {
                 component: Box::new(component),
                 definition,
                 len,
+                similarities,
                 changes,
                 max_changes,
             }),
@@ -205,10 +211,10 @@ impl CustomComponent {
         self.inner.len
     }
 
-    /// Similarity of the values at `a` and `b`.
+    /// Similarity of the values at `a` and `b` (tabled when the kind was checked).
     #[inline]
     pub fn similarity(&self, a: u16, b: u16) -> f64 {
-        self.inner.component.similarity(a, b)
+        self.inner.similarities[usize::from(a) * self.inner.len + usize::from(b)]
     }
 
     /// Number of changes between the values at `a` and `b`: the fewest steps between
@@ -248,10 +254,15 @@ fn shown(component: &dyn Component, index: u16) -> String {
     ValueDisplay { component, index }.to_string()
 }
 
-/// Checks every pair's similarity and adjacency; gives each value's adjacent values.
-fn check_similarity_and_adjacency(c: &dyn Component) -> Result<Vec<Vec<u16>>, KindProblem> {
+/// Checks every pair's similarity and adjacency; gives the similarity table (row-major)
+/// and each value's adjacent values.
+fn check_similarity_and_adjacency(
+    c: &dyn Component,
+) -> Result<(Vec<f64>, Vec<Vec<u16>>), KindProblem> {
     let n = c.value_count() as u16;
-    let mut neighbours = vec![Vec::new(); usize::from(n)];
+    let len = usize::from(n);
+    let mut similarities = vec![1.0; len * len];
+    let mut neighbours = vec![Vec::new(); len];
     for a in 0..n {
         let itself = c.similarity(a, a);
         if itself != 1.0 {
@@ -282,6 +293,9 @@ fn check_similarity_and_adjacency(c: &dyn Component) -> Result<Vec<Vec<u16>>, Ki
                     b_to_a,
                 });
             }
+            let (row_a, row_b) = (usize::from(a) * len, usize::from(b) * len);
+            similarities[row_a + usize::from(b)] = a_to_b;
+            similarities[row_b + usize::from(a)] = a_to_b;
             match (c.adjacent(a, b), c.adjacent(b, a)) {
                 (true, true) => {
                     neighbours[usize::from(a)].push(b);
@@ -298,7 +312,7 @@ fn check_similarity_and_adjacency(c: &dyn Component) -> Result<Vec<Vec<u16>>, Ki
             }
         }
     }
-    Ok(neighbours)
+    Ok((similarities, neighbours))
 }
 
 /// The number of changes between every pair of values (breadth-first from each value),
