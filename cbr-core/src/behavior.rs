@@ -147,6 +147,36 @@ pub struct BehaviorSpace {
     weight_sum: f64,
     #[serde(skip)]
     size: u64,
+    /// Every component's similarity of every pair of values, when every component has at
+    /// most [`TABLED_VALUES`] values (see [`BehaviorSpace::similarity`]).
+    #[serde(skip)]
+    similarity_tables: Option<Vec<SimilarityTable>>,
+}
+
+/// Largest component for which a space tables the similarities of all value pairs (a table
+/// of at most 512 KiB).
+pub const TABLED_VALUES: usize = 256;
+
+/// One component's similarity of every pair of values, row-major.
+#[derive(Clone, Debug, PartialEq)]
+struct SimilarityTable {
+    len: usize,
+    pairs: Box<[f64]>,
+}
+
+impl SimilarityTable {
+    fn of(component: &NamedComponent) -> Self {
+        let len = component.len();
+        let pairs = (0..len as u16)
+            .flat_map(|a| (0..len as u16).map(move |b| component.similarity(a, b)))
+            .collect();
+        Self { len, pairs }
+    }
+
+    #[inline]
+    fn get(&self, a: u16, b: u16) -> f64 {
+        self.pairs[usize::from(a) * self.len + usize::from(b)]
+    }
 }
 
 #[derive(Deserialize)]
@@ -198,11 +228,16 @@ impl BehaviorSpace {
             .iter()
             .try_fold(1u64, |acc, c| acc.checked_mul(c.len() as u64))
             .ok_or(SpaceError::TooLarge)?;
+        let similarity_tables = components
+            .iter()
+            .all(|c| c.len() <= TABLED_VALUES)
+            .then(|| components.iter().map(SimilarityTable::of).collect());
         Ok(Self {
             components,
             weights,
             weight_sum,
             size,
+            similarity_tables,
         })
     }
 
@@ -344,14 +379,27 @@ impl BehaviorSpace {
     }
 
     /// Weighted mean of the component similarities of `a` and `b`, in `[0, 1]`.
+    ///
+    /// Algorithm 2's inner loop: where every component is small the similarities are read
+    /// from tables made at construction (the same numbers, summed in the same order, so
+    /// the result is bit for bit the components' own).
     pub fn similarity(&self, a: &Behavior, b: &Behavior) -> f64 {
-        let total: f64 = self
-            .components
-            .iter()
-            .zip(&self.weights)
-            .zip(a.indices().iter().zip(b.indices()))
-            .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
-            .sum();
+        let pairs = a.indices().iter().zip(b.indices());
+        let total: f64 = match &self.similarity_tables {
+            Some(tables) => tables
+                .iter()
+                .zip(&self.weights)
+                .zip(pairs)
+                .map(|((t, w), (&x, &y))| w * t.get(x, y))
+                .sum(),
+            None => self
+                .components
+                .iter()
+                .zip(&self.weights)
+                .zip(pairs)
+                .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
+                .sum(),
+        };
         (total / self.weight_sum).clamp(0.0, 1.0)
     }
 
@@ -655,6 +703,42 @@ mod tests {
             prop_assert!((0.0..=1.0).contains(&s));
             prop_assert_eq!(s, space.similarity(&b, &a));
             prop_assert_eq!(space.similarity(&a, &a), 1.0);
+        }
+
+        #[test]
+        fn tabled_similarity_is_the_components_own_bit_for_bit(
+            space in small_space(),
+            weights in prop::collection::vec(0.0f64..5.0, 3),
+            seed in any::<u64>(),
+        ) {
+            let n = space.components().len();
+            let mut weights = weights[..n].to_vec();
+            weights[0] += 1.0;
+            let space = BehaviorSpace::with_weights(space.components().to_vec(), Some(weights)).unwrap();
+            prop_assert!(space.similarity_tables.is_some());
+            // The same space with a component too large to table takes the other path.
+            let mut large = space.components().to_vec();
+            large.push(NamedComponent::numeric("large", "", 0.0, 1.0, TABLED_VALUES as u16 + 1).unwrap());
+            let mut large_weights = space.weights().to_vec();
+            large_weights.push(0.0);
+            let large = BehaviorSpace::with_weights(large, Some(large_weights)).unwrap();
+            prop_assert!(large.similarity_tables.is_none());
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            for _ in 0..20 {
+                let (a, b) = (space.draw(&mut rng), space.draw(&mut rng));
+                let total: f64 = space
+                    .components()
+                    .iter()
+                    .zip(space.weights())
+                    .zip(a.indices().iter().zip(b.indices()))
+                    .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
+                    .sum();
+                let expected = (total / space.weights().iter().sum::<f64>()).clamp(0.0, 1.0);
+                prop_assert_eq!(space.similarity(&a, &b).to_bits(), expected.to_bits());
+                let extended = |b: &Behavior| Behavior::new(&[b.indices(), &[7]].concat());
+                let (a_large, b_large) = (extended(&a), extended(&b));
+                prop_assert_eq!(large.similarity(&a_large, &b_large).to_bits(), expected.to_bits());
+            }
         }
 
         #[test]

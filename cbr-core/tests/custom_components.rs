@@ -58,6 +58,10 @@ impl From<LogGrid> for LogGridDefinition {
     }
 }
 
+fn log_grid(min: f64, ratio: f64, count: u16) -> LogGrid {
+    LogGrid { min, ratio, count }
+}
+
 impl LogGrid {
     fn value(&self, index: u16) -> f64 {
         self.min * self.ratio.powi(i32::from(index))
@@ -160,11 +164,7 @@ fn register() {
 
 fn space() -> BehaviorSpace {
     register();
-    let scan = LogGrid {
-        min: 0.125,
-        ratio: 2.0,
-        count: 6,
-    };
+    let scan = log_grid(0.125, 2.0, 6);
     BehaviorSpace::new(vec![
         NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 4).unwrap(),
         NamedComponent::custom("scan_time", "s", scan).unwrap(),
@@ -377,11 +377,7 @@ fn ill_formed_kinds_are_refused_when_built() {
     );
     // Values closer than the kind's parsing tolerance (1e-9 relative): the second value,
     // shown as `1.0000000001`, parses back to the first.
-    let crowded = LogGrid {
-        min: 1.0,
-        ratio: 1.0000000001,
-        count: 2,
-    };
+    let crowded = log_grid(1.0, 1.0000000001, 2);
     let err = NamedComponent::custom("x", "", crowded).unwrap_err();
     assert!(
         matches!(
@@ -391,11 +387,7 @@ fn ill_formed_kinds_are_refused_when_built() {
         ),
         "{err}"
     );
-    let invalid = LogGrid {
-        min: 1.0,
-        ratio: 0.5,
-        count: 2,
-    };
+    let invalid = log_grid(1.0, 0.5, 2);
     let err = NamedComponent::custom("x", "", invalid).unwrap_err();
     assert!(
         err.to_string()

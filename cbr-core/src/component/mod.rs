@@ -90,7 +90,8 @@ pub const LISTED_VALUES: usize = 12;
 /// The admissible values of a component, by kind.
 ///
 /// The explicit one-byte tag lets the hot path tell the kinds apart with one compare (the
-/// niche encoding a third variant forces cost Algorithm 2 about 9%; `docs/benchmarks.md`).
+/// niche encoding a third variant forces cost Algorithm 2 about 9% on spaces whose
+/// similarities are not tabled; `docs/benchmarks.md`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "format::StoredValues", into = "format::StoredValues")]
 #[repr(u8)]
