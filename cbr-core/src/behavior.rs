@@ -5,7 +5,7 @@
 //! draws, enumerates, ranks, measures (similarity, number of changes) and displays
 //! behaviors in real units. Neither knows what the behaviors are used for.
 
-use crate::component::{Component, ComponentError};
+use crate::component::{ComponentError, NamedComponent};
 use crate::similarity::SimilarityMeasure;
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
@@ -141,18 +141,48 @@ pub enum SpaceError {
 /// The Cartesian product of a list of components, with component weights for similarity.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BehaviorSpace {
-    components: Vec<Component>,
+    components: Vec<NamedComponent>,
     weights: Vec<f64>,
     #[serde(skip)]
     weight_sum: f64,
     #[serde(skip)]
     size: u64,
+    /// Every component's similarity of every pair of values, when every component has at
+    /// most [`TABLED_VALUES`] values (see [`BehaviorSpace::similarity`]).
+    #[serde(skip)]
+    similarity_tables: Option<Vec<SimilarityTable>>,
+}
+
+/// Largest component for which a space tables the similarities of all value pairs (a table
+/// of at most 512 KiB).
+pub const TABLED_VALUES: usize = 256;
+
+/// One component's similarity of every pair of values, row-major.
+#[derive(Clone, Debug, PartialEq)]
+struct SimilarityTable {
+    len: usize,
+    pairs: Box<[f64]>,
+}
+
+impl SimilarityTable {
+    fn of(component: &NamedComponent) -> Self {
+        let len = component.len();
+        let pairs = (0..len as u16)
+            .flat_map(|a| (0..len as u16).map(move |b| component.similarity(a, b)))
+            .collect();
+        Self { len, pairs }
+    }
+
+    #[inline]
+    fn get(&self, a: u16, b: u16) -> f64 {
+        self.pairs[usize::from(a) * self.len + usize::from(b)]
+    }
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SpaceDefinition {
-    components: Vec<Component>,
+    components: Vec<NamedComponent>,
     /// Empty means equal weights.
     #[serde(default)]
     weights: Vec<f64>,
@@ -168,13 +198,13 @@ impl<'de> Deserialize<'de> for BehaviorSpace {
 
 impl BehaviorSpace {
     /// A space with equal component weights.
-    pub fn new(components: Vec<Component>) -> Result<Self, SpaceError> {
+    pub fn new(components: Vec<NamedComponent>) -> Result<Self, SpaceError> {
         Self::with_weights(components, None)
     }
 
     /// A space with the given component weights (equal weights when `None`).
     pub fn with_weights(
-        components: Vec<Component>,
+        components: Vec<NamedComponent>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self, SpaceError> {
         if components.is_empty() || components.len() > MAX_COMPONENTS {
@@ -198,16 +228,21 @@ impl BehaviorSpace {
             .iter()
             .try_fold(1u64, |acc, c| acc.checked_mul(c.len() as u64))
             .ok_or(SpaceError::TooLarge)?;
+        let similarity_tables = components
+            .iter()
+            .all(|c| c.len() <= TABLED_VALUES)
+            .then(|| components.iter().map(SimilarityTable::of).collect());
         Ok(Self {
             components,
             weights,
             weight_sum,
             size,
+            similarity_tables,
         })
     }
 
     /// The components, in order.
-    pub fn components(&self) -> &[Component] {
+    pub fn components(&self) -> &[NamedComponent] {
         &self.components
     }
 
@@ -293,7 +328,10 @@ impl BehaviorSpace {
 
     /// The largest number of changes between any two behaviors of the space.
     pub fn max_changes(&self) -> u32 {
-        self.components.iter().map(Component::max_changes).sum()
+        self.components
+            .iter()
+            .map(NamedComponent::max_changes)
+            .sum()
     }
 
     /// Calls `visit` for every behavior exactly `changes` changes away from `center`.
@@ -322,7 +360,7 @@ impl BehaviorSpace {
         }
         let spare: u32 = self.components[component + 1..]
             .iter()
-            .map(Component::max_changes)
+            .map(NamedComponent::max_changes)
             .sum();
         let c = &self.components[component];
         let here = center.get(component);
@@ -341,14 +379,27 @@ impl BehaviorSpace {
     }
 
     /// Weighted mean of the component similarities of `a` and `b`, in `[0, 1]`.
+    ///
+    /// Algorithm 2's inner loop: where every component is small the similarities are read
+    /// from tables made at construction (the same numbers, summed in the same order, so
+    /// the result is bit for bit the components' own).
     pub fn similarity(&self, a: &Behavior, b: &Behavior) -> f64 {
-        let total: f64 = self
-            .components
-            .iter()
-            .zip(&self.weights)
-            .zip(a.indices().iter().zip(b.indices()))
-            .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
-            .sum();
+        let pairs = a.indices().iter().zip(b.indices());
+        let total: f64 = match &self.similarity_tables {
+            Some(tables) => tables
+                .iter()
+                .zip(&self.weights)
+                .zip(pairs)
+                .map(|((t, w), (&x, &y))| w * t.get(x, y))
+                .sum(),
+            None => self
+                .components
+                .iter()
+                .zip(&self.weights)
+                .zip(pairs)
+                .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
+                .sum(),
+        };
         (total / self.weight_sum).clamp(0.0, 1.0)
     }
 
@@ -376,7 +427,7 @@ impl BehaviorSpace {
 
     /// A behavior from `(component name, value as text)` pairs, every component exactly
     /// once, in any order. Values are numbers on a numeric grid (never `NaN` or an
-    /// infinity) or labels of a categorical component.
+    /// infinity), labels of a categorical component, or what a custom kind parses.
     pub fn from_named_values<'a>(
         &self,
         pairs: impl IntoIterator<Item = (&'a str, &'a str)>,
@@ -396,7 +447,7 @@ impl BehaviorSpace {
                 .ok_or_else(|| SpaceError::BadValue {
                     name: name.to_owned(),
                     value: value.trim().to_owned(),
-                    allowed: describe_values(component),
+                    allowed: component.describe_values(),
                 })?;
             if indices[k].replace(index).is_some() {
                 return Err(SpaceError::RepeatedComponent(name.to_owned()));
@@ -430,21 +481,6 @@ fn name_list(what: &str, names: &[String]) -> String {
     let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
     let plural = if names.len() == 1 { "" } else { "s" };
     format!("{what}{plural} {}", quoted.join(", "))
-}
-
-fn describe_values(component: &Component) -> String {
-    let last = component.len() as u16 - 1;
-    match &component.values {
-        crate::component::Values::Numeric { step, .. } => format!(
-            "{} to {} in steps of {}",
-            component.display_value(0),
-            component.display_value(last),
-            step
-        ),
-        crate::component::Values::Categorical { labels, .. } => {
-            format!("one of {}", labels.join(", "))
-        }
-    }
 }
 
 impl SimilarityMeasure<Behavior> for BehaviorSpace {
@@ -489,8 +525,8 @@ mod tests {
 
     fn movement() -> BehaviorSpace {
         BehaviorSpace::new(vec![
-            Component::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
-            Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+            NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
+            NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
         ])
         .unwrap()
     }
@@ -631,11 +667,11 @@ mod tests {
                 .map(|(k, &(n, numeric))| {
                     let name = format!("c{k}");
                     if numeric {
-                        Component::numeric(&name, "", 0.0, 0.5, n).unwrap()
+                        NamedComponent::numeric(&name, "", 0.0, 0.5, n).unwrap()
                     } else {
                         let labels: Vec<String> = (0..n).map(|i| format!("v{i}")).collect();
                         let refs: Vec<&str> = labels.iter().map(String::as_str).collect();
-                        Component::categorical(&name, &refs).unwrap()
+                        NamedComponent::categorical(&name, &refs).unwrap()
                     }
                 })
                 .collect();
@@ -667,6 +703,42 @@ mod tests {
             prop_assert!((0.0..=1.0).contains(&s));
             prop_assert_eq!(s, space.similarity(&b, &a));
             prop_assert_eq!(space.similarity(&a, &a), 1.0);
+        }
+
+        #[test]
+        fn tabled_similarity_is_the_components_own_bit_for_bit(
+            space in small_space(),
+            weights in prop::collection::vec(0.0f64..5.0, 3),
+            seed in any::<u64>(),
+        ) {
+            let n = space.components().len();
+            let mut weights = weights[..n].to_vec();
+            weights[0] += 1.0;
+            let space = BehaviorSpace::with_weights(space.components().to_vec(), Some(weights)).unwrap();
+            prop_assert!(space.similarity_tables.is_some());
+            // The same space with a component too large to table takes the other path.
+            let mut large = space.components().to_vec();
+            large.push(NamedComponent::numeric("large", "", 0.0, 1.0, TABLED_VALUES as u16 + 1).unwrap());
+            let mut large_weights = space.weights().to_vec();
+            large_weights.push(0.0);
+            let large = BehaviorSpace::with_weights(large, Some(large_weights)).unwrap();
+            prop_assert!(large.similarity_tables.is_none());
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            for _ in 0..20 {
+                let (a, b) = (space.draw(&mut rng), space.draw(&mut rng));
+                let total: f64 = space
+                    .components()
+                    .iter()
+                    .zip(space.weights())
+                    .zip(a.indices().iter().zip(b.indices()))
+                    .map(|((c, w), (&x, &y))| w * c.similarity(x, y))
+                    .sum();
+                let expected = (total / space.weights().iter().sum::<f64>()).clamp(0.0, 1.0);
+                prop_assert_eq!(space.similarity(&a, &b).to_bits(), expected.to_bits());
+                let extended = |b: &Behavior| Behavior::new(&[b.indices(), &[7]].concat());
+                let (a_large, b_large) = (extended(&a), extended(&b));
+                prop_assert_eq!(large.similarity(&a_large, &b_large).to_bits(), expected.to_bits());
+            }
         }
 
         #[test]

@@ -1,7 +1,8 @@
 //! Generic case-based reasoning vocabulary.
 //!
 //! This crate names the concepts every CBR application here shares and nothing more:
-//! [`Component`]s and the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
+//! [`Component`]s (numeric grids, categorical labels or a user's own [`ComponentKind`]) and
+//! the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
 //! an append-only [`CaseBase`], similarity neighbourhoods of a behavior, the first difference between two spaces, [`Retriever`]s
 //! (with [`LinearRetriever`] as the reference) kept in step with the base by
 //! [`CaseMemory`], and [`Searcher`]s. It knows nothing of trust, robots or experiments;
@@ -24,7 +25,11 @@ pub mod space_diff;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
 pub use case::{Case, CaseBase, CaseBaseError, CaseId};
-pub use component::{Component, ComponentError, Values};
+pub use component::{
+    Categorical, Component, ComponentError, ComponentKind, CustomComponent, KindError, KindProblem,
+    NamedComponent, NumericGrid, RegistryError, Values, register_component_kind,
+    registered_component_kinds,
+};
 pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use memory::CaseMemory;
 pub use output::{write_atomically, write_file_in};

@@ -9,7 +9,7 @@
 //! `1 - threshold`. The walk's bound is widened by [`BOUND_SLACK`] so that floating-point
 //! rounding can never drop a behavior, and every behavior it reaches is then checked with
 //! the exact [`BehaviorSpace::similarity`]: the visited set is exactly the exact test's set.
-//! Numeric, categorical and tabled categorical components all work the same way; a
+//! Components of every kind (numeric, categorical, tabled, custom) work the same way; a
 //! zero-weight component simply contributes every one of its values.
 
 use crate::behavior::{Behavior, BehaviorSpace};
@@ -101,7 +101,7 @@ impl Walk<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::component::{Component, Values};
+    use crate::component::{Categorical, NamedComponent, Values};
     use crate::{Behavior, BehaviorSpace};
     use proptest::prelude::*;
     use rand::SeedableRng;
@@ -118,10 +118,10 @@ mod tests {
         // similarity. Below 0.05: up to 3 steps of speed and padding together (3/76), or one
         // step of scan time with at most one of speed or padding (1/36 + 1/76 < 0.05).
         let space = BehaviorSpace::new(vec![
-            Component::numeric("speed", "", 0.5, 0.5, 20).unwrap(),
-            Component::numeric("padding", "", 0.1, 0.1, 20).unwrap(),
-            Component::numeric("scan_time", "", 0.5, 0.5, 10).unwrap(),
-            Component::numeric("scan_distance", "", 0.25, 0.25, 4).unwrap(),
+            NamedComponent::numeric("speed", "", 0.5, 0.5, 20).unwrap(),
+            NamedComponent::numeric("padding", "", 0.1, 0.1, 20).unwrap(),
+            NamedComponent::numeric("scan_time", "", 0.5, 0.5, 10).unwrap(),
+            NamedComponent::numeric("scan_distance", "", 0.25, 0.25, 4).unwrap(),
         ])
         .unwrap();
         let centre = Behavior::new(&[10, 10, 5, 2]);
@@ -131,17 +131,17 @@ mod tests {
 
     #[test]
     fn tabled_categorical_components_follow_the_table() {
-        let planner = Component {
+        let planner = NamedComponent {
             name: "planner".into(),
             unit: String::new(),
-            values: Values::Categorical {
+            values: Values::Categorical(Categorical {
                 labels: vec!["a".into(), "b".into(), "c".into()],
                 similarity: Some(vec![
                     vec![1.0, 0.9, 0.0],
                     vec![0.9, 1.0, 0.5],
                     vec![0.0, 0.5, 1.0],
                 ]),
-            },
+            }),
         };
         let space = BehaviorSpace::new(vec![planner]).unwrap();
         let found = neighbourhood(&space, &Behavior::new(&[0]), 0.8);
@@ -158,7 +158,7 @@ mod tests {
             prop::collection::vec(0u8..4, 3),
         )
             .prop_map(|(specs, weights)| {
-                let components: Vec<Component> = specs
+                let components: Vec<NamedComponent> = specs
                     .iter()
                     .enumerate()
                     .map(|(k, (n, kind, table))| {
@@ -166,14 +166,11 @@ mod tests {
                         let labels: Vec<String> = (0..*n).map(|i| format!("v{i}")).collect();
                         let n = usize::from(*n);
                         match kind {
-                            0 => Component::numeric(&name, "", 0.0, 0.5, n as u16).unwrap(),
-                            1 => Component {
+                            0 => NamedComponent::numeric(&name, "", 0.0, 0.5, n as u16).unwrap(),
+                            1 => NamedComponent {
                                 name,
                                 unit: String::new(),
-                                values: Values::Categorical {
-                                    labels,
-                                    similarity: None,
-                                },
+                                values: Values::Categorical(Categorical::new(labels)),
                             },
                             _ => {
                                 // A symmetric table with 1 on the diagonal.
@@ -190,13 +187,13 @@ mod tests {
                                             .collect()
                                     })
                                     .collect();
-                                Component {
+                                NamedComponent {
                                     name,
                                     unit: String::new(),
-                                    values: Values::Categorical {
+                                    values: Values::Categorical(Categorical {
                                         labels,
                                         similarity: Some(t),
-                                    },
+                                    }),
                                 }
                             }
                         }

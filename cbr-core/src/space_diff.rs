@@ -7,7 +7,7 @@
 //! space in use, and names the first difference so the user knows what changed.
 
 use crate::behavior::BehaviorSpace;
-use crate::component::{Component, Values};
+use crate::component::{Categorical, NamedComponent, Values};
 use std::fmt;
 
 /// The first difference between two behavior spaces: `what` differs, being `this` in the
@@ -30,8 +30,9 @@ impl fmt::Display for SpaceDifference {
 
 impl BehaviorSpace {
     /// The first difference between this space and `other` (component count, then each
-    /// component in order: name, unit, kind, grid or labels, similarity table; then the
-    /// weights), or `None` when the two are the same space.
+    /// component in order: name, unit, kind, grid or labels, similarity table, or a custom
+    /// kind's name and definition; then the weights), or `None` when the two are the same
+    /// space.
     pub fn first_difference(&self, other: &BehaviorSpace) -> Option<SpaceDifference> {
         let (ours, theirs) = (self.components(), other.components());
         if ours.len() != theirs.len() {
@@ -73,7 +74,7 @@ fn difference(what: &str, this: impl fmt::Display, other: impl fmt::Display) -> 
 }
 
 /// The first difference between two components of the same name.
-fn component_difference(a: &Component, b: &Component) -> Option<SpaceDifference> {
+fn component_difference(a: &NamedComponent, b: &NamedComponent) -> Option<SpaceDifference> {
     if a.unit != b.unit {
         return Some(difference(
             "unit",
@@ -82,58 +83,64 @@ fn component_difference(a: &Component, b: &Component) -> Option<SpaceDifference>
         ));
     }
     match (&a.values, &b.values) {
-        (
-            Values::Numeric { min, step, count },
-            Values::Numeric {
-                min: min_b,
-                step: step_b,
-                count: count_b,
-            },
-        ) => {
-            if min != min_b {
-                Some(difference("min", min, min_b))
-            } else if step != step_b {
-                Some(difference("step", step, step_b))
-            } else if count != count_b {
-                Some(difference("count", count, count_b))
+        (Values::Numeric(this), Values::Numeric(other)) => {
+            if this.min != other.min {
+                Some(difference("min", this.min, other.min))
+            } else if this.step != other.step {
+                Some(difference("step", this.step, other.step))
+            } else if this.count != other.count {
+                Some(difference("count", this.count, other.count))
             } else {
                 None
             }
         }
-        (
-            Values::Categorical { labels, similarity },
-            Values::Categorical {
-                labels: labels_b,
-                similarity: similarity_b,
-            },
-        ) => {
-            if labels.len() != labels_b.len() {
-                return Some(difference("number of labels", labels.len(), labels_b.len()));
-            }
-            if let Some(k) = (0..labels.len()).find(|&k| labels[k] != labels_b[k]) {
-                return Some(difference(
-                    &format!("label {k}"),
-                    format_args!("`{}`", labels[k]),
-                    format_args!("`{}`", labels_b[k]),
-                ));
-            }
-            (similarity != similarity_b).then(|| {
-                let shown = |table: &Option<Vec<Vec<f64>>>| match table {
-                    Some(rows) => format!("{rows:?}"),
-                    None => "none (1 for equal labels, else 0)".to_owned(),
-                };
-                difference("similarity table", shown(similarity), shown(similarity_b))
-            })
+        (Values::Categorical(this), Values::Categorical(other)) => {
+            categorical_difference(this, other)
         }
-        (this, other) => Some(difference("values", kind(this), kind(other))),
+        (Values::Custom(this), Values::Custom(other)) => {
+            if this.kind() != other.kind() {
+                Some(difference(
+                    "kind",
+                    format_args!("`{}`", this.kind()),
+                    format_args!("`{}`", other.kind()),
+                ))
+            } else {
+                (this != other).then(|| {
+                    difference(
+                        "definition",
+                        this.definition_text(),
+                        other.definition_text(),
+                    )
+                })
+            }
+        }
+        (this, other) => Some(difference("values", this.kind_name(), other.kind_name())),
     }
 }
 
-fn kind(values: &Values) -> &'static str {
-    match values {
-        Values::Numeric { .. } => "numeric",
-        Values::Categorical { .. } => "categorical",
+fn categorical_difference(this: &Categorical, other: &Categorical) -> Option<SpaceDifference> {
+    let (labels, labels_b) = (&this.labels, &other.labels);
+    if labels.len() != labels_b.len() {
+        return Some(difference("number of labels", labels.len(), labels_b.len()));
     }
+    if let Some(k) = (0..labels.len()).find(|&k| labels[k] != labels_b[k]) {
+        return Some(difference(
+            &format!("label {k}"),
+            format_args!("`{}`", labels[k]),
+            format_args!("`{}`", labels_b[k]),
+        ));
+    }
+    (this.similarity != other.similarity).then(|| {
+        let shown = |table: &Option<Vec<Vec<f64>>>| match table {
+            Some(rows) => format!("{rows:?}"),
+            None => "none (1 for equal labels, else 0)".to_owned(),
+        };
+        difference(
+            "similarity table",
+            shown(&this.similarity),
+            shown(&other.similarity),
+        )
+    })
 }
 
 #[cfg(test)]
@@ -143,10 +150,10 @@ mod tests {
     fn space(scan_step: f64, labels: &[&str], weights: Option<Vec<f64>>) -> BehaviorSpace {
         BehaviorSpace::with_weights(
             vec![
-                Component::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
-                Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
-                Component::numeric("scan_time", "s", 0.5, scan_step, 20).unwrap(),
-                Component::categorical("planner", labels).unwrap(),
+                NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
+                NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+                NamedComponent::numeric("scan_time", "s", 0.5, scan_step, 20).unwrap(),
+                NamedComponent::categorical("planner", labels).unwrap(),
             ],
             weights,
         )
@@ -209,7 +216,7 @@ mod tests {
             "component 1: name: `padding` / `clearance`"
         );
         let mut kinds = a.components().to_vec();
-        kinds[3] = Component::numeric("planner", "", 0.0, 1.0, 2).unwrap();
+        kinds[3] = NamedComponent::numeric("planner", "", 0.0, 1.0, 2).unwrap();
         let kinds = BehaviorSpace::new(kinds).unwrap();
         assert_eq!(
             shown(&a, &kinds),

@@ -150,13 +150,13 @@ pub fn episode_end(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use cbr_core::NamedComponent;
 
     #[test]
     fn behaviors_are_written_in_real_units() {
         let space = BehaviorSpace::new(vec![
-            Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
-            Component::categorical("planner", &["astar", "rrt"]).unwrap(),
+            NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+            NamedComponent::categorical("planner", &["astar", "rrt"]).unwrap(),
         ])
         .unwrap();
         let b = Behavior::new(&[2, 1]);

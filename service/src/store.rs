@@ -473,8 +473,8 @@ mod tests {
         open(&location, &movement()).unwrap();
         let before = std::fs::read(&path).unwrap();
         let mut edited = movement().space.components().to_vec();
-        if let cbr_core::Values::Numeric { step, .. } = &mut edited[1].values {
-            *step = 0.05;
+        if let cbr_core::Values::Numeric(grid) = &mut edited[1].values {
+            grid.step = 0.05;
         }
         let edited = Identity {
             domain: "movement".into(),

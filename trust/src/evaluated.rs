@@ -147,13 +147,13 @@ impl<T: SimilarityMeasure<f64>> SimilarityMeasure<Vec<Evaluated>> for SetSimilar
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use cbr_core::NamedComponent;
 
     fn movement() -> Arc<BehaviorSpace> {
         Arc::new(
             BehaviorSpace::new(vec![
-                Component::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
-                Component::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+                NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
+                NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
             ])
             .unwrap(),
         )

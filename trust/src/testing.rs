@@ -10,7 +10,7 @@
 
 use crate::search::TrustSearcher;
 use crate::{Cause, Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Component, Proposal};
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use rand::{Rng, SeedableRng};
@@ -27,11 +27,11 @@ fn space_strategy() -> impl Strategy<Value = BehaviorSpace> {
             .map(|(k, &(n, numeric))| {
                 let name = format!("c{k}");
                 if numeric {
-                    Component::numeric(&name, "", 0.0, 1.0, n).expect("a valid grid")
+                    NamedComponent::numeric(&name, "", 0.0, 1.0, n).expect("a valid grid")
                 } else {
                     let labels: Vec<String> = (0..n).map(|v| format!("v{v}")).collect();
                     let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
-                    Component::categorical(&name, &labels).expect("valid labels")
+                    NamedComponent::categorical(&name, &labels).expect("valid labels")
                 }
             })
             .collect();
@@ -138,7 +138,7 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
     // One behavior: the first proposal with no evidence is that behavior; once it is
     // evaluated the space is exhausted and it is kept.
     let one = BehaviorSpace::new(vec![
-        Component::numeric("only", "", 0.0, 1.0, 1).expect("a valid grid"),
+        NamedComponent::numeric("only", "", 0.0, 1.0, 1).expect("a valid grid"),
     ])
     .expect("a valid space");
     let only = Behavior::new(&[0]);

@@ -1,7 +1,7 @@
 //! The online adapter: hand-computed episodes and invariants.
 
 use cbr_core::{
-    Behavior, BehaviorSpace, Case, CaseBase, CaseId, CaseMemory, Component, LinearRetriever,
+    Behavior, BehaviorSpace, Case, CaseBase, CaseId, CaseMemory, LinearRetriever, NamedComponent,
 };
 use proptest::prelude::*;
 use rand::SeedableRng;
@@ -19,7 +19,7 @@ fn grid(sizes: &[u16]) -> Arc<BehaviorSpace> {
             sizes
                 .iter()
                 .enumerate()
-                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
+                .map(|(k, &n)| NamedComponent::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
                 .collect(),
         )
         .unwrap(),

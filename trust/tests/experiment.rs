@@ -1,7 +1,7 @@
 //! The experiment machinery on a toy domain: pairing, determinism across thread counts,
 //! statistics and the report files.
 
-use cbr_core::{Behavior, BehaviorSpace, Component};
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
@@ -22,7 +22,7 @@ struct Favourite(Behavior);
 
 impl Toy {
     fn new() -> Self {
-        let c = |name: &str| Component::numeric(name, "", 0.0, 1.0, 6).unwrap();
+        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 6).unwrap();
         Self {
             space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
         }

@@ -3,7 +3,7 @@
 //! case bases, queries and exclusions, with cases retained before and between queries; and
 //! an adapter must make the same decisions whichever retriever it is configured with.
 
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Component, Values};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Categorical, NamedComponent, Values};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use rand::{Rng, SeedableRng};
@@ -35,21 +35,20 @@ fn space() -> impl Strategy<Value = Arc<BehaviorSpace>> {
         prop::collection::vec(prop_oneof![Just(1.0), Just(0.0), 0.1f64..3.0], 3),
     )
         .prop_map(|(specs, weights)| {
-            let components: Vec<Component> = specs
+            let components: Vec<NamedComponent> = specs
                 .into_iter()
                 .enumerate()
                 .map(|(k, (kind, n, table))| {
                     let name = format!("c{k}");
                     let labels = |n: usize| (0..n).map(|i| format!("v{i}")).collect::<Vec<_>>();
                     match kind {
-                        0 | 1 => Component::numeric(&name, "", 0.0, 0.5, n).unwrap(),
-                        2 => Component {
+                        0 | 1 => NamedComponent::numeric(&name, "", 0.0, 0.5, n).unwrap(),
+                        2 => NamedComponent {
                             name,
                             unit: String::new(),
-                            values: Values::Categorical {
-                                labels: labels(usize::from(n % 4 + 1)),
-                                similarity: None,
-                            },
+                            values: Values::Categorical(Categorical::new(labels(usize::from(
+                                n % 4 + 1,
+                            )))),
                         },
                         _ => {
                             let n = usize::from(n % 4 + 1);
@@ -66,13 +65,13 @@ fn space() -> impl Strategy<Value = Arc<BehaviorSpace>> {
                                         .collect()
                                 })
                                 .collect();
-                            Component {
+                            NamedComponent {
                                 name,
                                 unit: String::new(),
-                                values: Values::Categorical {
+                                values: Values::Categorical(Categorical {
                                     labels: labels(n),
                                     similarity: Some(t),
-                                },
+                                }),
                             }
                         }
                     }
@@ -208,7 +207,7 @@ fn patrol_like() -> Arc<BehaviorSpace> {
             [20u16, 20, 10, 4]
                 .iter()
                 .enumerate()
-                .map(|(k, &n)| Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
+                .map(|(k, &n)| NamedComponent::numeric(&format!("c{k}"), "", 0.0, 1.0, n).unwrap())
                 .collect(),
         )
         .unwrap(),
@@ -271,8 +270,8 @@ fn episode_shaped_case_bases_get_the_linear_answer() {
 fn scripted_run(kind: RetrieverKind) -> Vec<String> {
     let space = Arc::new(
         BehaviorSpace::new(vec![
-            Component::numeric("a", "", 0.0, 1.0, 20).unwrap(),
-            Component::numeric("b", "", 0.0, 1.0, 20).unwrap(),
+            NamedComponent::numeric("a", "", 0.0, 1.0, 20).unwrap(),
+            NamedComponent::numeric("b", "", 0.0, 1.0, 20).unwrap(),
         ])
         .unwrap(),
     );

@@ -2,7 +2,7 @@
 //! the specification) against this crate's Algorithms 1 (through every retriever) and 2 and
 //! random walk.
 
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseBase, CaseMemory, Component};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseBase, CaseMemory, NamedComponent};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
@@ -75,7 +75,7 @@ fn space(specs: &[ComponentSpec]) -> Arc<BehaviorSpace> {
         BehaviorSpace::new(
             specs
                 .iter()
-                .map(|c| Component::numeric(&c.name, "", c.min, c.step, c.size).unwrap())
+                .map(|c| NamedComponent::numeric(&c.name, "", c.min, c.step, c.size).unwrap())
                 .collect(),
         )
         .unwrap(),

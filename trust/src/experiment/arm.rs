@@ -171,7 +171,7 @@ mod tests {
     fn every_builtin_name_builds_and_others_are_refused_with_the_list() {
         let space = Arc::new(
             BehaviorSpace::new(vec![
-                cbr_core::Component::numeric("x", "", 0.0, 1.0, 3).unwrap(),
+                cbr_core::NamedComponent::numeric("x", "", 0.0, 1.0, 3).unwrap(),
             ])
             .unwrap(),
         );

@@ -61,12 +61,13 @@ impl RetrieverKind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use cbr_core::NamedComponent;
 
     #[test]
     fn config_names_are_the_retrievers_names() {
         let space = Arc::new(
-            BehaviorSpace::new(vec![Component::numeric("x", "", 0.0, 1.0, 3).unwrap()]).unwrap(),
+            BehaviorSpace::new(vec![NamedComponent::numeric("x", "", 0.0, 1.0, 3).unwrap()])
+                .unwrap(),
         );
         for kind in RetrieverKind::ALL {
             let retriever = kind.build(space.clone(), 0.95).unwrap();

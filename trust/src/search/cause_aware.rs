@@ -225,7 +225,7 @@ impl Searcher for CauseAware {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use cbr_core::Component;
+    use cbr_core::NamedComponent;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
@@ -234,7 +234,7 @@ mod tests {
         // Two components of 10 values. Collisions happen only at low values of `a`;
         // deadline misses only at low values of `b`. The operator of this episode is
         // bothered by collisions alone, so the searcher should raise `a` and may leave `b`.
-        let c = |name: &str| Component::numeric(name, "", 0.0, 1.0, 10).unwrap();
+        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 10).unwrap();
         let space = BehaviorSpace::new(vec![c("a"), c("b")]).unwrap();
         let mut searcher = CauseAware::new();
         for a in 0..10u16 {
@@ -278,7 +278,8 @@ mod tests {
         // Overall rate (4 + 1) / (10 + 2) = 5/12. At a = 0: (4 + 2 * 5/12) / (5 + 2) =
         // (4 + 0.8333) / 7 = 0.690476; at a = 1: (0 + 0.8333) / (5 + 2) = 0.119048.
         let space =
-            BehaviorSpace::new(vec![Component::numeric("a", "", 0.0, 1.0, 2).unwrap()]).unwrap();
+            BehaviorSpace::new(vec![NamedComponent::numeric("a", "", 0.0, 1.0, 2).unwrap()])
+                .unwrap();
         let mut searcher = CauseAware::new();
         let (low, high) = (Behavior::new(&[0]), Behavior::new(&[1]));
         for i in 0..5 {

@@ -115,7 +115,7 @@ pub(crate) fn grid(sizes: &[u16]) -> BehaviorSpace {
             .iter()
             .enumerate()
             .map(|(k, &n)| {
-                cbr_core::Component::numeric(&format!("c{k}"), "", 0.0, 1.0, n)
+                cbr_core::NamedComponent::numeric(&format!("c{k}"), "", 0.0, 1.0, n)
                     .expect("a valid grid")
             })
             .collect(),
