@@ -6,6 +6,7 @@
 //! RON, reads the trace and decides the [`trust::Outcome`]. The world and the robot are
 //! documented, with the reasons for every number, in `docs/simulation.md`.
 
+pub mod causes;
 pub mod detector;
 pub mod drive;
 pub mod geometry;

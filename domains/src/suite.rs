@@ -340,7 +340,10 @@ impl ExperimentSpec {
         let base = origin.parent().unwrap_or(Path::new("."));
         let mut operators: Vec<OperatorModel> = builtin_operators(self.scenario);
         for file in &self.operator_files {
-            operators.push(OperatorModel::load(&base.join(file))?);
+            operators.push(OperatorModel::load(
+                &base.join(file),
+                self.scenario.causes(),
+            )?);
         }
         if self.scenario == Scenario::Patrol && reading == PatrolWeights::ThreeAndOne {
             for op in &mut operators {
@@ -730,8 +733,8 @@ mod tests {
         let (w, t) = (&as_written[0].1.weights, &three[0].1.weights);
         assert!((w.completed - 1.0 / 3.0).abs() < 1e-15);
         assert!((t.completed - 1.0).abs() < 1e-15);
-        assert!((t.of(trust::Cause::Collision) - 1.0).abs() < 1e-15);
-        assert!((t.of(trust::Cause::Detonation) - 3.0).abs() < 1e-15);
+        assert!((t.of(crate::causes::COLLISION) - 1.0).abs() < 1e-15);
+        assert!((t.of(crate::causes::DETONATION) - 3.0).abs() < 1e-15);
         // Movement operators are not patrol operators: unchanged.
         let movement = ExperimentSpec {
             scenario: Scenario::Movement,

@@ -57,9 +57,9 @@ fn drive(
             let outcome = if rng.random_bool(0.3) {
                 Outcome::completed(1.0, 1.0)
             } else if rng.random_bool(0.5) {
-                Outcome::failed(0.5, Cause::Collision, 2.0)
+                Outcome::failed(0.5, Cause::from_static("dropped-item"), 2.0)
             } else {
-                Outcome::interrupted(1.0, Cause::Deadline, 3.0)
+                Outcome::interrupted(1.0, Cause::from_static("too-slow"), 3.0)
             };
             searcher.observe(&current, &outcome);
         }
@@ -150,7 +150,10 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
         Proposal::Next(only),
         "with no evidence the one behavior is proposed"
     );
-    searcher.observe(&only, &Outcome::failed(1.0, Cause::Stuck, 1.0));
+    searcher.observe(
+        &only,
+        &Outcome::failed(1.0, Cause::from_static("stalled"), 1.0),
+    );
     let evaluated = [Evaluated {
         behavior: only,
         time: 1.0,

@@ -292,7 +292,7 @@ fn scripted_run(kind: RetrieverKind) -> Vec<String> {
             let outcome = if rng.random_bool(p) {
                 Outcome::completed(1.0, duration)
             } else {
-                Outcome::interrupted(1.0, Cause::Deadline, duration)
+                Outcome::interrupted(1.0, Cause::from_static("too-slow"), duration)
             };
             let decision = adapter.record(&outcome).unwrap();
             let settled = matches!(decision, Decision::Settled(_));
