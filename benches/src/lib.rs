@@ -23,6 +23,11 @@
 //!
 //! Queries are drawn the same way from another seed. `docs/benchmarks.md` gives the
 //! achieved statistics and how to measure the real lengths again.
+//!
+//! [`retrieval`] puts any retriever, a user's included, into the retrieval comparison
+//! over these cases.
+
+pub mod retrieval;
 
 use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
 use domains::causes;

@@ -110,6 +110,7 @@ pub struct OperatorModel {
 
 /// Why an operator file cannot be used.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OperatorError {
     /// The file could not be read.
     #[error(transparent)]

@@ -108,6 +108,7 @@ fn distinct_causes<'de, D: serde::Deserializer<'de>>(
 
 /// Why a domain could not be loaded.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DomainError {
     /// The name is neither a built-in domain nor an existing file.
     #[error("`{0}` is neither a built-in domain (movement, patrol) nor an existing file")]

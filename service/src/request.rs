@@ -57,6 +57,7 @@ const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "cause", "duration_s"];
 
 /// Why a line is not a valid request.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RequestError {
     /// The line is not JSON.
     #[error("malformed JSON: {0}")]

@@ -8,7 +8,7 @@
 //! compares and hashes causes without allocating.
 //!
 //! The rule for a name ([`CAUSE_RULE`]): 1 to 32 bytes of lower-case kebab-case, that is
-//! words of `a-z` and `0-9` joined by single hyphens (`deadline`, `missed-object`,
+//! words of `a-z` and `0-9` joined by single hyphens (`too-slow`, `dropped-item`,
 //! `404`). [`Cause::new`] checks it at run time; [`Cause::from_static`] in a `const`
 //! checks it at compile time:
 //!
@@ -50,6 +50,7 @@ pub struct Cause {
 
 /// A cause name that breaks the rule ([`CAUSE_RULE`]).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CauseError {
     /// No name.
     #[error("a cause name is empty; {CAUSE_RULE}")]

@@ -84,6 +84,7 @@ impl Default for TrialSettings {
 
 /// Why experiments cannot be run.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PlanError {
     /// Thresholds or lambda are unusable.
     #[error("{plan}: {reason}")]

@@ -4,8 +4,8 @@
 //! Every command outcome is an observation of the behavior in use. For each cause an
 //! outcome can carry (whatever names the domain gives them, plus "no cause stated"), the
 //! searcher counts, per component and value, how many commands ended with that cause, so
-//! it knows, for instance, that collisions fall as one component rises while deadline
-//! misses rise with it. These counts persist across episodes (the physics of a robot
+//! it knows, for instance, that dropped items fall as one component rises while slow runs
+//! rise with it. These counts persist across episodes (the physics of a robot
 //! does not change with the operator) and grow within an episode with every command.
 //!
 //! How much each cause matters is its *burden*: the weight of this episode's

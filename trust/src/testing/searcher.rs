@@ -1,12 +1,5 @@
-//! Conformance kits for a user's own parts (behind the `testing` feature).
-//!
-//! [`check_searcher`] states what every search strategy must do and checks it with
-//! proptest on random spaces and random evidence; every built-in searcher passes it
-//! (`trust/tests/searchers.rs`), and a user's searcher is checked the same way:
-//!
-//! ```
-//! trust::testing::check_searcher(|| Box::new(trust::search::Uniform::new()));
-//! ```
+//! The searcher conformance kit: [`check_searcher`] states what every search strategy
+//! must do and checks it with proptest on random spaces and random evidence.
 
 use crate::search::TrustSearcher;
 use crate::{Cause, Evaluated, Outcome};
