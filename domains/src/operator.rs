@@ -135,8 +135,9 @@ pub enum OperatorError {
         file: PathBuf,
         /// The operator's name.
         operator: String,
-        /// The cause and the declared ones.
-        reason: UndeclaredCause,
+        /// The cause and the declared ones (boxed: a rare error should not make every
+        /// result that may carry one larger).
+        reason: Box<UndeclaredCause>,
     },
     /// A value is out of its allowed range.
     #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
@@ -189,7 +190,7 @@ impl OperatorModel {
             find_declared(causes, cause).map_err(|reason| OperatorError::UndeclaredCause {
                 file: origin.to_owned(),
                 operator: self.name.clone(),
-                reason,
+                reason: Box::new(reason),
             })?;
         }
         Ok(())

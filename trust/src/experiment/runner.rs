@@ -107,8 +107,9 @@ pub enum PlanError {
         plan: String,
         /// The domain's name.
         domain: String,
-        /// The cause and the declared ones.
-        reason: UndeclaredCause,
+        /// The cause and the declared ones (boxed: a rare error should not make every
+        /// result that may carry one larger).
+        reason: Box<UndeclaredCause>,
     },
     /// Two arms of a plan share a name.
     #[error("{plan}: two arms are named `{arm}`")]
@@ -405,7 +406,7 @@ fn run_trial<D: Domain>(
                 PlanError::UndeclaredCause {
                     plan: plan.name.clone(),
                     domain: plan.domain.name().to_owned(),
-                    reason,
+                    reason: Box::new(reason),
                 }
             })?;
         }
