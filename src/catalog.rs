@@ -12,9 +12,9 @@
 //! use std::path::Path;
 //! use std::process::ExitCode;
 //! use std::sync::Arc;
-//! use trustcbr::cbr_core::{Behavior, BehaviorSpace, Component};
+//! use trustcbr::cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 //! use trustcbr::rand::{Rng, RngCore};
-//! use trustcbr::trust::{Domain, Outcome, OutcomeKind};
+//! use trustcbr::trust::{Cause, DeclaredCause, Domain, Outcome};
 //! use trustcbr::{Catalog, CatalogError, Readings};
 //!
 //! /// A lamp whose brightness an operator likes or not.
@@ -28,12 +28,17 @@
 //!     fn space(&self) -> &Arc<BehaviorSpace> {
 //!         &self.0
 //!     }
+//!     fn causes(&self) -> &[DeclaredCause] {
+//!         const GLARE: DeclaredCause =
+//!             DeclaredCause { name: Cause::from_static("glare"), default_weight: None };
+//!         &[GLARE]
+//!     }
 //!     fn run(&self, b: &Behavior, wanted: &f64, rng: &mut dyn RngCore) -> Outcome {
 //!         let brightness = self.0.components()[0].real_value(b.get(0));
 //!         if rng.random::<f64>() < 1.0 - (brightness - wanted).abs() {
 //!             Outcome::completed(1.0, 1.0)
 //!         } else {
-//!             Outcome { kind: OutcomeKind::Interrupted, weight: 1.0, cause: None, duration_s: 1.0 }
+//!             Outcome::interrupted(1.0, Cause::from_static("glare"), 1.0)
 //!         }
 //!     }
 //! }
@@ -49,7 +54,7 @@
 //!         vec!["lamp".into()]
 //!     }
 //!     fn domain(&self, scenario: &str) -> Option<Lamp> {
-//!         let level = Component::numeric("brightness", "", 0.0, 0.1, 11).ok()?;
+//!         let level = NamedComponent::numeric("brightness", "", 0.0, 0.1, 11).ok()?;
 //!         (scenario == "lamp").then(|| Lamp(Arc::new(BehaviorSpace::new(vec![level]).unwrap())))
 //!     }
 //!     fn operators(&self, _: &str, _: &Readings) -> Vec<(String, f64)> {

@@ -24,8 +24,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use trust::Domain;
 use trust::experiment::report::Provenance;
+use trust::{AdapterConfig, Domain};
 
 /// The command line; name, version and description come from the catalog.
 #[derive(Parser)]
@@ -482,9 +482,14 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
         name,
         &catalog.scenarios(),
         |scenario| {
-            catalog
-                .domain(scenario)
-                .map(|d| DomainDefinition::builtin(scenario, d.space().clone()))
+            catalog.domain(scenario).map(|d| {
+                DomainDefinition::new(
+                    scenario,
+                    d.space().clone(),
+                    d.causes().to_vec(),
+                    AdapterConfig::default(),
+                )
+            })
         },
     )?)
 }

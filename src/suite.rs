@@ -802,8 +802,8 @@ mod tests {
             .weights;
         assert!((w.completed - 1.0 / 3.0).abs() < 1e-15);
         assert!((t.completed - 1.0).abs() < 1e-15);
-        assert!((t.of(trust::Cause::Collision) - 1.0).abs() < 1e-15);
-        assert!((t.of(trust::Cause::Detonation) - 3.0).abs() < 1e-15);
+        assert!((t.of(domains::causes::COLLISION) - 1.0).abs() < 1e-15);
+        assert!((t.of(domains::causes::DETONATION) - 3.0).abs() < 1e-15);
         // Movement operators are not patrol operators: unchanged.
         let movement = ExperimentSpec {
             scenario: "movement".into(),

@@ -73,7 +73,7 @@ impl Catalog for UgvCatalog {
             reason: Box::new(e),
         })?;
         // The operator's own errors name the file already.
-        let operator = OperatorModel::load(path).map_err(|e| CatalogError {
+        let operator = OperatorModel::load(path, scenario.causes()).map_err(|e| CatalogError {
             path: None,
             reason: Box::new(e),
         })?;

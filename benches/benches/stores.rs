@@ -37,7 +37,12 @@ fn fill(location: &Location, domain: &DomainDefinition) {
 }
 
 fn bench_store(c: &mut Criterion, name: &str, location: &Location) {
-    let domain = DomainDefinition::builtin("patrol", domains::spaces::patrol_space());
+    let domain = DomainDefinition::new(
+        "patrol",
+        domains::Scenario::Patrol.space(),
+        domains::Scenario::Patrol.causes().to_vec(),
+        trust::AdapterConfig::default(),
+    );
     fill(location, &domain);
     let mut group = c.benchmark_group("stores");
     group

@@ -23,10 +23,16 @@
 //!
 //! Queries are drawn the same way from another seed. `docs/benchmarks.md` gives the
 //! achieved statistics and how to measure the real lengths again.
+//!
+//! [`retrieval`] puts any retriever, a user's included, into the retrieval comparison
+//! over these cases.
 
 #![deny(missing_docs)]
 
+pub mod retrieval;
+
 use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
+use domains::causes;
 use rand::seq::SliceRandom;
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -34,8 +40,8 @@ use serde::Deserialize;
 use std::fmt;
 use trust::search::RandomWalk;
 use trust::{
-    Cause, Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate,
-    Verdict, select_behavior,
+    Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate, Verdict,
+    select_behavior,
 };
 
 /// What the operator cares about (SPEC section 8's two patrol operators).
@@ -88,23 +94,23 @@ impl SyntheticOperator {
             Focus::Detection => 0.05,
         };
         if duration > 120.0 && rng.random_bool(p_alpha) {
-            return Outcome::interrupted(LIGHT, Cause::Deadline, 120.0);
+            return Outcome::interrupted(LIGHT, causes::DEADLINE, 120.0);
         }
         let collision = 0.5 * (1.0 - d / 2.0).powi(2) * v / 10.0;
         if rng.random_bool(collision * 0.05) {
-            return Outcome::interrupted(LIGHT, Cause::Collision, rng.random_range(0.0..duration));
+            return Outcome::interrupted(LIGHT, causes::COLLISION, rng.random_range(0.0..duration));
         }
         let explosives = rng.random_range(0..=3u32);
         for object in 0..6 {
             if rng.random_bool(0.15 * (v / 10.0).powi(2)) {
-                return Outcome::interrupted(LIGHT, Cause::MissedObject, duration);
+                return Outcome::interrupted(LIGHT, causes::MISSED_OBJECT, duration);
             }
             if object < explosives {
                 if rng.random_bool((0.6 * (-s / 1.2).exp() * (0.5 + r)).min(1.0)) {
-                    return Outcome::failed(HEAVY, Cause::Detonation, duration);
+                    return Outcome::failed(HEAVY, causes::DETONATION, duration);
                 }
             } else if rng.random_bool(0.2 * (-s / 2.0).exp() * r) {
-                return Outcome::interrupted(LIGHT, Cause::FalseAlarm, duration);
+                return Outcome::interrupted(LIGHT, causes::FALSE_ALARM, duration);
             }
         }
         Outcome::completed(LIGHT, duration)

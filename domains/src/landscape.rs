@@ -6,13 +6,14 @@
 //! Each behavior's runs draw from their own ChaCha8 stream (the seed, stream = the
 //! behavior's rank), so the estimate does not depend on the number of threads.
 
+use crate::causes;
 use crate::svg::Svg;
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::fmt::Write;
-use trust::{Cause, Domain, OutcomeKind};
+use trust::{Domain, OutcomeKind};
 
 /// The runs of one behavior, counted.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,7 +24,7 @@ pub struct Tally {
     pub runs: u32,
     /// Runs the operator let complete.
     pub completed: u32,
-    /// Runs that failed or were interrupted, by cause (in [`Cause::ALL`] order).
+    /// Runs that failed or were interrupted, by cause (in [`causes::ALL`] order).
     pub causes: [u32; 6],
 }
 
@@ -87,7 +88,8 @@ pub fn estimate<D: Domain>(
                 if outcome.kind == OutcomeKind::Completed {
                     tally.completed += 1;
                 } else if let Some(cause) = outcome.cause {
-                    tally.causes[cause as usize] += 1;
+                    let index = causes::ALL.iter().position(|&c| c == cause);
+                    tally.causes[index.expect("a UGV run ends with a UGV cause")] += 1;
                 }
             }
             progress();
@@ -133,7 +135,7 @@ impl Landscape {
             write!(out, "{},", c.name).ok();
         }
         out.push_str("runs,completed,p_complete");
-        for cause in Cause::ALL {
+        for cause in causes::ALL {
             write!(out, ",{cause}").ok();
         }
         out.push('\n');

@@ -8,6 +8,7 @@
 
 #![deny(missing_docs)]
 
+pub mod causes;
 pub mod detector;
 pub mod drive;
 pub mod geometry;

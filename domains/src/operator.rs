@@ -8,17 +8,27 @@
 //! a stuck robot; it interrupts when an object is driven past unscanned
 //! (`p_missed_object`) or a harmless one is labelled explosive (`p_false_alarm`). A
 //! detonation fails the run. Reaching the goal completes it.
+//!
+//! An operator is read against the causes its scenario declares ([`crate::causes`]):
+//! `weights.by_cause` may name only those (quoted, `by_cause: {"detonation": 1.0}`).
 
 use crate::Scenario;
+use crate::causes::{COLLISION, DEADLINE, DETONATION, FALSE_ALARM, MISSED_OBJECT, STUCK};
 use crate::trace::{EventKind, Trace};
 use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use trust::{Cause, Outcome};
+use trust::{Cause, DeclaredCause, Outcome, UndeclaredCause, find_declared};
 
 /// How much each outcome weighs in the trust estimate.
+///
+/// The weight of a failure or interruption with a cause is the operator's `by_cause`
+/// entry for it; without one, the default weight the scenario declares for the cause
+/// (filled into `by_cause` when the operator is read, [`OperatorModel::from_ron`]);
+/// without that, the operator's `default`. The UGV causes declare no default weight, so
+/// for them `by_cause`, then `default`, decide.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Weights {
@@ -28,7 +38,7 @@ pub struct Weights {
     /// Weight of a failure or interruption whose cause is not listed in `by_cause`.
     #[serde(default = "one")]
     pub default: f64,
-    /// Weights of failures and interruptions by cause.
+    /// Weights of failures and interruptions by cause (causes the scenario declares).
     #[serde(default)]
     pub by_cause: BTreeMap<Cause, f64>,
 }
@@ -100,6 +110,7 @@ pub struct OperatorModel {
 
 /// Why an operator file cannot be used.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OperatorError {
     /// The file could not be read.
     #[error(transparent)]
@@ -116,6 +127,17 @@ pub enum OperatorError {
         scenario: Scenario,
         /// The built-in names.
         known: String,
+    },
+    /// `weights.by_cause` names a cause the scenario does not declare.
+    #[error("{file}: operator `{operator}`: `weights.by_cause`: {reason}")]
+    UndeclaredCause {
+        /// The file.
+        file: PathBuf,
+        /// The operator's name.
+        operator: String,
+        /// The cause and the declared ones (boxed: a rare error should not make every
+        /// result that may carry one larger).
+        reason: Box<UndeclaredCause>,
     },
     /// A value is out of its allowed range.
     #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
@@ -134,17 +156,44 @@ pub enum OperatorError {
 }
 
 impl OperatorModel {
-    /// Parses and validates an operator; `origin` names the source in errors.
-    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, OperatorError> {
-        let model: Self = parse_ron(text, origin)?;
+    /// Parses and validates an operator for a scenario that declares `causes` (its
+    /// `weights.by_cause` may name only those; their declared default weights fill the
+    /// causes it leaves out); `origin` names the source in errors.
+    pub fn from_ron(
+        text: &str,
+        origin: &Path,
+        causes: &[DeclaredCause],
+    ) -> Result<Self, OperatorError> {
+        let mut model: Self = parse_ron(text, origin)?;
         model.validate(origin)?;
+        model.check_causes(origin, causes)?;
+        for declared in causes {
+            if let Some(weight) = declared.default_weight {
+                model
+                    .weights
+                    .by_cause
+                    .entry(declared.name)
+                    .or_insert(weight);
+            }
+        }
         Ok(model)
     }
 
-    /// Reads, parses and validates an operator file.
-    pub fn load(path: &Path) -> Result<Self, OperatorError> {
+    /// Reads, parses and validates an operator file for a scenario that declares `causes`.
+    pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
         let text = read_text(path)?;
-        Self::from_ron(&text, path)
+        Self::from_ron(&text, path, causes)
+    }
+
+    fn check_causes(&self, origin: &Path, causes: &[DeclaredCause]) -> Result<(), OperatorError> {
+        for &cause in self.weights.by_cause.keys() {
+            find_declared(causes, cause).map_err(|reason| OperatorError::UndeclaredCause {
+                file: origin.to_owned(),
+                operator: self.name.clone(),
+                reason: Box::new(reason),
+            })?;
+        }
+        Ok(())
     }
 
     fn validate(&self, origin: &Path) -> Result<(), OperatorError> {
@@ -209,33 +258,29 @@ impl OperatorModel {
             if !deadline_seen && event.t > self.t_complete {
                 deadline_seen = true;
                 if react(self.p_deadline) {
-                    return interrupt(Cause::Deadline, self.t_complete);
+                    return interrupt(DEADLINE, self.t_complete);
                 }
             }
             if event.t > give_up {
-                return Outcome::failed(self.weights.of(Cause::Deadline), Cause::Deadline, give_up);
+                return Outcome::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
             }
             match event.kind {
                 EventKind::Collision { .. } if react(self.p_collision) => {
-                    return interrupt(Cause::Collision, event.t);
+                    return interrupt(COLLISION, event.t);
                 }
-                EventKind::Stuck => return interrupt(Cause::Stuck, event.t),
+                EventKind::Stuck => return interrupt(STUCK, event.t),
                 EventKind::MissedObject { .. } if react(self.p_missed_object) => {
-                    return interrupt(Cause::MissedObject, event.t);
+                    return interrupt(MISSED_OBJECT, event.t);
                 }
                 EventKind::Labelled {
                     explosive: false,
                     labelled_explosive: true,
                     ..
                 } if react(self.p_false_alarm) => {
-                    return interrupt(Cause::FalseAlarm, event.t);
+                    return interrupt(FALSE_ALARM, event.t);
                 }
                 EventKind::Detonation { .. } => {
-                    return Outcome::failed(
-                        self.weights.of(Cause::Detonation),
-                        Cause::Detonation,
-                        event.t,
-                    );
+                    return Outcome::failed(self.weights.of(DETONATION), DETONATION, event.t);
                 }
                 EventKind::Arrived { .. } => {
                     return Outcome::completed(self.weights.completed, event.t);
@@ -245,7 +290,7 @@ impl OperatorModel {
         }
         // A trace always ends with an arrival or a stuck robot; an empty one means the
         // robot never started.
-        interrupt(Cause::Stuck, 0.0)
+        interrupt(STUCK, 0.0)
     }
 }
 
@@ -280,7 +325,8 @@ pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
     sources
         .iter()
         .map(|(path, text)| {
-            OperatorModel::from_ron(text, Path::new(path)).expect("shipped operators are valid")
+            OperatorModel::from_ron(text, Path::new(path), scenario.causes())
+                .expect("shipped operators are valid")
         })
         .collect()
 }
@@ -297,7 +343,7 @@ pub fn find_operator(
     }
     let path = Path::new(name_or_path);
     if path.exists() {
-        return OperatorModel::load(path);
+        return OperatorModel::load(path, scenario.causes());
     }
     Err(OperatorError::Unknown {
         name: name_or_path.to_owned(),
@@ -353,13 +399,13 @@ mod tests {
         let names: Vec<&str> = movement.iter().map(|o| o.name.as_str()).collect();
         assert_eq!(names, ["speed-focused", "safety-focused", "balanced"]);
         assert_eq!(movement[1].p_collision, 0.95);
-        assert_eq!(movement[1].weights.of(Cause::Collision), 1.0);
+        assert_eq!(movement[1].weights.of(COLLISION), 1.0);
         let patrol = builtin_operators(Scenario::Patrol);
         let names: Vec<&str> = patrol.iter().map(|o| o.name.as_str()).collect();
         assert_eq!(names, ["speed-focused", "detection-focused"]);
         assert_eq!(patrol[0].t_complete, 120.0);
-        assert_eq!(patrol[0].weights.of(Cause::Detonation), 1.0);
-        assert!((patrol[0].weights.of(Cause::Collision) - 1.0 / 3.0).abs() < 1e-15);
+        assert_eq!(patrol[0].weights.of(DETONATION), 1.0);
+        assert!((patrol[0].weights.of(COLLISION) - 1.0 / 3.0).abs() < 1e-15);
         assert!((patrol[0].weights.completed - 1.0 / 3.0).abs() < 1e-15);
     }
 
@@ -376,13 +422,13 @@ mod tests {
         let late = trace(&[(4.0, HIT), (40.0, ARRIVED)]);
         // Interrupted on the collision, at its time.
         let o = operator(1.0, 1.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::interrupted(1.0, Cause::Collision, 4.0));
+        assert_eq!(o, Outcome::interrupted(1.0, COLLISION, 4.0));
         // Interrupted at the deadline.
         let o = operator(1.0, 0.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::interrupted(1.0, Cause::Deadline, 15.0));
+        assert_eq!(o, Outcome::interrupted(1.0, DEADLINE, 15.0));
         // Let go on, then given up on at twice the deadline.
         let o = operator(0.0, 0.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::failed(1.0, Cause::Deadline, 30.0));
+        assert_eq!(o, Outcome::failed(1.0, DEADLINE, 30.0));
     }
 
     #[test]
@@ -395,14 +441,14 @@ mod tests {
             labelled_explosive: true,
         };
         let o = op.judge(&trace(&[(20.0, false_alarm), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o.cause, Some(Cause::FalseAlarm));
+        assert_eq!(o.cause, Some(FALSE_ALARM));
         assert_eq!(o.kind, OutcomeKind::Interrupted);
         let boom = EventKind::Detonation { object: 2 };
         let o = op.judge(&trace(&[(50.0, boom), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o, Outcome::failed(1.0, Cause::Detonation, 50.0));
+        assert_eq!(o, Outcome::failed(1.0, DETONATION, 50.0));
         let missed = EventKind::MissedObject { object: 1 };
         let o = op.judge(&trace(&[(10.0, missed), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o.cause, Some(Cause::MissedObject));
+        assert_eq!(o.cause, Some(MISSED_OBJECT));
     }
 
     #[test]
@@ -420,35 +466,68 @@ mod tests {
     #[test]
     fn errors_name_the_place_and_the_field() {
         let origin = Path::new("ops/x.ron");
-        let err = OperatorModel::from_ron(
-            "(name: \"x\",\n t_complete: 15.0,\n p_deadlin: 1.0)",
-            origin,
-        )
-        .unwrap_err()
-        .to_string();
+        let read = |text: &str| {
+            OperatorModel::from_ron(text, origin, Scenario::Movement.causes())
+                .unwrap_err()
+                .to_string()
+        };
+        let err = read("(name: \"x\",\n t_complete: 15.0,\n p_deadlin: 1.0)");
         assert!(err.starts_with("ops/x.ron:3:"), "{err}");
-        let text = "(name: \"x\", t_complete: 15.0, p_deadline: 1.5, p_collision: 0.1)";
-        let err = OperatorModel::from_ron(text, origin)
-            .unwrap_err()
-            .to_string();
+        let err = read("(name: \"x\", t_complete: 15.0, p_deadline: 1.5, p_collision: 0.1)");
         assert!(
             err.contains("`p_deadline` must be a probability in [0, 1], got 1.5"),
             "{err}"
         );
-        let text = "(name: \"x\", t_complete: 0.0, p_deadline: 1.0, p_collision: 0.1)";
-        let err = OperatorModel::from_ron(text, origin)
-            .unwrap_err()
-            .to_string();
+        let err = read("(name: \"x\", t_complete: 0.0, p_deadline: 1.0, p_collision: 0.1)");
         assert!(err.contains("`t_complete`"), "{err}");
-        let text = "(name: \"x\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
-                     weights: (by_cause: { collision: -2.0 }))";
-        let err = OperatorModel::from_ron(text, origin)
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            "(name: \"x\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
+                     weights: (by_cause: { \"collision\": -2.0 }))",
+        );
         assert!(
             err.contains("`weights.by_cause.collision` must be a finite number >= 0"),
             "{err}"
         );
+        // A cause name that breaks the rule is named where it is written.
+        let err = read(
+            "(name: \"x\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
+                     weights: (by_cause: { \"Collision\": 2.0 }))",
+        );
+        assert!(err.starts_with("ops/x.ron:2:"), "{err}");
+        assert!(err.contains("cause `Collision` has 'C' at byte 0"), "{err}");
+    }
+
+    #[test]
+    fn an_operator_names_only_its_scenarios_causes() {
+        let text = "(name: \"bomb-averse\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
+                     weights: (by_cause: { \"detonation\": 3.0 }))";
+        let origin = Path::new("ops/bomb-averse.ron");
+        let err = OperatorModel::from_ron(text, origin, Scenario::Movement.causes())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "ops/bomb-averse.ron: operator `bomb-averse`: `weights.by_cause`: cause `detonation` is not declared (declared: deadline, collision, stuck)"
+        );
+        let op = OperatorModel::from_ron(text, origin, Scenario::Patrol.causes()).unwrap();
+        assert_eq!(op.weights.of(DETONATION), 3.0);
+    }
+
+    #[test]
+    fn a_declared_default_weight_comes_between_by_cause_and_default() {
+        // A domain declaring `collision` at 0.5 and `stuck` at 0.25; the operator sets
+        // `stuck` itself and leaves `collision` and `deadline` out.
+        let causes = [
+            DeclaredCause::new(DEADLINE),
+            DeclaredCause::with_default_weight(COLLISION, 0.5).unwrap(),
+            DeclaredCause::with_default_weight(STUCK, 0.25).unwrap(),
+        ];
+        let text = "(name: \"x\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
+                     weights: (default: 2.0, by_cause: { \"stuck\": 4.0 }))";
+        let op = OperatorModel::from_ron(text, Path::new("x.ron"), &causes).unwrap();
+        assert_eq!(op.weights.of(STUCK), 4.0);
+        assert_eq!(op.weights.of(COLLISION), 0.5);
+        assert_eq!(op.weights.of(DEADLINE), 2.0);
     }
 
     proptest! {
@@ -462,7 +541,7 @@ mod tests {
             t.sort();
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let o = operator(p_deadline, 0.0).judge(&t, &mut rng);
-            prop_assert_ne!(o.cause, Some(Cause::Collision));
+            prop_assert_ne!(o.cause, Some(COLLISION));
         }
     }
 }

@@ -278,7 +278,7 @@ mod tests {
 
     #[test]
     fn describes_outcomes() {
-        let o = Outcome::interrupted(1.0, trust::Cause::Collision, 7.25);
+        let o = Outcome::interrupted(1.0, crate::causes::COLLISION, 7.25);
         assert_eq!(describe(&o), "interrupted (collision) after 7.2 s");
         assert_eq!(
             describe(&Outcome::completed(1.0, 12.0)),

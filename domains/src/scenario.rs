@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 use std::sync::Arc;
+use trust::DeclaredCause;
 
 /// A task of the UGV world.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -33,6 +34,14 @@ impl Scenario {
         match self {
             Scenario::Movement => crate::spaces::movement_space(),
             Scenario::Patrol => crate::spaces::patrol_space(),
+        }
+    }
+
+    /// The causes a run of this scenario can end with ([`crate::causes`]).
+    pub fn causes(self) -> &'static [DeclaredCause] {
+        match self {
+            Scenario::Movement => &crate::causes::MOVEMENT,
+            Scenario::Patrol => &crate::causes::PATROL,
         }
     }
 }

@@ -19,7 +19,7 @@ use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
-use trust::{Domain, Outcome};
+use trust::{DeclaredCause, Domain, Outcome};
 
 /// The behavior's settings in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -324,6 +324,10 @@ impl Domain for UgvDomain {
 
     fn space(&self) -> &Arc<BehaviorSpace> {
         &self.space
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        self.scenario.causes()
     }
 
     fn run(&self, behavior: &Behavior, operator: &OperatorModel, rng: &mut dyn RngCore) -> Outcome {

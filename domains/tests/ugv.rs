@@ -2,6 +2,7 @@
 //! real simulated runs.
 
 use cbr_core::Behavior;
+use domains::causes;
 use domains::geometry::Shape;
 use domains::{EventKind, OperatorModel, Scenario, UgvDomain, builtin_operators};
 use proptest::prelude::*;
@@ -9,7 +10,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::sync::OnceLock;
-use trust::{Cause, Domain, OutcomeKind};
+use trust::{Domain, OutcomeKind};
 
 fn domain(scenario: Scenario) -> &'static UgvDomain {
     static DOMAINS: [OnceLock<UgvDomain>; 2] = [OnceLock::new(), OnceLock::new()];
@@ -89,7 +90,7 @@ fn an_operator_with_p_collision_zero_never_interrupts_for_a_collision() {
     for _ in 0..300 {
         let mut probe = rng.clone();
         collided += d.simulate(&b, &mut probe, false).trace.collisions();
-        assert_ne!(d.run(&b, &op, &mut rng).cause, Some(Cause::Collision));
+        assert_ne!(d.run(&b, &op, &mut rng).cause, Some(causes::COLLISION));
     }
     assert!(
         collided > 0,
@@ -140,7 +141,7 @@ fn stuck_runs_are_interrupted_for_being_stuck() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let stuck = (0..200)
         .map(|_| d.run(&b, op, &mut rng))
-        .filter(|o| o.cause == Some(Cause::Stuck))
+        .filter(|o| o.cause == Some(causes::STUCK))
         .inspect(|o| assert_eq!(o.kind, OutcomeKind::Interrupted))
         .count();
     // Blocked only when people stand in the way: sometimes, not always.
@@ -156,11 +157,16 @@ fn a_new_operator_needs_no_code() {
         p_collision: 0.0,
         give_up_factor: 1.5,
     )"#;
-    let op = OperatorModel::from_ron(text, Path::new("impatient.ron")).unwrap();
+    let op = OperatorModel::from_ron(
+        text,
+        Path::new("impatient.ron"),
+        Scenario::Movement.causes(),
+    )
+    .unwrap();
     let d = domain(Scenario::Movement);
     let b = behavior(Scenario::Movement, "speed=2,padding=0.5");
     let outcome = d.run(&b, &op, &mut ChaCha8Rng::seed_from_u64(1));
-    assert_eq!(outcome.cause, Some(Cause::Deadline));
+    assert_eq!(outcome.cause, Some(causes::DEADLINE));
     assert_eq!(outcome.duration_s, 10.0);
 }
 

@@ -1,8 +1,10 @@
-//! The domain to serve: a behavior space and the adapter configuration.
+//! The domain to serve: a behavior space, the causes outcomes may carry, the adapter
+//! configuration and the parts it is built from.
 //!
 //! Either a domain the tool's catalog builds (for `trustcbr`, `movement` and `patrol`: the
-//! paper's spaces with the paper's adapter defaults) or a RON file declaring a space, and
-//! optionally the adapter config, without writing Rust:
+//! paper's spaces and the UGV causes, with the paper's adapter defaults) or a RON file
+//! declaring a space and its causes, and optionally the adapter config, without writing
+//! Rust:
 //!
 //! ```ron
 //! (
@@ -10,28 +12,77 @@
 //!         (name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 20)),
 //!         (name: "planner", values: Categorical(labels: ["astar", "rrt"])),
 //!     ]),
+//!     causes: [(name: "too-slow"), (name: "dropped-item", default_weight: 1.0)],
 //!     adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.95),
 //! )
 //! ```
 //!
-//! Every field is checked while it is read, so an error names the file, the line:column of
-//! the offending value, and the field, and shows the line.
+//! `causes` is required: the outcome reports of `serve` may carry exactly these causes
+//! (an empty list: outcomes carry none). A declared default weight is informational
+//! here, since every outcome report states its weight. Every field is checked while it is
+//! read, so an error names the file, the line:column of the offending value, and the
+//! field, and shows the line.
+//!
+//! The adapter's search strategy and retriever are built through the definition
+//! ([`DomainDefinition::build_searcher`], [`DomainDefinition::memory`]): from the kinds
+//! the adapter config names, or from a user's own factories
+//! ([`DomainDefinition::with_searcher`], [`DomainDefinition::with_retriever`]), so every
+//! session of a server gets a fresh searcher of the same making:
+//!
+//! ```
+//! use service::DomainDefinition;
+//! use std::path::Path;
+//! let file = r#"(
+//!     space: (components: [(name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 4))]),
+//!     causes: [(name: "too-slow")],
+//! )"#;
+//! let domain = DomainDefinition::from_ron(file, Path::new("robot.ron"))
+//!     .unwrap()
+//!     .with_searcher(|_space| Box::new(trust::search::Uniform::new()))
+//!     .with_retriever(|space, lambda| trust::RetrieverKind::InvertedIndex.build(space.clone(), lambda));
+//! assert_eq!(domain.build_searcher().name(), "uniform");
+//! ```
 
 use cbr_core::{BehaviorSpace, FileError, RonError, parse_ron, read_text};
 use serde::Deserialize;
+use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
-use trust::AdapterConfig;
+use trust::evaluated::LambdaError;
+use trust::experiment::{RetrieverFactory, SearcherFactory};
+use trust::search::TrustSearcher;
+use trust::{
+    AdapterConfig, ConfigError, DeclaredCause, TrustCaseBase, TrustMemory, TrustRetriever,
+};
 
 /// A domain ready to serve.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct DomainDefinition {
     /// How the domain was named (a scenario name or the file path).
     pub name: String,
     /// The behavior space.
     pub space: Arc<BehaviorSpace>,
+    /// The causes an outcome report may carry.
+    pub causes: Vec<DeclaredCause>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
+    /// A user's search strategy; `None`: the kind `adapter.search` names.
+    searcher: Option<SearcherFactory>,
+    /// A user's retriever; `None`: the kind `adapter.retriever` names.
+    retriever: Option<RetrieverFactory>,
+}
+
+impl fmt::Debug for DomainDefinition {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("DomainDefinition")
+            .field("name", &self.name)
+            .field("space", &self.space)
+            .field("causes", &self.causes)
+            .field("adapter", &self.adapter)
+            .field("own_searcher", &self.searcher.is_some())
+            .field("own_retriever", &self.retriever.is_some())
+            .finish()
+    }
 }
 
 /// The layout of a domain file.
@@ -39,12 +90,31 @@ pub struct DomainDefinition {
 #[serde(deny_unknown_fields)]
 struct DomainFile {
     space: BehaviorSpace,
+    #[serde(deserialize_with = "distinct_causes")]
+    causes: Vec<DeclaredCause>,
     #[serde(default)]
     adapter: AdapterConfig,
 }
 
+/// The declared causes, each once.
+fn distinct_causes<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Vec<DeclaredCause>, D::Error> {
+    let causes = Vec::<DeclaredCause>::deserialize(deserializer)?;
+    for (i, declared) in causes.iter().enumerate() {
+        if causes[..i].iter().any(|d| d.name == declared.name) {
+            return Err(serde::de::Error::custom(format_args!(
+                "field `causes`: cause `{}` is declared twice",
+                declared.name
+            )));
+        }
+    }
+    Ok(causes)
+}
+
 /// Why a domain could not be loaded.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum DomainError {
     /// The name is neither a built-in domain nor an existing file.
     #[error("`{name}` is neither a built-in domain ({known}) nor an existing file")]
@@ -63,12 +133,21 @@ pub enum DomainError {
 }
 
 impl DomainDefinition {
-    /// A built-in domain: `space` under the paper's adapter defaults.
-    pub fn builtin(name: &str, space: Arc<BehaviorSpace>) -> Self {
+    /// A domain named `name` over `space` whose outcomes may carry `causes`, served with
+    /// `adapter` (its search strategy and retriever are the kinds it names).
+    pub fn new(
+        name: impl Into<String>,
+        space: Arc<BehaviorSpace>,
+        causes: Vec<DeclaredCause>,
+        adapter: AdapterConfig,
+    ) -> Self {
         Self {
-            name: name.to_owned(),
+            name: name.into(),
             space,
-            adapter: AdapterConfig::default(),
+            causes,
+            adapter,
+            searcher: None,
+            retriever: None,
         }
     }
 
@@ -91,6 +170,49 @@ impl DomainDefinition {
         Self::load(Path::new(name))
     }
 
+    /// The same domain searching with a user's strategy, built afresh for every session.
+    pub fn with_searcher(
+        mut self,
+        searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,
+    ) -> Self {
+        self.searcher = Some(Arc::new(searcher));
+        self
+    }
+
+    /// The same domain retrieving cases with a user's retriever (for the space and
+    /// Algorithm 2's `lambda`).
+    pub fn with_retriever(
+        mut self,
+        retriever: impl Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError>
+        + Send
+        + Sync
+        + 'static,
+    ) -> Self {
+        self.retriever = Some(Arc::new(retriever));
+        self
+    }
+
+    /// A fresh search strategy: the user's, or the kind the adapter config names.
+    pub fn build_searcher(&self) -> Box<TrustSearcher> {
+        match &self.searcher {
+            Some(build) => build(&self.space),
+            None => self.adapter.search.build(),
+        }
+    }
+
+    /// A case memory over `cases` with the user's retriever, or the kind the adapter
+    /// config names.
+    pub fn memory(&self, cases: TrustCaseBase) -> Result<TrustMemory, ConfigError> {
+        let retriever = match &self.retriever {
+            Some(build) => build(&self.space, self.adapter.lambda)?,
+            None => self
+                .adapter
+                .retriever
+                .build(self.space.clone(), self.adapter.lambda)?,
+        };
+        Ok(TrustMemory::new(cases, retriever))
+    }
+
     /// Reads and checks a RON domain file.
     pub fn load(path: &Path) -> Result<Self, DomainError> {
         let text = read_text(path)?;
@@ -100,11 +222,12 @@ impl DomainDefinition {
     /// Parses a domain from RON text; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, DomainError> {
         let file: DomainFile = parse_ron(text, origin)?;
-        Ok(Self {
-            name: origin.display().to_string(),
-            space: Arc::new(file.space),
-            adapter: file.adapter,
-        })
+        Ok(Self::new(
+            origin.display().to_string(),
+            Arc::new(file.space),
+            file.causes,
+            file.adapter,
+        ))
     }
 }
 
@@ -118,6 +241,7 @@ mod tests {
         (name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 20)),
         (name: "planner", values: Categorical(labels: ["astar", "rrt"])),
     ]),
+    causes: [(name: "too-slow"), (name: "dropped-item", default_weight: 2.0)],
     adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.9),
 )"#;
 
@@ -150,6 +274,14 @@ mod tests {
         assert_eq!(d.space.size(), 40);
         assert_eq!(d.adapter.thresholds.trustworthy, 3.0);
         assert_eq!(d.adapter.lambda, 0.9);
+        assert_eq!(
+            d.causes,
+            [
+                DeclaredCause::new(trust::Cause::from_static("too-slow")),
+                DeclaredCause::with_default_weight(trust::Cause::from_static("dropped-item"), 2.0)
+                    .unwrap()
+            ]
+        );
         // The adapter section is optional: the paper's defaults.
         let without = GOOD.replace(
             "adapter: (thresholds: (trustworthy: 3.0, untrustworthy: -3.0), lambda: 0.9),",
@@ -157,6 +289,64 @@ mod tests {
         );
         let d = DomainDefinition::from_ron(&without, Path::new("robot.ron")).unwrap();
         assert_eq!(d.adapter, AdapterConfig::default());
+    }
+
+    #[test]
+    fn causes_are_required_named_by_the_rule_and_declared_once() {
+        let without = GOOD.replace(
+            r#"causes: [(name: "too-slow"), (name: "dropped-item", default_weight: 2.0)],"#,
+            "",
+        );
+        let err = DomainDefinition::from_ron(&without, Path::new("robot.ron"))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("missing field `causes`"), "{err}");
+        let empty = GOOD.replace(
+            r#"(name: "too-slow"), (name: "dropped-item", default_weight: 2.0)"#,
+            "",
+        );
+        let d = DomainDefinition::from_ron(&empty, Path::new("robot.ron")).unwrap();
+        assert!(d.causes.is_empty());
+        let (line, _, message, _) = error_after(r#""too-slow""#, r#""too slow""#);
+        assert_eq!(line, 6);
+        assert!(
+            message.contains("cause `too slow` has ' ' at byte 3"),
+            "{message}"
+        );
+        let (line, _, message, _) = error_after(r#""dropped-item""#, r#""too-slow""#);
+        assert_eq!(line, 6);
+        assert!(
+            message.contains("field `causes`: cause `too-slow` is declared twice"),
+            "{message}"
+        );
+        let (_, _, message, _) = error_after("default_weight: 2.0", "default_weight: -2.0");
+        assert!(
+            message.contains("`default_weight` must be a finite number >= 0, got -2"),
+            "{message}"
+        );
+        let (_, _, message, _) = error_after("(name: \"too-slow\")", "(name: \"too-slow\", w: 1)");
+        assert!(message.contains("w"), "{message}");
+    }
+
+    #[test]
+    fn a_users_parts_are_built_through_the_definition() {
+        let d = DomainDefinition::from_ron(GOOD, Path::new("robot.ron")).unwrap();
+        assert_eq!(d.build_searcher().name(), "random-walk");
+        assert_eq!(
+            d.memory(TrustCaseBase::new()).unwrap().retriever_name(),
+            "linear"
+        );
+        let d = d
+            .with_searcher(|_| trust::SearchKind::CauseAware.build())
+            .with_retriever(|space, lambda| {
+                trust::RetrieverKind::ParallelScan.build(space.clone(), lambda)
+            });
+        assert_eq!(d.build_searcher().name(), "cause-aware");
+        assert_eq!(
+            d.memory(TrustCaseBase::new()).unwrap().retriever_name(),
+            "parallel_scan"
+        );
+        assert!(format!("{d:?}").contains("own_searcher: true"));
     }
 
     #[test]
@@ -177,7 +367,7 @@ mod tests {
         assert_eq!(line, 3);
         assert!(message.contains("colour"), "{message}");
         let (line, _, message, _) = error_after("lambda: 0.9", "lambda: 0.9, tau: 1");
-        assert_eq!(line, 6);
+        assert_eq!(line, 7);
         assert!(message.contains("tau"), "{message}");
     }
 
@@ -201,7 +391,7 @@ mod tests {
     fn lambda_outside_the_unit_interval_is_named() {
         for bad in ["0.0", "1.5", "-0.2"] {
             let (line, _, message, _) = error_after("lambda: 0.9", &format!("lambda: {bad}"));
-            assert_eq!(line, 6);
+            assert_eq!(line, 7);
             assert!(
                 message.starts_with("field `lambda`: lambda must be in (0, 1]"),
                 "{message}"
@@ -215,7 +405,7 @@ mod tests {
             "trustworthy: 3.0, untrustworthy: -3.0",
             "trustworthy: -3.0, untrustworthy: 3.0",
         );
-        assert_eq!(line, 6);
+        assert_eq!(line, 7);
         assert!(
             message.contains("untrustworthy < 0 < trustworthy"),
             "{message}"
@@ -268,11 +458,21 @@ mod tests {
         assert_eq!(d.space.size(), 8 * 10 * 3);
     }
 
+    /// The built-in movement domain.
+    fn movement() -> DomainDefinition {
+        let scenario = domains::Scenario::Movement;
+        DomainDefinition::new(
+            "movement",
+            scenario.space(),
+            scenario.causes().to_vec(),
+            AdapterConfig::default(),
+        )
+    }
+
     /// Resolves `name` with `movement` as the only built-in domain.
     fn resolve(name: &str) -> Result<DomainDefinition, DomainError> {
         DomainDefinition::resolve(name, &["movement".to_owned()], |n| {
-            (n == "movement")
-                .then(|| DomainDefinition::builtin(n, domains::spaces::movement_space()))
+            (n == "movement").then(|| movement())
         })
     }
 

@@ -3,7 +3,8 @@
 //! A line is a JSON object. An outcome report carries an `outcome` field; every other
 //! request names itself in a `request` field. Any request may carry an `id` (a JSON
 //! scalar) that the reply echoes. Unknown fields, wrong types, unknown names
-//! and unusable numbers are refused with an error naming the field and what it allows.
+//! and unusable numbers are refused with an error naming the field and what it allows;
+//! an outcome's `cause` must be one the served domain declares.
 //! A key given twice in an object (at any depth) is refused rather than last-wins, and a
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
 //! adapter: it only says what was asked.
@@ -13,7 +14,7 @@ use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 use std::fmt;
 use trust::estimate::OutcomeError;
-use trust::{Cause, Outcome, OutcomeKind};
+use trust::{Cause, DeclaredCause, Outcome, OutcomeKind, UndeclaredCause, find_declared};
 
 /// How a `begin` request names the first behavior.
 #[derive(Clone, Debug, PartialEq)]
@@ -56,6 +57,7 @@ const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "cause", "duration_s"];
 
 /// Why a line is not a valid request.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RequestError {
     /// The line is not JSON.
     #[error("malformed JSON: {0}")]
@@ -97,6 +99,9 @@ pub enum RequestError {
         /// What is wrong with it.
         message: String,
     },
+    /// The outcome's cause is not one the domain declares (the message lists them).
+    #[error("field `cause`: {0}")]
+    UndeclaredCause(UndeclaredCause),
     /// The outcome's numbers are unusable (negative weight or duration; shown in the
     /// message, so not chained as a source).
     #[error("invalid outcome: {0}")]
@@ -120,8 +125,8 @@ pub struct Envelope {
 }
 
 /// Parses one line (without its newline; a leading UTF-8 byte-order mark is skipped),
-/// with its `id`. A key given twice is refused.
-pub fn parse_line(line: &[u8]) -> Envelope {
+/// with its `id`, for a domain that declares `causes`. A key given twice is refused.
+pub fn parse_line(line: &[u8], causes: &[DeclaredCause]) -> Envelope {
     let line = line
         .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
         .unwrap_or(line);
@@ -156,21 +161,25 @@ pub fn parse_line(line: &[u8]) -> Envelope {
         },
         id => Envelope {
             id,
-            request: parse_object(map),
+            request: parse_object(map, causes),
         },
     }
 }
 
-/// Parses one line (without its newline); an `id` field is allowed and ignored.
-pub fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
-    parse_line(line).request
+/// Parses one line (without its newline) for a domain that declares `causes`; an `id`
+/// field is allowed and ignored.
+pub fn parse_request(line: &[u8], causes: &[DeclaredCause]) -> Result<Request, RequestError> {
+    parse_line(line, causes).request
 }
 
-fn parse_object(map: Map<String, Value>) -> Result<Request, RequestError> {
+fn parse_object(
+    map: Map<String, Value>,
+    causes: &[DeclaredCause],
+) -> Result<Request, RequestError> {
     if map.contains_key("request") {
         parse_named(map)
     } else if map.contains_key("outcome") {
-        parse_outcome(map)
+        parse_outcome(map, causes)
     } else {
         Err(RequestError::NoKind)
     }
@@ -192,7 +201,10 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
     })
 }
 
-fn parse_outcome(map: Map<String, Value>) -> Result<Request, RequestError> {
+fn parse_outcome(
+    map: Map<String, Value>,
+    causes: &[DeclaredCause],
+) -> Result<Request, RequestError> {
     let mut fields = Fields(map);
     fields.only(OUTCOME_FIELDS, "an outcome report")?;
     let outcome = Outcome {
@@ -201,6 +213,9 @@ fn parse_outcome(map: Map<String, Value>) -> Result<Request, RequestError> {
         cause: fields.take::<Option<Cause>>("cause")?.flatten(),
         duration_s: fields.require("duration_s")?,
     };
+    if let Some(cause) = outcome.cause {
+        find_declared(causes, cause).map_err(RequestError::UndeclaredCause)?;
+    }
     outcome.validate()?;
     Ok(Request::Outcome(outcome))
 }
@@ -377,6 +392,20 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
+    /// The causes of the domain these tests serve.
+    const CAUSES: [DeclaredCause; 2] = [
+        DeclaredCause::new(Cause::from_static("too-slow")),
+        DeclaredCause::new(Cause::from_static("dropped-item")),
+    ];
+
+    fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
+        super::parse_request(line, &CAUSES)
+    }
+
+    fn parse_line(line: &[u8]) -> Envelope {
+        super::parse_line(line, &CAUSES)
+    }
+
     fn err(line: &str) -> String {
         parse_request(line.as_bytes()).unwrap_err().to_string()
     }
@@ -384,12 +413,12 @@ mod tests {
     #[test]
     fn the_issue_example_is_an_outcome() {
         let r = parse_request(
-            br#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#,
+            br#"{"outcome": "interrupted", "weight": 1.0, "cause": "too-slow", "duration_s": 10.0}"#,
         )
         .unwrap();
         assert_eq!(
             r,
-            Request::Outcome(Outcome::interrupted(1.0, Cause::Collision, 10.0))
+            Request::Outcome(Outcome::interrupted(1.0, CAUSES[0].name, 10.0))
         );
         let r =
             parse_request(br#"{"outcome":"completed","weight":0.5,"cause":null,"duration_s":3}"#)
@@ -439,9 +468,37 @@ mod tests {
             err(r#"{"outcome":"crashed","weight":1,"duration_s":1}"#),
             "field `outcome`: unknown variant `crashed`, expected one of `completed`, `failed`, `interrupted`"
         );
+        assert_eq!(
+            err(r#"{"outcome":"failed","weight":1,"cause":"gremlins","duration_s":1}"#),
+            "field `cause`: cause `gremlins` is not declared (declared: too-slow, dropped-item)"
+        );
+        assert_eq!(
+            err(r#"{"outcome":"failed","weight":1,"cause":"Gremlins!","duration_s":1}"#),
+            format!(
+                "field `cause`: cause `Gremlins!` has 'G' at byte 0; {}",
+                trust::cause::CAUSE_RULE
+            )
+        );
         assert!(
-            err(r#"{"outcome":"failed","weight":1,"cause":"gremlins","duration_s":1}"#)
-                .starts_with("field `cause`: unknown variant `gremlins`, expected one of `deadline`, `collision`")
+            err(r#"{"outcome":"failed","weight":1,"cause":7,"duration_s":1}"#)
+                .starts_with("field `cause`: invalid type: integer `7`, expected a cause name")
+        );
+        // No cause is declared: none is accepted, and a stated `null` still is.
+        assert_eq!(
+            super::parse_request(
+                br#"{"outcome":"failed","weight":1,"cause":"too-slow","duration_s":1}"#,
+                &[]
+            )
+            .unwrap_err()
+            .to_string(),
+            "field `cause`: cause `too-slow` is not declared (declared: none)"
+        );
+        assert!(
+            super::parse_request(
+                br#"{"outcome":"failed","weight":1,"cause":null,"duration_s":1}"#,
+                &[]
+            )
+            .is_ok()
         );
         assert_eq!(
             err(r#"{"outcome":"failed","weight":-1,"duration_s":1}"#),
@@ -516,7 +573,7 @@ mod tests {
             any::<bool>().prop_map(Value::Bool),
             any::<i64>().prop_map(Value::from),
             any::<f64>().prop_map(Value::from),
-            "[a-z_=,.0-9]{0,12}".prop_map(Value::from),
+            "[a-z_=,.0-9-]{0,12}".prop_map(Value::from),
         ];
         leaf.prop_recursive(3, 24, 6, |inner| {
             prop_oneof![
@@ -549,6 +606,27 @@ mod tests {
                 ("behavior".to_owned(), value),
             ]));
             let _ = parse_request(request.to_string().as_bytes());
+        }
+
+        /// An outcome's cause is accepted exactly when the domain declares it; any other
+        /// text is refused naming the field.
+        #[test]
+        fn a_cause_is_accepted_exactly_when_declared(name in "too-slow|dropped-item|[a-z-]{0,12}|.{0,40}") {
+            let line = serde_json::json!({
+                "outcome": "failed", "weight": 1, "cause": name, "duration_s": 1
+            });
+            let declared = CAUSES.iter().any(|d| d.name.as_str() == name);
+            match parse_request(line.to_string().as_bytes()) {
+                Ok(Request::Outcome(o)) => {
+                    prop_assert!(declared, "{name} accepted");
+                    prop_assert_eq!(o.cause.map(|c| c.to_string()), Some(name));
+                }
+                Ok(other) => prop_assert!(false, "{other:?}"),
+                Err(e) => {
+                    prop_assert!(!declared, "{name} refused: {e}");
+                    prop_assert!(e.to_string().starts_with("field `cause`: "), "{e}");
+                }
+            }
         }
 
         #[test]

@@ -22,7 +22,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::sync::Arc;
-use trust::{Adaptation, ConfigError, Decision, Outcome, Source};
+use trust::{Adaptation, ConfigError, Decision, DeclaredCause, Outcome, Source};
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
 const DRAW_STREAM: u64 = 1;
@@ -30,6 +30,7 @@ const DRAW_STREAM: u64 = 1;
 /// The state of one controller's conversation.
 pub struct Session {
     domain: String,
+    causes: Vec<DeclaredCause>,
     adaptation: Adaptation,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
@@ -55,18 +56,28 @@ impl From<ConfigError> for SessionError {
 }
 
 impl Session {
-    /// A session serving `domain` over the shared case memory `cases`; `seed` drives the
-    /// adapter's search and the server's draws of initial behaviors.
+    /// A session serving `domain` over the shared case memory `cases`, searching with a
+    /// fresh searcher of the domain's ([`DomainDefinition::build_searcher`]: a user's, or
+    /// the kind its config names); `seed` drives the search and the server's draws of
+    /// initial behaviors.
     pub fn new(
         domain: DomainDefinition,
         cases: Arc<SharedCases>,
         seed: u64,
     ) -> Result<Self, SessionError> {
-        let adaptation = Adaptation::new(domain.space, domain.adapter, seed)?;
+        domain.adapter.validate()?;
+        let searcher = domain.build_searcher();
+        let adaptation = Adaptation::with_parts(
+            domain.space,
+            domain.adapter,
+            searcher,
+            ChaCha8Rng::seed_from_u64(seed),
+        );
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
         Ok(Self {
             domain: domain.name,
+            causes: domain.causes,
             adaptation,
             cases,
             draws,
@@ -76,7 +87,7 @@ impl Session {
     /// Handles one request line (without its newline) and returns the reply, which echoes
     /// the request's `id`.
     pub fn handle_line(&mut self, line: &[u8]) -> Result<Reply, SessionError> {
-        let envelope = parse_line(line);
+        let envelope = parse_line(line, &self.causes);
         let reply = match envelope.request {
             Ok(request) => self.handle(request)?,
             Err(e) => Reply::Json(reply::error(e)),
@@ -242,6 +253,7 @@ impl Session {
         json!({
             "ok": "config",
             "domain": self.domain,
+            "causes": self.causes,
             "space": self.adaptation.space().as_ref(),
             "behaviors": self.adaptation.space().size(),
             "adapter": self.adaptation.config(),

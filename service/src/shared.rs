@@ -43,16 +43,15 @@ pub enum OpenError {
 
 impl SharedCases {
     /// Opens the case base at `location` for `domain` (creating a database that does not
-    /// exist yet) and loads every case into a memory with the domain's retriever.
+    /// exist yet) and loads every case into a memory with the domain's retriever
+    /// ([`DomainDefinition::memory`]: a user's, or the kind its config names).
     pub fn open(domain: &DomainDefinition, location: &Location) -> Result<Self, OpenError> {
         let identity = Identity {
             domain: domain.name.clone(),
             space: (*domain.space).clone(),
         };
         let store = store::open(location, &identity)?;
-        let memory = domain
-            .adapter
-            .memory(domain.space.clone(), TrustCaseBase::new())?;
+        let memory = domain.memory(TrustCaseBase::new())?;
         Ok(Self::load(store, memory, domain.space.clone())?)
     }
 

@@ -12,7 +12,12 @@ use trust::TrustCaseBase;
 /// The movement domain with episodes that settle after one command either way
 /// (thresholds +1 / -1).
 fn quick_movement() -> DomainDefinition {
-    let mut domain = DomainDefinition::builtin("movement", domains::spaces::movement_space());
+    let mut domain = DomainDefinition::new(
+        "movement",
+        domains::Scenario::Movement.space(),
+        domains::Scenario::Movement.causes().to_vec(),
+        trust::AdapterConfig::default(),
+    );
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
     domain
@@ -123,10 +128,64 @@ fn an_episode_over_the_protocol() {
     assert_eq!(begun["chosen_by"], "server");
     let config = ok(&mut s, r#"{"request":"config"}"#);
     assert_eq!(config["behaviors"], 400);
+    assert_eq!(
+        config["causes"],
+        json!([{"name": "deadline"}, {"name": "collision"}, {"name": "stuck"}])
+    );
     assert_eq!(config["adapter"]["thresholds"]["trustworthy"], 1.0);
     let abandoned = ok(&mut s, r#"{"request":"abandon"}"#);
     assert_eq!(abandoned["ok"], "abandoned");
     assert_eq!(abandoned["retained"], Value::Null);
+}
+
+/// A user's searcher, written outside the library: the untried behavior of smallest rank.
+struct Lowest;
+
+impl cbr_core::Searcher for Lowest {
+    type Evidence = trust::Evaluated;
+    type Feedback = trust::Outcome;
+
+    fn name(&self) -> &str {
+        "lowest"
+    }
+
+    fn propose(
+        &mut self,
+        space: &cbr_core::BehaviorSpace,
+        evaluated: &[trust::Evaluated],
+        rng: &mut dyn rand::RngCore,
+    ) -> cbr_core::Proposal {
+        trust::search::propose_untried(space, evaluated, rng, |tried, _| {
+            (0..space.size())
+                .map(|r| space.unrank(r))
+                .find(|b| !tried.contains(b))
+        })
+    }
+}
+
+#[test]
+fn a_users_searcher_and_retriever_serve_through_the_definition() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = quick_movement()
+        .with_searcher(|_| Box::new(Lowest))
+        .with_retriever(|space, lambda| {
+            trust::RetrieverKind::InvertedIndex.build(space.clone(), lambda)
+        });
+    let cases = SharedCases::open(&domain, &Location::Sqlite(dir.path().join("cases.db"))).unwrap();
+    let retriever = cases.current(|memory, _| memory.retriever_name().to_owned());
+    assert_eq!(retriever.unwrap(), "inverted_index");
+    let mut s = Session::new(domain, Arc::new(cases), 7).unwrap();
+    ok(
+        &mut s,
+        r#"{"request":"begin","behavior":"speed=3.5,padding=0.4"}"#,
+    );
+    let reply = ok(
+        &mut s,
+        r#"{"outcome":"interrupted","weight":1,"cause":"collision","duration_s":2}"#,
+    );
+    assert_eq!(reply["source"], "search", "{reply}");
+    let space = s.adaptation().space().clone();
+    assert_eq!(s.adaptation().episode().unwrap().current, space.unrank(0));
 }
 
 #[test]
@@ -145,7 +204,7 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
     );
     let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
-    let cases: [(&str, &str); 21] = [
+    let cases: [(&str, &str); 22] = [
         (
             r#"{"outcome":"failed","weight":1,"duration_s":1,"outcome":"completed"}"#,
             "field `outcome` is given twice",
@@ -199,7 +258,12 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         ),
         (
             r#"{"outcome":"failed","weight":1,"cause":"ghost","duration_s":1}"#,
-            "field `cause`: unknown variant `ghost`",
+            "field `cause`: cause `ghost` is not declared (declared: deadline, collision, stuck)",
+        ),
+        (
+            // A patrol cause, not one of the movement domain's.
+            r#"{"outcome":"failed","weight":1,"cause":"detonation","duration_s":1}"#,
+            "field `cause`: cause `detonation` is not declared (declared: deadline, collision, stuck)",
         ),
         (r#"{"request":"dance"}"#, "unknown request `dance`"),
         (r#"{"request":"begin"}"#, "an episode is already under way"),

@@ -35,6 +35,7 @@ pub fn quick_domain(reuse_cases: bool) -> String {
         (name: "speed", unit: "m/s", values: Numeric(min: 1.0, step: 1.0, count: 5)),
         (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
     ]),
+    causes: [(name: "collision"), (name: "stuck")],
     adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0), reuse_cases: {reuse_cases}),
 )"#
     )

@@ -1,10 +1,11 @@
 //! The plug-in contract between a task domain and the trust machinery.
 //!
-//! A domain has a behavior space and can run one command with a behavior in front of an
-//! operator, returning the command's [`Outcome`]. The experiment runner needs nothing else,
-//! so a new robot or task plugs in by implementing this trait.
+//! A domain has a behavior space, declares the causes of failure its outcomes may carry,
+//! and can run one command with a behavior in front of an operator, returning the
+//! command's [`Outcome`]. The experiment runner needs nothing else, so a new robot or task
+//! plugs in by implementing this trait.
 
-use crate::Outcome;
+use crate::{DeclaredCause, Outcome};
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::RngCore;
 use std::sync::Arc;
@@ -19,6 +20,10 @@ pub trait Domain: Send + Sync {
 
     /// The behaviors the robot can adopt.
     fn space(&self) -> &Arc<BehaviorSpace>;
+
+    /// The causes an outcome of [`Domain::run`] may carry (the experiment runner refuses
+    /// any other, naming the domain, the cause and these).
+    fn causes(&self) -> &[DeclaredCause];
 
     /// Runs one command with `behavior` under `operator`, drawing all randomness from
     /// `rng`, and returns how it ended.

@@ -4,8 +4,8 @@
 //! weighted by `w`. The estimate of a behavior is the weighted sum since it was adopted;
 //! two thresholds turn it into a verdict.
 
+use crate::cause::Cause;
 use serde::{Deserialize, Serialize};
-use std::fmt;
 
 /// How a command ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -29,54 +29,6 @@ impl OutcomeKind {
     }
 }
 
-/// Why a command failed or was interrupted.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Cause {
-    /// The task was not done in the time the operator allows.
-    Deadline,
-    /// The robot hit an obstacle.
-    Collision,
-    /// The robot could not go on (no way through).
-    Stuck,
-    /// The robot left a suspicious object unscanned.
-    MissedObject,
-    /// The robot labelled a harmless object explosive.
-    FalseAlarm,
-    /// An explosive the robot labelled harmless went off.
-    Detonation,
-}
-
-impl Cause {
-    /// Every cause, in declaration order.
-    pub const ALL: [Cause; 6] = [
-        Cause::Deadline,
-        Cause::Collision,
-        Cause::Stuck,
-        Cause::MissedObject,
-        Cause::FalseAlarm,
-        Cause::Detonation,
-    ];
-
-    /// The cause's name as written in configs and protocols (e.g. `missed-object`).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Cause::Deadline => "deadline",
-            Cause::Collision => "collision",
-            Cause::Stuck => "stuck",
-            Cause::MissedObject => "missed-object",
-            Cause::FalseAlarm => "false-alarm",
-            Cause::Detonation => "detonation",
-        }
-    }
-}
-
-impl fmt::Display for Cause {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
 /// The result of one command: how it ended, how much it weighs, why, and how long it took.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -85,7 +37,8 @@ pub struct Outcome {
     pub kind: OutcomeKind,
     /// Its weight `w >= 0` (the paper keeps weights in `[0, 1]`).
     pub weight: f64,
-    /// Why it failed or was interrupted; `None` for completions or when unstated.
+    /// Why it failed or was interrupted, one of the domain's declared causes; `None` for
+    /// completions or when unstated.
     #[serde(default)]
     pub cause: Option<Cause>,
     /// Task time spent on the command, in seconds.
@@ -268,14 +221,17 @@ impl TrustEstimate {
 mod tests {
     use super::*;
 
+    const TOO_SLOW: Cause = Cause::from_static("too-slow");
+    const DROPPED: Cause = Cause::from_static("dropped-item");
+
     #[test]
     fn weighted_sum_and_verdicts() {
         let t = Thresholds::default();
         let mut e = TrustEstimate::default();
-        // Patrol default weights: completion 1/3, interruption 1/3, missed explosive 1.
+        // Completions and slow runs weigh 1/3, a dropped item 1.
         e.record(&Outcome::completed(1.0 / 3.0, 20.0));
-        e.record(&Outcome::interrupted(1.0 / 3.0, Cause::Collision, 5.0));
-        e.record(&Outcome::failed(1.0, Cause::Detonation, 40.0));
+        e.record(&Outcome::interrupted(1.0 / 3.0, TOO_SLOW, 5.0));
+        e.record(&Outcome::failed(1.0, DROPPED, 40.0));
         // 1/3 - 1/3 - 1 = -1
         assert!((e.value + 1.0).abs() < 1e-12);
         assert_eq!(e.elapsed_s, 65.0);
@@ -283,7 +239,7 @@ mod tests {
         assert_eq!(e.verdict(&t), Verdict::Undecided);
         // Four more failures of weight 1: -1 - 4 = -5 <= -5.
         for _ in 0..4 {
-            e.record(&Outcome::failed(1.0, Cause::Detonation, 1.0));
+            e.record(&Outcome::failed(1.0, DROPPED, 1.0));
         }
         assert_eq!(e.verdict(&t), Verdict::Untrustworthy);
         let mut good = TrustEstimate::default();

@@ -1,6 +1,7 @@
 //! Trust-guided behavior adaptation (Floyd, Drinkwater & Aha, ICCBR 2014), generic over
 //! any domain.
 //!
+//! - [`cause`]: causes of failure as names a domain declares.
 //! - [`estimate`]: outcomes, the inverse trust estimate, thresholds and verdicts.
 //! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
 //! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
@@ -19,6 +20,7 @@
 #![deny(missing_docs)]
 
 pub mod adapter;
+pub mod cause;
 pub mod domain;
 pub mod estimate;
 pub mod evaluated;
@@ -34,8 +36,9 @@ pub use adapter::{
     Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
     Retention, Source, TimeUnit, TrustAdapter,
 };
+pub use cause::{Cause, CauseError, DeclaredCause, UndeclaredCause, find_declared};
 pub use domain::Domain;
-pub use estimate::{Cause, Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
+pub use estimate::{Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverKind};
 pub use search::SearchKind;

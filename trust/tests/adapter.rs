@@ -13,6 +13,11 @@ use trust::{
     Source, TrustAdapter, TrustCaseBase, select_behavior,
 };
 
+/// Causes of a made-up domain.
+const DROPPED: Cause = Cause::from_static("dropped-item");
+const STALLED: Cause = Cause::from_static("stalled");
+const TOO_SLOW: Cause = Cause::from_static("too-slow");
+
 fn grid(sizes: &[u16]) -> Arc<BehaviorSpace> {
     Arc::new(
         BehaviorSpace::new(
@@ -27,7 +32,7 @@ fn grid(sizes: &[u16]) -> Arc<BehaviorSpace> {
 }
 
 fn interrupt(duration: f64) -> Outcome {
-    Outcome::interrupted(1.0, Cause::Collision, duration)
+    Outcome::interrupted(1.0, DROPPED, duration)
 }
 
 fn adapter(space: &Arc<BehaviorSpace>, config: AdapterConfig) -> TrustAdapter {
@@ -284,8 +289,8 @@ proptest! {
         for (kind, weight, duration) in outcomes {
             let outcome = match kind {
                 0 => Outcome::completed(weight * 2.0, duration),
-                1 => Outcome::failed(weight * 2.0, Cause::Stuck, duration),
-                _ => Outcome::interrupted(weight * 2.0, Cause::Deadline, duration),
+                1 => Outcome::failed(weight * 2.0, STALLED, duration),
+                _ => Outcome::interrupted(weight * 2.0, TOO_SLOW, duration),
             };
             if let Decision::Settled(report) = a.record(&outcome).unwrap() {
                 if let Some(id) = report.retained {

@@ -11,11 +11,18 @@ use trust::experiment::{
     run_experiments,
 };
 use trust::search::{draw_untried, propose_untried};
-use trust::{Cause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, TrustRetriever};
+use trust::{
+    Cause, DeclaredCause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, TrustRetriever,
+};
 
-/// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one.
+/// The toy domain's one cause.
+const TOO_SLOW: Cause = Cause::from_static("too-slow");
+
+/// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one, and
+/// interrupts the others as too slow.
 struct Toy {
     space: Arc<BehaviorSpace>,
+    causes: Vec<DeclaredCause>,
 }
 
 struct Favourite(Behavior);
@@ -25,6 +32,7 @@ impl Toy {
         let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 6).unwrap();
         Self {
             space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
+            causes: vec![DeclaredCause::new(TOO_SLOW)],
         }
     }
 }
@@ -40,13 +48,17 @@ impl Domain for Toy {
         &self.space
     }
 
+    fn causes(&self) -> &[DeclaredCause] {
+        &self.causes
+    }
+
     fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Outcome {
         let distance = self.space.changes(behavior, &operator.0);
         let duration = 1.0 + f64::from(distance);
         if distance == 0 || rng.random_bool(0.05) {
             Outcome::completed(1.0, duration)
         } else {
-            Outcome::interrupted(1.0, Cause::Deadline, duration)
+            Outcome::interrupted(1.0, TOO_SLOW, duration)
         }
     }
 }
@@ -297,6 +309,27 @@ fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
     let entries = entries(&results, &toy);
     let text = table(&entries);
     assert!(text.contains("(8 cut off)"), "{text}");
+}
+
+#[test]
+fn an_outcome_with_an_undeclared_cause_stops_the_run_with_the_declared_ones() {
+    let toy = Toy {
+        causes: vec![DeclaredCause::new(Cause::from_static("dropped-item"))],
+        ..Toy::new()
+    };
+    let ops = operators();
+    // Both the chains run in order (case reuse) and those run in parallel report it.
+    for arm in [0, 1] {
+        let mut plans = plans(&toy, &ops, 5);
+        plans.truncate(1);
+        let kept = plans[0].arms.remove(arm);
+        plans[0].arms = vec![kept];
+        let err = run_experiments(&plans, 1, &|_| {}).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "toy/low: domain `toy` reported an outcome whose cause `too-slow` is not declared (declared: dropped-item)"
+        );
+    }
 }
 
 #[test]

@@ -26,6 +26,15 @@ impl Categorical {
         }
     }
 
+    /// The same labels with `table` as their similarities (rows and columns in label
+    /// order; checked when the component is made, e.g. by [`super::NamedComponent::new`]).
+    pub fn with_similarity(self, table: Vec<Vec<f64>>) -> Self {
+        Self {
+            similarity: Some(table),
+            ..self
+        }
+    }
+
     /// Number of changes between the values at `a` and `b`: 0 or 1.
     pub fn changes(&self, a: u16, b: u16) -> u32 {
         u32::from(a != b)

@@ -1,9 +1,9 @@
 //! Why a pick fails or is interrupted: the warehouse's own causes.
 //!
 //! Operator files name them (`"dropped-item"`, ...) and the simulation reports them. The
-//! trust machinery today knows only the UGV task's causes (`trust::Cause` is a closed
-//! enum), so [`WarehouseCause::to_trust`] is the one place where a warehouse cause becomes
-//! a `trust::Cause`; everything else in this crate speaks warehouse.
+//! domain declares them to the trust machinery ([`DECLARED`], what `Domain::causes`
+//! returns), and [`WarehouseCause::to_trust`] names one as a `trust::Cause`; inside this
+//! crate a cause is a [`WarehouseCause`], so a misspelt cause cannot compile.
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -37,7 +37,7 @@ impl WarehouseCause {
     ];
 
     /// The name operator files use.
-    pub fn as_str(self) -> &'static str {
+    pub const fn as_str(self) -> &'static str {
         match self {
             WarehouseCause::TooSlow => "too-slow",
             WarehouseCause::Collision => "collision",
@@ -47,23 +47,26 @@ impl WarehouseCause {
         }
     }
 
-    /// MERGE: replace this function when `trust::Cause` becomes a domain-declared name
-    /// (`trust::Cause::new(self.as_str())`, with the causes listed by
-    /// `Domain::causes`). Until then each warehouse cause maps onto the nearest UGV
-    /// cause, one to one, so the cause-aware search still tells them apart: too slow ->
-    /// `deadline`, collision -> `collision`, slot not found -> `stuck` (the robot cannot
-    /// go on), dropped item -> `missed-object` (an object left unhandled), crushed item
-    /// -> `detonation` (damage the robot's own action did).
-    pub fn to_trust(self) -> trust::Cause {
-        match self {
-            WarehouseCause::TooSlow => trust::Cause::Deadline,
-            WarehouseCause::Collision => trust::Cause::Collision,
-            WarehouseCause::ItemNotFound => trust::Cause::Stuck,
-            WarehouseCause::DroppedItem => trust::Cause::MissedObject,
-            WarehouseCause::CrushedItem => trust::Cause::Detonation,
-        }
+    /// The cause as the trust machinery names it.
+    pub const fn to_trust(self) -> trust::Cause {
+        trust::Cause::from_static(self.as_str())
     }
 }
+
+/// The warehouse's causes as the domain declares them (no default weights: each operator
+/// file weighs the causes it cares about).
+pub const DECLARED: [trust::DeclaredCause; 5] = {
+    let mut declared = [trust::DeclaredCause {
+        name: WarehouseCause::TooSlow.to_trust(),
+        default_weight: None,
+    }; 5];
+    let mut k = 0;
+    while k < WarehouseCause::ALL.len() {
+        declared[k].name = WarehouseCause::ALL[k].to_trust();
+        k += 1;
+    }
+    declared
+};
 
 impl fmt::Display for WarehouseCause {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -106,14 +109,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn names_round_trip_and_map_one_to_one() {
-        for cause in WarehouseCause::ALL {
+    fn names_round_trip_and_are_declared_once_each() {
+        for (cause, declared) in WarehouseCause::ALL.into_iter().zip(DECLARED) {
             assert_eq!(cause.as_str().parse::<WarehouseCause>(), Ok(cause));
+            assert_eq!(declared.name.as_str(), cause.as_str());
         }
-        let mut mapped: Vec<_> = WarehouseCause::ALL.map(WarehouseCause::to_trust).into();
-        mapped.sort();
-        mapped.dedup();
-        assert_eq!(mapped.len(), WarehouseCause::ALL.len());
         assert!(
             "squashed"
                 .parse::<WarehouseCause>()

@@ -20,7 +20,7 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
 use trustcbr::rand;
-use trustcbr::trust::{Domain, Outcome};
+use trustcbr::trust::{DeclaredCause, Domain, Outcome};
 
 /// The scenario's name.
 pub const PICKING: &str = "picking";
@@ -139,6 +139,10 @@ impl Domain for WarehouseDomain {
 
     fn space(&self) -> &Arc<BehaviorSpace> {
         &self.space
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        &crate::cause::DECLARED
     }
 
     fn run(

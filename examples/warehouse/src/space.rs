@@ -8,7 +8,7 @@
 use crate::gripper::Gripper;
 use crate::map::MapSource;
 use std::sync::Arc;
-use trustcbr::cbr_core::{BehaviorSpace, Component, Values};
+use trustcbr::cbr_core::{BehaviorSpace, Categorical, NamedComponent, Values};
 
 /// The gripper module (categorical: suction, parallel-jaw, soft-fingers).
 pub const GRIPPER: &str = "gripper";
@@ -27,16 +27,8 @@ pub const GRIP_FORCE: &str = "grip_force";
 /// map is not.
 pub fn warehouse_space() -> Arc<BehaviorSpace> {
     let categorical = |name: &str, labels: Vec<&str>, similarity: Vec<Vec<f64>>| {
-        let component = Component {
-            name: name.to_owned(),
-            unit: String::new(),
-            values: Values::Categorical {
-                labels: labels.into_iter().map(str::to_owned).collect(),
-                similarity: Some(similarity),
-            },
-        };
-        component.validate().expect("a valid categorical component");
-        component
+        let values = Values::Categorical(Categorical::new(labels).with_similarity(similarity));
+        NamedComponent::new(name, "", values).expect("a valid categorical component")
     };
     let gripper = categorical(
         GRIPPER,
@@ -56,7 +48,7 @@ pub fn warehouse_space() -> Arc<BehaviorSpace> {
             vec![0.0, 0.0, 1.0],
         ],
     );
-    let speed = Component::numeric(SPEED, "m/s", 0.25, 0.25, 10).expect("a valid grid");
-    let grip_force = Component::numeric(GRIP_FORCE, "N", 5.0, 5.0, 20).expect("a valid grid");
+    let speed = NamedComponent::numeric(SPEED, "m/s", 0.25, 0.25, 10).expect("a valid grid");
+    let grip_force = NamedComponent::numeric(GRIP_FORCE, "N", 5.0, 5.0, 20).expect("a valid grid");
     Arc::new(BehaviorSpace::new(vec![gripper, map, speed, grip_force]).expect("a valid space"))
 }

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use std::path::Path;
 use trustcbr::rand::{RngCore, SeedableRng};
-use trustcbr::trust::{Cause, Domain, Outcome};
+use trustcbr::trust::{Domain, Outcome};
 use warehouse::WarehouseCause;
 use warehouse::domain::{Settings, WarehouseDomain};
 use warehouse::gripper::{Grasp, Gripper};
@@ -236,7 +236,7 @@ fn operators_judge_what_they_watch() {
     // Care-focused: stops at the collision (weight 0.5), when it reacts.
     assert_eq!(
         care.judge(&delivered, &mut always),
-        Outcome::interrupted(0.5, Cause::Collision, 20.0)
+        Outcome::interrupted(0.5, WarehouseCause::Collision.to_trust(), 20.0)
     );
     // Not reacting to the collision, it still sees nothing crushed unless it looks.
     assert_eq!(
@@ -253,7 +253,7 @@ fn operators_judge_what_they_watch() {
     let late = trace(&[(70.0, Event::Delivered { crushed: false })]);
     assert_eq!(
         throughput.judge(&late, &mut always),
-        Outcome::interrupted(1.0, Cause::Deadline, 45.0)
+        Outcome::interrupted(1.0, WarehouseCause::TooSlow.to_trust(), 45.0)
     );
     assert_eq!(
         throughput.judge(&late, &mut never),
@@ -262,7 +262,7 @@ fn operators_judge_what_they_watch() {
     let very_late = trace(&[(95.0, Event::Delivered { crushed: false })]);
     assert_eq!(
         throughput.judge(&very_late, &mut never),
-        Outcome::failed(1.0, Cause::Deadline, 90.0)
+        Outcome::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
     );
     // A drop and a missing slot fail the pick whatever the draws.
     for (event, cause) in [
@@ -278,7 +278,7 @@ fn operators_judge_what_they_watch() {
     // A trace without an ending is a pick that never ends.
     assert_eq!(
         throughput.judge(&Trace::default(), &mut never),
-        Outcome::failed(1.0, Cause::Deadline, 90.0)
+        Outcome::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
     );
 }
 

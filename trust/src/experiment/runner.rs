@@ -15,7 +15,7 @@ use super::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use crate::evaluated::validate_lambda;
 use crate::{
     AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, Retention, Thresholds, TimeUnit,
-    TrustAdapter, TrustCaseBase, TrustMemory,
+    TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause, find_declared,
 };
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
@@ -84,6 +84,7 @@ impl Default for TrialSettings {
 
 /// Why experiments cannot be run.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum PlanError {
     /// Thresholds or lambda are unusable.
     #[error("{plan}: {reason}")]
@@ -98,6 +99,17 @@ pub enum PlanError {
     NoArms {
         /// The plan's name.
         plan: String,
+    },
+    /// The domain reported an outcome with a cause it does not declare.
+    #[error("{plan}: domain `{domain}` reported an outcome whose {reason}")]
+    UndeclaredCause {
+        /// The plan's name.
+        plan: String,
+        /// The domain's name.
+        domain: String,
+        /// The cause and the declared ones (boxed: a rare error should not make every
+        /// result that may carry one larger).
+        reason: Box<UndeclaredCause>,
     },
     /// Two arms of a plan share a name.
     #[error("{plan}: two arms are named `{arm}`")]
@@ -313,7 +325,8 @@ fn run_chain<D: Domain>(
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .into_par_iter()
             .map(|trial| {
-                let record = run_trial(plan, &mut plan.adapter(arm)?, experiment, trial, arm, seed);
+                let record =
+                    run_trial(plan, &mut plan.adapter(arm)?, experiment, trial, arm, seed)?;
                 progress();
                 Ok(record)
             })
@@ -326,11 +339,11 @@ fn run_chain<D: Domain>(
     } else {
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .map(|trial| {
-                let record = run_trial(plan, &mut adapter, experiment, trial, arm, seed);
+                let record = run_trial(plan, &mut adapter, experiment, trial, arm, seed)?;
                 progress();
-                record
+                Ok(record)
             })
-            .collect();
+            .collect::<Result<_, PlanError>>()?;
         let final_cases = arm.reuses_cases().then(|| adapter.cases().clone());
         (trials, adapter.cases().len() - starting_cases, final_cases)
     };
@@ -356,7 +369,8 @@ fn run_chain<D: Domain>(
     })
 }
 
-/// One trial: an episode from a drawn initial behavior until the adapter settles.
+/// One trial: an episode from a drawn initial behavior until the adapter settles. Every
+/// outcome's cause must be one the domain declares.
 fn run_trial<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     adapter: &mut TrustAdapter,
@@ -364,7 +378,7 @@ fn run_trial<D: Domain>(
     trial: u32,
     arm: &Arm,
     seed: u64,
-) -> TrialRecord {
+) -> Result<TrialRecord, PlanError> {
     let space = plan.domain.space();
     let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
     let operator_index = match plan.choice {
@@ -387,6 +401,15 @@ fn run_trial<D: Domain>(
     let mut runs = 0u64;
     let (report, truncated) = loop {
         let outcome = plan.domain.run(&behavior, operator, &mut runs_rng);
+        if let Some(cause) = outcome.cause {
+            find_declared(plan.domain.causes(), cause).map_err(|reason| {
+                PlanError::UndeclaredCause {
+                    plan: plan.name.clone(),
+                    domain: plan.domain.name().to_owned(),
+                    reason: Box::new(reason),
+                }
+            })?;
+        }
         runs += 1;
         match adapter
             .record(&outcome)
@@ -401,12 +424,12 @@ fn run_trial<D: Domain>(
             break (report, true);
         }
     };
-    TrialRecord {
+    Ok(TrialRecord {
         trial,
         arm: arm.name().to_owned(),
         operator: operator_name.clone(),
         initial,
         report,
         truncated,
-    }
+    })
 }

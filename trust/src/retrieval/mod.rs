@@ -24,6 +24,7 @@ use std::sync::Arc;
 /// Which retriever answers Algorithm 1's queries. Every kind returns the same answers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum RetrieverKind {
     /// Compare the episode with every case ([`LinearRetriever`]); the reference.
     #[default]

@@ -4,8 +4,8 @@
 //! Every command outcome is an observation of the behavior in use. For each cause an
 //! outcome can carry (whatever names the domain gives them, plus "no cause stated"), the
 //! searcher counts, per component and value, how many commands ended with that cause, so
-//! it knows, for instance, that collisions fall as one component rises while deadline
-//! misses rise with it. These counts persist across episodes (the physics of a robot
+//! it knows, for instance, that dropped items fall as one component rises while slow runs
+//! rise with it. These counts persist across episodes (the physics of a robot
 //! does not change with the operator) and grow within an episode with every command.
 //!
 //! How much each cause matters is its *burden*: the weight of this episode's
@@ -21,7 +21,8 @@
 
 use super::propose_untried;
 use super::untried::draw_untried;
-use crate::estimate::{Cause, OutcomeKind};
+use crate::Cause;
+use crate::estimate::OutcomeKind;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
 use rand::RngCore;
@@ -229,11 +230,16 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
+    /// Causes of a made-up pick-and-place domain: nothing here knows them.
+    const DROPPED: Cause = Cause::from_static("dropped-item");
+    const TOO_SLOW: Cause = Cause::from_static("too-slow");
+    const OVERHEATED: Cause = Cause::from_static("overheated");
+
     #[test]
     fn moves_away_from_the_values_that_bring_the_operators_cause() {
-        // Two components of 10 values. Collisions happen only at low values of `a`;
-        // deadline misses only at low values of `b`. The operator of this episode is
-        // bothered by collisions alone, so the searcher should raise `a` and may leave `b`.
+        // Two components of 10 values. Dropped items happen only at low values of `a`;
+        // slow runs only at low values of `b`. The operator of this episode is bothered
+        // by dropped items alone, so the searcher should raise `a` and may leave `b`.
         let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 10).unwrap();
         let space = BehaviorSpace::new(vec![c("a"), c("b")]).unwrap();
         let mut searcher = CauseAware::new();
@@ -242,9 +248,9 @@ mod tests {
                 let behavior = Behavior::new(&[a, b]);
                 for _ in 0..5 {
                     let outcome = if a < 3 {
-                        Outcome::interrupted(1.0, Cause::Collision, 1.0)
+                        Outcome::interrupted(1.0, DROPPED, 1.0)
                     } else if b < 3 {
-                        Outcome::interrupted(1.0, Cause::Deadline, 1.0)
+                        Outcome::interrupted(1.0, TOO_SLOW, 1.0)
                     } else {
                         Outcome::completed(1.0, 1.0)
                     };
@@ -252,12 +258,12 @@ mod tests {
                 }
             }
         }
-        // A new episode: the initial behavior collides.
+        // A new episode: the initial behavior drops items.
         searcher.end_episode(&[], None);
         let initial = Behavior::new(&[1, 8]);
         searcher.begin_episode(&space, &initial);
         for _ in 0..5 {
-            searcher.observe(&initial, &Outcome::interrupted(1.0, Cause::Collision, 1.0));
+            searcher.observe(&initial, &Outcome::interrupted(1.0, DROPPED, 1.0));
         }
         let evaluated = [Evaluated {
             behavior: initial,
@@ -266,7 +272,7 @@ mod tests {
         for seed in 0..20 {
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             match searcher.propose(&space, &evaluated, &mut rng) {
-                Proposal::Next(b) => assert!(b.get(0) >= 3, "{b:?} still collides"),
+                Proposal::Next(b) => assert!(b.get(0) >= 3, "{b:?} still drops items"),
                 other => panic!("unexpected {other:?}"),
             }
         }
@@ -274,7 +280,7 @@ mod tests {
 
     #[test]
     fn the_per_value_rate_by_hand() {
-        // 10 commands in all, 4 with collisions, all at a = 0 (4 of its 5 commands).
+        // 10 commands in all, 4 with dropped items, all at a = 0 (4 of its 5 commands).
         // Overall rate (4 + 1) / (10 + 2) = 5/12. At a = 0: (4 + 2 * 5/12) / (5 + 2) =
         // (4 + 0.8333) / 7 = 0.690476; at a = 1: (0 + 0.8333) / (5 + 2) = 0.119048.
         let space =
@@ -284,7 +290,7 @@ mod tests {
         let (low, high) = (Behavior::new(&[0]), Behavior::new(&[1]));
         for i in 0..5 {
             let o = if i < 4 {
-                Outcome::interrupted(1.0, Cause::Collision, 1.0)
+                Outcome::interrupted(1.0, DROPPED, 1.0)
             } else {
                 Outcome::completed(1.0, 1.0)
             };
@@ -296,5 +302,43 @@ mod tests {
         // Burden 4, so the predicted burden is 4 * rate.
         assert!((predicted_burden(&tables, &low) - 4.0 * 0.690476).abs() < 1e-5);
         assert!((predicted_burden(&tables, &high) - 4.0 * 0.119048).abs() < 1e-5);
+    }
+
+    #[test]
+    fn every_cause_a_domain_names_is_counted_apart() {
+        // Three causes and an unstated one, each at its own value of `a`: four records,
+        // each with the burden of its own outcomes.
+        let space = crate::search::grid(&[4]);
+        let mut searcher = CauseAware::new();
+        let causes = [Some(DROPPED), Some(TOO_SLOW), Some(OVERHEATED), None];
+        for (v, cause) in causes.iter().enumerate() {
+            let behavior = Behavior::new(&[v as u16]);
+            let outcome = Outcome {
+                cause: *cause,
+                ..Outcome::failed(0.5 * (v as f64 + 1.0), DROPPED, 1.0)
+            };
+            searcher.observe(&behavior, &outcome);
+        }
+        let seen: Vec<(Option<Cause>, f64)> = searcher
+            .causes
+            .iter()
+            .map(|c| (c.cause, c.burden))
+            .collect();
+        assert_eq!(
+            seen,
+            [
+                (Some(DROPPED), 0.5),
+                (Some(TOO_SLOW), 1.0),
+                (Some(OVERHEATED), 1.5),
+                (None, 2.0)
+            ]
+        );
+        assert_eq!(searcher.log_rate_tables(&space).len(), 4);
+        // The behavior with the lightest cause is predicted the least burdensome.
+        let tables = searcher.log_rate_tables(&space);
+        let burdens: Vec<f64> = (0..4u16)
+            .map(|v| predicted_burden(&tables, &Behavior::new(&[v])))
+            .collect();
+        assert!(burdens.windows(2).all(|w| w[0] < w[1]), "{burdens:?}");
     }
 }

@@ -1,12 +1,5 @@
-//! Conformance kits for a user's own parts (behind the `testing` feature).
-//!
-//! [`check_searcher`] states what every search strategy must do and checks it with
-//! proptest on random spaces and random evidence; every built-in searcher passes it
-//! (`trust/tests/searchers.rs`), and a user's searcher is checked the same way:
-//!
-//! ```
-//! trust::testing::check_searcher(|| Box::new(trust::search::Uniform::new()));
-//! ```
+//! The searcher conformance kit: [`check_searcher`] states what every search strategy
+//! must do and checks it with proptest on random spaces and random evidence.
 
 use crate::search::TrustSearcher;
 use crate::{Cause, Evaluated, Outcome};
@@ -57,9 +50,9 @@ fn drive(
             let outcome = if rng.random_bool(0.3) {
                 Outcome::completed(1.0, 1.0)
             } else if rng.random_bool(0.5) {
-                Outcome::failed(0.5, Cause::Collision, 2.0)
+                Outcome::failed(0.5, Cause::from_static("dropped-item"), 2.0)
             } else {
-                Outcome::interrupted(1.0, Cause::Deadline, 3.0)
+                Outcome::interrupted(1.0, Cause::from_static("too-slow"), 3.0)
             };
             searcher.observe(&current, &outcome);
         }
@@ -150,7 +143,10 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
         Proposal::Next(only),
         "with no evidence the one behavior is proposed"
     );
-    searcher.observe(&only, &Outcome::failed(1.0, Cause::Stuck, 1.0));
+    searcher.observe(
+        &only,
+        &Outcome::failed(1.0, Cause::from_static("stalled"), 1.0),
+    );
     let evaluated = [Evaluated {
         behavior: only,
         time: 1.0,
