@@ -6,8 +6,8 @@ use clap::builder::TypedValueParser;
 use clap::{Args, Parser, Subcommand};
 use domains::suite::PAPER_CONFIG;
 use domains::{
-    Scenario, StartingCases, SuiteConfig, UgvDomain, find_operator, landscape, run_suite,
-    save_case_bases, suite_best_arms, suite_table, write_suite_report,
+    Scenario, StartingCases, SuiteConfig, UgvDomain, find_operator, run_suite, save_case_bases,
+    suite_best_arms, suite_table, write_suite_report,
 };
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use trust::Domain;
 use trust::experiment::report::Provenance;
+use trust::experiment::{heatmap, landscape};
 
 /// Trust-guided behavior adaptation with case-based reasoning.
 #[derive(Parser)]
@@ -335,14 +336,16 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
         command_line: std::env::args().collect(),
     };
     cbr_core::output::remove_previous_report(&options.out)?;
-    let written = write_suite_report(
-        &options.out,
-        &config,
-        origin,
-        &results,
-        elapsed,
-        &provenance,
-    )?;
+    let written = pool.install(|| {
+        write_suite_report(
+            &options.out,
+            &config,
+            origin,
+            &results,
+            elapsed,
+            &provenance,
+        )
+    })?;
     println!(
         "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.experiments.len(),
@@ -542,13 +545,34 @@ fn landscape(args: &LandscapeArgs) -> Result<()> {
             .progress_chars("=> "),
         )
         .with_prefix(format!("landscape ({} runs each)", args.runs));
-    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed, &|| bar.inc(1));
+    let every_component: Vec<usize> = (0..space.components().len()).collect();
+    let estimate = landscape::estimate(
+        &domain,
+        &[&operator],
+        &every_component,
+        args.runs,
+        args.seed,
+        &|| bar.inc(1),
+    )?;
     bar.finish();
     let title = format!(
         "{}, operator {}, {} runs per behavior",
         args.scenario, operator.name, args.runs
     );
-    let svg = estimate.heatmap_svg(space, x, y, &title)?;
+    let others: Vec<&str> = (0..space.components().len())
+        .filter(|&c| c != x && c != y)
+        .map(|c| space.components()[c].name.as_str())
+        .collect();
+    let subtitle = if others.is_empty() {
+        "P(complete) of every behavior".to_owned()
+    } else {
+        format!(
+            "P(complete) of each pair of values, the mean over every {}",
+            others.join(", ")
+        )
+    };
+    let svg_path = args.out.join("landscape.svg");
+    let svg = heatmap::landscape_svg(space, &estimate, (x, y), &title, &subtitle, &svg_path)?;
     for (name, bytes) in [
         ("landscape.svg", svg.into_bytes()),
         ("landscape.csv", estimate.csv(space).into_bytes()),

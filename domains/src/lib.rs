@@ -9,7 +9,6 @@
 pub mod detector;
 pub mod drive;
 pub mod geometry;
-pub mod landscape;
 pub mod operator;
 pub mod patrol;
 pub mod planner;
@@ -18,7 +17,6 @@ pub mod render;
 pub mod scenario;
 pub mod spaces;
 pub mod suite;
-pub mod svg;
 pub mod sweep;
 pub mod trace;
 pub mod ugv;

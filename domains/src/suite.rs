@@ -14,7 +14,10 @@ use cbr_core::{
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
+use trust::experiment::landscape::Landscape;
+use trust::experiment::report::{
+    Provenance, ReportEntry, ReportError, file_stems, finals_landscapes, write_report,
+};
 use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
     UnknownArm, run_experiments,
@@ -288,13 +291,9 @@ impl SuiteConfig {
             // A trial ends when a behavior reaches the trustworthy threshold; if no
             // operator of the experiment lets one reach it within `max_commands`, every
             // trial would be cut off and report a count that means nothing.
-            let judges: Vec<&(String, OperatorModel)> = operators
-                .iter()
-                .filter(|(name, _)| spec.operator == RANDOM_OPERATOR || *name == spec.operator)
-                .collect();
             let trustworthy = self.adapter.thresholds.trustworthy;
-            if let Some((name, op)) = judges
-                .iter()
+            if let Some((name, op)) = spec
+                .judges(&operators)
                 .find(|(_, op)| op.weights.completed * (self.max_commands as f64) < trustworthy)
             {
                 return Err(invalid(
@@ -328,6 +327,17 @@ impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused`.
     pub fn name(&self) -> String {
         format!("{}/{}", self.scenario, self.operator)
+    }
+
+    /// The operators among `operators` that judge this experiment's trials: the one it
+    /// names, or all of them for `random`.
+    pub fn judges<'a>(
+        &'a self,
+        operators: &'a [(String, OperatorModel)],
+    ) -> impl Iterator<Item = &'a (String, OperatorModel)> + 'a {
+        operators
+            .iter()
+            .filter(|(name, _)| self.operator == RANDOM_OPERATOR || *name == self.operator)
     }
 
     /// The scenario's operators: the built-in ones, then those of `operator_files`
@@ -501,17 +511,21 @@ pub fn save_case_bases(
     Ok(written)
 }
 
-/// The report entries of a suite's results.
+/// The report entries of a suite's results, with the landscapes of each experiment when
+/// given.
 fn entries<'a>(
     config: &'a SuiteConfig,
     results: &'a SuiteResults,
     spaces: &'a [(Scenario, std::sync::Arc<cbr_core::BehaviorSpace>)],
+    landscapes: &'a [Vec<Landscape>],
 ) -> Vec<ReportEntry<'a>> {
     config
         .experiments
         .iter()
         .zip(&results.results)
-        .map(|(spec, result)| ReportEntry {
+        .enumerate()
+        .map(|(k, (spec, result))| ReportEntry {
+            landscapes: landscapes.get(k).map_or(&[], Vec::as_slice),
             result,
             scenario: spec.scenario.as_str(),
             operator: &spec.operator,
@@ -527,18 +541,19 @@ fn entries<'a>(
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
     let spaces = scenario_spaces();
-    trust::experiment::report::table(&entries(config, results, &spaces))
+    trust::experiment::report::table(&entries(config, results, &spaces, &[]))
 }
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
     let spaces = scenario_spaces();
-    trust::experiment::report::best_arms(&entries(config, results, &spaces))
+    trust::experiment::report::best_arms(&entries(config, results, &spaces, &[]))
 }
 
-/// Writes the report folder for a suite run. The report reruns by itself: every operator
-/// file the config names (relative to `origin`) is copied into `DIR/operators/`, and the
-/// `config.ron` written names those copies.
+/// Writes the report folder for a suite run, with the landscape of each experiment's
+/// operators (estimated here, on the current rayon pool) behind its final behaviors. The
+/// report reruns by itself: every operator file the config names (relative to `origin`)
+/// is copied into `DIR/operators/`, and the `config.ron` written names those copies.
 pub fn write_suite_report(
     dir: &Path,
     config: &SuiteConfig,
@@ -548,10 +563,24 @@ pub fn write_suite_report(
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let spaces = scenario_spaces();
+    let domains = Scenario::ALL.map(UgvDomain::new);
+    let mut landscapes = Vec::with_capacity(config.experiments.len());
+    for (k, spec) in config.experiments.iter().enumerate() {
+        let operators = spec.operators(origin, config.patrol_weights)?;
+        let judges: Vec<&OperatorModel> = spec.judges(&operators).map(|(_, op)| op).collect();
+        let domain = domains
+            .iter()
+            .find(|d| d.scenario() == spec.scenario)
+            .expect("every scenario has a domain");
+        landscapes.push(
+            finals_landscapes(domain, &judges, k as u64, config.seed, &|| {})
+                .expect("validated: known components, an operator, runs"),
+        );
+    }
     let (portable, copies) = config.with_operator_files_in("operators", origin);
     let mut written = write_report(
         dir,
-        &entries(config, results, &spaces),
+        &entries(config, results, &spaces, &landscapes),
         &portable.to_ron(),
         elapsed_s,
         provenance,
