@@ -202,6 +202,10 @@ struct RunOptions {
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
+    /// Runs per cell of the operator landscapes behind the final behaviors, 0 for none
+    /// (overrides the config).
+    #[arg(long)]
+    landscape_runs: Option<u32>,
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
     threads: Option<NonZeroUsize>,
@@ -289,6 +293,9 @@ fn run_experiments(mut config: SuiteConfig, origin: &Path, options: &RunOptions)
     }
     if let Some(seed) = options.seed {
         config.seed = seed;
+    }
+    if let Some(runs) = options.landscape_runs {
+        config.landscape_runs = runs;
     }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();

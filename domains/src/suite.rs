@@ -16,7 +16,8 @@ use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use trust::experiment::landscape::Landscape;
 use trust::experiment::report::{
-    Provenance, ReportEntry, ReportError, file_stems, finals_landscapes, write_report,
+    FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
+    write_report,
 };
 use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
@@ -61,6 +62,14 @@ pub struct SuiteConfig {
     pub arms: Vec<String>,
     /// The experiments, in report order.
     pub experiments: Vec<ExperimentSpec>,
+    /// Runs per cell of the operator landscapes the report draws the final behaviors over
+    /// (0: no landscape).
+    #[serde(default = "default_landscape_runs")]
+    pub landscape_runs: u32,
+}
+
+fn default_landscape_runs() -> u32 {
+    FINALS_LANDSCAPE_RUNS
 }
 
 fn default_max_commands() -> u64 {
@@ -566,6 +575,9 @@ pub fn write_suite_report(
     let domains = Scenario::ALL.map(UgvDomain::new);
     let mut landscapes = Vec::with_capacity(config.experiments.len());
     for (k, spec) in config.experiments.iter().enumerate() {
+        if config.landscape_runs == 0 {
+            break;
+        }
         let operators = spec.operators(origin, config.patrol_weights)?;
         let judges: Vec<&OperatorModel> = spec.judges(&operators).map(|(_, op)| op).collect();
         let domain = domains
@@ -573,8 +585,15 @@ pub fn write_suite_report(
             .find(|d| d.scenario() == spec.scenario)
             .expect("every scenario has a domain");
         landscapes.push(
-            finals_landscapes(domain, &judges, k as u64, config.seed, &|| {})
-                .expect("validated: known components, an operator, runs"),
+            finals_landscapes(
+                domain,
+                &judges,
+                k as u64,
+                config.seed,
+                config.landscape_runs,
+                &|| {},
+            )
+            .expect("validated: known components, an operator, runs"),
         );
     }
     let (portable, copies) = config.with_operator_files_in("operators", origin);

@@ -24,6 +24,9 @@ pub type CellChart<'a, 'b> =
 const TICK_FONT: u32 = 13;
 /// Font size of axis titles (px).
 const TITLE_FONT: u32 = 14;
+/// Margin of a heatmap panel (px), and below it, where the axis title's descenders go.
+const MARGIN: u32 = 6;
+const MARGIN_BOTTOM: u32 = 14;
 /// Height of the colour bar (px).
 const BAR_HEIGHT: i32 = 150;
 /// The key of the trustworthy region's outline.
@@ -65,7 +68,10 @@ pub fn panel<'a, 'b>(
         builder.caption(caption, ("sans-serif", 17));
     }
     let mut chart = builder
-        .margin(6)
+        .margin(MARGIN)
+        // Plotters puts the axis title's top one font size above the bottom: room for its
+        // descenders.
+        .margin_bottom(MARGIN_BOTTOM)
         .x_label_area_size(bottom)
         .y_label_area_size(left)
         .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
@@ -256,13 +262,12 @@ pub fn landscape_svg(
     let header = 56;
     // The colour key starts this far below the header.
     let caption = 24;
-    let chart_width = 2 * 6 + left + grid.nx as u32 * CELL;
-    let chart_height = 2 * 6 + bottom + grid.ny as u32 * CELL;
+    let chart_width = 2 * MARGIN + left + grid.nx as u32 * CELL;
+    let chart_height = MARGIN + MARGIN_BOTTOM + bottom + grid.ny as u32 * CELL;
     let key_height = color_key_height() as u32 + 10;
     let titles = text_width(title, 20).max(text_width(subtitle, 15)) + 20;
     let width = (chart_width + KEY_WIDTH).max(titles);
-    // Room below the chart for the descenders of the axis title.
-    let height = header + (chart_height + 10).max(key_height + caption);
+    let height = header + chart_height.max(key_height + caption);
     Ok(svg(path, (width, height), |root| {
         root.draw(&Text::new(title, (10, 8), ("sans-serif", 20).into_font()))?;
         root.draw(&Text::new(
