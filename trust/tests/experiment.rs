@@ -143,6 +143,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             scenario: "toy",
             operator,
             space: &toy.space,
+            landscapes: &[],
         })
         .collect()
 }
@@ -320,6 +321,7 @@ fn plot_names_never_collide() {
             scenario: "toy",
             operator: "low",
             space: &toy.space,
+            landscapes: &[],
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();
