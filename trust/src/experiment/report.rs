@@ -857,24 +857,18 @@ fn final_behaviors(
         let (width, height) = chart.plotting_area().dim_in_pixel();
         let cell = (f64::from(width) / nx as f64).min(f64::from(height) / ny as f64);
         largest = 0.48 * cell;
-        chart.draw_series(
-            (0..nx)
-                .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                .filter(|&(i, j)| counts[i * ny + j] > 0)
-                .map(|(i, j)| {
-                    let r = marker_radius(counts[i * ny + j], most, largest);
-                    Circle::new((i as f64, j as f64), r, WHITE.mix(0.85).filled())
-                }),
-        )?;
-        chart.draw_series(
-            (0..nx)
-                .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                .filter(|&(i, j)| counts[i * ny + j] > 0)
-                .map(|(i, j)| {
-                    let r = marker_radius(counts[i * ny + j], most, largest);
-                    Circle::new((i as f64, j as f64), r, BLACK.stroke_width(1))
-                }),
-        )?;
+        // A light disc under a dark ring, readable on every colour of the scale.
+        for style in [WHITE.mix(0.85).filled(), BLACK.stroke_width(1)] {
+            chart.draw_series(
+                (0..nx)
+                    .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                    .filter(|&(i, j)| counts[i * ny + j] > 0)
+                    .map(|(i, j)| {
+                        let r = marker_radius(counts[i * ny + j], most, largest);
+                        Circle::new((i as f64, j as f64), r, style)
+                    }),
+            )?;
+        }
     }
     let mut top = 10;
     if grid.is_some() {
