@@ -14,7 +14,6 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use domains::landscape;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
@@ -25,6 +24,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use trust::experiment::report::Provenance;
+use trust::experiment::{heatmap, landscape};
 use trust::{AdapterConfig, Domain};
 
 /// The command line; name, version and description come from the catalog.
@@ -207,6 +207,10 @@ struct RunOptions {
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
+    /// Runs per cell of the operator landscapes behind the final behaviors, 0 for none
+    /// (overrides the config).
+    #[arg(long)]
+    landscape_runs: Option<u32>,
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
     threads: Option<NonZeroUsize>,
@@ -315,6 +319,9 @@ fn run_experiments<C: Catalog>(
     if let Some(seed) = options.seed {
         config.seed = seed;
     }
+    if let Some(runs) = options.landscape_runs {
+        config.landscape_runs = runs;
+    }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
         config.validate(catalog, origin)?;
@@ -365,14 +372,17 @@ fn run_experiments<C: Catalog>(
         command_line: std::env::args().collect(),
     };
     cbr_core::output::remove_previous_report(&options.out)?;
-    let written = write_suite_report(
-        &options.out,
-        &config,
-        origin,
-        &results,
-        elapsed,
-        &provenance,
-    )?;
+    let written = pool.install(|| {
+        write_suite_report(
+            catalog,
+            &options.out,
+            &config,
+            origin,
+            &results,
+            elapsed,
+            &provenance,
+        )
+    })?;
     println!(
         "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.experiments.len(),
@@ -626,16 +636,40 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
             .progress_chars("=> "),
         )
         .with_prefix(format!("landscape ({} runs each)", args.runs));
-    let estimate = landscape::estimate(&domain, &operator, args.runs, args.seed, &|| bar.inc(1));
+    let every_component: Vec<usize> = (0..space.components().len()).collect();
+    let estimate = landscape::estimate(
+        &domain,
+        &[&operator],
+        &every_component,
+        args.runs,
+        args.seed,
+        &|| bar.inc(1),
+    )?;
     bar.finish();
     let title = format!(
         "{}, operator {}, {} runs per behavior",
         args.scenario, operator_name, args.runs
     );
-    let svg = estimate.heatmap_svg(space, x, y, &title)?;
+    let others: Vec<&str> = (0..space.components().len())
+        .filter(|&c| c != x && c != y)
+        .map(|c| space.components()[c].name.as_str())
+        .collect();
+    let subtitle = if others.is_empty() {
+        "P(complete) of every behavior".to_owned()
+    } else {
+        format!(
+            "P(complete) of each pair of values, the mean over every {}",
+            others.join(", ")
+        )
+    };
+    let svg_path = args.out.join("landscape.svg");
+    let svg = heatmap::landscape_svg(space, &estimate, (x, y), &title, &subtitle, &svg_path)?;
     for (name, bytes) in [
         ("landscape.svg", svg.into_bytes()),
-        ("landscape.csv", estimate.csv(space).into_bytes()),
+        (
+            "landscape.csv",
+            estimate.csv(space, domain.causes()).into_bytes(),
+        ),
     ] {
         let path = args.out.join(name);
         cbr_core::write_atomically(&path, &bytes)

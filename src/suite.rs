@@ -19,7 +19,11 @@ use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use trust::experiment::report::{Provenance, ReportEntry, ReportError, file_stems, write_report};
+use trust::experiment::landscape::Landscape;
+use trust::experiment::report::{
+    FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
+    write_report,
+};
 use trust::experiment::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
     run_experiments,
@@ -65,6 +69,14 @@ pub struct SuiteConfig {
     pub arms: Vec<String>,
     /// The experiments, in report order.
     pub experiments: Vec<ExperimentSpec>,
+    /// Runs per cell of the operator landscapes the report draws the final behaviors over
+    /// (0: no landscape).
+    #[serde(default = "default_landscape_runs")]
+    pub landscape_runs: u32,
+}
+
+fn default_landscape_runs() -> u32 {
+    FINALS_LANDSCAPE_RUNS
 }
 
 fn default_max_commands() -> u64 {
@@ -316,12 +328,8 @@ impl SuiteConfig {
             // A trial ends when a behavior reaches the trustworthy threshold; if no
             // operator of the experiment lets one reach it within `max_commands`, every
             // trial would be cut off and report a count that means nothing.
-            let judges: Vec<&(String, OperatorOf<C>)> = operators
-                .iter()
-                .filter(|(name, _)| spec.operator == RANDOM_OPERATOR || *name == spec.operator)
-                .collect();
             let trustworthy = self.adapter.thresholds.trustworthy;
-            if let Some((name, completed)) = judges.iter().find_map(|(name, op)| {
+            if let Some((name, completed)) = spec.judges(&operators).find_map(|(name, op)| {
                 catalog
                     .completion_weight(op)
                     .filter(|w| w * (self.max_commands as f64) < trustworthy)
@@ -358,6 +366,17 @@ impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused`.
     pub fn name(&self) -> String {
         format!("{}/{}", self.scenario, self.operator)
+    }
+
+    /// The operators among `operators` that judge this experiment's trials: the one it
+    /// names, or all of them for `random`.
+    pub fn judges<'a, O>(
+        &'a self,
+        operators: &'a [(String, O)],
+    ) -> impl Iterator<Item = &'a (String, O)> + 'a {
+        operators
+            .iter()
+            .filter(|(name, _)| self.operator == RANDOM_OPERATOR || *name == self.operator)
     }
 
     /// The scenario's operators: the catalog's built-in ones, then those of
@@ -568,14 +587,21 @@ pub fn save_case_bases(
     Ok(written)
 }
 
-/// The report entries of a suite's results.
-fn entries<'a>(config: &'a SuiteConfig, results: &'a SuiteResults) -> Vec<ReportEntry<'a>> {
+/// The report entries of a suite's results, with the landscapes of each experiment when
+/// given.
+fn entries<'a>(
+    config: &'a SuiteConfig,
+    results: &'a SuiteResults,
+    landscapes: &'a [Vec<Landscape>],
+) -> Vec<ReportEntry<'a>> {
     config
         .experiments
         .iter()
         .zip(&results.results)
         .zip(&results.spaces)
-        .map(|((spec, result), space)| ReportEntry {
+        .enumerate()
+        .map(|(k, ((spec, result), space))| ReportEntry {
+            landscapes: landscapes.get(k).map_or(&[], Vec::as_slice),
             result,
             scenario: &spec.scenario,
             operator: &spec.operator,
@@ -586,18 +612,20 @@ fn entries<'a>(config: &'a SuiteConfig, results: &'a SuiteResults) -> Vec<Report
 
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
-    trust::experiment::report::table(&entries(config, results))
+    trust::experiment::report::table(&entries(config, results, &[]))
 }
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
-    trust::experiment::report::best_arms(&entries(config, results))
+    trust::experiment::report::best_arms(&entries(config, results, &[]))
 }
 
-/// Writes the report folder for a suite run. The report reruns by itself: every operator
-/// file the config names (relative to `origin`) is copied into `DIR/operators/`, and the
-/// `config.ron` written names those copies.
-pub fn write_suite_report(
+/// Writes the report folder for a suite run, with the landscape of each experiment's
+/// operators (estimated here, on the current rayon pool) behind its final behaviors. The
+/// report reruns by itself: every operator file the config names (relative to `origin`)
+/// is copied into `DIR/operators/`, and the `config.ron` written names those copies.
+pub fn write_suite_report<C: Catalog>(
+    catalog: &C,
     dir: &Path,
     config: &SuiteConfig,
     origin: &Path,
@@ -605,10 +633,38 @@ pub fn write_suite_report(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
+    let invalid = |field: String, message: String| SuiteError::Invalid {
+        path: origin.to_owned(),
+        field,
+        message,
+    };
+    let readings = resolve_readings(catalog, &config.readings)
+        .map_err(|e| invalid("readings".into(), e.to_string()))?;
+    let mut landscapes = Vec::with_capacity(config.experiments.len());
+    for (k, spec) in config.experiments.iter().enumerate() {
+        if config.landscape_runs == 0 {
+            break;
+        }
+        let domain = domain_of(catalog, &spec.scenario)
+            .map_err(|e| invalid(format!("experiments[{k}].scenario"), e.to_string()))?;
+        let operators = spec.operators(catalog, origin, &readings)?;
+        let judges: Vec<&OperatorOf<C>> = spec.judges(&operators).map(|(_, op)| op).collect();
+        landscapes.push(
+            finals_landscapes(
+                &domain,
+                &judges,
+                k as u64,
+                config.seed,
+                config.landscape_runs,
+                &|| {},
+            )
+            .map_err(|e| invalid(format!("experiments[{k}]"), e.to_string()))?,
+        );
+    }
     let (portable, copies) = config.with_operator_files_in("operators", origin);
     let mut written = write_report(
         dir,
-        &entries(config, results),
+        &entries(config, results, &landscapes),
         &portable.to_ron(),
         elapsed_s,
         provenance,

@@ -3,12 +3,13 @@
 mod support;
 
 use std::path::Path;
-use support::{succeed, trustcbr};
+use support::{outside_view, succeed, svg_texts, trustcbr};
 use trust::experiment::BUILTIN_ARMS as ARMS;
 
 const SMALL: &str = r#"(
     seed: 7,
     trials: 4,
+    landscape_runs: 20,
     experiments: [
         (scenario: "movement", operator: "balanced"),
         (scenario: "patrol", operator: "random"),
@@ -92,6 +93,13 @@ fn run_writes_a_complete_report() {
     ] {
         let svg = std::fs::read_to_string(out.join(plot)).unwrap();
         assert!(svg.starts_with("<svg"), "{plot}");
+        assert_eq!(outside_view(&svg), Vec::<String>::new(), "{plot}");
+        if plot.starts_with("finals") {
+            // Over the operator's landscape: its colour bar and the outline's key.
+            let texts = svg_texts(&svg);
+            assert!(texts.contains(&"P(complete)"), "{plot}");
+            assert!(texts.iter().any(|t| t.starts_with("outlined:")), "{plot}");
+        }
     }
     assert!(out.join("table.md").is_file());
 }
@@ -103,10 +111,16 @@ fn one_and_two_threads_give_identical_trials() {
     std::fs::write(&config, SMALL).unwrap();
     run(&config, &dir.path().join("one"), "1");
     run(&config, &dir.path().join("two"), "2");
-    let one = std::fs::read(dir.path().join("one/trials.jsonl")).unwrap();
-    let two = std::fs::read(dir.path().join("two/trials.jsonl")).unwrap();
-    assert!(!one.is_empty());
-    assert_eq!(one, two);
+    for file in [
+        "trials.jsonl",
+        "finals-movement-balanced.svg",
+        "finals-patrol-random.svg",
+    ] {
+        let one = std::fs::read(dir.path().join("one").join(file)).unwrap();
+        let two = std::fs::read(dir.path().join("two").join(file)).unwrap();
+        assert!(!one.is_empty());
+        assert!(one == two, "{file} differs between 1 and 2 threads");
+    }
 }
 
 #[test]
@@ -117,7 +131,8 @@ fn config_prints_the_embedded_paper_config_and_it_runs() {
     // The printed config is a valid input for `run` (with fewer trials).
     let dir = tempfile::tempdir().unwrap();
     let config = dir.path().join("paper.ron");
-    std::fs::write(&config, text.replace("trials: 500", "trials: 1")).unwrap();
+    let fewer = text.replace("trials: 500", "trials: 1,\n    landscape_runs: 10");
+    std::fs::write(&config, fewer).unwrap();
     let stdout = run(&config, &dir.path().join("out"), "2");
     let trials_column: Vec<&str> = stdout
         .lines()
@@ -150,17 +165,15 @@ fn reproduce_accepts_overrides() {
     let out = dir.path().join("results");
     succeed(
         trustcbr()
-            .args(["reproduce", "--trials", "1", "--seed", "3", "--out"])
+            .args(["reproduce", "--trials", "1", "--seed", "3"])
+            .args(["--landscape-runs", "10", "--out"])
             .arg(&out),
     );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["experiments"].as_array().unwrap().len(), 7);
-    assert!(
-        std::fs::read_to_string(out.join("config.ron"))
-            .unwrap()
-            .contains("seed: 3")
-    );
+    let used = std::fs::read_to_string(out.join("config.ron")).unwrap();
+    assert!(used.contains("seed: 3") && used.contains("landscape_runs: 10"));
 }
 
 #[test]
@@ -292,7 +305,7 @@ fn a_report_reruns_by_itself_with_its_operator_files() {
     let config = dir.path().join("custom.ron");
     std::fs::write(
         &config,
-        "(seed: 3, trials: 2, arms: [\"uniform\"], experiments: [(scenario: \"movement\", operator: \"hasty\", operator_files: [\"ops/hasty.ron\"])])",
+        "(seed: 3, trials: 2, landscape_runs: 10, arms: [\"uniform\"], experiments: [(scenario: \"movement\", operator: \"hasty\", operator_files: [\"ops/hasty.ron\"])])",
     )
     .unwrap();
     let first = dir.path().join("first");
@@ -316,7 +329,14 @@ fn the_printed_tables_fit_a_terminal() {
     let out = dir.path().join("results");
     let stdout = succeed(
         trustcbr()
-            .args(["reproduce", "--trials", "2", "--out"])
+            .args([
+                "reproduce",
+                "--trials",
+                "2",
+                "--landscape-runs",
+                "0",
+                "--out",
+            ])
             .arg(&out),
     );
     // The last line names the report folder, whose path is the user's.

@@ -1,28 +1,40 @@
-//! Drawing one run as SVG: the map and its obstacles, the people who were standing around,
-//! the planned and the driven path, collisions, the patrol's objects with their true and
-//! assigned labels, and how the operator judged the run.
+//! Drawing one run as SVG with plotters: the map and its obstacles, the people who were
+//! standing around, the planned and the driven path, collisions, the patrol's objects
+//! with their true and assigned labels, and how the operator judged the run; a scale bar
+//! in metres and a legend of what this run's picture holds (patrol objects only in patrol
+//! runs).
 
 use crate::geometry::{Shape, Vec2};
 use crate::operator::OperatorModel;
-use crate::svg::Svg;
 use crate::trace::EventKind;
 use crate::ugv::{Run, UgvDomain};
 use crate::world::ObstacleKind;
 use cbr_core::Behavior;
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use std::path::Path;
+use trust::experiment::plot::{Area, DrawResult, svg, text_width};
 use trust::{Domain, Outcome};
 
 /// Pixels per metre.
 const SCALE: f64 = 10.0;
-/// Blank border around the map (px).
-const MARGIN: f64 = 20.0;
+/// Blank border left and right of the map (px).
+const MARGIN: u32 = 20;
 /// Height of the title band above the map (px).
-const HEADER: f64 = 70.0;
+const HEADER: u32 = 70;
 /// Room right of the map for the labels of objects near its east edge (px).
-const LABEL_ROOM: f64 = 140.0;
-/// Height of the legend below the map (px).
-const FOOTER: f64 = 50.0;
+const LABEL_ROOM: u32 = 140;
+/// Height of a row of the legend (px).
+const LEGEND_ROW: u32 = 20;
+/// Font size of the legend (px).
+const LEGEND_FONT: u32 = 13;
+/// Length of the scale bar (m).
+const SCALE_BAR_M: f64 = 10.0;
 
 /// Simulates the run of `behavior` with `seed` exactly as [`Domain::run`] does with a
 /// `ChaCha8Rng` seeded from `seed`, and draws it.
@@ -53,51 +65,208 @@ pub fn describe(outcome: &Outcome) -> String {
     }
 }
 
-struct Canvas {
-    svg: Svg,
-    height_m: f64,
+/// Fill and outline of an obstacle kind.
+fn obstacle_colors(kind: ObstacleKind) -> (RGBColor, RGBColor) {
+    match kind {
+        ObstacleKind::House => (RGBColor(217, 199, 167), RGBColor(138, 115, 80)),
+        ObstacleKind::Vehicle => (RGBColor(123, 156, 196), RGBColor(52, 85, 122)),
+        ObstacleKind::Barrier => (RGBColor(224, 64, 43), RGBColor(122, 29, 16)),
+        ObstacleKind::Cone => (RGBColor(255, 140, 26), RGBColor(153, 77, 0)),
+        ObstacleKind::Human => (RGBColor(142, 68, 173), RGBColor(74, 31, 92)),
+    }
 }
 
-impl Canvas {
-    fn at(&self, p: Vec2) -> (f64, f64) {
-        (MARGIN + p.x * SCALE, HEADER + (self.height_m - p.y) * SCALE)
+fn obstacle_name(kind: ObstacleKind) -> &'static str {
+    match kind {
+        ObstacleKind::House => "house",
+        ObstacleKind::Vehicle => "vehicle",
+        ObstacleKind::Barrier => "barrier",
+        ObstacleKind::Cone => "traffic cone",
+        ObstacleKind::Human => "person",
     }
+}
 
-    fn shape(&mut self, shape: &Shape, style: &str) {
-        match shape {
-            Shape::Circle { center, radius } => {
-                let (x, y) = self.at(*center);
-                self.svg.circle(x, y, radius * SCALE, style);
-            }
-            Shape::Polygon(v) => {
-                let points: Vec<(f64, f64)> = v.iter().map(|p| self.at(*p)).collect();
-                self.svg.poly(&points, true, style);
-            }
+const PLANNED: RGBColor = RGBColor(31, 95, 191);
+const DRIVEN: RGBColor = RGBColor(17, 17, 17);
+const COLLISION: RGBColor = RGBColor(214, 39, 40);
+const EXPLOSIVE: RGBColor = RGBColor(214, 39, 40);
+const HARMLESS: RGBColor = RGBColor(44, 160, 44);
+const SPUR: RGBColor = RGBColor(85, 85, 85);
+const ABSENT: RGBColor = RGBColor(187, 143, 206);
+
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy)]
+enum Symbol {
+    Dashed(RGBColor),
+    Line(RGBColor),
+    Cross,
+    Disc(RGBColor, RGBColor),
+    Ring(RGBColor),
+    Square,
+    Spur,
+    Block(RGBColor, RGBColor),
+}
+
+/// The legend entries of a run's picture: only what it can show.
+fn legend_entries(domain: &UgvDomain, run: &Run<'_>) -> Vec<(Symbol, String)> {
+    let world = domain.world();
+    let mut entries = vec![
+        (Symbol::Dashed(PLANNED), "planned path".to_owned()),
+        (
+            Symbol::Line(DRIVEN),
+            "driven path (the whole simulated drive)".to_owned(),
+        ),
+        (Symbol::Cross, "collision".to_owned()),
+        (Symbol::Square, "start, goal".to_owned()),
+    ];
+    if !world.humans.is_empty() {
+        let (fill, line) = obstacle_colors(ObstacleKind::Human);
+        entries.push((Symbol::Disc(fill, line), "person standing".to_owned()));
+        entries.push((Symbol::Ring(ABSENT), "where a person may stand".to_owned()));
+    }
+    let mut kinds: Vec<ObstacleKind> = Vec::new();
+    for o in &world.obstacles {
+        if !kinds.contains(&o.kind) {
+            kinds.push(o.kind);
         }
     }
-
-    fn path(&mut self, points: &[Vec2], style: &str) {
-        let points: Vec<(f64, f64)> = points.iter().map(|p| self.at(*p)).collect();
-        self.svg.poly(&points, false, style);
+    for kind in kinds {
+        let (fill, line) = obstacle_colors(kind);
+        entries.push((Symbol::Block(fill, line), obstacle_name(kind).to_owned()));
     }
-
-    fn cross(&mut self, p: Vec2, size: f64, style: &str) {
-        let (x, y) = self.at(p);
-        self.svg
-            .line((x - size, y - size), (x + size, y + size), style);
-        self.svg
-            .line((x - size, y + size), (x + size, y - size), style);
+    if !run.objects.is_empty() {
+        entries.push((
+            Symbol::Disc(EXPLOSIVE, BLACK),
+            "explosive object".to_owned(),
+        ));
+        entries.push((Symbol::Disc(HARMLESS, BLACK), "harmless object".to_owned()));
+        entries.push((
+            Symbol::Spur,
+            "scanned from (ring); text: truth/label given".to_owned(),
+        ));
     }
+    entries
 }
 
-fn obstacle_style(kind: ObstacleKind) -> &'static str {
-    match kind {
-        ObstacleKind::House => r##"fill="#d9c7a7" stroke="#8a7350""##,
-        ObstacleKind::Vehicle => r##"fill="#7b9cc4" stroke="#34557a""##,
-        ObstacleKind::Barrier => r##"fill="#e0402b" stroke="#7a1d10""##,
-        ObstacleKind::Cone => r##"fill="#ff8c1a" stroke="#994d00""##,
-        ObstacleKind::Human => r##"fill="#8e44ad" stroke="#4a1f5c""##,
+/// Width of a legend entry (px): symbol, gap, text, gap to the next.
+fn entry_width(label: &str) -> u32 {
+    24 + 6 + text_width(label, LEGEND_FONT) + 16
+}
+
+/// The legend's rows: entries in order, a new row when the next would pass `width`.
+fn legend_rows(entries: &[(Symbol, String)], width: u32) -> Vec<Vec<usize>> {
+    let mut rows: Vec<Vec<usize>> = vec![Vec::new()];
+    let mut used = 0;
+    for (k, (_, label)) in entries.iter().enumerate() {
+        let w = entry_width(label);
+        if used + w > width && !rows.last().expect("one row at least").is_empty() {
+            rows.push(Vec::new());
+            used = 0;
+        }
+        rows.last_mut().expect("one row at least").push(k);
+        used += w;
     }
+    rows
+}
+
+fn draw_symbol(area: &Area<'_>, symbol: Symbol, (x, y): (i32, i32)) -> DrawResult {
+    match symbol {
+        Symbol::Dashed(color) => area.draw(&DashedPathElement::new(
+            vec![(x, y), (x + 24, y)],
+            6,
+            4,
+            color.stroke_width(2),
+        ))?,
+        Symbol::Line(color) => area.draw(&PathElement::new(
+            vec![(x, y), (x + 24, y)],
+            color.stroke_width(1),
+        ))?,
+        Symbol::Cross => cross(area, (x + 12, y), 5)?,
+        Symbol::Disc(fill, line) => {
+            area.draw(&Circle::new((x + 12, y), 4, fill.filled()))?;
+            area.draw(&Circle::new((x + 12, y), 4, line.stroke_width(1)))?;
+        }
+        Symbol::Ring(color) => area.draw(&Circle::new((x + 12, y), 4, color.stroke_width(1)))?,
+        Symbol::Square => square(area, (x + 12, y))?,
+        Symbol::Spur => {
+            area.draw(&DashedPathElement::new(
+                vec![(x, y), (x + 20, y)],
+                2,
+                2,
+                SPUR.stroke_width(1),
+            ))?;
+            area.draw(&Circle::new((x + 2, y), 2.5, DRIVEN.stroke_width(1)))?;
+        }
+        Symbol::Block(fill, line) => {
+            area.draw(&Rectangle::new(
+                [(x + 4, y - 6), (x + 20, y + 6)],
+                fill.filled(),
+            ))?;
+            area.draw(&Rectangle::new(
+                [(x + 4, y - 6), (x + 20, y + 6)],
+                line.stroke_width(1),
+            ))?;
+        }
+    }
+    Ok(())
+}
+
+/// A red x of half-size `size` px at `at` (px).
+fn cross(area: &Area<'_>, (x, y): (i32, i32), size: i32) -> DrawResult {
+    for (a, b) in [
+        ((x - size, y - size), (x + size, y + size)),
+        ((x - size, y + size), (x + size, y - size)),
+    ] {
+        area.draw(&PathElement::new(vec![a, b], COLLISION.stroke_width(3)))?;
+    }
+    Ok(())
+}
+
+/// The white square of a route's start or goal at `at` (px).
+fn square(area: &Area<'_>, (x, y): (i32, i32)) -> DrawResult {
+    area.draw(&Rectangle::new(
+        [(x - 4, y - 4), (x + 4, y + 4)],
+        WHITE.filled(),
+    ))?;
+    area.draw(&Rectangle::new(
+        [(x - 4, y - 4), (x + 4, y + 4)],
+        BLACK.stroke_width(2),
+    ))?;
+    Ok(())
+}
+
+/// The map's coordinates: metres, east and north.
+type Map<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+fn shape(
+    map: &mut Map<'_, '_>,
+    shape: &Shape,
+    fill: Option<RGBColor>,
+    line: ShapeStyle,
+) -> DrawResult {
+    match shape {
+        Shape::Circle { center, radius } => {
+            let r = radius * SCALE;
+            if let Some(fill) = fill {
+                map.draw_series(std::iter::once(Circle::new(
+                    (center.x, center.y),
+                    r,
+                    fill.filled(),
+                )))?;
+            }
+            map.draw_series(std::iter::once(Circle::new((center.x, center.y), r, line)))?;
+        }
+        Shape::Polygon(v) => {
+            let points: Vec<(f64, f64)> = v.iter().map(|p| (p.x, p.y)).collect();
+            if let Some(fill) = fill {
+                map.draw_series(std::iter::once(Polygon::new(points.clone(), fill.filled())))?;
+            }
+            let mut closed = points;
+            closed.push(closed[0]);
+            map.draw_series(std::iter::once(PathElement::new(closed, line)))?;
+        }
+    }
+    Ok(())
 }
 
 fn draw(
@@ -108,85 +277,129 @@ fn draw(
     operator: &str,
 ) -> String {
     let world = domain.world();
-    let width = world.size.x * SCALE + 2.0 * MARGIN + LABEL_ROOM;
-    let height = world.size.y * SCALE + HEADER + FOOTER;
-    let mut c = Canvas {
-        svg: Svg::new(width, height),
-        height_m: world.size.y,
-    };
-    let (x0, y0) = c.at(Vec2::new(0.0, world.size.y));
-    c.svg.rect(
-        x0,
-        y0,
-        world.size.x * SCALE,
-        world.size.y * SCALE,
-        r##"fill="#eef2e6" stroke="#555""##,
+    let (map_w, map_h) = (
+        (world.size.x * SCALE).round() as u32,
+        (world.size.y * SCALE).round() as u32,
     );
-    for road in &world.roads {
-        let (x, y) = c.at(Vec2::new(road.min.x, road.max.y));
-        let (w, h) = (
-            (road.max - road.min).x * SCALE,
-            (road.max - road.min).y * SCALE,
-        );
-        c.svg.rect(x, y, w, h, r##"fill="#c8c8c8""##);
-    }
+    let width = map_w + 2 * MARGIN + LABEL_ROOM;
+    let entries = legend_entries(domain, run);
+    let rows = legend_rows(&entries, width - 2 * MARGIN);
+    // Below the map: the scale bar, then the legend's rows.
+    let footer = 16 + 30 + LEGEND_ROW * rows.len() as u32 + 8;
+    let height = HEADER + map_h + footer;
+    let stuck = if run.plan.is_none() {
+        " | no path keeps the padding: stuck"
+    } else {
+        ""
+    };
+    let verdict = format!(
+        "operator {operator}: {} | collisions: {}{stuck}",
+        describe(outcome),
+        run.trace.collisions()
+    );
+    svg(Path::new("run.svg"), (width, height), |root| {
+        root.draw(&Text::new(
+            title,
+            (MARGIN as i32, 12),
+            ("sans-serif", 17).into_font().style(FontStyle::Bold),
+        ))?;
+        root.draw(&Text::new(
+            verdict.as_str(),
+            (MARGIN as i32, 38),
+            ("sans-serif", 17).into_font(),
+        ))?;
+        let map_area = root.clone().shrink((MARGIN, HEADER), (map_w, map_h));
+        let mut map =
+            ChartBuilder::on(&map_area).build_cartesian_2d(0.0..world.size.x, 0.0..world.size.y)?;
+        draw_map(&mut map, domain, run)?;
+        footer_keys(root, &entries, &rows, HEADER + map_h)
+    })
+    .expect("drawing into a string with the built-in font cannot fail")
+}
+
+/// Everything drawn in map coordinates.
+fn draw_map(map: &mut Map<'_, '_>, domain: &UgvDomain, run: &Run<'_>) -> DrawResult {
+    let world = domain.world();
+    let corners = [(0.0, 0.0), (world.size.x, world.size.y)];
+    map.draw_series(std::iter::once(Rectangle::new(
+        corners,
+        RGBColor(238, 242, 230).filled(),
+    )))?;
+    map.draw_series(world.roads.iter().map(|road| {
+        Rectangle::new(
+            [(road.min.x, road.min.y), (road.max.x, road.max.y)],
+            RGBColor(200, 200, 200).filled(),
+        )
+    }))?;
+    map.draw_series(std::iter::once(Rectangle::new(
+        corners,
+        RGBColor(85, 85, 85).stroke_width(1),
+    )))?;
     for obstacle in &world.obstacles {
-        c.shape(&obstacle.shape, obstacle_style(obstacle.kind));
+        let (fill, line) = obstacle_colors(obstacle.kind);
+        shape(map, &obstacle.shape, Some(fill), line.stroke_width(1))?;
     }
     for (i, spot) in world.humans.iter().enumerate() {
         if run.humans & (1 << i) != 0 {
-            c.shape(&spot.shape, obstacle_style(ObstacleKind::Human));
+            let (fill, line) = obstacle_colors(ObstacleKind::Human);
+            shape(map, &spot.shape, Some(fill), line.stroke_width(1))?;
         } else {
-            c.shape(
-                &spot.shape,
-                r##"fill="none" stroke="#8e44ad" stroke-dasharray="2,2""##,
-            );
+            shape(map, &spot.shape, None, ABSENT.stroke_width(1))?;
         }
     }
-    for landmark in &world.landmarks {
-        let (x, y) = c.at(landmark.at);
-        c.svg
-            .text(x + 4.0, y - 4.0, 11.0, landmark.name, r##"fill="#333""##);
-    }
-    for road in &world.roads {
-        let (x, y) = c.at(Vec2::new(road.min.x + 1.0, road.min.y + 0.5));
-        c.svg.text(x, y, 10.0, road.name, r##"fill="#666""##);
-    }
+    let font = |size: u32, color: RGBColor| ("sans-serif", size).into_font().color(&color);
+    map.draw_series(world.landmarks.iter().map(|landmark| {
+        Text::new(
+            landmark.name,
+            (landmark.at.x + 0.4, landmark.at.y + 0.4),
+            font(13, RGBColor(51, 51, 51)).pos(Pos::new(HPos::Left, VPos::Bottom)),
+        )
+    }))?;
+    map.draw_series(world.roads.iter().map(|road| {
+        Text::new(
+            road.name,
+            (road.min.x + 1.0, road.min.y + 0.5),
+            font(12, RGBColor(102, 102, 102)).pos(Pos::new(HPos::Left, VPos::Bottom)),
+        )
+    }))?;
     if let Some(plan) = run.plan {
-        c.path(
-            &plan.points,
-            r##"fill="none" stroke="#1f5fbf" stroke-width="1.5" stroke-dasharray="6,4""##,
-        );
+        let points: Vec<(f64, f64)> = plan.points.iter().map(|p| (p.x, p.y)).collect();
+        map.draw_series(std::iter::once(DashedPathElement::new(
+            points,
+            6,
+            4,
+            PLANNED.stroke_width(2),
+        )))?;
     }
     if !run.driven.is_empty() {
-        c.path(
-            &run.driven,
-            r##"fill="none" stroke="#111" stroke-width="1.5""##,
-        );
+        let points: Vec<(f64, f64)> = run.driven.iter().map(|p| (p.x, p.y)).collect();
+        map.draw_series(std::iter::once(PathElement::new(
+            points,
+            DRIVEN.stroke_width(1),
+        )))?;
     }
     for fate in &run.objects {
-        let color = if fate.object.explosive {
-            "#d62728"
-        } else {
-            "#2ca02c"
-        };
-        let (x, y) = c.at(fate.object.at);
+        let at = (fate.object.at.x, fate.object.at.y);
         if let Some(from) = fate.scanned_from {
-            let (fx, fy) = c.at(from);
-            c.svg.line(
-                (fx, fy),
-                (x, y),
-                r##"stroke="#555" stroke-dasharray="2,2""##,
-            );
-            c.svg.circle(
-                fx,
-                fy,
+            map.draw_series(std::iter::once(DashedPathElement::new(
+                vec![(from.x, from.y), at],
+                2,
+                2,
+                SPUR.stroke_width(1),
+            )))?;
+            map.draw_series(std::iter::once(Circle::new(
+                (from.x, from.y),
                 2.5,
-                r##"fill="none" stroke="#111" stroke-width="1""##,
-            );
+                DRIVEN.stroke_width(1),
+            )))?;
         }
-        c.svg
-            .circle(x, y, 4.0, &format!(r##"fill="{color}" stroke="#000""##));
+        let color = if fate.object.explosive {
+            EXPLOSIVE
+        } else {
+            HARMLESS
+        };
+        map.draw_series(std::iter::once(Circle::new(at, 4, color.filled())))?;
+        map.draw_series(std::iter::once(Circle::new(at, 4, BLACK.stroke_width(1))))?;
         let label = match fate.labelled_explosive {
             Some(true) => "explosive",
             Some(false) => "harmless",
@@ -197,65 +410,95 @@ fn draw(
         } else {
             "harmless"
         };
-        c.svg.text(
-            x + 6.0,
-            y + 4.0,
-            10.0,
-            &format!("{truth}/{label}"),
-            r##"fill="#000""##,
-        );
+        map.draw_series(std::iter::once(Text::new(
+            format!("{truth}/{label}"),
+            (at.0 + 0.6, at.1),
+            font(12, BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
+        )))?;
     }
-    for event in &run.trace.events {
-        if let EventKind::Collision { at } = event.kind {
-            c.cross(at, 5.0, r##"stroke="#d62728" stroke-width="2.5""##);
+    // Marks of a fixed size in pixels, anchored at a point of the map.
+    let mark = |at: Vec2, size: i32| {
+        EmptyElement::at((at.x, at.y))
+            + PathElement::new(
+                vec![(-size, -size), (size, size)],
+                COLLISION.stroke_width(3),
+            )
+            + PathElement::new(
+                vec![(-size, size), (size, -size)],
+                COLLISION.stroke_width(3),
+            )
+    };
+    map.draw_series(
+        run.trace
+            .events
+            .iter()
+            .filter_map(|event| match event.kind {
+                EventKind::Collision { at } => Some(mark(at, 5)),
+                _ => None,
+            }),
+    )?;
+    let route = domain.route();
+    let bold = ("sans-serif", 13).into_font().style(FontStyle::Bold);
+    map.draw_series(
+        [(route[0], "start"), (route[route.len() - 1], "goal")].map(|(p, name)| {
+            EmptyElement::at((p.x, p.y))
+                + Rectangle::new([(-4, -4), (4, 4)], WHITE.filled())
+                + Rectangle::new([(-4, -4), (4, 4)], BLACK.stroke_width(2))
+                + Text::new(name, (6, 4), bold.clone())
+        }),
+    )?;
+    Ok(())
+}
+
+/// The scale bar and the legend below the map, whose bottom edge is `top` px down.
+fn footer_keys(
+    root: &DrawingArea<SVGBackend<'_>, Shift>,
+    entries: &[(Symbol, String)],
+    rows: &[Vec<usize>],
+    top: u32,
+) -> DrawResult {
+    let (x0, y0) = (MARGIN as i32, top as i32 + 16);
+    let length = (SCALE_BAR_M * SCALE).round() as i32;
+    let half = length / 2;
+    for (k, fill) in [(0, BLACK), (1, WHITE)] {
+        root.draw(&Rectangle::new(
+            [(x0 + k * half, y0), (x0 + (k + 1) * half, y0 + 5)],
+            fill.filled(),
+        ))?;
+    }
+    root.draw(&Rectangle::new(
+        [(x0, y0), (x0 + length, y0 + 5)],
+        BLACK.stroke_width(1),
+    ))?;
+    let ticks = TextStyle::from(("sans-serif", LEGEND_FONT).into_font())
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    for (at, label) in [(0, "0"), (half, "5"), (length, "10 m")] {
+        root.draw(&Text::new(label, (x0 + at, y0 + 8), ticks.clone()))?;
+    }
+    let text = TextStyle::from(("sans-serif", LEGEND_FONT).into_font())
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    for (r, row) in rows.iter().enumerate() {
+        let y = y0 + 30 + (LEGEND_ROW as i32) * r as i32 + LEGEND_ROW as i32 / 2;
+        let mut x = x0;
+        for &k in row {
+            let (symbol, label) = &entries[k];
+            draw_symbol(root, *symbol, (x, y))?;
+            root.draw(&Text::new(label.as_str(), (x + 30, y), text.clone()))?;
+            x += entry_width(label) as i32;
         }
     }
-    let route = domain.route();
-    for (p, name) in [(route[0], "start"), (route[route.len() - 1], "goal")] {
-        let (x, y) = c.at(p);
-        c.svg.rect(
-            x - 4.0,
-            y - 4.0,
-            8.0,
-            8.0,
-            r##"fill="#fff" stroke="#000" stroke-width="1.5""##,
-        );
-        c.svg
-            .text(x + 6.0, y + 12.0, 11.0, name, r##"font-weight="bold""##);
-    }
-    c.svg
-        .text(MARGIN, 24.0, 14.0, title, r##"font-weight="bold""##);
-    let stuck = if run.plan.is_none() {
-        " | no path keeps the padding: stuck"
-    } else {
-        ""
-    };
-    c.svg.text(
-        MARGIN,
-        48.0,
-        14.0,
-        &format!(
-            "operator {operator}: {} | collisions: {}{stuck}",
-            describe(outcome),
-            run.trace.collisions()
-        ),
-        "",
-    );
-    let legend = [
-        "dashed blue: planned path | black: driven path (the whole simulated drive) | red x: collision",
-        "dots: objects (red explosive, green harmless; text: truth/label), ring: where it was scanned from | purple: people (dashed: absent)",
-    ];
-    for (k, line) in legend.iter().enumerate() {
-        let y = height - 30.0 + 15.0 * k as f64;
-        c.svg.text(MARGIN, y, 11.0, line, r##"fill="#333""##);
-    }
-    c.svg.finish()
+    Ok(())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::{Scenario, builtin_operators};
+
+    /// Whether plotters wrote `text` as one text element (its content on its own line).
+    fn has_text(svg: &str, text: &str) -> bool {
+        svg.contains(&format!("\n{text}\n</text>"))
+    }
 
     #[test]
     fn a_patrol_drawing_shows_every_part() {
@@ -269,11 +512,37 @@ mod tests {
         // The same outcome as the domain's own run with that seed.
         let expected = domain.run(&b, op, &mut ChaCha8Rng::seed_from_u64(4));
         assert!(svg.contains(&describe(&expected)));
-        assert!(svg.contains("stroke-dasharray=\"6,4\""), "planned path");
-        assert!(svg.contains("stroke=\"#111\""), "driven path");
-        assert_eq!(svg.matches("r=\"4.00\"").count(), 6, "six objects");
-        assert!(svg.contains("harmless/") || svg.contains("explosive/"));
         assert!(svg.contains("speed=2"));
+        let labels = svg.matches("\nharmless/").count() + svg.matches("\nexplosive/").count();
+        assert_eq!(labels, 6, "six objects");
+        for key in ["planned path", "explosive object", "10 m", "start", "goal"] {
+            assert!(has_text(&svg, key), "{key}");
+        }
+    }
+
+    #[test]
+    fn a_movement_legend_has_no_patrol_objects() {
+        let domain = UgvDomain::new(Scenario::Movement);
+        let b = domain.space().parse("speed=7,padding=0.1").unwrap();
+        let op = &builtin_operators(Scenario::Movement)[0];
+        let svg = render_run(&domain, &b, op, 1);
+        assert!(has_text(&svg, "collision") && has_text(&svg, "10 m"));
+        for patrol_only in ["explosive object", "harmless object"] {
+            assert!(!has_text(&svg, patrol_only), "{patrol_only}");
+        }
+        assert!(!svg.contains("scanned from"));
+    }
+
+    #[test]
+    fn legend_rows_wrap_at_the_width() {
+        let entries: Vec<(Symbol, String)> =
+            (0..5).map(|_| (Symbol::Cross, "x".repeat(10))).collect();
+        // Each entry: 24 + 6 + ceil(10 * 0.6 * 13 / 1.24) + 16 = 109 px; 250 px hold two.
+        assert_eq!(entry_width("xxxxxxxxxx"), 109);
+        assert_eq!(
+            legend_rows(&entries, 250),
+            [vec![0, 1], vec![2, 3], vec![4]]
+        );
     }
 
     #[test]

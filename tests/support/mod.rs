@@ -1,5 +1,6 @@
 //! What the process tests share: the binary as a command and a run that must succeed, a
-//! quick domain, a TCP server and the address it listens on, and the cases a store holds.
+//! quick domain, a TCP server and the address it listens on, the cases a store holds, and
+//! what an SVG figure shows and whether it stays in its view box.
 //! Each test file uses part of it.
 #![allow(dead_code)] // every test file compiles this module and uses only some of it
 
@@ -105,4 +106,66 @@ pub fn stored_solutions(
     let by_id: BTreeMap<StoreId, Value> = rows.into_iter().collect();
     assert_eq!(by_id.len(), count, "a case id appears twice");
     by_id
+}
+
+/// The texts of an SVG written by plotters (each element's content is on its own line).
+pub fn svg_texts(svg: &str) -> Vec<&str> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            t.split_once('>')
+                .and_then(|(_, rest)| rest.split_once("</text>"))
+        })
+        .map(|(text, _)| text.trim())
+        .collect()
+}
+
+/// The value of attribute `name` in the element's opening tag `tag`.
+fn attribute(tag: &str, name: &str) -> Option<f64> {
+    let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    tag[start..].split('"').next()?.parse().ok()
+}
+
+/// The rectangles and texts of an SVG that reach outside its view box, described. A
+/// text's width is overestimated as 0.6 em a character and placed by its anchor; rotated
+/// texts (axis titles) are skipped.
+pub fn outside_view(svg: &str) -> Vec<String> {
+    let head = svg.split('>').next().unwrap();
+    let (width, height) = (
+        attribute(head, "width").unwrap(),
+        attribute(head, "height").unwrap(),
+    );
+    let mut outside = Vec::new();
+    for rect in svg.split("<rect").skip(1) {
+        let tag = rect.split('>').next().unwrap();
+        let [x, y, w, h] = ["x", "y", "width", "height"].map(|a| attribute(tag, a).unwrap());
+        if x < 0.0 || y < 0.0 || x + w > width || y + h > height {
+            outside.push(format!("rect {tag}"));
+        }
+    }
+    for text in svg.split("<text").skip(1) {
+        let (tag, rest) = text.split_once('>').unwrap();
+        if tag.contains("transform") {
+            continue;
+        }
+        let content = rest.split("</text>").next().unwrap().trim();
+        let size = attribute(tag, "font-size").unwrap();
+        let w = content.chars().count() as f64 * 0.6 * size;
+        let x = attribute(tag, "x").unwrap();
+        let left = if tag.contains("text-anchor=\"end\"") {
+            x - w
+        } else if tag.contains("text-anchor=\"middle\"") {
+            x - w / 2.0
+        } else {
+            x
+        };
+        let y = attribute(tag, "y").unwrap();
+        if left < 0.0 || left + w > width || y < 0.0 || y + size > height {
+            outside.push(format!(
+                "text `{content}` at x {left:.0} to {:.0}, y {y:.0}",
+                left + w
+            ));
+        }
+    }
+    outside
 }

@@ -155,6 +155,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             scenario: "toy",
             operator,
             space: &toy.space,
+            landscapes: &[],
         })
         .collect()
 }
@@ -353,6 +354,7 @@ fn plot_names_never_collide() {
             scenario: "toy",
             operator: "low",
             space: &toy.space,
+            landscapes: &[],
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();

@@ -6,6 +6,9 @@
 //! pairing trial `i` of every arm. Arms, statistics and report files live in submodules.
 
 pub mod arm;
+pub mod heatmap;
+pub mod landscape;
+pub mod plot;
 pub mod report;
 pub mod runner;
 pub mod seeds;

@@ -1,14 +1,20 @@
 //! The report of a set of experiments: the printed tables (the paper's two arms, then
 //! every arm with what it costs the operator), `table.md`, `summary.json` (with the
-//! report's provenance), `trials.jsonl`, the config used, and SVG plots (learning curves
-//! and where the final behaviors land in the behavior space). Every file is written
-//! atomically.
+//! report's provenance), `trials.jsonl`, the config used, and SVG plots (learning curves,
+//! and where the final behaviors land in the behavior space, over the operator's
+//! landscape). Every file is written atomically.
 
+use super::heatmap::{self, KEY_WIDTH};
+use super::landscape::{self, Grid, Landscape};
+use super::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
 use super::runner::{ArmResult, ExperimentResult, TrialRecord};
+use super::seeds::{Purpose, stream_seed};
 use super::stats::{MeanCi, mean_ci95};
+use crate::Domain;
 use crate::named::named_behavior;
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
@@ -24,6 +30,50 @@ pub struct ReportEntry<'a> {
     pub operator: &'a str,
     /// The behavior space, to show behaviors in real units.
     pub space: &'a BehaviorSpace,
+    /// The operator's landscapes the final behaviors are drawn over, one per pair of
+    /// [`component_pairs`] ([`finals_landscapes`]); empty to draw them on white.
+    pub landscapes: &'a [Landscape],
+}
+
+pub use super::plot::category_label;
+
+/// Runs per cell of the landscapes behind the final behaviors, by default: the standard
+/// error of a completion share is at most 0.035.
+pub const FINALS_LANDSCAPE_RUNS: u32 = 200;
+
+/// The pairs of components the final behaviors are drawn over, across then up: the first
+/// two, the next two, ..., the last two when their number is odd (none for a space of one
+/// component).
+pub fn component_pairs(space: &BehaviorSpace) -> Vec<(usize, usize)> {
+    let n = space.components().len();
+    (0..n / 2)
+        .map(|k| (2 * k, 2 * k + 1))
+        .chain((n % 2 == 1 && n > 1).then(|| (n - 2, n - 1)))
+        .collect()
+}
+
+/// The landscapes of experiment number `experiment` (its place in the report) for its
+/// [`ReportEntry::landscapes`]: one per pair of [`component_pairs`], the other components
+/// drawn at random, `runs` per cell (at least 1), each run judged by one of
+/// `operators` (those the experiment's trials draw from; one per run when there are
+/// several, so the landscape is their mean). Pair `p` draws from the seed
+/// `stream_seed(seed, experiment, p, Landscape)`. `progress()` is called after each cell.
+pub fn finals_landscapes<D: Domain>(
+    domain: &D,
+    operators: &[&D::Operator],
+    experiment: u64,
+    seed: u64,
+    runs: u32,
+    progress: &(dyn Fn() + Sync),
+) -> Result<Vec<Landscape>, landscape::LandscapeError> {
+    component_pairs(domain.space())
+        .into_iter()
+        .enumerate()
+        .map(|(p, (x, y))| {
+            let seed = stream_seed(seed, experiment, p as u64, Purpose::Landscape);
+            landscape::estimate(domain, operators, &[x, y], runs, seed, progress)
+        })
+        .collect()
 }
 
 /// Why the report could not be written.
@@ -33,13 +83,8 @@ pub enum ReportError {
     #[error(transparent)]
     Io(#[from] FileError),
     /// A plot could not be drawn.
-    #[error("plot {path}: {message}")]
-    Plot {
-        /// The plot file.
-        path: PathBuf,
-        /// What went wrong.
-        message: String,
-    },
+    #[error(transparent)]
+    Plot(#[from] PlotError),
 }
 
 /// Trials averaged by the moving average of the learning-curve plots.
@@ -338,7 +383,7 @@ pub fn write_report(
     write("config.ron", config_ron)?;
     // Every figure is written as its own SVG file and the same text goes into the page.
     let mut figures: Vec<(String, String)> = Vec::new();
-    let summary_svg = plot(&dir.join("summary.svg"), (1200, 560), |area| {
+    let summary_svg = svg(&dir.join("summary.svg"), (1200, 560), |area| {
         summary_figure(area, entries)
     })?;
     write("summary.svg", &summary_svg)?;
@@ -348,31 +393,38 @@ pub fn write_report(
         .zip(file_stems(entries.iter().map(|e| &e.result.name)))
     {
         let name = format!("curves-{stem}.svg");
-        let svg = plot(&dir.join(&name), (1250, 520), |area| {
+        let curves = svg(&dir.join(&name), (1250, 520), |area| {
             learning_curves(area, e)
         })?;
-        write(&name, &svg)?;
-        figures.push((e.result.name.clone(), svg));
-        // One heatmap per pair of components: the first two, then the next two, ...
+        write(&name, &curves)?;
+        figures.push((e.result.name.clone(), curves));
+        // One figure per pair of components: the first two, then the next two, ...
         let components = e.space.components();
-        for first in (0..components.len()).step_by(2) {
-            let second = (first + 1).min(components.len() - 1);
-            let name = if first == 0 {
+        for (k, (x, y)) in component_pairs(e.space).into_iter().enumerate() {
+            let name = if k == 0 {
                 format!("finals-{stem}.svg")
             } else {
                 format!(
                     "finals-{stem}-{}-{}.svg",
-                    components[first].name, components[second].name
+                    components[x].name, components[y].name
                 )
             };
-            let columns = e.result.arms.len().clamp(1, 4);
-            let rows = e.result.arms.len().div_ceil(columns).max(1);
-            let size = (360 * columns as u32 + 40, 330 * rows as u32 + 20);
-            let svg = plot(&dir.join(&name), size, |area| {
-                final_behaviors(area, e, (first, second), (rows, columns))
+            let grid = e
+                .landscapes
+                .iter()
+                .find(|l| l.fixed == [x, y])
+                .map(|l| l.grid(e.space, x, y))
+                .transpose()
+                .map_err(|reason| PlotError {
+                    path: dir.join(&name),
+                    message: reason.to_string(),
+                })?;
+            let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
+            let finals = svg(&dir.join(&name), layout.size(), |area| {
+                final_behaviors(area, e, (x, y), grid.as_ref(), &layout)
             })?;
-            write(&name, &svg)?;
-            figures.push((e.result.name.clone(), svg));
+            write(&name, &finals)?;
+            figures.push((e.result.name.clone(), finals));
         }
     }
     write(
@@ -465,45 +517,6 @@ fn html_page(
     page
 }
 
-type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
-type DrawResult = Result<(), Box<dyn std::error::Error + 'static>>;
-
-fn plot(
-    path: &Path,
-    size: (u32, u32),
-    draw: impl FnOnce(&Area<'_>) -> DrawResult,
-) -> Result<String, ReportError> {
-    let mut svg = String::new();
-    {
-        let area = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-        let drawn = area
-            .fill(&WHITE)
-            .map_err(|e| e.into())
-            .and_then(|()| draw(&area))
-            .and_then(|()| area.present().map_err(|e| e.into()));
-        drawn.map_err(|e| ReportError::Plot {
-            path: path.to_owned(),
-            message: e.to_string(),
-        })?;
-    }
-    Ok(svg)
-}
-
-/// The colour of the arm at `index` (the paper's two arms keep red and blue).
-fn arm_color(index: usize) -> RGBColor {
-    const PALETTE: [RGBColor; 8] = [
-        RGBColor(214, 96, 77),
-        RGBColor(67, 147, 195),
-        RGBColor(120, 120, 120),
-        RGBColor(27, 158, 119),
-        RGBColor(117, 112, 179),
-        RGBColor(230, 171, 2),
-        RGBColor(231, 41, 138),
-        RGBColor(102, 166, 30),
-    ];
-    PALETTE[index % PALETTE.len()]
-}
-
 fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
     let mut out = Vec::with_capacity(values.len());
     let mut sum = 0.0;
@@ -535,29 +548,6 @@ fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
         ))?;
     }
     Ok(())
-}
-
-/// Labels the categories of an axis whose category `i` sits at `i`: `labels[i]` at the
-/// integers, nothing in between.
-pub fn category_label(labels: &[String]) -> impl Fn(&f64) -> String + '_ {
-    move |v: &f64| {
-        let i = v.round();
-        if (v - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < labels.len() {
-            labels[i as usize].clone()
-        } else {
-            String::new()
-        }
-    }
-}
-
-/// Labels integers on a log axis (`3`, `10`, `100`) and nothing in between, so counts
-/// never read `1.0` and no label is drawn twice.
-fn integer_label(v: &f64) -> String {
-    if (v - v.round()).abs() < 1e-9 && *v >= 1.0 {
-        format!("{}", v.round())
-    } else {
-        String::new()
-    }
 }
 
 /// The 95% confidence band of the moving average: mean ± t * sd / sqrt(n) over the same
@@ -714,17 +704,113 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
     legend(&side, &legend_entries)
 }
 
-/// Heatmaps of where each arm's final behaviors land, over components `x` and `y`, one
-/// panel per arm on a `(rows, columns)` grid, all on one colour scale.
+/// The layout of a final-behaviors figure: a title band with the subtitle's lines, then
+/// up to four arms' panels a row and the keys.
+struct FinalsLayout {
+    subtitle: Vec<String>,
+    rows: usize,
+    columns: usize,
+}
+
+impl FinalsLayout {
+    /// Size of one arm's panel (px).
+    const PANEL: (u32, u32) = (330, 320);
+    /// Font size of the subtitle.
+    const SUBTITLE_FONT: u32 = 15;
+
+    fn new(arms: usize, subtitle: &str) -> Self {
+        let columns = arms.clamp(1, 4);
+        let width = Self::PANEL.0 * columns as u32 + KEY_WIDTH - 20;
+        Self {
+            subtitle: wrap(subtitle, Self::SUBTITLE_FONT, width),
+            rows: arms.div_ceil(columns).max(1),
+            columns,
+        }
+    }
+
+    /// Height of the title band (px).
+    fn header(&self) -> u32 {
+        40 + 18 * self.subtitle.len() as u32 + 8
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (
+            Self::PANEL.0 * self.columns as u32 + KEY_WIDTH,
+            self.header() + Self::PANEL.1 * self.rows as u32,
+        )
+    }
+}
+
+/// What the colour and the circles of a final-behaviors figure show.
+fn finals_subtitle(e: &ReportEntry<'_>, grid: Option<&Grid>) -> String {
+    let background = match (grid, e.landscapes.first()) {
+        (Some(grid), Some(landscape)) => {
+            let runs = grid.tallies.first().map_or(0, |t| t.runs);
+            let others = if e.space.components().len() > 2 {
+                ", the other components drawn at random"
+            } else {
+                ""
+            };
+            let judged = if landscape.operators > 1 {
+                format!(
+                    "the mean over its {} operators (one drawn per run, as each trial draws one)",
+                    landscape.operators
+                )
+            } else {
+                format!("operator {}", e.operator)
+            };
+            let region = if grid.tallies.iter().any(|t| t.trusted_on_average()) {
+                ""
+            } else {
+                " No cell is in the trustworthy region: on average over the other components none is trusted."
+            };
+            format!("Colour: P(complete) under {judged}; {runs} runs per cell{others}.{region}")
+        }
+        _ => "No landscape of the operator was estimated.".to_owned(),
+    };
+    format!("{background} Circles: trials whose final behavior lies in the cell.")
+}
+
+/// Up to three counts for the key of marker sizes: 1, a round number near a quarter of
+/// `most`, and `most` (each once).
+fn count_key(most: u32) -> Vec<u32> {
+    let quarter = f64::from(most) / 4.0;
+    let round = if quarter < 1.0 {
+        1
+    } else {
+        let magnitude = 10f64.powf(quarter.log10().floor());
+        let nice = [1.0, 2.0, 5.0, 10.0]
+            .into_iter()
+            .map(|m| m * magnitude)
+            .filter(|&v| v <= quarter)
+            .fold(magnitude, f64::max);
+        nice as u32
+    };
+    let mut key = vec![1, round, most];
+    key.dedup();
+    key
+}
+
+/// The radius (px) of the marker of `count` trials when the most in one cell is `most`
+/// and the largest marker has radius `largest`: area in proportion to the count, at
+/// least 2 px so that one trial shows.
+fn marker_radius(count: u32, most: u32, largest: f64) -> f64 {
+    (largest * (f64::from(count) / f64::from(most.max(1))).sqrt()).max(2.0)
+}
+
+/// Where each arm's final behaviors land over components `x` and `y`: one panel per arm,
+/// circles sized by the trials ending in each cell (one size scale for the figure), over
+/// the operator's landscape `grid` (one colour scale) with its trustworthy region
+/// outlined; the colour bar and both keys right of the panels.
 fn final_behaviors(
     area: &Area<'_>,
     e: &ReportEntry<'_>,
     (x, y): (usize, usize),
-    grid: (usize, usize),
+    grid: Option<&Grid>,
+    layout: &FinalsLayout,
 ) -> DrawResult {
     let components = e.space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
-    let panels = area.split_evenly(grid);
     let all_counts: Vec<Vec<u32>> = e
         .result
         .arms
@@ -745,53 +831,72 @@ fn final_behaviors(
         .max()
         .unwrap_or(0)
         .max(1);
-    for (index, ((panel, s), counts)) in panels
-        .iter()
-        .zip(&e.result.arms)
-        .zip(&all_counts)
-        .enumerate()
-    {
-        let mut chart = ChartBuilder::on(panel)
-            .caption(
-                format!("{} (darker: more trials)", s.name),
-                ("sans-serif", 15),
-            )
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(-0.5..nx as f64 - 0.5, -0.5..ny as f64 - 0.5)?;
-        // Cells are centred on their index; label each index with its real value.
-        let values = |component: usize, n: usize| -> Vec<String> {
-            (0..n)
-                .map(|i| components[component].display_value(i as u16).to_string())
-                .collect()
+    let title = format!(
+        "{}: final behaviors of every arm ({} trials each)",
+        e.result.name,
+        e.result.trials()
+    );
+    area.draw(&Text::new(title, (10, 8), ("sans-serif", 21).into_font()))?;
+    let subtitle = ("sans-serif", FinalsLayout::SUBTITLE_FONT)
+        .into_font()
+        .color(&RGBColor(60, 60, 60));
+    for (k, line) in layout.subtitle.iter().enumerate() {
+        area.draw(&Text::new(
+            line.as_str(),
+            (10, 38 + 18 * k as i32),
+            subtitle.clone(),
+        ))?;
+    }
+    let (_, body) = area.split_vertically(layout.header());
+    let (panels_area, key_area) =
+        body.split_horizontally(FinalsLayout::PANEL.0 * layout.columns as u32);
+    let panels = panels_area.split_evenly((layout.rows, layout.columns));
+    let mut largest = 0.0;
+    for (panel, (arm, counts)) in panels.iter().zip(e.result.arms.iter().zip(&all_counts)) {
+        let mut chart = heatmap::panel(panel, e.space, (x, y), grid, &arm.name, false)?;
+        let (width, height) = chart.plotting_area().dim_in_pixel();
+        let cell = (f64::from(width) / nx as f64).min(f64::from(height) / ny as f64);
+        largest = 0.48 * cell;
+        // A light disc under a dark ring, readable on every colour of the scale.
+        for style in [WHITE.mix(0.85).filled(), BLACK.stroke_width(1)] {
+            chart.draw_series(
+                (0..nx)
+                    .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                    .filter(|&(i, j)| counts[i * ny + j] > 0)
+                    .map(|(i, j)| {
+                        let r = marker_radius(counts[i * ny + j], most, largest);
+                        Circle::new((i as f64, j as f64), r, style)
+                    }),
+            )?;
+        }
+    }
+    let mut top = 10;
+    if grid.is_some() {
+        heatmap::color_key(&key_area, top)?;
+        top += heatmap::color_key_height() + 20;
+    }
+    key_area.draw(&Text::new(
+        "final behaviors",
+        (10, top),
+        ("sans-serif", 14).into_font(),
+    ))?;
+    top += 22;
+    for count in count_key(most) {
+        let r = marker_radius(count, most, largest);
+        let cy = top + r.ceil() as i32;
+        key_area.draw(&Circle::new((19, cy), r, WHITE.filled()))?;
+        key_area.draw(&Circle::new((19, cy), r, BLACK.stroke_width(1)))?;
+        let label = if count == 1 {
+            "1 trial".to_owned()
+        } else {
+            format!("{count} trials")
         };
-        let (x_values, y_values) = (values(x, nx), values(y, ny));
-        let (x_label, y_label) = (category_label(&x_values), category_label(&y_values));
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_labels(nx.min(20))
-            .y_labels(ny.min(20))
-            .x_desc(components[x].name.as_str())
-            .y_desc(components[y].name.as_str())
-            .x_label_formatter(&x_label)
-            .y_label_formatter(&y_label)
-            .draw()?;
-        let color = arm_color(index);
-        chart.draw_series(
-            (0..nx)
-                .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                .filter(|&(i, j)| counts[i * ny + j] > 0)
-                .map(|(i, j)| {
-                    let share = f64::from(counts[i * ny + j]) / f64::from(most);
-                    let (cx, cy) = (i as f64, j as f64);
-                    Rectangle::new(
-                        [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
-                        color.mix(0.15 + 0.85 * share).filled(),
-                    )
-                }),
-        )?;
+        key_area.draw(&Text::new(
+            label,
+            (36, cy),
+            TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
+        top = cy + r.ceil() as i32 + 8;
     }
     Ok(())
 }
@@ -807,6 +912,33 @@ mod tests {
             moving_average(&[1.0, 3.0, 5.0, 7.0], 2),
             vec![1.0, 2.0, 4.0, 6.0]
         );
+    }
+
+    #[test]
+    fn count_keys_are_round_integers() {
+        assert_eq!(count_key(1), [1]);
+        assert_eq!(count_key(3), [1, 3]);
+        assert_eq!(count_key(37), [1, 5, 37]);
+        assert_eq!(count_key(120), [1, 20, 120]);
+        assert_eq!(count_key(500), [1, 100, 500]);
+        // Area in proportion to the count, never below 1.5 px.
+        assert_eq!(marker_radius(100, 100, 7.0), 7.0);
+        assert_eq!(marker_radius(25, 100, 8.0), 4.0);
+        assert_eq!(marker_radius(1, 500, 7.0), 2.0);
+    }
+
+    #[test]
+    fn components_pair_up() {
+        let space = |n: usize| {
+            let c = |i: usize| {
+                cbr_core::NamedComponent::numeric(&format!("c{i}"), "m", 0.0, 1.0, 2).unwrap()
+            };
+            BehaviorSpace::new((0..n).map(c).collect()).unwrap()
+        };
+        assert_eq!(component_pairs(&space(1)), []);
+        assert_eq!(component_pairs(&space(2)), [(0, 1)]);
+        assert_eq!(component_pairs(&space(3)), [(0, 1), (1, 2)]);
+        assert_eq!(component_pairs(&space(4)), [(0, 1), (2, 3)]);
     }
 
     #[test]

@@ -17,6 +17,9 @@ pub enum Purpose {
     Runs = 2,
     /// The search strategy's choices.
     Search = 3,
+    /// The landscape of the operator the final behaviors are drawn over (here "trial" is
+    /// the pair of components drawn).
+    Landscape = 4,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.
