@@ -22,6 +22,9 @@ pub mod suite;
 pub mod sweep;
 pub mod ugv;
 
+#[doc = include_str!("../docs/plugin-guide.md")]
+pub mod plugin_guide {}
+
 pub use catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo, UnknownScenario};
 pub use ugv::UgvCatalog;
 

@@ -57,6 +57,18 @@ pub enum OutcomeError {
 }
 
 impl Outcome {
+    /// An outcome of any kind: how it ended, its weight, why (`None` for completions or
+    /// when unstated) and how long it took, for callers that know the kind only at run
+    /// time.
+    pub fn new(kind: OutcomeKind, weight: f64, cause: Option<Cause>, duration_s: f64) -> Self {
+        Self {
+            kind,
+            weight,
+            cause,
+            duration_s,
+        }
+    }
+
     /// A completion with weight `weight` that took `duration_s` seconds.
     pub fn completed(weight: f64, duration_s: f64) -> Self {
         Self {

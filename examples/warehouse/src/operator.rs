@@ -214,12 +214,7 @@ impl WarehouseOperator {
 
     /// A failure or interruption with `cause` at `t`, weighted by this operator.
     fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Outcome {
-        Outcome {
-            kind,
-            weight: self.weights.of(cause),
-            cause: Some(cause.to_trust()),
-            duration_s: t,
-        }
+        Outcome::new(kind, self.weights.of(cause), Some(cause.to_trust()), t)
     }
 }
 
