@@ -259,6 +259,7 @@ pub fn domain_of<C: Catalog>(catalog: &C, scenario: &str) -> Result<C::Domain, U
 
 /// An operator that cannot be found.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FindOperatorError {
     /// Neither a built-in operator of the scenario nor a file.
     #[error("`{name}` is neither an operator of {scenario} ({known}) nor an operator file")]
@@ -319,6 +320,7 @@ pub fn resolve_readings<C: Catalog>(
 
 /// A reading or value the catalog does not declare.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReadingError {
     /// No reading of that name.
     #[error("unknown reading `{name}` (known: {known})")]

@@ -170,6 +170,7 @@ fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String
 
 /// Why a suite cannot be run.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SuiteError {
     /// The config file could not be read.
     #[error(transparent)]

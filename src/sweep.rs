@@ -55,6 +55,7 @@ pub struct SweepConfig {
 /// Where a sweep's base suite comes from.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum SuiteSource {
     /// The catalog's embedded suite (what `reproduce` runs; for the UGV catalog, the
     /// paper's seven experiments).
@@ -66,6 +67,7 @@ pub enum SuiteSource {
 /// How a sweep's cells are formed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Design {
     /// The base suite, then each parameter's other values one at a time, the rest as in
     /// the base.
@@ -78,6 +80,7 @@ pub enum Design {
 /// A parameter and the values it takes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum Parameter {
     /// Algorithm 2's threshold.
     Lambda(Vec<f64>),
@@ -157,6 +160,7 @@ fn ron_name(value: &impl Serialize) -> String {
 
 /// Why a sweep cannot be run or merged.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SweepError {
     /// A file could not be read or written.
     #[error(transparent)]

@@ -93,6 +93,7 @@ impl<'de> Deserialize<'de> for Behavior {
 
 /// Why a behavior space or a behavior description is not usable.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SpaceError {
     /// A component is invalid.
     #[error(transparent)]

@@ -55,6 +55,7 @@ impl<P, S> Default for CaseBase<P, S> {
 
 /// Why a case base could not be loaded or saved.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CaseBaseError {
     /// The file could not be read or written.
     #[error(transparent)]

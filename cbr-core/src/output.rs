@@ -28,6 +28,7 @@ pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];
 
 /// Why a report folder cannot be used.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OutputError {
     /// The path exists and is not a folder.
     #[error("{}: exists and is {kind}, not a folder for the report", path.display())]

@@ -472,7 +472,7 @@ mod tests {
     /// Resolves `name` with `movement` as the only built-in domain.
     fn resolve(name: &str) -> Result<DomainDefinition, DomainError> {
         DomainDefinition::resolve(name, &["movement".to_owned()], |n| {
-            (n == "movement").then(|| movement())
+            (n == "movement").then(movement)
         })
     }
 

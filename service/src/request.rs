@@ -28,6 +28,7 @@ pub enum BehaviorSpec {
 
 /// One request of the protocol.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Request {
     /// Start an episode, with the given behavior or one the server draws.
     Begin(Option<BehaviorSpec>),

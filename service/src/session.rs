@@ -38,6 +38,7 @@ pub struct Session {
 
 /// Why a session could not start or must stop.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SessionError {
     /// The adapter configuration is unusable (shown in the message, so not chained as a
     /// source).

@@ -32,6 +32,7 @@ struct Inner {
 
 /// Why the shared case memory could not be set up.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum OpenError {
     /// The case store could not be opened or read.
     #[error(transparent)]

@@ -46,6 +46,7 @@ pub struct Identity {
 
 /// Where a case base lives, parsed from `--cases`.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Location {
     /// An SQLite database file.
     Sqlite(PathBuf),
@@ -78,6 +79,7 @@ impl Location {
 
 /// Why a case base could not be opened, read or appended to.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum StoreError {
     /// The path exists but is not a regular file (a FIFO, a device, a directory).
     #[error("{path}: not a regular file ({kind}); a case base must be a regular file or absent")]

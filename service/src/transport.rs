@@ -28,6 +28,7 @@ pub const MAX_LINE_BYTES: usize = 64 * 1024;
 
 /// Why serving stopped.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ServeError {
     /// Reading requests or writing replies failed (shown in the message, so not chained
     /// as a source).

@@ -88,6 +88,7 @@ impl Default for AdapterConfig {
 /// An adapter configuration that cannot be used. The reason is part of the message, so
 /// it is not chained as a source too (or it would be shown twice).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ConfigError {
     /// Bad thresholds.
     #[error("thresholds: {0}")]
@@ -186,6 +187,7 @@ pub enum Decision {
 
 /// Why an adapter call was refused. The adapter's state is unchanged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum AdapterError {
     /// `record` was called with no episode under way.
     #[error("no episode is under way: begin one first")]

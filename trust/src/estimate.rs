@@ -47,6 +47,7 @@ pub struct Outcome {
 
 /// Why an outcome cannot be recorded.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum OutcomeError {
     /// The weight is negative or not a number.
     #[error("weight must be a finite number >= 0, got {0}")]

@@ -95,6 +95,7 @@ pub const LISTED_VALUES: usize = 12;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "format::StoredValues", into = "format::StoredValues")]
 #[repr(u8)]
+#[non_exhaustive]
 pub enum Values {
     /// Evenly spaced numbers.
     Numeric(NumericGrid),
@@ -139,6 +140,7 @@ pub struct NamedComponent {
 
 /// Why a component definition is not usable.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ComponentError {
     /// The component has no values.
     #[error("component `{0}` has no values")]

@@ -90,6 +90,7 @@ pub struct Landscape {
 
 /// Why a landscape cannot be estimated or drawn.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LandscapeError {
     /// A component name is not in the space.
     #[error("unknown component `{name}`; the space has: {known}")]

@@ -78,6 +78,7 @@ pub fn finals_landscapes<D: Domain>(
 
 /// Why the report could not be written.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ReportError {
     /// A file or folder could not be written.
     #[error(transparent)]
