@@ -109,3 +109,24 @@ impl Catalog for UgvCatalog {
         Some(domains::render_run(domain, behavior, operator, seed))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::catalog::find_operator;
+
+    #[test]
+    fn operators_are_found_by_name_or_file_and_unknown_names_list_the_scenario_s() {
+        let readings = Readings::new();
+        let (name, op) =
+            find_operator(&UgvCatalog, "patrol", "detection-focused", &readings).unwrap();
+        assert_eq!((name.as_str(), op.p_deadline), ("detection-focused", 0.05));
+        let err = find_operator(&UgvCatalog, "movement", "detection-focused", &readings)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "`detection-focused` is neither an operator of movement (speed-focused, safety-focused, balanced) nor an operator file"
+        );
+    }
+}

@@ -23,7 +23,7 @@ pub mod trace;
 pub mod ugv;
 pub mod world;
 
-pub use operator::{OperatorError, OperatorModel, Weights, builtin_operators, find_operator};
+pub use operator::{OperatorError, OperatorModel, builtin_operators};
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
 pub use trace::{Event, EventKind, Trace};

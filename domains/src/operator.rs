@@ -18,60 +18,8 @@ use crate::trace::{EventKind, Trace};
 use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use trust::{Cause, DeclaredCause, Outcome, UndeclaredCause, find_declared};
-
-/// How much each outcome weighs in the trust estimate.
-///
-/// The weight of a failure or interruption with a cause is the operator's `by_cause`
-/// entry for it; without one, the default weight the scenario declares for the cause
-/// (filled into `by_cause` when the operator is read, [`OperatorModel::from_ron`]);
-/// without that, the operator's `default`. The UGV causes declare no default weight, so
-/// for them `by_cause`, then `default`, decide.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Weights {
-    /// Weight of a completion.
-    #[serde(default = "one")]
-    pub completed: f64,
-    /// Weight of a failure or interruption whose cause is not listed in `by_cause`.
-    #[serde(default = "one")]
-    pub default: f64,
-    /// Weights of failures and interruptions by cause (causes the scenario declares).
-    #[serde(default)]
-    pub by_cause: BTreeMap<Cause, f64>,
-}
-
-impl Default for Weights {
-    fn default() -> Self {
-        Self {
-            completed: 1.0,
-            default: 1.0,
-            by_cause: BTreeMap::new(),
-        }
-    }
-}
-
-impl Weights {
-    /// Every weight times `factor`.
-    pub fn scaled(&self, factor: f64) -> Self {
-        Self {
-            completed: self.completed * factor,
-            default: self.default * factor,
-            by_cause: self
-                .by_cause
-                .iter()
-                .map(|(&cause, &w)| (cause, w * factor))
-                .collect(),
-        }
-    }
-
-    /// The weight of a failure or interruption with `cause`.
-    pub fn of(&self, cause: Cause) -> f64 {
-        self.by_cause.get(&cause).copied().unwrap_or(self.default)
-    }
-}
+use trust::{DeclaredCause, Outcome, OutcomeWeights, WeightsError};
 
 fn one() -> f64 {
     1.0
@@ -105,7 +53,7 @@ pub struct OperatorModel {
     pub give_up_factor: f64,
     /// Outcome weights.
     #[serde(default)]
-    pub weights: Weights,
+    pub weights: OutcomeWeights,
 }
 
 /// Why an operator file cannot be used.
@@ -118,26 +66,16 @@ pub enum OperatorError {
     /// The file is not a valid operator in RON.
     #[error(transparent)]
     Syntax(#[from] RonError),
-    /// The name is neither a built-in operator of the scenario nor an existing file.
-    #[error("no operator `{name}` for {scenario}: built-in ones are {known}; or give a RON file")]
-    Unknown {
-        /// The name given.
-        name: String,
-        /// The scenario.
-        scenario: Scenario,
-        /// The built-in names.
-        known: String,
-    },
-    /// `weights.by_cause` names a cause the scenario does not declare.
-    #[error("{file}: operator `{operator}`: `weights.by_cause`: {reason}")]
-    UndeclaredCause {
+    /// A weight is out of range, or `weights.by_cause` names a cause the scenario does not
+    /// declare.
+    #[error("{file}: operator `{operator}`: {reason}")]
+    Weights {
         /// The file.
         file: PathBuf,
         /// The operator's name.
         operator: String,
-        /// The cause and the declared ones (boxed: a rare error should not make every
-        /// result that may carry one larger).
-        reason: Box<UndeclaredCause>,
+        /// What is wrong with the weights.
+        reason: WeightsError,
     },
     /// A value is out of its allowed range.
     #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
@@ -166,16 +104,14 @@ impl OperatorModel {
     ) -> Result<Self, OperatorError> {
         let mut model: Self = parse_ron(text, origin)?;
         model.validate(origin)?;
-        model.check_causes(origin, causes)?;
-        for declared in causes {
-            if let Some(weight) = declared.default_weight {
-                model
-                    .weights
-                    .by_cause
-                    .entry(declared.name)
-                    .or_insert(weight);
-            }
-        }
+        model
+            .weights
+            .check(causes)
+            .map_err(|reason| OperatorError::Weights {
+                file: origin.to_owned(),
+                operator: model.name.clone(),
+                reason,
+            })?;
         Ok(model)
     }
 
@@ -183,17 +119,6 @@ impl OperatorModel {
     pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
         let text = read_text(path)?;
         Self::from_ron(&text, path, causes)
-    }
-
-    fn check_causes(&self, origin: &Path, causes: &[DeclaredCause]) -> Result<(), OperatorError> {
-        for &cause in self.weights.by_cause.keys() {
-            find_declared(causes, cause).map_err(|reason| OperatorError::UndeclaredCause {
-                file: origin.to_owned(),
-                operator: self.name.clone(),
-                reason: Box::new(reason),
-            })?;
-        }
-        Ok(())
     }
 
     fn validate(&self, origin: &Path) -> Result<(), OperatorError> {
@@ -228,22 +153,6 @@ impl OperatorModel {
                 "a finite number >= 1",
                 self.give_up_factor,
             ));
-        }
-        let weights = [
-            ("weights.completed".to_owned(), self.weights.completed),
-            ("weights.default".to_owned(), self.weights.default),
-        ]
-        .into_iter()
-        .chain(
-            self.weights
-                .by_cause
-                .iter()
-                .map(|(c, w)| (format!("weights.by_cause.{c}"), *w)),
-        );
-        for (field, value) in weights {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(fail(field, "a finite number >= 0", value));
-            }
         }
         Ok(())
     }
@@ -331,31 +240,6 @@ pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
         .collect()
 }
 
-/// The operator named `name_or_path`: a built-in operator of `scenario` by name, or else
-/// an operator RON file at that path.
-pub fn find_operator(
-    scenario: Scenario,
-    name_or_path: &str,
-) -> Result<OperatorModel, OperatorError> {
-    let builtin = builtin_operators(scenario);
-    if let Some(op) = builtin.iter().find(|o| o.name == name_or_path) {
-        return Ok(op.clone());
-    }
-    let path = Path::new(name_or_path);
-    if path.exists() {
-        return OperatorModel::load(path, scenario.causes());
-    }
-    Err(OperatorError::Unknown {
-        name: name_or_path.to_owned(),
-        scenario,
-        known: builtin
-            .iter()
-            .map(|o| o.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", "),
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -382,7 +266,7 @@ mod tests {
             p_missed_object: 1.0,
             p_false_alarm: 1.0,
             give_up_factor: 2.0,
-            weights: Weights::default(),
+            weights: OutcomeWeights::default(),
         }
     }
 
@@ -449,18 +333,6 @@ mod tests {
         let missed = EventKind::MissedObject { object: 1 };
         let o = op.judge(&trace(&[(10.0, missed), (60.0, ARRIVED)]), &mut rng);
         assert_eq!(o.cause, Some(MISSED_OBJECT));
-    }
-
-    #[test]
-    fn operators_are_found_by_name_or_file() {
-        let op = find_operator(Scenario::Patrol, "detection-focused").unwrap();
-        assert_eq!(op.p_deadline, 0.05);
-        let err = find_operator(Scenario::Movement, "detection-focused").unwrap_err();
-        assert!(
-            err.to_string()
-                .contains("speed-focused, safety-focused, balanced"),
-            "{err}"
-        );
     }
 
     #[test]

@@ -31,6 +31,7 @@ pub mod search;
 pub mod select;
 #[cfg(feature = "testing")]
 pub mod testing;
+pub mod weights;
 
 pub use adapter::{
     Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
@@ -43,6 +44,7 @@ pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverKind};
 pub use search::SearchKind;
 pub use select::{Selection, select_behavior};
+pub use weights::{OutcomeWeights, WeightsError};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};
 

@@ -12,47 +12,10 @@ use crate::cause::WarehouseCause;
 use crate::trace::{Event, Trace};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use trustcbr::cbr_core::{FileError, RonError, parse_ron, read_text};
 use trustcbr::rand;
-use trustcbr::trust::{Outcome, OutcomeKind};
-
-/// How much each ending of a pick weighs in the trust estimate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Weights {
-    /// Weight of a completed pick.
-    #[serde(default = "one")]
-    pub completed: f64,
-    /// Weight of a failure or interruption whose cause is not in `by_cause`.
-    #[serde(default = "one")]
-    pub default: f64,
-    /// Weights by cause name (e.g. `{"dropped-item": 1.0}`).
-    #[serde(default)]
-    pub by_cause: BTreeMap<WarehouseCause, f64>,
-}
-
-impl Weights {
-    /// The weight of a failure or interruption with `cause`.
-    pub fn of(&self, cause: WarehouseCause) -> f64 {
-        self.by_cause.get(&cause).copied().unwrap_or(self.default)
-    }
-}
-
-impl Default for Weights {
-    fn default() -> Self {
-        Self {
-            completed: 1.0,
-            default: 1.0,
-            by_cause: BTreeMap::new(),
-        }
-    }
-}
-
-fn one() -> f64 {
-    1.0
-}
+use trustcbr::trust::{Outcome, OutcomeKind, OutcomeWeights, WeightsError};
 
 fn two() -> f64 {
     2.0
@@ -77,7 +40,7 @@ pub struct WarehouseOperator {
     pub give_up_factor: f64,
     /// Outcome weights.
     #[serde(default)]
-    pub weights: Weights,
+    pub weights: OutcomeWeights,
 }
 
 /// Why an operator file cannot be used.
@@ -89,6 +52,17 @@ pub enum OperatorError {
     /// The file is not a valid operator in RON (the error names line:column).
     #[error(transparent)]
     Syntax(#[from] RonError),
+    /// A weight is out of range, or `weights.by_cause` names a cause the warehouse does
+    /// not declare.
+    #[error("{file}: operator `{operator}`: {reason}")]
+    Weights {
+        /// The file.
+        file: PathBuf,
+        /// The operator's name.
+        operator: String,
+        /// What is wrong with the weights.
+        reason: WeightsError,
+    },
     /// A value is out of its allowed range.
     #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
     Range {
@@ -96,7 +70,7 @@ pub enum OperatorError {
         file: PathBuf,
         /// The operator's name.
         operator: String,
-        /// The field, e.g. `p_collision` or `weights.by_cause.dropped-item`.
+        /// The field, e.g. `p_collision`.
         field: String,
         /// The allowed range.
         allowed: &'static str,
@@ -108,8 +82,16 @@ pub enum OperatorError {
 impl WarehouseOperator {
     /// Parses and validates an operator; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, OperatorError> {
-        let operator: Self = parse_ron(text, origin)?;
+        let mut operator: Self = parse_ron(text, origin)?;
         operator.validate(origin)?;
+        operator
+            .weights
+            .check(&crate::cause::DECLARED)
+            .map_err(|reason| OperatorError::Weights {
+                file: origin.to_owned(),
+                operator: operator.name.clone(),
+                reason,
+            })?;
         Ok(operator)
     }
 
@@ -148,22 +130,6 @@ impl WarehouseOperator {
                 "a finite number >= 1",
                 self.give_up_factor,
             ));
-        }
-        let weights = [
-            ("weights.completed".to_owned(), self.weights.completed),
-            ("weights.default".to_owned(), self.weights.default),
-        ]
-        .into_iter()
-        .chain(
-            self.weights
-                .by_cause
-                .iter()
-                .map(|(cause, &w)| (format!("weights.by_cause.{cause}"), w)),
-        );
-        for (field, w) in weights {
-            if !(w.is_finite() && w >= 0.0) {
-                return Err(range(field, "a finite number >= 0", w));
-            }
         }
         Ok(())
     }
@@ -214,7 +180,12 @@ impl WarehouseOperator {
 
     /// A failure or interruption with `cause` at `t`, weighted by this operator.
     fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Outcome {
-        Outcome::new(kind, self.weights.of(cause), Some(cause.to_trust()), t)
+        Outcome::new(
+            kind,
+            self.weights.of(cause.to_trust()),
+            Some(cause.to_trust()),
+            t,
+        )
     }
 }
 

@@ -305,9 +305,9 @@ fn operator_files_are_checked_where_they_are_wrong() {
     let err = WarehouseOperator::from_ron(text, origin)
         .unwrap_err()
         .to_string();
-    assert!(err.starts_with("ops/x.ron:2:"), "{err}");
     assert!(
-        err.contains("unknown cause `squashed` (known: too-slow,"),
+        err.starts_with("ops/x.ron: operator `x`: `weights.by_cause`: ")
+            && err.contains("`squashed` is not declared (declared: too-slow, collision,"),
         "{err}"
     );
     let text = "(name: \"x\", t_complete: 45.0, p_deadline: 1.0, p_collision: 0.5, p_crushed: 0.1,
