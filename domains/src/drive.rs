@@ -66,9 +66,11 @@ pub fn drive(
         drawn.push((0, x));
     }
     let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
-    // The stretch of the profile the last drawn sample lay on, its peak speed and the
-    // error's spread at that speed (computed once per stretch, not per sample).
+    // The stretch of the profile the last drawn sample lay on, where the next one starts,
+    // its peak speed and the error's spread at that speed (computed once per stretch, not
+    // per sample).
     let mut stretch = None;
+    let mut next_stretch_at = f64::NEG_INFINITY;
     let mut speed_and_spread = (0.0, robot.cross_track_sd(0.0));
     // The last sample the error was drawn at, and the plan's stored transitions from
     // each sample's predecessor.
@@ -95,11 +97,14 @@ pub fn drive(
         x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
         previous = Some(k);
-        let here = profile.stretch_index(sample.s, stretch);
-        if here != stretch {
-            stretch = here;
-            let v = here.map_or(0.0, |i| profile.peak(i));
-            speed_and_spread = (v, robot.cross_track_sd(v));
+        if sample.s >= next_stretch_at {
+            let here = profile.stretch_index(sample.s, stretch);
+            if here != stretch {
+                stretch = here;
+                let v = here.map_or(0.0, |i| profile.peak(i));
+                speed_and_spread = (v, robot.cross_track_sd(v));
+            }
+            next_stretch_at = profile.next_stretch_start(here);
         }
         let (v, spread) = speed_and_spread;
         error = spread * x;

@@ -362,20 +362,53 @@ impl Plan {
 
     /// The samples whose gap on either side is below `gap`, with their indices, in order,
     /// and always the last sample (the goal).
-    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = (usize, &Sample)> + '_ {
-        let last = self.samples.len() - 1;
-        self.samples
-            .chunks(GAP_BLOCK)
-            .zip(&self.block_gaps)
-            .enumerate()
-            .filter(move |&(b, (_, &least))| least < gap || (b + 1) * GAP_BLOCK > last)
-            .flat_map(|(b, (block, _))| {
-                block
-                    .iter()
-                    .enumerate()
-                    .map(move |(i, sample)| (b * GAP_BLOCK + i, sample))
-            })
-            .filter(move |&(k, sample)| sample.gap() < gap || k == last)
+    pub fn samples_closer_than(&self, gap: f64) -> CloseSamples<'_> {
+        CloseSamples {
+            plan: self,
+            gap,
+            next: 0,
+            block_end: 0,
+        }
+    }
+}
+
+/// The iterator of [`Plan::samples_closer_than`]: it steps over whole blocks whose least gap
+/// is not below the bound and looks at the samples of the others one by one.
+pub struct CloseSamples<'a> {
+    plan: &'a Plan,
+    gap: f64,
+    /// The next sample to look at.
+    next: usize,
+    /// The end of the block `next` lies in, once that block is known to be worth a look.
+    block_end: usize,
+}
+
+impl<'a> Iterator for CloseSamples<'a> {
+    type Item = (usize, &'a Sample);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let samples = &self.plan.samples;
+        let last = samples.len() - 1;
+        loop {
+            if self.next == self.block_end {
+                if self.next == samples.len() {
+                    return None;
+                }
+                // The next block worth a look; the one holding the goal always is.
+                let mut block = self.next / GAP_BLOCK;
+                while self.plan.block_gaps[block] >= self.gap && (block + 1) * GAP_BLOCK <= last {
+                    block += 1;
+                }
+                self.next = block * GAP_BLOCK;
+                self.block_end = samples.len().min(self.next + GAP_BLOCK);
+            }
+            let k = self.next;
+            self.next += 1;
+            let sample = &samples[k];
+            if sample.gap() < self.gap || k == last {
+                return Some((k, sample));
+            }
+        }
     }
 }
 

@@ -101,6 +101,13 @@ impl Profile {
         self.stretches[index].peak
     }
 
+    /// Where the stretch after stretch `index` starts (`None`: where the first starts), or
+    /// infinity after the last: up to there [`Profile::stretch_index`] answers `index`.
+    pub fn next_stretch_start(&self, index: Option<usize>) -> f64 {
+        let next = index.map_or(0, |k| k + 1);
+        self.stretches.get(next).map_or(f64::INFINITY, |st| st.s0)
+    }
+
     /// The index ([`Profile::peak`]) of the stretch containing `s`, `None` before
     /// the first; the same stretch as [`Profile::stretch_peak`]'s. `from` is a stretch
     /// that starts at or before `s` (the answer for an earlier position), so a walk along
@@ -207,7 +214,7 @@ mod tests {
     }
 
     #[test]
-    fn stepping_forward_finds_the_stretch_a_search_finds() {
+    fn stepping_forward_finds_the_stretch_a_search_finds_and_keeps_it_until_the_next() {
         let stations = [
             Station { s: 0.0, limit: 0.0 },
             Station { s: 7.0, limit: 2.0 },
@@ -227,6 +234,9 @@ mod tests {
             let s = k as f64 * 0.1 - 0.5;
             let found = p.stretch_index(s, from);
             assert_eq!(found, p.stretch_index(s, None), "at {s}");
+            if from.is_some() && s < p.next_stretch_start(from) {
+                assert_eq!(found, from, "at {s}: before the next stretch starts");
+            }
             assert_eq!(
                 found.map_or(0.0, |i| p.peak(i)),
                 p.stretch_peak(s),
