@@ -188,8 +188,11 @@ pub struct Plan {
     pub samples: Vec<Sample>,
     /// The turning angle at each way-point ([`Plan::turn_angles`]).
     turns: Vec<f64>,
-    /// The least gap (either side) of each block of [`GAP_BLOCK`] samples, so a drive
-    /// skips the blocks far from every obstacle without looking at their samples.
+    /// Each sample's smaller gap ([`Sample::gap`]), side by side: a drive looks at many
+    /// samples' gaps and draws at fewer.
+    gaps: Vec<f64>,
+    /// The least gap of each block of [`GAP_BLOCK`] samples, so a drive skips the blocks
+    /// far from every obstacle without looking at their samples.
     block_gaps: Vec<f64>,
     /// The robot's error correlation length the transitions are for (m).
     error_correlation: f64,
@@ -232,9 +235,10 @@ impl Plan {
             }
         }
         let turns = turn_angles(&points);
-        let block_gaps = samples
+        let gaps: Vec<f64> = samples.iter().map(Sample::gap).collect();
+        let block_gaps = gaps
             .chunks(GAP_BLOCK)
-            .map(|block| block.iter().map(Sample::gap).fold(f64::INFINITY, f64::min))
+            .map(|block| block.iter().copied().fold(f64::INFINITY, f64::min))
             .collect();
         let mut from = 0.0;
         let transitions = samples
@@ -250,6 +254,7 @@ impl Plan {
             arc,
             samples,
             turns,
+            gaps,
             block_gaps,
             error_correlation: robot.error_correlation,
             transitions,
@@ -387,26 +392,25 @@ impl<'a> Iterator for CloseSamples<'a> {
     type Item = (usize, &'a Sample);
 
     fn next(&mut self) -> Option<Self::Item> {
-        let samples = &self.plan.samples;
-        let last = samples.len() - 1;
+        let plan = self.plan;
+        let last = plan.samples.len() - 1;
         loop {
             if self.next == self.block_end {
-                if self.next == samples.len() {
+                if self.next > last {
                     return None;
                 }
                 // The next block worth a look; the one holding the goal always is.
                 let mut block = self.next / GAP_BLOCK;
-                while self.plan.block_gaps[block] >= self.gap && (block + 1) * GAP_BLOCK <= last {
+                while plan.block_gaps[block] >= self.gap && (block + 1) * GAP_BLOCK <= last {
                     block += 1;
                 }
                 self.next = block * GAP_BLOCK;
-                self.block_end = samples.len().min(self.next + GAP_BLOCK);
+                self.block_end = plan.samples.len().min(self.next + GAP_BLOCK);
             }
             let k = self.next;
             self.next += 1;
-            let sample = &samples[k];
-            if sample.gap() < self.gap || k == last {
-                return Some((k, sample));
+            if plan.gaps[k] < self.gap || k == last {
+                return Some((k, &plan.samples[k]));
             }
         }
     }

@@ -85,7 +85,8 @@ impl UgvDomain {
     pub fn new(scenario: Scenario) -> Self {
         let space = scenario.space();
         let world = World::urban_block();
-        let ground = PatrolGround::new(&world);
+        let patrol = PatrolSetup::default();
+        let ground = PatrolGround::new(&world, patrol.free_space);
         let paddings = space
             .component_index("padding")
             .map_or(1, |i| space.components()[i].len());
@@ -100,7 +101,7 @@ impl UgvDomain {
             space,
             world,
             detector: Detector::default(),
-            patrol: PatrolSetup::default(),
+            patrol,
             ground,
             visibility,
             plans,
