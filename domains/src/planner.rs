@@ -391,6 +391,7 @@ pub struct CloseSamples<'a> {
 impl<'a> Iterator for CloseSamples<'a> {
     type Item = (usize, &'a Sample);
 
+    #[inline]
     fn next(&mut self) -> Option<Self::Item> {
         let plan = self.plan;
         let last = plan.samples.len() - 1;
