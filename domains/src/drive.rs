@@ -65,7 +65,8 @@ pub fn drive(
     if recording {
         drawn.push((0, x));
     }
-    let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
+    let spread_at_speed = robot.cross_track_sd(speed);
+    let negligible = NEGLIGIBLE_SD * spread_at_speed;
     // The stretch of the profile the last drawn sample lay on, where the next one starts,
     // its peak speed and the error's spread at that speed (computed once per stretch, not
     // per sample).
@@ -103,7 +104,13 @@ pub fn drive(
             if here != stretch {
                 stretch = here;
                 let v = here.map_or(0.0, |i| profile.peak(i));
-                speed_and_spread = (v, robot.cross_track_sd(v));
+                // Most stretches cruise at the commanded speed.
+                let spread = if v == speed {
+                    spread_at_speed
+                } else {
+                    robot.cross_track_sd(v)
+                };
+                speed_and_spread = (v, spread);
             }
             next_stretch_at = profile.next_stretch_start(here);
         }
