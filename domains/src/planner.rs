@@ -201,8 +201,10 @@ pub struct Plan {
     transitions: Vec<(f64, f64)>,
 }
 
-/// Samples per block of [`Plan::samples_closer_than`]'s index.
+/// Samples per block of [`Plan::samples_closer_than`]'s index (at most 32: a block's close
+/// samples are the bits of a `u32`).
 const GAP_BLOCK: usize = 16;
+const _: () = assert!(GAP_BLOCK <= 32);
 
 impl Plan {
     /// Measures `points` for `robot`: arc lengths, at every sample the gap between the
@@ -371,21 +373,24 @@ impl Plan {
         CloseSamples {
             plan: self,
             gap,
-            next: 0,
-            block_end: 0,
+            first: 0,
+            next_block: 0,
+            pending: 0,
         }
     }
 }
 
 /// The iterator of [`Plan::samples_closer_than`]: it steps over whole blocks whose least gap
-/// is not below the bound and looks at the samples of the others one by one.
+/// is not below the bound, and marks the close samples of the others in a bit mask (no
+/// branch per sample, whose outcome would change from run to run).
 pub struct CloseSamples<'a> {
     plan: &'a Plan,
     gap: f64,
-    /// The next sample to look at.
-    next: usize,
-    /// The end of the block `next` lies in, once that block is known to be worth a look.
-    block_end: usize,
+    /// The first sample of the block `pending` marks, and the next block to look at.
+    first: usize,
+    next_block: usize,
+    /// Bit `i`: sample `first + i` is close and not yet yielded.
+    pending: u32,
 }
 
 impl<'a> Iterator for CloseSamples<'a> {
@@ -394,26 +399,33 @@ impl<'a> Iterator for CloseSamples<'a> {
     #[inline]
     fn next(&mut self) -> Option<Self::Item> {
         let plan = self.plan;
-        let last = plan.samples.len() - 1;
-        loop {
-            if self.next == self.block_end {
-                if self.next > last {
-                    return None;
-                }
-                // The next block worth a look; the one holding the goal always is.
-                let mut block = self.next / GAP_BLOCK;
-                while plan.block_gaps[block] >= self.gap && (block + 1) * GAP_BLOCK <= last {
-                    block += 1;
-                }
-                self.next = block * GAP_BLOCK;
-                self.block_end = plan.samples.len().min(self.next + GAP_BLOCK);
+        while self.pending == 0 {
+            let last = plan.samples.len() - 1;
+            // The next block worth a look; the one holding the goal always is.
+            let mut block = self.next_block;
+            while block < plan.block_gaps.len()
+                && plan.block_gaps[block] >= self.gap
+                && (block + 1) * GAP_BLOCK <= last
+            {
+                block += 1;
             }
-            let k = self.next;
-            self.next += 1;
-            if plan.gaps[k] < self.gap || k == last {
-                return Some((k, &plan.samples[k]));
+            if block == plan.block_gaps.len() {
+                return None;
             }
+            let first = block * GAP_BLOCK;
+            let gaps = &plan.gaps[first..plan.gaps.len().min(first + GAP_BLOCK)];
+            let mut close = 0;
+            for (i, &gap) in gaps.iter().enumerate() {
+                close |= u32::from(gap < self.gap) << i;
+            }
+            if last < first + GAP_BLOCK {
+                close |= 1 << (last - first);
+            }
+            (self.first, self.next_block, self.pending) = (first, block + 1, close);
         }
+        let k = self.first + self.pending.trailing_zeros() as usize;
+        self.pending &= self.pending - 1;
+        Some((k, &plan.samples[k]))
     }
 }
 
