@@ -65,15 +65,19 @@ pub fn drive(
     if recording {
         drawn.push((0, x));
     }
-    let negligible = NEGLIGIBLE_SD * robot.cross_track_sd(speed);
-    // The stretch of the profile the last drawn sample lay on, its peak speed and the
-    // error's spread at that speed (computed once per stretch, not per sample).
+    let spread_at_speed = robot.cross_track_sd(speed);
+    let negligible = NEGLIGIBLE_SD * spread_at_speed;
+    // The stretch of the profile the last drawn sample lay on, where the next one starts,
+    // its peak speed and the error's spread at that speed (computed once per stretch, not
+    // per sample).
     let mut stretch = None;
+    let mut next_stretch_at = f64::NEG_INFINITY;
     let mut speed_and_spread = (0.0, robot.cross_track_sd(0.0));
-    // The last sample the error was drawn at, and the plan's stored transitions from
-    // each sample's predecessor.
-    let mut previous = None;
-    let transitions = plan.error_transitions(robot);
+    // The plan's stored transitions from each sample's predecessor (from the start for
+    // the first), and the sample whose stored transition applies: the one after the
+    // sample the error was last drawn at.
+    let transitions = plan.error_transitions(robot).unwrap_or_default();
+    let mut neighbour = 0;
     let last = plan.samples.len() - 1;
     let mut error = 0.0;
     // Samples far from every obstacle draw nothing and change nothing, so only the close
@@ -88,18 +92,27 @@ pub fn drive(
             next_mark += 1;
             next_mark_at = mark_at(next_mark);
         }
-        let (rho, fresh) = match (transitions, previous) {
-            (Some(stored), Some(p)) if p + 1 == k => stored[k],
+        let (rho, fresh) = match transitions.get(k) {
+            Some(&stored) if k == neighbour => stored,
             _ => robot.error_transition(sample.s - x_at),
         };
         x = rho * x + fresh * rng.sample::<f64, _>(StandardNormal);
         x_at = sample.s;
-        previous = Some(k);
-        let here = profile.stretch_index(sample.s, stretch);
-        if here != stretch {
-            stretch = here;
-            let v = here.map_or(0.0, |i| profile.peak(i));
-            speed_and_spread = (v, robot.cross_track_sd(v));
+        neighbour = k + 1;
+        if sample.s >= next_stretch_at {
+            let here = profile.stretch_index(sample.s, stretch);
+            if here != stretch {
+                stretch = here;
+                let v = here.map_or(0.0, |i| profile.peak(i));
+                // Most stretches cruise at the commanded speed.
+                let spread = if v == speed {
+                    spread_at_speed
+                } else {
+                    robot.cross_track_sd(v)
+                };
+                speed_and_spread = (v, spread);
+            }
+            next_stretch_at = profile.next_stretch_start(here);
         }
         let (v, spread) = speed_and_spread;
         error = spread * x;

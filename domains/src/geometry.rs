@@ -305,6 +305,11 @@ impl BoundedShape {
         }
     }
 
+    /// The lower-left and upper-right corners of the shape's box.
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        (self.min, self.max)
+    }
+
     /// Whether every point of segment `a`-`b` is at least `clearance` from the shape,
     /// with a quick answer when the segment's box is that far from the shape's box.
     pub fn keeps_clear(&self, a: Vec2, b: Vec2, clearance: f64) -> bool {

@@ -64,35 +64,104 @@ pub struct SuspiciousObject {
 }
 
 /// The ground the objects are placed on, measured once per world: the patrol line's legs
-/// (start, direction, length) and the obstacles an object keeps clear of, with their
-/// bounding boxes.
+/// (start, direction, length), the obstacles an object keeps clear of with their bounding
+/// boxes, and which of them each square metre of the map needs to be measured against.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PatrolGround {
     legs: Vec<(Vec2, Vec2, f64)>,
     total: f64,
     size: Vec2,
     obstacles: Vec<BoundedShape>,
+    /// The clearance the cells were sorted for (m).
+    clearance: f64,
+    /// Cells per row of the map, and rows.
+    columns: usize,
+    rows: usize,
+    /// Per cell (row by row), where its list starts in `listed`; one more entry marks the
+    /// end of the last.
+    cell_starts: Vec<usize>,
+    /// Per cell, the obstacles whose box grown by `clearance` reaches into it.
+    listed: Vec<usize>,
 }
 
+/// Side of a cell of [`PatrolGround`]'s index (m).
+const CELL: f64 = 1.0;
+
 impl PatrolGround {
-    /// The ground of `world`'s patrol route.
-    pub fn new(world: &World) -> Self {
+    /// The ground of `world`'s patrol route, indexed for objects keeping `clearance` from
+    /// every obstacle (a smaller clearance is served as well, a larger one measures every
+    /// obstacle).
+    pub fn new(world: &World, clearance: f64) -> Self {
         let legs: Vec<(Vec2, Vec2, f64)> = world
             .patrol_route
             .windows(2)
             .map(|w| (w[0], (w[1] - w[0]).unit(), w[0].dist(w[1])))
             .collect();
+        let obstacles: Vec<BoundedShape> = world
+            .obstacles
+            .iter()
+            .map(|o| BoundedShape::new(&o.shape))
+            .collect();
+        let columns = (world.size.x / CELL).ceil().max(1.0) as usize;
+        let rows = (world.size.y / CELL).ceil().max(1.0) as usize;
+        let mut cells = vec![Vec::new(); columns * rows];
+        for (i, obstacle) in obstacles.iter().enumerate() {
+            // The same grown box as `BoundedShape::keeps_clear`'s quick answer: a point in
+            // no cell the box reaches is outside it, so that answer is "clear".
+            let (min, max) = obstacle.bounds();
+            let (low, high) = (
+                cell_of(min.x - clearance, min.y - clearance, columns, rows),
+                cell_of(max.x + clearance, max.y + clearance, columns, rows),
+            );
+            for row in low.1..=high.1 {
+                for column in low.0..=high.0 {
+                    cells[row * columns + column].push(i);
+                }
+            }
+        }
+        let mut cell_starts = Vec::with_capacity(cells.len() + 1);
+        let mut listed = Vec::new();
+        for cell in cells {
+            cell_starts.push(listed.len());
+            listed.extend(cell);
+        }
+        cell_starts.push(listed.len());
         Self {
             total: legs.iter().map(|leg| leg.2).sum(),
             legs,
             size: world.size,
-            obstacles: world
-                .obstacles
-                .iter()
-                .map(|o| BoundedShape::new(&o.shape))
-                .collect(),
+            obstacles,
+            clearance,
+            columns,
+            rows,
+            cell_starts,
+            listed,
         }
     }
+
+    /// Whether `at` keeps `clearance` from every obstacle ([`BoundedShape::keeps_clear`]),
+    /// measuring only the obstacles listed for its cell when the index serves `clearance`.
+    fn keeps_clear(&self, at: Vec2, clearance: f64) -> bool {
+        let keeps_clear = |o: &BoundedShape| o.keeps_clear(at, at, clearance);
+        if clearance > self.clearance {
+            return self.obstacles.iter().all(keeps_clear);
+        }
+        let (column, row) = cell_of(at.x, at.y, self.columns, self.rows);
+        let cell = row * self.columns + column;
+        self.listed[self.cell_starts[cell]..self.cell_starts[cell + 1]]
+            .iter()
+            .all(|&i| keeps_clear(&self.obstacles[i]))
+    }
+}
+
+/// The cell (column, row) of the point `(x, y)`, points off the map in the nearest cell.
+/// Never decreasing in `x` and `y`, so a box's corner cells bound the cells of its points.
+fn cell_of(x: f64, y: f64, columns: usize, rows: usize) -> (usize, usize) {
+    // `as` truncates towards zero and saturates (NaN gives 0): the floor, with every
+    // point left of or below the map in the first column or row.
+    let column = ((x / CELL) as usize).min(columns - 1);
+    let row = ((y / CELL) as usize).min(rows - 1);
+    (column, row)
 }
 
 impl PatrolSetup {
@@ -112,10 +181,7 @@ impl PatrolSetup {
             let offset = rng.random_range(self.lateral_band.0..self.lateral_band.1) * side;
             let at = start + dir * s + dir.left() * offset;
             let open = within(at, ground.size, self.free_space)
-                && ground
-                    .obstacles
-                    .iter()
-                    .all(|o| o.keeps_clear(at, at, self.free_space));
+                && ground.keeps_clear(at, self.free_space);
             if open {
                 objects.push(SuspiciousObject {
                     at,
@@ -151,6 +217,7 @@ impl PatrolSetup {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
@@ -175,11 +242,40 @@ mod tests {
         assert!(setup.p_spot(4.5, 3.0) < setup.p_spot(4.0, 3.0));
     }
 
+    proptest! {
+        /// The index answers as measuring every obstacle does, for the clearance it was
+        /// built for, smaller and larger ones, on and off the map.
+        #[test]
+        fn the_cells_answer_as_every_obstacle_does(
+            x in -2.0f64..82.0, y in -2.0f64..52.0, clearance in 0.0f64..1.0,
+        ) {
+            let world = World::urban_block();
+            let ground = PatrolGround::new(&world, 0.5);
+            let at = Vec2::new(x, y);
+            let everyone = ground.obstacles.iter().all(|o| o.keeps_clear(at, at, clearance));
+            prop_assert_eq!(ground.keeps_clear(at, clearance), everyone);
+        }
+    }
+
+    #[test]
+    fn a_cell_lists_the_obstacles_near_it() {
+        let world = World::urban_block();
+        let ground = PatrolGround::new(&world, 0.5);
+        let listed = |x: f64, y: f64| {
+            let cell = (y as usize) * ground.columns + x as usize;
+            ground.listed[ground.cell_starts[cell]..ground.cell_starts[cell + 1]].to_vec()
+        };
+        // Mid-carriageway, 2 m from everything: nothing to measure. Next to the barrier
+        // (x 29.8..30.2, y 9..17), grown by 0.5 m: the barrier (index 13) alone.
+        assert_eq!(listed(40.5, 17.5), Vec::<usize>::new());
+        assert_eq!(listed(29.5, 12.5), vec![13]);
+    }
+
     #[test]
     fn objects_lie_in_open_ground_with_up_to_three_explosives() {
         let world = World::urban_block();
         let setup = PatrolSetup::default();
-        let ground = PatrolGround::new(&world);
+        let ground = PatrolGround::new(&world, setup.free_space);
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         let mut seen = [false; 4];
         for _ in 0..200 {

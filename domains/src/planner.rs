@@ -188,8 +188,11 @@ pub struct Plan {
     pub samples: Vec<Sample>,
     /// The turning angle at each way-point ([`Plan::turn_angles`]).
     turns: Vec<f64>,
-    /// The least gap (either side) of each block of [`GAP_BLOCK`] samples, so a drive
-    /// skips the blocks far from every obstacle without looking at their samples.
+    /// Each sample's smaller gap ([`Sample::gap`]), side by side: a drive looks at many
+    /// samples' gaps and draws at fewer.
+    gaps: Vec<f64>,
+    /// The least gap of each block of [`GAP_BLOCK`] samples, so a drive skips the blocks
+    /// far from every obstacle without looking at their samples.
     block_gaps: Vec<f64>,
     /// The robot's error correlation length the transitions are for (m).
     error_correlation: f64,
@@ -198,8 +201,10 @@ pub struct Plan {
     transitions: Vec<(f64, f64)>,
 }
 
-/// Samples per block of [`Plan::samples_closer_than`]'s index.
+/// Samples per block of [`Plan::samples_closer_than`]'s index (at most 32: a block's close
+/// samples are the bits of a `u32`).
 const GAP_BLOCK: usize = 16;
+const _: () = assert!(GAP_BLOCK <= 32);
 
 impl Plan {
     /// Measures `points` for `robot`: arc lengths, at every sample the gap between the
@@ -232,9 +237,10 @@ impl Plan {
             }
         }
         let turns = turn_angles(&points);
-        let block_gaps = samples
+        let gaps: Vec<f64> = samples.iter().map(Sample::gap).collect();
+        let block_gaps = gaps
             .chunks(GAP_BLOCK)
-            .map(|block| block.iter().map(Sample::gap).fold(f64::INFINITY, f64::min))
+            .map(|block| block.iter().copied().fold(f64::INFINITY, f64::min))
             .collect();
         let mut from = 0.0;
         let transitions = samples
@@ -250,6 +256,7 @@ impl Plan {
             arc,
             samples,
             turns,
+            gaps,
             block_gaps,
             error_correlation: robot.error_correlation,
             transitions,
@@ -362,20 +369,63 @@ impl Plan {
 
     /// The samples whose gap on either side is below `gap`, with their indices, in order,
     /// and always the last sample (the goal).
-    pub fn samples_closer_than(&self, gap: f64) -> impl Iterator<Item = (usize, &Sample)> + '_ {
-        let last = self.samples.len() - 1;
-        self.samples
-            .chunks(GAP_BLOCK)
-            .zip(&self.block_gaps)
-            .enumerate()
-            .filter(move |&(b, (_, &least))| least < gap || (b + 1) * GAP_BLOCK > last)
-            .flat_map(|(b, (block, _))| {
-                block
-                    .iter()
-                    .enumerate()
-                    .map(move |(i, sample)| (b * GAP_BLOCK + i, sample))
-            })
-            .filter(move |&(k, sample)| sample.gap() < gap || k == last)
+    pub fn samples_closer_than(&self, gap: f64) -> CloseSamples<'_> {
+        CloseSamples {
+            plan: self,
+            gap,
+            first: 0,
+            next_block: 0,
+            pending: 0,
+        }
+    }
+}
+
+/// The iterator of [`Plan::samples_closer_than`]: it steps over whole blocks whose least gap
+/// is not below the bound, and marks the close samples of the others in a bit mask (no
+/// branch per sample, whose outcome would change from run to run).
+pub struct CloseSamples<'a> {
+    plan: &'a Plan,
+    gap: f64,
+    /// The first sample of the block `pending` marks, and the next block to look at.
+    first: usize,
+    next_block: usize,
+    /// Bit `i`: sample `first + i` is close and not yet yielded.
+    pending: u32,
+}
+
+impl<'a> Iterator for CloseSamples<'a> {
+    type Item = (usize, &'a Sample);
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        let plan = self.plan;
+        while self.pending == 0 {
+            let last = plan.samples.len() - 1;
+            // The next block worth a look; the one holding the goal always is.
+            let mut block = self.next_block;
+            while block < plan.block_gaps.len()
+                && plan.block_gaps[block] >= self.gap
+                && (block + 1) * GAP_BLOCK <= last
+            {
+                block += 1;
+            }
+            if block == plan.block_gaps.len() {
+                return None;
+            }
+            let first = block * GAP_BLOCK;
+            let gaps = &plan.gaps[first..plan.gaps.len().min(first + GAP_BLOCK)];
+            let mut close = 0;
+            for (i, &gap) in gaps.iter().enumerate() {
+                close |= u32::from(gap < self.gap) << i;
+            }
+            if last < first + GAP_BLOCK {
+                close |= 1 << (last - first);
+            }
+            (self.first, self.next_block, self.pending) = (first, block + 1, close);
+        }
+        let k = self.first + self.pending.trailing_zeros() as usize;
+        self.pending &= self.pending - 1;
+        Some((k, &plan.samples[k]))
     }
 }
 

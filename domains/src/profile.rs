@@ -11,7 +11,8 @@ pub struct Station {
     pub limit: f64,
 }
 
-/// One stretch between consecutive stations: entry, peak and exit speeds.
+/// One stretch between consecutive stations: entry, peak and exit speeds, and the shape of
+/// its trapezoid (measured once, read by every time asked of it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Stretch {
     s0: f64,
@@ -20,6 +21,11 @@ struct Stretch {
     peak: f64,
     exit: f64,
     t0: f64,
+    /// Lengths of the speed-up, the cruise and the slow-down (m).
+    up: f64,
+    cruise: f64,
+    /// Time to the end of the speed-up (s).
+    t_up: f64,
 }
 
 /// Time and speed as functions of arc length for one drive.
@@ -54,14 +60,7 @@ impl Profile {
                 ((2.0 * accel * decel * length + decel * u * u + accel * w * w) / (accel + decel))
                     .sqrt(),
             );
-            let stretch = Stretch {
-                s0: stations[i].s,
-                length,
-                entry: u,
-                peak,
-                exit: w,
-                t0: t,
-            };
+            let stretch = Stretch::new(stations[i].s, length, (u, peak, w), t, accel, decel);
             t += stretch.duration(accel, decel);
             stretches.push(stretch);
         }
@@ -101,6 +100,13 @@ impl Profile {
         self.stretches[index].peak
     }
 
+    /// Where the stretch after stretch `index` starts (`None`: where the first starts), or
+    /// infinity after the last: up to there [`Profile::stretch_index`] answers `index`.
+    pub fn next_stretch_start(&self, index: Option<usize>) -> f64 {
+        let next = index.map_or(0, |k| k + 1);
+        self.stretches.get(next).map_or(f64::INFINITY, |st| st.s0)
+    }
+
     /// The index ([`Profile::peak`]) of the stretch containing `s`, `None` before
     /// the first; the same stretch as [`Profile::stretch_peak`]'s. `from` is a stretch
     /// that starts at or before `s` (the answer for an earlier position), so a walk along
@@ -123,10 +129,29 @@ impl Profile {
 }
 
 impl Stretch {
-    fn ramps(&self, accel: f64, decel: f64) -> (f64, f64) {
-        let up = (self.peak * self.peak - self.entry * self.entry) / (2.0 * accel);
-        let down = (self.peak * self.peak - self.exit * self.exit) / (2.0 * decel);
-        (up.max(0.0), down.max(0.0))
+    /// The stretch of `length` from `s0`, entered at `t0` with the given entry, peak and
+    /// exit speeds.
+    fn new(
+        s0: f64,
+        length: f64,
+        (entry, peak, exit): (f64, f64, f64),
+        t0: f64,
+        accel: f64,
+        decel: f64,
+    ) -> Self {
+        let up = ((peak * peak - entry * entry) / (2.0 * accel)).max(0.0);
+        let down = ((peak * peak - exit * exit) / (2.0 * decel)).max(0.0);
+        Self {
+            s0,
+            length,
+            entry,
+            peak,
+            exit,
+            t0,
+            up,
+            cruise: (length - up - down).max(0.0),
+            t_up: (peak - entry).max(0.0) / accel,
+        }
     }
 
     fn duration(&self, accel: f64, decel: f64) -> f64 {
@@ -138,9 +163,7 @@ impl Stretch {
             return 0.0;
         }
         let x = x.clamp(0.0, self.length);
-        let (up, down) = self.ramps(accel, decel);
-        let cruise = (self.length - up - down).max(0.0);
-        let t_up = (self.peak - self.entry).max(0.0) / accel;
+        let (up, cruise, t_up) = (self.up, self.cruise, self.t_up);
         if x <= up {
             let u = self.entry;
             return ((u * u + 2.0 * accel * x).sqrt() - u) / accel;
@@ -160,15 +183,7 @@ impl Stretch {
 /// Time for a straight drive of `length` from standstill to standstill (s).
 pub fn point_to_point(length: f64, cap: f64, accel: f64, decel: f64) -> f64 {
     let peak = cap.min((2.0 * accel * decel * length / (accel + decel)).sqrt());
-    Stretch {
-        s0: 0.0,
-        length,
-        entry: 0.0,
-        peak,
-        exit: 0.0,
-        t0: 0.0,
-    }
-    .duration(accel, decel)
+    Stretch::new(0.0, length, (0.0, peak, 0.0), 0.0, accel, decel).duration(accel, decel)
 }
 
 #[cfg(test)]
@@ -207,7 +222,7 @@ mod tests {
     }
 
     #[test]
-    fn stepping_forward_finds_the_stretch_a_search_finds() {
+    fn stepping_forward_finds_the_stretch_a_search_finds_and_keeps_it_until_the_next() {
         let stations = [
             Station { s: 0.0, limit: 0.0 },
             Station { s: 7.0, limit: 2.0 },
@@ -227,6 +242,9 @@ mod tests {
             let s = k as f64 * 0.1 - 0.5;
             let found = p.stretch_index(s, from);
             assert_eq!(found, p.stretch_index(s, None), "at {s}");
+            if from.is_some() && s < p.next_stretch_start(from) {
+                assert_eq!(found, from, "at {s}: before the next stretch starts");
+            }
             assert_eq!(
                 found.map_or(0.0, |i| p.peak(i)),
                 p.stretch_peak(s),

@@ -85,7 +85,8 @@ impl UgvDomain {
     pub fn new(scenario: Scenario) -> Self {
         let space = scenario.space();
         let world = World::urban_block();
-        let ground = PatrolGround::new(&world);
+        let patrol = PatrolSetup::default();
+        let ground = PatrolGround::new(&world, patrol.free_space);
         let paddings = space
             .component_index("padding")
             .map_or(1, |i| space.components()[i].len());
@@ -100,7 +101,7 @@ impl UgvDomain {
             space,
             world,
             detector: Detector::default(),
-            patrol: PatrolSetup::default(),
+            patrol,
             ground,
             visibility,
             plans,
@@ -255,24 +256,30 @@ impl UgvDomain {
         // Gap between body and object the robot keeps while scanning: its scan distance,
         // unless its padding asks for more.
         let standoff = settings.scan_distance.max(settings.padding);
-        let mut visits: Vec<(f64, usize, f64, bool)> = fates
+        // Per object: where the path passes it, which it is, whether the camera spots it
+        // and, if so, the time to drive out to the scan position (or back).
+        let mut visits: Vec<(f64, usize, bool, f64)> = fates
             .iter()
             .enumerate()
             .map(|(i, fate)| {
                 let (s, distance) = plan.nearest(fate.object.at);
-                let spur = (distance - robot.radius - standoff).abs();
                 let spotted = rng.random::<f64>() < self.patrol.p_spot(distance, settings.speed);
-                (s, i, spur, spotted)
+                let approach = if spotted {
+                    let spur = (distance - robot.radius - standoff).abs();
+                    point_to_point(spur, settings.speed, robot.accel, robot.decel)
+                } else {
+                    0.0
+                };
+                (s, i, spotted, approach)
             })
             .collect();
         visits.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let spur_time = |spur: f64| point_to_point(spur, settings.speed, robot.accel, robot.decel);
         let marks: Vec<Mark> = visits
             .iter()
-            .map(|&(s, _, spur, spotted)| Mark {
+            .map(|&(s, _, spotted, approach)| Mark {
                 s,
                 dwell: if spotted {
-                    2.0 * spur_time(spur) + settings.scan_time
+                    2.0 * approach + settings.scan_time
                 } else {
                     0.0
                 },
@@ -280,7 +287,7 @@ impl UgvDomain {
             .collect();
         let driven = drive(plan, robot, settings.speed, &marks, rng, trace, track);
         let arrived = trace.events.pop().expect("a drive ends with its arrival");
-        for (&(s, i, spur, spotted), &t) in visits.iter().zip(&driven.mark_times) {
+        for (&(s, i, spotted, approach), &t) in visits.iter().zip(&driven.mark_times) {
             let fate = &mut fates[i];
             if !spotted {
                 trace.push(t, EventKind::MissedObject { object: i });
@@ -296,7 +303,7 @@ impl UgvDomain {
                     .accuracy(explosive, settings.scan_time, standoff);
             let labelled_explosive = explosive == correct;
             fate.labelled_explosive = Some(labelled_explosive);
-            let t_label = t + spur_time(spur) + settings.scan_time;
+            let t_label = t + approach + settings.scan_time;
             trace.push(
                 t_label,
                 EventKind::Labelled {
