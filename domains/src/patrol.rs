@@ -180,8 +180,8 @@ impl PatrolSetup {
             let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
             let offset = rng.random_range(self.lateral_band.0..self.lateral_band.1) * side;
             let at = start + dir * s + dir.left() * offset;
-            let open = within(at, ground.size, self.free_space)
-                && ground.keeps_clear(at, self.free_space);
+            let open =
+                within(at, ground.size, self.free_space) && ground.keeps_clear(at, self.free_space);
             if open {
                 objects.push(SuspiciousObject {
                     at,
