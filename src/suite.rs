@@ -303,12 +303,10 @@ impl SuiteConfig {
         let readings = resolve_readings(catalog, &self.readings)
             .map_err(|e| invalid("readings".into(), e.to_string()))?;
         for (i, spec) in self.experiments.iter().enumerate() {
-            if catalog.domain(&spec.scenario).is_none() {
+            if let Err(unknown) = domain_of(catalog, &spec.scenario) {
                 return Err(invalid(
                     format!("experiments[{i}].scenario"),
-                    domain_of(catalog, &spec.scenario)
-                        .err()
-                        .map_or_else(String::new, |e| e.to_string()),
+                    unknown.to_string(),
                 ));
             }
             let operators = spec.operators(catalog, origin, &readings)?;
