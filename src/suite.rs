@@ -249,11 +249,7 @@ impl SuiteConfig {
     /// Checks every field against `catalog`; `origin` names the file in errors and anchors
     /// operator files.
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
-        let invalid = |field: String, message: String| SuiteError::Invalid {
-            path: origin.to_owned(),
-            field,
-            message,
-        };
+        let invalid = |field: String, message: String| invalid(origin, field, message);
         if self.experiments.is_empty() {
             return Err(invalid(
                 "experiments".into(),
@@ -460,6 +456,65 @@ fn arm_named<C: Catalog>(catalog: &C, name: &str, retriever: RetrieverKind) -> R
     })
 }
 
+/// A [`SuiteError::Invalid`] of `field` in the file `origin`.
+fn invalid(origin: &Path, field: String, message: String) -> SuiteError {
+    SuiteError::Invalid {
+        path: origin.to_owned(),
+        field,
+        message,
+    }
+}
+
+/// What a suite's experiments need from the catalog: one domain per scenario (built once,
+/// so its caches serve every experiment of that scenario) and each experiment's operators,
+/// as the suite's readings read them.
+struct Parts<C: Catalog> {
+    domains: Vec<C::Domain>,
+    /// The index in `domains` of each experiment's domain.
+    domain_index: Vec<usize>,
+    /// Each experiment's operators.
+    operators: Vec<Vec<(String, OperatorOf<C>)>>,
+}
+
+impl<C: Catalog> Parts<C> {
+    fn of(catalog: &C, config: &SuiteConfig, origin: &Path) -> Result<Self, SuiteError> {
+        let readings = resolve_readings(catalog, &config.readings)
+            .map_err(|e| invalid(origin, "readings".into(), e.to_string()))?;
+        let mut scenarios: Vec<&str> = Vec::new();
+        let mut domain_index = Vec::with_capacity(config.experiments.len());
+        for spec in &config.experiments {
+            let k = scenarios
+                .iter()
+                .position(|s| *s == spec.scenario)
+                .unwrap_or_else(|| {
+                    scenarios.push(&spec.scenario);
+                    scenarios.len() - 1
+                });
+            domain_index.push(k);
+        }
+        let domains = scenarios
+            .iter()
+            .map(|s| domain_of(catalog, s))
+            .collect::<Result<Vec<C::Domain>, UnknownScenario>>()
+            .map_err(|e| invalid(origin, "experiments".into(), e.to_string()))?;
+        let operators = config
+            .experiments
+            .iter()
+            .map(|spec| spec.operators(catalog, origin, &readings))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self {
+            domains,
+            domain_index,
+            operators,
+        })
+    }
+
+    /// The domain of experiment `k`.
+    fn domain(&self, k: usize) -> &C::Domain {
+        &self.domains[self.domain_index[k]]
+    }
+}
+
 /// Runs every experiment of `config` (operator files relative to `origin`) over the
 /// domains of `catalog` on the current rayon pool, arms that reuse cases starting from
 /// `starting` when given; `progress(experiment)` is called after every trial.
@@ -470,37 +525,8 @@ pub fn run_suite<C: Catalog>(
     starting: Option<&StartingCases>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<SuiteResults, SuiteError> {
-    let invalid = |field: String, message: String| SuiteError::Invalid {
-        path: origin.to_owned(),
-        field,
-        message,
-    };
-    let readings = resolve_readings(catalog, &config.readings)
-        .map_err(|e| invalid("readings".into(), e.to_string()))?;
-    // One domain per scenario, built once and shared by its experiments.
-    let mut scenarios: Vec<&str> = Vec::new();
-    for spec in &config.experiments {
-        if !scenarios.contains(&spec.scenario.as_str()) {
-            scenarios.push(&spec.scenario);
-        }
-    }
-    let domains = scenarios
-        .iter()
-        .map(|s| domain_of(catalog, s))
-        .collect::<Result<Vec<C::Domain>, UnknownScenario>>()
-        .map_err(|e| invalid("experiments".into(), e.to_string()))?;
-    let domain_of_spec = |spec: &ExperimentSpec| {
-        let k = scenarios
-            .iter()
-            .position(|s| *s == spec.scenario)
-            .expect("every scenario has a domain");
-        &domains[k]
-    };
-    let operators = config
-        .experiments
-        .iter()
-        .map(|spec| spec.operators(catalog, origin, &readings))
-        .collect::<Result<Vec<_>, _>>()?;
+    let invalid = |field: String, message: String| invalid(origin, field, message);
+    let parts = Parts::of(catalog, config, origin)?;
     let arms = config
         .arms
         .iter()
@@ -509,8 +535,8 @@ pub fn run_suite<C: Catalog>(
         .map_err(|e| invalid("arms".into(), e))?;
     let stems = file_stems(config.experiments.iter().map(|s| s.name()));
     let mut plans: Vec<ExperimentPlan<'_, C::Domain>> = Vec::new();
-    for ((spec, operators), stem) in config.experiments.iter().zip(&operators).zip(&stems) {
-        let domain = domain_of_spec(spec);
+    for (k, (spec, stem)) in config.experiments.iter().zip(&stems).enumerate() {
+        let (domain, operators) = (parts.domain(k), &parts.operators[k]);
         let mut plan_arms = Vec::with_capacity(arms.len());
         for arm in &arms {
             let saved = match starting {
@@ -551,10 +577,8 @@ pub fn run_suite<C: Catalog>(
         });
     }
     let results = run_experiments(&plans, config.seed, progress)?;
-    let spaces = config
-        .experiments
-        .iter()
-        .map(|spec| domain_of_spec(spec).space().clone())
+    let spaces = (0..config.experiments.len())
+        .map(|k| parts.domain(k).space().clone())
         .collect();
     Ok(SuiteResults { results, spaces })
 }
@@ -632,32 +656,27 @@ pub fn write_suite_report<C: Catalog>(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
-    let invalid = |field: String, message: String| SuiteError::Invalid {
-        path: origin.to_owned(),
-        field,
-        message,
-    };
-    let readings = resolve_readings(catalog, &config.readings)
-        .map_err(|e| invalid("readings".into(), e.to_string()))?;
     let mut landscapes = Vec::with_capacity(config.experiments.len());
+    let parts = match config.landscape_runs {
+        0 => None,
+        _ => Some(Parts::of(catalog, config, origin)?),
+    };
     for (k, spec) in config.experiments.iter().enumerate() {
-        if config.landscape_runs == 0 {
+        let Some(parts) = &parts else {
             break;
-        }
-        let domain = domain_of(catalog, &spec.scenario)
-            .map_err(|e| invalid(format!("experiments[{k}].scenario"), e.to_string()))?;
-        let operators = spec.operators(catalog, origin, &readings)?;
-        let judges: Vec<&OperatorOf<C>> = spec.judges(&operators).map(|(_, op)| op).collect();
+        };
+        let judges: Vec<&OperatorOf<C>> =
+            spec.judges(&parts.operators[k]).map(|(_, op)| op).collect();
         landscapes.push(
             finals_landscapes(
-                &domain,
+                parts.domain(k),
                 &judges,
                 k as u64,
                 config.seed,
                 config.landscape_runs,
                 &|| {},
             )
-            .map_err(|e| invalid(format!("experiments[{k}]"), e.to_string()))?,
+            .map_err(|e| invalid(origin, format!("experiments[{k}]"), e.to_string()))?,
         );
     }
     let (portable, copies) = config.with_operator_files_in("operators", origin);
