@@ -53,12 +53,11 @@ impl Server {
     }
 
     fn ask(&mut self, request: &str) -> Value {
-        writeln!(self.input, "{request}").unwrap();
         let mut line = String::new();
-        self.output.read_line(&mut line).unwrap();
-        if line.is_empty() {
+        let sent = writeln!(self.input, "{request}");
+        if sent.is_err() || self.output.read_line(&mut line).unwrap() == 0 {
             panic!(
-                "the server exited: {}",
+                "the server exited ({sent:?}): {}",
                 std::fs::read_to_string(&self.log).unwrap()
             );
         }
