@@ -31,6 +31,8 @@ from pathlib import Path
 
 ROUTE_M = 30.0
 DEADLINE_S = 15.0
+# The share of failed or interrupted commands whose reason the operator states.
+EXPLAINS = 1.0 / 3.0
 
 
 class ProtocolError(Exception):
@@ -95,23 +97,33 @@ class World:
         speed, padding = behavior["speed"], behavior["padding"]
         duration = ROUTE_M / speed + self.rng.uniform(0.0, 2.0)
         if padding > 1.5 and self.rng.random() < 0.9:
-            return failed("stuck", duration)
+            # The robot knows it is stuck: it perceives it.
+            return self.report("failed", duration, observed=["stuck"], reason="stuck")
         # Too little padding, or too fast to stop in time: collisions are likely.
         collision = 0.8 if padding < 0.5 or speed > 6.0 else 0.03
         if self.rng.random() < collision:
-            # The operator stops the robot at the collision, part way along the route.
-            return interrupted("collision", duration * self.rng.uniform(0.2, 0.9))
+            # The operator stops the robot at the collision, part way along the route; the
+            # robot felt the bump.
+            return self.report(
+                "interrupted",
+                duration * self.rng.uniform(0.2, 0.9),
+                observed=["collision"],
+                reason="collision",
+            )
         if duration > DEADLINE_S and self.rng.random() < 0.95:
-            return interrupted("deadline", DEADLINE_S)
+            # The deadline is the operator's: the robot learns of it only if told.
+            return self.report("interrupted", DEADLINE_S, observed=[], reason="deadline")
         return {"outcome": "completed", "weight": 1.0, "duration_s": round(duration, 3)}
 
-
-def interrupted(cause, duration):
-    return {"outcome": "interrupted", "weight": 1.0, "cause": cause, "duration_s": round(duration, 3)}
-
-
-def failed(cause, duration):
-    return {"outcome": "failed", "weight": 1.0, "cause": cause, "duration_s": round(duration, 3)}
+    def report(self, outcome, duration, observed, reason):
+        """What the robot knows of a failed or interrupted command: what it perceived,
+        and the operator's reason only when the operator says it (a third of the time)."""
+        line = {"outcome": outcome, "weight": 1.0, "duration_s": round(duration, 3)}
+        if observed:
+            line["observed"] = observed
+        if self.rng.random() < EXPLAINS:
+            line["stated"] = reason
+        return line
 
 
 def plural(count, noun):

@@ -14,7 +14,7 @@
 //! use std::sync::Arc;
 //! use trustcbr::cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 //! use trustcbr::rand::{Rng, RngCore};
-//! use trustcbr::trust::{Cause, DeclaredCause, Domain, Outcome};
+//! use trustcbr::trust::{Cause, DeclaredCause, Domain, Judgement};
 //! use trustcbr::{Catalog, CatalogError, Readings};
 //!
 //! /// A lamp whose brightness an operator likes or not.
@@ -33,12 +33,12 @@
 //!             DeclaredCause { name: Cause::from_static("glare"), default_weight: None };
 //!         &[GLARE]
 //!     }
-//!     fn run(&self, b: &Behavior, wanted: &f64, rng: &mut dyn RngCore) -> Outcome {
+//!     fn run(&self, b: &Behavior, wanted: &f64, rng: &mut dyn RngCore) -> Judgement {
 //!         let brightness = self.0.components()[0].real_value(b.get(0));
 //!         if rng.random::<f64>() < 1.0 - (brightness - wanted).abs() {
-//!             Outcome::completed(1.0, 1.0)
+//!             Judgement::completed(1.0, 1.0)
 //!         } else {
-//!             Outcome::interrupted(1.0, Cause::from_static("glare"), 1.0)
+//!             Judgement::interrupted(1.0, Cause::from_static("glare"), 1.0)
 //!         }
 //!     }
 //! }
@@ -76,9 +76,9 @@
 //! ```
 
 use cbr_core::Behavior;
+use lab::Arm;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use trust::experiment::Arm;
 use trust::{Domain, RetrieverKind};
 
 /// The operator type of a catalog's domain.

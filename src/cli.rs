@@ -15,6 +15,8 @@ use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use lab::report::Provenance;
+use lab::{heatmap, landscape};
 use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
@@ -23,8 +25,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use trust::experiment::report::Provenance;
-use trust::experiment::{heatmap, landscape};
 use trust::{AdapterConfig, Domain};
 
 /// The command line; name, version and description come from the catalog.
@@ -499,6 +499,7 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
                     d.causes().to_vec(),
                     AdapterConfig::default(),
                 )
+                .with_observations(d.observations().to_vec())
             })
         },
     )?)

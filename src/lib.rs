@@ -31,5 +31,6 @@ pub use ugv::UgvCatalog;
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of
 // each.
 pub use cbr_core;
+pub use lab;
 pub use rand;
 pub use trust;

@@ -2,7 +2,7 @@
 //!
 //! A suite config (RON) names experiments by scenario and operator, the arms to compare,
 //! the trials, seed, adapter parameters and the domain's readings; [`run_suite`] turns it
-//! into [`ExperimentPlan`]s for the generic runner in `trust::experiment`, over the
+//! into [`ExperimentPlan`]s for the generic runner in `lab`, over the
 //! domains a [`Catalog`] builds, and [`write_suite_report`] writes the report folder. The
 //! catalog embeds the suite `reproduce` runs ([`Catalog::default_suite`]). Each
 //! experiment's learned case bases can be saved ([`save_case_bases`]) and an arm can start
@@ -14,21 +14,24 @@ use crate::catalog::{
 use cbr_core::{
     BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
 };
+use lab::landscape::Landscape;
+use lab::report::{
+    FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
+    write_report,
+};
+use lab::{
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
+    run_experiments,
+};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use trust::experiment::landscape::Landscape;
-use trust::experiment::report::{
-    FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
-    write_report,
+use trust::{
+    ConfigError, Domain, FeedbackChannel, Retention, RetrieverKind, Thresholds, TimeUnit,
+    TrustCaseBase,
 };
-use trust::experiment::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
-    run_experiments,
-};
-use trust::{ConfigError, Domain, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
 
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";
@@ -145,6 +148,11 @@ pub struct ExperimentSpec {
     /// built-in operators.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operator_files: Vec<PathBuf>,
+    /// How every operator of the experiment explains itself (`(explains: 0.3, wrong:
+    /// 0.1)`), overriding each operator's own channel; absent: the operators' own (the
+    /// paper's silent operator unless an operator file says otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feedback: Option<FeedbackChannel>,
 }
 
 /// A scenario name: a string. A bare identifier (`scenario: movement`, as configs spelled
@@ -574,6 +582,7 @@ pub fn run_suite<C: Catalog>(
             settings: config.adapter.settings(),
             arms: plan_arms,
             max_commands: config.max_commands,
+            feedback: spec.feedback,
         });
     }
     let results = run_experiments(&plans, config.seed, progress)?;
@@ -635,12 +644,12 @@ fn entries<'a>(
 
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
-    trust::experiment::report::table(&entries(config, results, &[]))
+    lab::report::table(&entries(config, results, &[]))
 }
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
-    trust::experiment::report::best_arms(&entries(config, results, &[]))
+    lab::report::best_arms(&entries(config, results, &[]))
 }
 
 /// Writes the report folder for a suite run, with the landscape of each experiment's
@@ -863,6 +872,7 @@ mod tests {
             scenario: "patrol".into(),
             operator: RANDOM_OPERATOR.into(),
             operator_files: Vec::new(),
+            feedback: None,
         };
         let origin = Path::new("x.ron");
         let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();

@@ -17,14 +17,14 @@
 use crate::catalog::{Catalog, resolve_readings};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
 use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
+use lab::report::{category_label, file_stems};
+use lab::stats::mean_ci95;
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::experiment::report::{category_label, file_stems};
-use trust::experiment::stats::mean_ci95;
 use trust::{Retention, Thresholds, TimeUnit};
 
 /// The most runs (cells times seeds) a sweep may ask for.

@@ -42,7 +42,7 @@ fn learn(domain: &Path, cases: &Path, episodes: usize) -> Vec<serde_json::Value>
         writeln!(input, r#"{{"request": "begin"}}"#).unwrap();
         writeln!(
             input,
-            r#"{{"outcome": "interrupted", "weight": 1, "cause": "stuck", "duration_s": 3}}"#
+            r#"{{"outcome": "interrupted", "weight": 1, "duration_s": 3, "stated": "stuck"}}"#
         )
         .unwrap();
         writeln!(

@@ -2,9 +2,9 @@
 
 mod support;
 
+use lab::BUILTIN_ARMS as ARMS;
 use std::path::Path;
 use support::{outside_view, succeed, svg_texts, trustcbr};
-use trust::experiment::BUILTIN_ARMS as ARMS;
 
 const SMALL: &str = r#"(
     seed: 7,

@@ -95,7 +95,7 @@ fn thirty_two_controllers_finish_beside_a_stalled_and_a_non_reading_one() {
                             c.ask(&format!(r#"{{"request": "begin", "id": "{id}"}}"#));
                         assert_eq!(begun["ok"], "begun", "{begun}");
                         assert_eq!(begun["id"], id.as_str());
-                        c.ask(r#"{"outcome": "interrupted", "weight": 1, "cause": "stuck", "duration_s": 3}"#);
+                        c.ask(r#"{"outcome": "interrupted", "weight": 1, "duration_s": 3, "observed": ["stuck"]}"#);
                         let end = c.ask(r#"{"outcome": "completed", "weight": 1, "duration_s": 5}"#);
                         assert_eq!(end["ok"], "settled", "{end}");
                         settled += 1;

@@ -8,7 +8,6 @@
 
 use cbr_core::{Behavior, BehaviorSpace, Searcher};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use domains::causes;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
@@ -19,9 +18,9 @@ fn outcome(space: &BehaviorSpace, b: &Behavior, rng: &mut ChaCha8Rng) -> Outcome
     let speed = b.get(0) as f64 / (space.components()[0].len() - 1) as f64;
     let padding = b.get(1) as f64 / (space.components()[1].len() - 1) as f64;
     if rng.random_bool((1.0 - speed).powi(2) * 0.8) {
-        Outcome::interrupted(1.0 / 3.0, causes::DEADLINE, 120.0)
+        Outcome::interrupted(1.0 / 3.0, 120.0)
     } else if rng.random_bool((1.0 - padding) * speed * 0.5) {
-        Outcome::interrupted(1.0 / 3.0, causes::COLLISION, 40.0)
+        Outcome::interrupted(1.0 / 3.0, 40.0).observing(trust::Observations::NONE.with(0))
     } else {
         Outcome::completed(1.0 / 3.0, 90.0)
     }

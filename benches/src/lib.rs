@@ -32,7 +32,6 @@
 pub mod retrieval;
 
 use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
-use domains::causes;
 use rand::seq::SliceRandom;
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -94,23 +93,23 @@ impl SyntheticOperator {
             Focus::Detection => 0.05,
         };
         if duration > 120.0 && rng.random_bool(p_alpha) {
-            return Outcome::interrupted(LIGHT, causes::DEADLINE, 120.0);
+            return Outcome::interrupted(LIGHT, 120.0);
         }
         let collision = 0.5 * (1.0 - d / 2.0).powi(2) * v / 10.0;
         if rng.random_bool(collision * 0.05) {
-            return Outcome::interrupted(LIGHT, causes::COLLISION, rng.random_range(0.0..duration));
+            return Outcome::interrupted(LIGHT, rng.random_range(0.0..duration));
         }
         let explosives = rng.random_range(0..=3u32);
         for object in 0..6 {
             if rng.random_bool(0.15 * (v / 10.0).powi(2)) {
-                return Outcome::interrupted(LIGHT, causes::MISSED_OBJECT, duration);
+                return Outcome::interrupted(LIGHT, duration);
             }
             if object < explosives {
                 if rng.random_bool((0.6 * (-s / 1.2).exp() * (0.5 + r)).min(1.0)) {
-                    return Outcome::failed(HEAVY, causes::DETONATION, duration);
+                    return Outcome::failed(HEAVY, duration);
                 }
             } else if rng.random_bool(0.2 * (-s / 2.0).exp() * r) {
-                return Outcome::interrupted(LIGHT, causes::FALSE_ALARM, duration);
+                return Outcome::interrupted(LIGHT, duration);
             }
         }
         Outcome::completed(LIGHT, duration)

@@ -108,7 +108,7 @@ pub fn query(memory: &TrustMemory, q: &Vec<Evaluated>) -> Option<Retrieved> {
 }
 
 /// Benchmarks the retriever `build` makes (for a space and Algorithm 2's `lambda`, like
-/// a `trust::experiment::RetrieverFactory`), named `name`, over every size of [`SIZES`]:
+/// a `trust::RetrieverFactory`), named `name`, over every size of [`SIZES`]:
 /// `retrieval/<name>/<cases>` (one query; the workload cycles through its queries) and
 /// `retrieval-build/<name>/<cases>`. Prints to stderr its mean time over the first
 /// [`SAME`] queries (criterion's median mixes query lengths differently for fast and slow

@@ -14,6 +14,7 @@ pub mod drive;
 pub mod geometry;
 pub mod operator;
 pub mod patrol;
+pub mod perception;
 pub mod planner;
 pub mod profile;
 pub mod render;

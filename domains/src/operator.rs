@@ -19,7 +19,7 @@ use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use trust::{DeclaredCause, Outcome, OutcomeWeights, WeightsError};
+use trust::{DeclaredCause, Judgement, OutcomeWeights, WeightsError};
 
 fn one() -> f64 {
     1.0
@@ -157,10 +157,11 @@ impl OperatorModel {
         Ok(())
     }
 
-    /// Watches a run and decides how it ends. Random reactions draw from `rng`.
-    pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Outcome {
+    /// Watches a run and decides how it ends, and why (the truth). Random reactions draw
+    /// from `rng`.
+    pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Judgement {
         let give_up = self.t_complete * self.give_up_factor;
-        let interrupt = |cause, t| Outcome::interrupted(self.weights.of(cause), cause, t);
+        let interrupt = |cause, t| Judgement::interrupted(self.weights.of(cause), cause, t);
         let mut deadline_seen = false;
         let mut react = |p: f64| rng.random::<f64>() < p;
         for event in &trace.events {
@@ -171,7 +172,7 @@ impl OperatorModel {
                 }
             }
             if event.t > give_up {
-                return Outcome::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
+                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
             }
             match event.kind {
                 EventKind::Collision { .. } if react(self.p_collision) => {
@@ -189,10 +190,10 @@ impl OperatorModel {
                     return interrupt(FALSE_ALARM, event.t);
                 }
                 EventKind::Detonation { .. } => {
-                    return Outcome::failed(self.weights.of(DETONATION), DETONATION, event.t);
+                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t);
                 }
                 EventKind::Arrived { .. } => {
-                    return Outcome::completed(self.weights.completed, event.t);
+                    return Judgement::completed(self.weights.completed, event.t);
                 }
                 _ => {}
             }
@@ -297,7 +298,7 @@ mod tests {
     fn a_clean_run_in_time_completes() {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let outcome = operator(1.0, 1.0).judge(&trace(&[(12.5, ARRIVED)]), &mut rng);
-        assert_eq!(outcome, Outcome::completed(1.0, 12.5));
+        assert_eq!(outcome, Judgement::completed(1.0, 12.5));
     }
 
     #[test]
@@ -306,13 +307,13 @@ mod tests {
         let late = trace(&[(4.0, HIT), (40.0, ARRIVED)]);
         // Interrupted on the collision, at its time.
         let o = operator(1.0, 1.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::interrupted(1.0, COLLISION, 4.0));
+        assert_eq!(o, Judgement::interrupted(1.0, COLLISION, 4.0));
         // Interrupted at the deadline.
         let o = operator(1.0, 0.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::interrupted(1.0, DEADLINE, 15.0));
+        assert_eq!(o, Judgement::interrupted(1.0, DEADLINE, 15.0));
         // Let go on, then given up on at twice the deadline.
         let o = operator(0.0, 0.0).judge(&late, &mut rng);
-        assert_eq!(o, Outcome::failed(1.0, DEADLINE, 30.0));
+        assert_eq!(o, Judgement::failed(1.0, DEADLINE, 30.0));
     }
 
     #[test]
@@ -325,14 +326,14 @@ mod tests {
             labelled_explosive: true,
         };
         let o = op.judge(&trace(&[(20.0, false_alarm), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o.cause, Some(FALSE_ALARM));
-        assert_eq!(o.kind, OutcomeKind::Interrupted);
+        assert_eq!(o.truth, Some(FALSE_ALARM));
+        assert_eq!(o.outcome.kind, OutcomeKind::Interrupted);
         let boom = EventKind::Detonation { object: 2 };
         let o = op.judge(&trace(&[(50.0, boom), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o, Outcome::failed(1.0, DETONATION, 50.0));
+        assert_eq!(o, Judgement::failed(1.0, DETONATION, 50.0));
         let missed = EventKind::MissedObject { object: 1 };
         let o = op.judge(&trace(&[(10.0, missed), (60.0, ARRIVED)]), &mut rng);
-        assert_eq!(o.cause, Some(MISSED_OBJECT));
+        assert_eq!(o.truth, Some(MISSED_OBJECT));
     }
 
     #[test]
@@ -413,7 +414,7 @@ mod tests {
             t.sort();
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let o = operator(p_deadline, 0.0).judge(&t, &mut rng);
-            prop_assert_ne!(o.cause, Some(COLLISION));
+            prop_assert_ne!(o.truth, Some(COLLISION));
         }
     }
 }

@@ -10,6 +10,7 @@ use crate::trace::EventKind;
 use crate::ugv::{Run, UgvDomain};
 use crate::world::ObstacleKind;
 use cbr_core::Behavior;
+use lab::plot::{Area, DrawResult, svg, text_width};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
@@ -18,8 +19,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
-use trust::experiment::plot::{Area, DrawResult, svg, text_width};
-use trust::{Domain, Outcome};
+use trust::{Domain, Judgement};
 
 /// Pixels per metre.
 const SCALE: f64 = 10.0;
@@ -56,10 +56,12 @@ pub fn render_run(
     draw(domain, &run, &outcome, &title, &operator.name)
 }
 
-/// Describes an outcome in words, e.g. `interrupted (collision) after 7.3 s`.
-pub fn describe(outcome: &Outcome) -> String {
+/// Describes how a run ended and why, in words, e.g. `interrupted (collision) after
+/// 7.3 s` (a drawing shows the operator's true reason: it is for people, not the robot).
+pub fn describe(judgement: &Judgement) -> String {
+    let outcome = &judgement.outcome;
     let kind = format!("{:?}", outcome.kind).to_lowercase();
-    match outcome.cause {
+    match judgement.truth {
         Some(cause) => format!("{kind} ({cause}) after {:.1} s", outcome.duration_s),
         None => format!("{kind} after {:.1} s", outcome.duration_s),
     }
@@ -272,7 +274,7 @@ fn shape(
 fn draw(
     domain: &UgvDomain,
     run: &Run<'_>,
-    outcome: &Outcome,
+    outcome: &Judgement,
     title: &str,
     operator: &str,
 ) -> String {
@@ -547,10 +549,10 @@ mod tests {
 
     #[test]
     fn describes_outcomes() {
-        let o = Outcome::interrupted(1.0, crate::causes::COLLISION, 7.25);
+        let o = Judgement::interrupted(1.0, crate::causes::COLLISION, 7.25);
         assert_eq!(describe(&o), "interrupted (collision) after 7.2 s");
         assert_eq!(
-            describe(&Outcome::completed(1.0, 12.0)),
+            describe(&Judgement::completed(1.0, 12.0)),
             "completed after 12.0 s"
         );
     }

@@ -4,13 +4,14 @@
 //! A run draws which people are standing around, looks up the plan for the behavior's
 //! padding (planned once per padding and set of people, then cached), drives it, and for
 //! patrol places, spots, scans and labels the suspicious objects. The result is a
-//! [`Trace`]; the operator model turns it into an [`Outcome`].
+//! [`Trace`]; the operator model turns it into a [`Judgement`].
 
 use crate::detector::Detector;
 use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
 use crate::operator::OperatorModel;
 use crate::patrol::{PatrolGround, PatrolSetup, SuspiciousObject};
+use crate::perception;
 use crate::planner::{Plan, Problem, VisibilityGraph};
 use crate::profile::point_to_point;
 use crate::scenario::Scenario;
@@ -19,7 +20,7 @@ use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
-use trust::{DeclaredCause, Domain, Outcome};
+use trust::{Cause, DeclaredCause, Domain, Judgement};
 
 /// The behavior's settings in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -337,8 +338,23 @@ impl Domain for UgvDomain {
         self.scenario.causes()
     }
 
-    fn run(&self, behavior: &Behavior, operator: &OperatorModel, rng: &mut dyn RngCore) -> Outcome {
+    fn observations(&self) -> &[Cause] {
+        perception::observations(self.scenario)
+    }
+
+    fn run(
+        &self,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
         let run = self.simulate(behavior, rng, false);
-        operator.judge(&run.trace, rng)
+        let judgement = operator.judge(&run.trace, rng);
+        let observed = perception::perceive(
+            &run.trace,
+            judgement.outcome.duration_s,
+            self.observations(),
+        );
+        judgement.observing(observed)
     }
 }

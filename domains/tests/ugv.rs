@@ -90,7 +90,7 @@ fn an_operator_with_p_collision_zero_never_interrupts_for_a_collision() {
     for _ in 0..300 {
         let mut probe = rng.clone();
         collided += d.simulate(&b, &mut probe, false).trace.collisions();
-        assert_ne!(d.run(&b, &op, &mut rng).cause, Some(causes::COLLISION));
+        assert_ne!(d.run(&b, &op, &mut rng).truth, Some(causes::COLLISION));
     }
     assert!(
         collided > 0,
@@ -123,7 +123,9 @@ fn a_clean_run_within_the_deadline_completes() {
             for op in builtin_operators(scenario) {
                 if spotless && last <= op.t_complete {
                     clean += 1;
-                    let outcome = op.judge(&run.trace, &mut ChaCha8Rng::seed_from_u64(seed));
+                    let outcome = op
+                        .judge(&run.trace, &mut ChaCha8Rng::seed_from_u64(seed))
+                        .outcome;
                     assert_eq!(outcome.kind, OutcomeKind::Completed);
                     assert_eq!(outcome.duration_s, last);
                 }
@@ -141,8 +143,8 @@ fn stuck_runs_are_interrupted_for_being_stuck() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let stuck = (0..200)
         .map(|_| d.run(&b, op, &mut rng))
-        .filter(|o| o.cause == Some(causes::STUCK))
-        .inspect(|o| assert_eq!(o.kind, OutcomeKind::Interrupted))
+        .filter(|o| o.truth == Some(causes::STUCK))
+        .inspect(|o| assert_eq!(o.outcome.kind, OutcomeKind::Interrupted))
         .count();
     // Blocked only when people stand in the way: sometimes, not always.
     assert!(stuck > 0 && stuck < 200, "{stuck}");
@@ -166,8 +168,8 @@ fn a_new_operator_needs_no_code() {
     let d = domain(Scenario::Movement);
     let b = behavior(Scenario::Movement, "speed=2,padding=0.5");
     let outcome = d.run(&b, &op, &mut ChaCha8Rng::seed_from_u64(1));
-    assert_eq!(outcome.cause, Some(causes::DEADLINE));
-    assert_eq!(outcome.duration_s, 10.0);
+    assert_eq!(outcome.truth, Some(causes::DEADLINE));
+    assert_eq!(outcome.outcome.duration_s, 10.0);
 }
 
 proptest! {

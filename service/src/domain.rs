@@ -49,11 +49,12 @@ use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
 use trust::evaluated::LambdaError;
-use trust::experiment::{RetrieverFactory, SearcherFactory};
 use trust::search::TrustSearcher;
 use trust::{
-    AdapterConfig, ConfigError, DeclaredCause, TrustCaseBase, TrustMemory, TrustRetriever,
+    AdapterConfig, Cause, ConfigError, DeclaredCause, Observations, TrustCaseBase, TrustMemory,
+    TrustRetriever,
 };
+use trust::{RetrieverFactory, SearcherFactory};
 
 /// A domain ready to serve.
 #[derive(Clone)]
@@ -62,8 +63,11 @@ pub struct DomainDefinition {
     pub name: String,
     /// The behavior space.
     pub space: Arc<BehaviorSpace>,
-    /// The causes an outcome report may carry.
+    /// The causes an outcome report's stated reason may name.
     pub causes: Vec<DeclaredCause>,
+    /// What the robot perceives: the names an outcome report's `observed` may list, in
+    /// the order of their bits (empty unless declared).
+    pub observations: Vec<Cause>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
@@ -78,6 +82,7 @@ impl fmt::Debug for DomainDefinition {
             .field("name", &self.name)
             .field("space", &self.space)
             .field("causes", &self.causes)
+            .field("observations", &self.observations)
             .field("adapter", &self.adapter)
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
@@ -92,8 +97,32 @@ struct DomainFile {
     space: BehaviorSpace,
     #[serde(deserialize_with = "distinct_causes")]
     causes: Vec<DeclaredCause>,
+    #[serde(default, deserialize_with = "distinct_observations")]
+    observations: Vec<Cause>,
     #[serde(default)]
     adapter: AdapterConfig,
+}
+
+/// The declared observations, each once, at most [`Observations::CAPACITY`].
+fn distinct_observations<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Vec<Cause>, D::Error> {
+    let observations = Vec::<Cause>::deserialize(deserializer)?;
+    if observations.len() > Observations::CAPACITY {
+        return Err(serde::de::Error::custom(format_args!(
+            "field `observations`: at most {} observations, got {}",
+            Observations::CAPACITY,
+            observations.len()
+        )));
+    }
+    for (i, name) in observations.iter().enumerate() {
+        if observations[..i].contains(name) {
+            return Err(serde::de::Error::custom(format_args!(
+                "field `observations`: observation `{name}` is declared twice"
+            )));
+        }
+    }
+    Ok(observations)
 }
 
 /// The declared causes, each once.
@@ -145,9 +174,20 @@ impl DomainDefinition {
             name: name.into(),
             space,
             causes,
+            observations: Vec::new(),
             adapter,
             searcher: None,
             retriever: None,
+        }
+    }
+
+    /// The same domain whose robot perceives `observations` (names an outcome report's
+    /// `observed` may list; bit `i` is the `i`-th).
+    #[must_use]
+    pub fn with_observations(self, observations: Vec<Cause>) -> Self {
+        Self {
+            observations,
+            ..self
         }
     }
 
@@ -227,7 +267,8 @@ impl DomainDefinition {
             Arc::new(file.space),
             file.causes,
             file.adapter,
-        ))
+        )
+        .with_observations(file.observations))
     }
 }
 

@@ -3,8 +3,12 @@
 //! A line is a JSON object. An outcome report carries an `outcome` field; every other
 //! request names itself in a `request` field. Any request may carry an `id` (a JSON
 //! scalar) that the reply echoes. Unknown fields, wrong types, unknown names
-//! and unusable numbers are refused with an error naming the field and what it allows;
-//! an outcome's `cause` must be one the served domain declares.
+//! and unusable numbers are refused with an error naming the field and what it allows.
+//! An outcome report says what the robot knows: how the command ended, its weight and
+//! duration, what the robot perceived (`observed`: names the served domain declares as
+//! observations) and, when the operator gave one, its stated reason (`stated`: a cause the
+//! domain declares). The operator's true reason is never sent: the retired `cause` field is
+//! refused with the spelling to use.
 //! A key given twice in an object (at any depth) is refused rather than last-wins, and a
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
 //! adapter: it only says what was asked.
@@ -14,7 +18,9 @@ use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 use std::fmt;
 use trust::estimate::OutcomeError;
-use trust::{Cause, DeclaredCause, Outcome, OutcomeKind, UndeclaredCause, find_declared};
+use trust::{
+    Cause, DeclaredCause, Observations, Outcome, OutcomeKind, UndeclaredCause, find_declared,
+};
 
 /// How a `begin` request names the first behavior.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,7 +60,7 @@ const NAMED: &[(&str, &[&str])] = &[
 ];
 
 /// The fields of an outcome report.
-const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "cause", "duration_s"];
+const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "duration_s", "observed", "stated"];
 
 /// Why a line is not a valid request.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -100,9 +106,22 @@ pub enum RequestError {
         /// What is wrong with it.
         message: String,
     },
-    /// The outcome's cause is not one the domain declares (the message lists them).
-    #[error("field `cause`: {0}")]
+    /// The outcome's stated reason is not one the domain declares (the message lists them).
+    #[error("field `stated`: {0}")]
     UndeclaredCause(UndeclaredCause),
+    /// An observation the domain does not declare.
+    #[error("field `observed`: observation `{name}` is not declared (declared: {declared})")]
+    UndeclaredObservation {
+        /// The name given.
+        name: String,
+        /// The declared observations, comma-separated (`none` when there are none).
+        declared: String,
+    },
+    /// The retired `cause` field of an older controller.
+    #[error(
+        "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (docs/protocol.md)"
+    )]
+    RetiredCause,
     /// The outcome's numbers are unusable (negative weight or duration; shown in the
     /// message, so not chained as a source).
     #[error("invalid outcome: {0}")]
@@ -125,9 +144,20 @@ pub struct Envelope {
     pub request: Result<Request, RequestError>,
 }
 
+/// What a served domain lets an outcome report name: its declared causes (for a stated
+/// reason) and observations.
+#[derive(Clone, Copy, Debug)]
+pub struct Vocabulary<'a> {
+    /// The causes a stated reason may name.
+    pub causes: &'a [DeclaredCause],
+    /// The observations `observed` may name, in the domain's order (bit `i`: the `i`-th).
+    pub observations: &'a [Cause],
+}
+
 /// Parses one line (without its newline; a leading UTF-8 byte-order mark is skipped),
-/// with its `id`, for a domain that declares `causes`. A key given twice is refused.
-pub fn parse_line(line: &[u8], causes: &[DeclaredCause]) -> Envelope {
+/// with its `id`, for a domain whose outcome reports may name `vocabulary`. A key given
+/// twice is refused.
+pub fn parse_line(line: &[u8], vocabulary: Vocabulary<'_>) -> Envelope {
     let line = line
         .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
         .unwrap_or(line);
@@ -162,25 +192,25 @@ pub fn parse_line(line: &[u8], causes: &[DeclaredCause]) -> Envelope {
         },
         id => Envelope {
             id,
-            request: parse_object(map, causes),
+            request: parse_object(map, vocabulary),
         },
     }
 }
 
 /// Parses one line (without its newline) for a domain that declares `causes`; an `id`
 /// field is allowed and ignored.
-pub fn parse_request(line: &[u8], causes: &[DeclaredCause]) -> Result<Request, RequestError> {
-    parse_line(line, causes).request
+pub fn parse_request(line: &[u8], vocabulary: Vocabulary<'_>) -> Result<Request, RequestError> {
+    parse_line(line, vocabulary).request
 }
 
 fn parse_object(
     map: Map<String, Value>,
-    causes: &[DeclaredCause],
+    vocabulary: Vocabulary<'_>,
 ) -> Result<Request, RequestError> {
     if map.contains_key("request") {
         parse_named(map)
     } else if map.contains_key("outcome") {
-        parse_outcome(map, causes)
+        parse_outcome(map, vocabulary)
     } else {
         Err(RequestError::NoKind)
     }
@@ -204,19 +234,44 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
 
 fn parse_outcome(
     map: Map<String, Value>,
-    causes: &[DeclaredCause],
+    vocabulary: Vocabulary<'_>,
 ) -> Result<Request, RequestError> {
+    if map.contains_key("cause") {
+        return Err(RequestError::RetiredCause);
+    }
     let mut fields = Fields(map);
     fields.only(OUTCOME_FIELDS, "an outcome report")?;
-    let outcome = Outcome {
-        kind: fields.require::<OutcomeKind>("outcome")?,
-        weight: fields.require("weight")?,
-        cause: fields.take::<Option<Cause>>("cause")?.flatten(),
-        duration_s: fields.require("duration_s")?,
-    };
-    if let Some(cause) = outcome.cause {
-        find_declared(causes, cause).map_err(RequestError::UndeclaredCause)?;
+    let kind = fields.require::<OutcomeKind>("outcome")?;
+    let weight = fields.require("weight")?;
+    let duration_s = fields.require("duration_s")?;
+    let stated = fields.take::<Option<Cause>>("stated")?.flatten();
+    if let Some(cause) = stated {
+        find_declared(vocabulary.causes, cause).map_err(RequestError::UndeclaredCause)?;
     }
+    let mut observed = Observations::NONE;
+    for name in fields.take::<Vec<String>>("observed")?.unwrap_or_default() {
+        let index = vocabulary
+            .observations
+            .iter()
+            .position(|o| o.as_str() == name)
+            .ok_or_else(|| RequestError::UndeclaredObservation {
+                name: name.clone(),
+                declared: if vocabulary.observations.is_empty() {
+                    "none".to_owned()
+                } else {
+                    vocabulary
+                        .observations
+                        .iter()
+                        .map(Cause::as_str)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+            })?;
+        observed = observed.with(index);
+    }
+    let outcome = Outcome::new(kind, weight, duration_s)
+        .observing(observed)
+        .stating(stated);
     outcome.validate()?;
     Ok(Request::Outcome(outcome))
 }
@@ -399,12 +454,26 @@ mod tests {
         DeclaredCause::new(Cause::from_static("dropped-item")),
     ];
 
+    /// What the robot of these tests perceives.
+    const OBSERVATIONS: [Cause; 2] = [Cause::from_static("bump"), Cause::from_static("late")];
+
+    const VOCABULARY: Vocabulary<'static> = Vocabulary {
+        causes: &CAUSES,
+        observations: &OBSERVATIONS,
+    };
+
+    /// A domain that declares nothing.
+    const NOTHING: Vocabulary<'static> = Vocabulary {
+        causes: &[],
+        observations: &[],
+    };
+
     fn parse_request(line: &[u8]) -> Result<Request, RequestError> {
-        super::parse_request(line, &CAUSES)
+        super::parse_request(line, VOCABULARY)
     }
 
     fn parse_line(line: &[u8]) -> Envelope {
-        super::parse_line(line, &CAUSES)
+        super::parse_line(line, VOCABULARY)
     }
 
     fn err(line: &str) -> String {
@@ -412,19 +481,60 @@ mod tests {
     }
 
     #[test]
-    fn the_issue_example_is_an_outcome() {
+    fn an_outcome_says_what_the_robot_knows() {
         let r = parse_request(
-            br#"{"outcome": "interrupted", "weight": 1.0, "cause": "too-slow", "duration_s": 10.0}"#,
+            br#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 10.0, "observed": ["late", "bump"], "stated": "too-slow"}"#,
         )
         .unwrap();
         assert_eq!(
             r,
-            Request::Outcome(Outcome::interrupted(1.0, CAUSES[0].name, 10.0))
+            Request::Outcome(
+                Outcome::interrupted(1.0, 10.0)
+                    .observing(Observations::NONE.with(0).with(1))
+                    .stating(Some(CAUSES[0].name))
+            )
         );
-        let r =
-            parse_request(br#"{"outcome":"completed","weight":0.5,"cause":null,"duration_s":3}"#)
-                .unwrap();
+        let r = parse_request(
+            br#"{"outcome":"completed","weight":0.5,"stated":null,"observed":[],"duration_s":3}"#,
+        )
+        .unwrap();
         assert_eq!(r, Request::Outcome(Outcome::completed(0.5, 3.0)));
+        let r = parse_request(br#"{"outcome":"failed","weight":1,"duration_s":3}"#).unwrap();
+        assert_eq!(r, Request::Outcome(Outcome::failed(1.0, 3.0)));
+    }
+
+    #[test]
+    fn an_older_controller_sending_cause_is_told_what_to_send() {
+        for line in [
+            r#"{"outcome":"failed","weight":1,"cause":"too-slow","duration_s":1}"#,
+            r#"{"outcome":"completed","weight":1,"cause":null,"duration_s":1}"#,
+        ] {
+            assert_eq!(
+                err(line),
+                "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (docs/protocol.md)"
+            );
+        }
+    }
+
+    #[test]
+    fn observations_must_be_declared_names() {
+        assert_eq!(
+            err(r#"{"outcome":"failed","weight":1,"duration_s":1,"observed":["smoke"]}"#),
+            "field `observed`: observation `smoke` is not declared (declared: bump, late)"
+        );
+        assert!(
+            err(r#"{"outcome":"failed","weight":1,"duration_s":1,"observed":"bump"}"#)
+                .starts_with("field `observed`: invalid type: string")
+        );
+        assert_eq!(
+            super::parse_request(
+                br#"{"outcome":"failed","weight":1,"duration_s":1,"observed":["bump"]}"#,
+                NOTHING
+            )
+            .unwrap_err()
+            .to_string(),
+            "field `observed`: observation `bump` is not declared (declared: none)"
+        );
     }
 
     #[test]
@@ -455,7 +565,7 @@ mod tests {
         assert!(err(r#"{"request": "fly"}"#).contains("unknown request `fly`"));
         assert_eq!(
             err(r#"{"outcome":"completed","weight":1,"duration_s":1,"colour":"red"}"#),
-            "unknown field `colour` in an outcome report (allowed: outcome, weight, cause, duration_s)"
+            "unknown field `colour` in an outcome report (allowed: outcome, weight, duration_s, observed, stated)"
         );
         assert_eq!(
             err(r#"{"request":"state","verbose":true}"#),
@@ -470,34 +580,34 @@ mod tests {
             "field `outcome`: unknown variant `crashed`, expected one of `completed`, `failed`, `interrupted`"
         );
         assert_eq!(
-            err(r#"{"outcome":"failed","weight":1,"cause":"gremlins","duration_s":1}"#),
-            "field `cause`: cause `gremlins` is not declared (declared: too-slow, dropped-item)"
+            err(r#"{"outcome":"failed","weight":1,"stated":"gremlins","duration_s":1}"#),
+            "field `stated`: cause `gremlins` is not declared (declared: too-slow, dropped-item)"
         );
         assert_eq!(
-            err(r#"{"outcome":"failed","weight":1,"cause":"Gremlins!","duration_s":1}"#),
+            err(r#"{"outcome":"failed","weight":1,"stated":"Gremlins!","duration_s":1}"#),
             format!(
-                "field `cause`: cause `Gremlins!` has 'G' at byte 0; {}",
+                "field `stated`: cause `Gremlins!` has 'G' at byte 0; {}",
                 trust::cause::CAUSE_RULE
             )
         );
         assert!(
-            err(r#"{"outcome":"failed","weight":1,"cause":7,"duration_s":1}"#)
-                .starts_with("field `cause`: invalid type: integer `7`, expected a cause name")
+            err(r#"{"outcome":"failed","weight":1,"stated":7,"duration_s":1}"#)
+                .starts_with("field `stated`: invalid type: integer `7`, expected a cause name")
         );
         // No cause is declared: none is accepted, and a stated `null` still is.
         assert_eq!(
             super::parse_request(
-                br#"{"outcome":"failed","weight":1,"cause":"too-slow","duration_s":1}"#,
-                &[]
+                br#"{"outcome":"failed","weight":1,"stated":"too-slow","duration_s":1}"#,
+                NOTHING
             )
             .unwrap_err()
             .to_string(),
-            "field `cause`: cause `too-slow` is not declared (declared: none)"
+            "field `stated`: cause `too-slow` is not declared (declared: none)"
         );
         assert!(
             super::parse_request(
-                br#"{"outcome":"failed","weight":1,"cause":null,"duration_s":1}"#,
-                &[]
+                br#"{"outcome":"failed","weight":1,"stated":null,"duration_s":1}"#,
+                NOTHING
             )
             .is_ok()
         );
@@ -609,29 +719,29 @@ mod tests {
             let _ = parse_request(request.to_string().as_bytes());
         }
 
-        /// An outcome's cause is accepted exactly when the domain declares it; any other
-        /// text is refused naming the field.
+        /// An outcome's stated reason is accepted exactly when the domain declares it; any
+        /// other text is refused naming the field.
         #[test]
-        fn a_cause_is_accepted_exactly_when_declared(name in "too-slow|dropped-item|[a-z-]{0,12}|.{0,40}") {
+        fn a_stated_reason_is_accepted_exactly_when_declared(name in "too-slow|dropped-item|[a-z-]{0,12}|.{0,40}") {
             let line = serde_json::json!({
-                "outcome": "failed", "weight": 1, "cause": name, "duration_s": 1
+                "outcome": "failed", "weight": 1, "stated": name, "duration_s": 1
             });
             let declared = CAUSES.iter().any(|d| d.name.as_str() == name);
             match parse_request(line.to_string().as_bytes()) {
                 Ok(Request::Outcome(o)) => {
                     prop_assert!(declared, "{name} accepted");
-                    prop_assert_eq!(o.cause.map(|c| c.to_string()), Some(name));
+                    prop_assert_eq!(o.stated.map(|c| c.to_string()), Some(name));
                 }
                 Ok(other) => prop_assert!(false, "{other:?}"),
                 Err(e) => {
                     prop_assert!(!declared, "{name} refused: {e}");
-                    prop_assert!(e.to_string().starts_with("field `cause`: "), "{e}");
+                    prop_assert!(e.to_string().starts_with("field `stated`: "), "{e}");
                 }
             }
         }
 
         #[test]
-        fn arbitrary_json_like_text_never_panics(text in r#"\{("(outcome|request|weight|cause|duration_s|behavior)":(-?[0-9.e]{1,6}|"[a-z-]{0,12}"|null|\[\]|\{\})[,}]?){0,5}"#) {
+        fn arbitrary_json_like_text_never_panics(text in r#"\{("(outcome|request|weight|cause|stated|observed|duration_s|behavior)":(-?[0-9.e]{1,6}|"[a-z-]{0,12}"|null|\[\]|\{\})[,}]?){0,5}"#) {
             let _ = parse_request(text.as_bytes());
         }
     }

@@ -14,7 +14,7 @@
 
 use crate::domain::DomainDefinition;
 use crate::reply::{self, CaseListing, Reply};
-use crate::request::{BehaviorSpec, Request, parse_line};
+use crate::request::{BehaviorSpec, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
 use crate::store::{StoreError, StoreId};
 use cbr_core::Behavior;
@@ -22,7 +22,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::sync::Arc;
-use trust::{Adaptation, ConfigError, Decision, DeclaredCause, Outcome, Source};
+use trust::{Adaptation, Cause, ConfigError, Decision, DeclaredCause, Outcome, Source};
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
 const DRAW_STREAM: u64 = 1;
@@ -31,6 +31,7 @@ const DRAW_STREAM: u64 = 1;
 pub struct Session {
     domain: String,
     causes: Vec<DeclaredCause>,
+    observations: Vec<Cause>,
     adaptation: Adaptation,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
@@ -79,6 +80,7 @@ impl Session {
         Ok(Self {
             domain: domain.name,
             causes: domain.causes,
+            observations: domain.observations,
             adaptation,
             cases,
             draws,
@@ -88,7 +90,11 @@ impl Session {
     /// Handles one request line (without its newline) and returns the reply, which echoes
     /// the request's `id`.
     pub fn handle_line(&mut self, line: &[u8]) -> Result<Reply, SessionError> {
-        let envelope = parse_line(line, &self.causes);
+        let vocabulary = Vocabulary {
+            causes: &self.causes,
+            observations: &self.observations,
+        };
+        let envelope = parse_line(line, vocabulary);
         let reply = match envelope.request {
             Ok(request) => self.handle(request)?,
             Err(e) => Reply::Json(reply::error(e)),
@@ -255,6 +261,7 @@ impl Session {
             "ok": "config",
             "domain": self.domain,
             "causes": self.causes,
+            "observations": self.observations,
             "space": self.adaptation.space().as_ref(),
             "behaviors": self.adaptation.space().size(),
             "adapter": self.adaptation.config(),

@@ -77,7 +77,7 @@ fn serve_all(s: &mut Session, input: &[u8]) -> Vec<Value> {
 }
 
 const INTERRUPTED: &str =
-    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 10.0}"#;
+    r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 10.0, "stated": "collision"}"#;
 const COMPLETED: &str = r#"{"outcome": "completed", "weight": 1.0, "duration_s": 8.0}"#;
 
 #[test]
@@ -181,7 +181,7 @@ fn a_users_searcher_and_retriever_serve_through_the_definition() {
     );
     let reply = ok(
         &mut s,
-        r#"{"outcome":"interrupted","weight":1,"cause":"collision","duration_s":2}"#,
+        r#"{"outcome":"interrupted","weight":1,"stated":"collision","duration_s":2}"#,
     );
     assert_eq!(reply["source"], "search", "{reply}");
     let space = s.adaptation().space().clone();
@@ -204,7 +204,7 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         r#"{"outcome":"completed","weight":0.5,"duration_s":1e308}"#,
     );
     let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
-    let cases: [(&str, &str); 22] = [
+    let cases: [(&str, &str); 23] = [
         (
             r#"{"outcome":"failed","weight":1,"duration_s":1,"outcome":"completed"}"#,
             "field `outcome` is given twice",
@@ -257,13 +257,17 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
             "malformed JSON: number out of range",
         ),
         (
-            r#"{"outcome":"failed","weight":1,"cause":"ghost","duration_s":1}"#,
-            "field `cause`: cause `ghost` is not declared (declared: deadline, collision, stuck)",
+            r#"{"outcome":"failed","weight":1,"stated":"ghost","duration_s":1}"#,
+            "field `stated`: cause `ghost` is not declared (declared: deadline, collision, stuck)",
         ),
         (
             // A patrol cause, not one of the movement domain's.
-            r#"{"outcome":"failed","weight":1,"cause":"detonation","duration_s":1}"#,
-            "field `cause`: cause `detonation` is not declared (declared: deadline, collision, stuck)",
+            r#"{"outcome":"failed","weight":1,"stated":"detonation","duration_s":1}"#,
+            "field `stated`: cause `detonation` is not declared (declared: deadline, collision, stuck)",
+        ),
+        (
+            r#"{"outcome":"failed","weight":1,"cause":"collision","duration_s":1}"#,
+            "field `cause` is retired",
         ),
         (r#"{"request":"dance"}"#, "unknown request `dance`"),
         (r#"{"request":"begin"}"#, "an episode is already under way"),
@@ -489,6 +493,8 @@ fn object_with_repeats() -> impl Strategy<Value = Vec<u8>> {
         Just(r#""weight":1.0"#),
         Just(r#""duration_s":2.0"#),
         Just(r#""cause":"collision""#),
+        Just(r#""stated":"collision""#),
+        Just(r#""observed":["collision"]"#),
         Just(r#""behavior":"speed=3.5,padding=0.4""#),
         Just(r#""behavior":"speed=NaN,padding=0.4""#),
         Just(r#""behavior":{"speed":3.5,"padding":0.4,"speed":"inf"}"#),

@@ -27,7 +27,8 @@ pub fn succeed(command: &mut Command) -> String {
 }
 
 /// A 5 x 5 domain whose episodes end in three requests: `begin`, one interruption
-/// (untrustworthy at -1: the adapter switches), one completion (trustworthy at +1). With
+/// (untrustworthy at -1: the adapter switches; the robot felt a collision), one completion
+/// (trustworthy at +1). With
 /// `reuse_cases` off every switch comes from the search, so every episode retains a case.
 pub fn quick_domain(reuse_cases: bool) -> String {
     format!(
@@ -37,6 +38,7 @@ pub fn quick_domain(reuse_cases: bool) -> String {
         (name: "padding", unit: "m", values: Numeric(min: 0.2, step: 0.2, count: 5)),
     ]),
     causes: [(name: "collision"), (name: "stuck")],
+    observations: ["collision"],
     adapter: (thresholds: (trustworthy: 1.0, untrustworthy: -1.0), reuse_cases: {reuse_cases}),
 )"#
     )
@@ -45,7 +47,7 @@ pub fn quick_domain(reuse_cases: bool) -> String {
 /// The three requests of a quick episode.
 pub const EPISODE: [&str; 3] = [
     r#"{"request": "begin"}"#,
-    r#"{"outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 4.0}"#,
+    r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 4.0, "observed": ["collision"]}"#,
     r#"{"outcome": "completed", "weight": 1.0, "duration_s": 6.0}"#,
 ];
 

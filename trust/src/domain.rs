@@ -1,11 +1,13 @@
 //! The plug-in contract between a task domain and the trust machinery.
 //!
-//! A domain has a behavior space, declares the causes of failure its outcomes may carry,
-//! and can run one command with a behavior in front of an operator, returning the
-//! command's [`Outcome`]. The experiment runner needs nothing else, so a new robot or task
-//! plugs in by implementing this trait.
+//! A domain has a behavior space, declares the causes of failure an operator may have and
+//! the observations its robot perceives, and can run one command with a behavior in front
+//! of an operator, returning the command's [`Judgement`]: the [`Outcome`](crate::Outcome)
+//! the robot is told (with what it perceived) and, separately, the operator's true reason,
+//! which only evaluation reads. The experiment runner needs nothing else, so a new robot
+//! or task plugs in by implementing this trait.
 
-use crate::{DeclaredCause, Outcome};
+use crate::{Cause, DeclaredCause, FeedbackChannel, Judgement};
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::RngCore;
 use std::sync::Arc;
@@ -21,12 +23,31 @@ pub trait Domain: Send + Sync {
     /// The behaviors the robot can adopt.
     fn space(&self) -> &Arc<BehaviorSpace>;
 
-    /// The causes an outcome of [`Domain::run`] may carry (the experiment runner refuses
-    /// any other, naming the domain, the cause and these).
+    /// The causes the truth of a [`Domain::run`] (and an operator's stated reason) may name
+    /// (the experiment runner refuses any other, naming the domain, the cause and these).
     fn causes(&self) -> &[DeclaredCause];
 
+    /// What the robot perceives itself, by name (same spelling rules as causes): bit `i` of
+    /// an outcome's [`Observations`](crate::Observations) is `observations()[i]`. At most
+    /// [`Observations::CAPACITY`](crate::Observations::CAPACITY); none by default.
+    fn observations(&self) -> &[Cause] {
+        &[]
+    }
+
+    /// How `operator` explains itself; the paper's silent operator by default. An
+    /// experiment may override it for all its operators.
+    fn feedback(&self, _operator: &Self::Operator) -> FeedbackChannel {
+        FeedbackChannel::SILENT
+    }
+
     /// Runs one command with `behavior` under `operator`, drawing all randomness from
-    /// `rng`, and returns how it ended.
-    fn run(&self, behavior: &Behavior, operator: &Self::Operator, rng: &mut dyn RngCore)
-    -> Outcome;
+    /// `rng`, and returns how it ended: what the robot is told and perceives (nothing
+    /// stated: the runner applies the operator's feedback channel on a stream of its own)
+    /// and the operator's true reason.
+    fn run(
+        &self,
+        behavior: &Behavior,
+        operator: &Self::Operator,
+        rng: &mut dyn RngCore,
+    ) -> Judgement;
 }

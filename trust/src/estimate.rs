@@ -29,20 +29,88 @@ impl OutcomeKind {
     }
 }
 
-/// The result of one command: how it ended, how much it weighs, why, and how long it took.
+/// What the robot perceived itself during one command: which of its domain's declared
+/// observations ([`Domain::observations`](crate::Domain::observations), at most
+/// [`Observations::CAPACITY`]) happened, as bits in the order the domain declares them.
+///
+/// Observations come from the robot's own sensors and clock (a bump, being stuck, an
+/// explosion, running behind its own plan). They are never the operator's reason: that is
+/// the truth of the simulated run ([`Judgement::truth`]), which no searcher sees.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Observations(u32);
+
+impl Observations {
+    /// Nothing perceived.
+    pub const NONE: Self = Self(0);
+    /// How many observations a domain may declare.
+    pub const CAPACITY: usize = 32;
+
+    /// The set with the domain's observation number `index` added (an index at or above
+    /// [`Observations::CAPACITY`] is ignored).
+    #[must_use]
+    pub const fn with(self, index: usize) -> Self {
+        if index < Self::CAPACITY {
+            Self(self.0 | 1 << index)
+        } else {
+            self
+        }
+    }
+
+    /// Whether observation number `index` happened.
+    pub const fn contains(self, index: usize) -> bool {
+        index < Self::CAPACITY && self.0 & (1 << index) != 0
+    }
+
+    /// Whether nothing was perceived.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// The numbers of the observations that happened, in increasing order.
+    pub fn indices(self) -> impl Iterator<Item = usize> {
+        (0..Self::CAPACITY).filter(move |&i| self.contains(i))
+    }
+
+    /// The set as bits (bit `i`: observation `i`).
+    pub const fn bits(self) -> u32 {
+        self.0
+    }
+
+    /// A set from bits (bit `i`: observation `i`).
+    pub const fn from_bits(bits: u32) -> Self {
+        Self(bits)
+    }
+}
+
+fn nothing_observed(observed: &Observations) -> bool {
+    observed.is_empty()
+}
+
+/// The result of one command as the robot knows it: how it ended, how much it weighs, how
+/// long it took, what the robot perceived, and the operator's stated reason when the
+/// operator gave one.
+///
+/// This is everything a searcher, the adapter and `serve` are told. The operator's true
+/// reason is not here: a simulated run returns it beside the outcome, in a [`Judgement`],
+/// for evaluation only.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Outcome {
     /// How the command ended.
     pub kind: OutcomeKind,
-    /// Its weight `w >= 0` (the paper keeps weights in `[0, 1]`).
+    /// Its weight `w >= 0` (the paper keeps weights in `[0, 1]`). It may depend only on what
+    /// the robot perceives (a detonation weighs more because the robot hears it).
     pub weight: f64,
-    /// Why it failed or was interrupted, one of the domain's declared causes; `None` for
-    /// completions or when unstated.
-    #[serde(default)]
-    pub cause: Option<Cause>,
     /// Task time spent on the command, in seconds.
     pub duration_s: f64,
+    /// What the robot perceived during the command.
+    #[serde(default, skip_serializing_if = "nothing_observed")]
+    pub observed: Observations,
+    /// The reason the operator stated for a failure or an interruption, one of the domain's
+    /// declared causes, when it gave one (it may be wrong); `None` when it said nothing.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stated: Option<Cause>,
 }
 
 /// Why an outcome cannot be recorded.
@@ -58,46 +126,51 @@ pub enum OutcomeError {
 }
 
 impl Outcome {
-    /// An outcome of any kind: how it ended, its weight, why (`None` for completions or
-    /// when unstated) and how long it took, for callers that know the kind only at run
-    /// time.
-    pub fn new(kind: OutcomeKind, weight: f64, cause: Option<Cause>, duration_s: f64) -> Self {
+    /// An outcome of any kind: how it ended, its weight and how long it took (nothing
+    /// perceived, nothing stated), for callers that know the kind only at run time.
+    pub fn new(kind: OutcomeKind, weight: f64, duration_s: f64) -> Self {
         Self {
             kind,
             weight,
-            cause,
             duration_s,
+            observed: Observations::NONE,
+            stated: None,
         }
     }
 
     /// A completion with weight `weight` that took `duration_s` seconds.
     pub fn completed(weight: f64, duration_s: f64) -> Self {
+        Self::new(OutcomeKind::Completed, weight, duration_s)
+    }
+
+    /// A failure.
+    pub fn failed(weight: f64, duration_s: f64) -> Self {
+        Self::new(OutcomeKind::Failed, weight, duration_s)
+    }
+
+    /// An interruption.
+    pub fn interrupted(weight: f64, duration_s: f64) -> Self {
+        Self::new(OutcomeKind::Interrupted, weight, duration_s)
+    }
+
+    /// The same outcome with what the robot perceived.
+    #[must_use]
+    pub fn observing(self, observed: Observations) -> Self {
+        Self { observed, ..self }
+    }
+
+    /// The same outcome with the operator's stated reason.
+    #[must_use]
+    pub fn stating(self, reason: Option<Cause>) -> Self {
         Self {
-            kind: OutcomeKind::Completed,
-            weight,
-            cause: None,
-            duration_s,
+            stated: reason,
+            ..self
         }
     }
 
-    /// A failure with a cause.
-    pub fn failed(weight: f64, cause: Cause, duration_s: f64) -> Self {
-        Self {
-            kind: OutcomeKind::Failed,
-            weight,
-            cause: Some(cause),
-            duration_s,
-        }
-    }
-
-    /// An interruption with a cause.
-    pub fn interrupted(weight: f64, cause: Cause, duration_s: f64) -> Self {
-        Self {
-            kind: OutcomeKind::Interrupted,
-            weight,
-            cause: Some(cause),
-            duration_s,
-        }
+    /// Whether the command failed or was interrupted (what the operator endured).
+    pub fn is_untrustworthy(&self) -> bool {
+        self.kind != OutcomeKind::Completed
     }
 
     /// Checks that the numbers are usable.
@@ -114,6 +187,63 @@ impl Outcome {
     /// The signed, weighted contribution `w * cmd` to the estimate.
     pub fn contribution(&self) -> f64 {
         self.weight * self.kind.sign()
+    }
+}
+
+/// One simulated command as a domain's run yields it: the [`Outcome`] the robot is told
+/// (what it perceived, nothing stated yet: the operator's feedback channel adds a stated
+/// reason, see [`FeedbackChannel`](crate::FeedbackChannel)) and the *truth*, the
+/// operator's real reason for a failure or interruption, which only evaluation reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Judgement {
+    /// What the robot knows of the command.
+    pub outcome: Outcome,
+    /// Why the operator really reacted: one of the domain's declared causes; `None` for a
+    /// completion.
+    pub truth: Option<Cause>,
+}
+
+impl Judgement {
+    /// A completion: nothing to explain.
+    pub fn completed(weight: f64, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::completed(weight, duration_s),
+            truth: None,
+        }
+    }
+
+    /// A failure whose real reason is `truth`.
+    pub fn failed(weight: f64, truth: Cause, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::failed(weight, duration_s),
+            truth: Some(truth),
+        }
+    }
+
+    /// An interruption whose real reason is `truth`.
+    pub fn interrupted(weight: f64, truth: Cause, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::interrupted(weight, duration_s),
+            truth: Some(truth),
+        }
+    }
+
+    /// A judgement of any kind (`truth` `None` for completions), for callers that know the
+    /// kind only at run time.
+    pub fn new(kind: OutcomeKind, weight: f64, truth: Option<Cause>, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::new(kind, weight, duration_s),
+            truth,
+        }
+    }
+
+    /// The same judgement with what the robot perceived.
+    #[must_use]
+    pub fn observing(self, observed: Observations) -> Self {
+        Self {
+            outcome: self.outcome.observing(observed),
+            ..self
+        }
     }
 }
 
@@ -243,8 +373,8 @@ mod tests {
         let mut e = TrustEstimate::default();
         // Completions and slow runs weigh 1/3, a dropped item 1.
         e.record(&Outcome::completed(1.0 / 3.0, 20.0));
-        e.record(&Outcome::interrupted(1.0 / 3.0, TOO_SLOW, 5.0));
-        e.record(&Outcome::failed(1.0, DROPPED, 40.0));
+        e.record(&Outcome::interrupted(1.0 / 3.0, 5.0).stating(Some(TOO_SLOW)));
+        e.record(&Outcome::failed(1.0, 40.0).stating(Some(DROPPED)));
         // 1/3 - 1/3 - 1 = -1
         assert!((e.value + 1.0).abs() < 1e-12);
         assert_eq!(e.elapsed_s, 65.0);
@@ -252,7 +382,7 @@ mod tests {
         assert_eq!(e.verdict(&t), Verdict::Undecided);
         // Four more failures of weight 1: -1 - 4 = -5 <= -5.
         for _ in 0..4 {
-            e.record(&Outcome::failed(1.0, DROPPED, 1.0));
+            e.record(&Outcome::failed(1.0, 1.0));
         }
         assert_eq!(e.verdict(&t), Verdict::Untrustworthy);
         let mut good = TrustEstimate::default();
@@ -261,6 +391,43 @@ mod tests {
         }
         // 5 completions of weight 1: 5 >= 5.
         assert_eq!(good.verdict(&t), Verdict::Trustworthy);
+    }
+
+    #[test]
+    fn observations_are_bits_in_declared_order() {
+        let seen = Observations::NONE.with(0).with(3).with(40);
+        assert_eq!(seen.bits(), 0b1001);
+        assert!(seen.contains(3) && !seen.contains(1) && !seen.contains(40));
+        assert_eq!(seen.indices().collect::<Vec<_>>(), [0, 3]);
+        assert!(Observations::NONE.is_empty());
+        // An outcome with nothing perceived or stated is written as before.
+        let plain = Outcome::completed(1.0, 2.0);
+        assert_eq!(
+            serde_json::to_string(&plain).unwrap(),
+            r#"{"kind":"completed","weight":1.0,"duration_s":2.0}"#
+        );
+        let told = Outcome::failed(1.0, 2.0)
+            .observing(seen)
+            .stating(Some(DROPPED));
+        let text = serde_json::to_string(&told).unwrap();
+        assert_eq!(
+            text,
+            r#"{"kind":"failed","weight":1.0,"duration_s":2.0,"observed":9,"stated":"dropped-item"}"#
+        );
+        assert_eq!(serde_json::from_str::<Outcome>(&text).unwrap(), told);
+    }
+
+    #[test]
+    fn a_judgement_keeps_the_truth_beside_the_outcome() {
+        let j = Judgement::interrupted(0.5, TOO_SLOW, 3.0).observing(Observations::NONE.with(1));
+        assert_eq!(j.truth, Some(TOO_SLOW));
+        assert_eq!(
+            j.outcome.stated, None,
+            "nothing is stated until a channel says so"
+        );
+        assert!(j.outcome.observed.contains(1));
+        assert!(j.outcome.is_untrustworthy());
+        assert_eq!(Judgement::completed(1.0, 1.0).truth, None);
     }
 
     #[test]

@@ -2,7 +2,11 @@
 //! any domain.
 //!
 //! - [`cause`]: causes of failure as names a domain declares.
-//! - [`estimate`]: outcomes, the inverse trust estimate, thresholds and verdicts.
+//! - [`estimate`]: outcomes (what the robot is told and perceives), judgements (an outcome
+//!   and the operator's true reason, for evaluation), the inverse trust estimate,
+//!   thresholds and verdicts.
+//! - [`feedback`]: the operator's feedback channel (how often it explains, how often
+//!   wrongly).
 //! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
 //! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
 //! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
@@ -12,10 +16,12 @@
 //!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
 //! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
-//! - [`experiment`]: trials, paired arms, statistics and reports (SPEC section 7).
 //! - `testing` (feature `testing`): conformance kits for users' own parts.
 //!
-//! This crate knows nothing of any particular robot or simulator.
+//! This crate knows nothing of any particular robot or simulator, and it is lean: what a
+//! robot embeds, with no plotting, statistics or thread pool (the parallel scan's thread
+//! pool is the opt-in `parallel` feature). Experiments, statistics, landscapes, reports
+//! and plots are the `lab` crate's.
 
 #![deny(missing_docs)]
 
@@ -24,7 +30,7 @@ pub mod cause;
 pub mod domain;
 pub mod estimate;
 pub mod evaluated;
-pub mod experiment;
+pub mod feedback;
 pub mod named;
 pub mod retrieval;
 pub mod search;
@@ -39,10 +45,14 @@ pub use adapter::{
 };
 pub use cause::{Cause, CauseError, DeclaredCause, UndeclaredCause, find_declared};
 pub use domain::Domain;
-pub use estimate::{Outcome, OutcomeKind, Thresholds, TrustEstimate, Verdict};
+pub use estimate::{
+    Judgement, Observations, Outcome, OutcomeError, OutcomeKind, Thresholds, TrustEstimate, Verdict,
+};
+pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
-pub use retrieval::{InvertedIndex, ParallelScan, RetrieverKind};
-pub use search::SearchKind;
+pub use feedback::{FeedbackChannel, FeedbackError};
+pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
+pub use search::{SearchKind, SearcherFactory, TrustSearcher};
 pub use select::{Selection, select_behavior};
 pub use weights::{OutcomeWeights, WeightsError};
 

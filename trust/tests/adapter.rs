@@ -32,7 +32,7 @@ fn grid(sizes: &[u16]) -> Arc<BehaviorSpace> {
 }
 
 fn interrupt(duration: f64) -> Outcome {
-    Outcome::interrupted(1.0, DROPPED, duration)
+    Outcome::interrupted(1.0, duration).stating(Some(DROPPED))
 }
 
 fn adapter(space: &Arc<BehaviorSpace>, config: AdapterConfig) -> TrustAdapter {
@@ -289,8 +289,8 @@ proptest! {
         for (kind, weight, duration) in outcomes {
             let outcome = match kind {
                 0 => Outcome::completed(weight * 2.0, duration),
-                1 => Outcome::failed(weight * 2.0, STALLED, duration),
-                _ => Outcome::interrupted(weight * 2.0, TOO_SLOW, duration),
+                1 => Outcome::failed(weight * 2.0, duration).stating(Some(STALLED)),
+                _ => Outcome::interrupted(weight * 2.0, duration).stating(Some(TOO_SLOW)),
             };
             if let Decision::Settled(report) = a.record(&outcome).unwrap() {
                 if let Some(id) = report.retained {

@@ -4,7 +4,7 @@
 //! A pick draws the item and how far its shelf is, drives out (people may cross), finds
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
-//! [`Trace`]; the operator turns it into an `Outcome`. Every draw comes from the
+//! [`Trace`]; the operator turns it into a `Judgement`. Every draw comes from the
 //! generator passed in, in a fixed order, so a seed gives one pick.
 
 use crate::gripper::{Grasp, Gripper};
@@ -20,7 +20,7 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
 use trustcbr::rand;
-use trustcbr::trust::{DeclaredCause, Domain, Outcome};
+use trustcbr::trust::{DeclaredCause, Domain, Judgement};
 
 /// The scenario's name.
 pub const PICKING: &str = "picking";
@@ -150,7 +150,7 @@ impl Domain for WarehouseDomain {
         behavior: &Behavior,
         operator: &WarehouseOperator,
         rng: &mut dyn RngCore,
-    ) -> Outcome {
+    ) -> Judgement {
         let trace = self.simulate(self.settings(behavior), rng);
         operator.judge(&trace, rng)
     }

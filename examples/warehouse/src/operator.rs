@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use trustcbr::cbr_core::{FileError, RonError, parse_ron, read_text};
 use trustcbr::rand;
-use trustcbr::trust::{Outcome, OutcomeKind, OutcomeWeights, WeightsError};
+use trustcbr::trust::{Judgement, OutcomeKind, OutcomeWeights, WeightsError};
 
 fn two() -> f64 {
     2.0
@@ -135,7 +135,7 @@ impl WarehouseOperator {
     }
 
     /// Watches a pick and decides how it ends; random reactions draw from `rng`.
-    pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Outcome {
+    pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Judgement {
         let give_up = self.t_complete * self.give_up_factor;
         let mut deadline_seen = false;
         // A trace without an ending (never the simulation's) is a pick that never ends:
@@ -170,7 +170,7 @@ impl WarehouseOperator {
                     if crushed && rng.random::<f64>() < self.p_crushed {
                         return self.ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t);
                     }
-                    return Outcome::completed(self.weights.completed, t);
+                    return Judgement::completed(self.weights.completed, t);
                 }
                 Some(Event::Collision) | None => {}
             }
@@ -179,8 +179,8 @@ impl WarehouseOperator {
     }
 
     /// A failure or interruption with `cause` at `t`, weighted by this operator.
-    fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Outcome {
-        Outcome::new(
+    fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Judgement {
+        Judgement::new(
             kind,
             self.weights.of(cause.to_trust()),
             Some(cause.to_trust()),

@@ -204,7 +204,7 @@ fn landscape_sweep_serve_and_render() {
             concat!(
                 r#"{"id": 1, "request": "begin"}"#,
                 "\n",
-                r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "cause": "collision", "duration_s": 12.0}"#,
+                r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "stated": "collision", "duration_s": 12.0}"#,
                 "\n"
             )
             .as_bytes(),

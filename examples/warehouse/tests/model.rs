@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use std::path::Path;
 use trustcbr::rand::{RngCore, SeedableRng};
-use trustcbr::trust::{Domain, Outcome};
+use trustcbr::trust::{Domain, Judgement};
 use warehouse::WarehouseCause;
 use warehouse::domain::{Settings, WarehouseDomain};
 use warehouse::gripper::{Grasp, Gripper};
@@ -236,33 +236,33 @@ fn operators_judge_what_they_watch() {
     // Care-focused: stops at the collision (weight 0.5), when it reacts.
     assert_eq!(
         care.judge(&delivered, &mut always),
-        Outcome::interrupted(0.5, WarehouseCause::Collision.to_trust(), 20.0)
+        Judgement::interrupted(0.5, WarehouseCause::Collision.to_trust(), 20.0)
     );
     // Not reacting to the collision, it still sees nothing crushed unless it looks.
     assert_eq!(
         care.judge(&delivered, &mut never),
-        Outcome::completed(0.5, 50.0)
+        Judgement::completed(0.5, 50.0)
     );
     let crushed = trace(&[(50.0, Event::Delivered { crushed: true })]);
     assert_eq!(
         care.judge(&crushed, &mut always),
-        Outcome::failed(1.0, WarehouseCause::CrushedItem.to_trust(), 50.0)
+        Judgement::failed(1.0, WarehouseCause::CrushedItem.to_trust(), 50.0)
     );
     // Throughput-focused: 45 s deadline; interrupts at it, or gives up at 90 s.
     let throughput = operator("throughput-focused");
     let late = trace(&[(70.0, Event::Delivered { crushed: false })]);
     assert_eq!(
         throughput.judge(&late, &mut always),
-        Outcome::interrupted(1.0, WarehouseCause::TooSlow.to_trust(), 45.0)
+        Judgement::interrupted(1.0, WarehouseCause::TooSlow.to_trust(), 45.0)
     );
     assert_eq!(
         throughput.judge(&late, &mut never),
-        Outcome::completed(1.0, 70.0)
+        Judgement::completed(1.0, 70.0)
     );
     let very_late = trace(&[(95.0, Event::Delivered { crushed: false })]);
     assert_eq!(
         throughput.judge(&very_late, &mut never),
-        Outcome::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
+        Judgement::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
     );
     // A drop and a missing slot fail the pick whatever the draws.
     for (event, cause) in [
@@ -272,13 +272,13 @@ fn operators_judge_what_they_watch() {
         let ended = trace(&[(30.0, event)]);
         assert_eq!(
             throughput.judge(&ended, &mut never),
-            Outcome::failed(1.0, cause.to_trust(), 30.0)
+            Judgement::failed(1.0, cause.to_trust(), 30.0)
         );
     }
     // A trace without an ending is a pick that never ends.
     assert_eq!(
         throughput.judge(&Trace::default(), &mut never),
-        Outcome::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
+        Judgement::failed(1.0, WarehouseCause::TooSlow.to_trust(), 90.0)
     );
 }
 

@@ -15,13 +15,19 @@
 //! only); the maximum does not depend on how the threads split the work, so the answer is
 //! the linear scan's. The exclusion predicate need not be thread-safe: it is evaluated on
 //! the calling thread, in one cheap pass, before the comparisons fan out.
+//!
+//! The thread pool is the `parallel` feature of this crate (rayon), which the experiment
+//! lab, the service and the tool turn on. Without it (a robot embedding the adapter alone)
+//! the same scan runs on the calling thread: the same answers, without the extra cores.
 
 use cbr_core::{
     Case, CaseBase, CaseId, Exclusion, Retrieved, Retriever, SimilarityMeasure, better,
 };
+#[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
-/// Compares the query with every case on rayon's thread pool.
+/// Compares the query with every case on rayon's thread pool (on the calling thread without
+/// the `parallel` feature).
 #[derive(Clone, Debug)]
 pub struct ParallelScan<M> {
     measure: M,
@@ -60,17 +66,28 @@ where
         exclude: Exclusion<'_, P, S>,
     ) -> Option<Retrieved> {
         let excluded: Vec<bool> = base.iter().map(|(_, case)| exclude(case)).collect();
-        base.cases()
+        let compare = |(i, (case, skip)): (usize, (&Case<P, S>, &bool))| {
+            (!*skip).then(|| Retrieved {
+                id: CaseId(i as u32),
+                similarity: self.measure.similarity(query, &case.problem),
+            })
+        };
+        #[cfg(feature = "parallel")]
+        let best = base
+            .cases()
             .par_iter()
             .zip(excluded.par_iter())
             .enumerate()
-            .filter(|(_, (_, skip))| !**skip)
-            .map(|(i, (case, _))| {
-                Some(Retrieved {
-                    id: CaseId(i as u32),
-                    similarity: self.measure.similarity(query, &case.problem),
-                })
-            })
-            .reduce(|| None, merge)
+            .map(compare)
+            .reduce(|| None, merge);
+        #[cfg(not(feature = "parallel"))]
+        let best = base
+            .cases()
+            .iter()
+            .zip(&excluded)
+            .enumerate()
+            .map(compare)
+            .fold(None, merge);
+        best
     }
 }

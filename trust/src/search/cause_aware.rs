@@ -1,17 +1,22 @@
-//! Cause-aware search: learn from the causes outcomes carry which component values bring
-//! which causes, and move away from the causes this operator reacts to.
+//! Cause-aware search: learn from what untrustworthy outcomes tell the robot which
+//! component values bring which troubles, and move away from the troubles this operator
+//! reacts to.
 //!
-//! Every command outcome is an observation of the behavior in use. For each cause an
-//! outcome can carry (whatever names the domain gives them, plus "no cause stated"), the
-//! searcher counts, per component and value, how many commands ended with that cause, so
-//! it knows, for instance, that dropped items fall as one component rises while slow runs
-//! rise with it. These counts persist across episodes (the physics of a robot
-//! does not change with the operator) and grow within an episode with every command.
+//! The robot is not told the operator's true reason. What an untrustworthy outcome tells
+//! it is a set of *signals* ([`Signal`]): the reason the operator stated, when it gave one
+//! (it may be wrong), each thing the robot perceived itself during the command (a bump, an
+//! explosion, running behind its plan: the domain's declared observations), or, when there
+//! is neither, that it was unexplained. For each signal the searcher counts, per component
+//! and value, how many untrustworthy commands carried it, so it knows, for instance, that
+//! bumps fall as one component rises while unexplained interruptions rise with it. These
+//! counts persist across episodes (the physics of a robot does not change with the
+//! operator) and grow within an episode with every command.
 //!
-//! How much each cause matters is its *burden*: the weight of this episode's
-//! untrustworthy outcomes with that cause (what the current operator has shown it reacts
-//! to), plus the mean burden of an earlier episode (so a cause this operator has not yet
-//! met still counts as much as it usually does). A proposal draws a pool
+//! How much each signal matters is its *burden*: the weight of this episode's
+//! untrustworthy outcomes carrying it (what the current operator has shown it reacts to;
+//! an outcome with several signals shares its weight among them), plus the mean burden of
+//! an earlier episode (so a signal this operator has not yet shown still counts as much as
+//! it usually does). A proposal draws a pool
 //! of untried behaviors uniformly at random and takes the one whose predicted burden is
 //! smallest. The rate of a cause at a behavior is predicted from the per-value rates of
 //! its components, combined as independent multiplicative effects on the cause's overall
@@ -22,7 +27,6 @@
 use super::propose_untried;
 use super::untried::draw_untried;
 use crate::Cause;
-use crate::estimate::OutcomeKind;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
 use rand::RngCore;
@@ -66,15 +70,39 @@ impl ValueCounts {
     }
 }
 
-/// What is known about one cause.
+/// What an untrustworthy outcome tells the robot about why it happened.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Signal {
+    /// The operator said so (rightly or not).
+    Stated(Cause),
+    /// The robot perceived the domain's observation number `usize` during the command.
+    Observed(usize),
+    /// Nothing was stated and nothing perceived.
+    Unexplained,
+}
+
+impl Signal {
+    /// The signals of an untrustworthy outcome: its stated reason and each observation,
+    /// or [`Signal::Unexplained`] when it has neither.
+    pub fn of(outcome: &Outcome) -> Vec<Signal> {
+        let mut signals: Vec<Signal> = outcome.stated.map(Signal::Stated).into_iter().collect();
+        signals.extend(outcome.observed.indices().map(Signal::Observed));
+        if signals.is_empty() {
+            signals.push(Signal::Unexplained);
+        }
+        signals
+    }
+}
+
+/// What is known about one signal.
 #[derive(Clone, Debug)]
 struct CauseRecord {
-    cause: Option<Cause>,
-    /// Commands that ended untrustworthy with this cause (all episodes).
+    signal: Signal,
+    /// Untrustworthy commands that carried this signal (all episodes).
     counts: ValueCounts,
-    /// Weight of this episode's untrustworthy outcomes with this cause.
+    /// Weight of this episode's untrustworthy outcomes carrying this signal.
     burden: f64,
-    /// Weight of the earlier episodes' untrustworthy outcomes with this cause.
+    /// Weight of the earlier episodes' untrustworthy outcomes carrying this signal.
     past_burden: f64,
 }
 
@@ -176,24 +204,28 @@ impl Searcher for CauseAware {
 
     fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
         self.commands.add(behavior);
-        if outcome.kind == OutcomeKind::Completed {
+        if !outcome.is_untrustworthy() {
             return;
         }
-        let index = match self.causes.iter().position(|c| c.cause == outcome.cause) {
-            Some(i) => i,
-            None => {
-                self.causes.push(CauseRecord {
-                    cause: outcome.cause,
-                    counts: ValueCounts::default(),
-                    burden: 0.0,
-                    past_burden: 0.0,
-                });
-                self.causes.len() - 1
-            }
-        };
-        let record = &mut self.causes[index];
-        record.counts.add(behavior);
-        record.burden += outcome.weight;
+        let signals = Signal::of(outcome);
+        let share = outcome.weight / signals.len() as f64;
+        for signal in signals {
+            let index = match self.causes.iter().position(|c| c.signal == signal) {
+                Some(i) => i,
+                None => {
+                    self.causes.push(CauseRecord {
+                        signal,
+                        counts: ValueCounts::default(),
+                        burden: 0.0,
+                        past_burden: 0.0,
+                    });
+                    self.causes.len() - 1
+                }
+            };
+            let record = &mut self.causes[index];
+            record.counts.add(behavior);
+            record.burden += share;
+        }
     }
 
     fn propose(
@@ -226,6 +258,7 @@ impl Searcher for CauseAware {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Observations;
     use cbr_core::NamedComponent;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
@@ -248,9 +281,9 @@ mod tests {
                 let behavior = Behavior::new(&[a, b]);
                 for _ in 0..5 {
                     let outcome = if a < 3 {
-                        Outcome::interrupted(1.0, DROPPED, 1.0)
+                        Outcome::interrupted(1.0, 1.0).stating(Some(DROPPED))
                     } else if b < 3 {
-                        Outcome::interrupted(1.0, TOO_SLOW, 1.0)
+                        Outcome::interrupted(1.0, 1.0).stating(Some(TOO_SLOW))
                     } else {
                         Outcome::completed(1.0, 1.0)
                     };
@@ -263,7 +296,10 @@ mod tests {
         let initial = Behavior::new(&[1, 8]);
         searcher.begin_episode(&space, &initial);
         for _ in 0..5 {
-            searcher.observe(&initial, &Outcome::interrupted(1.0, DROPPED, 1.0));
+            searcher.observe(
+                &initial,
+                &Outcome::interrupted(1.0, 1.0).stating(Some(DROPPED)),
+            );
         }
         let evaluated = [Evaluated {
             behavior: initial,
@@ -290,7 +326,7 @@ mod tests {
         let (low, high) = (Behavior::new(&[0]), Behavior::new(&[1]));
         for i in 0..5 {
             let o = if i < 4 {
-                Outcome::interrupted(1.0, DROPPED, 1.0)
+                Outcome::interrupted(1.0, 1.0).stating(Some(DROPPED))
             } else {
                 Outcome::completed(1.0, 1.0)
             };
@@ -305,40 +341,58 @@ mod tests {
     }
 
     #[test]
-    fn every_cause_a_domain_names_is_counted_apart() {
-        // Three causes and an unstated one, each at its own value of `a`: four records,
-        // each with the burden of its own outcomes.
+    fn every_signal_is_counted_apart() {
+        // Two stated causes, an observation and an unexplained outcome, each at its own
+        // value of `a`: four records, each with the burden of its own outcomes.
         let space = crate::search::grid(&[4]);
         let mut searcher = CauseAware::new();
-        let causes = [Some(DROPPED), Some(TOO_SLOW), Some(OVERHEATED), None];
-        for (v, cause) in causes.iter().enumerate() {
-            let behavior = Behavior::new(&[v as u16]);
-            let outcome = Outcome {
-                cause: *cause,
-                ..Outcome::failed(0.5 * (v as f64 + 1.0), DROPPED, 1.0)
-            };
-            searcher.observe(&behavior, &outcome);
+        let outcomes = [
+            Outcome::failed(0.5, 1.0).stating(Some(DROPPED)),
+            Outcome::failed(1.0, 1.0).stating(Some(TOO_SLOW)),
+            Outcome::failed(1.5, 1.0).observing(Observations::NONE.with(2)),
+            Outcome::failed(2.0, 1.0),
+        ];
+        for (v, outcome) in outcomes.iter().enumerate() {
+            searcher.observe(&Behavior::new(&[v as u16]), outcome);
         }
-        let seen: Vec<(Option<Cause>, f64)> = searcher
+        let seen: Vec<(Signal, f64)> = searcher
             .causes
             .iter()
-            .map(|c| (c.cause, c.burden))
+            .map(|c| (c.signal, c.burden))
             .collect();
         assert_eq!(
             seen,
             [
-                (Some(DROPPED), 0.5),
-                (Some(TOO_SLOW), 1.0),
-                (Some(OVERHEATED), 1.5),
-                (None, 2.0)
+                (Signal::Stated(DROPPED), 0.5),
+                (Signal::Stated(TOO_SLOW), 1.0),
+                (Signal::Observed(2), 1.5),
+                (Signal::Unexplained, 2.0)
             ]
         );
         assert_eq!(searcher.log_rate_tables(&space).len(), 4);
-        // The behavior with the lightest cause is predicted the least burdensome.
+        // The behavior with the lightest signal is predicted the least burdensome.
         let tables = searcher.log_rate_tables(&space);
         let burdens: Vec<f64> = (0..4u16)
             .map(|v| predicted_burden(&tables, &Behavior::new(&[v])))
             .collect();
         assert!(burdens.windows(2).all(|w| w[0] < w[1]), "{burdens:?}");
+    }
+
+    #[test]
+    fn an_outcome_with_several_signals_shares_its_weight() {
+        let mut searcher = CauseAware::new();
+        let both = Outcome::interrupted(1.0, 1.0)
+            .stating(Some(OVERHEATED))
+            .observing(Observations::NONE.with(0));
+        assert_eq!(
+            Signal::of(&both),
+            [Signal::Stated(OVERHEATED), Signal::Observed(0)]
+        );
+        searcher.observe(&Behavior::new(&[0]), &both);
+        let burdens: Vec<f64> = searcher.causes.iter().map(|c| c.burden).collect();
+        assert_eq!(burdens, [0.5, 0.5]);
+        // A completion carries no signal.
+        searcher.observe(&Behavior::new(&[0]), &Outcome::completed(1.0, 1.0));
+        assert_eq!(searcher.causes.len(), 2);
     }
 }

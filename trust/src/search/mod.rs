@@ -30,6 +30,11 @@ use std::collections::HashSet;
 /// A search strategy as the trust adapter drives it.
 pub type TrustSearcher = dyn Searcher<Evidence = Evaluated, Feedback = Outcome>;
 
+/// Builds a fresh searcher for a behavior space: how a user's searcher enters an
+/// experiment arm or a `serve` session, exactly as the built-in ones do.
+pub type SearcherFactory =
+    std::sync::Arc<dyn Fn(&std::sync::Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync>;
+
 /// `E_max`: the first evaluated pair with the largest time (it resisted the longest).
 pub fn longest_resisting(evaluated: &[Evaluated]) -> Option<&Evaluated> {
     evaluated

@@ -454,10 +454,7 @@ mod tests {
         let (good, bad) = (Behavior::new(&[3]), Behavior::new(&[0]));
         for _ in 0..10 {
             searcher.observe(&good, &Outcome::completed(1.0, 1.0));
-            searcher.observe(
-                &bad,
-                &Outcome::failed(1.0, crate::Cause::from_static("too-slow"), 1.0),
-            );
+            searcher.observe(&bad, &Outcome::failed(1.0, 1.0));
         }
         // Nothing is known before the episode ends.
         assert_eq!(searcher.prior_mean(&good), 0.0);
@@ -477,10 +474,7 @@ mod tests {
         for x in 0..4u16 {
             let b = Behavior::new(&[x]);
             for _ in 0..5 {
-                searcher.observe(
-                    &b,
-                    &Outcome::failed(1.0, crate::Cause::from_static("too-slow"), 1.0),
-                );
+                searcher.observe(&b, &Outcome::failed(1.0, 1.0));
             }
             evaluated.push(Evaluated {
                 behavior: b,
@@ -490,7 +484,7 @@ mod tests {
         let promising = Behavior::new(&[30]);
         for k in 0..12 {
             let o = if k % 4 == 0 {
-                Outcome::failed(1.0, crate::Cause::from_static("too-slow"), 1.0)
+                Outcome::failed(1.0, 1.0)
             } else {
                 Outcome::completed(1.0, 1.0)
             };

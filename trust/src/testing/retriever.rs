@@ -339,7 +339,7 @@ fn scripted_run(build: &Build<'_>) -> Vec<String> {
             let outcome = if rng.random_bool(p) {
                 Outcome::completed(1.0, duration)
             } else {
-                Outcome::interrupted(1.0, TOO_SLOW, duration)
+                Outcome::interrupted(1.0, duration).stating(Some(TOO_SLOW))
             };
             let decision = adapter.record(&outcome).unwrap();
             let settled = matches!(decision, Decision::Settled(_));

@@ -2,7 +2,7 @@
 //! must do and checks it with proptest on random spaces and random evidence.
 
 use crate::search::TrustSearcher;
-use crate::{Cause, Evaluated, Outcome};
+use crate::{Cause, Evaluated, Observations, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
@@ -50,9 +50,9 @@ fn drive(
             let outcome = if rng.random_bool(0.3) {
                 Outcome::completed(1.0, 1.0)
             } else if rng.random_bool(0.5) {
-                Outcome::failed(0.5, Cause::from_static("dropped-item"), 2.0)
+                Outcome::failed(0.5, 2.0).stating(Some(Cause::from_static("dropped-item")))
             } else {
-                Outcome::interrupted(1.0, Cause::from_static("too-slow"), 3.0)
+                Outcome::interrupted(1.0, 3.0).observing(Observations::NONE.with(1))
             };
             searcher.observe(&current, &outcome);
         }
@@ -145,7 +145,7 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
     );
     searcher.observe(
         &only,
-        &Outcome::failed(1.0, Cause::from_static("stalled"), 1.0),
+        &Outcome::failed(1.0, 1.0).stating(Some(Cause::from_static("stalled"))),
     );
     let evaluated = [Evaluated {
         behavior: only,

@@ -24,13 +24,13 @@
 //! ruin); with cause-dependent weights (the patrol operators weigh a detonation three times
 //! the rest) the boundary moves with the causes of the failures.
 
-use crate::{Cause, DeclaredCause, Domain, OutcomeKind};
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write;
+use trust::{Cause, DeclaredCause, Domain, OutcomeKind};
 
 /// The runs of one cell, counted.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -41,8 +41,13 @@ pub struct Tally {
     pub completed: u32,
     /// The sum of the runs' contributions `w * cmd` to the trust estimate.
     pub contribution: f64,
-    /// Runs that failed or were interrupted with a stated cause, by cause.
+    /// Runs that failed or were interrupted, by the operator's true reason (evaluation
+    /// reads the truth; no searcher does).
     pub causes: BTreeMap<Cause, u32>,
+    /// Runs by their contribution `w * cmd` to the estimate (each distinct contribution
+    /// once, in the order first met): the step law of the estimate's walk, from which the
+    /// known-operator limit is solved.
+    pub steps: Vec<(f64, u32)>,
 }
 
 impl Tally {
@@ -70,6 +75,17 @@ impl Tally {
         self.contribution += other.contribution;
         for (&cause, &n) in &other.causes {
             *self.causes.entry(cause).or_default() += n;
+        }
+        for &(step, n) in &other.steps {
+            self.count_step(step, n);
+        }
+    }
+
+    /// Counts `n` runs whose contribution was `step`.
+    fn count_step(&mut self, step: f64, n: u32) {
+        match self.steps.iter_mut().find(|(s, _)| *s == step) {
+            Some((_, count)) => *count += n,
+            None => self.steps.push((step, n)),
         }
     }
 }
@@ -177,12 +193,14 @@ pub fn estimate<D: Domain>(
                     Some(behavior) => behavior,
                     None => with_values(space.draw(&mut rng), fixed, &values),
                 };
-                let outcome = domain.run(&behavior, operator, &mut rng);
+                let judgement = domain.run(&behavior, operator, &mut rng);
+                let outcome = judgement.outcome;
                 tally.runs += 1;
                 tally.contribution += outcome.contribution();
+                tally.count_step(outcome.contribution(), 1);
                 if outcome.kind == OutcomeKind::Completed {
                     tally.completed += 1;
-                } else if let Some(cause) = outcome.cause {
+                } else if let Some(cause) = judgement.truth {
                     *tally.causes.entry(cause).or_default() += 1;
                 }
             }
@@ -326,10 +344,10 @@ impl Landscape {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Outcome;
     use cbr_core::NamedComponent;
     use rand::RngCore;
     use std::sync::Arc;
+    use trust::Judgement;
 
     /// Two components `a` (3 values) and `b` (2 values). An operator is a table of
     /// completion probabilities by value of `a` (the run completes when a uniform draw
@@ -377,12 +395,17 @@ mod tests {
             &DICE_CAUSES
         }
 
-        fn run(&self, behavior: &Behavior, operator: &[f64; 3], rng: &mut dyn RngCore) -> Outcome {
+        fn run(
+            &self,
+            behavior: &Behavior,
+            operator: &[f64; 3],
+            rng: &mut dyn RngCore,
+        ) -> Judgement {
             let p = operator[usize::from(behavior.get(0))];
             if rng.random::<f64>() < p {
-                Outcome::completed(1.0, 1.0)
+                Judgement::completed(1.0, 1.0)
             } else {
-                Outcome::failed(2.0, DROPPED, 1.0)
+                Judgement::failed(2.0, DROPPED, 1.0)
             }
         }
     }
@@ -400,6 +423,9 @@ mod tests {
         assert_eq!(land.cells[0].drift(), 1.0);
         assert_eq!(land.cells[2].drift(), -2.0);
         assert_eq!(land.cells[2].causes[&DROPPED], 10);
+        // The step law: ten +1 steps where it completes, ten -2 steps where it does not.
+        assert_eq!(land.cells[0].steps, [(1.0, 10)]);
+        assert_eq!(land.cells[2].steps, [(-2.0, 10)]);
         assert!(land.cells[0].trusted_on_average());
         assert!(!land.cells[2].trusted_on_average());
         let csv = land.csv(&dice.space, dice.causes());
@@ -493,6 +519,7 @@ mod tests {
             completed,
             contribution,
             causes: BTreeMap::new(),
+            steps: Vec::new(),
         };
         // Weights 1: 6 of 10 complete, drift (6 - 4) / 10 = 0.2 > 0; 5 of 10 is a walk
         // without drift, which does not climb.

@@ -4,14 +4,12 @@
 //! and where the final behaviors land in the behavior space, over the operator's
 //! landscape). Every file is written atomically.
 
-use super::heatmap::{self, KEY_WIDTH};
-use super::landscape::{self, Grid, Landscape};
-use super::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
-use super::runner::{ArmResult, ExperimentResult, TrialRecord};
-use super::seeds::{Purpose, stream_seed};
-use super::stats::{MeanCi, mean_ci95};
-use crate::Domain;
-use crate::named::named_behavior;
+use crate::heatmap::{self, KEY_WIDTH};
+use crate::landscape::{self, Grid, Landscape};
+use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
+use crate::runner::{ArmResult, ExperimentResult, TrialRecord};
+use crate::seeds::{Purpose, stream_seed};
+use crate::stats::{MeanCi, mean_ci95};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -19,6 +17,8 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use trust::Domain;
+use trust::named::named_behavior;
 
 /// One experiment's results with what the report needs to describe them.
 pub struct ReportEntry<'a> {
@@ -35,7 +35,7 @@ pub struct ReportEntry<'a> {
     pub landscapes: &'a [Landscape],
 }
 
-pub use super::plot::category_label;
+pub use crate::plot::category_label;
 
 /// Runs per cell of the landscapes behind the final behaviors, by default: the standard
 /// error of a completion share is at most 0.035.

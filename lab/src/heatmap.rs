@@ -5,8 +5,8 @@
 //! bar with the outline's key. `landscape` draws one heatmap; the report draws the final
 //! behaviors of every arm over one each.
 
-use super::landscape::{Grid, Landscape, LandscapeError};
-use super::plot::{
+use crate::landscape::{Grid, Landscape, LandscapeError};
+use crate::plot::{
     Area, PlotError, axis_title, category_label, probability_color, svg, text_width, value_labels,
     wrap,
 };

@@ -20,6 +20,9 @@ pub enum Purpose {
     /// The landscape of the operator the final behaviors are drawn over (here "trial" is
     /// the pair of components drawn).
     Landscape = 4,
+    /// The operator's feedback channel: whether it explains an untrustworthy command, and
+    /// whether rightly (apart from the runs, so a silent channel changes no outcome).
+    Feedback = 5,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

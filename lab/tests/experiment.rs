@@ -3,16 +3,17 @@
 
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
-use rand::{Rng, RngCore};
-use std::sync::Arc;
-use trust::experiment::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
-use trust::experiment::{
+use lab::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
+use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
 };
+use rand::{Rng, RngCore};
+use std::sync::Arc;
 use trust::search::{draw_untried, propose_untried};
 use trust::{
-    Cause, DeclaredCause, Domain, Evaluated, Outcome, RetrieverKind, SetSimilarity, TrustRetriever,
+    Cause, DeclaredCause, Domain, Evaluated, Judgement, Outcome, RetrieverKind, SetSimilarity,
+    TrustRetriever,
 };
 
 /// The toy domain's one cause.
@@ -52,13 +53,13 @@ impl Domain for Toy {
         &self.causes
     }
 
-    fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Outcome {
+    fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
         let distance = self.space.changes(behavior, &operator.0);
         let duration = 1.0 + f64::from(distance);
         if distance == 0 || rng.random_bool(0.05) {
-            Outcome::completed(1.0, duration)
+            Judgement::completed(1.0, duration)
         } else {
-            Outcome::interrupted(1.0, TOO_SLOW, duration)
+            Judgement::interrupted(1.0, TOO_SLOW, duration)
         }
     }
 }
@@ -138,6 +139,7 @@ fn plans<'a>(
         settings: TrialSettings::default(),
         arms: arms(),
         max_commands: 100_000,
+        feedback: None,
     };
     vec![
         plan("toy/low", OperatorChoice::Fixed(0)),

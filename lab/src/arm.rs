@@ -6,20 +6,13 @@
 //! retriever enters an experiment exactly as the built-in ones do ([`Arm::search_only`],
 //! [`Arm::case_based`]). [`Arm::builtin`] names the built-in arms.
 
-use crate::evaluated::LambdaError;
-use crate::retrieval::RetrieverKind;
-use crate::search::{SearchKind, TrustSearcher};
-use crate::{TrustCaseBase, TrustRetriever};
 use cbr_core::BehaviorSpace;
 use std::fmt;
 use std::sync::Arc;
-
-/// Builds a fresh searcher for a behavior space.
-pub type SearcherFactory = Arc<dyn Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync>;
-
-/// Builds a retriever for a behavior space and Algorithm 2's `lambda`.
-pub type RetrieverFactory =
-    Arc<dyn Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError> + Send + Sync>;
+use trust::retrieval::RetrieverKind;
+use trust::search::{SearchKind, TrustSearcher};
+use trust::{LambdaError, RetrieverFactory, SearcherFactory};
+use trust::{TrustCaseBase, TrustRetriever};
 
 /// The built-in arms, in report order: the paper's two first.
 pub const BUILTIN_ARMS: [&str; 7] = [

@@ -9,19 +9,19 @@
 //! behavior, simulated runs, search), so arms are paired trial by trial and results do
 //! not depend on the number of threads.
 
-use super::arm::Arm;
-use super::seeds::{Purpose, stream, stream_seed};
-use super::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
-use crate::evaluated::validate_lambda;
-use crate::{
-    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, Retention, Thresholds, TimeUnit,
-    TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause, find_declared,
-};
+use crate::arm::Arm;
+use crate::seeds::{Purpose, stream, stream_seed};
+use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use trust::evaluated::validate_lambda;
+use trust::{
+    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, FeedbackChannel, Retention,
+    Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause, find_declared,
+};
 
 /// Which operator judges each trial.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +52,9 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// Commands after which a trial is abandoned as unfinished (a guard against operators
     /// whose outcomes never reach a threshold).
     pub max_commands: u64,
+    /// How every operator of the plan explains itself, overriding each operator's own
+    /// channel ([`Domain::feedback`]); `None` keeps the operators' own.
+    pub feedback: Option<FeedbackChannel>,
 }
 
 /// The adapter parameters every arm of an experiment shares; whether cases are reused,
@@ -62,7 +65,7 @@ pub struct TrialSettings {
     /// The trust thresholds (paper: +5 / -5).
     pub thresholds: Thresholds,
     /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
-    #[serde(deserialize_with = "crate::evaluated::deserialize_lambda")]
+    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
     pub lambda: f64,
     /// Which episodes are retained (SPEC section 3).
     pub retention: Retention,
@@ -100,7 +103,7 @@ pub enum PlanError {
         /// The plan's name.
         plan: String,
     },
-    /// The domain reported an outcome with a cause it does not declare.
+    /// The domain reported a judgement whose true reason it does not declare.
     #[error("{plan}: domain `{domain}` reported an outcome whose {reason}")]
     UndeclaredCause {
         /// The plan's name.
@@ -370,7 +373,9 @@ fn run_chain<D: Domain>(
 }
 
 /// One trial: an episode from a drawn initial behavior until the adapter settles. Every
-/// outcome's cause must be one the domain declares.
+/// judgement's true reason must be one the domain declares; the adapter is told only the
+/// outcome, with the reason the operator's feedback channel states (drawn on the trial's
+/// feedback stream).
 fn run_trial<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     adapter: &mut TrustAdapter,
@@ -394,14 +399,18 @@ fn run_trial<D: Domain>(
         Purpose::Search,
     ));
     let mut runs_rng = stream(seed, experiment, u64::from(trial), Purpose::Runs);
+    let mut feedback_rng = stream(seed, experiment, u64::from(trial), Purpose::Feedback);
+    let channel = plan
+        .feedback
+        .unwrap_or_else(|| plan.domain.feedback(operator));
     adapter
         .begin_episode(initial)
         .expect("no episode is under way and the behavior is drawn from the space");
     let mut behavior = initial;
     let mut runs = 0u64;
     let (report, truncated) = loop {
-        let outcome = plan.domain.run(&behavior, operator, &mut runs_rng);
-        if let Some(cause) = outcome.cause {
+        let judgement = plan.domain.run(&behavior, operator, &mut runs_rng);
+        if let Some(cause) = judgement.truth {
             find_declared(plan.domain.causes(), cause).map_err(|reason| {
                 PlanError::UndeclaredCause {
                     plan: plan.name.clone(),
@@ -410,6 +419,8 @@ fn run_trial<D: Domain>(
                 }
             })?;
         }
+        let stated = channel.state(judgement.truth, plan.domain.causes(), &mut feedback_rng);
+        let outcome = judgement.outcome.stating(stated);
         runs += 1;
         match adapter
             .record(&outcome)

@@ -1,0 +1,30 @@
+//! The trust laboratory: the experiment machinery of the paper's experiments (trials,
+//! arms, statistics), landscapes, reports and plots, generic over any
+//! [`Domain`](trust::Domain).
+//!
+//! This crate is what a researcher runs and a robot does not embed: the adapter, the
+//! estimate and the search strategies are the lean `trust` crate's; everything that needs
+//! a thread pool, statistics or plotting is here.
+//!
+//! A *trial* is one adaptation episode driven through the same
+//! [`TrustAdapter`](trust::TrustAdapter) a robot embeds. An *experiment* runs a number of trials with one operator (or one drawn
+//! at random per trial) once per [`Arm`] (a search strategy, with or without case reuse),
+//! pairing trial `i` of every arm. Arms, statistics and report files live in submodules.
+
+#![deny(missing_docs)]
+
+pub mod arm;
+pub mod heatmap;
+pub mod landscape;
+pub mod plot;
+pub mod report;
+pub mod runner;
+pub mod seeds;
+pub mod stats;
+
+pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
+pub use runner::{
+    ArmResult, ExperimentPlan, ExperimentResult, OperatorChoice, PairedTests, PlanError,
+    TrialRecord, TrialSettings, run_experiments,
+};
+pub use trust::{RetrieverFactory, SearcherFactory};

@@ -1,0 +1,169 @@
+//! A searcher is told what the robot perceives and what the operator says, never the
+//! truth: a domain whose true reasons and observations differ, watched by a spy searcher.
+
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Searcher};
+use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
+use rand::{Rng, RngCore};
+use std::sync::{Arc, Mutex};
+use trust::search::draw_untried;
+use trust::search::propose_untried;
+use trust::{
+    Cause, DeclaredCause, Domain, Evaluated, FeedbackChannel, Judgement, Observations, Outcome,
+};
+
+/// The operator's real reason: never perceived by the robot.
+const HIDDEN: Cause = Cause::from_static("hidden-reason");
+/// Another reason the operator could name.
+const OTHER: Cause = Cause::from_static("other-reason");
+/// What the robot perceives on every failure: a beep of its own.
+const BEEP: Cause = Cause::from_static("beep");
+
+/// A 4 x 4 grid whose operator accepts only behavior (3, 3); every other command fails
+/// for the hidden reason while the robot hears a beep.
+struct Secretive {
+    space: Arc<BehaviorSpace>,
+    causes: [DeclaredCause; 2],
+    observations: [Cause; 1],
+}
+
+impl Secretive {
+    fn new() -> Self {
+        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 4).unwrap();
+        Self {
+            space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
+            causes: [DeclaredCause::new(HIDDEN), DeclaredCause::new(OTHER)],
+            observations: [BEEP],
+        }
+    }
+}
+
+impl Domain for Secretive {
+    type Operator = ();
+
+    fn name(&self) -> &str {
+        "secretive"
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        &self.causes
+    }
+
+    fn observations(&self) -> &[Cause] {
+        &self.observations
+    }
+
+    fn run(&self, behavior: &Behavior, _operator: &(), rng: &mut dyn RngCore) -> Judgement {
+        let duration = rng.random_range(1.0..2.0);
+        if *behavior == Behavior::new(&[3, 3]) {
+            Judgement::completed(1.0, duration)
+        } else {
+            Judgement::failed(1.0, HIDDEN, duration).observing(Observations::NONE.with(0))
+        }
+    }
+}
+
+/// Uniform search that writes down every outcome it is told.
+struct Spy {
+    seen: Arc<Mutex<Vec<Outcome>>>,
+}
+
+impl Searcher for Spy {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "spy"
+    }
+
+    fn propose(
+        &mut self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        rng: &mut dyn RngCore,
+    ) -> Proposal {
+        propose_untried(space, evaluated, rng, |tried, rng| {
+            draw_untried(space, tried, 1, rng).into_iter().next()
+        })
+    }
+
+    fn observe(&mut self, _behavior: &Behavior, outcome: &Outcome) {
+        self.seen.lock().unwrap().push(*outcome);
+    }
+}
+
+/// Every outcome the spy is told over 20 trials under `feedback`.
+fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
+    let domain = Secretive::new();
+    let operators = [("only".to_owned(), ())];
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    let spy_log = seen.clone();
+    let plan = ExperimentPlan {
+        name: "secretive".into(),
+        domain: &domain,
+        operators: &operators,
+        choice: OperatorChoice::Fixed(0),
+        trials: 20,
+        settings: TrialSettings::default(),
+        arms: vec![Arm::search_only("spy", move |_| {
+            Box::new(Spy {
+                seen: spy_log.clone(),
+            })
+        })],
+        max_commands: 10_000,
+        feedback,
+    };
+    run_experiments(&[plan], 5, &|_| {}).unwrap();
+    let outcomes = seen.lock().unwrap().clone();
+    assert!(outcomes.iter().any(Outcome::is_untrustworthy));
+    outcomes
+}
+
+#[test]
+fn a_silent_operator_leaves_the_robot_only_what_it_perceives() {
+    for outcome in told(None) {
+        assert_eq!(
+            outcome.stated, None,
+            "nothing was said, the truth never leaks"
+        );
+        assert_eq!(
+            outcome.observed.contains(0),
+            outcome.is_untrustworthy(),
+            "the beep is perceived on every failure and only then"
+        );
+    }
+}
+
+#[test]
+fn an_operator_who_explains_is_heard_rightly_or_wrongly() {
+    let honest = FeedbackChannel::new(1.0, 0.0).unwrap();
+    for outcome in told(Some(honest)) {
+        let expected = outcome.is_untrustworthy().then_some(HIDDEN);
+        assert_eq!(outcome.stated, expected);
+    }
+    // Always wrong: the robot hears the other reason, never the true one.
+    let liar = FeedbackChannel::new(1.0, 1.0).unwrap();
+    for outcome in told(Some(liar)) {
+        let expected = outcome.is_untrustworthy().then_some(OTHER);
+        assert_eq!(outcome.stated, expected);
+    }
+}
+
+#[test]
+fn feedback_changes_what_is_said_not_what_happens() {
+    // The channel draws on a stream of its own: the same commands and durations (trials
+    // may run on several threads, so the spy's log is compared in sorted order).
+    let happened = |feedback| {
+        let mut commands: Vec<(bool, u64)> = told(feedback)
+            .iter()
+            .map(|o| (o.is_untrustworthy(), o.duration_s.to_bits()))
+            .collect();
+        commands.sort_unstable();
+        commands
+    };
+    let explained = happened(Some(FeedbackChannel::new(0.3, 0.1).unwrap()));
+    assert_eq!(happened(None), explained);
+}
