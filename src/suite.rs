@@ -14,11 +14,14 @@ use crate::catalog::{
 use cbr_core::{
     BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
 };
+use lab::known_operator::{ExperimentLimit, KnownLimitError, LimitSettings, operator_limit};
 use lab::landscape::Landscape;
+use lab::limit::Limit;
 use lab::report::{
     FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
     write_report,
 };
+use lab::seeds::{Purpose, stream_seed};
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
     run_experiments,
@@ -76,6 +79,9 @@ pub struct SuiteConfig {
     /// (0: no landscape).
     #[serde(default = "default_landscape_runs")]
     pub landscape_runs: u32,
+    /// How the report estimates each experiment's known-operator limit (`runs: 0`: none).
+    #[serde(default)]
+    pub limit: LimitSettings,
 }
 
 fn default_landscape_runs() -> u32 {
@@ -625,6 +631,7 @@ fn entries<'a>(
     config: &'a SuiteConfig,
     results: &'a SuiteResults,
     landscapes: &'a [Vec<Landscape>],
+    limits: &[Option<ExperimentLimit>],
 ) -> Vec<ReportEntry<'a>> {
     config
         .experiments
@@ -634,6 +641,7 @@ fn entries<'a>(
         .enumerate()
         .map(|(k, ((spec, result), space))| ReportEntry {
             landscapes: landscapes.get(k).map_or(&[], Vec::as_slice),
+            limit: limits.get(k).copied().flatten(),
             result,
             scenario: &spec.scenario,
             operator: &spec.operator,
@@ -644,16 +652,53 @@ fn entries<'a>(
 
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
-    lab::report::table(&entries(config, results, &[]))
+    lab::report::table(&entries(config, results, &[], &[]))
 }
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
-    lab::report::best_arms(&entries(config, results, &[]))
+    lab::report::best_arms(&entries(config, results, &[], &[]))
+}
+
+/// The known-operator limit of each operator a suite's experiments draw from, computed
+/// once per scenario and operator (an operator of a `random` experiment is usually also
+/// an experiment's own). Operator number `i` in order of first use draws from the seed
+/// `stream_seed(seed, 0, i, Limit)`.
+#[derive(Default)]
+struct OperatorLimits {
+    known: Vec<((String, String), Limit)>,
+}
+
+impl OperatorLimits {
+    /// The limit of operator `name` (`operator`) in experiment `k`'s scenario.
+    fn of<C: Catalog>(
+        &mut self,
+        parts: &Parts<C>,
+        config: &SuiteConfig,
+        k: usize,
+        name: &str,
+        operator: &OperatorOf<C>,
+    ) -> Result<Limit, KnownLimitError> {
+        let key = (config.experiments[k].scenario.clone(), name.to_owned());
+        if let Some((_, limit)) = self.known.iter().find(|(known, _)| *known == key) {
+            return Ok(*limit);
+        }
+        let seed = stream_seed(config.seed, 0, self.known.len() as u64, Purpose::Limit);
+        let limit = operator_limit(
+            parts.domain(k),
+            operator,
+            config.adapter.thresholds,
+            config.limit,
+            seed,
+        )?;
+        self.known.push((key, limit));
+        Ok(limit)
+    }
 }
 
 /// Writes the report folder for a suite run, with the landscape of each experiment's
-/// operators (estimated here, on the current rayon pool) behind its final behaviors. The
+/// operators (estimated here, on the current rayon pool) behind its final behaviors, and
+/// each experiment's known-operator limit. The
 /// report reruns by itself: every operator file the config names (relative to `origin`)
 /// is copied into `DIR/operators/`, and the `config.ron` written names those copies.
 pub fn write_suite_report<C: Catalog>(
@@ -666,32 +711,46 @@ pub fn write_suite_report<C: Catalog>(
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let mut landscapes = Vec::with_capacity(config.experiments.len());
-    let parts = match config.landscape_runs {
-        0 => None,
+    let parts = match (config.landscape_runs, config.limit.runs) {
+        (0, 0) => None,
         _ => Some(Parts::of(catalog, config, origin)?),
     };
-    for (k, spec) in config.experiments.iter().enumerate() {
-        let Some(parts) = &parts else {
-            break;
-        };
-        let judges: Vec<&OperatorOf<C>> =
-            spec.judges(&parts.operators[k]).map(|(_, op)| op).collect();
-        landscapes.push(
-            finals_landscapes(
-                parts.domain(k),
-                &judges,
-                k as u64,
-                config.seed,
-                config.landscape_runs,
-                &|| {},
-            )
-            .map_err(|e| invalid(origin, format!("experiments[{k}]"), e.to_string()))?,
-        );
+    let mut limits = Vec::with_capacity(config.experiments.len());
+    if let Some(parts) = &parts {
+        let mut operator_limits = OperatorLimits::default();
+        for (k, spec) in config.experiments.iter().enumerate() {
+            let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
+            let judges: Vec<&(String, OperatorOf<C>)> = spec.judges(&parts.operators[k]).collect();
+            if config.landscape_runs > 0 {
+                let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| op).collect();
+                landscapes.push(
+                    finals_landscapes(
+                        parts.domain(k),
+                        &operators,
+                        k as u64,
+                        config.seed,
+                        config.landscape_runs,
+                        &|| {},
+                    )
+                    .map_err(|e| fail(e.to_string()))?,
+                );
+            }
+            if config.limit.runs > 0 {
+                let of_each = judges
+                    .iter()
+                    .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
+                    .collect::<Result<Vec<Limit>, _>>()
+                    .map_err(|e| fail(e.to_string()))?;
+                limits.push(Some(
+                    ExperimentLimit::of(&of_each).map_err(|e| fail(e.to_string()))?,
+                ));
+            }
+        }
     }
     let (portable, copies) = config.with_operator_files_in("operators", origin);
     let mut written = write_report(
         dir,
-        &entries(config, results, &landscapes),
+        &entries(config, results, &landscapes, &limits),
         &portable.to_ron(),
         elapsed_s,
         provenance,

@@ -30,7 +30,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use trust::{Cause, DeclaredCause, Domain, OutcomeKind};
+use trust::{Cause, DeclaredCause, Domain, Judgement, OutcomeKind};
 
 /// The runs of one cell, counted.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -44,10 +44,22 @@ pub struct Tally {
     /// Runs that failed or were interrupted, by the operator's true reason (evaluation
     /// reads the truth; no searcher does).
     pub causes: BTreeMap<Cause, u32>,
-    /// Runs by their contribution `w * cmd` to the estimate (each distinct contribution
-    /// once, in the order first met): the step law of the estimate's walk, from which the
-    /// known-operator limit is solved.
-    pub steps: Vec<(f64, u32)>,
+    /// Runs by their contribution to the estimate (each distinct contribution once, in
+    /// the order first met): the step law of the estimate's walk, from which the
+    /// known-operator limit is solved ([`crate::known_operator`]).
+    pub steps: Vec<StepTally>,
+}
+
+/// Runs that contributed the same to the estimate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepTally {
+    /// The contribution `w * cmd` of each.
+    pub contribution: f64,
+    /// Whether they failed or were interrupted (a completion of weight 0 contributes 0
+    /// too, and is not untrustworthy).
+    pub untrustworthy: bool,
+    /// How many runs.
+    pub runs: u32,
 }
 
 impl Tally {
@@ -76,16 +88,37 @@ impl Tally {
         for (&cause, &n) in &other.causes {
             *self.causes.entry(cause).or_default() += n;
         }
-        for &(step, n) in &other.steps {
-            self.count_step(step, n);
+        for step in &other.steps {
+            self.count_step(step.contribution, step.untrustworthy, step.runs);
         }
     }
 
-    /// Counts `n` runs whose contribution was `step`.
-    fn count_step(&mut self, step: f64, n: u32) {
-        match self.steps.iter_mut().find(|(s, _)| *s == step) {
-            Some((_, count)) => *count += n,
-            None => self.steps.push((step, n)),
+    /// Counts one run judged `judgement`.
+    pub fn record(&mut self, judgement: &Judgement) {
+        let outcome = &judgement.outcome;
+        self.runs += 1;
+        self.contribution += outcome.contribution();
+        self.count_step(outcome.contribution(), outcome.is_untrustworthy(), 1);
+        if outcome.kind == OutcomeKind::Completed {
+            self.completed += 1;
+        } else if let Some(cause) = judgement.truth {
+            *self.causes.entry(cause).or_default() += 1;
+        }
+    }
+
+    /// Counts `runs` runs that contributed `contribution`.
+    fn count_step(&mut self, contribution: f64, untrustworthy: bool, runs: u32) {
+        match self
+            .steps
+            .iter_mut()
+            .find(|s| s.contribution == contribution && s.untrustworthy == untrustworthy)
+        {
+            Some(step) => step.runs += runs,
+            None => self.steps.push(StepTally {
+                contribution,
+                untrustworthy,
+                runs,
+            }),
         }
     }
 }
@@ -193,16 +226,7 @@ pub fn estimate<D: Domain>(
                     Some(behavior) => behavior,
                     None => with_values(space.draw(&mut rng), fixed, &values),
                 };
-                let judgement = domain.run(&behavior, operator, &mut rng);
-                let outcome = judgement.outcome;
-                tally.runs += 1;
-                tally.contribution += outcome.contribution();
-                tally.count_step(outcome.contribution(), 1);
-                if outcome.kind == OutcomeKind::Completed {
-                    tally.completed += 1;
-                } else if let Some(cause) = judgement.truth {
-                    *tally.causes.entry(cause).or_default() += 1;
-                }
+                tally.record(&domain.run(&behavior, operator, &mut rng));
             }
             progress();
             tally
@@ -424,8 +448,13 @@ mod tests {
         assert_eq!(land.cells[2].drift(), -2.0);
         assert_eq!(land.cells[2].causes[&DROPPED], 10);
         // The step law: ten +1 steps where it completes, ten -2 steps where it does not.
-        assert_eq!(land.cells[0].steps, [(1.0, 10)]);
-        assert_eq!(land.cells[2].steps, [(-2.0, 10)]);
+        let step = |contribution, untrustworthy| StepTally {
+            contribution,
+            untrustworthy,
+            runs: 10,
+        };
+        assert_eq!(land.cells[0].steps, [step(1.0, false)]);
+        assert_eq!(land.cells[2].steps, [step(-2.0, true)]);
         assert!(land.cells[0].trusted_on_average());
         assert!(!land.cells[2].trusted_on_average());
         let csv = land.csv(&dice.space, dice.causes());

@@ -15,7 +15,9 @@
 
 pub mod arm;
 pub mod heatmap;
+pub mod known_operator;
 pub mod landscape;
+pub mod limit;
 pub mod plot;
 pub mod report;
 pub mod runner;

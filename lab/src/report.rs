@@ -5,7 +5,9 @@
 //! landscape). Every file is written atomically.
 
 use crate::heatmap::{self, KEY_WIDTH};
+use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
+use crate::limit::Costs;
 use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
 use crate::runner::{ArmResult, ExperimentResult, TrialRecord};
 use crate::seeds::{Purpose, stream_seed};
@@ -33,6 +35,9 @@ pub struct ReportEntry<'a> {
     /// The operator's landscapes the final behaviors are drawn over, one per pair of
     /// [`component_pairs`] ([`finals_landscapes`]); empty to draw them on white.
     pub landscapes: &'a [Landscape],
+    /// The known-operator limit of the experiment ([`crate::known_operator`]), when
+    /// computed.
+    pub limit: Option<ExperimentLimit>,
 }
 
 pub use crate::plot::category_label;
@@ -223,6 +228,85 @@ pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
+/// What the limit's row calls it: a lower bound for a population.
+fn limit_label(limit: &ExperimentLimit) -> String {
+    if limit.is_lower_bound() {
+        format!(
+            "known-operator limit (lower bound: mean of {} operators)",
+            limit.operators
+        )
+    } else {
+        "known-operator limit".to_owned()
+    }
+}
+
+/// Each arm's cost as a multiple of the limit's (the paper's protocol: a random first
+/// behavior).
+fn ratios(arm: &ArmResult, limit: &Costs) -> [f64; 3] {
+    [
+        arm.behaviors.mean / limit.behaviors,
+        arm.commands.mean / limit.commands,
+        arm.untrustworthy.mean / limit.untrustworthy,
+    ]
+}
+
+/// A ratio to the limit, `—` when the limit is 0 (nothing to divide by).
+fn ratio_cell(ratio: f64) -> String {
+    if ratio.is_finite() {
+        format!("{ratio:.2}")
+    } else {
+        "—".to_owned()
+    }
+}
+
+/// Every arm against the known-operator limit of its experiment: the limit (an agent that
+/// knows the operator's outcome distribution of every behavior, starting from the
+/// paper's random behavior; and free to choose its first), then each arm's behaviors,
+/// commands and untrustworthy commands as multiples of the limit's. Experiments without a
+/// limit are left out; empty when none has one.
+pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::new();
+    for e in entries {
+        let Some(limit) = &e.limit else {
+            continue;
+        };
+        if out.is_empty() {
+            out.push_str(
+                "| Experiment | Arm or limit | Behaviors | Commands | Untrustworthy commands |\n",
+            );
+            out.push_str("|---|---|---:|---:|---:|\n");
+        }
+        let (paper, free) = (limit.limit.paper, limit.limit.free_first);
+        let _ = writeln!(
+            out,
+            "| {} | {}, random first behavior | {:.2} | {:.1} | {:.1} |",
+            e.result.name,
+            limit_label(limit),
+            paper.behaviors,
+            paper.commands,
+            paper.untrustworthy
+        );
+        let _ = writeln!(
+            out,
+            "| {} | the same, free to choose its first | {:.2} | {:.1} | {:.1} |",
+            e.result.name, free.behaviors, free.commands, free.untrustworthy
+        );
+        for arm in &e.result.arms {
+            let [b, c, u] = ratios(arm, &paper);
+            let _ = writeln!(
+                out,
+                "| {} | {} (× limit) | {} | {} | {} |",
+                e.result.name,
+                arm.name,
+                ratio_cell(b),
+                ratio_cell(c),
+                ratio_cell(u)
+            );
+        }
+    }
+    out
+}
+
 fn format_p(p: f64) -> String {
     if p < 1e-4 {
         format!("{p:.1e}")
@@ -238,8 +322,32 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
         .map(|e| {
             let mut strategies = Map::new();
             for arm in &e.result.arms {
-                strategies.insert(arm.name.clone(), arm_summary(arm));
+                let mut summary = arm_summary(arm);
+                if let Some(limit) = &e.limit {
+                    let [b, c, u] = ratios(arm, &limit.limit.paper);
+                    summary["ratio_to_limit"] = json!({
+                        "behaviors": finite_or_null(b),
+                        "commands": finite_or_null(c),
+                        "untrustworthy": finite_or_null(u),
+                    });
+                }
+                strategies.insert(arm.name.clone(), summary);
             }
+            let limit = e.limit.as_ref().map(|l| {
+                let costs = |c: &Costs| {
+                    json!({
+                        "behaviors": c.behaviors,
+                        "commands": c.commands,
+                        "untrustworthy": c.untrustworthy,
+                    })
+                };
+                json!({
+                    "paper_protocol": costs(&l.limit.paper),
+                    "free_first_choice": costs(&l.limit.free_first),
+                    "operators": l.operators,
+                    "lower_bound": l.is_lower_bound(),
+                })
+            });
             json!({
                 "name": e.result.name,
                 "scenario": e.scenario,
@@ -248,10 +356,16 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
                 "arms": e.result.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>(),
                 "p_value": e.result.arms.get(1).and_then(|a| a.versus_first).map_or(1.0, |t| t.t_test_p),
                 "strategies": strategies,
+                "limit": limit,
             })
         })
         .collect();
     json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments })
+}
+
+/// A number for JSON, `null` when it is not finite.
+fn finite_or_null(x: f64) -> Value {
+    if x.is_finite() { json!(x) } else { Value::Null }
 }
 
 fn arm_summary(arm: &ArmResult) -> Value {
@@ -369,10 +483,18 @@ pub fn write_report(
         written.push(write_file_in(dir, name, text)?);
         Ok(())
     };
+    let limits = limit_table(entries);
+    let limits = if limits.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}"
+        )
+    };
     write(
         "table.md",
         &format!(
-            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}",
+            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}{limits}",
             table(entries),
             arms_table(entries)
         ),
@@ -502,6 +624,14 @@ fn html_page(
         html_table(&table(entries)),
         html_table(&arms_table(entries))
     );
+    let limits = limit_table(entries);
+    if !limits.is_empty() {
+        let _ = write!(
+            page,
+            "<h2>Against the known-operator limit (the paper's protocol: a random first behavior)</h2>\n{}",
+            html_table(&limits)
+        );
+    }
     let mut current = "";
     for (section, svg) in figures {
         if section != current {
@@ -701,6 +831,18 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
         if let Some(arm) = entries.first().and_then(|e| e.result.arms.get(a)) {
             legend_entries.push((arm.name.clone(), color));
         }
+    }
+    // The known-operator limit: a black bar across each experiment's arms.
+    let limits: Vec<(f64, f64)> = entries
+        .iter()
+        .enumerate()
+        .filter_map(|(x, e)| e.limit.map(|l| (x as f64, l.limit.paper.behaviors)))
+        .collect();
+    if !limits.is_empty() {
+        chart.draw_series(limits.iter().map(|&(x, y)| {
+            PathElement::new(vec![(x - 0.42, y), (x + 0.42, y)], BLACK.stroke_width(2))
+        }))?;
+        legend_entries.push(("known-operator limit".to_owned(), BLACK));
     }
     legend(&side, &legend_entries)
 }

@@ -23,6 +23,9 @@ pub enum Purpose {
     /// The operator's feedback channel: whether it explains an untrustworthy command, and
     /// whether rightly (apart from the runs, so a silent channel changes no outcome).
     Feedback = 5,
+    /// The landscape of an operator the known-operator limit is solved from (here "trial"
+    /// is the operator's place among the experiment's).
+    Limit = 6,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

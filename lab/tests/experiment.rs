@@ -158,6 +158,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             operator,
             space: &toy.space,
             landscapes: &[],
+            limit: None,
         })
         .collect()
 }
@@ -357,6 +358,7 @@ fn plot_names_never_collide() {
             operator: "low",
             space: &toy.space,
             landscapes: &[],
+            limit: None,
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();

@@ -1,0 +1,185 @@
+//! The known-operator limit of an experiment: how few behaviors, commands and
+//! untrustworthy commands an agent needs that knows each behavior's outcome distribution
+//! for the operator at hand ([`crate::limit`] has the maths), estimated from the
+//! operator's landscape over every behavior.
+//!
+//! **Estimation.** Every behavior is run [`LimitSettings::runs`] times under the operator
+//! (a landscape with every component fixed, [`landscape::estimate`]), which gives each
+//! behavior's step law (its outcomes' contributions to the estimate and their shares).
+//! The limit is decided by the few behaviors an optimal agent tries first, and those are
+//! the ones a short estimate flatters most (the best of thousands of noisy shares is
+//! biased upwards). So the [`LimitSettings::candidates`] behaviors that lead each metric's
+//! optimal order are run again, [`LimitSettings::candidate_runs`] times on streams of their
+//! own, and their fresh estimates replace the first ones. Each behavior's walk is then
+//! solved exactly ([`limit::solve_walk`]; behaviors with identical counts share one
+//! solve) and the limit follows ([`Limit::from_outcomes`]).
+//!
+//! **Populations.** An experiment whose operator is drawn per trial gets the mean of its
+//! operators' limits ([`Limit::mean_of`]): a lower bound for an agent that is not told
+//! which operator it faces.
+
+use crate::landscape::{self, LandscapeError, Tally};
+use crate::limit::{self, DEFAULT_MAX_STATES, Limit, LimitError, Step, WalkOutcome};
+use crate::seeds::{Purpose, stream_seed};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use trust::{Domain, Thresholds};
+
+/// How the limit is estimated. The defaults keep the paper's seven experiments within
+/// their time budget (see `docs/search-strategies.md`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LimitSettings {
+    /// Runs per behavior of the first estimate (0: no limit is computed).
+    pub runs: u32,
+    /// Behaviors at the head of each metric's optimal order that are estimated again.
+    pub candidates: usize,
+    /// Runs per candidate of the second estimate.
+    pub candidate_runs: u32,
+}
+
+impl Default for LimitSettings {
+    fn default() -> Self {
+        Self {
+            runs: 30,
+            candidates: 64,
+            candidate_runs: 400,
+        }
+    }
+}
+
+/// Why the limit could not be estimated.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum KnownLimitError {
+    /// The landscape could not be estimated.
+    #[error(transparent)]
+    Landscape(#[from] LandscapeError),
+    /// A walk or the limit could not be solved.
+    #[error("the known-operator limit: {0}")]
+    Limit(#[from] LimitError),
+}
+
+/// An experiment's limit: the mean over its operators (one: exact up to landscape noise;
+/// several: a lower bound).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ExperimentLimit {
+    /// The limit under both protocols.
+    pub limit: Limit,
+    /// How many operators it is the mean of.
+    pub operators: usize,
+}
+
+impl ExperimentLimit {
+    /// The limit of an experiment whose trials draw from operators with these limits.
+    pub fn of(limits: &[Limit]) -> Result<Self, KnownLimitError> {
+        Ok(Self {
+            limit: Limit::mean_of(limits)?,
+            operators: limits.len(),
+        })
+    }
+
+    /// Whether it is a lower bound only (the mean over a population's operators).
+    pub fn is_lower_bound(&self) -> bool {
+        self.operators > 1
+    }
+}
+
+/// The step law of a tally.
+fn steps(tally: &Tally) -> Vec<Step> {
+    let runs = f64::from(tally.runs.max(1));
+    tally
+        .steps
+        .iter()
+        .map(|s| Step {
+            prob: f64::from(s.runs) / runs,
+            delta: s.contribution,
+            untrustworthy: s.untrustworthy,
+        })
+        .collect()
+}
+
+/// Solves the walk of every tally; tallies with the same step counts share one solve.
+fn solve_all(
+    tallies: &[Tally],
+    thresholds: Thresholds,
+) -> Result<Vec<WalkOutcome>, KnownLimitError> {
+    let key = |t: &Tally| -> Vec<(u64, bool, u32, u32)> {
+        t.steps
+            .iter()
+            .map(|s| (s.contribution.to_bits(), s.untrustworthy, s.runs, t.runs))
+            .collect()
+    };
+    let mut solved: HashMap<Vec<(u64, bool, u32, u32)>, WalkOutcome> = HashMap::new();
+    tallies
+        .iter()
+        .map(|t| match solved.get(&key(t)) {
+            Some(&walk) => Ok(walk),
+            None => {
+                let walk = limit::solve_walk(&steps(t), thresholds, DEFAULT_MAX_STATES)?;
+                solved.insert(key(t), walk);
+                Ok(walk)
+            }
+        })
+        .collect()
+}
+
+/// The behaviors (ranks) that lead the optimal order of any metric, `count` per metric.
+fn candidates(walks: &[WalkOutcome], count: usize) -> Vec<usize> {
+    let accept: Vec<f64> = walks.iter().map(|w| w.accept).collect();
+    let metrics: [Vec<f64>; 3] = [
+        vec![1.0; walks.len()],
+        walks.iter().map(|w| w.commands).collect(),
+        walks.iter().map(|w| w.untrustworthy).collect(),
+    ];
+    let mut chosen: Vec<usize> = metrics
+        .iter()
+        .flat_map(|cost| limit::optimal_order(&accept, cost).into_iter().take(count))
+        .collect();
+    chosen.sort_unstable();
+    chosen.dedup();
+    chosen
+}
+
+/// The limit of `operator` over every behavior of `domain` under `thresholds`. The first
+/// estimate draws from `seed` (cell `k` on stream `k`, as every landscape); the candidates'
+/// second estimate from a seed derived from it.
+pub fn operator_limit<D: Domain>(
+    domain: &D,
+    operator: &D::Operator,
+    thresholds: Thresholds,
+    settings: LimitSettings,
+    seed: u64,
+) -> Result<Limit, KnownLimitError> {
+    let space = domain.space();
+    let every: Vec<usize> = (0..space.components().len()).collect();
+    let first = landscape::estimate(domain, &[operator], &every, settings.runs, seed, &|| {})?;
+    let mut tallies = first.cells;
+    let mut walks = solve_all(&tallies, thresholds)?;
+    if settings.candidates > 0 && settings.candidate_runs > 0 {
+        let again = stream_seed(seed, 0, 0, Purpose::Landscape);
+        let ranks = candidates(&walks, settings.candidates);
+        let fresh: Vec<Tally> = ranks
+            .par_iter()
+            .map(|&rank| {
+                let behavior = space.unrank(rank as u64);
+                let mut rng = ChaCha8Rng::seed_from_u64(again);
+                rng.set_stream(rank as u64);
+                let mut tally = Tally::default();
+                for _ in 0..settings.candidate_runs {
+                    tally.record(&domain.run(&behavior, operator, &mut rng));
+                }
+                tally
+            })
+            .collect();
+        let fresh_walks = solve_all(&fresh, thresholds)?;
+        for ((&rank, tally), walk) in ranks.iter().zip(fresh).zip(fresh_walks) {
+            tallies[rank] = tally;
+            walks[rank] = walk;
+        }
+    }
+    Ok(Limit::from_outcomes(&walks)?)
+}

@@ -1,0 +1,153 @@
+//! Property tests of the limit module.
+use lab::limit::*;
+use proptest::prelude::*;
+use trust::Thresholds;
+
+/// A step law on a grid of 1/12: (probability weight, contribution in twelfths, bad).
+fn step_law() -> impl Strategy<Value = Vec<(u32, i32, bool)>> {
+    prop::collection::vec((1u32..100, -14i32..=14, any::<bool>()), 1..5)
+        .prop_filter("some step moves", |v| v.iter().any(|s| s.1 != 0))
+}
+
+fn to_steps(law: &[(u32, i32, bool)]) -> Vec<Step> {
+    let total: u32 = law.iter().map(|s| s.0).sum();
+    law.iter()
+        .map(|&(w, d, bad)| Step {
+            prob: f64::from(w) / f64::from(total),
+            delta: f64::from(d) / 12.0,
+            untrustworthy: bad,
+        })
+        .collect()
+}
+
+/// Independent dense solve on the integer grid (in twelfths), like tools/oracle.py.
+fn dense(law: &[(u32, i32, bool)], tau12: i32) -> (f64, f64, f64) {
+    let steps = to_steps(law);
+    let n = (2 * tau12 - 1) as usize;
+    let idx = |s: i32| (s + tau12 - 1) as usize;
+    let mut a = vec![vec![0.0; n + 3]; n];
+    for s in (1 - tau12)..tau12 {
+        let i = idx(s);
+        a[i][i] += 1.0;
+        a[i][n + 1] = 1.0;
+        for (st, &(_, d, bad)) in steps.iter().zip(law) {
+            if bad {
+                a[i][n + 2] += st.prob;
+            }
+            let t = s + d;
+            if t >= tau12 {
+                a[i][n] += st.prob;
+            } else if t > -tau12 {
+                a[i][idx(t)] -= st.prob;
+            }
+        }
+    }
+    // Gauss-Jordan with partial pivoting.
+    for k in 0..n {
+        let p = (k..n)
+            .max_by(|&x, &y| a[x][k].abs().total_cmp(&a[y][k].abs()))
+            .unwrap();
+        a.swap(k, p);
+        let piv = a[k][k];
+        for v in a[k].iter_mut() {
+            *v /= piv;
+        }
+        let pivot_row = a[k].clone();
+        for (i, row) in a.iter_mut().enumerate() {
+            if i != k && row[k] != 0.0 {
+                let f = row[k];
+                for (v, p) in row.iter_mut().zip(&pivot_row) {
+                    *v -= f * p;
+                }
+            }
+        }
+    }
+    let z = idx(0);
+    (a[z][n], a[z][n + 1], a[z][n + 2])
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-7 * (1.0 + a.abs().max(b.abs()))
+}
+
+fn all_permutations(items: &[usize]) -> Vec<Vec<usize>> {
+    if items.is_empty() {
+        return vec![vec![]];
+    }
+    let mut out = Vec::new();
+    for (i, &x) in items.iter().enumerate() {
+        let mut rest = items.to_vec();
+        rest.remove(i);
+        for mut p in all_permutations(&rest) {
+            p.insert(0, x);
+            out.push(p);
+        }
+    }
+    out
+}
+
+fn space() -> impl Strategy<Value = Vec<(f64, f64)>> {
+    let p = prop_oneof![Just(0.0), Just(1.0), 0.0f64..=1.0, 0.0f64..=1.0];
+    prop::collection::vec((p, 0.0f64..50.0), 1..7)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    #[test]
+    fn walk_is_sane_and_matches_a_dense_solve(law in step_law(), tau12 in 12i32..=60) {
+        let steps = to_steps(&law);
+        let tau = f64::from(tau12) / 12.0;
+        let th = Thresholds { trustworthy: tau, untrustworthy: -tau };
+        let o = solve_walk(&steps, th, DEFAULT_MAX_STATES).unwrap();
+        prop_assert!((0.0..=1.0).contains(&o.accept));
+        prop_assert!(o.untrustworthy >= 0.0 && o.untrustworthy <= o.commands + 1e-9);
+        // The fewest commands that can absorb.
+        let up = law.iter().map(|s| s.1).max().unwrap();
+        let down = law.iter().map(|s| s.1).min().unwrap();
+        let mut fewest = i32::MAX;
+        if up > 0 { fewest = fewest.min((tau12 + up - 1) / up); }
+        if down < 0 { fewest = fewest.min((tau12 - down - 1) / -down); }
+        prop_assert!(o.commands >= f64::from(fewest) - 1e-9, "{o:?} fewest {fewest}");
+        let (acc, cmd, bad) = dense(&law, tau12);
+        prop_assert!(close(o.accept, acc), "{o:?} vs {acc}");
+        prop_assert!(close(o.commands, cmd), "{o:?} vs {cmd}");
+        prop_assert!(close(o.untrustworthy, bad), "{o:?} vs {bad}");
+    }
+
+    #[test]
+    fn optimum_beats_every_order_and_paper_is_worse(
+        space in space(),
+        seeds in prop::collection::vec(any::<u64>(), 3),
+    ) {
+        let accept: Vec<f64> = space.iter().map(|s| s.0).collect();
+        let cost: Vec<f64> = space.iter().map(|s| s.1).collect();
+        let free = free_first_cost(&accept, &cost);
+        let paper = paper_protocol_cost(&accept, &cost);
+        prop_assert!(paper >= free - 1e-9 * (1.0 + free));
+        let n = accept.len();
+        // A few pseudo-random orders.
+        for seed in seeds {
+            let mut order: Vec<usize> = (0..n).collect();
+            let mut x = seed | 1;
+            for i in (1..n).rev() {
+                x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+                order.swap(i, (x % (i as u64 + 1)) as usize);
+            }
+            prop_assert!(free <= order_cost(&accept, &cost, &order) + 1e-9 * (1.0 + free));
+        }
+        // Exhaustively: the optimum of each protocol.
+        let idx: Vec<usize> = (0..n).collect();
+        let best = |items: &[usize]| all_permutations(items)
+            .iter()
+            .map(|o| order_cost(&accept, &cost, o))
+            .fold(f64::INFINITY, f64::min);
+        prop_assert!(close(free, best(&idx)), "{free} vs {}", best(&idx));
+        let brute_paper = (0..n).map(|b0| {
+            let rest: Vec<usize> = idx.iter().copied().filter(|&b| b != b0).collect();
+            let v = if rest.is_empty() { 0.0 } else { best(&rest) };
+            cost[b0] + (1.0 - accept[b0]) * v
+        }).sum::<f64>() / n as f64;
+        prop_assert!(close(paper, brute_paper), "{paper} vs {brute_paper}");
+    }
+}
