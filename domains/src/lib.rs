@@ -14,6 +14,7 @@ pub mod drive;
 pub mod geometry;
 pub mod operator;
 pub mod patrol;
+pub mod perception;
 pub mod planner;
 pub mod profile;
 pub mod render;
@@ -24,6 +25,7 @@ pub mod ugv;
 pub mod world;
 
 pub use operator::{OperatorError, OperatorModel, builtin_operators};
+pub use perception::{OBSERVATIONS, Perceived, perceive};
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
 pub use trace::{Event, EventKind, Trace};

@@ -89,6 +89,12 @@ impl Profile {
         }
     }
 
+    /// The speed at arc length `s` (m/s): on the trapezoid of the stretch containing it.
+    pub fn speed_at(&self, s: f64) -> f64 {
+        self.stretch_at(s)
+            .map_or(0.0, |st| st.speed_into(s - st.s0, self.accel, self.decel))
+    }
+
     /// The highest speed reached on the stretch containing `s` (m/s): a cheap, slightly
     /// high stand-in for the speed at `s`.
     pub fn stretch_peak(&self, s: f64) -> f64 {
@@ -156,6 +162,16 @@ impl Stretch {
 
     fn duration(&self, accel: f64, decel: f64) -> f64 {
         self.time_into(self.length, accel, decel)
+    }
+
+    fn speed_into(&self, x: f64, accel: f64, decel: f64) -> f64 {
+        if self.peak <= 0.0 {
+            return 0.0;
+        }
+        let x = x.clamp(0.0, self.length);
+        let rising = (self.entry * self.entry + 2.0 * accel * x).sqrt();
+        let falling = (self.exit * self.exit + 2.0 * decel * (self.length - x)).sqrt();
+        rising.min(falling).min(self.peak)
     }
 
     fn time_into(&self, x: f64, accel: f64, decel: f64) -> f64 {

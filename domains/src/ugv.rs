@@ -11,6 +11,7 @@ use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
 use crate::operator::OperatorModel;
 use crate::patrol::{PatrolGround, PatrolSetup, SuspiciousObject};
+use crate::perception::{Perceived, perceive};
 use crate::planner::{Plan, Problem, VisibilityGraph};
 use crate::profile::point_to_point;
 use crate::scenario::Scenario;
@@ -223,30 +224,72 @@ impl UgvDomain {
             return run;
         };
         let track = record.then_some(&mut run.driven);
+        let people = self.people_along(plan, humans);
         match self.scenario {
             Scenario::Movement => {
-                drive(
+                let watch: Vec<f64> = people.iter().map(|p| p.0).collect();
+                let driven = drive(
                     plan,
                     &self.world.robot,
                     settings.speed,
                     &[],
+                    &watch,
                     rng,
                     &mut run.trace,
                     track,
                 );
+                for (&(_, person, gap), &(t, speed)) in people.iter().zip(&driven.watched) {
+                    run.trace
+                        .insert_sorted(t, EventKind::PassedPerson { person, gap, speed });
+                }
             }
             Scenario::Patrol => {
-                self.patrol_run(plan, settings, rng, &mut run.trace, &mut run.objects, track);
+                self.patrol_run(
+                    plan,
+                    settings,
+                    &people,
+                    rng,
+                    &mut run.trace,
+                    &mut run.objects,
+                    track,
+                );
             }
         }
         run
     }
 
+    /// Where the plan passes closest to each person standing (bit set in `humans`): arc
+    /// length, the person's spot, and the body-to-body gap there (m); sorted along the
+    /// path. Geometry only: no random draw.
+    fn people_along(&self, plan: &Plan, humans: u32) -> Vec<(f64, usize, f64)> {
+        let radius = self.world.robot.radius;
+        let mut people: Vec<(f64, usize, f64)> = self
+            .world
+            .humans
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| humans & (1 << i) != 0)
+            .map(|(i, spot)| {
+                let centre = match spot.shape {
+                    Shape::Circle { center, .. } => center,
+                    _ => spot.shape.nearest_point(plan.points[0]),
+                };
+                let (s, _) = plan.nearest(centre);
+                let gap = spot.shape.distance_to_point(plan.point_at(s).0) - radius;
+                (s, i, gap)
+            })
+            .collect();
+        people.sort_by(|a, b| a.0.total_cmp(&b.0));
+        people
+    }
+
     /// The patrol part of a run: spot objects while driving, stop, approach, scan, label.
+    #[allow(clippy::too_many_arguments)]
     fn patrol_run(
         &self,
         plan: &Plan,
         settings: Settings,
+        people: &[(f64, usize, f64)],
         rng: &mut dyn RngCore,
         trace: &mut Trace,
         fates: &mut [ObjectFate],
@@ -285,8 +328,21 @@ impl UgvDomain {
                 },
             })
             .collect();
-        let driven = drive(plan, robot, settings.speed, &marks, rng, trace, track);
+        let watch: Vec<f64> = people.iter().map(|p| p.0).collect();
+        let driven = drive(
+            plan,
+            robot,
+            settings.speed,
+            &marks,
+            &watch,
+            rng,
+            trace,
+            track,
+        );
         let arrived = trace.events.pop().expect("a drive ends with its arrival");
+        for (&(_, person, gap), &(t, speed)) in people.iter().zip(&driven.watched) {
+            trace.push(t, EventKind::PassedPerson { person, gap, speed });
+        }
         for (&(s, i, spotted, approach), &t) in visits.iter().zip(&driven.mark_times) {
             let fate = &mut fates[i];
             if !spotted {
@@ -306,6 +362,14 @@ impl UgvDomain {
             let t_label = t + approach + settings.scan_time;
             trace.push(
                 t_label,
+                EventKind::Scanned {
+                    object: i,
+                    distance: standoff,
+                    duration: settings.scan_time,
+                },
+            );
+            trace.push(
+                t_label,
                 EventKind::Labelled {
                     object: i,
                     explosive,
@@ -319,6 +383,24 @@ impl UgvDomain {
         }
         trace.events.push(arrived);
         trace.sort();
+    }
+}
+
+impl UgvDomain {
+    /// One run judged by `operator`, with what the robot itself perceived of it up to the
+    /// moment the command ended ([`crate::perception`]). Draws exactly what
+    /// [`Domain::run`] draws, in the same order: the outcome is the same for the same
+    /// generator state. The outcome's `cause` is the operator's true reason.
+    pub fn run_perceived(
+        &self,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        rng: &mut dyn RngCore,
+    ) -> (Outcome, Perceived) {
+        let run = self.simulate(behavior, rng, false);
+        let outcome = operator.judge(&run.trace, rng);
+        let perceived = perceive(&run.trace, outcome.duration_s);
+        (outcome, perceived)
     }
 }
 

@@ -6,7 +6,7 @@ use domains::causes;
 use domains::geometry::Shape;
 use domains::{EventKind, OperatorModel, Scenario, UgvDomain, builtin_operators};
 use proptest::prelude::*;
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -116,7 +116,11 @@ fn a_clean_run_within_the_deadline_completes() {
                     labelled_explosive,
                     ..
                 } => explosive == labelled_explosive,
-                EventKind::Arrived { .. } => true,
+                // Measurements, not endings: the paper's operators ignore them.
+                EventKind::Arrived { .. }
+                | EventKind::PassedPerson { .. }
+                | EventKind::ClosestPass { .. }
+                | EventKind::Scanned { .. } => true,
                 _ => false,
             });
             let last = run.trace.events.last().unwrap().t;
@@ -235,4 +239,35 @@ fn the_patrol_deadline_binds_slow_robots() {
         late("speed=3,padding=0.3,scan_time=2.5,scan_distance=0.5"),
         0
     );
+}
+
+#[test]
+fn run_perceived_judges_as_run_does_and_never_perceives_what_the_robot_cannot() {
+    use domains::Perceived;
+    for scenario in Scenario::ALL {
+        let d = domain(scenario);
+        for op in builtin_operators(scenario) {
+            let mut seen = Perceived::NONE;
+            for seed in 0..300u64 {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let b = d.space().draw(&mut rng);
+                let mut again = rng.clone();
+                let (outcome, perceived) = d.run_perceived(&b, &op, &mut rng);
+                assert_eq!(outcome, d.run(&b, &op, &mut again));
+                assert_eq!(rng.random::<u64>(), again.random::<u64>());
+                assert!(Perceived::reportable(scenario).contains(perceived));
+                // What ended the run, when the robot can perceive it, it perceived.
+                let must = match outcome.cause {
+                    Some(c) if c == causes::COLLISION => Perceived::COLLISION,
+                    Some(c) if c == causes::STUCK => Perceived::STUCK,
+                    Some(c) if c == causes::DETONATION => Perceived::DETONATION,
+                    _ => Perceived::NONE,
+                };
+                assert!(perceived.contains(must), "{outcome:?} {perceived}");
+                seen = seen.with(perceived);
+            }
+            // Over 300 random behaviors the robot makes most of its observations.
+            assert!(seen.contains(Perceived::COLLISION.with(Perceived::BEHIND_PLAN)));
+        }
+    }
 }
