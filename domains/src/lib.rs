@@ -16,6 +16,7 @@ pub mod operator;
 pub mod patrol;
 pub mod perception;
 pub mod planner;
+pub mod population;
 pub mod profile;
 pub mod render;
 pub mod scenario;
