@@ -13,7 +13,8 @@
 //! them judges, and draws random numbers, exactly as before they existed):
 //! - `comfort`: interrupts (probability `p`) when the robot passes a standing person
 //!   closer than `distance` (body to body) faster than `speed` (cause
-//!   `too-fast-near-people`);
+//!   `too-fast-near-people`); with `expected_too`, also where people are expected to stand,
+//!   occupied or not;
 //! - `clearance`: interrupts (probability `p`) when the robot's body passes closer than
 //!   `gap` to anything without touching it, at the run's closest pass (cause `too-close`);
 //! - `scan_standard`: interrupts (probability `p`) when a scan was made from farther than
@@ -45,7 +46,9 @@ fn give_up_factor() -> f64 {
 }
 
 /// A comfort speed near people: passing a standing person closer than `distance` faster
-/// than `speed` interrupts with probability `p`.
+/// than `speed` interrupts with probability `p`. With `expected_too`, the operator minds
+/// the places where people are expected to stand (a crossing, a bus stop) the same way,
+/// whether or not someone is there: people step out from behind parked vehicles.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Comfort {
@@ -55,6 +58,9 @@ pub struct Comfort {
     pub speed: f64,
     /// Probability of interrupting on such a pass.
     pub p: f64,
+    /// Whether passing an empty spot where people stand counts as passing a person.
+    #[serde(default)]
+    pub expected_too: bool,
 }
 
 /// A clearance that feels unsafe even without a collision: the run's closest pass below
@@ -336,10 +342,14 @@ impl OperatorModel {
                 } if react(self.p_false_alarm) => {
                     return interrupt(FALSE_ALARM, event.t);
                 }
-                EventKind::PassedPerson { gap, speed, .. }
-                    if self
-                        .comfort
-                        .is_some_and(|c| gap < c.distance && speed > c.speed && react(c.p)) =>
+                EventKind::PassedPerson {
+                    present,
+                    gap,
+                    speed,
+                    ..
+                } if self.comfort.is_some_and(|c| {
+                    (present || c.expected_too) && gap < c.distance && speed > c.speed && react(c.p)
+                }) =>
                 {
                     return interrupt(TOO_FAST_NEAR_PEOPLE, event.t);
                 }
@@ -585,6 +595,7 @@ mod tests {
     fn pass(gap: f64, speed: f64) -> EventKind {
         EventKind::PassedPerson {
             person: 0,
+            present: true,
             gap,
             speed,
         }
@@ -598,6 +609,7 @@ mod tests {
             distance: 3.6,
             speed: 1.4,
             p: 1.0,
+            expected_too: false,
         });
         let judge = |op: &OperatorModel, kind, rng: &mut ChaCha8Rng| {
             op.judge(&trace(&[(6.0, kind), (12.0, ARRIVED)]), rng)
@@ -613,6 +625,17 @@ mod tests {
             judge(&op, pass(0.5, 1.0), &mut rng).kind,
             OutcomeKind::Completed
         );
+        // An empty spot counts only for an operator who expects people there.
+        let empty = EventKind::PassedPerson {
+            person: 0,
+            present: false,
+            gap: 0.5,
+            speed: 3.0,
+        };
+        assert_eq!(judge(&op, empty, &mut rng).kind, OutcomeKind::Completed);
+        op.comfort.as_mut().unwrap().expected_too = true;
+        let o = judge(&op, empty, &mut rng);
+        assert_eq!(o, Outcome::interrupted(1.0, TOO_FAST_NEAR_PEOPLE, 6.0));
         // Off: the same pass is ignored.
         op.comfort = None;
         assert_eq!(

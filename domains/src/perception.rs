@@ -9,7 +9,8 @@
 //! - `behind-plan`: its clock passed the arrival its own plan promised (nominal drive plus
 //!   the stops it made); this is its own expectation, not the operator's deadline;
 //! - `near-person-fast`: it passed a person (its lidar sees people) within
-//!   [`NEAR_PERSON_GAP`] faster than [`WALKING_PACE`] (it knows its speed);
+//!   [`NEAR_PERSON_GAP`] faster than [`WALKING_PACE`] (it knows its speed); an empty spot
+//!   where people often stand is nothing its sensors see;
 //! - `close-pass`: its lidar measured a body gap below [`CLOSE_PASS_GAP`] without touching.
 //!
 //! It never perceives an object it drove past unnoticed (it did not see it), a false
@@ -128,11 +129,13 @@ pub fn perceive(trace: &Trace, until: f64) -> Perceived {
             EventKind::Stuck => Perceived::STUCK,
             EventKind::Detonation { .. } => Perceived::DETONATION,
             EventKind::BehindPlan { .. } => Perceived::BEHIND_PLAN,
-            EventKind::PassedPerson { gap, speed, .. }
-                if gap < NEAR_PERSON_GAP && speed > WALKING_PACE =>
-            {
-                Perceived::NEAR_PERSON_FAST
-            }
+            // Its lidar sees a person who is there, not a spot where one might be.
+            EventKind::PassedPerson {
+                present: true,
+                gap,
+                speed,
+                ..
+            } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => Perceived::NEAR_PERSON_FAST,
             EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => Perceived::CLOSE_PASS,
             // Not perceivable: an object it never saw, a label it believes, a scan it chose.
             _ => Perceived::NONE,
@@ -186,6 +189,7 @@ mod tests {
                 5.0,
                 EventKind::PassedPerson {
                     person: 0,
+                    present: true,
                     gap: 0.5,
                     speed: 3.0,
                 },
@@ -205,19 +209,22 @@ mod tests {
 
     #[test]
     fn thresholds() {
-        let pass = |gap, speed| {
+        let pass = |present, gap, speed| {
             trace(&[(
                 1.0,
                 EventKind::PassedPerson {
                     person: 0,
+                    present,
                     gap,
                     speed,
                 },
             )])
         };
-        assert!(perceive(&pass(1.0, 2.0), 9.0).contains(Perceived::NEAR_PERSON_FAST));
-        assert!(perceive(&pass(1.5, 2.0), 9.0).is_empty());
-        assert!(perceive(&pass(1.0, 1.0), 9.0).is_empty());
+        assert!(perceive(&pass(true, 1.0, 2.0), 9.0).contains(Perceived::NEAR_PERSON_FAST));
+        assert!(perceive(&pass(true, 1.5, 2.0), 9.0).is_empty());
+        assert!(perceive(&pass(true, 1.0, 1.0), 9.0).is_empty());
+        // An empty spot is nothing to see.
+        assert!(perceive(&pass(false, 0.2, 9.0), 9.0).is_empty());
         let close = |gap| trace(&[(1.0, EventKind::ClosestPass { gap, at: O })]);
         assert_eq!(perceive(&close(0.05), 9.0), Perceived::CLOSE_PASS);
         assert!(perceive(&close(0.3), 9.0).is_empty());

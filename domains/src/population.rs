@@ -118,6 +118,7 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
             distance: SOCIAL_DISTANCE,
             speed: WALKING_PACE,
             p,
+            expected_too: true,
         }),
         clearance: on.then_some(Clearance {
             gap: NEAR_MISS_GAP,
@@ -244,7 +245,10 @@ mod tests {
                     let p = |o: &OperatorModel| o.comfort.map_or(0.0, |c| c.p);
                     assert!(close(p(&file), p(&expected)), "{path:?}");
                     assert_eq!(file.weights, expected.weights, "{path:?}");
-                    assert_eq!(file.comfort.is_some(), expected.comfort.is_some());
+                    assert_eq!(
+                        file.comfort.map(|c| c.expected_too),
+                        expected.comfort.map(|c| c.expected_too)
+                    );
                     assert_eq!(file.clearance.is_some(), expected.clearance.is_some());
                     assert_eq!(
                         file.scan_standard.is_some(),

@@ -4,7 +4,7 @@
 //! Besides the endings (collision, stuck, missed object, label, detonation, arrival) a
 //! trace records measurements the simulation has anyway and that some operators, or the
 //! robot's own perception ([`crate::perception`]), care about: the closest approach to
-//! each person standing near the route and the robot's speed there, the run's least body
+//! each spot where people stand (occupied or not) and the robot's speed there, the run's least body
 //! gap, each scan's distance and duration, and the moment the robot fell behind its own
 //! plan. Writing them draws no random number; an operator that ignores them judges as if
 //! they were not there.
@@ -40,11 +40,14 @@ pub enum EventKind {
         /// Index of the object.
         object: usize,
     },
-    /// The robot passed closest to a person standing at spot `person`: the gap between its
-    /// body and the person's (m, along the planned path) and its speed there (m/s).
+    /// The robot passed closest to the spot `person` where people stand (occupied or not):
+    /// the gap between its body and a person's there (m, along the planned path) and its
+    /// speed there (m/s).
     PassedPerson {
-        /// Index of the person's spot ([`crate::world::World::humans`]).
+        /// Index of the spot ([`crate::world::World::humans`]).
         person: usize,
+        /// Whether someone stood there during the run.
+        present: bool,
         /// Body-to-body gap at the closest approach (m).
         gap: f64,
         /// The robot's speed at that point (m/s).

@@ -224,7 +224,7 @@ impl UgvDomain {
             return run;
         };
         let track = record.then_some(&mut run.driven);
-        let people = self.people_along(plan, humans);
+        let people = self.people_along(plan);
         match self.scenario {
             Scenario::Movement => {
                 let watch: Vec<f64> = people.iter().map(|p| p.0).collect();
@@ -239,15 +239,23 @@ impl UgvDomain {
                     track,
                 );
                 for (&(_, person, gap), &(t, speed)) in people.iter().zip(&driven.watched) {
-                    run.trace
-                        .insert_sorted(t, EventKind::PassedPerson { person, gap, speed });
+                    let present = humans & (1 << person) != 0;
+                    run.trace.insert_sorted(
+                        t,
+                        EventKind::PassedPerson {
+                            person,
+                            present,
+                            gap,
+                            speed,
+                        },
+                    );
                 }
             }
             Scenario::Patrol => {
                 self.patrol_run(
                     plan,
                     settings,
-                    &people,
+                    (&people, humans),
                     rng,
                     &mut run.trace,
                     &mut run.objects,
@@ -258,17 +266,16 @@ impl UgvDomain {
         run
     }
 
-    /// Where the plan passes closest to each person standing (bit set in `humans`): arc
-    /// length, the person's spot, and the body-to-body gap there (m); sorted along the
-    /// path. Geometry only: no random draw.
-    fn people_along(&self, plan: &Plan, humans: u32) -> Vec<(f64, usize, f64)> {
+    /// Where the plan passes closest to each spot where people stand: arc length, the
+    /// spot, and the body-to-body gap to a person there (m); sorted along the path. Which
+    /// spots are occupied is `humans`. Geometry only: no random draw.
+    fn people_along(&self, plan: &Plan) -> Vec<(f64, usize, f64)> {
         let radius = self.world.robot.radius;
         let mut people: Vec<(f64, usize, f64)> = self
             .world
             .humans
             .iter()
             .enumerate()
-            .filter(|(i, _)| humans & (1 << i) != 0)
             .map(|(i, spot)| {
                 let centre = match spot.shape {
                     Shape::Circle { center, .. } => center,
@@ -289,7 +296,7 @@ impl UgvDomain {
         &self,
         plan: &Plan,
         settings: Settings,
-        people: &[(f64, usize, f64)],
+        (people, humans): (&[(f64, usize, f64)], u32),
         rng: &mut dyn RngCore,
         trace: &mut Trace,
         fates: &mut [ObjectFate],
@@ -341,7 +348,16 @@ impl UgvDomain {
         );
         let arrived = trace.events.pop().expect("a drive ends with its arrival");
         for (&(_, person, gap), &(t, speed)) in people.iter().zip(&driven.watched) {
-            trace.push(t, EventKind::PassedPerson { person, gap, speed });
+            let present = humans & (1 << person) != 0;
+            trace.push(
+                t,
+                EventKind::PassedPerson {
+                    person,
+                    present,
+                    gap,
+                    speed,
+                },
+            );
         }
         for (&(s, i, spotted, approach), &t) in visits.iter().zip(&driven.mark_times) {
             let fate = &mut fates[i];
