@@ -2,7 +2,8 @@
 """The conflict ladder, measured: for every rung of domains/operators/ladder/<scenario>/,
 the landscape of each of its operators (`trustcbr landscape`, every component fixed: one
 row per behavior), and per rung the share of behaviors trustworthy for every operator,
-the pairwise Jaccard index of the trustworthy regions, and whether one behavior pleases
+the pairwise Jaccard index of the trustworthy regions (and the overlap coefficient,
+|A & B| / min(|A|, |B|): 1 when one region is nested in the other), and whether one behavior pleases
 everyone.
 
 A behavior is trustworthy for an operator when its mean weighted outcome per command is
@@ -54,7 +55,7 @@ def trusted(scenario, path):
 
 def main():
     root = pathlib.Path("domains/operators/ladder")
-    print("| scenario | rung | operators | trusted by each | trusted by all (share) | pairwise Jaccard | one pleases all |")
+    print("| scenario | rung | operators | trusted by each | trusted by all (share) | pairwise Jaccard (overlap) | one pleases all |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     for scenario in ["movement", "patrol"]:
         size = {"movement": 400, "patrol": 16000}[scenario]
@@ -66,7 +67,9 @@ def main():
             for a, b in itertools.combinations(regions, 2):
                 union = regions[a] | regions[b]
                 j = len(regions[a] & regions[b]) / len(union) if union else 1.0
-                jaccard.append(f"{a}/{b} {j:.2f}")
+                smaller = min(len(regions[a]), len(regions[b]))
+                o = len(regions[a] & regions[b]) / smaller if smaller else 1.0
+                jaccard.append(f"{a}/{b} {j:.2f} (overlap {o:.2f})")
             each = ", ".join(f"{n} {len(r)}" for n, r in regions.items())
             print(f"| {scenario} | {rung.name} | {len(files)} | {each} | "
                   f"{len(everyone)} ({len(everyone) / size:.3f}) | {'; '.join(jaccard)} | "

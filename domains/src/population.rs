@@ -1,29 +1,32 @@
 //! A parametric family of operators whose single parameter, `conflict` in `[0, 1]`, sets
 //! how much its members disagree (`docs/simulation.md`, "Operators who disagree").
 //!
-//! Each scenario has two poles, each argued from physics rather than tuned:
-//! - the **hurried dispatcher** (position 0) is the paper's speed-focused operator: the
-//!   task on time (movement 15 s, patrol 120 s, interrupted at the deadline with
-//!   probability 0.95), bumps tolerated (0.05);
-//! - the **pedestrian-zone supervisor** (position 1) watches a street with people in it:
-//!   it interrupts (0.95) a robot that passes a standing person within 3.6 m (the outer
-//!   edge of social distance) faster than 1.4 m/s (walking pace), or whose body comes
-//!   within 0.25 m of anything (three standard deviations of the robot's own path
-//!   following at walking pace: the next pass could touch), stops it on a collision
-//!   (0.95), and gives it time: twice the time the route takes at walking pace (movement
-//!   60 s, patrol 240 s), rarely interrupted then (0.05). On patrol it also wants scans it
-//!   can believe: from at most 0.5 m for at least 2.5 s (where the detector errs less than
-//!   1 % either way).
+//! Members start from a shared **base**, one of the paper's operators that holds neither
+//! side's distinctive demand (movement: safety-focused; patrol: detection-focused), and
+//! move towards one of two poles, each argued from physics rather than tuned:
+//! - the **hurried dispatcher** is the paper's speed-focused operator: the task on time
+//!   (movement 15 s, patrol 120 s, interrupted at the deadline with probability 0.95),
+//!   bumps tolerated (0.05);
+//! - the **pedestrian-zone supervisor** watches a street with people in it: it
+//!   interrupts (0.95) a robot that passes a crossing or a stop where people stand, or a
+//!   person, within 3.6 m (the outer edge of social distance) faster than 1.4 m/s
+//!   (walking pace), or whose body comes within 0.25 m of anything (three standard
+//!   deviations of the robot's own path following at walking pace: the next pass could
+//!   touch); it stops it on a collision (0.95) and gives it time: about twice the time the
+//!   route takes at walking pace (movement 60 s, patrol 240 s), rarely interrupted then
+//!   (0.05). On patrol it also wants scans it can believe: from at most 0.5 m for at
+//!   least 2.5 s (where the detector errs less than 1 % either way).
 //!
-//! A member at position `x` interpolates: the deadline geometrically, the reaction
-//! probabilities linearly, and each supervisor preference switched on with probability
-//! `0.95 x` (off at `x = 0`). The weights are the paper's for the scenario.
+//! A member at position `x` in `[-1, 1]` is the base moved `|x|` of the way to the
+//! dispatcher (`x < 0`) or the supervisor (`x > 0`): the deadline geometrically, the
+//! reaction probabilities linearly, each supervisor preference on with probability
+//! `0.95 x`. The weights are the paper's for the scenario.
 //!
-//! [`family`] draws `size` members: each draws a side (dispatcher or supervisor) and a
-//! spread `u` in `[0, 1)`, and sits at `x = 1/2 -+ lambda / 2` with
-//! `lambda = conflict (1 - (1 - conflict) u)`. At conflict 0 every member is the midpoint
-//! operator (one preference set); at conflict 1 every member is one of the two poles; in
-//! between, members spread over `[conflict^2, conflict]` of the way to their pole.
+//! [`family`] draws `size` members: each draws a side and a spread `u` in `[0, 1)`, and
+//! sits at `x = -+lambda` with `lambda = conflict (1 - (1 - conflict) u)`. At conflict 0
+//! every member is the base (one preference set); at conflict 1 every member is one of
+//! the two poles; in between, members spread over `[conflict^2, conflict]` of the way to
+//! their pole.
 
 use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
@@ -31,7 +34,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use trust::OutcomeWeights;
 
-/// A pole of the family: its deadline and reaction probabilities.
+/// An operator's deadline and reaction probabilities.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Pole {
     t_complete: f64,
@@ -52,31 +55,23 @@ pub const SCAN_MAX_DISTANCE: f64 = 0.5;
 /// ...for at least this long (s).
 pub const SCAN_MIN_TIME: f64 = 2.5;
 
-fn poles(scenario: Scenario) -> (Pole, Pole) {
+/// The base, the dispatcher and the supervisor.
+fn poles(scenario: Scenario) -> (Pole, Pole, Pole) {
+    let pole = |t_complete, p_deadline, p_collision| Pole {
+        t_complete,
+        p_deadline,
+        p_collision,
+    };
     match scenario {
         Scenario::Movement => (
-            Pole {
-                t_complete: 15.0,
-                p_deadline: 0.95,
-                p_collision: 0.05,
-            },
-            Pole {
-                t_complete: 60.0,
-                p_deadline: 0.05,
-                p_collision: 0.95,
-            },
+            pole(15.0, 0.05, 0.95),
+            pole(15.0, 0.95, 0.05),
+            pole(60.0, 0.05, 0.95),
         ),
         Scenario::Patrol => (
-            Pole {
-                t_complete: 120.0,
-                p_deadline: 0.95,
-                p_collision: 0.05,
-            },
-            Pole {
-                t_complete: 240.0,
-                p_deadline: 0.05,
-                p_collision: 0.95,
-            },
+            pole(120.0, 0.05, 0.05),
+            pole(120.0, 0.95, 0.05),
+            pole(240.0, 0.05, 0.95),
         ),
     }
 }
@@ -97,19 +92,25 @@ fn weights(scenario: Scenario) -> OutcomeWeights {
     }
 }
 
-/// The member of the family at position `x` in `[0, 1]` (0: the hurried dispatcher,
-/// 1: the pedestrian-zone supervisor), named `name`.
+/// The member of the family at position `x` in `[-1, 1]` (-1: the hurried dispatcher,
+/// 0: the base, 1: the pedestrian-zone supervisor), named `name`.
 pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
-    let x = x.clamp(0.0, 1.0);
-    let (a, b) = poles(scenario);
-    let linear = |p: f64, q: f64| p + (q - p) * x;
-    let p = P_MIND * x;
+    let x = x.clamp(-1.0, 1.0);
+    let (base, dispatcher, supervisor) = poles(scenario);
+    let (to, f) = if x < 0.0 {
+        (dispatcher, -x)
+    } else {
+        (supervisor, x)
+    };
+    // Exact at the ends: the base and the poles are the operators they are argued as.
+    let linear = |p: f64, q: f64| if f == 1.0 { q } else { p + (q - p) * f };
+    let p = P_MIND * x.max(0.0);
     let on = p > 0.0;
     OperatorModel {
         name: name.to_owned(),
-        t_complete: a.t_complete.powf(1.0 - x) * b.t_complete.powf(x),
-        p_deadline: linear(a.p_deadline, b.p_deadline),
-        p_collision: linear(a.p_collision, b.p_collision),
+        t_complete: base.t_complete.powf(1.0 - f) * to.t_complete.powf(f),
+        p_deadline: linear(base.p_deadline, to.p_deadline),
+        p_collision: linear(base.p_collision, to.p_collision),
         p_missed_object: 1.0,
         p_false_alarm: 1.0,
         give_up_factor: 2.0,
@@ -132,11 +133,15 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
     }
 }
 
+/// The conflict of each rung of the shipped ladder (`operators/ladder/<scenario>/rung-k`);
+/// rung 0 is the paper's operators, not members of the family.
+pub const LADDER: [f64; 5] = [0.0, 0.1, 1.0 / 3.0, 2.0 / 3.0, 1.0];
+
 /// The positions of a rung of the conflict ladder at `conflict`: one member either side
-/// of the midpoint, `conflict / 2` from it (at 1, the two poles).
+/// of the base, `conflict` of the way to its pole (at 1, the two poles).
 pub fn rung_positions(conflict: f64) -> [f64; 2] {
     let c = conflict.clamp(0.0, 1.0);
-    [0.5 - 0.5 * c, 0.5 + 0.5 * c]
+    [-c, c]
 }
 
 /// `size` operators drawn from the family at `conflict` in `[0, 1]` with a seeded,
@@ -149,11 +154,7 @@ pub fn family(scenario: Scenario, conflict: f64, size: usize, seed: u64) -> Vec<
             let supervisor = rng.random::<bool>();
             let u = rng.random::<f64>();
             let lambda = c * (1.0 - (1.0 - c) * u);
-            let x = if supervisor {
-                0.5 + 0.5 * lambda
-            } else {
-                0.5 - 0.5 * lambda
-            };
+            let x = if supervisor { lambda } else { -lambda };
             member(scenario, x, &format!("family-c{c:.2}-{i}"))
         })
         .collect()
@@ -196,14 +197,18 @@ mod tests {
                 .map(unnamed)
                 .collect();
             assert!(members.iter().all(|m| *m == members[0]));
-            assert_eq!(members[0], unnamed(member(scenario, 0.5, "")));
+            assert_eq!(members[0], unnamed(member(scenario, 0.0, "")));
+            // The base is a paper operator.
+            let mut base = crate::builtin_operators(scenario).remove(1);
+            base.name.clear();
+            assert_eq!(members[0], base);
         }
     }
 
     #[test]
     fn at_conflict_one_members_are_poles() {
         for scenario in Scenario::ALL {
-            let dispatcher = unnamed(member(scenario, 0.0, ""));
+            let dispatcher = unnamed(member(scenario, -1.0, ""));
             let supervisor = unnamed(member(scenario, 1.0, ""));
             let members: Vec<OperatorModel> = family(scenario, 1.0, 16, 5)
                 .into_iter()
@@ -220,7 +225,7 @@ mod tests {
             let mut paper = crate::builtin_operators(scenario).remove(0);
             assert_eq!(paper.name, "speed-focused");
             paper.name.clear();
-            assert_eq!(unnamed(member(scenario, 0.0, "")), paper);
+            assert_eq!(unnamed(member(scenario, -1.0, "")), paper);
         }
     }
 
@@ -229,7 +234,7 @@ mod tests {
         use std::path::Path;
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("operators/ladder");
         for scenario in Scenario::ALL {
-            for (k, conflict) in [(1, 1.0 / 3.0), (2, 2.0 / 3.0), (3, 1.0)] {
+            for (k, conflict) in LADDER.into_iter().enumerate().skip(1) {
                 for (x, role) in rung_positions(conflict)
                     .into_iter()
                     .zip(["dispatcher", "supervisor"])
