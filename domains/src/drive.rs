@@ -106,19 +106,22 @@ pub fn drive(
     let mark_at = |i: usize| marks.get(i).map_or(f64::INFINITY, |m| m.s);
     let mut next_mark_at = mark_at(0);
     for (k, sample) in plan.samples_closer_than(negligible) {
-        while next_mark_at <= sample.s {
-            mark_times.push(profile.time_at(next_mark_at) + delay);
-            delay += marks[next_mark].dwell;
-            next_mark += 1;
-            next_mark_at = mark_at(next_mark);
-        }
-        while next_watch_at <= sample.s {
-            watched.push((
-                profile.time_at(next_watch_at) + delay,
-                profile.speed_at(next_watch_at),
-            ));
-            next_watch += 1;
-            next_watch_at = watch_at(next_watch);
+        // Marks and watched points in the order the robot passes them: a watched point
+        // before a stop is passed before its dwell.
+        while next_mark_at.min(next_watch_at) <= sample.s {
+            if next_watch_at <= next_mark_at {
+                watched.push((
+                    profile.time_at(next_watch_at) + delay,
+                    profile.speed_at(next_watch_at),
+                ));
+                next_watch += 1;
+                next_watch_at = watch_at(next_watch);
+            } else {
+                mark_times.push(profile.time_at(next_mark_at) + delay);
+                delay += marks[next_mark].dwell;
+                next_mark += 1;
+                next_mark_at = mark_at(next_mark);
+            }
         }
         let (rho, fresh) = match transitions.get(k) {
             Some(&stored) if k == neighbour => stored,
@@ -172,6 +175,7 @@ pub fn drive(
         delay += marks[next_mark].dwell;
         next_mark += 1;
     }
+    // Beyond the goal: reached on arrival.
     while next_watch < watch.len() {
         watched.push((profile.total() + delay, 0.0));
         next_watch += 1;
@@ -330,5 +334,37 @@ mod tests {
         let leg = 2.0 + 4.0 / 3.0 + (20.0 - 4.0 - 8.0 / 3.0) / 4.0;
         assert!((d.arrival - (2.0 * leg + 3.0)).abs() < 1e-9);
         assert!((d.mark_times[0] - leg).abs() < 1e-9);
+    }
+
+    #[test]
+    fn watched_points_are_timed_with_their_speed_and_only_later_dwells() {
+        let robot = Robot::wheeled_ugv();
+        let plan = straight(40.0);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let marks = [Mark {
+            s: 20.0,
+            dwell: 3.0,
+        }];
+        let mut trace = Trace::default();
+        let d = drive(
+            &plan,
+            &robot,
+            4.0,
+            &marks,
+            &[10.0, 20.0, 30.0],
+            &mut rng,
+            &mut trace,
+            None,
+        );
+        let leg = 2.0 + 4.0 / 3.0 + (20.0 - 4.0 - 8.0 / 3.0) / 4.0;
+        // 10 m: cruising at 4 m/s, 4 m of speed-up (2 s) and 6 m at 4 m/s; no dwell yet.
+        assert!((d.watched[0].0 - 3.5).abs() < 1e-9);
+        assert!((d.watched[0].1 - 4.0).abs() < 1e-9);
+        // At the stop: standing, before its dwell.
+        assert!((d.watched[1].0 - leg).abs() < 1e-9);
+        assert!(d.watched[1].1.abs() < 1e-9);
+        // 30 m: the dwell behind it.
+        assert!((d.watched[2].0 - (leg + 3.0 + 3.5)).abs() < 1e-9);
+        assert_eq!(d.planned, d.arrival);
     }
 }
