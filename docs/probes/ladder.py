@@ -14,6 +14,7 @@ paper's weights: all 1 in movement; in patrol 1/3, a detonation 1.
 usage: docs/probes/ladder.py [TRUSTCBR] [OUT_DIR]   (runs: movement 400, patrol 40)
 """
 import csv
+from fractions import Fraction
 import itertools
 import pathlib
 import subprocess
@@ -23,8 +24,8 @@ BIN = sys.argv[1] if len(sys.argv) > 1 else "target/release/trustcbr"
 OUT = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else "/tmp/ladder")
 RUNS = {"movement": 400, "patrol": 40}
 WEIGHTS = {  # completed, default, by cause
-    "movement": (1.0, 1.0, {}),
-    "patrol": (1 / 3, 1 / 3, {"detonation": 1.0}),
+    "movement": (1, 1, {}),
+    "patrol": (Fraction(1, 3), Fraction(1, 3), {"detonation": 1}),
 }
 COMPONENTS = {"movement": 2, "patrol": 4}
 
@@ -48,7 +49,9 @@ def trusted(scenario, path):
             drift = completed_w * done
             for cause, n in zip(causes, row[k + 3:]):
                 drift -= by_cause.get(cause, default_w) * int(n)
-            if drift / runs > 0:
+            # Exact arithmetic: a drift of exactly 0 (as many completions as other
+            # outcomes at equal weights) is not trustworthy, whatever the rounding.
+            if drift > 0:
                 region.add(tuple(row[:k]))
     return region
 
