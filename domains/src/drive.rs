@@ -72,8 +72,9 @@ pub fn drive(
     let mut next_watch = 0;
     let watch_at = |i: usize| watch.get(i).copied().unwrap_or(f64::INFINITY);
     let mut next_watch_at = watch_at(0);
-    // The least body gap at a drawn sample without a collision: (gap, time, where).
-    let mut least: Option<(f64, f64, Vec2)> = None;
+    // The least body gap at a drawn sample without a collision: (gap, sample, the delay
+    // then, the error there); timed once, at the end.
+    let mut least: Option<(f64, usize, f64, f64)> = None;
     let mut collided = false;
     let mut next_mark = 0;
     let mut delay = 0.0;
@@ -110,10 +111,8 @@ pub fn drive(
         // before a stop is passed before its dwell.
         while next_mark_at.min(next_watch_at) <= sample.s {
             if next_watch_at <= next_mark_at {
-                watched.push((
-                    profile.time_at(next_watch_at) + delay,
-                    profile.speed_at(next_watch_at),
-                ));
+                let (t, v) = profile.time_and_speed_at(next_watch_at);
+                watched.push((t + delay, v));
                 next_watch += 1;
                 next_watch_at = watch_at(next_watch);
             } else {
@@ -159,9 +158,8 @@ pub fn drive(
             x = 0.0;
         } else {
             let gap = (sample.gap_left - error).min(sample.gap_right + error);
-            if least.is_none_or(|(g, _, _)| gap < g) {
-                let t = profile.time_at(sample.s) + delay;
-                least = Some((gap, t, sample.at + sample.left * error));
+            if least.is_none_or(|(g, _, _, _)| gap < g) {
+                least = Some((gap, k, delay, error));
             }
         }
         if recording {
@@ -182,7 +180,10 @@ pub fn drive(
     }
     let arrival = profile.total() + delay;
     let planned = profile.total() + marks.iter().map(|m| m.dwell).sum::<f64>();
-    if let Some((gap, t, at)) = least {
+    if let Some((gap, k, delay_then, error_then)) = least {
+        let sample = &plan.samples[k];
+        let at = sample.at + sample.left * error_then;
+        let t = profile.time_at(sample.s) + delay_then;
         trace.insert_sorted(t, EventKind::ClosestPass { gap, at });
     }
     // Only collisions delay a drive beyond its plan (compared as a flag: the sums of the

@@ -91,8 +91,18 @@ impl Profile {
 
     /// The speed at arc length `s` (m/s): on the trapezoid of the stretch containing it.
     pub fn speed_at(&self, s: f64) -> f64 {
-        self.stretch_at(s)
-            .map_or(0.0, |st| st.speed_into(s - st.s0, self.accel, self.decel))
+        self.time_and_speed_at(s).1
+    }
+
+    /// [`Profile::time_at`] and [`Profile::speed_at`] with one look-up of the stretch.
+    pub fn time_and_speed_at(&self, s: f64) -> (f64, f64) {
+        self.stretch_at(s).map_or((0.0, 0.0), |st| {
+            let x = s - st.s0;
+            (
+                st.t0 + st.time_into(x, self.accel, self.decel),
+                st.speed_into(x, self.accel, self.decel),
+            )
+        })
     }
 
     /// The highest speed reached on the stretch containing `s` (m/s): a cheap, slightly
