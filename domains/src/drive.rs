@@ -31,6 +31,11 @@ pub struct Mark {
 pub struct Drive {
     /// When the robot reached each mark (s), in the order given.
     pub mark_times: Vec<f64>,
+    /// When the robot passed each watched arc length and its speed there (s, m/s), in the
+    /// order given.
+    pub watched: Vec<(f64, f64)>,
+    /// The arrival its own plan promised: the nominal drive plus the dwells (s).
+    pub planned: f64,
     /// When it arrived at the goal (s).
     pub arrival: f64,
     /// Where it stopped.
@@ -44,17 +49,33 @@ const NEGLIGIBLE_SD: f64 = 6.0;
 /// Drives `plan` at commanded `speed`, stopping at the marks with a dwell, writing
 /// collisions and the arrival into `trace`. `marks` must be sorted by `s`. When `track` is
 /// given, the driven positions (planned point plus cross-track error) are appended to it.
+///
+/// Also written, from quantities the drive has anyway (no random draw): the least gap
+/// between body and obstacle at the samples it drew the error at, without a collision
+/// there (a `ClosestPass`), and, when collisions delayed the arrival past the planned one,
+/// a `BehindPlan` at the planned arrival. `watch` (sorted arc lengths) are timed as the
+/// marks are, with the speed there, into [`Drive::watched`].
+#[allow(clippy::too_many_arguments)]
 pub fn drive(
     plan: &Plan,
     robot: &Robot,
     speed: f64,
     marks: &[Mark],
+    watch: &[f64],
     rng: &mut dyn RngCore,
     trace: &mut Trace,
     track: Option<&mut Vec<Vec2>>,
 ) -> Drive {
     let profile = profile(plan, robot, speed, marks);
     let mut mark_times = Vec::with_capacity(marks.len());
+    let mut watched = Vec::with_capacity(watch.len());
+    let mut next_watch = 0;
+    let watch_at = |i: usize| watch.get(i).copied().unwrap_or(f64::INFINITY);
+    let mut next_watch_at = watch_at(0);
+    // The least body gap at a drawn sample without a collision: (gap, sample, the delay
+    // then, the error there); timed once, at the end.
+    let mut least: Option<(f64, usize, f64, f64)> = None;
+    let mut collided = false;
     let mut next_mark = 0;
     let mut delay = 0.0;
     // The error in units of its standard deviation: a stationary OU process in arc length.
@@ -86,11 +107,20 @@ pub fn drive(
     let mark_at = |i: usize| marks.get(i).map_or(f64::INFINITY, |m| m.s);
     let mut next_mark_at = mark_at(0);
     for (k, sample) in plan.samples_closer_than(negligible) {
-        while next_mark_at <= sample.s {
-            mark_times.push(profile.time_at(next_mark_at) + delay);
-            delay += marks[next_mark].dwell;
-            next_mark += 1;
-            next_mark_at = mark_at(next_mark);
+        // Marks and watched points in the order the robot passes them: a watched point
+        // before a stop is passed before its dwell.
+        while next_mark_at.min(next_watch_at) <= sample.s {
+            if next_watch_at <= next_mark_at {
+                let (t, v) = profile.time_and_speed_at(next_watch_at);
+                watched.push((t + delay, v));
+                next_watch += 1;
+                next_watch_at = watch_at(next_watch);
+            } else {
+                mark_times.push(profile.time_at(next_mark_at) + delay);
+                delay += marks[next_mark].dwell;
+                next_mark += 1;
+                next_mark_at = mark_at(next_mark);
+            }
         }
         let (rho, fresh) = match transitions.get(k) {
             Some(&stored) if k == neighbour => stored,
@@ -123,8 +153,14 @@ pub fn drive(
                 EventKind::Collision { at },
             );
             delay += robot.collision_pause + v / (2.0 * robot.decel) + v / (2.0 * robot.accel);
+            collided = true;
             // The robot backs off onto its path.
             x = 0.0;
+        } else {
+            let gap = (sample.gap_left - error).min(sample.gap_right + error);
+            if least.is_none_or(|(g, _, _, _)| gap < g) {
+                least = Some((gap, k, delay, error));
+            }
         }
         if recording {
             drawn.push((k, x));
@@ -137,13 +173,32 @@ pub fn drive(
         delay += marks[next_mark].dwell;
         next_mark += 1;
     }
+    // Beyond the goal: reached on arrival.
+    while next_watch < watch.len() {
+        watched.push((profile.total() + delay, 0.0));
+        next_watch += 1;
+    }
     let arrival = profile.total() + delay;
+    let planned = profile.total() + marks.iter().map(|m| m.dwell).sum::<f64>();
+    if let Some((gap, k, delay_then, error_then)) = least {
+        let sample = &plan.samples[k];
+        let at = sample.at + sample.left * error_then;
+        let t = profile.time_at(sample.s) + delay_then;
+        trace.insert_sorted(t, EventKind::ClosestPass { gap, at });
+    }
+    // Only collisions delay a drive beyond its plan (compared as a flag: the sums of the
+    // dwells are added in different orders).
+    if collided {
+        trace.insert_sorted(planned, EventKind::BehindPlan { planned });
+    }
     trace.push(arrival, EventKind::Arrived { at: end });
     if let Some(track) = track {
         fill_track(plan, robot, &profile, &drawn, track);
     }
     Drive {
         mark_times,
+        watched,
+        planned,
         arrival,
         end,
     }
@@ -245,12 +300,16 @@ mod tests {
         let plan = straight(40.0);
         let mut trace = Trace::default();
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let d = drive(&plan, &robot, 4.0, &[], &mut rng, &mut trace, None);
+        let d = drive(&plan, &robot, 4.0, &[], &[], &mut rng, &mut trace, None);
         // 4 m/s: 2 s up (4 m), 4/3 s down (8/3 m), the rest cruising.
         let expected = 2.0 + 4.0 / 3.0 + (40.0 - 4.0 - 8.0 / 3.0) / 4.0;
         assert!((d.arrival - expected).abs() < 1e-9);
         assert_eq!(trace.collisions(), 0);
-        assert_eq!(trace.events.len(), 1);
+        // In the open nothing is close: the only gap measured is at the goal (always
+        // visited), no delay; then the arrival.
+        assert_eq!(trace.events.len(), 2);
+        assert!(matches!(trace.events[0].kind, EventKind::ClosestPass { gap, .. } if gap > 9.0));
+        assert_eq!(d.planned, d.arrival);
     }
 
     #[test]
@@ -267,6 +326,7 @@ mod tests {
             &robot,
             4.0,
             &marks,
+            &[],
             &mut rng,
             &mut Trace::default(),
             None,
@@ -275,5 +335,37 @@ mod tests {
         let leg = 2.0 + 4.0 / 3.0 + (20.0 - 4.0 - 8.0 / 3.0) / 4.0;
         assert!((d.arrival - (2.0 * leg + 3.0)).abs() < 1e-9);
         assert!((d.mark_times[0] - leg).abs() < 1e-9);
+    }
+
+    #[test]
+    fn watched_points_are_timed_with_their_speed_and_only_later_dwells() {
+        let robot = Robot::wheeled_ugv();
+        let plan = straight(40.0);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let marks = [Mark {
+            s: 20.0,
+            dwell: 3.0,
+        }];
+        let mut trace = Trace::default();
+        let d = drive(
+            &plan,
+            &robot,
+            4.0,
+            &marks,
+            &[10.0, 20.0, 30.0],
+            &mut rng,
+            &mut trace,
+            None,
+        );
+        let leg = 2.0 + 4.0 / 3.0 + (20.0 - 4.0 - 8.0 / 3.0) / 4.0;
+        // 10 m: cruising at 4 m/s, 4 m of speed-up (2 s) and 6 m at 4 m/s; no dwell yet.
+        assert!((d.watched[0].0 - 3.5).abs() < 1e-9);
+        assert!((d.watched[0].1 - 4.0).abs() < 1e-9);
+        // At the stop: standing, before its dwell.
+        assert!((d.watched[1].0 - leg).abs() < 1e-9);
+        assert!(d.watched[1].1.abs() < 1e-9);
+        // 30 m: the dwell behind it.
+        assert!((d.watched[2].0 - (leg + 3.0 + 3.5)).abs() < 1e-9);
+        assert_eq!(d.planned, d.arrival);
     }
 }

@@ -16,6 +16,7 @@ pub mod operator;
 pub mod patrol;
 pub mod perception;
 pub mod planner;
+pub mod population;
 pub mod profile;
 pub mod render;
 pub mod scenario;
@@ -25,6 +26,7 @@ pub mod ugv;
 pub mod world;
 
 pub use operator::{OperatorError, OperatorModel, builtin_operators};
+pub use perception::perceive;
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};
 pub use trace::{Event, EventKind, Trace};

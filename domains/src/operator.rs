@@ -9,17 +9,33 @@
 //! (`p_missed_object`) or a harmless one is labelled explosive (`p_false_alarm`). A
 //! detonation fails the run. Reaching the goal completes it.
 //!
+//! Three further preferences, each off unless the file turns it on (an operator without
+//! them judges, and draws random numbers, exactly as before they existed):
+//! - `comfort`: interrupts (probability `p`) when the robot passes a standing person
+//!   closer than `distance` (body to body) faster than `speed` (cause
+//!   `too-fast-near-people`); with `expected_too`, also where people are expected to stand,
+//!   occupied or not;
+//! - `clearance`: interrupts (probability `p`) when the robot's body passes closer than
+//!   `gap` to anything without touching it, at the run's closest pass (cause `too-close`);
+//! - `scan_standard`: interrupts (probability `p`) when a scan was made from farther than
+//!   `max_distance` or lasted less than `min_time` (cause `poor-scan`; patrol).
+//!
 //! An operator is read against the causes its scenario declares ([`crate::causes`]):
-//! `weights.by_cause` may name only those (quoted, `by_cause: {"detonation": 1.0}`).
+//! `weights.by_cause` may name only those (quoted, `by_cause: {"detonation": 1.0}`), and
+//! of those only the causes the robot perceives itself ([`crate::causes::PERCEIVED`]); a
+//! preference whose cause the scenario does not declare is refused.
 
 use crate::Scenario;
-use crate::causes::{COLLISION, DEADLINE, DETONATION, FALSE_ALARM, MISSED_OBJECT, STUCK};
+use crate::causes::{
+    COLLISION, DEADLINE, DETONATION, FALSE_ALARM, MISSED_OBJECT, PERCEIVED, POOR_SCAN, STUCK,
+    TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
+};
 use crate::trace::{EventKind, Trace};
 use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use trust::{DeclaredCause, Judgement, OutcomeWeights, WeightsError};
+use trust::{Cause, DeclaredCause, Judgement, OutcomeWeights, WeightsError};
 
 fn one() -> f64 {
     1.0
@@ -27,6 +43,48 @@ fn one() -> f64 {
 
 fn give_up_factor() -> f64 {
     2.0
+}
+
+/// A comfort speed near people: passing a standing person closer than `distance` faster
+/// than `speed` interrupts with probability `p`. With `expected_too`, the operator minds
+/// the places where people are expected to stand (a crossing, a bus stop) the same way,
+/// whether or not someone is there: people step out from behind parked vehicles.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Comfort {
+    /// Body-to-body gap below which a person is near (m).
+    pub distance: f64,
+    /// Highest speed the operator accepts near a person (m/s).
+    pub speed: f64,
+    /// Probability of interrupting on such a pass.
+    pub p: f64,
+    /// Whether passing an empty spot where people stand counts as passing a person.
+    #[serde(default)]
+    pub expected_too: bool,
+}
+
+/// A clearance that feels unsafe even without a collision: the run's closest pass below
+/// `gap` interrupts with probability `p`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Clearance {
+    /// Least body gap the operator accepts (m).
+    pub gap: f64,
+    /// Probability of interrupting on a closer pass.
+    pub p: f64,
+}
+
+/// What a scan must be for the operator to believe its label: a scan from farther than
+/// `max_distance` or shorter than `min_time` interrupts with probability `p`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScanStandard {
+    /// Greatest body-to-object distance accepted (m).
+    pub max_distance: f64,
+    /// Shortest scan accepted (s).
+    pub min_time: f64,
+    /// Probability of interrupting on a poorer scan.
+    pub p: f64,
 }
 
 /// A simulated operator.
@@ -54,6 +112,15 @@ pub struct OperatorModel {
     /// Outcome weights.
     #[serde(default)]
     pub weights: OutcomeWeights,
+    /// A comfort speed near people (off when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub comfort: Option<Comfort>,
+    /// A least acceptable body gap (off when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<Clearance>,
+    /// A standard scans must meet (off when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scan_standard: Option<ScanStandard>,
 }
 
 /// Why an operator file cannot be used.
@@ -91,6 +158,36 @@ pub enum OperatorError {
         /// The value given.
         value: f64,
     },
+    /// `weights.by_cause` names a cause the robot does not perceive itself.
+    #[error(
+        "{file}: operator `{operator}`: `weights.by_cause.{cause}`: weights may name only causes the robot perceives itself ({allowed})"
+    )]
+    Unperceived {
+        /// The file.
+        file: PathBuf,
+        /// The operator's name.
+        operator: String,
+        /// The cause named.
+        cause: Cause,
+        /// The causes allowed.
+        allowed: String,
+    },
+    /// A preference is on whose cause the scenario does not declare.
+    #[error(
+        "{file}: operator `{operator}`: `{field}` needs cause `{cause}`, which this scenario does not declare (declared: {declared})"
+    )]
+    Preference {
+        /// The file.
+        file: PathBuf,
+        /// The operator's name.
+        operator: String,
+        /// The preference, e.g. `scan_standard`.
+        field: &'static str,
+        /// Its cause.
+        cause: Cause,
+        /// The causes the scenario declares.
+        declared: String,
+    },
 }
 
 impl OperatorModel {
@@ -112,7 +209,44 @@ impl OperatorModel {
                 operator: model.name.clone(),
                 reason,
             })?;
+        model.check_causes(origin, causes)?;
         Ok(model)
+    }
+
+    /// Weights name only perceived causes; every preference that is on has its cause
+    /// declared.
+    fn check_causes(&self, origin: &Path, causes: &[DeclaredCause]) -> Result<(), OperatorError> {
+        if let Some(&cause) = self
+            .weights
+            .by_cause
+            .keys()
+            .find(|c| !PERCEIVED.contains(c))
+        {
+            return Err(OperatorError::Unperceived {
+                file: origin.to_owned(),
+                operator: self.name.clone(),
+                cause,
+                allowed: list_causes(&PERCEIVED),
+            });
+        }
+        let on = [
+            ("comfort", self.comfort.is_some(), TOO_FAST_NEAR_PEOPLE),
+            ("clearance", self.clearance.is_some(), TOO_CLOSE),
+            ("scan_standard", self.scan_standard.is_some(), POOR_SCAN),
+        ];
+        for (field, is_on, cause) in on {
+            if is_on && !causes.iter().any(|d| d.name == cause) {
+                let declared: Vec<Cause> = causes.iter().map(|d| d.name).collect();
+                return Err(OperatorError::Preference {
+                    file: origin.to_owned(),
+                    operator: self.name.clone(),
+                    field,
+                    cause,
+                    declared: list_causes(&declared),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Reads, parses and validates an operator file for a scenario that declares `causes`.
@@ -129,15 +263,35 @@ impl OperatorModel {
             allowed,
             value,
         };
-        let probabilities = [
+        let mut probabilities = vec![
             ("p_deadline", self.p_deadline),
             ("p_collision", self.p_collision),
             ("p_missed_object", self.p_missed_object),
             ("p_false_alarm", self.p_false_alarm),
         ];
+        let mut amounts = Vec::new();
+        if let Some(c) = self.comfort {
+            probabilities.push(("comfort.p", c.p));
+            amounts.push(("comfort.distance", c.distance));
+            amounts.push(("comfort.speed", c.speed));
+        }
+        if let Some(c) = self.clearance {
+            probabilities.push(("clearance.p", c.p));
+            amounts.push(("clearance.gap", c.gap));
+        }
+        if let Some(c) = self.scan_standard {
+            probabilities.push(("scan_standard.p", c.p));
+            amounts.push(("scan_standard.max_distance", c.max_distance));
+            amounts.push(("scan_standard.min_time", c.min_time));
+        }
         for (field, value) in probabilities {
             if !(0.0..=1.0).contains(&value) {
                 return Err(fail(field.into(), "a probability in [0, 1]", value));
+            }
+        }
+        for (field, value) in amounts {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(fail(field.into(), "a finite number >= 0", value));
             }
         }
         if !(self.t_complete.is_finite() && self.t_complete > 0.0) {
@@ -189,6 +343,30 @@ impl OperatorModel {
                 } if react(self.p_false_alarm) => {
                     return interrupt(FALSE_ALARM, event.t);
                 }
+                EventKind::PassedPerson {
+                    present,
+                    gap,
+                    speed,
+                    ..
+                } if self.comfort.is_some_and(|c| {
+                    (present || c.expected_too) && gap < c.distance && speed > c.speed && react(c.p)
+                }) =>
+                {
+                    return interrupt(TOO_FAST_NEAR_PEOPLE, event.t);
+                }
+                EventKind::ClosestPass { gap, .. }
+                    if self.clearance.is_some_and(|c| gap < c.gap && react(c.p)) =>
+                {
+                    return interrupt(TOO_CLOSE, event.t);
+                }
+                EventKind::Scanned {
+                    distance, duration, ..
+                } if self.scan_standard.is_some_and(|c| {
+                    (distance > c.max_distance || duration < c.min_time) && react(c.p)
+                }) =>
+                {
+                    return interrupt(POOR_SCAN, event.t);
+                }
                 EventKind::Detonation { .. } => {
                     return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t);
                 }
@@ -202,6 +380,15 @@ impl OperatorModel {
         // robot never started.
         interrupt(STUCK, 0.0)
     }
+}
+
+/// `a, b, c`.
+fn list_causes(causes: &[Cause]) -> String {
+    causes
+        .iter()
+        .map(Cause::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The operators of SPEC section 8 for `scenario`, from the RON files shipped with the crate.
@@ -268,6 +455,9 @@ mod tests {
             p_false_alarm: 1.0,
             give_up_factor: 2.0,
             weights: OutcomeWeights::default(),
+            comfort: None,
+            clearance: None,
+            scan_standard: None,
         }
     }
 
@@ -380,7 +570,7 @@ mod tests {
             .to_string();
         assert_eq!(
             err,
-            "ops/bomb-averse.ron: operator `bomb-averse`: `weights.by_cause`: cause `detonation` is not declared (declared: deadline, collision, stuck)"
+            "ops/bomb-averse.ron: operator `bomb-averse`: `weights.by_cause`: cause `detonation` is not declared (declared: deadline, collision, stuck, too-fast-near-people, too-close)"
         );
         let op = OperatorModel::from_ron(text, origin, Scenario::Patrol.causes()).unwrap();
         assert_eq!(op.weights.of(DETONATION), 3.0);
@@ -401,6 +591,193 @@ mod tests {
         assert_eq!(op.weights.of(STUCK), 4.0);
         assert_eq!(op.weights.of(COLLISION), 0.5);
         assert_eq!(op.weights.of(DEADLINE), 2.0);
+    }
+
+    fn pass(gap: f64, speed: f64) -> EventKind {
+        EventKind::PassedPerson {
+            person: 0,
+            present: true,
+            gap,
+            speed,
+        }
+    }
+
+    #[test]
+    fn comfort_interrupts_a_fast_close_pass_only() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut op = operator(0.0, 0.0);
+        op.comfort = Some(Comfort {
+            distance: 3.6,
+            speed: 1.4,
+            p: 1.0,
+            expected_too: false,
+        });
+        let judge = |op: &OperatorModel, kind, rng: &mut ChaCha8Rng| {
+            op.judge(&trace(&[(6.0, kind), (12.0, ARRIVED)]), rng)
+        };
+        let o = judge(&op, pass(2.0, 3.0), &mut rng);
+        assert_eq!(o, Judgement::interrupted(1.0, TOO_FAST_NEAR_PEOPLE, 6.0));
+        // Far enough, or slow enough: no complaint.
+        assert_eq!(
+            judge(&op, pass(4.0, 3.0), &mut rng).outcome.kind,
+            OutcomeKind::Completed
+        );
+        assert_eq!(
+            judge(&op, pass(0.5, 1.0), &mut rng).outcome.kind,
+            OutcomeKind::Completed
+        );
+        // An empty spot counts only for an operator who expects people there.
+        let empty = EventKind::PassedPerson {
+            person: 0,
+            present: false,
+            gap: 0.5,
+            speed: 3.0,
+        };
+        assert_eq!(
+            judge(&op, empty, &mut rng).outcome.kind,
+            OutcomeKind::Completed
+        );
+        op.comfort.as_mut().unwrap().expected_too = true;
+        let o = judge(&op, empty, &mut rng);
+        assert_eq!(o, Judgement::interrupted(1.0, TOO_FAST_NEAR_PEOPLE, 6.0));
+        // Off: the same pass is ignored.
+        op.comfort = None;
+        assert_eq!(
+            judge(&op, pass(0.5, 9.0), &mut rng).outcome.kind,
+            OutcomeKind::Completed
+        );
+    }
+
+    #[test]
+    fn clearance_interrupts_a_close_pass() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut op = operator(0.0, 0.0);
+        op.clearance = Some(Clearance { gap: 0.25, p: 1.0 });
+        let close = |gap| EventKind::ClosestPass {
+            gap,
+            at: Vec2::new(0.0, 0.0),
+        };
+        let o = op.judge(&trace(&[(3.0, close(0.1)), (12.0, ARRIVED)]), &mut rng);
+        assert_eq!(o, Judgement::interrupted(1.0, TOO_CLOSE, 3.0));
+        let o = op.judge(&trace(&[(3.0, close(0.4)), (12.0, ARRIVED)]), &mut rng);
+        assert_eq!(o.outcome.kind, OutcomeKind::Completed);
+    }
+
+    #[test]
+    fn scan_standard_interrupts_a_far_or_short_scan() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut op = operator(0.0, 0.0);
+        op.scan_standard = Some(ScanStandard {
+            max_distance: 0.5,
+            min_time: 2.5,
+            p: 1.0,
+        });
+        let scan = |distance, duration| EventKind::Scanned {
+            object: 0,
+            distance,
+            duration,
+        };
+        for (distance, duration, believed) in [
+            (0.5, 2.5, true),
+            (0.25, 5.0, true),
+            (0.75, 5.0, false),
+            (0.25, 2.0, false),
+        ] {
+            let t = trace(&[(10.0, scan(distance, duration)), (14.0, ARRIVED)]);
+            let o = op.judge(&t, &mut rng);
+            if believed {
+                assert_eq!(o.outcome.kind, OutcomeKind::Completed);
+            } else {
+                assert_eq!(o, Judgement::interrupted(1.0, POOR_SCAN, 10.0));
+            }
+        }
+    }
+
+    #[test]
+    fn a_preference_that_is_off_draws_nothing() {
+        // The paper's operator ignores the measurements: the same generator state after
+        // judging a trace with them as without them.
+        let op = operator(0.5, 0.5);
+        let plain = trace(&[(4.0, HIT), (20.0, ARRIVED)]);
+        let measured = trace(&[
+            (2.0, pass(0.1, 9.0)),
+            (4.0, HIT),
+            (
+                5.0,
+                EventKind::ClosestPass {
+                    gap: 0.01,
+                    at: Vec2::new(0.0, 0.0),
+                },
+            ),
+            (16.0, EventKind::BehindPlan { planned: 16.0 }),
+            (20.0, ARRIVED),
+        ]);
+        for seed in 0..50 {
+            let mut a = ChaCha8Rng::seed_from_u64(seed);
+            let mut b = ChaCha8Rng::seed_from_u64(seed);
+            assert_eq!(op.judge(&plain, &mut a), op.judge(&measured, &mut b));
+            assert_eq!(
+                rand::RngCore::next_u64(&mut a),
+                rand::RngCore::next_u64(&mut b)
+            );
+        }
+    }
+
+    #[test]
+    fn weights_name_only_perceived_causes() {
+        let origin = Path::new("ops/w.ron");
+        let text = |cause: &str| {
+            format!(
+                "(name: \"w\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,
+                  weights: (by_cause: {{ \"{cause}\": 2.0 }}))"
+            )
+        };
+        for cause in ["collision", "stuck", "detonation"] {
+            OperatorModel::from_ron(&text(cause), origin, Scenario::Patrol.causes()).unwrap();
+        }
+        for cause in ["deadline", "missed-object", "false-alarm", "poor-scan"] {
+            let err = OperatorModel::from_ron(&text(cause), origin, Scenario::Patrol.causes())
+                .unwrap_err()
+                .to_string();
+            assert_eq!(
+                err,
+                format!(
+                    "ops/w.ron: operator `w`: `weights.by_cause.{cause}`: weights may name only causes the robot perceives itself (collision, stuck, detonation)"
+                )
+            );
+        }
+    }
+
+    #[test]
+    fn preferences_parse_and_are_checked() {
+        let origin = Path::new("ops/p.ron");
+        let text = "(name: \"p\", t_complete: 60.0, p_deadline: 0.05, p_collision: 0.95,
+                     comfort: Some((distance: 3.6, speed: 1.4, p: 0.95)),
+                     clearance: Some((gap: 0.25, p: 0.95)))";
+        let op = OperatorModel::from_ron(text, origin, Scenario::Movement.causes()).unwrap();
+        assert_eq!(op.comfort.unwrap().speed, 1.4);
+        assert_eq!(op.clearance.unwrap().gap, 0.25);
+        let scans = "(name: \"p\", t_complete: 60.0, p_deadline: 0.05, p_collision: 0.95,
+                     scan_standard: Some((max_distance: 0.5, min_time: 2.5, p: 0.95)))";
+        let err = OperatorModel::from_ron(scans, origin, Scenario::Movement.causes())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(
+                "`scan_standard` needs cause `poor-scan`, which this scenario does not declare"
+            ),
+            "{err}"
+        );
+        OperatorModel::from_ron(scans, origin, Scenario::Patrol.causes()).unwrap();
+        let bad = "(name: \"p\", t_complete: 60.0, p_deadline: 0.05, p_collision: 0.95,
+                   comfort: Some((distance: 3.6, speed: 1.4, p: 1.5)))";
+        let err = OperatorModel::from_ron(bad, origin, Scenario::Movement.causes())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("`comfort.p` must be a probability in [0, 1], got 1.5"),
+            "{err}"
+        );
     }
 
     proptest! {

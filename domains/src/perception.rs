@@ -1,23 +1,56 @@
-//! What the UGV perceives itself during a run, apart from why its operator reacted.
+//! What the robot itself perceives of a run: its own sensors and clock, up to the moment
+//! the command ended. This is not why the operator interrupted (the outcome's cause is
+//! the truth, kept for evaluation); it is what a strategy may relate an interruption to.
 //!
-//! The robot has bump sensors, knows when its planner finds no way through, and hears an
-//! explosion: a collision, being stuck and a detonation are events it perceives. It does
-//! not perceive a missed object (it did not notice it), a false alarm (it believes its
-//! label) or the operator's deadline (the operator's private expectation). An outcome's
-//! [`Observations`] hold, in the order of [`MOVEMENT`] or [`PATROL`], the events of the run
-//! up to the moment the command ended.
+//! The robot perceives:
+//! - `collision`: its bumper and its drive's stall tell it when it touched something;
+//! - `stuck`: its planner found no way through;
+//! - `detonation`: an explosion is heard, felt and seen;
+//! - `behind-plan`: its clock passed the arrival its own plan promised (nominal drive plus
+//!   the stops it made); this is its own expectation, not the operator's deadline;
+//! - `near-person-fast`: it passed a person (its lidar sees people) within
+//!   [`NEAR_PERSON_GAP`] faster than [`WALKING_PACE`] (it knows its speed); an empty spot
+//!   where people often stand is nothing its sensors see;
+//! - `close-pass`: its lidar measured a body gap below [`CLOSE_PASS_GAP`] without touching.
+//!
+//! It never perceives an object it drove past unnoticed (it did not see it), a false
+//! alarm (it believes its own label), or the operator's deadline (it is not told it).
 
 use crate::Scenario;
 use crate::causes::{COLLISION, DETONATION, STUCK};
 use crate::trace::{EventKind, Trace};
 use trust::{Cause, Observations};
 
-/// What a movement robot perceives: a bump, being stuck.
-pub const MOVEMENT: [Cause; 2] = [COLLISION, STUCK];
-/// What a patrol robot perceives: a bump, being stuck, an explosion.
-pub const PATROL: [Cause; 3] = [COLLISION, STUCK, DETONATION];
+/// A person within this body-to-body gap counts as near (m): the outer edge of personal
+/// space in proxemics (about 1.2 m), the distance strangers keep when they can.
+pub const NEAR_PERSON_GAP: f64 = 1.2;
+/// Faster than this near a person is fast (m/s): a typical walking pace (about 1.4 m/s).
+pub const WALKING_PACE: f64 = 1.4;
+/// A body gap the lidar measures below this counts as a close pass (m): about twice the
+/// robot's localisation error (0.04 m) plus the scanner's few centimetres of range noise,
+/// a gap the robot cannot tell from contact.
+pub const CLOSE_PASS_GAP: f64 = 0.1;
 
-/// The observations a scenario's robot can report, in bit order.
+/// The robot's clock passed its own planned arrival.
+pub const BEHIND_PLAN: Cause = Cause::from_static("behind-plan");
+/// It passed a person closely and faster than walking pace.
+pub const NEAR_PERSON_FAST: Cause = Cause::from_static("near-person-fast");
+/// Its lidar measured a very small body gap.
+pub const CLOSE_PASS: Cause = Cause::from_static("close-pass");
+
+/// What a movement robot perceives, in bit order ([`trust::Domain::observations`]).
+pub const MOVEMENT: [Cause; 5] = [COLLISION, STUCK, BEHIND_PLAN, NEAR_PERSON_FAST, CLOSE_PASS];
+/// What a patrol robot perceives, in bit order: the movement robot's and an explosion.
+pub const PATROL: [Cause; 6] = [
+    COLLISION,
+    STUCK,
+    DETONATION,
+    BEHIND_PLAN,
+    NEAR_PERSON_FAST,
+    CLOSE_PASS,
+];
+
+/// The observations the robot can make in `scenario`, in bit order.
 pub fn observations(scenario: Scenario) -> &'static [Cause] {
     match scenario {
         Scenario::Movement => &MOVEMENT,
@@ -25,18 +58,29 @@ pub fn observations(scenario: Scenario) -> &'static [Cause] {
     }
 }
 
-/// What the robot perceived of `trace` up to `until` seconds (the end of the command), as
-/// bits over `declared` (a scenario's [`observations`]).
+/// What the robot perceived of the run in `trace` up to time `until` (s), the moment the
+/// command ended (the outcome's duration), as bits over `declared` (a scenario's
+/// [`observations`]; an event whose name is not declared is not reported).
 pub fn perceive(trace: &Trace, until: f64, declared: &[Cause]) -> Observations {
     let bit = |name: Cause| declared.iter().position(|&d| d == name);
     trace
         .events
         .iter()
         .take_while(|e| e.t <= until)
-        .filter_map(|e| match e.kind {
+        .filter_map(|event| match event.kind {
             EventKind::Collision { .. } => bit(COLLISION),
             EventKind::Stuck => bit(STUCK),
             EventKind::Detonation { .. } => bit(DETONATION),
+            EventKind::BehindPlan { .. } => bit(BEHIND_PLAN),
+            // Its lidar sees a person who is there, not a spot where one might be.
+            EventKind::PassedPerson {
+                present: true,
+                gap,
+                speed,
+                ..
+            } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => bit(NEAR_PERSON_FAST),
+            EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => bit(CLOSE_PASS),
+            // Not perceivable: an object it never saw, a label it believes, a scan it chose.
             _ => None,
         })
         .fold(Observations::NONE, Observations::with)
@@ -49,41 +93,109 @@ mod tests {
 
     fn trace(events: &[(f64, EventKind)]) -> Trace {
         let mut t = Trace::default();
-        for &(time, kind) in events {
-            t.push(time, kind);
+        for (time, kind) in events {
+            t.push(*time, *kind);
         }
         t
     }
 
+    const O: Vec2 = Vec2::new(0.0, 0.0);
+
+    /// The bit of observation `name` in the patrol robot's list.
+    fn seen(names: &[Cause]) -> Observations {
+        names
+            .iter()
+            .map(|n| PATROL.iter().position(|p| p == n).unwrap())
+            .fold(Observations::NONE, Observations::with)
+    }
+
     #[test]
-    fn the_robot_perceives_its_own_events_up_to_the_end_of_the_command() {
-        let hit = EventKind::Collision {
-            at: Vec2::new(1.0, 1.0),
-        };
-        let run = trace(&[
-            (2.0, EventKind::MissedObject { object: 0 }),
+    fn each_scenario_declares_what_its_robot_perceives() {
+        assert_eq!(observations(Scenario::Movement), MOVEMENT);
+        assert!(observations(Scenario::Patrol).contains(&DETONATION));
+        assert!(!observations(Scenario::Movement).contains(&DETONATION));
+        // Nothing the robot cannot perceive is ever declared.
+        for name in ["missed-object", "false-alarm", "deadline", "poor-scan"] {
+            assert!(!PATROL.iter().any(|p| p.as_str() == name), "{name}");
+        }
+    }
+
+    #[test]
+    fn only_what_happened_before_the_end_is_perceived() {
+        let t = trace(&[
+            (2.0, EventKind::Collision { at: O }),
             (
-                3.0,
+                5.0,
+                EventKind::PassedPerson {
+                    person: 0,
+                    present: true,
+                    gap: 0.5,
+                    speed: 3.0,
+                },
+            ),
+            (9.0, EventKind::BehindPlan { planned: 9.0 }),
+            (12.0, EventKind::Arrived { at: O }),
+        ]);
+        assert_eq!(perceive(&t, 1.0, &PATROL), Observations::NONE);
+        assert_eq!(perceive(&t, 2.0, &PATROL), seen(&[COLLISION]));
+        assert_eq!(
+            perceive(&t, 12.0, &PATROL),
+            seen(&[COLLISION, NEAR_PERSON_FAST, BEHIND_PLAN])
+        );
+        // In movement's bit order: collision 0, behind-plan 2, near-person-fast 3.
+        assert_eq!(
+            perceive(&t, 12.0, &MOVEMENT),
+            Observations::NONE.with(0).with(2).with(3)
+        );
+    }
+
+    #[test]
+    fn thresholds() {
+        let pass = |present, gap, speed| {
+            trace(&[(
+                1.0,
+                EventKind::PassedPerson {
+                    person: 0,
+                    present,
+                    gap,
+                    speed,
+                },
+            )])
+        };
+        let fast = seen(&[NEAR_PERSON_FAST]);
+        assert_eq!(perceive(&pass(true, 1.0, 2.0), 9.0, &PATROL), fast);
+        assert!(perceive(&pass(true, 1.5, 2.0), 9.0, &PATROL).is_empty());
+        assert!(perceive(&pass(true, 1.0, 1.0), 9.0, &PATROL).is_empty());
+        // An empty spot is nothing to see.
+        assert!(perceive(&pass(false, 0.2, 9.0), 9.0, &PATROL).is_empty());
+        let close = |gap| trace(&[(1.0, EventKind::ClosestPass { gap, at: O })]);
+        assert_eq!(perceive(&close(0.05), 9.0, &PATROL), seen(&[CLOSE_PASS]));
+        assert!(perceive(&close(0.3), 9.0, &PATROL).is_empty());
+    }
+
+    #[test]
+    fn missed_objects_false_alarms_and_deadlines_are_not_perceived() {
+        let t = trace(&[
+            (1.0, EventKind::MissedObject { object: 0 }),
+            (
+                2.0,
+                EventKind::Scanned {
+                    object: 1,
+                    distance: 2.0,
+                    duration: 0.5,
+                },
+            ),
+            (
+                2.0,
                 EventKind::Labelled {
                     object: 1,
                     explosive: false,
                     labelled_explosive: true,
                 },
             ),
-            (4.0, hit),
-            (9.0, EventKind::Detonation { object: 2 }),
+            // Long after any deadline.
+            (500.0, EventKind::Arrived { at: O }),
         ]);
-        // Interrupted at 3 s: a missed object and a false alarm are not perceived.
-        assert!(perceive(&run, 3.0, &PATROL).is_empty());
-        // At 5 s the bump is; at 10 s the explosion too.
-        assert_eq!(perceive(&run, 5.0, &PATROL), Observations::NONE.with(0));
-        assert_eq!(
-            perceive(&run, 10.0, &PATROL),
-            Observations::NONE.with(0).with(2)
-        );
-        // Movement declares no detonation: none is reported there.
-        assert_eq!(perceive(&run, 10.0, &MOVEMENT), Observations::NONE.with(0));
-        let stuck = trace(&[(5.0, EventKind::Stuck)]);
-        assert_eq!(perceive(&stuck, 5.0, &MOVEMENT), Observations::NONE.with(1));
+        assert!(perceive(&t, 500.0, &PATROL).is_empty());
     }
 }

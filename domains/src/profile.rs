@@ -89,6 +89,22 @@ impl Profile {
         }
     }
 
+    /// The speed at arc length `s` (m/s): on the trapezoid of the stretch containing it.
+    pub fn speed_at(&self, s: f64) -> f64 {
+        self.time_and_speed_at(s).1
+    }
+
+    /// [`Profile::time_at`] and [`Profile::speed_at`] with one look-up of the stretch.
+    pub fn time_and_speed_at(&self, s: f64) -> (f64, f64) {
+        self.stretch_at(s).map_or((0.0, 0.0), |st| {
+            let x = s - st.s0;
+            (
+                st.t0 + st.time_into(x, self.accel, self.decel),
+                st.speed_into(x, self.accel, self.decel),
+            )
+        })
+    }
+
     /// The highest speed reached on the stretch containing `s` (m/s): a cheap, slightly
     /// high stand-in for the speed at `s`.
     pub fn stretch_peak(&self, s: f64) -> f64 {
@@ -156,6 +172,16 @@ impl Stretch {
 
     fn duration(&self, accel: f64, decel: f64) -> f64 {
         self.time_into(self.length, accel, decel)
+    }
+
+    fn speed_into(&self, x: f64, accel: f64, decel: f64) -> f64 {
+        if self.peak <= 0.0 {
+            return 0.0;
+        }
+        let x = x.clamp(0.0, self.length);
+        let rising = (self.entry * self.entry + 2.0 * accel * x).sqrt();
+        let falling = (self.exit * self.exit + 2.0 * decel * (self.length - x)).sqrt();
+        rising.min(falling).min(self.peak)
     }
 
     fn time_into(&self, x: f64, accel: f64, decel: f64) -> f64 {

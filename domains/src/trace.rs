@@ -1,5 +1,13 @@
 //! The record of one run: what happened and when, in time order. The simulation writes
 //! it without knowing who watches; operator models read it and decide.
+//!
+//! Besides the endings (collision, stuck, missed object, label, detonation, arrival) a
+//! trace records measurements the simulation has anyway and that some operators, or the
+//! robot's own perception ([`crate::perception`]), care about: the closest approach to
+//! each spot where people stand (occupied or not) and the robot's speed there, the run's least body
+//! gap, each scan's distance and duration, and the moment the robot fell behind its own
+//! plan. Writing them draws no random number; an operator that ignores them judges as if
+//! they were not there.
 
 use crate::geometry::Vec2;
 
@@ -32,6 +40,42 @@ pub enum EventKind {
         /// Index of the object.
         object: usize,
     },
+    /// The robot passed closest to the spot `person` where people stand (occupied or not):
+    /// the gap between its body and a person's there (m, along the planned path) and its
+    /// speed there (m/s).
+    PassedPerson {
+        /// Index of the spot ([`crate::world::World::humans`]).
+        person: usize,
+        /// Whether someone stood there during the run.
+        present: bool,
+        /// Body-to-body gap at the closest approach (m).
+        gap: f64,
+        /// The robot's speed at that point (m/s).
+        speed: f64,
+    },
+    /// The least gap between the robot's body and any obstacle or person the run came to
+    /// without touching it (m), measured where its path runs close to something.
+    ClosestPass {
+        /// The gap (m).
+        gap: f64,
+        /// Where the robot's centre was.
+        at: Vec2,
+    },
+    /// The robot finished scanning an object (written just before its label).
+    Scanned {
+        /// Index of the object.
+        object: usize,
+        /// Gap between the robot's body and the object while scanning (m).
+        distance: f64,
+        /// How long it scanned (s).
+        duration: f64,
+    },
+    /// The robot's clock passed the arrival time its own plan promised (the nominal drive
+    /// plus the stops it made) while it was still driving: collisions had delayed it.
+    BehindPlan {
+        /// The planned arrival (s), the time of this event.
+        planned: f64,
+    },
     /// The robot reached its goal at `at` (not exactly the planned goal).
     Arrived {
         /// Where the robot's centre stopped.
@@ -59,6 +103,12 @@ impl Trace {
     /// Appends an event.
     pub fn push(&mut self, t: f64, kind: EventKind) {
         self.events.push(Event { t, kind });
+    }
+
+    /// Inserts an event after every event at or before `t`, keeping the time order.
+    pub fn insert_sorted(&mut self, t: f64, kind: EventKind) {
+        let at = self.events.partition_point(|e| e.t <= t);
+        self.events.insert(at, Event { t, kind });
     }
 
     /// Puts the events in time order (stable: simultaneous events keep their order).

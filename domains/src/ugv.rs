@@ -63,6 +63,14 @@ pub struct Run<'a> {
     pub objects: Vec<ObjectFate>,
 }
 
+/// Where a plan passes each spot where people stand: per spot (sorted along the path) the
+/// arc length, the spot and the body-to-body gap; and the arc lengths alone.
+#[derive(Debug, Default)]
+struct Passes {
+    spots: Vec<(f64, usize, f64)>,
+    at: Vec<f64>,
+}
+
 /// The UGV world as a trust domain for one scenario.
 pub struct UgvDomain {
     scenario: Scenario,
@@ -76,6 +84,9 @@ pub struct UgvDomain {
     visibility: Box<[OnceLock<VisibilityGraph>]>,
     /// Per padding and set of people: the plan.
     plans: Box<[OnceLock<Option<Plan>>]>,
+    /// Per padding and set of people: where the plan passes each spot where people stand
+    /// ([`UgvDomain::people_along`]), and those arc lengths alone.
+    passes: Box<[OnceLock<Passes>]>,
     /// Component index of speed, padding, scan time, scan distance (the last two only for
     /// patrol).
     components: [Option<usize>; 4],
@@ -94,6 +105,9 @@ impl UgvDomain {
         let plans = (0..paddings << world.humans.len())
             .map(|_| OnceLock::new())
             .collect();
+        let passes = (0..paddings << world.humans.len())
+            .map(|_| OnceLock::new())
+            .collect();
         let visibility = (0..paddings).map(|_| OnceLock::new()).collect();
         let components = ["speed", "padding", "scan_time", "scan_distance"]
             .map(|name| space.component_index(name));
@@ -106,6 +120,7 @@ impl UgvDomain {
             ground,
             visibility,
             plans,
+            passes,
             components,
         }
     }
@@ -174,6 +189,12 @@ impl UgvDomain {
             .as_ref()
     }
 
+    /// The cache slot of `behavior`'s padding with the people in `humans` standing.
+    fn plan_slot(&self, behavior: &Behavior, humans: u32) -> usize {
+        let padding_index = self.components[1].map_or(0, |i| usize::from(behavior.get(i)));
+        (padding_index << self.world.humans.len()) | humans as usize
+    }
+
     /// The planning problem for `behavior`'s padding: the map's obstacles fixed, the
     /// people optional.
     fn problem(&self, behavior: &Behavior) -> Problem<'_> {
@@ -204,9 +225,11 @@ impl UgvDomain {
             settings,
             humans,
             plan,
-            // Room for an event or two per object, a few collisions and the arrival.
+            // Room for three events per object (scan, label, detonation), a pass per spot
+            // where people stand, a few collisions, the closest pass, falling behind plan
+            // and the arrival.
             trace: Trace {
-                events: Vec::with_capacity(2 * objects.len() + 4),
+                events: Vec::with_capacity(3 * objects.len() + self.world.humans.len() + 6),
             },
             driven: Vec::new(),
             objects: objects
@@ -224,30 +247,85 @@ impl UgvDomain {
             return run;
         };
         let track = record.then_some(&mut run.driven);
+        let passes = self.passes[self.plan_slot(behavior, humans)].get_or_init(|| {
+            let spots = self.people_along(plan);
+            let at = spots.iter().map(|p| p.0).collect();
+            Passes { spots, at }
+        });
+        let people = &passes.spots;
         match self.scenario {
             Scenario::Movement => {
-                drive(
+                let driven = drive(
                     plan,
                     &self.world.robot,
                     settings.speed,
                     &[],
+                    &passes.at,
                     rng,
                     &mut run.trace,
                     track,
                 );
+                for (&(_, person, gap), &(t, speed)) in people.iter().zip(&driven.watched) {
+                    let present = humans & (1 << person) != 0;
+                    run.trace.insert_sorted(
+                        t,
+                        EventKind::PassedPerson {
+                            person,
+                            present,
+                            gap,
+                            speed,
+                        },
+                    );
+                }
             }
             Scenario::Patrol => {
-                self.patrol_run(plan, settings, rng, &mut run.trace, &mut run.objects, track);
+                self.patrol_run(
+                    plan,
+                    settings,
+                    passes,
+                    humans,
+                    rng,
+                    &mut run.trace,
+                    &mut run.objects,
+                    track,
+                );
             }
         }
         run
     }
 
+    /// Where the plan passes closest to each spot where people stand: arc length, the
+    /// spot, and the body-to-body gap to a person there (m); sorted along the path. Which
+    /// spots are occupied is `humans`. Geometry only: no random draw.
+    fn people_along(&self, plan: &Plan) -> Vec<(f64, usize, f64)> {
+        let radius = self.world.robot.radius;
+        let mut people: Vec<(f64, usize, f64)> = self
+            .world
+            .humans
+            .iter()
+            .enumerate()
+            .map(|(i, spot)| {
+                let centre = match spot.shape {
+                    Shape::Circle { center, .. } => center,
+                    _ => spot.shape.nearest_point(plan.points[0]),
+                };
+                let (s, _) = plan.nearest(centre);
+                let gap = spot.shape.distance_to_point(plan.point_at(s).0) - radius;
+                (s, i, gap)
+            })
+            .collect();
+        people.sort_by(|a, b| a.0.total_cmp(&b.0));
+        people
+    }
+
     /// The patrol part of a run: spot objects while driving, stop, approach, scan, label.
+    #[allow(clippy::too_many_arguments)]
     fn patrol_run(
         &self,
         plan: &Plan,
         settings: Settings,
+        passes: &Passes,
+        humans: u32,
         rng: &mut dyn RngCore,
         trace: &mut Trace,
         fates: &mut [ObjectFate],
@@ -286,8 +364,29 @@ impl UgvDomain {
                 },
             })
             .collect();
-        let driven = drive(plan, robot, settings.speed, &marks, rng, trace, track);
+        let driven = drive(
+            plan,
+            robot,
+            settings.speed,
+            &marks,
+            &passes.at,
+            rng,
+            trace,
+            track,
+        );
         let arrived = trace.events.pop().expect("a drive ends with its arrival");
+        for (&(_, person, gap), &(t, speed)) in passes.spots.iter().zip(&driven.watched) {
+            let present = humans & (1 << person) != 0;
+            trace.push(
+                t,
+                EventKind::PassedPerson {
+                    person,
+                    present,
+                    gap,
+                    speed,
+                },
+            );
+        }
         for (&(s, i, spotted, approach), &t) in visits.iter().zip(&driven.mark_times) {
             let fate = &mut fates[i];
             if !spotted {
@@ -305,6 +404,14 @@ impl UgvDomain {
             let labelled_explosive = explosive == correct;
             fate.labelled_explosive = Some(labelled_explosive);
             let t_label = t + approach + settings.scan_time;
+            trace.push(
+                t_label,
+                EventKind::Scanned {
+                    object: i,
+                    distance: standoff,
+                    duration: settings.scan_time,
+                },
+            );
             trace.push(
                 t_label,
                 EventKind::Labelled {

@@ -116,7 +116,11 @@ fn a_clean_run_within_the_deadline_completes() {
                     labelled_explosive,
                     ..
                 } => explosive == labelled_explosive,
-                EventKind::Arrived { .. } => true,
+                // Measurements, not endings: the paper's operators ignore them.
+                EventKind::Arrived { .. }
+                | EventKind::PassedPerson { .. }
+                | EventKind::ClosestPass { .. }
+                | EventKind::Scanned { .. } => true,
                 _ => false,
             });
             let last = run.trace.events.last().unwrap().t;
@@ -237,4 +241,42 @@ fn the_patrol_deadline_binds_slow_robots() {
         late("speed=3,padding=0.3,scan_time=2.5,scan_distance=0.5"),
         0
     );
+}
+
+#[test]
+fn the_robot_perceives_what_ended_a_run_when_it_can_and_nothing_else() {
+    use trust::Observations;
+    for scenario in Scenario::ALL {
+        let d = domain(scenario);
+        let declared = d.observations();
+        let bit = |name| declared.iter().position(|&o| o == name);
+        for op in builtin_operators(scenario) {
+            let mut seen = Observations::NONE;
+            for seed in 0..300u64 {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let b = d.space().draw(&mut rng);
+                let judgement = d.run(&b, &op, &mut rng);
+                let observed = judgement.outcome.observed;
+                assert!(observed.indices().all(|i| i < declared.len()));
+                assert_eq!(judgement.outcome.stated, None, "a run states nothing");
+                // What ended the run, when the robot can perceive it, it perceived.
+                let must = match judgement.truth {
+                    Some(c)
+                        if [causes::COLLISION, causes::STUCK, causes::DETONATION].contains(&c) =>
+                    {
+                        bit(c)
+                    }
+                    _ => None,
+                };
+                if let Some(i) = must {
+                    assert!(observed.contains(i), "{judgement:?}");
+                }
+                seen = Observations::from_bits(seen.bits() | observed.bits());
+            }
+            // Over 300 random behaviors the robot makes most of its observations.
+            for name in [causes::COLLISION, domains::perception::BEHIND_PLAN] {
+                assert!(seen.contains(bit(name).unwrap()), "{scenario}: {name}");
+            }
+        }
+    }
 }

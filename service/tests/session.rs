@@ -17,7 +17,8 @@ fn quick_movement() -> DomainDefinition {
         domains::Scenario::Movement.space(),
         domains::Scenario::Movement.causes().to_vec(),
         trust::AdapterConfig::default(),
-    );
+    )
+    .with_observations(domains::perception::MOVEMENT.to_vec());
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
     domain
@@ -130,7 +131,23 @@ fn an_episode_over_the_protocol() {
     assert_eq!(config["behaviors"], 400);
     assert_eq!(
         config["causes"],
-        json!([{"name": "deadline"}, {"name": "collision"}, {"name": "stuck"}])
+        json!([
+            {"name": "deadline"},
+            {"name": "collision"},
+            {"name": "stuck"},
+            {"name": "too-fast-near-people"},
+            {"name": "too-close"}
+        ])
+    );
+    assert_eq!(
+        config["observations"],
+        json!([
+            "collision",
+            "stuck",
+            "behind-plan",
+            "near-person-fast",
+            "close-pass"
+        ])
     );
     assert_eq!(config["adapter"]["thresholds"]["trustworthy"], 1.0);
     let abandoned = ok(&mut s, r#"{"request":"abandon"}"#);
@@ -258,12 +275,12 @@ fn hostile_lines_get_named_errors_and_change_nothing() {
         ),
         (
             r#"{"outcome":"failed","weight":1,"stated":"ghost","duration_s":1}"#,
-            "field `stated`: cause `ghost` is not declared (declared: deadline, collision, stuck)",
+            "field `stated`: cause `ghost` is not declared (declared: deadline, collision, stuck, too-fast-near-people, too-close)",
         ),
         (
             // A patrol cause, not one of the movement domain's.
             r#"{"outcome":"failed","weight":1,"stated":"detonation","duration_s":1}"#,
-            "field `stated`: cause `detonation` is not declared (declared: deadline, collision, stuck)",
+            "field `stated`: cause `detonation` is not declared (declared: deadline, collision, stuck, too-fast-near-people, too-close)",
         ),
         (
             r#"{"outcome":"failed","weight":1,"cause":"collision","duration_s":1}"#,
