@@ -77,6 +77,7 @@
 
 use cbr_core::Behavior;
 use lab::Arm;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use trust::{Domain, RetrieverKind};
@@ -140,6 +141,19 @@ pub struct CatalogError {
     pub reason: Box<dyn std::error::Error + Send + Sync>,
 }
 
+/// How a population is drawn from a domain's family of operators ([`Catalog::family`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Family {
+    /// How much the members disagree, in `[0, 1]`: 0, they share one preference; 1, they
+    /// sit at the family's opposite poles.
+    pub conflict: f64,
+    /// How many members.
+    pub size: usize,
+    /// The seed they are drawn with.
+    pub seed: u64,
+}
+
 /// The domains a tool offers, by scenario name. See the [module documentation](self).
 pub trait Catalog: Send + Sync {
     /// The domain type every scenario builds (an enum when scenarios differ in type).
@@ -169,6 +183,23 @@ pub trait Catalog: Send + Sync {
         path: &Path,
         readings: &Readings,
     ) -> Result<(String, OperatorOf<Self>), CatalogError>;
+
+    /// `family.size` operators of `scenario` drawn (with `family.seed`) from the domain's
+    /// parametric family of operators, whose one parameter `family.conflict` in `[0, 1]`
+    /// sets how much they disagree (0: they agree), as `readings` read them; for a suite's
+    /// `population: (name: ..., family: (...))`. Default: the domain has no family.
+    fn family(
+        &self,
+        scenario: &str,
+        family: &Family,
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorOf<Self>)>, CatalogError> {
+        let _ = (family, readings);
+        Err(CatalogError {
+            path: None,
+            reason: format!("scenario `{scenario}` has no family of operators to draw from").into(),
+        })
+    }
 
     /// The readings the domain leaves open (default: none).
     fn readings(&self) -> Vec<Reading> {

@@ -9,14 +9,16 @@
 //! from them ([`StartingCases`]).
 
 use crate::catalog::{
-    Catalog, CatalogError, OperatorOf, Readings, UnknownScenario, domain_of, resolve_readings,
+    Catalog, CatalogError, Family, OperatorOf, Readings, UnknownScenario, domain_of,
+    resolve_readings,
 };
 use cbr_core::{
     BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
 };
-use lab::known_operator::{ExperimentLimit, KnownLimitError, LimitSettings, operator_limit};
+use lab::known_operator::{
+    ExperimentLimit, KnownLimitError, KnownOperator, LimitSettings, known_operator,
+};
 use lab::landscape::Landscape;
-use lab::limit::Limit;
 use lab::report::{
     FINALS_LANDSCAPE_RUNS, Provenance, ReportEntry, ReportError, file_stems, finals_landscapes,
     write_report,
@@ -38,6 +40,10 @@ use trust::{
 
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";
+
+/// The most members a population drawn from a family may have (each needs its own
+/// landscape for the report's limit).
+pub const MAX_FAMILY_SIZE: usize = 64;
 
 /// The most trials per experiment and arm a config may ask for: every trial's record is
 /// kept for the report, so this bounds a run's memory (with [`MAX_EXPERIMENTS`] and the
@@ -154,11 +160,29 @@ pub struct ExperimentSpec {
     /// built-in operators.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operator_files: Vec<PathBuf>,
+    /// The experiment's operators are a population instead of the scenario's: its
+    /// `operator_files` alone, listed by hand, or members drawn from the catalog's
+    /// parametric family ([`Catalog::family`]); `operator` must then be `random` (a member
+    /// judges each trial).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub population: Option<Population>,
     /// How every operator of the experiment explains itself (`(explains: 0.3, wrong:
     /// 0.1)`), overriding each operator's own channel; absent: the operators' own (the
     /// paper's silent operator unless an operator file says otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub feedback: Option<FeedbackChannel>,
+}
+
+/// A population of operators an experiment draws from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Population {
+    /// Its name in reports: the experiment is called `SCENARIO/NAME`.
+    pub name: String,
+    /// Members drawn from the catalog's family (`operator_files` must then be empty);
+    /// absent: the members are the experiment's `operator_files`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub family: Option<Family>,
 }
 
 /// A scenario name: a string. A bare identifier (`scenario: movement`, as configs spelled
@@ -319,6 +343,38 @@ impl SuiteConfig {
                     unknown.to_string(),
                 ));
             }
+            if let Some(population) = &spec.population {
+                let problem = if spec.operator != RANDOM_OPERATOR {
+                    Some(format!(
+                        "a population's members are drawn per trial: `operator` must be `{RANDOM_OPERATOR}`"
+                    ))
+                } else if population.family.is_some() && !spec.operator_files.is_empty() {
+                    Some("a population is drawn from the family or listed in `operator_files`, not both".to_owned())
+                } else if population.family.is_none() && spec.operator_files.is_empty() {
+                    Some(
+                        "a population needs its members: `operator_files` or a `family`".to_owned(),
+                    )
+                } else if let Some(family) = &population.family
+                    && !(0.0..=1.0).contains(&family.conflict)
+                {
+                    Some(format!(
+                        "`family.conflict` must be in [0, 1], got {}",
+                        family.conflict
+                    ))
+                } else if let Some(family) = &population.family
+                    && !(1..=MAX_FAMILY_SIZE).contains(&family.size)
+                {
+                    Some(format!(
+                        "`family.size` must be 1 to {MAX_FAMILY_SIZE}, got {}",
+                        family.size
+                    ))
+                } else {
+                    None
+                };
+                if let Some(problem) = problem {
+                    return Err(invalid(format!("experiments[{i}].population"), problem));
+                }
+            }
             let operators = spec.operators(catalog, origin, &readings)?;
             if spec.operator != RANDOM_OPERATOR
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
@@ -374,7 +430,10 @@ impl SuiteConfig {
 impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused`.
     pub fn name(&self) -> String {
-        format!("{}/{}", self.scenario, self.operator)
+        match &self.population {
+            Some(population) => format!("{}/{}", self.scenario, population.name),
+            None => format!("{}/{}", self.scenario, self.operator),
+        }
     }
 
     /// The operators among `operators` that judge this experiment's trials: the one it
@@ -388,8 +447,9 @@ impl ExperimentSpec {
             .filter(|(name, _)| self.operator == RANDOM_OPERATOR || *name == self.operator)
     }
 
-    /// The scenario's operators: the catalog's built-in ones, then those of
-    /// `operator_files` (relative to the directory of `origin`), as `readings` read them.
+    /// The experiment's operators, as `readings` read them: the catalog's built-in ones of
+    /// the scenario, then those of `operator_files` (relative to the directory of
+    /// `origin`); for a population, its members alone.
     pub fn operators<C: Catalog>(
         &self,
         catalog: &C,
@@ -397,7 +457,14 @@ impl ExperimentSpec {
         readings: &Readings,
     ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
         let base = origin.parent().unwrap_or(Path::new("."));
-        let mut operators = catalog.operators(&self.scenario, readings);
+        let mut operators = match &self.population {
+            None => catalog.operators(&self.scenario, readings),
+            Some(Population {
+                family: Some(family),
+                ..
+            }) => catalog.family(&self.scenario, family, readings)?,
+            Some(_) => Vec::new(),
+        };
         for file in &self.operator_files {
             operators.push(catalog.load_operator(&self.scenario, &base.join(file), readings)?);
         }
@@ -631,7 +698,7 @@ fn entries<'a>(
     config: &'a SuiteConfig,
     results: &'a SuiteResults,
     landscapes: &'a [Vec<Landscape>],
-    limits: &[Option<ExperimentLimit>],
+    limits: &'a [Option<ExperimentLimit>],
 ) -> Vec<ReportEntry<'a>> {
     config
         .experiments
@@ -641,10 +708,13 @@ fn entries<'a>(
         .enumerate()
         .map(|(k, ((spec, result), space))| ReportEntry {
             landscapes: landscapes.get(k).map_or(&[], Vec::as_slice),
-            limit: limits.get(k).copied().flatten(),
+            limit: limits.get(k).and_then(Option::as_ref),
             result,
             scenario: &spec.scenario,
-            operator: &spec.operator,
+            operator: spec
+                .population
+                .as_ref()
+                .map_or(&spec.operator, |population| &population.name),
             space,
         })
         .collect()
@@ -666,7 +736,7 @@ pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {
 /// `stream_seed(seed, 0, i, Limit)`.
 #[derive(Default)]
 struct OperatorLimits {
-    known: Vec<((String, String), Limit)>,
+    known: Vec<((String, String), KnownOperator)>,
 }
 
 impl OperatorLimits {
@@ -678,21 +748,21 @@ impl OperatorLimits {
         k: usize,
         name: &str,
         operator: &OperatorOf<C>,
-    ) -> Result<Limit, KnownLimitError> {
+    ) -> Result<usize, KnownLimitError> {
         let key = (config.experiments[k].scenario.clone(), name.to_owned());
-        if let Some((_, limit)) = self.known.iter().find(|(known, _)| *known == key) {
-            return Ok(*limit);
+        if let Some(i) = self.known.iter().position(|(known, _)| *known == key) {
+            return Ok(i);
         }
         let seed = stream_seed(config.seed, 0, self.known.len() as u64, Purpose::Limit);
-        let limit = operator_limit(
+        let known = known_operator(
             parts.domain(k),
             operator,
             config.adapter.thresholds,
             config.limit,
             seed,
         )?;
-        self.known.push((key, limit));
-        Ok(limit)
+        self.known.push((key, known));
+        Ok(self.known.len() - 1)
     }
 }
 
@@ -739,10 +809,14 @@ pub fn write_suite_report<C: Catalog>(
                 let of_each = judges
                     .iter()
                     .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
-                    .collect::<Result<Vec<Limit>, _>>()
+                    .collect::<Result<Vec<usize>, _>>()
                     .map_err(|e| fail(e.to_string()))?;
+                let known: Vec<&KnownOperator> = of_each
+                    .iter()
+                    .map(|&i| &operator_limits.known[i].1)
+                    .collect();
                 limits.push(Some(
-                    ExperimentLimit::of(&of_each).map_err(|e| fail(e.to_string()))?,
+                    ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,
                 ));
             }
         }
@@ -931,6 +1005,7 @@ mod tests {
             scenario: "patrol".into(),
             operator: RANDOM_OPERATOR.into(),
             operator_files: Vec::new(),
+            population: None,
             feedback: None,
         };
         let origin = Path::new("x.ron");
@@ -1096,9 +1171,7 @@ mod tests {
         assert!(
             err.contains("arms[0]")
                 && err.contains("unknown arm `yours`")
-                && err.ends_with(
-                    "model-based, case-based+cause-aware, case-based+model-based, mine)"
-                ),
+                && err.ends_with("case-based+model-based, case-based+conditioned, mine)"),
             "{err}"
         );
     }

@@ -3,7 +3,7 @@
 //! experiments as the embedded suite. The shipped `trustcbr` binary is
 //! [`crate::cli::main`] over this catalog.
 
-use crate::catalog::{Catalog, CatalogError, Reading, Readings, ToolInfo};
+use crate::catalog::{Catalog, CatalogError, Family, Reading, Readings, ToolInfo};
 use cbr_core::Behavior;
 use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
 use std::path::Path;
@@ -81,6 +81,24 @@ impl Catalog for UgvCatalog {
             operator.name.clone(),
             Self::read(scenario, operator, readings),
         ))
+    }
+
+    fn family(
+        &self,
+        scenario: &str,
+        family: &Family,
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorModel)>, CatalogError> {
+        let scenario: Scenario = scenario.parse().map_err(|e| CatalogError {
+            path: None,
+            reason: Box::new(e),
+        })?;
+        Ok(
+            domains::population::family(scenario, family.conflict, family.size, family.seed)
+                .into_iter()
+                .map(|o| (o.name.clone(), Self::read(scenario, o, readings)))
+                .collect(),
+        )
     }
 
     fn readings(&self) -> Vec<Reading> {

@@ -360,3 +360,93 @@ fn the_printed_tables_fit_a_terminal() {
             .contains("| Wilcoxon p |")
     );
 }
+
+#[test]
+fn populations_are_measured_and_every_arm_is_shown_against_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let rung =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/operators/ladder/movement/rung-4");
+    let config = dir.path().join("ladder.ron");
+    std::fs::write(
+        &config,
+        format!(
+            r#"(
+    seed: 3,
+    trials: 6,
+    landscape_runs: 0,
+    limit: (runs: 20, budget: 40000, candidates: 8, candidate_runs: 100),
+    arms: ["uniform", "conditioned"],
+    experiments: [
+        (scenario: "movement", operator: "random", population: Some((name: "disjoint")),
+         operator_files: ["{}", "{}"],
+         feedback: Some((explains: 0.3, wrong: 0.1))),
+        (scenario: "movement", operator: "random",
+         population: Some((name: "agreeing", family: Some((conflict: 0.0, size: 3, seed: 1))))),
+    ],
+)"#,
+            rung.join("dispatcher.ron").display(),
+            rung.join("supervisor.ron").display()
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("report");
+    let stdout = run(&config, &out, "2");
+    assert!(stdout.contains("| movement | disjoint | 6 |"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let experiments = summary["experiments"].as_array().unwrap();
+    let (disjoint, agreeing) = (&experiments[0], &experiments[1]);
+    assert_eq!(disjoint["name"], "movement/disjoint");
+    assert_eq!(agreeing["name"], "movement/agreeing");
+    // Two operators whose trustworthy regions do not meet: a lower bound, no behavior
+    // pleases both.
+    let limit = &disjoint["limit"];
+    assert_eq!(limit["operators"], 2);
+    assert_eq!(limit["lower_bound"], true);
+    assert_eq!(limit["population"]["trusted_by_all"], 0);
+    assert_eq!(limit["population"]["one_behavior_pleases_all"], false);
+    assert_eq!(limit["population"]["pairwise_jaccard"][0], 0.0);
+    let paper = limit["paper_protocol"]["behaviors"].as_f64().unwrap();
+    assert!((1.0..3.0).contains(&paper), "{paper}");
+    assert_eq!(
+        limit["free_first_choice"]["untrustworthy"]
+            .as_f64()
+            .unwrap(),
+        0.0
+    );
+    // Three operators of one preference agree, up to landscape noise.
+    let population = &agreeing["limit"]["population"];
+    assert_eq!(population["one_behavior_pleases_all"], true);
+    for j in population["pairwise_jaccard"].as_array().unwrap() {
+        assert!(j.as_f64().unwrap() > 0.75, "{population}");
+    }
+    // Every arm carries its ratio to the limit; the tables show them.
+    let ratio = &disjoint["strategies"]["uniform"]["ratio_to_limit"]["behaviors"];
+    let mean = disjoint["strategies"]["uniform"]["mean"].as_f64().unwrap();
+    assert!((ratio.as_f64().unwrap() - mean / paper).abs() < 1e-9);
+    let table = std::fs::read_to_string(out.join("table.md")).unwrap();
+    assert!(table.contains("| movement/disjoint | known-operator limit (lower bound: mean of 2 operators), random first behavior |"), "{table}");
+    assert!(table.contains("| movement/disjoint | 2 |"), "{table}");
+    for stem in ["summary", "summary-commands", "summary-untrustworthy"] {
+        assert!(out.join(format!("{stem}.svg")).is_file(), "{stem}");
+    }
+    // A population drawn per trial needs `operator: "random"`.
+    let bad = dir.path().join("bad.ron");
+    std::fs::write(
+        &bad,
+        r#"(seed: 1, trials: 2, experiments: [(scenario: "movement", operator: "balanced",
+            population: Some((name: "p", family: Some((conflict: 0.5, size: 2, seed: 1)))))])"#,
+    )
+    .unwrap();
+    let output = trustcbr()
+        .args(["run", bad.to_str().unwrap(), "--out"])
+        .arg(dir.path().join("bad-report"))
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("experiments[0].population: a population's members are drawn per trial: `operator` must be `random`"),
+        "{stderr}"
+    );
+}

@@ -35,7 +35,7 @@ use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use trust::{Cause, DeclaredCause, Judgement, OutcomeWeights, WeightsError};
+use trust::{Cause, DeclaredCause, FeedbackChannel, Judgement, OutcomeWeights, WeightsError};
 
 fn one() -> f64 {
     1.0
@@ -121,6 +121,10 @@ pub struct OperatorModel {
     /// A standard scans must meet (off when absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scan_standard: Option<ScanStandard>,
+    /// How the operator explains itself (`(explains: 0.3, wrong: 0.1)`); silent, as the
+    /// paper's operator, when absent. An experiment's `feedback` overrides it.
+    #[serde(default)]
+    pub feedback: FeedbackChannel,
 }
 
 /// Why an operator file cannot be used.
@@ -458,6 +462,7 @@ mod tests {
             comfort: None,
             clearance: None,
             scan_standard: None,
+            feedback: FeedbackChannel::SILENT,
         }
     }
 

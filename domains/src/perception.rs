@@ -11,7 +11,9 @@
 //! - `near-person-fast`: it passed a person (its lidar sees people) within
 //!   [`NEAR_PERSON_GAP`] faster than [`WALKING_PACE`] (it knows its speed); an empty spot
 //!   where people often stand is nothing its sensors see;
-//! - `close-pass`: its lidar measured a body gap below [`CLOSE_PASS_GAP`] without touching.
+//! - `close-pass`: its lidar measured a body gap below [`CLOSE_PASS_GAP`] without touching;
+//! - `raised-alarm` (patrol): it labelled an object explosive; it knows its own label, and
+//!   believes it.
 //!
 //! It never perceives an object it drove past unnoticed (it did not see it), a false
 //! alarm (it believes its own label), or the operator's deadline (it is not told it).
@@ -37,17 +39,22 @@ pub const BEHIND_PLAN: Cause = Cause::from_static("behind-plan");
 pub const NEAR_PERSON_FAST: Cause = Cause::from_static("near-person-fast");
 /// Its lidar measured a very small body gap.
 pub const CLOSE_PASS: Cause = Cause::from_static("close-pass");
+/// It labelled an object explosive (patrol): it knows the alarm it raised, not whether the
+/// alarm was false.
+pub const RAISED_ALARM: Cause = Cause::from_static("raised-alarm");
 
 /// What a movement robot perceives, in bit order ([`trust::Domain::observations`]).
 pub const MOVEMENT: [Cause; 5] = [COLLISION, STUCK, BEHIND_PLAN, NEAR_PERSON_FAST, CLOSE_PASS];
-/// What a patrol robot perceives, in bit order: the movement robot's and an explosion.
-pub const PATROL: [Cause; 6] = [
+/// What a patrol robot perceives, in bit order: the movement robot's, an explosion, and
+/// the alarms it raised itself.
+pub const PATROL: [Cause; 7] = [
     COLLISION,
     STUCK,
     DETONATION,
     BEHIND_PLAN,
     NEAR_PERSON_FAST,
     CLOSE_PASS,
+    RAISED_ALARM,
 ];
 
 /// The observations the robot can make in `scenario`, in bit order.
@@ -80,6 +87,11 @@ pub fn perceive(trace: &Trace, until: f64, declared: &[Cause]) -> Observations {
                 ..
             } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => bit(NEAR_PERSON_FAST),
             EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => bit(CLOSE_PASS),
+            // Its own label: it knows it raised the alarm, and believes it right.
+            EventKind::Labelled {
+                labelled_explosive: true,
+                ..
+            } => bit(RAISED_ALARM),
             // Not perceivable: an object it never saw, a label it believes, a scan it chose.
             _ => None,
         })
@@ -196,6 +208,18 @@ mod tests {
             // Long after any deadline.
             (500.0, EventKind::Arrived { at: O }),
         ]);
-        assert!(perceive(&t, 500.0, &PATROL).is_empty());
+        // It knows it raised an alarm; that the alarm was false, it does not: a true alarm
+        // looks the same to it.
+        assert_eq!(perceive(&t, 500.0, &PATROL), seen(&[RAISED_ALARM]));
+        let mut right = t.clone();
+        right.events[2].kind = EventKind::Labelled {
+            object: 1,
+            explosive: true,
+            labelled_explosive: true,
+        };
+        assert_eq!(perceive(&right, 500.0, &PATROL), seen(&[RAISED_ALARM]));
+        // Without the alarm, nothing of it is perceived; movement raises none.
+        assert!(perceive(&t, 1.5, &PATROL).is_empty());
+        assert!(perceive(&t, 500.0, &MOVEMENT).is_empty());
     }
 }

@@ -130,6 +130,8 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
             min_time: SCAN_MIN_TIME,
             p,
         }),
+        // How an operator explains itself is the experiment's to vary, not the family's.
+        feedback: trust::FeedbackChannel::SILENT,
     }
 }
 

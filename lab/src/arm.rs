@@ -15,14 +15,16 @@ use trust::{LambdaError, RetrieverFactory, SearcherFactory};
 use trust::{TrustCaseBase, TrustRetriever};
 
 /// The built-in arms, in report order: the paper's two first.
-pub const BUILTIN_ARMS: [&str; 7] = [
+pub const BUILTIN_ARMS: [&str; 9] = [
     "random-walk",
     "case-based",
     "uniform",
     "cause-aware",
     "model-based",
+    "conditioned",
     "case-based+cause-aware",
     "case-based+model-based",
+    "case-based+conditioned",
 ];
 
 /// One strategy of an experiment.

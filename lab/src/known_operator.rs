@@ -4,6 +4,7 @@
 //! operator's landscape over every behavior.
 //!
 //! **Estimation.** Every behavior is run [`LimitSettings::runs`] times under the operator
+//! (more in a small space: [`LimitSettings::budget`] runs spread over it)
 //! (a landscape with every component fixed, [`landscape::estimate`]), which gives each
 //! behavior's step law (its outcomes' contributions to the estimate and their shares).
 //! The limit is decided by the few behaviors an optimal agent tries first, and those are
@@ -16,7 +17,9 @@
 //!
 //! **Populations.** An experiment whose operator is drawn per trial gets the mean of its
 //! operators' limits ([`Limit::mean_of`]): a lower bound for an agent that is not told
-//! which operator it faces.
+//! which operator it faces. How much its operators disagree ([`Conflict`]) is measured on
+//! the same landscapes: the share of behaviors every operator trusts, the pairwise Jaccard
+//! index of their trustworthy regions, and whether any single behavior pleases everyone.
 
 use crate::landscape::{self, LandscapeError, Tally};
 use crate::limit::{self, DEFAULT_MAX_STATES, Limit, LimitError, Step, WalkOutcome};
@@ -33,8 +36,11 @@ use trust::{Domain, Thresholds};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LimitSettings {
-    /// Runs per behavior of the first estimate (0: no limit is computed).
+    /// Runs per behavior of the first estimate, at least (0: no limit is computed).
     pub runs: u32,
+    /// Runs of the first estimate in all, spread over the space when that gives a behavior
+    /// more than `runs` (a small space is estimated closely for the same cost).
+    pub budget: u64,
     /// Behaviors at the head of each metric's optimal order that are estimated again.
     pub candidates: usize,
     /// Runs per candidate of the second estimate.
@@ -44,8 +50,9 @@ pub struct LimitSettings {
 impl Default for LimitSettings {
     fn default() -> Self {
         Self {
-            runs: 30,
-            candidates: 64,
+            runs: 20,
+            budget: 160_000,
+            candidates: 32,
             candidate_runs: 400,
         }
     }
@@ -63,22 +70,83 @@ pub enum KnownLimitError {
     Limit(#[from] LimitError),
 }
 
+/// What the estimate tells of one operator: its limit and its trustworthy region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KnownOperator {
+    /// The operator's limit under both protocols.
+    pub limit: Limit,
+    /// Per behavior (in rank order), whether it is in the operator's trustworthy region:
+    /// its estimated mean contribution per command is positive, so the expected estimate
+    /// climbs ([`Tally::trusted_on_average`]).
+    pub trusted: Vec<bool>,
+}
+
+/// How much a population's operators disagree, measured on their trustworthy regions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conflict {
+    /// Behaviors in the space.
+    pub behaviors: usize,
+    /// Behaviors in each operator's trustworthy region.
+    pub trusted_by_each: Vec<usize>,
+    /// Behaviors in every operator's region (0: no single behavior pleases everyone).
+    pub trusted_by_all: usize,
+    /// The Jaccard index (shared / either) of every pair of operators' regions, pairs
+    /// `(0, 1), (0, 2), ..., (1, 2), ...`.
+    pub jaccard: Vec<f64>,
+}
+
+impl Conflict {
+    /// The conflict of operators with these trustworthy regions (all over one space).
+    pub fn of(regions: &[&[bool]]) -> Self {
+        let behaviors = regions.first().map_or(0, |r| r.len());
+        let count = |f: &dyn Fn(usize) -> bool| (0..behaviors).filter(|&b| f(b)).count();
+        let mut jaccard = Vec::new();
+        for (i, a) in regions.iter().enumerate() {
+            for b in &regions[i + 1..] {
+                let both = count(&|k| a[k] && b[k]);
+                let either = count(&|k| a[k] || b[k]);
+                jaccard.push(if either == 0 {
+                    1.0
+                } else {
+                    both as f64 / either as f64
+                });
+            }
+        }
+        Self {
+            behaviors,
+            trusted_by_each: regions.iter().map(|r| count(&|k| r[k])).collect(),
+            trusted_by_all: count(&|k| regions.iter().all(|r| r[k])),
+            jaccard,
+        }
+    }
+
+    /// The share of the space every operator trusts.
+    pub fn shared_share(&self) -> f64 {
+        self.trusted_by_all as f64 / self.behaviors.max(1) as f64
+    }
+}
+
 /// An experiment's limit: the mean over its operators (one: exact up to landscape noise;
-/// several: a lower bound).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// several: a lower bound), and how much its operators disagree.
+#[derive(Clone, Debug, PartialEq)]
 pub struct ExperimentLimit {
     /// The limit under both protocols.
     pub limit: Limit,
     /// How many operators it is the mean of.
     pub operators: usize,
+    /// How much the operators disagree (for one operator: its region alone).
+    pub conflict: Conflict,
 }
 
 impl ExperimentLimit {
-    /// The limit of an experiment whose trials draw from operators with these limits.
-    pub fn of(limits: &[Limit]) -> Result<Self, KnownLimitError> {
+    /// The limit of an experiment whose trials draw from these operators.
+    pub fn of(operators: &[&KnownOperator]) -> Result<Self, KnownLimitError> {
+        let limits: Vec<Limit> = operators.iter().map(|o| o.limit).collect();
+        let regions: Vec<&[bool]> = operators.iter().map(|o| o.trusted.as_slice()).collect();
         Ok(Self {
-            limit: Limit::mean_of(limits)?,
-            operators: limits.len(),
+            limit: Limit::mean_of(&limits)?,
+            operators: operators.len(),
+            conflict: Conflict::of(&regions),
         })
     }
 
@@ -144,19 +212,22 @@ fn candidates(walks: &[WalkOutcome], count: usize) -> Vec<usize> {
     chosen
 }
 
-/// The limit of `operator` over every behavior of `domain` under `thresholds`. The first
+/// The limit and trustworthy region of `operator` over every behavior of `domain` under
+/// `thresholds`. The first
 /// estimate draws from `seed` (cell `k` on stream `k`, as every landscape); the candidates'
 /// second estimate from a seed derived from it.
-pub fn operator_limit<D: Domain>(
+pub fn known_operator<D: Domain>(
     domain: &D,
     operator: &D::Operator,
     thresholds: Thresholds,
     settings: LimitSettings,
     seed: u64,
-) -> Result<Limit, KnownLimitError> {
+) -> Result<KnownOperator, KnownLimitError> {
     let space = domain.space();
     let every: Vec<usize> = (0..space.components().len()).collect();
-    let first = landscape::estimate(domain, &[operator], &every, settings.runs, seed, &|| {})?;
+    let spread = u32::try_from(settings.budget / space.size().max(1)).unwrap_or(u32::MAX);
+    let runs = settings.runs.max(spread);
+    let first = landscape::estimate(domain, &[operator], &every, runs, seed, &|| {})?;
     let mut tallies = first.cells;
     let mut walks = solve_all(&tallies, thresholds)?;
     if settings.candidates > 0 && settings.candidate_runs > 0 {
@@ -181,5 +252,8 @@ pub fn operator_limit<D: Domain>(
             walks[rank] = walk;
         }
     }
-    Ok(Limit::from_outcomes(&walks)?)
+    Ok(KnownOperator {
+        limit: Limit::from_outcomes(&walks)?,
+        trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
+    })
 }

@@ -28,7 +28,7 @@ pub struct ReportEntry<'a> {
     pub result: &'a ExperimentResult,
     /// The scenario (domain) name, e.g. `movement`.
     pub scenario: &'a str,
-    /// The configured operator: a name, or `random`.
+    /// The configured operator: a name, `random`, or the name of a population.
     pub operator: &'a str,
     /// The behavior space, to show behaviors in real units.
     pub space: &'a BehaviorSpace,
@@ -37,7 +37,7 @@ pub struct ReportEntry<'a> {
     pub landscapes: &'a [Landscape],
     /// The known-operator limit of the experiment ([`crate::known_operator`]), when
     /// computed.
-    pub limit: Option<ExperimentLimit>,
+    pub limit: Option<&'a ExperimentLimit>,
 }
 
 pub use crate::plot::category_label;
@@ -267,7 +267,7 @@ fn ratio_cell(ratio: f64) -> String {
 pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
     for e in entries {
-        let Some(limit) = &e.limit else {
+        let Some(limit) = e.limit else {
             continue;
         };
         if out.is_empty() {
@@ -307,6 +307,44 @@ pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
+/// How much each experiment's operators disagree, measured on their trustworthy regions
+/// (the landscapes behind the limit): the behaviors each trusts, those all trust, the
+/// pairwise Jaccard index, whether one behavior pleases everyone. Empty when no experiment
+/// has a limit.
+pub fn population_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::new();
+    for e in entries {
+        let Some(limit) = e.limit else {
+            continue;
+        };
+        if out.is_empty() {
+            out.push_str("| Experiment | Operators | Trusted by each | Trusted by all | Jaccard (pairs) | One behavior pleases all |\n");
+            out.push_str("|---|---:|---|---:|---|---|\n");
+        }
+        let c = &limit.conflict;
+        let each: Vec<String> = c.trusted_by_each.iter().map(usize::to_string).collect();
+        let jaccard = match (
+            c.jaccard.iter().copied().reduce(f64::min),
+            c.jaccard.iter().copied().reduce(f64::max),
+        ) {
+            (Some(lo), Some(hi)) if hi - lo < 0.005 => format!("{lo:.2}"),
+            (Some(lo), Some(hi)) => format!("{lo:.2} to {hi:.2}"),
+            _ => "—".to_owned(),
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} ({:.1}%) | {jaccard} | {} |",
+            e.result.name,
+            limit.operators,
+            each.join(", "),
+            c.trusted_by_all,
+            100.0 * c.shared_share(),
+            if c.trusted_by_all > 0 { "yes" } else { "no" }
+        );
+    }
+    out
+}
+
 fn format_p(p: f64) -> String {
     if p < 1e-4 {
         format!("{p:.1e}")
@@ -323,7 +361,7 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
             let mut strategies = Map::new();
             for arm in &e.result.arms {
                 let mut summary = arm_summary(arm);
-                if let Some(limit) = &e.limit {
+                if let Some(limit) = e.limit {
                     let [b, c, u] = ratios(arm, &limit.limit.paper);
                     summary["ratio_to_limit"] = json!({
                         "behaviors": finite_or_null(b),
@@ -333,7 +371,7 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
                 }
                 strategies.insert(arm.name.clone(), summary);
             }
-            let limit = e.limit.as_ref().map(|l| {
+            let limit = e.limit.map(|l| {
                 let costs = |c: &Costs| {
                     json!({
                         "behaviors": c.behaviors,
@@ -341,11 +379,20 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
                         "untrustworthy": c.untrustworthy,
                     })
                 };
+                let conflict = &l.conflict;
                 json!({
                     "paper_protocol": costs(&l.limit.paper),
                     "free_first_choice": costs(&l.limit.free_first),
                     "operators": l.operators,
                     "lower_bound": l.is_lower_bound(),
+                    "population": {
+                        "behaviors": conflict.behaviors,
+                        "trusted_by_each": conflict.trusted_by_each,
+                        "trusted_by_all": conflict.trusted_by_all,
+                        "trusted_by_all_share": conflict.shared_share(),
+                        "one_behavior_pleases_all": conflict.trusted_by_all > 0,
+                        "pairwise_jaccard": conflict.jaccard,
+                    },
                 })
             });
             json!({
@@ -488,7 +535,8 @@ pub fn write_report(
         String::new()
     } else {
         format!(
-            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}"
+            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}\n## How much each experiment's operators disagree (their trustworthy regions)\n\n{}",
+            population_table(entries)
         )
     };
     write(
@@ -506,11 +554,14 @@ pub fn write_report(
     write("config.ron", config_ron)?;
     // Every figure is written as its own SVG file and the same text goes into the page.
     let mut figures: Vec<(String, String)> = Vec::new();
-    let summary_svg = svg(&dir.join("summary.svg"), (1200, 560), |area| {
-        summary_figure(area, entries)
-    })?;
-    write("summary.svg", &summary_svg)?;
-    figures.push(("summary".into(), summary_svg));
+    for metric in SUMMARY_METRICS {
+        let name = format!("{}.svg", metric.stem);
+        let summary_svg = svg(&dir.join(&name), (1200, 560), |area| {
+            summary_figure(area, entries, metric)
+        })?;
+        write(&name, &summary_svg)?;
+        figures.push(("summary".into(), summary_svg));
+    }
     for (e, stem) in entries
         .iter()
         .zip(file_stems(entries.iter().map(|e| &e.result.name)))
@@ -628,8 +679,9 @@ fn html_page(
     if !limits.is_empty() {
         let _ = write!(
             page,
-            "<h2>Against the known-operator limit (the paper's protocol: a random first behavior)</h2>\n{}",
-            html_table(&limits)
+            "<h2>Against the known-operator limit (the paper's protocol: a random first behavior)</h2>\n{}<h2>How much each experiment's operators disagree (their trustworthy regions)</h2>\n{}",
+            html_table(&limits),
+            html_table(&population_table(entries))
         );
     }
     let mut current = "";
@@ -766,7 +818,52 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
 
 /// Every experiment and arm at once: mean behaviors evaluated with its 95% confidence
 /// interval, log scale.
-fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
+/// What a summary figure shows of each arm, and of the limit.
+#[derive(Clone, Copy)]
+struct SummaryMetric {
+    /// The file name's stem.
+    stem: &'static str,
+    /// The figure's title.
+    title: &'static str,
+    /// The y axis's title.
+    axis: &'static str,
+    /// The arm's mean and CI.
+    arm: fn(&ArmResult) -> MeanCi,
+    /// The limit's value.
+    limit: fn(&Costs) -> f64,
+}
+
+/// The three summary figures: behaviors (the paper's metric), commands, untrustworthy
+/// commands.
+const SUMMARY_METRICS: [SummaryMetric; 3] = [
+    SummaryMetric {
+        stem: "summary",
+        title: "Behaviors evaluated per trial: every experiment and arm (mean, 95% CI)",
+        axis: "behaviors evaluated (log scale)",
+        arm: |a| a.behaviors,
+        limit: |c| c.behaviors,
+    },
+    SummaryMetric {
+        stem: "summary-commands",
+        title: "Commands per trial: every experiment and arm (mean, 95% CI)",
+        axis: "commands (log scale)",
+        arm: |a| a.commands,
+        limit: |c| c.commands,
+    },
+    SummaryMetric {
+        stem: "summary-untrustworthy",
+        title: "Untrustworthy commands per trial: every experiment and arm (mean, 95% CI)",
+        axis: "untrustworthy commands (log scale)",
+        arm: |a| a.untrustworthy,
+        limit: |c| c.untrustworthy,
+    },
+];
+
+fn summary_figure(
+    area: &Area<'_>,
+    entries: &[ReportEntry<'_>],
+    metric: SummaryMetric,
+) -> DrawResult {
     let (width, _) = area.dim_in_pixel();
     let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let arms = entries.first().map_or(0, |e| e.result.arms.len()).max(1);
@@ -776,21 +873,29 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
             e.result
                 .arms
                 .iter()
-                .map(|a| a.behaviors.mean + a.behaviors.ci95)
+                .map(|a| (metric.arm)(a).mean + (metric.arm)(a).ci95)
         })
         .fold(2.0f64, f64::max);
+    let bottom = entries
+        .iter()
+        .flat_map(|e| {
+            e.result
+                .arms
+                .iter()
+                .map(|a| (metric.arm)(a).mean)
+                .chain(e.limit.map(|l| (metric.limit)(&l.limit.paper)))
+        })
+        .fold(0.8f64, f64::min)
+        .max(0.1);
     let names: Vec<String> = entries.iter().map(|e| e.result.name.clone()).collect();
     let mut chart = ChartBuilder::on(&plot)
-        .caption(
-            "Behaviors evaluated per trial: every experiment and arm (mean, 95% CI)",
-            ("sans-serif", 20),
-        )
+        .caption(metric.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(60)
         .y_label_area_size(60)
         .build_cartesian_2d(
             -0.5..names.len() as f64 - 0.5,
-            (0.8f64..top * 1.3).log_scale(),
+            (bottom * 0.8..top * 1.3).log_scale(),
         )?;
     let label = category_label(&names);
     chart
@@ -800,7 +905,7 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
         .x_labels(names.len().max(1))
         .x_label_formatter(&label)
         .x_label_style(("sans-serif", 11))
-        .y_desc("behaviors evaluated (log scale)")
+        .y_desc(metric.axis)
         .y_label_formatter(&integer_label)
         .draw()?;
     let mut legend_entries = Vec::new();
@@ -814,12 +919,15 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
                 e.result
                     .arms
                     .get(a)
-                    .map(|r| (x as f64 + offset, r.behaviors))
+                    .map(|r| (x as f64 + offset, (metric.arm)(r)))
             })
             .collect();
         chart.draw_series(points.iter().map(|&(x, m)| {
             PathElement::new(
-                vec![(x, (m.mean - m.ci95).max(0.8)), (x, m.mean + m.ci95)],
+                vec![
+                    (x, (m.mean - m.ci95).max(bottom * 0.8)),
+                    (x, m.mean + m.ci95),
+                ],
                 color.stroke_width(2),
             )
         }))?;
@@ -836,7 +944,7 @@ fn summary_figure(area: &Area<'_>, entries: &[ReportEntry<'_>]) -> DrawResult {
     let limits: Vec<(f64, f64)> = entries
         .iter()
         .enumerate()
-        .filter_map(|(x, e)| e.limit.map(|l| (x as f64, l.limit.paper.behaviors)))
+        .filter_map(|(x, e)| e.limit.map(|l| (x as f64, (metric.limit)(&l.limit.paper))))
         .collect();
     if !limits.is_empty() {
         chart.draw_series(limits.iter().map(|&(x, y)| {

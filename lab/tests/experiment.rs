@@ -3,6 +3,7 @@
 
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
+use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
 use lab::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
@@ -13,7 +14,7 @@ use std::sync::Arc;
 use trust::search::{draw_untried, propose_untried};
 use trust::{
     Cause, DeclaredCause, Domain, Evaluated, Judgement, Outcome, RetrieverKind, SetSimilarity,
-    TrustRetriever,
+    Thresholds, TrustRetriever,
 };
 
 /// The toy domain's one cause.
@@ -193,9 +194,9 @@ fn arms_are_paired_and_cases_help() {
     let results = run_experiments(&plans(&toy, &ops, 60), 5, &|_| {}).unwrap();
     for result in &results {
         let names: Vec<&str> = result.arms.iter().map(|a| a.name.as_str()).collect();
-        assert_eq!(names[..7], BUILTIN_ARMS);
+        assert_eq!(names[..BUILTIN_ARMS.len()], BUILTIN_ARMS);
         assert_eq!(
-            names[7..],
+            names[BUILTIN_ARMS.len()..],
             ["smallest-of-four", "case-based+smallest-of-four"]
         );
         let rw = result.arm("random-walk").unwrap();
@@ -240,7 +241,22 @@ fn the_report_folder_holds_every_file() {
     let toy = Toy::new();
     let ops = operators();
     let results = run_experiments(&plans(&toy, &ops, 10), 3, &|_| {}).unwrap();
-    let entries = entries(&results, &toy);
+    let mut entries = entries(&results, &toy);
+    // The `low` operator's limit: it trusts only its favourite behavior (36 in the space;
+    // 5% of other commands complete by chance), so the paper's protocol needs about
+    // 1 + 35/36 behaviors and a free first choice exactly one.
+    let settings = LimitSettings {
+        runs: 200,
+        budget: 0,
+        candidates: 4,
+        candidate_runs: 400,
+    };
+    let low = known_operator(&toy, &ops[0].1, Thresholds::default(), settings, 9).unwrap();
+    let limit = ExperimentLimit::of(&[&low]).unwrap();
+    assert_eq!(limit.conflict.trusted_by_all, 1);
+    assert!((limit.limit.paper.behaviors - (1.0 + 35.0 / 36.0)).abs() < 0.02);
+    assert!((limit.limit.free_first.behaviors - 1.0).abs() < 1e-9);
+    entries[0].limit = Some(&limit);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("report");
     let provenance = Provenance {
@@ -267,6 +283,19 @@ fn the_report_folder_holds_every_file() {
     assert_eq!(summary["elapsed_s"], 1.5);
     assert_eq!(summary["provenance"]["command_line"][1], "run");
     let first = &summary["experiments"][0];
+    assert_eq!(first["limit"]["operators"], 1);
+    assert_eq!(first["limit"]["lower_bound"], false);
+    assert_eq!(summary["experiments"][1]["limit"], serde_json::Value::Null);
+    let ratio = first["strategies"]["uniform"]["ratio_to_limit"]["behaviors"]
+        .as_f64()
+        .unwrap();
+    let mean = first["strategies"]["uniform"]["mean"].as_f64().unwrap();
+    assert!((ratio - mean / limit.limit.paper.behaviors).abs() < 1e-12);
+    let table = std::fs::read_to_string(out.join("table.md")).unwrap();
+    assert!(
+        table.contains("| toy/low | known-operator limit, random first behavior |"),
+        "{table}"
+    );
     assert_eq!(first["scenario"], "toy");
     assert_eq!(first["operator"], "low");
     assert_eq!(first["trials"], 10);
@@ -284,7 +313,7 @@ fn the_report_folder_holds_every_file() {
         assert!(s["cases_acquired"].is_u64(), "{arm}");
     }
     let lines = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
-    assert_eq!(lines.lines().count(), 2 * 9 * 10);
+    assert_eq!(lines.lines().count(), 2 * (BUILTIN_ARMS.len() + 2) * 10);
     let line: serde_json::Value = serde_json::from_str(lines.lines().next().unwrap()).unwrap();
     assert_eq!(line["experiment"], "toy/low");
     assert_eq!(line["arm"], "random-walk");
@@ -366,6 +395,6 @@ fn plot_names_never_collide() {
     let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
     assert_eq!(written.len(), on_disk);
     // Three experiments, each with a curve and a heatmap, plus the four text files, the
-    // summary figure and the page.
-    assert_eq!(on_disk, 3 * 2 + 4 + 2);
+    // three summary figures and the page.
+    assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1);
 }

@@ -4,18 +4,23 @@
 //! [`crate::Outcome`] feedback; [`TrustSearcher`] names that shape. One file per strategy:
 //! - [`RandomWalk`]: the paper's `modifyBehavior`;
 //! - [`Uniform`]: uniform among untried behaviors, the honest baseline;
-//! - [`CauseAware`]: learns which component values bring which causes of failure;
-//! - [`ModelBased`]: a Gaussian-process surrogate of the operator, solved with faer.
+//! - [`CauseAware`]: learns which component values bring which signals of failure (stated
+//!   reasons, what the robot perceived);
+//! - [`ModelBased`]: a Gaussian-process surrogate of the operator, solved with faer;
+//! - [`Conditioned`]: what earlier operators trusted, weighed by how consistent each is
+//!   with this episode's rejections (the operators who disagree are told apart).
 //!
 //! [`SearchKind`] names the built-in ones in configs.
 
 pub mod cause_aware;
+pub mod conditioned;
 pub mod model_based;
 pub mod random_walk;
 pub mod uniform;
 mod untried;
 
 pub use cause_aware::CauseAware;
+pub use conditioned::Conditioned;
 pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
 pub use uniform::Uniform;
@@ -79,15 +84,18 @@ pub enum SearchKind {
     CauseAware,
     /// Model-based search ([`ModelBased`]).
     ModelBased,
+    /// Conditioned search ([`Conditioned`]).
+    Conditioned,
 }
 
 impl SearchKind {
     /// Every kind, the paper's first.
-    pub const ALL: [SearchKind; 4] = [
+    pub const ALL: [SearchKind; 5] = [
         SearchKind::RandomWalk,
         SearchKind::Uniform,
         SearchKind::CauseAware,
         SearchKind::ModelBased,
+        SearchKind::Conditioned,
     ];
 
     /// A fresh searcher of this kind.
@@ -97,6 +105,7 @@ impl SearchKind {
             SearchKind::Uniform => Box::new(Uniform::new()),
             SearchKind::CauseAware => Box::new(CauseAware::new()),
             SearchKind::ModelBased => Box::new(ModelBased::new()),
+            SearchKind::Conditioned => Box::new(Conditioned::new()),
         }
     }
 
@@ -107,6 +116,7 @@ impl SearchKind {
             SearchKind::Uniform => "uniform",
             SearchKind::CauseAware => "cause-aware",
             SearchKind::ModelBased => "model-based",
+            SearchKind::Conditioned => "conditioned",
         }
     }
 }

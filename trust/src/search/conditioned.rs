@@ -1,0 +1,362 @@
+//! Conditioned search: reuse what earlier operators trusted, but only the operators the
+//! current episode's evidence says this one may be.
+//!
+//! What a strategy carries from earlier episodes must not assume the next operator is like
+//! the last ones: where operators disagree, what pleased one displeases another. This
+//! searcher remembers every earlier episode as an operator *profile*: the behaviors that
+//! operator found untrustworthy and the one it trusted in the end (episodes that ended on
+//! the same behavior are one profile, their rejections pooled). When the current operator
+//! rejects a behavior, each profile is weighed by how likely its operator would have
+//! rejected it too, and the search proposes the remembered trusted behavior the weighed
+//! profiles most expect the current operator to accept. This is the paper's idea (the
+//! path of the search tells operators apart, Algorithm 2), with soft matching instead of
+//! a threshold, so a rejection teaches something even when no case matches closely.
+//!
+//! **The model.** Around a behavior `b`, a profile's operator rejects with a probability
+//! estimated from the profile's own behaviors by kernel smoothing with a Beta(1, 1) prior:
+//! `P(reject b) = (1 + R(b)) / (2 + R(b) + A(b))`, `R(b)` the summed kernel to the
+//! profile's rejected behaviors, `A(b)` the kernel to its trusted one (times the episodes
+//! that trusted it). The kernel is `exp(-(1 - sim(a, b)) / KERNEL_SCALE)` over the space's
+//! behavior similarity: `KERNEL_SCALE` is the paper's `1 - lambda` (0.05), so behaviors
+//! "similar enough" for Algorithm 2 weigh `1/e` or more, and behaviors twice as far weigh
+//! `1/e^2`.
+//!
+//! A profile's weight is its episodes times its likelihood, the product over the episode's
+//! rejected behaviors of its `P(reject)`. Beside the profiles stands an *unknown operator*,
+//! unlike any met before (the open world: one episode's weight, `P(reject) = 1/2`
+//! everywhere). Under each hypothesis the current episode's rejections are that operator's
+//! too, so they join its data when a candidate is judged; a candidate's score is the
+//! weighed mean of the hypotheses' `P(accept)` at it. Among the remembered trusted behaviors not yet tried whose score beats the prior's even
+//! odds (the evidence favours acceptance), the one proposed has the best score times its
+//! *reliability*, the share of commands it completed while trusted (Laplace's rule): of two
+//! behaviors the same operators trusted, the one trusted after fewer failures costs the
+//! next operator fewer untrustworthy commands. Otherwise, and before any episode has
+//! ended, the proposal is the cause-aware search's, which this searcher feeds every
+//! outcome ([`CauseAware`]).
+
+use super::CauseAware;
+use super::propose_untried;
+use crate::{Evaluated, Outcome};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use rand::RngCore;
+
+/// The kernel's scale in behavior similarity: the paper's `1 - lambda`.
+pub const KERNEL_SCALE: f64 = 0.05;
+
+/// Candidates judged per proposal: the trusted behaviors of the most probable profiles
+/// (judging one weighs every profile, so this bounds a proposal's cost as profiles grow).
+pub const CANDIDATES: usize = 16;
+
+/// One earlier operator, as its episodes left it.
+#[derive(Clone, Debug)]
+struct Profile {
+    /// The behavior it trusted in the end.
+    trusted: Behavior,
+    /// Episodes that ended on it.
+    episodes: f64,
+    /// The behaviors those episodes found untrustworthy.
+    rejected: Vec<Behavior>,
+    /// Commands those episodes gave the trusted behavior, and how many it completed.
+    commands: f64,
+    /// Completions among them.
+    completed: f64,
+}
+
+impl Profile {
+    /// `P(reject b)` under this profile's operator, its data joined by `current` (the
+    /// behaviors the current episode rejected; see the module documentation).
+    fn p_reject(&self, space: &BehaviorSpace, b: &Behavior, current: &[Evaluated]) -> f64 {
+        let rejected = self
+            .rejected
+            .iter()
+            .map(|r| kernel(space, b, r))
+            .sum::<f64>()
+            + near_rejections(space, b, current);
+        let accepted = self.episodes * kernel(space, b, &self.trusted);
+        (1.0 + rejected) / (2.0 + rejected + accepted)
+    }
+}
+
+/// The summed kernel from `b` to the behaviors `current` rejected.
+fn near_rejections(space: &BehaviorSpace, b: &Behavior, current: &[Evaluated]) -> f64 {
+    current.iter().map(|e| kernel(space, b, &e.behavior)).sum()
+}
+
+impl Profile {
+    /// How reliably its trusted behavior completed commands (Laplace's rule): a behavior
+    /// trusted after few failures costs the next operator of its kind few untrustworthy
+    /// commands.
+    fn reliability(&self) -> f64 {
+        (self.completed + 1.0) / (self.commands + 2.0)
+    }
+}
+
+/// The similarity kernel between two behaviors.
+fn kernel(space: &BehaviorSpace, a: &Behavior, b: &Behavior) -> f64 {
+    (-(1.0 - space.similarity(a, b)) / KERNEL_SCALE).exp()
+}
+
+/// The conditioned searcher.
+#[derive(Clone, Debug, Default)]
+pub struct Conditioned {
+    profiles: Vec<Profile>,
+    /// The current episode's commands per behavior: (behavior, commands, completions).
+    episode: Vec<(Behavior, f64, f64)>,
+    fallback: CauseAware,
+}
+
+impl Conditioned {
+    /// A conditioned searcher that remembers no episode yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The untried remembered behavior the profiles consistent with `evaluated` most
+    /// expect to be accepted, if it beats even odds.
+    fn best_remembered(
+        &self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        tried: &std::collections::HashSet<Behavior>,
+    ) -> Option<Behavior> {
+        let weights: Vec<f64> = self
+            .profiles
+            .iter()
+            .map(|p| {
+                evaluated
+                    .iter()
+                    .map(|e| p.p_reject(space, &e.behavior, &[]))
+                    .product::<f64>()
+                    * p.episodes
+            })
+            .collect();
+        let unknown = 0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX));
+        let total: f64 = weights.iter().sum::<f64>() + unknown;
+        let mut likely: Vec<(f64, &Profile)> = self
+            .profiles
+            .iter()
+            .zip(&weights)
+            .filter(|(p, _)| !tried.contains(&p.trusted))
+            .map(|(p, &w)| (w, p))
+            .collect();
+        likely.sort_by(|a, b| b.0.total_cmp(&a.0));
+        likely.truncate(CANDIDATES);
+        likely
+            .into_iter()
+            .map(|(_, candidate)| {
+                let b = candidate.trusted;
+                let near = near_rejections(space, &b, evaluated);
+                let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
+                let accept: f64 = (self
+                    .profiles
+                    .iter()
+                    .zip(&weights)
+                    .map(|(p, w)| w * (1.0 - p.p_reject(space, &b, evaluated)))
+                    .sum::<f64>()
+                    + unknown * unknown_accept)
+                    / total;
+                (accept, accept * candidate.reliability(), b)
+            })
+            .filter(|&(accept, _, _)| accept > 0.5)
+            .fold(
+                None,
+                |best: Option<(f64, Behavior)>, (_, score, b)| match best {
+                    Some((s, _)) if s >= score => best,
+                    _ => Some((score, b)),
+                },
+            )
+            .map(|(_, b)| b)
+    }
+}
+
+impl Searcher for Conditioned {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "conditioned"
+    }
+
+    fn learns_across_episodes(&self) -> bool {
+        true
+    }
+
+    fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
+        self.episode.clear();
+        self.fallback.begin_episode(space, initial);
+    }
+
+    fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
+        self.fallback.observe(behavior, outcome);
+        let completed = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
+        match self.episode.iter_mut().find(|(b, _, _)| b == behavior) {
+            Some((_, commands, completions)) => {
+                *commands += 1.0;
+                *completions += completed;
+            }
+            None => self.episode.push((*behavior, 1.0, completed)),
+        }
+    }
+
+    fn propose(
+        &mut self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        rng: &mut dyn RngCore,
+    ) -> Proposal {
+        if evaluated.is_empty() {
+            return self.fallback.propose(space, evaluated, rng);
+        }
+        let remembered = propose_untried(space, evaluated, rng, |tried, _| {
+            self.best_remembered(space, evaluated, tried)
+        });
+        match remembered {
+            Proposal::Next(b) => Proposal::Next(b),
+            Proposal::Exhausted { .. } => self.fallback.propose(space, evaluated, rng),
+        }
+    }
+
+    fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
+        self.fallback.end_episode(evaluated, settled);
+        // Only a behavior the operator trusted is a profile: one kept because every
+        // behavior was tried is among the rejected ones.
+        let Some(&trusted) = settled.filter(|s| !evaluated.iter().any(|e| e.behavior == **s))
+        else {
+            return;
+        };
+        let rejected = evaluated.iter().map(|e| e.behavior);
+        let (commands, completed) = self
+            .episode
+            .iter()
+            .find(|(b, _, _)| *b == trusted)
+            .map_or((0.0, 0.0), |&(_, n, c)| (n, c));
+        self.episode.clear();
+        match self.profiles.iter_mut().find(|p| p.trusted == trusted) {
+            Some(profile) => {
+                profile.episodes += 1.0;
+                profile.rejected.extend(rejected);
+                profile.commands += commands;
+                profile.completed += completed;
+            }
+            None => self.profiles.push(Profile {
+                trusted,
+                episodes: 1.0,
+                rejected: rejected.collect(),
+                commands,
+                completed,
+            }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn pair(behavior: Behavior) -> Evaluated {
+        Evaluated {
+            behavior,
+            time: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_kernel_by_hand() {
+        // One component of 21 values on [0, 1]: behaviors 1 apart are 0.05 less similar.
+        let space = crate::search::grid(&[21]);
+        let (a, b) = (Behavior::new(&[0]), Behavior::new(&[1]));
+        assert!((kernel(&space, &a, &a) - 1.0).abs() < 1e-12);
+        assert!((kernel(&space, &a, &b) - (-1.0f64).exp()).abs() < 1e-12);
+        // A profile that trusted `a` once and rejected nothing: P(reject a) = 1 / 3.
+        let profile = Profile {
+            trusted: a,
+            episodes: 1.0,
+            rejected: Vec::new(),
+            commands: 8.0,
+            completed: 6.0,
+        };
+        // Six of eight commands completed: (6 + 1) / (8 + 2).
+        assert!((profile.reliability() - 0.7).abs() < 1e-12);
+        assert!((profile.p_reject(&space, &a, &[]) - 1.0 / 3.0).abs() < 1e-12);
+        // Far away the prior's even odds come back.
+        let far = Behavior::new(&[20]);
+        assert!((profile.p_reject(&space, &far, &[]) - 0.5).abs() < 1e-6);
+        // The current episode rejected `b`: with it, (1 + 1/e) / (2 + 1/e + 1) at `a`.
+        let e = (-1.0f64).exp();
+        assert!((profile.p_reject(&space, &a, &[pair(b)]) - (1.0 + e) / (3.0 + e)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_rejection_tells_the_operators_apart() {
+        // Two kinds of operator on a 21-value line: "low" trusts 2 and rejects the high
+        // end, "high" trusts 18 and rejects the low end, ten episodes each.
+        let space = crate::search::grid(&[21]);
+        let mut searcher = Conditioned::new();
+        for _ in 0..10 {
+            searcher.end_episode(&[pair(Behavior::new(&[17]))], Some(&Behavior::new(&[2])));
+            searcher.end_episode(&[pair(Behavior::new(&[3]))], Some(&Behavior::new(&[18])));
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        // This operator rejected a high behavior: it is a "low" one.
+        searcher.begin_episode(&space, &Behavior::new(&[16]));
+        let proposal = searcher.propose(&space, &[pair(Behavior::new(&[16]))], &mut rng);
+        assert_eq!(proposal, Proposal::Next(Behavior::new(&[2])));
+        // This one rejected a low behavior: a "high" one.
+        let proposal = searcher.propose(&space, &[pair(Behavior::new(&[4]))], &mut rng);
+        assert_eq!(proposal, Proposal::Next(Behavior::new(&[18])));
+    }
+
+    #[test]
+    fn of_two_behaviors_the_same_operators_trusted_the_reliable_one_goes_first() {
+        // Two profiles, alike but for how their trusted behaviors fared: 12 trusted after
+        // 15 completions of 15 commands, 13 after 15 of 25.
+        let space = crate::search::grid(&[21]);
+        let mut searcher = Conditioned::new();
+        let mut episode = |trusted: u16, completed: usize, failed: usize| {
+            let b = Behavior::new(&[trusted]);
+            searcher.begin_episode(&space, &b);
+            for _ in 0..completed {
+                searcher.observe(&b, &Outcome::completed(1.0 / 3.0, 1.0));
+            }
+            for _ in 0..failed {
+                searcher.observe(&b, &Outcome::failed(1.0 / 3.0, 1.0));
+            }
+            searcher.end_episode(&[pair(Behavior::new(&[2]))], Some(&b));
+        };
+        episode(12, 15, 0);
+        episode(13, 15, 10);
+        let reliability: Vec<f64> = searcher.profiles.iter().map(Profile::reliability).collect();
+        assert!((reliability[0] - 16.0 / 17.0).abs() < 1e-12);
+        assert!((reliability[1] - 16.0 / 27.0).abs() < 1e-12);
+        let evaluated = [pair(Behavior::new(&[3]))];
+        let tried = crate::search::evaluated_set(&evaluated);
+        assert_eq!(
+            searcher.best_remembered(&space, &evaluated, &tried),
+            Some(Behavior::new(&[12]))
+        );
+    }
+
+    #[test]
+    fn without_evidence_for_acceptance_it_searches() {
+        // The only remembered operator trusted 10; this one rejected 10's four nearest
+        // neighbours, so 10 is not proposed: the fallback searches instead.
+        let space = crate::search::grid(&[21]);
+        let mut searcher = Conditioned::new();
+        searcher.end_episode(&[pair(Behavior::new(&[0]))], Some(&Behavior::new(&[10])));
+        let evaluated = [8, 9, 11, 12].map(|v| pair(Behavior::new(&[v])));
+        assert_eq!(
+            searcher.best_remembered(
+                &space,
+                &evaluated,
+                &crate::search::evaluated_set(&evaluated)
+            ),
+            None
+        );
+        // An exhausted episode's kept behavior is no profile.
+        let mut forgetful = Conditioned::new();
+        forgetful.end_episode(&[pair(Behavior::new(&[3]))], Some(&Behavior::new(&[3])));
+        assert!(forgetful.profiles.is_empty());
+    }
+}
