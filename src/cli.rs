@@ -8,8 +8,8 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite, save_case_bases,
-    suite_best_arms, suite_table, write_suite_report,
+    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, estimate_report, run_suite,
+    save_case_bases, suite_best_arms, suite_table, write_suite_report,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -348,13 +348,23 @@ fn run_experiments<C: Catalog>(
             )
         })
         .collect();
-    let started = Instant::now();
-    let results = pool.install(|| {
-        run_suite(catalog, &config, origin, starting.as_ref(), &|i| {
-            progress[i].inc(1);
-        })
-    })?;
-    let elapsed = started.elapsed().as_secs_f64();
+    // The report's landscapes and limits depend on the config alone: they are estimated on
+    // the same pool while the experiments run, filling the cores the experiments' ordered
+    // chains leave idle.
+    let (results, estimates) = pool.install(|| {
+        rayon::join(
+            || {
+                let started = Instant::now();
+                let results = run_suite(catalog, &config, origin, starting.as_ref(), &|i| {
+                    progress[i].inc(1);
+                });
+                (results, started.elapsed().as_secs_f64())
+            },
+            || estimate_report(catalog, &config, origin),
+        )
+    });
+    let (results, elapsed) = (results.0?, results.1);
+    let estimates = estimates?;
     for bar in &progress {
         bar.finish();
     }
@@ -372,17 +382,15 @@ fn run_experiments<C: Catalog>(
         command_line: std::env::args().collect(),
     };
     cbr_core::output::remove_previous_report(&options.out)?;
-    let written = pool.install(|| {
-        write_suite_report(
-            catalog,
-            &options.out,
-            &config,
-            origin,
-            &results,
-            elapsed,
-            &provenance,
-        )
-    })?;
+    let written = write_suite_report(
+        &options.out,
+        &config,
+        origin,
+        &results,
+        &estimates,
+        elapsed,
+        &provenance,
+    )?;
     println!(
         "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.experiments.len(),

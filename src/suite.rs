@@ -766,65 +766,84 @@ impl OperatorLimits {
     }
 }
 
-/// Writes the report folder for a suite run, with the landscape of each experiment's
-/// operators (estimated here, on the current rayon pool) behind its final behaviors, and
-/// each experiment's known-operator limit. The
+/// What a suite's report estimates beside the experiments' results, from the config alone:
+/// the landscapes behind each experiment's final behaviors and its known-operator limit
+/// ([`estimate_report`]). Independent of the results, so it may be computed while the
+/// experiments run.
+pub struct ReportEstimates {
+    /// Per experiment, its landscapes (empty when `landscape_runs` is 0).
+    landscapes: Vec<Vec<Landscape>>,
+    /// Per experiment, its limit (none when the limit's `runs` is 0).
+    limits: Vec<Option<ExperimentLimit>>,
+}
+
+/// Estimates, on the current rayon pool, the landscape of each experiment's operators
+/// behind its final behaviors and each experiment's known-operator limit (once per scenario
+/// and operator).
+pub fn estimate_report<C: Catalog>(
+    catalog: &C,
+    config: &SuiteConfig,
+    origin: &Path,
+) -> Result<ReportEstimates, SuiteError> {
+    let mut landscapes = Vec::with_capacity(config.experiments.len());
+    let mut limits = Vec::with_capacity(config.experiments.len());
+    if config.landscape_runs == 0 && config.limit.runs == 0 {
+        return Ok(ReportEstimates { landscapes, limits });
+    }
+    let parts = Parts::of(catalog, config, origin)?;
+    let mut operator_limits = OperatorLimits::default();
+    for (k, spec) in config.experiments.iter().enumerate() {
+        let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
+        let judges: Vec<&(String, OperatorOf<C>)> = spec.judges(&parts.operators[k]).collect();
+        if config.landscape_runs > 0 {
+            let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| op).collect();
+            landscapes.push(
+                finals_landscapes(
+                    parts.domain(k),
+                    &operators,
+                    k as u64,
+                    config.seed,
+                    config.landscape_runs,
+                    &|| {},
+                )
+                .map_err(|e| fail(e.to_string()))?,
+            );
+        }
+        if config.limit.runs > 0 {
+            let of_each = judges
+                .iter()
+                .map(|(name, op)| operator_limits.of(&parts, config, k, name, op))
+                .collect::<Result<Vec<usize>, _>>()
+                .map_err(|e| fail(e.to_string()))?;
+            let known: Vec<&KnownOperator> = of_each
+                .iter()
+                .map(|&i| &operator_limits.known[i].1)
+                .collect();
+            limits.push(Some(
+                ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,
+            ));
+        }
+    }
+    Ok(ReportEstimates { landscapes, limits })
+}
+
+/// Writes the report folder for a suite run, with its [`ReportEstimates`]: the landscapes
+/// behind each experiment's final behaviors and each experiment's known-operator limit. The
 /// report reruns by itself: every operator file the config names (relative to `origin`)
 /// is copied into `DIR/operators/`, and the `config.ron` written names those copies.
-pub fn write_suite_report<C: Catalog>(
-    catalog: &C,
+pub fn write_suite_report(
     dir: &Path,
     config: &SuiteConfig,
     origin: &Path,
     results: &SuiteResults,
+    estimates: &ReportEstimates,
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
-    let mut landscapes = Vec::with_capacity(config.experiments.len());
-    let parts = match (config.landscape_runs, config.limit.runs) {
-        (0, 0) => None,
-        _ => Some(Parts::of(catalog, config, origin)?),
-    };
-    let mut limits = Vec::with_capacity(config.experiments.len());
-    if let Some(parts) = &parts {
-        let mut operator_limits = OperatorLimits::default();
-        for (k, spec) in config.experiments.iter().enumerate() {
-            let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
-            let judges: Vec<&(String, OperatorOf<C>)> = spec.judges(&parts.operators[k]).collect();
-            if config.landscape_runs > 0 {
-                let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| op).collect();
-                landscapes.push(
-                    finals_landscapes(
-                        parts.domain(k),
-                        &operators,
-                        k as u64,
-                        config.seed,
-                        config.landscape_runs,
-                        &|| {},
-                    )
-                    .map_err(|e| fail(e.to_string()))?,
-                );
-            }
-            if config.limit.runs > 0 {
-                let of_each = judges
-                    .iter()
-                    .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
-                    .collect::<Result<Vec<usize>, _>>()
-                    .map_err(|e| fail(e.to_string()))?;
-                let known: Vec<&KnownOperator> = of_each
-                    .iter()
-                    .map(|&i| &operator_limits.known[i].1)
-                    .collect();
-                limits.push(Some(
-                    ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,
-                ));
-            }
-        }
-    }
     let (portable, copies) = config.with_operator_files_in("operators", origin);
     let mut written = write_report(
         dir,
-        &entries(config, results, &landscapes, &limits),
+        &entries(config, results, &estimates.landscapes, &estimates.limits),
         &portable.to_ron(),
         elapsed_s,
         provenance,
