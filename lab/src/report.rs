@@ -17,10 +17,11 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use serde::Serialize;
 use serde_json::{Map, Value, json};
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use trust::Domain;
 use trust::named::named_behavior;
+use trust::{Cause, Domain};
 
 /// One experiment's results with what the report needs to describe them.
 pub struct ReportEntry<'a> {
@@ -452,6 +453,8 @@ struct TrialLine<'a> {
     reused: u32,
     retained: bool,
     truncated: bool,
+    /// The operator's true reasons for the untrustworthy commands (evaluation only).
+    true_causes: &'a BTreeMap<Cause, u32>,
 }
 
 /// `trials.jsonl`: one JSON object per trial, experiments in order, arms in order.
@@ -486,6 +489,7 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         reused: t.report.reused,
         retained: t.report.retained.is_some(),
         truncated: t.truncated,
+        true_causes: &t.true_causes,
     }
 }
 

@@ -17,9 +17,10 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
-    AdapterConfig, ConfigError, Decision, Domain, EpisodeReport, FeedbackChannel, Retention,
+    AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, FeedbackChannel, Retention,
     Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause, find_declared,
 };
 
@@ -139,6 +140,11 @@ pub struct TrialRecord {
     pub report: EpisodeReport,
     /// Whether the trial hit `max_commands` and was abandoned.
     pub truncated: bool,
+    /// The operator's true reasons for the trial's untrustworthy commands, counted by
+    /// cause: for evaluation only (the adapter was told only what the robot perceived and
+    /// what the operator stated).
+    #[serde(default)]
+    pub true_causes: BTreeMap<Cause, u32>,
 }
 
 /// Two arms' per-trial counts of behaviors evaluated, compared pair by pair.
@@ -408,6 +414,7 @@ fn run_trial<D: Domain>(
         .expect("no episode is under way and the behavior is drawn from the space");
     let mut behavior = initial;
     let mut runs = 0u64;
+    let mut true_causes = BTreeMap::new();
     let (report, truncated) = loop {
         let judgement = plan.domain.run(&behavior, operator, &mut runs_rng);
         if let Some(cause) = judgement.truth {
@@ -418,6 +425,9 @@ fn run_trial<D: Domain>(
                     reason: Box::new(reason),
                 }
             })?;
+        }
+        if let Some(cause) = judgement.truth {
+            *true_causes.entry(cause).or_insert(0) += 1;
         }
         let stated = channel.state(judgement.truth, plan.domain.causes(), &mut feedback_rng);
         let outcome = judgement.outcome.stating(stated);
@@ -442,5 +452,6 @@ fn run_trial<D: Domain>(
         initial,
         report,
         truncated,
+        true_causes,
     })
 }

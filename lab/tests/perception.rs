@@ -95,7 +95,8 @@ impl Searcher for Spy {
     }
 }
 
-/// Every outcome the spy is told over 20 trials under `feedback`.
+/// Every outcome the spy is told over 20 trials under `feedback`, after checking that the
+/// trial records keep the truth the spy never saw.
 fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
     let domain = Secretive::new();
     let operators = [("only".to_owned(), ())];
@@ -116,7 +117,16 @@ fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
         max_commands: 10_000,
         feedback,
     };
-    run_experiments(&[plan], 5, &|_| {}).unwrap();
+    let results = run_experiments(&[plan], 5, &|_| {}).unwrap();
+    for trial in &results[0].arms[0].trials {
+        // Every untrustworthy command's true reason is recorded, for evaluation.
+        let expected = match trial.report.untrustworthy {
+            0 => None,
+            n => Some(u32::try_from(n).unwrap()),
+        };
+        assert_eq!(trial.true_causes.get(&HIDDEN).copied(), expected);
+        assert_eq!(trial.true_causes.len(), usize::from(expected.is_some()));
+    }
     let outcomes = seen.lock().unwrap().clone();
     assert!(outcomes.iter().any(Outcome::is_untrustworthy));
     outcomes
