@@ -442,11 +442,7 @@ mod tests {
     use trust::OutcomeKind;
 
     fn trace(events: &[(f64, EventKind)]) -> Trace {
-        let mut t = Trace::default();
-        for (time, kind) in events {
-            t.push(*time, *kind);
-        }
-        t
+        Trace::of(events)
     }
 
     fn operator(p_deadline: f64, p_collision: f64) -> OperatorModel {

@@ -104,11 +104,7 @@ mod tests {
     use crate::geometry::Vec2;
 
     fn trace(events: &[(f64, EventKind)]) -> Trace {
-        let mut t = Trace::default();
-        for (time, kind) in events {
-            t.push(*time, *kind);
-        }
-        t
+        Trace::of(events)
     }
 
     const O: Vec2 = Vec2::new(0.0, 0.0);

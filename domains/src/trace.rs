@@ -100,6 +100,14 @@ pub struct Trace {
 }
 
 impl Trace {
+    /// A trace of `events` (time, what), in the order given: hand-built traces for
+    /// judging and perceiving.
+    pub fn of(events: &[(f64, EventKind)]) -> Self {
+        Self {
+            events: events.iter().map(|&(t, kind)| Event { t, kind }).collect(),
+        }
+    }
+
     /// Appends an event.
     pub fn push(&mut self, t: f64, kind: EventKind) {
         self.events.push(Event { t, kind });

@@ -5,8 +5,7 @@ use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Searcher};
 use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
-use trust::search::draw_untried;
-use trust::search::propose_untried;
+use trust::search::Uniform;
 use trust::{
     Cause, DeclaredCause, Domain, Evaluated, FeedbackChannel, Judgement, Observations, Outcome,
 };
@@ -69,6 +68,7 @@ impl Domain for Secretive {
 /// Uniform search that writes down every outcome it is told.
 struct Spy {
     seen: Arc<Mutex<Vec<Outcome>>>,
+    search: Uniform,
 }
 
 impl Searcher for Spy {
@@ -85,9 +85,7 @@ impl Searcher for Spy {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        propose_untried(space, evaluated, rng, |tried, rng| {
-            draw_untried(space, tried, 1, rng).into_iter().next()
-        })
+        self.search.propose(space, evaluated, rng)
     }
 
     fn observe(&mut self, _behavior: &Behavior, outcome: &Outcome) {
@@ -112,6 +110,7 @@ fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
         arms: vec![Arm::search_only("spy", move |_| {
             Box::new(Spy {
                 seen: spy_log.clone(),
+                search: Uniform::new(),
             })
         })],
         max_commands: 10_000,
