@@ -47,7 +47,7 @@ pub fn svg(
 
 /// The colour of the arm at `index` (the paper's two arms keep red and blue).
 pub fn arm_color(index: usize) -> RGBColor {
-    const PALETTE: [RGBColor; 8] = [
+    const PALETTE: [RGBColor; 10] = [
         RGBColor(214, 96, 77),
         RGBColor(67, 147, 195),
         RGBColor(120, 120, 120),
@@ -56,6 +56,8 @@ pub fn arm_color(index: usize) -> RGBColor {
         RGBColor(230, 171, 2),
         RGBColor(231, 41, 138),
         RGBColor(102, 166, 30),
+        RGBColor(140, 81, 10),
+        RGBColor(1, 102, 94),
     ];
     PALETTE[index % PALETTE.len()]
 }

@@ -822,6 +822,29 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
 
 /// Every experiment and arm at once: mean behaviors evaluated with its 95% confidence
 /// interval, log scale.
+/// The experiments' names as a figure's categories, and the scenario they share: without
+/// the scenario when every experiment has the same one (a ladder's rungs), so more of them
+/// fit side by side (the title names it instead).
+fn category_names<'a>(entries: &[ReportEntry<'a>]) -> (Option<&'a str>, Vec<String>) {
+    let shared = entries
+        .first()
+        .map(|first| first.scenario)
+        .filter(|scenario| entries.iter().all(|e| e.scenario == *scenario));
+    let names = entries
+        .iter()
+        .map(|e| match shared {
+            Some(scenario) => e
+                .result
+                .name
+                .strip_prefix(&format!("{scenario}/"))
+                .unwrap_or(&e.result.name)
+                .to_owned(),
+            None => e.result.name.clone(),
+        })
+        .collect();
+    (shared, names)
+}
+
 /// What a summary figure shows of each arm, and of the limit.
 #[derive(Clone, Copy)]
 struct SummaryMetric {
@@ -891,9 +914,13 @@ fn summary_figure(
         })
         .fold(0.8f64, f64::min)
         .max(0.1);
-    let names: Vec<String> = entries.iter().map(|e| e.result.name.clone()).collect();
+    let (scenario, names) = category_names(entries);
+    let title = match scenario {
+        Some(scenario) => format!("{scenario}: {}", metric.title),
+        None => metric.title.to_owned(),
+    };
     let mut chart = ChartBuilder::on(&plot)
-        .caption(metric.title, ("sans-serif", 20))
+        .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(60)
         .y_label_area_size(60)
