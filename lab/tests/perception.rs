@@ -3,6 +3,7 @@
 
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Searcher};
 use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
+use proptest::prelude::*;
 use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
 use trust::search::Uniform;
@@ -96,6 +97,11 @@ impl Searcher for Spy {
 /// Every outcome the spy is told over 20 trials under `feedback`, after checking that the
 /// trial records keep the truth the spy never saw.
 fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
+    told_with_seed(feedback, 5)
+}
+
+/// [`told`] with the experiment's master seed.
+fn told_with_seed(feedback: Option<FeedbackChannel>, seed: u64) -> Vec<Outcome> {
     let domain = Secretive::new();
     let operators = [("only".to_owned(), ())];
     let seen = Arc::new(Mutex::new(Vec::new()));
@@ -116,7 +122,7 @@ fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
         max_commands: 10_000,
         feedback,
     };
-    let results = run_experiments(&[plan], 5, &|_| {}).unwrap();
+    let results = run_experiments(&[plan], seed, &|_| {}).unwrap();
     for trial in &results[0].arms[0].trials {
         // Every untrustworthy command's true reason is recorded, for evaluation.
         let expected = match trial.report.untrustworthy {
@@ -175,4 +181,31 @@ fn feedback_changes_what_is_said_not_what_happens() {
     };
     let explained = happened(Some(FeedbackChannel::new(0.3, 0.1).unwrap()));
     assert_eq!(happened(None), explained);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// Whatever the seed and the channel, the searcher is told a reason only for an
+    /// untrustworthy command and only through the channel: never when it is silent, the
+    /// truth when it is never wrong, another cause when it is always wrong; what it
+    /// perceives is the beep on every failure.
+    #[test]
+    fn the_truth_reaches_a_searcher_only_through_the_channel(
+        seed in any::<u64>(),
+        explains in prop::sample::select(vec![0.0, 0.3, 1.0]),
+        wrong in prop::sample::select(vec![0.0, 1.0]),
+    ) {
+        let channel = FeedbackChannel::new(explains, wrong).unwrap();
+        for outcome in told_with_seed(Some(channel), seed) {
+            prop_assert_eq!(outcome.observed.contains(0), outcome.is_untrustworthy());
+            match outcome.stated {
+                None => {}
+                Some(reason) => {
+                    prop_assert!(outcome.is_untrustworthy() && explains > 0.0);
+                    prop_assert_eq!(reason == HIDDEN, wrong == 0.0);
+                }
+            }
+        }
+    }
 }
