@@ -8,7 +8,7 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, estimate_report, run_suite,
+    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite_with_report,
     save_case_bases, suite_best_arms, suite_table, write_suite_report,
 };
 use anyhow::{Context, Result};
@@ -348,23 +348,11 @@ fn run_experiments<C: Catalog>(
             )
         })
         .collect();
-    // The report's landscapes and limits depend on the config alone: they are estimated on
-    // the same pool while the experiments run, filling the cores the experiments' ordered
-    // chains leave idle.
-    let (results, estimates) = pool.install(|| {
-        rayon::join(
-            || {
-                let started = Instant::now();
-                let results = run_suite(catalog, &config, origin, starting.as_ref(), &|i| {
-                    progress[i].inc(1);
-                });
-                (results, started.elapsed().as_secs_f64())
-            },
-            || estimate_report(catalog, &config, origin),
-        )
-    });
-    let (results, elapsed) = (results.0?, results.1);
-    let estimates = estimates?;
+    let (results, elapsed, estimates) = pool.install(|| {
+        run_suite_with_report(catalog, &config, origin, starting.as_ref(), &|i| {
+            progress[i].inc(1);
+        })
+    })?;
     for bar in &progress {
         bar.finish();
     }

@@ -33,6 +33,7 @@ use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::Instant;
 use trust::{
     ConfigError, Domain, FeedbackChannel, Retention, RetrieverKind, Thresholds, TimeUnit,
     TrustCaseBase,
@@ -606,8 +607,44 @@ pub fn run_suite<C: Catalog>(
     starting: Option<&StartingCases>,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<SuiteResults, SuiteError> {
-    let invalid = |field: String, message: String| invalid(origin, field, message);
     let parts = Parts::of(catalog, config, origin)?;
+    run_parts(&parts, catalog, config, origin, starting, progress)
+}
+
+/// [`run_suite`] and [`ReportEstimates`] together, over one domain per scenario: the
+/// report's landscapes and limits depend on the config alone, so they are estimated on the
+/// current rayon pool while the experiments run, filling the cores the experiments'
+/// ordered chains leave idle, and the domains' caches (plans) serve both. Returns the
+/// results, the experiments' own run time (s) and the estimates.
+pub fn run_suite_with_report<C: Catalog>(
+    catalog: &C,
+    config: &SuiteConfig,
+    origin: &Path,
+    starting: Option<&StartingCases>,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<(SuiteResults, f64, ReportEstimates), SuiteError> {
+    let parts = Parts::of(catalog, config, origin)?;
+    let (run, estimates) = rayon::join(
+        || {
+            let started = Instant::now();
+            let results = run_parts(&parts, catalog, config, origin, starting, progress);
+            (results, started.elapsed().as_secs_f64())
+        },
+        || estimate_parts(&parts, config, origin),
+    );
+    Ok((run.0?, run.1, estimates?))
+}
+
+/// The experiments of `config` over `parts`.
+fn run_parts<C: Catalog>(
+    parts: &Parts<C>,
+    catalog: &C,
+    config: &SuiteConfig,
+    origin: &Path,
+    starting: Option<&StartingCases>,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<SuiteResults, SuiteError> {
+    let invalid = |field: String, message: String| invalid(origin, field, message);
     let arms = config
         .arms
         .iter()
@@ -768,7 +805,7 @@ impl OperatorLimits {
 
 /// What a suite's report estimates beside the experiments' results, from the config alone:
 /// the landscapes behind each experiment's final behaviors and its known-operator limit
-/// ([`estimate_report`]). Independent of the results, so it may be computed while the
+/// ([`run_suite_with_report`]). Independent of the results, so it is computed while the
 /// experiments run.
 pub struct ReportEstimates {
     /// Per experiment, its landscapes (empty when `landscape_runs` is 0).
@@ -779,18 +816,14 @@ pub struct ReportEstimates {
 
 /// Estimates, on the current rayon pool, the landscape of each experiment's operators
 /// behind its final behaviors and each experiment's known-operator limit (once per scenario
-/// and operator).
-pub fn estimate_report<C: Catalog>(
-    catalog: &C,
+/// and operator), over `parts`.
+fn estimate_parts<C: Catalog>(
+    parts: &Parts<C>,
     config: &SuiteConfig,
     origin: &Path,
 ) -> Result<ReportEstimates, SuiteError> {
     let mut landscapes = Vec::with_capacity(config.experiments.len());
     let mut limits = Vec::with_capacity(config.experiments.len());
-    if config.landscape_runs == 0 && config.limit.runs == 0 {
-        return Ok(ReportEstimates { landscapes, limits });
-    }
-    let parts = Parts::of(catalog, config, origin)?;
     let mut operator_limits = OperatorLimits::default();
     for (k, spec) in config.experiments.iter().enumerate() {
         let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
@@ -812,7 +845,7 @@ pub fn estimate_report<C: Catalog>(
         if config.limit.runs > 0 {
             let of_each = judges
                 .iter()
-                .map(|(name, op)| operator_limits.of(&parts, config, k, name, op))
+                .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
                 .collect::<Result<Vec<usize>, _>>()
                 .map_err(|e| fail(e.to_string()))?;
             let known: Vec<&KnownOperator> = of_each

@@ -29,6 +29,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use trust::{Domain, Thresholds};
 
 /// How the limit is estimated. The defaults keep the paper's seven experiments within
@@ -184,13 +185,13 @@ fn solve_all(
     let mut solved: HashMap<Vec<(u64, bool, u32, u32)>, WalkOutcome> = HashMap::new();
     tallies
         .iter()
-        .map(|t| match solved.get(&key(t)) {
-            Some(&walk) => Ok(walk),
-            None => {
-                let walk = limit::solve_walk(&steps(t), thresholds, DEFAULT_MAX_STATES)?;
-                solved.insert(key(t), walk);
-                Ok(walk)
-            }
+        .map(|t| match solved.entry(key(t)) {
+            Entry::Occupied(known) => Ok(*known.get()),
+            Entry::Vacant(new) => Ok(*new.insert(limit::solve_walk(
+                &steps(t),
+                thresholds,
+                DEFAULT_MAX_STATES,
+            )?)),
         })
         .collect()
 }
