@@ -35,7 +35,7 @@ pub use memory::CaseMemory;
 pub use output::{write_atomically, write_file_in};
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use ron_text::{RonError, parse_ron};
-pub use search::{Proposal, Searcher};
+pub use search::{Proposal, Rationale, Searcher};
 pub use similarity::SimilarityMeasure;
 pub use space_diff::SpaceDifference;
 

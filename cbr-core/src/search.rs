@@ -7,6 +7,7 @@
 
 use crate::behavior::{Behavior, BehaviorSpace};
 use rand::RngCore;
+use serde::{Deserialize, Serialize};
 
 /// What a searcher proposes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,6 +19,53 @@ pub enum Proposal {
         /// The behavior to settle on.
         keep: Behavior,
     },
+}
+
+/// Why a strategy proposed a behavior, for explanations shown to operators and
+/// researchers ([`Searcher::rationale`]). Texts are short plain phrases, one line each.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Rationale {
+    /// The strategy explores: it expects nothing in particular of the proposal.
+    Explores {
+        /// How it picked the proposal (e.g. "one random step from the behavior that
+        /// resisted longest").
+        how: String,
+    },
+    /// The strategy expects the proposal to do better than what was given up.
+    Expects {
+        /// What it expects to change (e.g. "fewer collisions").
+        what: String,
+        /// Its confidence in that, a probability, when it has one.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        confidence: Option<f64>,
+    },
+}
+
+impl Rationale {
+    /// The rationale of a strategy that gives none (the default of
+    /// [`Searcher::rationale`]).
+    pub fn unstated() -> Self {
+        Self::Explores {
+            how: "the search strategy gives no reason".to_owned(),
+        }
+    }
+
+    /// The phrase an explanation shows: what is expected (with its confidence) or how the
+    /// strategy explored.
+    pub fn phrase(&self) -> String {
+        match self {
+            Self::Explores { how } => format!("exploring: {how}"),
+            Self::Expects {
+                what,
+                confidence: Some(p),
+            } => format!("expecting {what} (confidence {:.0}%)", p * 100.0),
+            Self::Expects {
+                what,
+                confidence: None,
+            } => format!("expecting {what}"),
+        }
+    }
 }
 
 /// A search strategy over a behavior space.
@@ -47,6 +95,14 @@ pub trait Searcher: Send {
         evaluated: &[Self::Evidence],
         rng: &mut dyn RngCore,
     ) -> Proposal;
+
+    /// Why the strategy proposed `proposed`, asked right after [`Searcher::propose`]
+    /// returned `Proposal::Next(proposed)` (a strategy may remember what it computed
+    /// there). It must not change what the strategy proposes later. The default says the
+    /// strategy gives no reason; a strategy that has one should say it.
+    fn rationale(&self, _proposed: &Behavior) -> Rationale {
+        Rationale::unstated()
+    }
 
     /// Called for every piece of feedback about the behavior in use.
     fn observe(&mut self, _behavior: &Behavior, _feedback: &Self::Feedback) {}

@@ -12,6 +12,7 @@ use crate::estimate::{
     Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate, Verdict,
 };
 use crate::evaluated::{LambdaError, validate_lambda};
+use crate::explain::{Attribution, Explanation, GivenUp, Next, Vocabulary};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
@@ -167,6 +168,9 @@ pub struct EpisodeReport {
     pub retained: Option<CaseId>,
     /// The evaluated pairs `E_past`, in order.
     pub evaluated: Vec<Evaluated>,
+    /// The explanation of every switch of the episode, in order, and last the one of its
+    /// end.
+    pub explanations: Vec<Explanation>,
 }
 
 /// What the robot should do after a recorded outcome.
@@ -180,6 +184,9 @@ pub enum Decision {
         to: Behavior,
         /// Where it came from.
         source: Source,
+        /// Why the behavior was given up and why this one (boxed: a switch is rare next
+        /// to the commands kept).
+        explanation: Box<Explanation>,
     },
     /// The episode is over.
     Settled(EpisodeReport),
@@ -221,6 +228,10 @@ struct Episode {
     reused: u32,
     /// Whether the behavior in use came from the search strategy.
     current_from_search: bool,
+    /// Commands of the behavior in use that failed or were interrupted.
+    current_untrustworthy: u64,
+    /// The explanations of the episode's decisions so far.
+    explanations: Vec<Explanation>,
 }
 
 /// A read-only view of the episode under way.
@@ -234,6 +245,28 @@ pub struct EpisodeView<'a> {
     pub evaluated: &'a [Evaluated],
     /// Commands recorded in the episode.
     pub commands: u64,
+    /// The explanations of the episode's switches so far.
+    pub explanations: &'a [Explanation],
+}
+
+/// How many of the behaviors given up in an episode (`evaluated`) `case` matches: a
+/// behavior of its problem is more similar to them than `lambda` (what Algorithm 2 pairs).
+fn matched_by_case(
+    space: &BehaviorSpace,
+    lambda: f64,
+    evaluated: &[Evaluated],
+    case: Option<&TrustCase>,
+) -> u32 {
+    let Some(case) = case else { return 0 };
+    let matched = evaluated
+        .iter()
+        .filter(|e| {
+            case.problem
+                .iter()
+                .any(|p| space.similarity(&e.behavior, &p.behavior) > lambda)
+        })
+        .count();
+    u32::try_from(matched).unwrap_or(u32::MAX)
 }
 
 /// One robot's half of the adapter: the episode under way, the search strategy and its
@@ -246,6 +279,7 @@ pub struct Adaptation {
     searcher: Box<TrustSearcher>,
     rng: ChaCha8Rng,
     episode: Option<Episode>,
+    attribution: Attribution,
 }
 
 impl Adaptation {
@@ -278,7 +312,17 @@ impl Adaptation {
             searcher,
             rng,
             episode: None,
+            attribution: Attribution::default(),
         }
+    }
+
+    /// The same adaptation, explaining itself in `vocabulary`'s terms (the domain's
+    /// causes, observations and hints; without one, explanations name only stated
+    /// reasons).
+    #[must_use]
+    pub fn with_vocabulary(mut self, vocabulary: Vocabulary) -> Self {
+        self.attribution = Attribution::new(vocabulary);
+        self
     }
 
     /// Restarts the search randomness from `seed`.
@@ -303,7 +347,10 @@ impl Adaptation {
             searched: 0,
             reused: 0,
             current_from_search: false,
+            current_untrustworthy: 0,
+            explanations: Vec::new(),
         });
+        self.attribution.next_behavior();
         self.searcher.begin_episode(&self.space, &initial);
         Ok(())
     }
@@ -322,12 +369,34 @@ impl Adaptation {
         episode.commands += 1;
         if outcome.kind != OutcomeKind::Completed {
             episode.untrustworthy += 1;
+            episode.current_untrustworthy += 1;
         }
+        self.attribution.record(outcome);
         self.searcher.observe(&episode.current, outcome);
         match episode.estimate.verdict(&self.config.thresholds) {
             Verdict::Undecided => Ok(Decision::Keep),
-            Verdict::Trustworthy => Ok(Decision::Settled(self.finish(true))),
+            Verdict::Trustworthy => {
+                episode.explanations.push(Explanation {
+                    given_up: None,
+                    next: Next::Kept {
+                        behavior: episode.current,
+                        trustworthy: true,
+                        commands: u64::from(episode.estimate.commands),
+                        estimate: episode.estimate.value,
+                    },
+                });
+                Ok(Decision::Settled(self.finish(true)))
+            }
             Verdict::Untrustworthy => {
+                let given_up = GivenUp {
+                    behavior: episode.current,
+                    commands: u64::from(episode.estimate.commands),
+                    untrustworthy: episode.current_untrustworthy,
+                    estimate: episode.estimate.value,
+                    reasons: self.attribution.reasons(),
+                };
+                self.attribution.next_behavior();
+                episode.current_untrustworthy = 0;
                 episode.evaluated.push(Evaluated {
                     behavior: episode.current,
                     time: match self.config.time_unit {
@@ -343,7 +412,7 @@ impl Adaptation {
                     &self.space,
                     &mut self.rng,
                 );
-                let (to, source) = match selection {
+                let (to, source, next) = match selection {
                     Selection::Reuse {
                         case,
                         similarity,
@@ -351,21 +420,56 @@ impl Adaptation {
                     } => {
                         episode.reused += 1;
                         episode.current_from_search = false;
-                        (behavior, Source::Case { case, similarity })
+                        let next = Next::Case {
+                            behavior,
+                            case,
+                            similarity,
+                            matched: matched_by_case(
+                                &self.space,
+                                self.config.lambda,
+                                &episode.evaluated,
+                                memory.and_then(|m| m.base().get(case)),
+                            ),
+                            given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
+                        };
+                        (behavior, Source::Case { case, similarity }, next)
                     }
                     Selection::Search(Proposal::Next(behavior)) => {
                         episode.searched += 1;
                         episode.current_from_search = true;
-                        (behavior, Source::Search)
+                        let next = Next::Search {
+                            behavior,
+                            strategy: self.searcher.name().to_owned(),
+                            rationale: self.searcher.rationale(&behavior),
+                        };
+                        (behavior, Source::Search, next)
                     }
                     Selection::Search(Proposal::Exhausted { keep }) => {
                         episode.current = keep;
+                        episode.explanations.push(Explanation {
+                            given_up: Some(given_up),
+                            next: Next::Kept {
+                                behavior: keep,
+                                trustworthy: false,
+                                commands: episode.commands,
+                                estimate: episode.estimate.value,
+                            },
+                        });
                         return Ok(Decision::Settled(self.finish(false)));
                     }
                 };
                 episode.current = to;
                 episode.estimate = TrustEstimate::default();
-                Ok(Decision::Switch { to, source })
+                let explanation = Explanation {
+                    given_up: Some(given_up),
+                    next,
+                };
+                episode.explanations.push(explanation.clone());
+                Ok(Decision::Switch {
+                    to,
+                    source,
+                    explanation: Box::new(explanation),
+                })
             }
         }
     }
@@ -416,6 +520,7 @@ impl Adaptation {
             settled_from_search: episode.current_from_search,
             retained: None,
             evaluated: episode.evaluated,
+            explanations: episode.explanations,
         }
     }
 
@@ -431,6 +536,20 @@ impl Adaptation {
             estimate: e.estimate,
             evaluated: &e.evaluated,
             commands: e.commands,
+            explanations: &e.explanations,
+        })
+    }
+
+    /// The account of the behavior in use so far: its commands, its estimate and the
+    /// reasons its untrustworthy commands are attributed to (`None` with no episode under
+    /// way).
+    pub fn standing(&self) -> Option<GivenUp> {
+        self.episode.as_ref().map(|e| GivenUp {
+            behavior: e.current,
+            commands: u64::from(e.estimate.commands),
+            untrustworthy: e.current_untrustworthy,
+            estimate: e.estimate.value,
+            reasons: self.attribution.reasons(),
         })
     }
 
@@ -486,6 +605,14 @@ impl TrustAdapter {
         self.adaptation.reseed(seed);
     }
 
+    /// The same adapter, explaining itself in `vocabulary`'s terms (see
+    /// [`Adaptation::with_vocabulary`]).
+    #[must_use]
+    pub fn with_vocabulary(mut self, vocabulary: Vocabulary) -> Self {
+        self.adaptation = self.adaptation.with_vocabulary(vocabulary);
+        self
+    }
+
     /// Starts an episode (a new operator, a new mission) with `initial` in use.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.adaptation.begin_episode(initial)
@@ -518,6 +645,11 @@ impl TrustAdapter {
     /// The episode under way, if any.
     pub fn episode(&self) -> Option<EpisodeView<'_>> {
         self.adaptation.episode()
+    }
+
+    /// The account of the behavior in use so far (see [`Adaptation::standing`]).
+    pub fn standing(&self) -> Option<GivenUp> {
+        self.adaptation.standing()
     }
 
     /// The behavior space.

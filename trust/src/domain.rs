@@ -7,7 +7,7 @@
 //! which only evaluation reads. The experiment runner needs nothing else, so a new robot
 //! or task plugs in by implementing this trait.
 
-use crate::{Cause, DeclaredCause, FeedbackChannel, Judgement};
+use crate::{Cause, DeclaredCause, FeedbackChannel, Hint, Judgement};
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::RngCore;
 use std::sync::Arc;
@@ -31,6 +31,13 @@ pub trait Domain: Send + Sync {
     /// an outcome's [`Observations`](crate::Observations) is `observations()[i]`. At most
     /// [`Observations::CAPACITY`](crate::Observations::CAPACITY); none by default.
     fn observations(&self) -> &[Cause] {
+        &[]
+    }
+
+    /// Which observations hint at which causes the robot cannot perceive itself (what a
+    /// robot's designer knows of its operators, the same for all of them), for the
+    /// explanations' inferences ([`crate::explain`]); none by default.
+    fn hints(&self) -> &[Hint] {
         &[]
     }
 

@@ -7,6 +7,8 @@
 //!   thresholds and verdicts.
 //! - [`feedback`]: the operator's feedback channel (how often it explains, how often
 //!   wrongly).
+//! - [`explain`]: explanations of every decision (why a behavior was given up, why the
+//!   next one, why the episode ended), from what the robot was told and perceived.
 //! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
 //! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
 //! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
@@ -30,6 +32,7 @@ pub mod cause;
 pub mod domain;
 pub mod estimate;
 pub mod evaluated;
+pub mod explain;
 pub mod feedback;
 pub mod named;
 pub mod retrieval;
@@ -50,6 +53,7 @@ pub use estimate::{
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
+pub use explain::{AttributedReason, Attribution, Explanation, GivenUp, Hint, Next, Vocabulary};
 pub use feedback::{FeedbackChannel, FeedbackError};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};

@@ -9,8 +9,9 @@ use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 use trust::search::RandomWalk;
 use trust::{
-    AdapterConfig, AdapterError, Cause, Decision, Evaluated, Outcome, Selection, SetSimilarity,
-    Source, TrustAdapter, TrustCaseBase, select_behavior,
+    AdapterConfig, AdapterError, AttributedReason, Cause, Decision, Evaluated, Explanation,
+    GivenUp, Hint, Next, Observations, Outcome, Selection, SetSimilarity, Source, TrustAdapter,
+    TrustCaseBase, Vocabulary, select_behavior,
 };
 
 /// Causes of a made-up domain.
@@ -50,7 +51,7 @@ fn an_episode_by_hand() {
         assert_eq!(a.record(&interrupt(2.0)).unwrap(), Decision::Keep);
     }
     // The fifth: -5 <= -5, untrustworthy after 5 x 2 s = 10 s. Empty case base: search.
-    let Decision::Switch { to: b1, source } = a.record(&interrupt(2.0)).unwrap() else {
+    let Decision::Switch { to: b1, source, .. } = a.record(&interrupt(2.0)).unwrap() else {
         panic!("expected a switch");
     };
     assert_eq!(source, Source::Search);
@@ -92,6 +93,31 @@ fn an_episode_by_hand() {
     for _ in 0..4 {
         a.record(&interrupt(2.0)).unwrap();
     }
+    // The explanation, by hand: b0 was used for 5 commands, all interrupted (estimate
+    // -5), each with the stated reason dropped-item; case 0 matches the one behavior
+    // given up (b0 itself, similarity 1).
+    let explanation = Explanation {
+        given_up: Some(GivenUp {
+            behavior: b0,
+            commands: 5,
+            untrustworthy: 5,
+            estimate: -5.0,
+            reasons: vec![AttributedReason {
+                cause: DROPPED,
+                weight: 5.0,
+                stated: 5,
+                perceived: 0,
+                inferred: 0.0,
+            }],
+        }),
+        next: Next::Case {
+            behavior: b1,
+            case: CaseId(0),
+            similarity: 1.0,
+            matched: 1,
+            given_up: 1,
+        },
+    };
     assert_eq!(
         a.record(&interrupt(2.0)).unwrap(),
         Decision::Switch {
@@ -99,7 +125,8 @@ fn an_episode_by_hand() {
             source: Source::Case {
                 case: CaseId(0),
                 similarity: 1.0
-            }
+            },
+            explanation: Box::new(explanation.clone()),
         }
     );
     for _ in 0..4 {
@@ -108,6 +135,23 @@ fn an_episode_by_hand() {
     let Decision::Settled(report) = a.record(&Outcome::completed(1.0, 3.0)).unwrap() else {
         panic!("expected the episode to end");
     };
+    // Every decision is explained: the switch, then the end (b1 trusted after 5
+    // completions, estimate +5).
+    assert_eq!(
+        report.explanations,
+        vec![
+            explanation,
+            Explanation {
+                given_up: None,
+                next: Next::Kept {
+                    behavior: b1,
+                    trustworthy: true,
+                    commands: 5,
+                    estimate: 5.0,
+                },
+            },
+        ]
+    );
     // Solved by the case base alone: nothing new is retained.
     assert_eq!(
         (report.reused, report.searched, report.retained),
@@ -137,7 +181,7 @@ fn search_only_ignores_cases() {
     for _ in 0..4 {
         a.record(&interrupt(2.0)).unwrap();
     }
-    let Decision::Switch { to, source } = a.record(&interrupt(2.0)).unwrap() else {
+    let Decision::Switch { to, source, .. } = a.record(&interrupt(2.0)).unwrap() else {
         panic!("expected a switch");
     };
     assert_eq!(source, Source::Search);
@@ -415,7 +459,7 @@ fn both_readings_of_retention_and_both_units_of_time() {
         for _ in 0..4 {
             a.record(&interrupt(2.0)).unwrap();
         }
-        let Decision::Switch { to, source } = a.record(&interrupt(2.0)).unwrap() else {
+        let Decision::Switch { to, source, .. } = a.record(&interrupt(2.0)).unwrap() else {
             panic!("expected a switch");
         };
         assert_eq!(to, solution);
@@ -449,4 +493,92 @@ fn both_readings_of_retention_and_both_units_of_time() {
         run(Retention::AnySearch, TimeUnit::Commands),
         (true, vec![5.0, 5.0])
     );
+}
+
+/// An episode whose explanation is known: the robot perceives bumps (`stalled` is what it
+/// perceives, bit 0) and running late (bit 1, a hint at `too-slow`); the operator states
+/// `dropped-item` once.
+#[test]
+fn a_hand_built_episode_explains_its_switch() {
+    let late = Cause::from_static("late");
+    let vocabulary = Vocabulary {
+        causes: vec![DROPPED, STALLED, TOO_SLOW],
+        observations: vec![STALLED, late],
+        hints: vec![Hint {
+            observation: late,
+            suggests: TOO_SLOW,
+        }],
+    };
+    let space = Arc::new(
+        BehaviorSpace::new(vec![
+            NamedComponent::numeric("speed", "m/s", 1.0, 1.0, 3).unwrap(),
+        ])
+        .unwrap(),
+    );
+    let mut a = TrustAdapter::new(space, AdapterConfig::default(), TrustCaseBase::new(), 7)
+        .unwrap()
+        .with_vocabulary(vocabulary);
+    let cut = || Outcome::interrupted(1.0, 1.0);
+    let b0 = Behavior::new(&[0]);
+    a.begin_episode(b0).unwrap();
+    let stalled = Observations::NONE.with(0);
+    let behind = Observations::NONE.with(1);
+    // Two stalls perceived, one stated drop, two late runs with nothing stated: -5.
+    for outcome in [
+        cut().observing(stalled),
+        cut().observing(stalled),
+        cut().stating(Some(DROPPED)),
+        cut().observing(behind),
+    ] {
+        assert_eq!(a.record(&outcome).unwrap(), Decision::Keep);
+    }
+    let standing = a.standing().unwrap();
+    assert_eq!((standing.commands, standing.untrustworthy), (4, 4));
+    let Decision::Switch { explanation, .. } = a.record(&cut().observing(behind)).unwrap() else {
+        panic!("expected a switch");
+    };
+    // Each late run, by hand: `stalled` is ruled out (it would have been perceived);
+    // dropped-item scores 0.5 (prior) + 0 (it was stated with nothing perceived, not with
+    // `late`), too-slow 0.5 + 2 (the hint): p(too-slow) = 2.5 / 3. Weights: stalled 2,
+    // too-slow 5/3, dropped-item 1 + 1/3.
+    let given_up = explanation.given_up.as_ref().unwrap();
+    assert_eq!((given_up.commands, given_up.untrustworthy), (5, 5));
+    assert_eq!(given_up.estimate, -5.0);
+    let causes: Vec<Cause> = given_up.reasons.iter().map(|r| r.cause).collect();
+    assert_eq!(causes, vec![STALLED, TOO_SLOW, DROPPED]);
+    assert_eq!(
+        given_up.reasons[0],
+        AttributedReason {
+            cause: STALLED,
+            weight: 2.0,
+            stated: 0,
+            perceived: 2,
+            inferred: 0.0
+        }
+    );
+    assert!((given_up.reasons[1].weight - 5.0 / 3.0).abs() < 1e-12);
+    assert!((given_up.reasons[1].inferred - 2.5 / 3.0).abs() < 1e-12);
+    assert_eq!(given_up.reasons[2].stated, 1);
+    assert!((given_up.reasons[2].weight - 4.0 / 3.0).abs() < 1e-12);
+    let Next::Search { strategy, .. } = &explanation.next else {
+        panic!("an empty case base: the search proposes");
+    };
+    assert_eq!(strategy, "random-walk");
+    let sentence = explanation.sentence(a.space());
+    assert!(
+        sentence.starts_with(
+            "Gave up speed=1 m/s after 5 commands (5 untrustworthy): most likely stalled (perceived twice), then too-slow (inferred, p = 0.83), then dropped-item (stated once; inferred, p = 0.17). Now speed="
+        ),
+        "{sentence}"
+    );
+    assert!(sentence.ends_with("random-walk search, exploring: one random step from the behavior that resisted longest."), "{sentence}");
+    // The new behavior starts with no account.
+    assert!(a.standing().unwrap().reasons.is_empty());
+    assert!(matches!(
+        a.episode().unwrap().explanations,
+        [Explanation {
+            given_up: Some(GivenUp { .. }),
+            ..
+        }]
+    ));
 }

@@ -28,7 +28,7 @@ use super::propose_untried;
 use super::untried::draw_untried;
 use crate::Cause;
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::RngCore;
 
 /// Untried behaviors drawn and scored per proposal.
@@ -113,6 +113,8 @@ pub struct CauseAware {
     causes: Vec<CauseRecord>,
     /// Episodes ended so far.
     episodes: f64,
+    /// Untried behaviors scored for the last proposal (for its rationale).
+    last_pool: usize,
 }
 
 impl CauseAware {
@@ -236,6 +238,7 @@ impl Searcher for CauseAware {
     ) -> Proposal {
         propose_untried(space, evaluated, rng, |tried, rng| {
             let pool = draw_untried(space, tried, CAUSE_AWARE_POOL, rng);
+            self.last_pool = pool.len();
             let tables = self.log_rate_tables(space);
             pool.iter()
                 .map(|b| (predicted_burden(&tables, b), *b))
@@ -248,6 +251,21 @@ impl Searcher for CauseAware {
                 )
                 .map(|(_, b)| b)
         })
+    }
+
+    fn rationale(&self, _proposed: &Behavior) -> Rationale {
+        if self.causes.iter().all(|c| self.weight(c) <= 0.0) {
+            return Rationale::Explores {
+                how: "no trouble counted yet: an untried behavior drawn uniformly".to_owned(),
+            };
+        }
+        Rationale::Expects {
+            what: format!(
+                "the fewest of the troubles this operator reacts to, of {} untried behaviors",
+                self.last_pool
+            ),
+            confidence: None,
+        }
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {

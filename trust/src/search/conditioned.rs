@@ -37,7 +37,7 @@
 use super::CauseAware;
 use super::propose_untried;
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::RngCore;
 
 /// The kernel's scale in behavior similarity: the paper's `1 - lambda`.
@@ -103,6 +103,9 @@ pub struct Conditioned {
     /// The current episode's commands per behavior: (behavior, commands, completions).
     episode: Vec<(Behavior, f64, f64)>,
     fallback: CauseAware,
+    /// The last remembered behavior proposed and its probability of acceptance (for its
+    /// rationale); `None` when the last proposal was the fallback's.
+    last: Option<(Behavior, f64)>,
 }
 
 impl Conditioned {
@@ -112,13 +115,13 @@ impl Conditioned {
     }
 
     /// The untried remembered behavior the profiles consistent with `evaluated` most
-    /// expect to be accepted, if it beats even odds.
+    /// expect to be accepted, if it beats even odds, with its probability of acceptance.
     fn best_remembered(
         &self,
         space: &BehaviorSpace,
         evaluated: &[Evaluated],
         tried: &std::collections::HashSet<Behavior>,
-    ) -> Option<Behavior> {
+    ) -> Option<(f64, Behavior)> {
         let weights: Vec<f64> = self
             .profiles
             .iter()
@@ -160,12 +163,12 @@ impl Conditioned {
             .filter(|&(accept, _, _)| accept > 0.5)
             .fold(
                 None,
-                |best: Option<(f64, Behavior)>, (_, score, b)| match best {
-                    Some((s, _)) if s >= score => best,
-                    _ => Some((score, b)),
+                |best: Option<(f64, f64, Behavior)>, (accept, score, b)| match best {
+                    Some((_, s, _)) if s >= score => best,
+                    _ => Some((accept, score, b)),
                 },
             )
-            .map(|(_, b)| b)
+            .map(|(accept, _, b)| (accept, b))
     }
 }
 
@@ -204,15 +207,33 @@ impl Searcher for Conditioned {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
+        self.last = None;
         if evaluated.is_empty() {
             return self.fallback.propose(space, evaluated, rng);
         }
+        let mut accept = 0.0;
         let remembered = propose_untried(space, evaluated, rng, |tried, _| {
-            self.best_remembered(space, evaluated, tried)
+            self.best_remembered(space, evaluated, tried).map(|(p, b)| {
+                accept = p;
+                b
+            })
         });
         match remembered {
-            Proposal::Next(b) => Proposal::Next(b),
+            Proposal::Next(b) => {
+                self.last = Some((b, accept));
+                Proposal::Next(b)
+            }
             Proposal::Exhausted { .. } => self.fallback.propose(space, evaluated, rng),
+        }
+    }
+
+    fn rationale(&self, proposed: &Behavior) -> Rationale {
+        match self.last {
+            Some((b, accept)) if b == *proposed => Rationale::Expects {
+                what: "acceptance: earlier operators like this one trusted it".to_owned(),
+                confidence: Some(accept),
+            },
+            _ => self.fallback.rationale(proposed),
         }
     }
 
@@ -333,7 +354,9 @@ mod tests {
         let evaluated = [pair(Behavior::new(&[3]))];
         let tried = crate::search::evaluated_set(&evaluated);
         assert_eq!(
-            searcher.best_remembered(&space, &evaluated, &tried),
+            searcher
+                .best_remembered(&space, &evaluated, &tried)
+                .map(|(_, b)| b),
             Some(Behavior::new(&[12]))
         );
     }

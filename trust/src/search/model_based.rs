@@ -27,7 +27,7 @@
 use super::propose_untried;
 use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use faer::linalg::solvers::Llt;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::prelude::*;
@@ -392,6 +392,21 @@ impl Searcher for ModelBased {
         propose_untried(space, evaluated, rng, |tried, rng| {
             self.choose(space, tried, rng)
         })
+    }
+
+    fn rationale(&self, _proposed: &Behavior) -> Rationale {
+        if self.observed.is_empty() || self.largest_weight <= 0.0 {
+            return Rationale::Explores {
+                how: "no outcome weighed yet: an untried behavior drawn uniformly".to_owned(),
+            };
+        }
+        let commands: f64 = self.observed.iter().map(|o| o.commands).sum();
+        Rationale::Expects {
+            what: format!(
+                "a better reaction, by a model of this operator fit to {commands} commands"
+            ),
+            confidence: None,
+        }
     }
 
     fn end_episode(&mut self, _evaluated: &[Evaluated], _settled: Option<&Behavior>) {

@@ -7,7 +7,7 @@
 
 use super::longest_resisting;
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::{Rng, RngCore};
 use std::collections::HashSet;
 
@@ -97,6 +97,12 @@ impl Searcher for RandomWalk {
                 keep: e_max.behavior,
             },
             n => Proposal::Next(candidates[rng.random_range(0..n)]),
+        }
+    }
+
+    fn rationale(&self, _proposed: &Behavior) -> Rationale {
+        Rationale::Explores {
+            how: "one random step from the behavior that resisted longest".to_owned(),
         }
     }
 

@@ -8,7 +8,7 @@
 use super::propose_untried;
 use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
-use cbr_core::{BehaviorSpace, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::RngCore;
 
 /// Uniform among the unevaluated behaviors; when every behavior has been evaluated it
@@ -40,5 +40,11 @@ impl Searcher for Uniform {
         propose_untried(space, evaluated, rng, |tried, rng| {
             draw_untried(space, tried, 1, rng).first().copied()
         })
+    }
+
+    fn rationale(&self, _proposed: &Behavior) -> Rationale {
+        Rationale::Explores {
+            how: "an untried behavior drawn uniformly".to_owned(),
+        }
     }
 }

@@ -3,7 +3,7 @@
 
 use crate::search::TrustSearcher;
 use crate::{Cause, Evaluated, Observations, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal};
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Rationale};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use rand::{Rng, SeedableRng};
@@ -66,6 +66,7 @@ fn drive(
         match proposal {
             Proposal::Next(b) => {
                 prop_assert!(space.contains(&b), "{b:?} is not in the space");
+                check_rationale(&searcher.rationale(&b))?;
                 prop_assert!(
                     !tried.contains(&b),
                     "{b:?} was already evaluated while {} behaviors were untried",
@@ -92,13 +93,41 @@ fn drive(
     Ok(proposals)
 }
 
+/// What a rationale must be: a short, plain, one-line text (at most 160 bytes) and a
+/// confidence that is a probability.
+fn check_rationale(rationale: &Rationale) -> Result<(), TestCaseError> {
+    let text = match rationale {
+        Rationale::Explores { how } => how,
+        Rationale::Expects { what, confidence } => {
+            if let Some(p) = confidence {
+                prop_assert!(
+                    (0.0..=1.0).contains(p),
+                    "the rationale's confidence {p} is not a probability"
+                );
+            }
+            what
+        }
+    };
+    prop_assert!(
+        !text.trim().is_empty() && text.len() <= 160 && !text.contains('\n'),
+        "a rationale is one plain line of at most 160 bytes, got {text:?}"
+    );
+    Ok(())
+}
+
 /// Checks the properties every searcher must have, for searchers made by `build`:
 /// - it never proposes a behavior outside the space, nor one evaluated in the episode
 ///   while unevaluated ones remain, and says `Exhausted` only when every behavior has
 ///   been evaluated, keeping one of them;
 /// - a one-behavior space and a fully evaluated space are handled;
 /// - it is deterministic: the same seed and evidence give the same proposals;
-/// - it stays correct across episodes (two episodes in a row on one searcher).
+/// - it stays correct across episodes (two episodes in a row on one searcher);
+/// - every proposal's rationale ([`cbr_core::Searcher::rationale`]) is one plain line with
+///   a confidence that is a probability;
+/// - a searcher that says it does not learn across episodes
+///   ([`cbr_core::Searcher::learns_across_episodes`]) proposes after an earlier episode
+///   exactly what a fresh one proposes (or experiment runners, which give such searchers
+///   a fresh instance per trial, would silently change what it does).
 ///
 /// # Panics
 /// With the failing case (proptest's minimal one) when a property does not hold.
@@ -112,7 +141,7 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
         let mut first = build();
         let a = drive(first.as_mut(), &space, &mut ChaCha8Rng::seed_from_u64(seed))?;
         // A second episode on the same searcher.
-        drive(
+        let after = drive(
             first.as_mut(),
             &space,
             &mut ChaCha8Rng::seed_from_u64(seed ^ 1),
@@ -123,6 +152,18 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
             &mut ChaCha8Rng::seed_from_u64(seed),
         )?;
         prop_assert_eq!(a, b, "not deterministic for a seed");
+        if !first.learns_across_episodes() {
+            let fresh = drive(
+                build().as_mut(),
+                &space,
+                &mut ChaCha8Rng::seed_from_u64(seed ^ 1),
+            )?;
+            prop_assert_eq!(
+                after,
+                fresh,
+                "proposes differently after an earlier episode, though `learns_across_episodes` says it does not learn: return `true` from it"
+            );
+        }
         Ok(())
     });
     if let Err(e) = result {
