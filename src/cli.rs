@@ -496,6 +496,8 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
                     AdapterConfig::default(),
                 )
                 .with_observations(d.observations().to_vec())
+                .with_hints(d.hints().to_vec())
+                .expect("a built-in domain's hints name its own observations and causes")
             })
         },
     )?)

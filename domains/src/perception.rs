@@ -19,9 +19,11 @@
 //! alarm (it believes its own label), or the operator's deadline (it is not told it).
 
 use crate::Scenario;
-use crate::causes::{COLLISION, DETONATION, STUCK};
+use crate::causes::{
+    COLLISION, DEADLINE, DETONATION, FALSE_ALARM, STUCK, TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
+};
 use crate::trace::{EventKind, Trace};
-use trust::{Cause, Observations};
+use trust::{Cause, Hint, Observations};
 
 /// A person within this body-to-body gap counts as near (m): the outer edge of personal
 /// space in proxemics (about 1.2 m), the distance strangers keep when they can.
@@ -56,6 +58,52 @@ pub const PATROL: [Cause; 7] = [
     CLOSE_PASS,
     RAISED_ALARM,
 ];
+
+/// What the robot's designer knows an observation hints at, for the explanations'
+/// inferences (`trust::explain`): each observation is the robot's own view of one of the
+/// operator's reasons, which the robot cannot perceive itself.
+/// - `behind-plan` hints at `deadline`: the operator's time limit is not told to the robot,
+///   but a run slower than the robot's own plan is the run most likely to miss it;
+/// - `near-person-fast` hints at `too-fast-near-people`: it is the same event seen by the
+///   robot's lidar and speedometer, with its own thresholds instead of the operator's;
+/// - `close-pass` hints at `too-close`: likewise, a small measured gap;
+/// - `raised-alarm` (patrol) hints at `false-alarm`: an interruption right after an alarm
+///   most plausibly disputes it (the robot believes its label, but knows the operator may
+///   not).
+pub const MOVEMENT_HINTS: [Hint; 3] = [
+    Hint {
+        observation: BEHIND_PLAN,
+        suggests: DEADLINE,
+    },
+    Hint {
+        observation: NEAR_PERSON_FAST,
+        suggests: TOO_FAST_NEAR_PEOPLE,
+    },
+    Hint {
+        observation: CLOSE_PASS,
+        suggests: TOO_CLOSE,
+    },
+];
+
+/// The patrol robot's hints: the movement robot's and `raised-alarm` at `false-alarm`
+/// (see [`MOVEMENT_HINTS`]).
+pub const PATROL_HINTS: [Hint; 4] = [
+    MOVEMENT_HINTS[0],
+    MOVEMENT_HINTS[1],
+    MOVEMENT_HINTS[2],
+    Hint {
+        observation: RAISED_ALARM,
+        suggests: FALSE_ALARM,
+    },
+];
+
+/// The hints of `scenario` (see [`MOVEMENT_HINTS`]).
+pub fn hints(scenario: Scenario) -> &'static [Hint] {
+    match scenario {
+        Scenario::Movement => &MOVEMENT_HINTS,
+        Scenario::Patrol => &PATROL_HINTS,
+    }
+}
 
 /// The observations the robot can make in `scenario`, in bit order.
 pub fn observations(scenario: Scenario) -> &'static [Cause] {

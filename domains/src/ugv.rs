@@ -20,7 +20,7 @@ use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
-use trust::{Cause, DeclaredCause, Domain, FeedbackChannel, Judgement};
+use trust::{Cause, DeclaredCause, Domain, FeedbackChannel, Hint, Judgement};
 
 /// The behavior's settings in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -447,6 +447,10 @@ impl Domain for UgvDomain {
 
     fn observations(&self) -> &[Cause] {
         perception::observations(self.scenario)
+    }
+
+    fn hints(&self) -> &[Hint] {
+        perception::hints(self.scenario)
     }
 
     fn feedback(&self, operator: &OperatorModel) -> FeedbackChannel {

@@ -26,7 +26,7 @@ pub mod stats;
 
 pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
 pub use runner::{
-    ArmResult, ExperimentPlan, ExperimentResult, OperatorChoice, PairedTests, PlanError,
-    TrialRecord, TrialSettings, run_experiments,
+    ArmResult, ExperimentPlan, ExperimentResult, ExplanationCheck, OperatorChoice, PairedTests,
+    PlanError, Step, TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
 };
 pub use trust::{RetrieverFactory, SearcherFactory};

@@ -20,8 +20,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
-    AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, FeedbackChannel, Retention,
-    Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause, find_declared,
+    AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, Explanation,
+    FeedbackChannel, Outcome, Retention, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase,
+    TrustMemory, UndeclaredCause, Vocabulary, find_declared,
 };
 
 /// Which operator judges each trial.
@@ -145,6 +146,76 @@ pub struct TrialRecord {
     /// what the operator stated).
     #[serde(default)]
     pub true_causes: BTreeMap<Cause, u32>,
+    /// How the explanations of the trial's given-up behaviors compare with the truth (for
+    /// evaluation only).
+    #[serde(default)]
+    pub explained: ExplanationCheck,
+}
+
+/// How often the first reason an explanation gives for a given-up behavior is the
+/// operator's most frequent true reason on that behavior's untrustworthy commands (a tie
+/// counts as right when the reason is among the most frequent). Behaviors whose
+/// untrustworthy commands carry no true reason are not counted. *Perceivable* truths are
+/// those the robot perceives itself (an observation is named after them).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ExplanationCheck {
+    /// Given-up behaviors counted.
+    pub given_up: u32,
+    /// Those whose first attributed reason was right.
+    pub right: u32,
+    /// Given-up behaviors whose true reason is one the robot perceives.
+    pub perceivable: u32,
+    /// Those whose first attributed reason was right.
+    pub perceivable_right: u32,
+}
+
+impl ExplanationCheck {
+    /// Adds another's counts.
+    pub fn add(&mut self, other: &ExplanationCheck) {
+        self.given_up += other.given_up;
+        self.right += other.right;
+        self.perceivable += other.perceivable;
+        self.perceivable_right += other.perceivable_right;
+    }
+
+    /// The share right overall, among perceivable truths and among the rest (`None` where
+    /// nothing was counted).
+    pub fn shares(&self) -> [Option<f64>; 3] {
+        let share = |right: u32, of: u32| (of > 0).then(|| f64::from(right) / f64::from(of));
+        [
+            share(self.right, self.given_up),
+            share(self.perceivable_right, self.perceivable),
+            share(
+                self.right - self.perceivable_right,
+                self.given_up - self.perceivable,
+            ),
+        ]
+    }
+
+    /// Scores one given-up behavior: `attributed` is the explanation's first reason,
+    /// `truth` the true reasons of its untrustworthy commands, counted.
+    fn score(
+        &mut self,
+        attributed: Option<Cause>,
+        truth: &BTreeMap<Cause, u32>,
+        perceived: &[Cause],
+    ) {
+        let Some(&most) = truth.values().max() else {
+            return;
+        };
+        let modes: Vec<Cause> = truth
+            .iter()
+            .filter(|&(_, &n)| n == most)
+            .map(|(&c, _)| c)
+            .collect();
+        let right = attributed.is_some_and(|a| modes.contains(&a));
+        self.given_up += 1;
+        self.right += u32::from(right);
+        if perceived.contains(&modes[0]) {
+            self.perceivable += 1;
+            self.perceivable_right += u32::from(right);
+        }
+    }
 }
 
 /// Two arms' per-trial counts of behaviors evaluated, compared pair by pair.
@@ -179,6 +250,8 @@ pub struct ArmResult {
     pub final_cases: Option<TrustCaseBase>,
     /// This arm against the first arm (`None` for the first arm).
     pub versus_first: Option<PairedTests>,
+    /// How its explanations compare with the truth, over every trial.
+    pub explained: ExplanationCheck,
     /// Every trial, in order.
     pub trials: Vec<TrialRecord>,
 }
@@ -312,7 +385,8 @@ impl<D: Domain> ExperimentPlan<'_, D> {
             arm.build_searcher(space),
             // Every trial reseeds the search stream before its episode.
             ChaCha8Rng::seed_from_u64(0),
-        ))
+        )
+        .with_vocabulary(Vocabulary::of(self.domain)))
     }
 }
 
@@ -334,8 +408,15 @@ fn run_chain<D: Domain>(
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .into_par_iter()
             .map(|trial| {
-                let record =
-                    run_trial(plan, &mut plan.adapter(arm)?, experiment, trial, arm, seed)?;
+                let record = run_trial(
+                    plan,
+                    &mut plan.adapter(arm)?,
+                    experiment,
+                    trial,
+                    arm,
+                    seed,
+                    &mut |_| {},
+                )?;
                 progress();
                 Ok(record)
             })
@@ -348,7 +429,15 @@ fn run_chain<D: Domain>(
     } else {
         let trials: Vec<TrialRecord> = (0..plan.trials)
             .map(|trial| {
-                let record = run_trial(plan, &mut adapter, experiment, trial, arm, seed)?;
+                let record = run_trial(
+                    plan,
+                    &mut adapter,
+                    experiment,
+                    trial,
+                    arm,
+                    seed,
+                    &mut |_| {},
+                )?;
                 progress();
                 Ok(record)
             })
@@ -363,6 +452,10 @@ fn run_chain<D: Domain>(
         })
     };
     let of = |value: fn(&TrialRecord) -> f64| summary(trials.iter().map(value).collect());
+    let mut explained = ExplanationCheck::default();
+    for t in &trials {
+        explained.add(&t.explained);
+    }
     Ok(ArmResult {
         name: arm.name().to_owned(),
         reuses_cases: arm.reuses_cases(),
@@ -374,8 +467,87 @@ fn run_chain<D: Domain>(
         cases_acquired,
         final_cases,
         versus_first: None,
+        explained,
         trials,
     })
+}
+
+/// One command of a trial, as [`trace_trial`] shows it.
+#[derive(Clone, Copy, Debug)]
+pub struct Step<'a> {
+    /// The behavior the command ran with.
+    pub behavior: Behavior,
+    /// What the robot was told and perceived.
+    pub outcome: &'a Outcome,
+    /// The operator's true reason (evaluation only).
+    pub truth: Option<Cause>,
+    /// The behavior's trust estimate after the command.
+    pub estimate: f64,
+    /// The explanation of the decision the command led to (a switch or the end).
+    pub explanation: Option<&'a Explanation>,
+}
+
+/// One command of a traced trial, owned.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TracedCommand {
+    /// The behavior the command ran with.
+    pub behavior: Behavior,
+    /// What the robot was told and perceived.
+    pub outcome: Outcome,
+    /// The operator's true reason (evaluation only).
+    pub truth: Option<Cause>,
+    /// The behavior's trust estimate after the command.
+    pub estimate: f64,
+    /// The explanation of the decision the command led to (a switch or the end).
+    pub explanation: Option<Explanation>,
+}
+
+/// Replays trial `trial` of arm `arm` in plan `experiment` (its index in the suite, which
+/// names its random streams) and returns its record and every command. Trials are
+/// paired by their streams, so the replay is exactly the trial the suite ran: an arm that
+/// carries anything across episodes replays the trials before it first.
+pub fn trace_trial<D: Domain>(
+    plan: &ExperimentPlan<'_, D>,
+    experiment: u64,
+    arm: usize,
+    trial: u32,
+    seed: u64,
+) -> Result<(TrialRecord, Vec<TracedCommand>), PlanError> {
+    plan.validate()?;
+    let arm = &plan.arms[arm];
+    let mut adapter = plan.adapter(arm)?;
+    if arm.reuses_cases() || adapter.learns_across_episodes() {
+        for earlier in 0..trial {
+            run_trial(
+                plan,
+                &mut adapter,
+                experiment,
+                earlier,
+                arm,
+                seed,
+                &mut |_| {},
+            )?;
+        }
+    }
+    let mut commands = Vec::new();
+    let record = run_trial(
+        plan,
+        &mut adapter,
+        experiment,
+        trial,
+        arm,
+        seed,
+        &mut |step| {
+            commands.push(TracedCommand {
+                behavior: step.behavior,
+                outcome: *step.outcome,
+                truth: step.truth,
+                estimate: step.estimate,
+                explanation: step.explanation.cloned(),
+            });
+        },
+    )?;
+    Ok((record, commands))
 }
 
 /// One trial: an episode from a drawn initial behavior until the adapter settles. Every
@@ -389,6 +561,7 @@ fn run_trial<D: Domain>(
     trial: u32,
     arm: &Arm,
     seed: u64,
+    observe: &mut dyn FnMut(Step<'_>),
 ) -> Result<TrialRecord, PlanError> {
     let space = plan.domain.space();
     let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
@@ -415,6 +588,10 @@ fn run_trial<D: Domain>(
     let mut behavior = initial;
     let mut runs = 0u64;
     let mut true_causes = BTreeMap::new();
+    let mut behavior_truth: BTreeMap<Cause, u32> = BTreeMap::new();
+    let mut explained = ExplanationCheck::default();
+    let mut estimate = 0.0;
+    let perceived = plan.domain.observations();
     let (report, truncated) = loop {
         let judgement = plan.domain.run(&behavior, operator, &mut runs_rng);
         if let Some(cause) = judgement.truth {
@@ -428,16 +605,37 @@ fn run_trial<D: Domain>(
         }
         if let Some(cause) = judgement.truth {
             *true_causes.entry(cause).or_insert(0) += 1;
+            *behavior_truth.entry(cause).or_insert(0) += 1;
         }
         let stated = channel.state(judgement.truth, plan.domain.causes(), &mut feedback_rng);
         let outcome = judgement.outcome.stating(stated);
         runs += 1;
-        match adapter
+        estimate += outcome.contribution();
+        let decision = adapter
             .record(&outcome)
-            .expect("domains report valid outcomes")
-        {
+            .expect("domains report valid outcomes");
+        let explanation = match &decision {
+            Decision::Keep => None,
+            Decision::Switch { explanation, .. } => Some(&**explanation),
+            Decision::Settled(report) => report.explanations.last(),
+        };
+        observe(Step {
+            behavior,
+            outcome: &outcome,
+            truth: judgement.truth,
+            estimate,
+            explanation,
+        });
+        if let Some(given_up) = explanation.and_then(|e| e.given_up.as_ref()) {
+            explained.score(given_up.first_reason(), &behavior_truth, perceived);
+        }
+        match decision {
             Decision::Keep => {}
-            Decision::Switch { to, .. } => behavior = to,
+            Decision::Switch { to, .. } => {
+                behavior = to;
+                behavior_truth.clear();
+                estimate = 0.0;
+            }
             Decision::Settled(report) => break (report, false),
         }
         if runs >= plan.max_commands {
@@ -453,5 +651,6 @@ fn run_trial<D: Domain>(
         report,
         truncated,
         true_causes,
+        explained,
     })
 }

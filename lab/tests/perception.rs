@@ -8,7 +8,8 @@ use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
 use trust::search::Uniform;
 use trust::{
-    Cause, DeclaredCause, Domain, Evaluated, FeedbackChannel, Judgement, Observations, Outcome,
+    Cause, DeclaredCause, Domain, Evaluated, Explanation, FeedbackChannel, Judgement, Observations,
+    Outcome, RetrieverKind,
 };
 
 /// The operator's real reason: never perceived by the robot.
@@ -24,15 +25,22 @@ struct Secretive {
     space: Arc<BehaviorSpace>,
     causes: [DeclaredCause; 2],
     observations: [Cause; 1],
+    truth: Cause,
 }
 
 impl Secretive {
     fn new() -> Self {
+        Self::with_truth(HIDDEN)
+    }
+
+    /// The same domain whose operator's real reason is `truth`.
+    fn with_truth(truth: Cause) -> Self {
         let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 4).unwrap();
         Self {
             space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
             causes: [DeclaredCause::new(HIDDEN), DeclaredCause::new(OTHER)],
             observations: [BEEP],
+            truth,
         }
     }
 }
@@ -61,7 +69,7 @@ impl Domain for Secretive {
         if *behavior == Behavior::new(&[3, 3]) {
             Judgement::completed(1.0, duration)
         } else {
-            Judgement::failed(1.0, HIDDEN, duration).observing(Observations::NONE.with(0))
+            Judgement::failed(1.0, self.truth, duration).observing(Observations::NONE.with(0))
         }
     }
 }
@@ -181,6 +189,70 @@ fn feedback_changes_what_is_said_not_what_happens() {
     };
     let explained = happened(Some(FeedbackChannel::new(0.3, 0.1).unwrap()));
     assert_eq!(happened(None), explained);
+}
+
+/// Every explanation of 20 trials of two arms (uniform search and case reuse) when the
+/// operator's real reason is `truth`, with the share of given-up behaviors the
+/// explanations got right.
+fn explanations(truth: Cause, feedback: Option<FeedbackChannel>) -> (Vec<Explanation>, u32) {
+    let domain = Secretive::with_truth(truth);
+    let operators = [("only".to_owned(), ())];
+    let plan = ExperimentPlan {
+        name: "secretive".into(),
+        domain: &domain,
+        operators: &operators,
+        choice: OperatorChoice::Fixed(0),
+        trials: 20,
+        settings: TrialSettings::default(),
+        arms: vec![
+            Arm::search_only("uniform", |_| Box::new(Uniform::new())),
+            Arm::case_based(
+                "case-based",
+                |_| Box::new(Uniform::new()),
+                |space, lambda| RetrieverKind::Linear.build(space.clone(), lambda),
+            ),
+        ],
+        max_commands: 10_000,
+        feedback,
+    };
+    let results = run_experiments(&[plan], 9, &|_| {}).unwrap();
+    let mut all = Vec::new();
+    let mut right = 0;
+    for arm in &results[0].arms {
+        right += arm.explained.right;
+        for trial in &arm.trials {
+            all.extend(trial.report.explanations.iter().cloned());
+        }
+    }
+    (all, right)
+}
+
+#[test]
+fn explanations_are_made_of_what_the_robot_was_told_never_of_the_truth() {
+    // Two operators who differ only in their real reason: a silent one tells the robot
+    // the same either way, so every explanation is the same, and (the beep names no
+    // cause) each infers the two causes at even odds.
+    let (hidden, right_hidden) = explanations(HIDDEN, None);
+    let (other, right_other) = explanations(OTHER, None);
+    assert!(hidden.iter().any(|e| e.given_up.is_some()));
+    assert_eq!(hidden, other);
+    for e in hidden.iter().filter_map(|e| e.given_up.as_ref()) {
+        for r in &e.reasons {
+            assert_eq!((r.stated, r.perceived), (0, 0));
+            assert!((r.inferred - 0.5).abs() < 1e-12, "{r:?}");
+        }
+    }
+    // The evaluation reads the truth: the tie goes to the first name, right for one
+    // operator and wrong for the other.
+    assert!(right_hidden > 0);
+    assert_eq!(right_other, 0);
+    // An operator who always explains, rightly: every first reason is the truth.
+    let honest = FeedbackChannel::new(1.0, 0.0).unwrap();
+    let (told, _) = explanations(OTHER, Some(honest));
+    for e in told.iter().filter_map(|e| e.given_up.as_ref()) {
+        assert_eq!(e.first_reason(), Some(OTHER));
+        assert_eq!(u64::from(e.reasons[0].stated), e.untrustworthy);
+    }
 }
 
 proptest! {

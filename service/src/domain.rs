@@ -51,8 +51,8 @@ use std::sync::Arc;
 use trust::evaluated::LambdaError;
 use trust::search::TrustSearcher;
 use trust::{
-    AdapterConfig, Cause, ConfigError, DeclaredCause, Observations, TrustCaseBase, TrustMemory,
-    TrustRetriever,
+    AdapterConfig, Cause, ConfigError, DeclaredCause, Hint, Observations, TrustCaseBase,
+    TrustMemory, TrustRetriever, find_declared,
 };
 use trust::{RetrieverFactory, SearcherFactory};
 
@@ -68,6 +68,8 @@ pub struct DomainDefinition {
     /// What the robot perceives: the names an outcome report's `observed` may list, in
     /// the order of their bits (empty unless declared).
     pub observations: Vec<Cause>,
+    /// Which observations hint at which causes, for explanations (none unless declared).
+    pub hints: Vec<Hint>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
@@ -83,6 +85,7 @@ impl fmt::Debug for DomainDefinition {
             .field("space", &self.space)
             .field("causes", &self.causes)
             .field("observations", &self.observations)
+            .field("hints", &self.hints)
             .field("adapter", &self.adapter)
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
@@ -99,6 +102,8 @@ struct DomainFile {
     causes: Vec<DeclaredCause>,
     #[serde(default, deserialize_with = "distinct_observations")]
     observations: Vec<Cause>,
+    #[serde(default)]
+    hints: Vec<Hint>,
     #[serde(default)]
     adapter: AdapterConfig,
 }
@@ -159,6 +164,9 @@ pub enum DomainError {
     /// The file is not a valid domain.
     #[error(transparent)]
     Parse(#[from] RonError),
+    /// A hint names an undeclared observation or cause.
+    #[error("{0}")]
+    Hint(String),
 }
 
 impl DomainDefinition {
@@ -175,6 +183,7 @@ impl DomainDefinition {
             space,
             causes,
             observations: Vec::new(),
+            hints: Vec::new(),
             adapter,
             searcher: None,
             retriever: None,
@@ -188,6 +197,32 @@ impl DomainDefinition {
         Self {
             observations,
             ..self
+        }
+    }
+
+    /// The same domain whose explanations read `hints` (each names a declared observation
+    /// and a declared cause; see [`trust::explain`]).
+    pub fn with_hints(self, hints: Vec<Hint>) -> Result<Self, DomainError> {
+        for hint in &hints {
+            if !self.observations.contains(&hint.observation) {
+                return Err(DomainError::Hint(format!(
+                    "hint observation `{}` is not a declared observation (declared: {})",
+                    hint.observation,
+                    trust::cause::list_causes(&self.observations)
+                )));
+            }
+            find_declared(&self.causes, hint.suggests)
+                .map_err(|e| DomainError::Hint(format!("hint of `{}`: {e}", hint.observation)))?;
+        }
+        Ok(Self { hints, ..self })
+    }
+
+    /// The vocabulary an adapter explains itself in: the causes, observations and hints.
+    pub fn vocabulary(&self) -> trust::Vocabulary {
+        trust::Vocabulary {
+            causes: self.causes.iter().map(|d| d.name).collect(),
+            observations: self.observations.clone(),
+            hints: self.hints.clone(),
         }
     }
 
@@ -262,13 +297,20 @@ impl DomainDefinition {
     /// Parses a domain from RON text; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, DomainError> {
         let file: DomainFile = parse_ron(text, origin)?;
-        Ok(Self::new(
+        Self::new(
             origin.display().to_string(),
             Arc::new(file.space),
             file.causes,
             file.adapter,
         )
-        .with_observations(file.observations))
+        .with_observations(file.observations)
+        .with_hints(file.hints)
+        .map_err(|e| match e {
+            DomainError::Hint(reason) => {
+                DomainError::Hint(format!("{}: field `hints`: {reason}", origin.display()))
+            }
+            other => other,
+        })
     }
 }
 

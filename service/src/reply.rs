@@ -6,12 +6,12 @@
 
 use crate::shared::SharedCases;
 use crate::store::StoreId;
-use cbr_core::{Behavior, BehaviorSpace};
+use cbr_core::{Behavior, BehaviorSpace, CaseId};
 use serde_json::{Value, json};
 use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
-use trust::{EpisodeReport, Evaluated};
+use trust::{EpisodeReport, Evaluated, Explanation, GivenUp, Next};
 
 /// How many cases a listing copies from the shared memory at a time.
 const LISTING_CHUNK: usize = 256;
@@ -125,16 +125,94 @@ pub fn evaluated(space: &BehaviorSpace, pairs: &[Evaluated]) -> Value {
         .collect()
 }
 
+/// The account of a behavior (given up, or in use): its commands, its trust estimate and
+/// the reasons attributed to its untrustworthy commands, each with its evidence.
+pub fn account(space: &BehaviorSpace, account: &GivenUp) -> Value {
+    json!({
+        "behavior": behavior(space, &account.behavior),
+        "commands": account.commands,
+        "untrustworthy": account.untrustworthy,
+        "trust": account.estimate,
+        "reasons": account.reasons.iter().map(|r| json!({
+            "cause": r.cause,
+            "weight": r.weight,
+            "stated": r.stated,
+            "perceived": r.perceived,
+            "inferred": r.inferred,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// An explanation in real units, with its plain sentence: `given_up` (an [`account`]),
+/// `next` (`source` `case` with the case's store id, its similarity and the behaviors it
+/// matched; `search` with the strategy and its rationale; or `kept`) and `sentence`.
+/// `case_id` gives a reused case's store id.
+pub fn explanation(
+    space: &BehaviorSpace,
+    explanation: &Explanation,
+    case_id: &dyn Fn(CaseId) -> Option<StoreId>,
+) -> Value {
+    let next = match &explanation.next {
+        Next::Case {
+            behavior: b,
+            case,
+            similarity,
+            matched,
+            given_up,
+        } => json!({
+            "source": "case",
+            "behavior": behavior(space, b),
+            "case": case_id(*case),
+            "similarity": similarity,
+            "matched": matched,
+            "given_up": given_up,
+        }),
+        Next::Search {
+            behavior: b,
+            strategy,
+            rationale,
+        } => json!({
+            "source": "search",
+            "behavior": behavior(space, b),
+            "strategy": strategy,
+            "rationale": rationale,
+        }),
+        Next::Kept {
+            behavior: b,
+            trustworthy,
+            commands,
+            estimate,
+        } => json!({
+            "source": "kept",
+            "behavior": behavior(space, b),
+            "trustworthy": trustworthy,
+            "commands": commands,
+            "trust": estimate,
+        }),
+    };
+    let sentence = explanation.sentence_naming_cases(space, &|case| {
+        case_id(case).map_or_else(|| "(unknown)".to_owned(), |id| id.to_string())
+    });
+    json!({
+        "given_up": explanation.given_up.as_ref().map(|g| account(space, g)),
+        "next": next,
+        "sentence": sentence,
+    })
+}
+
 /// The summary of a finished episode, under the `ok` name `kind`: `retained` is the store
-/// id of the case it retained, `cases` the number of cases held.
+/// id of the case it retained, `cases` the number of cases held, `explanation` why it
+/// ended (an [`explanation`], for a settled episode).
 pub fn episode_end(
     kind: &str,
     space: &BehaviorSpace,
     report: &EpisodeReport,
     retained: Option<StoreId>,
     cases: usize,
+    explanation: Option<Value>,
 ) -> Value {
     json!({
+        "explanation": explanation,
         "ok": kind,
         "behavior": behavior(space, &report.settled),
         "trustworthy": report.found_trustworthy,

@@ -48,6 +48,8 @@ pub enum Request {
     Abandon,
     /// The behavior space and the adapter configuration.
     Config,
+    /// The explanation of the episode so far.
+    Explain,
 }
 
 /// The requests named by a `request` field, with the fields each allows besides it.
@@ -57,6 +59,7 @@ const NAMED: &[(&str, &[&str])] = &[
     ("cases", &[]),
     ("abandon", &[]),
     ("config", &[]),
+    ("explain", &[]),
 ];
 
 /// The fields of an outcome report.
@@ -77,12 +80,12 @@ pub enum RequestError {
     NotAnObject(&'static str),
     /// Neither `request` nor `outcome` is present.
     #[error(
-        "a request needs a `request` field (one of begin, state, cases, abandon, config) or, for an outcome report, an `outcome` field"
+        "a request needs a `request` field (one of begin, state, cases, abandon, config, explain) or, for an outcome report, an `outcome` field"
     )]
     NoKind,
     /// The `request` field names no request.
     #[error(
-        "field `request`: unknown request `{0}` (one of begin, state, cases, abandon, config; outcome reports have an `outcome` field instead)"
+        "field `request`: unknown request `{0}` (one of begin, state, cases, abandon, config, explain; outcome reports have an `outcome` field instead)"
     )]
     UnknownRequest(String),
     /// A field the request does not have.
@@ -228,6 +231,7 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
         "state" => Request::State,
         "cases" => Request::Cases,
         "abandon" => Request::Abandon,
+        "explain" => Request::Explain,
         _ => Request::Config,
     })
 }

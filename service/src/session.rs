@@ -69,12 +69,14 @@ impl Session {
     ) -> Result<Self, SessionError> {
         domain.adapter.validate()?;
         let searcher = domain.build_searcher();
+        let vocabulary = domain.vocabulary();
         let adaptation = Adaptation::with_parts(
             domain.space,
             domain.adapter,
             searcher,
             ChaCha8Rng::seed_from_u64(seed),
-        );
+        )
+        .with_vocabulary(vocabulary);
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
         Ok(Self {
@@ -111,6 +113,7 @@ impl Session {
             Request::Cases => return Ok(self.cases()),
             Request::Abandon => self.abandon(),
             Request::Config => self.config(),
+            Request::Explain => self.explain(),
         }))
     }
 
@@ -193,7 +196,15 @@ impl Session {
                     "trust": episode.map(|e| e.estimate.value),
                 })
             }
-            Decision::Switch { to, source } => switch(&space, &to, source, reused),
+            Decision::Switch {
+                to,
+                source,
+                explanation,
+            } => {
+                let mut reply = switch(&space, &to, source, reused);
+                reply["explanation"] = reply::explanation(&space, &explanation, &|_| reused);
+                reply
+            }
             Decision::Settled(report) => {
                 let (retained, held) = match self.adaptation.case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {
@@ -202,7 +213,11 @@ impl Session {
                     }
                     _ => (None, held),
                 };
-                reply::episode_end("settled", &space, &report, retained, held)
+                let explanation = report
+                    .explanations
+                    .last()
+                    .map(|e| reply::explanation(&space, e, &|_| None));
+                reply::episode_end("settled", &space, &report, retained, held, explanation)
             }
         })
     }
@@ -249,11 +264,46 @@ impl Session {
             Err(e) => return store_unavailable(&e),
         };
         match self.adaptation.abandon_episode() {
-            Some(report) => {
-                reply::episode_end("abandoned", self.adaptation.space(), &report, None, held)
-            }
+            Some(report) => reply::episode_end(
+                "abandoned",
+                self.adaptation.space(),
+                &report,
+                None,
+                held,
+                None,
+            ),
             None => reply::error("no episode is under way: there is nothing to abandon"),
         }
+    }
+
+    /// The explanation of the episode so far: the account of the behavior in use and the
+    /// explanation of every switch, reused cases named by their store ids.
+    fn explain(&self) -> Value {
+        let space = self.adaptation.space();
+        let (Some(episode), Some(standing)) =
+            (self.adaptation.episode(), self.adaptation.standing())
+        else {
+            return json!({ "ok": "explanation", "episode": null });
+        };
+        let switches = self.cases.current(|_, ids| {
+            episode
+                .explanations
+                .iter()
+                .map(|e| reply::explanation(space, e, &|case| ids.get(case.index()).copied()))
+                .collect::<Vec<Value>>()
+        });
+        let switches = match switches {
+            Ok(switches) => switches,
+            Err(e) => return store_unavailable(&e),
+        };
+        json!({
+            "ok": "explanation",
+            "episode": {
+                "current": reply::account(space, &standing),
+                "commands": episode.commands,
+                "switches": switches,
+            },
+        })
     }
 
     fn config(&self) -> Value {

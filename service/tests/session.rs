@@ -559,3 +559,119 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn every_switch_and_settled_reply_explains_itself_and_explain_tells_the_episode_so_far() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut domain = quick_movement()
+        .with_hints(domains::perception::MOVEMENT_HINTS.to_vec())
+        .unwrap();
+    // Three interruptions to give a behavior up, five completions to trust it.
+    domain.adapter.thresholds.untrustworthy = -3.0;
+    domain.adapter.thresholds.trustworthy = 5.0;
+    let mut s = Session::new(domain, open_cases(dir.path()), 7).unwrap();
+    assert_eq!(
+        ok(&mut s, r#"{"request":"explain"}"#),
+        json!({"ok": "explanation", "episode": null})
+    );
+    ok(
+        &mut s,
+        r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4}}"#,
+    );
+    // A bump the robot perceives, a stated collision, and a run behind its plan with
+    // nothing stated (a hint at the deadline).
+    let bump = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 4.0, "observed": ["collision"]}"#;
+    let said =
+        r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 4.0, "stated": "collision"}"#;
+    let late = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 9.0, "observed": ["behind-plan"]}"#;
+    ok(&mut s, bump);
+    ok(&mut s, said);
+    let so_far = ok(&mut s, r#"{"request":"explain","id":3}"#);
+    assert_eq!(so_far["id"], 3);
+    let current = &so_far["episode"]["current"];
+    assert_eq!(current["behavior"], json!({"speed": 3.5, "padding": 0.4}));
+    assert_eq!(
+        (current["commands"].clone(), current["trust"].clone()),
+        (json!(2), json!(-2.0))
+    );
+    assert_eq!(
+        current["reasons"],
+        json!([{"cause": "collision", "weight": 2.0, "stated": 1, "perceived": 1, "inferred": 0.0}])
+    );
+    assert_eq!(so_far["episode"]["switches"], json!([]));
+    let switched = ok(&mut s, late);
+    assert_eq!(switched["ok"], "switch");
+    let explanation = &switched["explanation"];
+    assert_eq!(explanation["given_up"]["untrustworthy"], 3);
+    assert_eq!(explanation["given_up"]["reasons"][0]["cause"], "collision");
+    assert_eq!(explanation["given_up"]["reasons"][1]["cause"], "deadline");
+    assert_eq!(explanation["next"]["source"], "search");
+    assert_eq!(explanation["next"]["strategy"], "random-walk");
+    assert_eq!(explanation["next"]["behavior"], switched["behavior"]);
+    assert_eq!(explanation["next"]["rationale"]["kind"], "explores");
+    let sentence = explanation["sentence"].as_str().unwrap();
+    assert!(
+        sentence.starts_with("Gave up speed=3.5 m/s, padding=0.4 m after 3 commands (3 untrustworthy): most likely collision (stated once; perceived once), then deadline (inferred, p = "),
+        "{sentence}"
+    );
+    // The episode so far now holds the switch.
+    let so_far = ok(&mut s, r#"{"request":"explain"}"#);
+    assert_eq!(so_far["episode"]["switches"][0], *explanation);
+    assert_eq!(so_far["episode"]["current"]["commands"], 0);
+    // Five completions settle it: the settled reply says why.
+    let mut settled = Value::Null;
+    for _ in 0..5 {
+        settled = ok(&mut s, COMPLETED);
+    }
+    assert_eq!(settled["ok"], "settled");
+    assert_eq!(settled["explanation"]["given_up"], Value::Null);
+    assert_eq!(settled["explanation"]["next"]["source"], "kept");
+    assert_eq!(settled["explanation"]["next"]["commands"], 5);
+    assert!(
+        settled["explanation"]["sentence"]
+            .as_str()
+            .unwrap()
+            .ends_with("trusted after 5 commands (estimate +5.00)."),
+        "{settled}"
+    );
+}
+
+#[test]
+fn a_domain_file_declares_hints_by_name_and_is_refused_with_an_unknown_one() {
+    let text = |hint: &str| {
+        format!(
+            r#"(
+    space: (components: [(name: "speed", unit: "m/s", values: Numeric(min: 0.5, step: 0.5, count: 4))]),
+    causes: [(name: "late")],
+    observations: ["slow-progress"],
+    hints: [{hint}],
+)"#
+        )
+    };
+    let good = DomainDefinition::from_ron(
+        &text(r#"(observation: "slow-progress", suggests: "late")"#),
+        Path::new("d.ron"),
+    )
+    .unwrap();
+    assert_eq!(good.vocabulary().hints.len(), 1);
+    let err = DomainDefinition::from_ron(
+        &text(r#"(observation: "beep", suggests: "late")"#),
+        Path::new("d.ron"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert_eq!(
+        err,
+        "d.ron: field `hints`: hint observation `beep` is not a declared observation (declared: slow-progress)"
+    );
+    let err = DomainDefinition::from_ron(
+        &text(r#"(observation: "slow-progress", suggests: "early")"#),
+        Path::new("d.ron"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert_eq!(
+        err,
+        "d.ron: field `hints`: hint of `slow-progress`: cause `early` is not declared (declared: late)"
+    );
+}

@@ -209,6 +209,16 @@ impl Explanation {
     /// One plain sentence from the parts, for an operator's screen, with behaviors in the
     /// units of `space`.
     pub fn sentence(&self, space: &BehaviorSpace) -> String {
+        self.sentence_naming_cases(space, &|case| case.0.to_string())
+    }
+
+    /// [`Explanation::sentence`], with a reused case named by `case_name` (a case store
+    /// names its cases by its own ids).
+    pub fn sentence_naming_cases(
+        &self,
+        space: &BehaviorSpace,
+        case_name: &dyn Fn(CaseId) -> String,
+    ) -> String {
         let mut text = String::new();
         if let Some(given_up) = &self.given_up {
             let _ = write!(
@@ -242,7 +252,7 @@ impl Explanation {
                     "Now {}{}: reused case {} (similarity {similarity:.2}, it matches {matched} of the {} given up).",
                     space.display(behavior),
                     changes(space, self.given_up.as_ref().map(|g| g.behavior), behavior),
-                    case.0,
+                    case_name(*case),
                     plural(u64::from(*given_up), "behavior")
                 );
             }
