@@ -150,6 +150,11 @@ pub struct TrialRecord {
     /// evaluation only).
     #[serde(default)]
     pub explained: ExplanationCheck,
+    /// Per given-up behavior, in order, the operator's most frequent true reason on its
+    /// untrustworthy commands (the first by name in a tie; `None` when they carry none):
+    /// for evaluation only, beside `report.explanations`.
+    #[serde(default)]
+    pub given_up_truth: Vec<Option<Cause>>,
 }
 
 /// How often the first reason an explanation gives for a given-up behavior is the
@@ -193,16 +198,15 @@ impl ExplanationCheck {
     }
 
     /// Scores one given-up behavior: `attributed` is the explanation's first reason,
-    /// `truth` the true reasons of its untrustworthy commands, counted.
+    /// `truth` the true reasons of its untrustworthy commands, counted. Returns the most
+    /// frequent true reason (the first by name in a tie).
     fn score(
         &mut self,
         attributed: Option<Cause>,
         truth: &BTreeMap<Cause, u32>,
         perceived: &[Cause],
-    ) {
-        let Some(&most) = truth.values().max() else {
-            return;
-        };
+    ) -> Option<Cause> {
+        let &most = truth.values().max()?;
         let modes: Vec<Cause> = truth
             .iter()
             .filter(|&(_, &n)| n == most)
@@ -215,6 +219,7 @@ impl ExplanationCheck {
             self.perceivable += 1;
             self.perceivable_right += u32::from(right);
         }
+        Some(modes[0])
     }
 }
 
@@ -590,6 +595,7 @@ fn run_trial<D: Domain>(
     let mut true_causes = BTreeMap::new();
     let mut behavior_truth: BTreeMap<Cause, u32> = BTreeMap::new();
     let mut explained = ExplanationCheck::default();
+    let mut given_up_truth = Vec::new();
     let mut estimate = 0.0;
     let perceived = plan.domain.observations();
     let (report, truncated) = loop {
@@ -627,7 +633,11 @@ fn run_trial<D: Domain>(
             explanation,
         });
         if let Some(given_up) = explanation.and_then(|e| e.given_up.as_ref()) {
-            explained.score(given_up.first_reason(), &behavior_truth, perceived);
+            given_up_truth.push(explained.score(
+                given_up.first_reason(),
+                &behavior_truth,
+                perceived,
+            ));
         }
         match decision {
             Decision::Keep => {}
@@ -652,5 +662,6 @@ fn run_trial<D: Domain>(
         truncated,
         true_causes,
         explained,
+        given_up_truth,
     })
 }
