@@ -1,6 +1,7 @@
 //! `trustcbr cases export | import | info` as processes: a case base learned by `serve`
 //! goes to RON and back into another database unchanged; a RON file of another space is
-//! refused naming the difference; a RON case file is served read-only.
+//! refused naming the difference; a RON case file is served read-only and is never an
+//! import's target.
 
 use std::io::Write;
 use std::path::Path;
@@ -162,5 +163,50 @@ fn a_ron_case_file_is_served_read_only() {
             .iter()
             .all(|r| r["retained"].is_null() && r["cases"] == 2)
     );
+    assert_eq!(std::fs::read(&exported).unwrap(), before);
+}
+
+#[test]
+fn importing_into_a_ron_file_says_it_is_read_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let db = dir.path().join("learned.db");
+    learn(&domain, &db, 2);
+    let exported = dir.path().join("cases.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    let before = std::fs::read(&exported).unwrap();
+    let existing = dir.path().join("existing.ron");
+    std::fs::copy(&exported, &existing).unwrap();
+
+    // A new RON file is not created, an existing one is not changed.
+    let new = dir.path().join("new.ron");
+    for target in [&new, &existing] {
+        let output = trustcbr(&[
+            "cases",
+            "import",
+            exported.to_str().unwrap(),
+            target.to_str().unwrap(),
+            "--domain",
+            domain.to_str().unwrap(),
+        ]);
+        assert!(!output.status.success());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.contains(&format!(
+                "{}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead",
+                target.display()
+            )),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("no case base there"), "{stderr}");
+    }
+    assert!(!new.exists());
+    assert_eq!(std::fs::read(&existing).unwrap(), before);
     assert_eq!(std::fs::read(&exported).unwrap(), before);
 }
