@@ -117,11 +117,11 @@ pub struct SuiteAdapter {
     pub lambda: f64,
     /// The retriever of the arms that reuse cases (every kind gives the same answers).
     pub retriever: RetrieverKind,
-    /// Which episodes are retained as cases (SPEC section 3): `any_search` (default) or
-    /// `final_from_search`.
+    /// Which episodes are retained as cases (docs/model.md#cases-and-retention):
+    /// `any_search` (default) or `final_from_search`.
     pub retention: Retention,
-    /// The unit of an evaluated pair's time (SPEC section 2): `task_seconds` (default) or
-    /// `commands`.
+    /// The unit of an evaluated pair's time (docs/model.md#the-trust-estimate):
+    /// `task_seconds` (default) or `commands`.
     pub time_unit: TimeUnit,
 }
 
