@@ -29,6 +29,8 @@ use lab::{
     run_experiments,
 };
 use serde::{Deserialize, Serialize};
+use service::StoreError;
+use service::store::{self, Identity, Location, ron_file};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -115,11 +117,11 @@ pub struct SuiteAdapter {
     pub lambda: f64,
     /// The retriever of the arms that reuse cases (every kind gives the same answers).
     pub retriever: RetrieverKind,
-    /// Which episodes are retained as cases (SPEC section 3): `any_search` (default) or
-    /// `final_from_search`.
+    /// Which episodes are retained as cases (docs/model.md#cases-and-retention):
+    /// `any_search` (default) or `final_from_search`.
     pub retention: Retention,
-    /// The unit of an evaluated pair's time (SPEC section 2): `task_seconds` (default) or
-    /// `commands`.
+    /// The unit of an evaluated pair's time (docs/model.md#the-trust-estimate):
+    /// `task_seconds` (default) or `commands`.
     pub time_unit: TimeUnit,
 }
 
@@ -236,22 +238,22 @@ pub enum SuiteError {
     /// The experiments cannot be run as planned.
     #[error(transparent)]
     Plan(#[from] PlanError),
-    /// A saved case base cannot be used.
+    /// A case base could not be saved.
     #[error(transparent)]
     Cases(#[from] CaseBaseError),
-    /// A saved case base does not fit the experiment's behavior space.
-    #[error("{path}: case {case} does not fit the {scenario} behavior space")]
-    ForeignCases {
-        /// The file.
-        path: PathBuf,
-        /// The case's position.
-        case: usize,
-        /// The scenario.
-        scenario: String,
-    },
+    /// A saved case base cannot be read, or was learned in another behavior space.
+    #[error(transparent)]
+    SavedCases(Box<StoreError>),
     /// The report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
+}
+
+// Boxed: a store's error is large, and every result of a suite carries this type.
+impl From<StoreError> for SuiteError {
+    fn from(error: StoreError) -> Self {
+        Self::SavedCases(Box::new(error))
+    }
 }
 
 // By hand rather than `#[from]`, which would also expose the reason as the error's
@@ -491,6 +493,9 @@ pub struct StartingCases {
 }
 
 impl StartingCases {
+    /// The saved case base of `arm` in the experiment `stem` of `scenario`, if there is
+    /// one: refused when it records another behavior space or a case does not fit `space`.
+    /// A file that records no space (saved by an earlier version) is read as `space`'s.
     fn load(
         &self,
         stem: &str,
@@ -502,21 +507,18 @@ impl StartingCases {
         if !path.exists() {
             return Ok(None);
         }
-        let cases = TrustCaseBase::load_ron(&path)?;
-        for (id, case) in cases.iter() {
-            let fits = space.contains(&case.solution)
-                && case
-                    .problem
-                    .iter()
-                    .all(|e| space.contains(&e.behavior) && e.time.is_finite() && e.time >= 0.0);
-            if !fits {
-                return Err(SuiteError::ForeignCases {
-                    path,
-                    case: id.index(),
-                    scenario: scenario.to_owned(),
-                });
-            }
-        }
+        let identity = Identity {
+            domain: scenario.to_owned(),
+            space: space.clone(),
+        };
+        let mut store = store::open(&Location::Ron(path), &identity)?;
+        let location = store.location();
+        let mut cases = TrustCaseBase::new();
+        store.read_after(None, &mut |stored| {
+            store::check_case(&location, &stored, space)?;
+            cases.push(stored.case);
+            Ok(())
+        })?;
         Ok(Some(cases))
     }
 }
@@ -703,7 +705,9 @@ fn run_parts<C: Catalog>(
 }
 
 /// Saves the case base each case-reusing arm ended every experiment with, as
-/// `DIR/EXPERIMENT/ARM.ron` (what [`StartingCases`] reads). Returns the files written.
+/// `DIR/EXPERIMENT/ARM.ron` (what [`StartingCases`] reads), each file naming its scenario
+/// and behavior space as `trustcbr cases export` writes them, so that `cases info`,
+/// `cases import` and `serve` read it as it is. Returns the files written.
 pub fn save_case_bases(
     dir: &Path,
     config: &SuiteConfig,
@@ -711,8 +715,13 @@ pub fn save_case_bases(
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let stems = file_stems(config.experiments.iter().map(|s| s.name()));
     let mut written = Vec::new();
-    for (result, stem) in results.results.iter().zip(&stems) {
+    let experiments = results.results.iter().zip(&results.spaces);
+    for (((result, space), stem), spec) in experiments.zip(&stems).zip(&config.experiments) {
         let folder = dir.join(stem);
+        let identity = Identity {
+            domain: spec.scenario.clone(),
+            space: (**space).clone(),
+        };
         for arm in &result.arms {
             let Some(cases) = &arm.final_cases else {
                 continue;
@@ -722,7 +731,7 @@ pub fn save_case_bases(
                 reason,
             })?;
             let path = folder.join(format!("{}.ron", arm.name));
-            cases.save_ron(&path)?;
+            ron_file::save(&path, &identity, cases.cases())?;
             written.push(path);
         }
     }

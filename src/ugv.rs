@@ -1,5 +1,5 @@
 //! The built-in catalog: the paper's movement and patrol scenarios over the UGV world
-//! (`domains`), with the SPEC operators, the patrol weight reading and the paper's seven
+//! (`domains`), with the paper's operators, the patrol weight reading and the paper's seven
 //! experiments as the embedded suite. The shipped `trustcbr` binary is
 //! [`crate::cli::main`] over this catalog.
 
@@ -8,7 +8,7 @@ use cbr_core::Behavior;
 use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
 use std::path::Path;
 
-/// The name of the reading of the patrol operators' weights (SPEC section 8).
+/// The name of the reading of the patrol operators' weights (docs/model.md#open-readings).
 pub const PATROL_WEIGHTS: &str = "patrol_weights";
 
 /// The patrol weights as the operator files write them: 1/3 for every outcome, 1 for a
@@ -105,7 +105,7 @@ impl Catalog for UgvCatalog {
         vec![Reading {
             name: PATROL_WEIGHTS.to_owned(),
             values: vec![AS_WRITTEN.to_owned(), THREE_AND_ONE.to_owned()],
-            about: "how the patrol operators' weights are scaled (SPEC section 8)".to_owned(),
+            about: "how the patrol weights are scaled (docs/model.md#open-readings)".to_owned(),
         }]
     }
 

@@ -1,6 +1,7 @@
 //! `trustcbr cases export | import | info` as processes: a case base learned by `serve`
 //! goes to RON and back into another database unchanged; a RON file of another space is
-//! refused naming the difference; a RON case file is served read-only.
+//! refused naming the difference; a RON case file is served read-only and is never an
+//! import's target; the case bases `--save-cases` writes are read as they are.
 
 use std::io::Write;
 use std::path::Path;
@@ -162,5 +163,112 @@ fn a_ron_case_file_is_served_read_only() {
             .iter()
             .all(|r| r["retained"].is_null() && r["cases"] == 2)
     );
+    assert_eq!(std::fs::read(&exported).unwrap(), before);
+}
+
+#[test]
+fn saved_case_bases_are_read_by_cases_info_and_import() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("small.ron");
+    std::fs::write(
+        &config,
+        r#"(seed: 7, trials: 4, landscape_runs: 0, arms: ["case-based"],
+            experiments: [(scenario: "movement", operator: "balanced")])"#,
+    )
+    .unwrap();
+    let saved = dir.path().join("saved");
+    succeeded(
+        Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+            .args(["run", config.to_str().unwrap(), "--out"])
+            .arg(dir.path().join("report"))
+            .arg("--save-cases")
+            .arg(&saved)
+            .output()
+            .unwrap(),
+    );
+    let file = saved.join("movement-balanced").join("case-based.ron");
+    let stored = std::fs::read_to_string(&file)
+        .unwrap()
+        .matches("solution:")
+        .count();
+    assert!(stored > 0);
+
+    let info = succeeded(trustcbr(&["cases", "info", file.to_str().unwrap()]));
+    assert!(info.contains("domain:    movement"), "{info}");
+    assert!(
+        info.contains("400 behaviors: speed (20 values, weight 1), padding (20 values, weight 1)"),
+        "{info}"
+    );
+    assert!(info.contains(&format!("cases:     {stored} ")), "{info}");
+
+    // Into a database of the scenario it was learned in, and out again unchanged.
+    let db = dir.path().join("movement.db");
+    let said = succeeded(trustcbr(&[
+        "cases",
+        "import",
+        file.to_str().unwrap(),
+        db.to_str().unwrap(),
+        "--domain",
+        "movement",
+    ]));
+    assert!(
+        said.starts_with(&format!("imported {stored} cases")),
+        "{said}"
+    );
+    let exported = dir.path().join("exported.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    assert_eq!(
+        std::fs::read_to_string(&exported).unwrap(),
+        std::fs::read_to_string(&file).unwrap()
+    );
+}
+
+#[test]
+fn importing_into_a_ron_file_says_it_is_read_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let db = dir.path().join("learned.db");
+    learn(&domain, &db, 2);
+    let exported = dir.path().join("cases.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    let before = std::fs::read(&exported).unwrap();
+    let existing = dir.path().join("existing.ron");
+    std::fs::copy(&exported, &existing).unwrap();
+
+    // A new RON file is not created, an existing one is not changed.
+    let new = dir.path().join("new.ron");
+    for target in [&new, &existing] {
+        let output = trustcbr(&[
+            "cases",
+            "import",
+            exported.to_str().unwrap(),
+            target.to_str().unwrap(),
+            "--domain",
+            domain.to_str().unwrap(),
+        ]);
+        assert!(!output.status.success());
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(
+            stderr.contains(&format!(
+                "{}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead",
+                target.display()
+            )),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("no case base there"), "{stderr}");
+    }
+    assert!(!new.exists());
+    assert_eq!(std::fs::read(&existing).unwrap(), before);
     assert_eq!(std::fs::read(&exported).unwrap(), before);
 }

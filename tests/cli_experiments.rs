@@ -275,7 +275,7 @@ fn saved_case_bases_seed_the_next_run() {
     let strategies = &summary["experiments"][0]["strategies"];
     assert_eq!(strategies["case-based"]["started_from_cases"], stored);
     assert_eq!(strategies["random-walk"]["started_from_cases"], 0);
-    // A case base of another space is refused.
+    // A case base of another space is refused, naming the space it records.
     std::fs::copy(saved.join("patrol-random").join("case-based.ron"), &file).unwrap();
     let output = trustcbr()
         .args(["run", config.to_str().unwrap()])
@@ -288,7 +288,8 @@ fn saved_case_bases_seed_the_next_run() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        !output.status.success() && stderr.contains("does not fit the movement behavior space"),
+        !output.status.success()
+            && stderr.contains("learned in another behavior space (domain `patrol`)"),
         "{stderr}"
     );
 }

@@ -43,7 +43,7 @@ use trust::{
     select_behavior,
 };
 
-/// What the operator cares about (SPEC section 8's two patrol operators).
+/// What the operator cares about (the two patrol operators of docs/model.md#the-operators).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Focus {
     /// Interrupts late runs (`p_alpha = 0.95`).
@@ -67,7 +67,7 @@ pub enum Focus {
 /// - each harmless object is labelled explosive with probability `0.2 exp(-s / 2) r`
 ///   (interruption).
 ///
-/// Every other outcome weighs 1/3 (SPEC section 8's default patrol weights).
+/// Every other outcome weighs 1/3 (the default patrol weights of docs/model.md#open-readings).
 #[derive(Clone, Copy, Debug)]
 pub struct SyntheticOperator {
     /// What the operator watches most.

@@ -1,5 +1,5 @@
 //! Operator models as data: what a simulated operator watches in a run's trace and how it
-//! reacts (SPEC section 8). A new operator is a RON file; no code.
+//! reacts (docs/model.md#the-operators). A new operator is a RON file; no code.
 //!
 //! The operator reads the trace in time order. At its deadline `t_complete` it interrupts
 //! with probability `p_deadline` (the paper's `p_alpha`); if it lets the robot go on, it
@@ -395,7 +395,8 @@ fn list_causes(causes: &[Cause]) -> String {
         .join(", ")
 }
 
-/// The operators of SPEC section 8 for `scenario`, from the RON files shipped with the crate.
+/// The paper's operators for `scenario` (docs/model.md#the-operators), from the RON files
+/// shipped with the crate.
 pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
     let sources: &[(&str, &str)] = match scenario {
         Scenario::Movement => &[

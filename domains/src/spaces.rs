@@ -1,4 +1,4 @@
-//! The behavior spaces of the paper's two scenarios (SPEC section 8).
+//! The behavior spaces of the paper's two scenarios (docs/model.md#the-two-scenarios).
 //!
 //! Component names are part of the user interface (`--behavior 'speed=3.5,padding=0.4'`,
 //! reports, the service protocol): `speed`, `padding`, `scan_time`, `scan_distance`.
@@ -46,7 +46,7 @@ mod tests {
     #[test]
     fn sizes_follow_the_listed_values() {
         assert_eq!(movement_space().size(), 400);
-        // 20 x 20 x 10 x 4 (SPEC section 8).
+        // 20 x 20 x 10 x 4 (docs/model.md#patrol).
         assert_eq!(patrol_space().size(), 16_000);
     }
 }

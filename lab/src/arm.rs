@@ -59,7 +59,7 @@ pub struct UnknownArm {
 
 impl Arm {
     /// The search strategy alone: every adaptation comes from `searcher` (cases are still
-    /// retained as SPEC section 3 says, and counted, but never read).
+    /// retained as docs/model.md#cases-and-retention says, and counted, but never read).
     pub fn search_only(
         name: impl Into<String>,
         searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,

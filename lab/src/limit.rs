@@ -699,7 +699,7 @@ mod tests {
         assert!(close(o.commands, 5.0, 1e-12));
         let o = walk(&[(0.5, third, false), (0.3, -third, true), (0.2, -1.0, true)]);
         assert_eq!(o.states, 29);
-        // The oracle's 10-digit weights give the same chain.
+        // Weights written with 10 digits give the same chain.
         let w = 0.333_333_333_3;
         let p = walk(&[(0.5, w, false), (0.3, -w, true), (0.2, -1.0, true)]);
         assert_eq!(p.states, 29);

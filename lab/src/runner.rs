@@ -69,9 +69,9 @@ pub struct TrialSettings {
     /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
     #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
     pub lambda: f64,
-    /// Which episodes are retained (SPEC section 3).
+    /// Which episodes are retained (docs/model.md#cases-and-retention).
     pub retention: Retention,
-    /// The unit of `t` (SPEC section 2).
+    /// The unit of `t` (docs/model.md#the-trust-estimate).
     pub time_unit: TimeUnit,
 }
 

@@ -20,7 +20,7 @@ fn to_steps(law: &[(u32, i32, bool)]) -> Vec<Step> {
         .collect()
 }
 
-/// Independent dense solve on the integer grid (in twelfths), like tools/oracle.py.
+/// Independent dense solve on the integer grid (in twelfths).
 fn dense(law: &[(u32, i32, bool)], tau12: i32) -> (f64, f64, f64) {
     let steps = to_steps(law);
     let n = (2 * tau12 - 1) as usize;

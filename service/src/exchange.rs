@@ -77,8 +77,12 @@ pub fn export(from: &Location, to: &Path) -> Result<usize, StoreError> {
 
 /// Appends every case of the RON file `from` to the case base at `to` (created when
 /// absent), learned in `domain`'s space. A file recording another space, or a case that
-/// does not fit the space, is refused and nothing is appended. Returns how many cases.
+/// does not fit the space, is refused and nothing is appended; so is a RON file as the
+/// target (RON case files are read-only). Returns how many cases.
 pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<usize, StoreError> {
+    if let Location::Ron(path) = to {
+        return Err(StoreError::ReadOnly(path.clone()));
+    }
     let identity = Identity {
         domain: domain.name.clone(),
         space: (*domain.space).clone(),

@@ -149,7 +149,7 @@ pub enum StoreError {
     },
     /// RON case files are read-only.
     #[error(
-        "{0}: RON case files are read-only; convert it with `trustcbr cases import` and serve the database"
+        "{0}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead"
     )]
     ReadOnly(PathBuf),
     /// The database refused or failed.

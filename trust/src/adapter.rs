@@ -5,8 +5,8 @@
 //! behavior was found, or every behavior was tried). An [`Adaptation`] holds one robot's
 //! episode (the evaluated pairs `E_past`) and search strategy and selects from a case memory
 //! it is handed; the [`TrustAdapter`] pairs one with the memory it owns and retains a case at
-//! the end of an episode as SPEC section 3 says. Robots sharing one case memory each drive
-//! their own `Adaptation`.
+//! the end of an episode (docs/model.md#cases-and-retention). Robots sharing one case
+//! memory each drive their own `Adaptation`.
 
 use crate::estimate::{
     Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate, Verdict,
@@ -39,13 +39,13 @@ pub struct AdapterConfig {
     pub retriever: RetrieverKind,
     /// The search strategy.
     pub search: SearchKind,
-    /// Which episodes are retained as cases (SPEC section 3, an open reading).
+    /// Which episodes are retained as cases (docs/model.md#open-readings).
     pub retention: Retention,
-    /// The unit of an evaluated pair's time `t` (SPEC section 2, an open choice).
+    /// The unit of an evaluated pair's time `t` (docs/model.md#open-readings).
     pub time_unit: TimeUnit,
 }
 
-/// Which successful episodes are retained as cases. SPEC section 3 glosses the paper's
+/// Which successful episodes are retained as cases. The paper glosses its own
 /// rule as "the agent could not find a solution by only using the case base"; the two
 /// readings differ when a search step is followed by a successful reuse.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -474,9 +474,9 @@ impl Adaptation {
         }
     }
 
-    /// The case a finished episode retains (SPEC section 3): its evaluated pairs and the
-    /// behavior found, when a trustworthy behavior was found and the search strategy found
-    /// it, in the configured reading of "found" ([`Retention`]).
+    /// The case a finished episode retains (docs/model.md#cases-and-retention): its
+    /// evaluated pairs and the behavior found, when a trustworthy behavior was found and
+    /// the search strategy found it, in the configured reading of "found" ([`Retention`]).
     pub fn case_to_retain(&self, report: &EpisodeReport) -> Option<TrustCase> {
         let search_found_it = match self.config.retention {
             Retention::AnySearch => report.searched > 0,
@@ -619,7 +619,8 @@ impl TrustAdapter {
     }
 
     /// Records one command's outcome for the behavior in use and decides what to do next;
-    /// a settled episode retains its case (SPEC section 3) before the report is returned.
+    /// a settled episode retains its case (docs/model.md#cases-and-retention) before the
+    /// report is returned.
     pub fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
         let mut decision = self.adaptation.record(outcome, &self.memory)?;
         if let Decision::Settled(report) = &mut decision {

@@ -1,4 +1,4 @@
-//! The inverse trust estimate (SPEC section 2).
+//! The inverse trust estimate (docs/model.md#the-trust-estimate).
 //!
 //! Every command the operator issues ends completed (+1), failed (-1) or interrupted (-1),
 //! weighted by `w`. The estimate of a behavior is the weighted sum since it was adopted;

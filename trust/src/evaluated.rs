@@ -1,4 +1,5 @@
-//! Evaluated behaviors and the similarity of two sets of them (SPEC section 5, Algorithm 2).
+//! Evaluated behaviors and the similarity of two sets of them, Algorithm 2
+//! (docs/model.md#algorithm-2-comparing-two-searches).
 //!
 //! An [`Evaluated`] pair records a behavior found untrustworthy and the time `t` it took.
 //! [`SetSimilarity`] compares the current episode's pairs with a case's: only pairs whose

@@ -1,4 +1,4 @@
-//! `selectBehavior` (SPEC section 4, Algorithm 1).
+//! `selectBehavior` (docs/model.md#algorithm-1-choosing-the-next-behavior).
 //!
 //! Reuse the final behavior of the most similar case whose final behavior has not been
 //! evaluated in this episode; fall back to the search strategy when no case has a

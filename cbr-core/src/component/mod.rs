@@ -380,7 +380,7 @@ mod tests {
     use super::*;
 
     fn speed() -> NamedComponent {
-        // SPEC section 8: speed {0.5, 1.0, ..., 10.0} m/s, 20 values.
+        // docs/model.md#movement: speed {0.5, 1.0, ..., 10.0} m/s, 20 values.
         NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap()
     }
 

@@ -15,20 +15,30 @@
 //! writes one. A case's id in a RON file is its position, from 0.
 
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file};
-use cbr_core::{BehaviorSpace, CaseBaseError, FileError, parse_ron, read_text};
+use cbr_core::{
+    BehaviorSpace, CaseBaseError, FileError, MAX_CASE_BASE_BYTES, parse_ron, read_text_at_most,
+};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use trust::TrustCase;
 
-/// The layout of a RON case file.
-#[derive(Serialize, Deserialize)]
+/// The layout of a RON case file, as read.
+#[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CaseFile {
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default)]
     domain: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default)]
     space: Option<BehaviorSpace>,
     cases: Vec<TrustCase>,
+}
+
+/// The same layout as written: always with its domain and space.
+#[derive(Serialize)]
+struct CaseFileRef<'a> {
+    domain: Option<&'a str>,
+    space: Option<&'a BehaviorSpace>,
+    cases: &'a [TrustCase],
 }
 
 /// A RON case file, read once at open.
@@ -45,7 +55,7 @@ impl RonStore {
         if !check_file(path)? {
             return Err(StoreError::Missing(path.display().to_string()));
         }
-        let text = read_text(path).map_err(CaseBaseError::from)?;
+        let text = read_text_at_most(path, MAX_CASE_BASE_BYTES).map_err(CaseBaseError::from)?;
         let file: CaseFile = parse_ron(&text, path).map_err(CaseBaseError::from)?;
         let identity = match (file.space, identity) {
             (Some(space), _) => Identity {
@@ -56,7 +66,7 @@ impl RonStore {
             (None, None) => {
                 return Err(StoreError::Corrupt {
                     location: path.display().to_string(),
-                    reason: "the file records no behavior space; name the domain its cases belong to (`--domain`)".to_owned(),
+                    reason: "the file records no behavior space, so it cannot be read on its own; `trustcbr cases import` it into a database with `--domain` naming the domain its cases were learned in".to_owned(),
                 });
             }
         };
@@ -118,10 +128,17 @@ pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError
         cases.push(stored.case);
         Ok(())
     })?;
-    let identity = store.identity();
-    let file = CaseFile {
-        domain: Some(identity.domain.clone()),
-        space: Some(identity.space.clone()),
+    save(out, store.identity(), &cases)?;
+    Ok(cases.len())
+}
+
+/// Writes `cases`, learned in `identity`, to the RON file `out` (atomically), in the
+/// layout [`RonStore`] reads: a file that names its domain and space, so that `cases info`,
+/// `cases import` and `serve` need nothing else to read it.
+pub fn save(out: &Path, identity: &Identity, cases: &[TrustCase]) -> Result<(), CaseBaseError> {
+    let file = CaseFileRef {
+        domain: Some(&identity.domain),
+        space: Some(&identity.space),
         cases,
     };
     let text =
@@ -136,6 +153,5 @@ pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError
             path: out.to_owned(),
             reason,
         })
-    })?;
-    Ok(file.cases.len())
+    })
 }

@@ -1,4 +1,4 @@
-//! The paper's search strategy, `modifyBehavior` (SPEC section 6).
+//! The paper's search strategy, `modifyBehavior` (docs/model.md#the-random-walk).
 //!
 //! From `E_max` (the evaluated behavior that resisted the longest), move to a behavior at
 //! the minimum number of changes that has not been evaluated in this episode, chosen
