@@ -2,14 +2,14 @@
 //! done by the suite, the sweep and the `trust` and `service` libraries.
 //!
 //! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
-//! `landscape`, `serve` and `cases`, for the catalog's scenarios. The shipped `trustcbr`
+//! `landscape`, `serve`, `cases` and `explain`, for the catalog's scenarios. The shipped `trustcbr`
 //! binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own domains
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::suite::{
     EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite_with_report,
-    save_case_bases, suite_best_arms, suite_table, write_suite_report,
+    save_case_bases, suite_best_arms, suite_table, trace_suite_trial, write_suite_report,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -60,6 +60,27 @@ enum Command {
     /// Case bases: export to RON, import from RON, describe.
     #[command(subcommand)]
     Cases(CasesCommand),
+    /// Tell one trial of a report: every behavior, its commands, the trust estimate after
+    /// each, and the explanation of every switch (replayed from the report's config).
+    Explain(ExplainArgs),
+}
+
+#[derive(Args)]
+struct ExplainArgs {
+    /// A report folder written by `reproduce`, `run` or `sweep` (its `config.ron` is read).
+    report: PathBuf,
+    /// The experiment, by name (e.g. `movement/speed-focused`).
+    #[arg(long)]
+    experiment: String,
+    /// The arm, by name (e.g. `case-based`).
+    #[arg(long)]
+    arm: String,
+    /// The trial, from 0.
+    #[arg(long)]
+    trial: u32,
+    /// The saved case bases the run started from, if it was given `--cases DIR`.
+    #[arg(long, value_name = "DIR")]
+    cases: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -292,6 +313,7 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
         Command::Serve(args) => serve(&catalog, &args),
         Command::Sweep(args) => sweep(&catalog, &args),
         Command::Cases(command) => cases(&catalog, &command),
+        Command::Explain(args) => explain(&catalog, &args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -300,6 +322,35 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Prints the story of one trial of a report folder, replayed from its `config.ron`.
+fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
+    let config_path = args.report.join("config.ron");
+    anyhow::ensure!(
+        config_path.is_file(),
+        "{}: not a report folder (it has no config.ron)",
+        args.report.display()
+    );
+    let config = SuiteConfig::load(catalog, &config_path)?;
+    if let Some(dir) = &args.cases {
+        anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
+    }
+    let starting = args
+        .cases
+        .as_ref()
+        .map(|dir| StartingCases { dir: dir.clone() });
+    let (timeline, space) = trace_suite_trial(
+        catalog,
+        &config,
+        &config_path,
+        starting.as_ref(),
+        &args.experiment,
+        &args.arm,
+        args.trial,
+    )?;
+    print!("{}", lab::timeline::story(&timeline, &space));
+    Ok(())
 }
 
 /// Runs a suite with progress bars on stderr, prints the table and writes the report.

@@ -24,9 +24,10 @@ use lab::report::{
     write_report,
 };
 use lab::seeds::{Purpose, stream_seed};
+use lab::timeline::{Timeline, sample_trial};
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
-    run_experiments,
+    run_experiments, trace_trial,
 };
 use serde::{Deserialize, Serialize};
 use service::StoreError;
@@ -431,11 +432,21 @@ impl SuiteConfig {
 }
 
 impl ExperimentSpec {
-    /// The report name, e.g. `movement/speed-focused`.
+    /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
+    /// with a feedback channel of its own, `movement/rung-2` for a population).
     pub fn name(&self) -> String {
-        match &self.population {
-            Some(population) => format!("{}/{}", self.scenario, population.name),
-            None => format!("{}/{}", self.scenario, self.operator),
+        match (&self.population, self.feedback) {
+            (Some(population), _) => format!("{}/{}", self.scenario, population.name),
+            (None, None) => format!("{}/{}", self.scenario, self.operator),
+            // The same operator may be run with several channels: each is its own
+            // experiment, named by its channel (`/f0.3w0.1`: explains 30%, 10% wrongly).
+            (None, Some(channel)) if channel.wrong > 0.0 => format!(
+                "{}/{}/f{}w{}",
+                self.scenario, self.operator, channel.explains, channel.wrong
+            ),
+            (None, Some(channel)) => {
+                format!("{}/{}/f{}", self.scenario, self.operator, channel.explains)
+            }
         }
     }
 
@@ -481,6 +492,9 @@ pub struct SuiteResults {
     pub results: Vec<ExperimentResult>,
     /// The behavior space of each experiment, in config order.
     pub spaces: Vec<Arc<BehaviorSpace>>,
+    /// A sample trial of each experiment traced command by command
+    /// ([`lab::timeline::sample_trial`]), in config order.
+    pub timelines: Vec<Option<Timeline>>,
 }
 
 /// Case bases saved by an earlier run ([`save_case_bases`]): `DIR/EXPERIMENT/ARM.ron`, the
@@ -601,7 +615,8 @@ impl<C: Catalog> Parts<C> {
 
 /// Runs every experiment of `config` (operator files relative to `origin`) over the
 /// domains of `catalog` on the current rayon pool, arms that reuse cases starting from
-/// `starting` when given; `progress(experiment)` is called after every trial.
+/// `starting` when given; `progress(experiment)` is called after every trial. No trial is
+/// traced (see [`run_suite_with_report`]).
 pub fn run_suite<C: Catalog>(
     catalog: &C,
     config: &SuiteConfig,
@@ -610,14 +625,15 @@ pub fn run_suite<C: Catalog>(
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<SuiteResults, SuiteError> {
     let parts = Parts::of(catalog, config, origin)?;
-    run_parts(&parts, catalog, config, origin, starting, progress)
+    run_parts(&parts, catalog, config, origin, starting, progress, false)
 }
 
 /// [`run_suite`] and [`ReportEstimates`] together, over one domain per scenario: the
 /// report's landscapes and limits depend on the config alone, so they are estimated on the
 /// current rayon pool while the experiments run, filling the cores the experiments'
-/// ordered chains leave idle, and the domains' caches (plans) serve both. Returns the
-/// results, the experiments' own run time (s) and the estimates.
+/// ordered chains leave idle, and the domains' caches (plans) serve both. A sample trial
+/// of each experiment is traced for the report's timelines. Returns the results, the
+/// experiments' own run time (s) and the estimates.
 pub fn run_suite_with_report<C: Catalog>(
     catalog: &C,
     config: &SuiteConfig,
@@ -629,7 +645,7 @@ pub fn run_suite_with_report<C: Catalog>(
     let (run, estimates) = rayon::join(
         || {
             let started = Instant::now();
-            let results = run_parts(&parts, catalog, config, origin, starting, progress);
+            let results = run_parts(&parts, catalog, config, origin, starting, progress, true);
             (results, started.elapsed().as_secs_f64())
         },
         || estimate_parts(&parts, config, origin),
@@ -637,7 +653,8 @@ pub fn run_suite_with_report<C: Catalog>(
     Ok((run.0?, run.1, estimates?))
 }
 
-/// The experiments of `config` over `parts`.
+/// The experiments of `config` over `parts`, with a sample trial of each traced when
+/// `trace` (for a report).
 fn run_parts<C: Catalog>(
     parts: &Parts<C>,
     catalog: &C,
@@ -645,7 +662,147 @@ fn run_parts<C: Catalog>(
     origin: &Path,
     starting: Option<&StartingCases>,
     progress: &(dyn Fn(usize) + Sync),
+    trace: bool,
 ) -> Result<SuiteResults, SuiteError> {
+    let plans = plans(parts, catalog, config, origin, starting)?;
+    let results = run_experiments(&plans, config.seed, progress)?;
+    let timelines = plans
+        .iter()
+        .zip(&results)
+        .enumerate()
+        .map(|(k, (plan, result))| {
+            sample_trial(result)
+                .filter(|_| trace)
+                .map(|(arm, trial)| timeline(plan, config, k, arm, trial))
+                .transpose()
+        })
+        .collect::<Result<Vec<_>, PlanError>>()?;
+    let spaces = (0..config.experiments.len())
+        .map(|k| parts.domain(k).space().clone())
+        .collect();
+    Ok(SuiteResults {
+        results,
+        spaces,
+        timelines,
+    })
+}
+
+/// Replays trial `trial` of arm `arm` of experiment `k` ([`trace_trial`]).
+fn timeline<D: Domain>(
+    plan: &ExperimentPlan<'_, D>,
+    config: &SuiteConfig,
+    k: usize,
+    arm: usize,
+    trial: u32,
+) -> Result<Timeline, PlanError> {
+    let (record, commands) = trace_trial(plan, k as u64, arm, trial, config.seed)?;
+    Ok(Timeline {
+        experiment: plan.name.clone(),
+        arm: plan.arms[arm].name().to_owned(),
+        arm_index: arm,
+        record,
+        commands,
+        thresholds: config.adapter.thresholds,
+        observations: plan.domain.observations().to_vec(),
+    })
+}
+
+/// Why a trial cannot be told ([`trace_suite_trial`]).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TraceError {
+    /// The suite cannot be run.
+    #[error(transparent)]
+    Suite(#[from] SuiteError),
+    /// No experiment has that name.
+    #[error("no experiment is named `{name}` (the config's: {known})")]
+    Experiment {
+        /// The name given.
+        name: String,
+        /// The experiments' names.
+        known: String,
+    },
+    /// The experiment has no arm of that name.
+    #[error("experiment `{experiment}` has no arm `{name}` (its arms: {known})")]
+    Arm {
+        /// The experiment.
+        experiment: String,
+        /// The name given.
+        name: String,
+        /// The arms.
+        known: String,
+    },
+    /// The trial is beyond the experiment's.
+    #[error("experiment `{experiment}` ran trials 0 to {last}, not {trial}")]
+    Trial {
+        /// The experiment.
+        experiment: String,
+        /// The trial given.
+        trial: u32,
+        /// The last trial.
+        last: u32,
+    },
+}
+
+/// Replays one trial of a suite (experiment and arm by name), exactly as the suite ran it,
+/// and returns its timeline with the experiment's behavior space.
+pub fn trace_suite_trial<C: Catalog>(
+    catalog: &C,
+    config: &SuiteConfig,
+    origin: &Path,
+    starting: Option<&StartingCases>,
+    experiment: &str,
+    arm: &str,
+    trial: u32,
+) -> Result<(Timeline, Arc<BehaviorSpace>), TraceError> {
+    let parts = Parts::of(catalog, config, origin)?;
+    let plans = plans(&parts, catalog, config, origin, starting)?;
+    let k = plans
+        .iter()
+        .position(|p| p.name == experiment)
+        .ok_or_else(|| TraceError::Experiment {
+            name: experiment.to_owned(),
+            known: plans
+                .iter()
+                .map(|p| p.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        })?;
+    let plan = &plans[k];
+    let a = plan
+        .arms
+        .iter()
+        .position(|a| a.name() == arm)
+        .ok_or_else(|| TraceError::Arm {
+            experiment: experiment.to_owned(),
+            name: arm.to_owned(),
+            known: plan
+                .arms
+                .iter()
+                .map(Arm::name)
+                .collect::<Vec<_>>()
+                .join(", "),
+        })?;
+    if trial >= plan.trials {
+        return Err(TraceError::Trial {
+            experiment: experiment.to_owned(),
+            trial,
+            last: plan.trials - 1,
+        });
+    }
+    let timeline = timeline(plan, config, k, a, trial).map_err(SuiteError::from)?;
+    Ok((timeline, parts.domain(k).space().clone()))
+}
+
+/// The experiment plans of `config` over `parts`, arms that reuse cases starting from
+/// `starting` when given.
+fn plans<'p, C: Catalog>(
+    parts: &'p Parts<C>,
+    catalog: &C,
+    config: &SuiteConfig,
+    origin: &Path,
+    starting: Option<&StartingCases>,
+) -> Result<Vec<ExperimentPlan<'p, C::Domain>>, SuiteError> {
     let invalid = |field: String, message: String| invalid(origin, field, message);
     let arms = config
         .arms
@@ -697,11 +854,7 @@ fn run_parts<C: Catalog>(
             feedback: spec.feedback,
         });
     }
-    let results = run_experiments(&plans, config.seed, progress)?;
-    let spaces = (0..config.experiments.len())
-        .map(|k| parts.domain(k).space().clone())
-        .collect();
-    Ok(SuiteResults { results, spaces })
+    Ok(plans)
 }
 
 /// Saves the case base each case-reusing arm ended every experiment with, as
@@ -753,6 +906,7 @@ fn entries<'a>(
         .zip(&results.spaces)
         .enumerate()
         .map(|(k, ((spec, result), space))| ReportEntry {
+            timeline: results.timelines.get(k).and_then(Option::as_ref),
             landscapes: landscapes.get(k).map_or(&[], Vec::as_slice),
             limit: limits.get(k).and_then(Option::as_ref),
             result,

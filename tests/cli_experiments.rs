@@ -451,3 +451,150 @@ fn populations_are_measured_and_every_arm_is_shown_against_the_limit() {
         "{stderr}"
     );
 }
+
+#[test]
+fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("small.ron");
+    std::fs::write(&config, SMALL).unwrap();
+    let out = dir.path().join("report");
+    run(&config, &out, "2");
+    // Every arm's explanations are measured against the truth in summary.json.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for arm in ARMS {
+        let x = &summary["experiments"][1]["strategies"][arm]["explanations"];
+        let given_up = x["given_up"].as_u64().unwrap();
+        assert_eq!(
+            x["perceivable"]["given_up"].as_u64().unwrap()
+                + x["other"]["given_up"].as_u64().unwrap(),
+            given_up
+        );
+        if given_up > 0 {
+            assert!((0.0..=1.0).contains(&x["first_reason_right"].as_f64().unwrap()));
+        }
+    }
+    // A case-based trial of the patrol experiment that gave a behavior up.
+    let trials = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
+    let trial: serde_json::Value = trials
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+        .find(|t| {
+            t["experiment"] == "patrol/random"
+                && t["arm"] == "case-based"
+                && !t["given_up_reasons"].as_array().unwrap().is_empty()
+        })
+        .expect("a case-based patrol trial with a switch");
+    let given_up = trial["given_up_reasons"].as_array().unwrap().len();
+    assert_eq!(trial["given_up_truth"].as_array().unwrap().len(), given_up);
+    let number = trial["trial"].as_u64().unwrap().to_string();
+    let story = succeed(trustcbr().arg("explain").arg(&out).args([
+        "--experiment",
+        "patrol/random",
+        "--arm",
+        "case-based",
+        "--trial",
+        &number,
+    ]));
+    let commands = trial["commands"].as_u64().unwrap();
+    assert!(
+        story.starts_with(&format!(
+            "patrol/random, arm case-based, trial {number} (operator {}): {commands} commands, {} untrustworthy, {} behaviors; thresholds +5 / -5",
+            trial["operator"].as_str().unwrap(),
+            trial["untrustworthy"],
+            trial["behaviors_evaluated"],
+        )),
+        "{story}"
+    );
+    // One row per command, numbered in order, and one explanation per switch and end.
+    let rows = story
+        .lines()
+        .filter(|l| {
+            l.trim_start()
+                .split_whitespace()
+                .next()
+                .is_some_and(|w| w.parse::<u64>().is_ok())
+        })
+        .count() as u64;
+    assert_eq!(rows, commands, "{story}");
+    let explained = story.lines().filter(|l| l.starts_with("  -> ")).count();
+    let ended = usize::from(trial["found_trustworthy"].as_bool().unwrap());
+    assert_eq!(explained, given_up + ended, "{story}");
+    assert_eq!(
+        story.lines().filter(|l| l.contains("-> Gave up")).count(),
+        given_up
+    );
+    // Refusals name what exists.
+    let refused = |args: &[&str]| {
+        let output = trustcbr()
+            .arg("explain")
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(!output.status.success());
+        String::from_utf8(output.stderr).unwrap()
+    };
+    let err = refused(&[
+        "--experiment",
+        "patrol/x",
+        "--arm",
+        "case-based",
+        "--trial",
+        "0",
+    ]);
+    assert!(
+        err.contains(
+            "no experiment is named `patrol/x` (the config's: movement/balanced, patrol/random)"
+        ),
+        "{err}"
+    );
+    let err = refused(&[
+        "--experiment",
+        "patrol/random",
+        "--arm",
+        "x",
+        "--trial",
+        "0",
+    ]);
+    assert!(
+        err.contains("has no arm `x` (its arms: random-walk, case-based"),
+        "{err}"
+    );
+    let err = refused(&[
+        "--experiment",
+        "patrol/random",
+        "--arm",
+        "uniform",
+        "--trial",
+        "4",
+    ]);
+    assert!(
+        err.contains("experiment `patrol/random` ran trials 0 to 3, not 4"),
+        "{err}"
+    );
+    let output = trustcbr()
+        .arg("explain")
+        .arg(dir.path())
+        .args(["--experiment", "a", "--arm", "b", "--trial", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8(output.stderr).unwrap();
+    assert!(
+        err.contains("not a report folder (it has no config.ron)"),
+        "{err}"
+    );
+    // The report draws a sample trial per experiment, with its explanations as captions.
+    for stem in ["movement-balanced", "patrol-random"] {
+        let svg = std::fs::read_to_string(out.join(format!("timeline-{stem}.svg"))).unwrap();
+        assert_eq!(outside_view(&svg), Vec::<String>::new(), "{stem}");
+        assert!(
+            svg_texts(&svg)
+                .iter()
+                .any(|t| t.starts_with("trustworthy threshold"))
+        );
+    }
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(page.contains("<h2>Explanations against the truth</h2>"));
+    assert!(page.contains("<figcaption>The trust estimate of the behavior in use"));
+}

@@ -23,6 +23,7 @@ pub mod report;
 pub mod runner;
 pub mod seeds;
 pub mod stats;
+pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
 pub use runner::{

@@ -9,9 +9,10 @@ use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
 use crate::limit::Costs;
 use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
-use crate::runner::{ArmResult, ExperimentResult, TrialRecord};
+use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, TrialRecord};
 use crate::seeds::{Purpose, stream_seed};
 use crate::stats::{MeanCi, mean_ci95};
+use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -39,6 +40,8 @@ pub struct ReportEntry<'a> {
     /// The known-operator limit of the experiment ([`crate::known_operator`]), when
     /// computed.
     pub limit: Option<&'a ExperimentLimit>,
+    /// A sample trial traced command by command ([`crate::timeline`]), when traced.
+    pub timeline: Option<&'a Timeline>,
 }
 
 pub use crate::plot::category_label;
@@ -227,6 +230,76 @@ pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
         }
     }
     out
+}
+
+/// `93.1% (of 420)`, or `—` when nothing was counted.
+fn share_cell(right: u32, of: u32) -> String {
+    if of == 0 {
+        "—".to_owned()
+    } else {
+        format!("{:.1}% (of {of})", 100.0 * f64::from(right) / f64::from(of))
+    }
+}
+
+/// Every arm of every experiment: how often the first reason its explanations give for a
+/// given-up behavior is the operator's most frequent true reason on it, overall, for the
+/// reasons the robot perceives itself, and for the rest.
+pub fn explanations_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::from(
+        "| Experiment | Arm | Behaviors given up | First reason right | Perceivable reasons | Other reasons |\n",
+    );
+    out.push_str("|---|---|---:|---:|---:|---:|\n");
+    for e in entries {
+        for arm in &e.result.arms {
+            let x = &arm.explained;
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} | {} |",
+                e.result.name,
+                arm.name,
+                x.given_up,
+                share_cell(x.right, x.given_up),
+                share_cell(x.perceivable_right, x.perceivable),
+                share_cell(x.right - x.perceivable_right, x.given_up - x.perceivable),
+            );
+        }
+    }
+    out
+}
+
+/// How many sample explanations the page shows per arm.
+pub const SAMPLE_EXPLANATIONS: usize = 2;
+
+/// A few explanations of behaviors each arm gave up, as its trials recorded them (the
+/// first switches of its first trials), with the operator's most frequent true reason.
+pub fn sample_explanations(e: &ReportEntry<'_>) -> Vec<(String, Vec<String>)> {
+    e.result
+        .arms
+        .iter()
+        .map(|arm| {
+            let samples = arm
+                .trials
+                .iter()
+                .flat_map(|t| {
+                    t.report
+                        .explanations
+                        .iter()
+                        .filter(|x| x.given_up.is_some())
+                        .zip(&t.given_up_truth)
+                        .map(move |(x, truth)| (t.trial, x, truth))
+                })
+                .take(SAMPLE_EXPLANATIONS)
+                .map(|(trial, x, truth)| {
+                    format!(
+                        "trial {trial}: {} (the operator's most frequent true reason: {})",
+                        x.sentence(e.space),
+                        truth.map_or("none".to_owned(), |c| c.to_string())
+                    )
+                })
+                .collect();
+            (arm.name.clone(), samples)
+        })
+        .collect()
 }
 
 /// What the limit's row calls it: a lower bound for a population.
@@ -432,6 +505,20 @@ fn arm_summary(arm: &ArmResult) -> Value {
         "truncated": arm.truncated(),
         "t_test_p_vs_first": arm.versus_first.map(|t| t.t_test_p),
         "wilcoxon_p_vs_first": arm.versus_first.map(|t| t.wilcoxon_p),
+        "explanations": explanation_summary(&arm.explained),
+    })
+}
+
+/// How an arm's explanations compare with the truth, for `summary.json`: behaviors given
+/// up and the share whose first attributed reason was right, overall, for perceivable
+/// reasons and for the rest (`null` where none was counted).
+fn explanation_summary(x: &ExplanationCheck) -> Value {
+    let [all, perceivable, rest] = x.shares();
+    json!({
+        "given_up": x.given_up,
+        "first_reason_right": all,
+        "perceivable": { "given_up": x.perceivable, "first_reason_right": perceivable },
+        "other": { "given_up": x.given_up - x.perceivable, "first_reason_right": rest },
     })
 }
 
@@ -455,6 +542,11 @@ struct TrialLine<'a> {
     truncated: bool,
     /// The operator's true reasons for the untrustworthy commands (evaluation only).
     true_causes: &'a BTreeMap<Cause, u32>,
+    /// Per given-up behavior, in order, the reason its explanation settles on (`null` when
+    /// none is attributed or the first ones tie).
+    given_up_reasons: Vec<Option<Cause>>,
+    /// Per given-up behavior, the operator's most frequent true reason (evaluation only).
+    given_up_truth: &'a [Option<Cause>],
 }
 
 /// `trials.jsonl`: one JSON object per trial, experiments in order, arms in order.
@@ -490,6 +582,13 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         retained: t.report.retained.is_some(),
         truncated: t.truncated,
         true_causes: &t.true_causes,
+        given_up_reasons: t
+            .report
+            .explanations
+            .iter()
+            .filter_map(|x| x.given_up.as_ref().map(|g| g.decided_reason()))
+            .collect(),
+        given_up_truth: &t.given_up_truth,
     }
 }
 
@@ -546,9 +645,10 @@ pub fn write_report(
     write(
         "table.md",
         &format!(
-            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}{limits}",
+            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
             table(entries),
-            arms_table(entries)
+            arms_table(entries),
+            explanations_table(entries)
         ),
     )?;
     let summary = serde_json::to_string_pretty(&summary(entries, elapsed_s, provenance))
@@ -557,14 +657,14 @@ pub fn write_report(
     write("trials.jsonl", &trials_jsonl(entries))?;
     write("config.ron", config_ron)?;
     // Every figure is written as its own SVG file and the same text goes into the page.
-    let mut figures: Vec<(String, String)> = Vec::new();
+    let mut figures: Vec<Figure> = Vec::new();
     for metric in SUMMARY_METRICS {
         let name = format!("{}.svg", metric.stem);
         let summary_svg = svg(&dir.join(&name), (1200, 560), |area| {
             summary_figure(area, entries, metric)
         })?;
         write(&name, &summary_svg)?;
-        figures.push(("summary".into(), summary_svg));
+        figures.push(Figure::new("summary", summary_svg, String::new()));
     }
     for (e, stem) in entries
         .iter()
@@ -575,7 +675,24 @@ pub fn write_report(
             learning_curves(area, e)
         })?;
         write(&name, &curves)?;
-        figures.push((e.result.name.clone(), curves));
+        figures.push(Figure::new(&e.result.name, curves, String::new()));
+        if let Some(timeline) = e.timeline {
+            let name = format!("timeline-{stem}.svg");
+            let switches = timeline
+                .commands
+                .iter()
+                .filter(|c| c.explanation.is_some())
+                .count() as u32;
+            let drawn = svg(&dir.join(&name), (1250, 480 + 22 * switches), |area| {
+                timeline_figure(area, timeline)
+            })?;
+            write(&name, &drawn)?;
+            figures.push(Figure::new(
+                &e.result.name,
+                drawn,
+                timeline_caption(timeline, e.space),
+            ));
+        }
         // One figure per pair of components: the first two, then the next two, ...
         let components = e.space.components();
         for (k, (x, y)) in component_pairs(e.space).into_iter().enumerate() {
@@ -602,7 +719,7 @@ pub fn write_report(
                 final_behaviors(area, e, (x, y), grid.as_ref(), &layout)
             })?;
             write(&name, &finals)?;
-            figures.push((e.result.name.clone(), finals));
+            figures.push(Figure::new(&e.result.name, finals, String::new()));
         }
     }
     write(
@@ -610,6 +727,44 @@ pub fn write_report(
         &html_page(entries, config_ron, provenance, &figures),
     )?;
     Ok(written)
+}
+
+/// A figure of the page: its section, its SVG text and its caption (HTML, may be empty).
+struct Figure {
+    section: String,
+    svg: String,
+    caption: String,
+}
+
+impl Figure {
+    fn new(section: &str, svg: String, caption: String) -> Self {
+        Self {
+            section: section.to_owned(),
+            svg,
+            caption,
+        }
+    }
+}
+
+/// The caption of a timeline: how to read it, and every explanation of the trial in full.
+fn timeline_caption(timeline: &Timeline, space: &BehaviorSpace) -> String {
+    let mut caption = format!(
+        "The trust estimate of the behavior in use after every command of trial {} of the {} arm \
+         (operator {}): completions (dots) raise it, failures and interruptions (crosses) lower \
+         it; a behavior is given up when its estimate reaches the untrustworthy threshold and \
+         kept when it reaches the trustworthy one. The numbered lines are the adapter's decisions, \
+         explained as it explained them (only from what it was told and perceived):<ol>",
+        timeline.record.trial,
+        escape(&timeline.arm),
+        escape(&timeline.record.operator)
+    );
+    for c in &timeline.commands {
+        if let Some(x) = &c.explanation {
+            let _ = write!(caption, "<li>{}</li>", escape(&x.sentence(space)));
+        }
+    }
+    caption.push_str("</ol>");
+    caption
 }
 
 /// Escapes text for HTML.
@@ -654,7 +809,7 @@ fn html_page(
     entries: &[ReportEntry<'_>],
     config_ron: &str,
     provenance: &Provenance,
-    figures: &[(String, String)],
+    figures: &[Figure],
 ) -> String {
     let mut page = String::from(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>trustcbr report</title>\n<style>\nbody { font-family: sans-serif; margin: 2em auto; max-width: 1300px; color: #222; }\ntable { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }\nth, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }\nth { background: #eee; }\ntd { text-align: right; }\ntd:first-child, td:nth-child(2) { text-align: left; }\nfigure { margin: 1em 0; }\nfigure svg { max-width: 100%; height: auto; }\npre { background: #f6f6f6; padding: 1em; overflow-x: auto; }\n</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n",
@@ -688,13 +843,40 @@ fn html_page(
             html_table(&population_table(entries))
         );
     }
-    let mut current = "";
-    for (section, svg) in figures {
-        if section != current {
-            let _ = writeln!(page, "<h2>{}</h2>", escape(section));
-            current = section;
+    let _ = write!(
+        page,
+        "<h2>Explanations against the truth</h2>\n<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
+        html_table(&explanations_table(entries))
+    );
+    for e in entries {
+        let _ = writeln!(
+            page,
+            "<details><summary>Sample explanations: {}</summary><ul>",
+            escape(&e.result.name)
+        );
+        for (arm, samples) in sample_explanations(e) {
+            for sample in samples {
+                let _ = writeln!(
+                    page,
+                    "<li><b>{}</b>, {}</li>",
+                    escape(&arm),
+                    escape(&sample)
+                );
+            }
         }
-        let _ = write!(page, "<figure>\n{svg}\n</figure>\n");
+        page.push_str("</ul></details>\n");
+    }
+    let mut current = "";
+    for figure in figures {
+        if figure.section != current {
+            let _ = writeln!(page, "<h2>{}</h2>", escape(&figure.section));
+            current = &figure.section;
+        }
+        let _ = write!(page, "<figure>\n{}\n", figure.svg);
+        if !figure.caption.is_empty() {
+            let _ = write!(page, "<figcaption>{}</figcaption>\n", figure.caption);
+        }
+        page.push_str("</figure>\n");
     }
     let _ = write!(
         page,

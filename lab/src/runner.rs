@@ -1,10 +1,9 @@
 //! Running experiments: trials through the adapter, any number of paired arms, parallel
 //! chains.
 //!
-//! The case base persists across an experiment's trials, so the trials of one
-//! (experiment, arm) pair form a sequential *chain*; chains run in parallel on the current
-//! rayon pool, and so do the trials of a chain whose arm reads nothing from earlier
-//! episodes. Every random draw comes from a stream named by (seed, experiment, trial,
+//! The case base (and what a learning search and the explanations learn) persists across
+//! an experiment's trials, so the trials of one (experiment, arm) pair form a sequential
+//! *chain*; chains run in parallel on the current rayon pool. Every random draw comes from a stream named by (seed, experiment, trial,
 //! purpose), and trial `i` of every arm gets the same streams (operator and initial
 //! behavior, simulated runs, search), so arms are paired trial by trial and results do
 //! not depend on the number of threads.
@@ -159,7 +158,8 @@ pub struct TrialRecord {
 
 /// How often the first reason an explanation gives for a given-up behavior is the
 /// operator's most frequent true reason on that behavior's untrustworthy commands (a tie
-/// counts as right when the reason is among the most frequent). Behaviors whose
+/// among the true reasons counts as right when the reason is among the most frequent; a
+/// tie among the attributed reasons counts as wrong: the robot did not decide). Behaviors whose
 /// untrustworthy commands carry no true reason are not counted. *Perceivable* truths are
 /// those the robot perceives itself (an observation is named after them).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -405,51 +405,26 @@ fn run_chain<D: Domain>(
     let arm = &plan.arms[arm_index];
     let starting_cases = arm.starting_cases().map_or(0, |c| c.len());
     let mut adapter = plan.adapter(arm)?;
-    let independent = !arm.reuses_cases() && !adapter.learns_across_episodes();
-    let (trials, cases_acquired, final_cases) = if independent {
-        // Nothing read from one episode carries to the next (the case base is never
-        // consulted and the search forgets), so trials can run in any order. Each gets a
-        // fresh adapter; the cases the episodes would have retained are counted.
-        let trials: Vec<TrialRecord> = (0..plan.trials)
-            .into_par_iter()
-            .map(|trial| {
-                let record = run_trial(
-                    plan,
-                    &mut plan.adapter(arm)?,
-                    experiment,
-                    trial,
-                    arm,
-                    seed,
-                    &mut |_| {},
-                )?;
-                progress();
-                Ok(record)
-            })
-            .collect::<Result<_, PlanError>>()?;
-        let retained = trials
-            .iter()
-            .filter(|t| t.report.retained.is_some())
-            .count();
-        (trials, retained, None)
-    } else {
-        let trials: Vec<TrialRecord> = (0..plan.trials)
-            .map(|trial| {
-                let record = run_trial(
-                    plan,
-                    &mut adapter,
-                    experiment,
-                    trial,
-                    arm,
-                    seed,
-                    &mut |_| {},
-                )?;
-                progress();
-                Ok(record)
-            })
-            .collect::<Result<_, PlanError>>()?;
-        let final_cases = arm.reuses_cases().then(|| adapter.cases().clone());
-        (trials, adapter.cases().len() - starting_cases, final_cases)
-    };
+    // Every trial reads what earlier ones left: the case base, a learning search, and
+    // what the explanations learned operators mean (trust::explain), so a chain runs in
+    // order.
+    let trials: Vec<TrialRecord> = (0..plan.trials)
+        .map(|trial| {
+            let record = run_trial(
+                plan,
+                &mut adapter,
+                experiment,
+                trial,
+                arm,
+                seed,
+                &mut |_| {},
+            )?;
+            progress();
+            Ok(record)
+        })
+        .collect::<Result<_, PlanError>>()?;
+    let final_cases = arm.reuses_cases().then(|| adapter.cases().clone());
+    let cases_acquired = adapter.cases().len() - starting_cases;
     let summary = |values: Vec<f64>| {
         mean_ci95(&values).unwrap_or(MeanCi {
             mean: 0.0,
@@ -509,8 +484,8 @@ pub struct TracedCommand {
 
 /// Replays trial `trial` of arm `arm` in plan `experiment` (its index in the suite, which
 /// names its random streams) and returns its record and every command. Trials are
-/// paired by their streams, so the replay is exactly the trial the suite ran: an arm that
-/// carries anything across episodes replays the trials before it first.
+/// paired by their streams, so the replay is exactly the trial the suite ran; what the
+/// adapter carries across episodes is rebuilt by replaying the trials before it first.
 pub fn trace_trial<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     experiment: u64,
@@ -521,18 +496,16 @@ pub fn trace_trial<D: Domain>(
     plan.validate()?;
     let arm = &plan.arms[arm];
     let mut adapter = plan.adapter(arm)?;
-    if arm.reuses_cases() || adapter.learns_across_episodes() {
-        for earlier in 0..trial {
-            run_trial(
-                plan,
-                &mut adapter,
-                experiment,
-                earlier,
-                arm,
-                seed,
-                &mut |_| {},
-            )?;
-        }
+    for earlier in 0..trial {
+        run_trial(
+            plan,
+            &mut adapter,
+            experiment,
+            earlier,
+            arm,
+            seed,
+            &mut |_| {},
+        )?;
     }
     let mut commands = Vec::new();
     let record = run_trial(
@@ -634,7 +607,7 @@ fn run_trial<D: Domain>(
         });
         if let Some(given_up) = explanation.and_then(|e| e.given_up.as_ref()) {
             given_up_truth.push(explained.score(
-                given_up.first_reason(),
+                given_up.decided_reason(),
                 &behavior_truth,
                 perceived,
             ));

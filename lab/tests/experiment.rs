@@ -154,6 +154,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
         .iter()
         .zip(["low", "random"])
         .map(|(result, operator)| ReportEntry {
+            timeline: None,
             result,
             scenario: "toy",
             operator,
@@ -382,6 +383,7 @@ fn plot_names_never_collide() {
     let entries: Vec<ReportEntry<'_>> = results
         .iter()
         .map(|result| ReportEntry {
+            timeline: None,
             result,
             scenario: "toy",
             operator: "low",

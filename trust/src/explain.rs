@@ -134,11 +134,20 @@ pub struct GivenUp {
 }
 
 impl GivenUp {
-    /// The most likely reason, if any.
-    pub fn first_reason(&self) -> Option<Cause> {
-        self.reasons.first().map(|r| r.cause)
+    /// The reason the robot settles on: the most likely one when it is more likely than
+    /// every other (`None` when nothing is attributed or the first reasons tie, so the
+    /// order among them is only the order of their names).
+    pub fn decided_reason(&self) -> Option<Cause> {
+        match self.reasons.as_slice() {
+            [] => None,
+            [only] => Some(only.cause),
+            [first, second, ..] => (first.weight > second.weight + TIE).then_some(first.cause),
+        }
     }
 }
+
+/// Weights closer than this tie (they are sums of probabilities).
+const TIE: f64 = 1e-9;
 
 /// Why the behavior now in use was chosen, or why the episode ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -230,12 +239,20 @@ impl Explanation {
             );
             match given_up.reasons.split_first() {
                 None => text.push_str("no reason known. "),
-                Some((first, rest)) => {
+                Some((first, rest)) if given_up.decided_reason().is_some() => {
                     let _ = write!(text, "most likely {}", first.phrase());
                     for reason in rest {
                         let _ = write!(text, ", then {}", reason.phrase());
                     }
                     text.push_str(". ");
+                }
+                Some(_) => {
+                    let tied: Vec<String> = given_up
+                        .reasons
+                        .iter()
+                        .map(AttributedReason::phrase)
+                        .collect();
+                    let _ = write!(text, "no reason stands out: {}. ", tied.join(", "));
                 }
             }
         }
@@ -599,6 +616,41 @@ mod tests {
         let reasons = b.reasons();
         assert_eq!((reasons[0].cause, reasons[0].inferred), (DEADLINE, 0.5));
         assert_eq!((reasons[1].cause, reasons[1].inferred), (TOO_CLOSE, 0.5));
+        // Even odds: the robot settles on no reason, and says so.
+        let given_up = GivenUp {
+            behavior: Behavior::new(&[0]),
+            commands: 1,
+            untrustworthy: 1,
+            estimate: -1.0,
+            reasons,
+        };
+        assert_eq!(given_up.decided_reason(), None);
+        let space =
+            BehaviorSpace::new(vec![NamedComponent::numeric("x", "", 0.0, 1.0, 2).unwrap()])
+                .unwrap();
+        let explanation = Explanation {
+            given_up: Some(given_up),
+            next: Next::Kept {
+                behavior: Behavior::new(&[0]),
+                trustworthy: false,
+                commands: 1,
+                estimate: -1.0,
+            },
+        };
+        assert_eq!(
+            explanation.sentence(&space),
+            "Gave up x=0 after 1 command (1 untrustworthy): no reason stands out: deadline \
+             (inferred, p = 0.50), too-close (inferred, p = 0.50). Keeping x=0: every behavior \
+             has been tried and it resisted longest."
+        );
+        assert_eq!(
+            GivenUp {
+                reasons: a.reasons(),
+                ..explanation.given_up.unwrap()
+            }
+            .decided_reason(),
+            Some(DEADLINE)
+        );
     }
 
     #[test]
