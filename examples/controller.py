@@ -141,6 +141,8 @@ def episode(adapter, world, number):
         reply = adapter.ask(world.run(behavior))
         if reply["ok"] == "switch":
             behavior = reply["behavior"]
+            # Why, in one plain sentence fit for an operator's screen.
+            print(f"  {reply['explanation']['sentence']}")
         elif reply["ok"] == "settled":
             retained = reply["retained"]
             note = f", retained case #{retained}" if retained is not None else ""

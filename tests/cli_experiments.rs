@@ -510,8 +510,7 @@ fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
     let rows = story
         .lines()
         .filter(|l| {
-            l.trim_start()
-                .split_whitespace()
+            l.split_whitespace()
                 .next()
                 .is_some_and(|w| w.parse::<u64>().is_ok())
         })

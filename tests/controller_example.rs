@@ -56,6 +56,13 @@ fn the_example_controller_drives_the_server() {
         "{first}"
     );
     assert!(first.contains("episodes: 20, trustworthy: 20"), "{first}");
+    // Every switch is explained to the operator in a sentence.
+    assert!(
+        first
+            .lines()
+            .any(|l| l.starts_with("  Gave up speed=") && l.contains(". Now speed=")),
+        "{first}"
+    );
     let learned = number_after(&first, ", cases: ");
     assert!(learned > 0, "{first}");
     assert_eq!(

@@ -874,7 +874,7 @@ fn html_page(
         }
         let _ = write!(page, "<figure>\n{}\n", figure.svg);
         if !figure.caption.is_empty() {
-            let _ = write!(page, "<figcaption>{}</figcaption>\n", figure.caption);
+            let _ = writeln!(page, "<figcaption>{}</figcaption>", figure.caption);
         }
         page.push_str("</figure>\n");
     }

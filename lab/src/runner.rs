@@ -157,9 +157,10 @@ pub struct TrialRecord {
 }
 
 /// How often the first reason an explanation gives for a given-up behavior is the
-/// operator's most frequent true reason on that behavior's untrustworthy commands (a tie
-/// among the true reasons counts as right when the reason is among the most frequent; a
-/// tie among the attributed reasons counts as wrong: the robot did not decide). Behaviors whose
+/// operator's most frequent true reason on that behavior's untrustworthy commands. An
+/// explanation that settles on one reason is right when it is among the most frequent
+/// true reasons; one whose first reasons tie (no reason stands out) is right only when
+/// they are exactly the most frequent true reasons, tied as well. Behaviors whose
 /// untrustworthy commands carry no true reason are not counted. *Perceivable* truths are
 /// those the robot perceives itself (an observation is named after them).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -197,12 +198,13 @@ impl ExplanationCheck {
         ]
     }
 
-    /// Scores one given-up behavior: `attributed` is the explanation's first reason,
-    /// `truth` the true reasons of its untrustworthy commands, counted. Returns the most
-    /// frequent true reason (the first by name in a tie).
+    /// Scores one given-up behavior: `leading` are the reasons its explanation puts first
+    /// ([`trust::GivenUp::leading_reasons`]), `truth` the true reasons of its untrustworthy
+    /// commands, counted. Returns the most frequent true reason (the first by name in a
+    /// tie).
     fn score(
         &mut self,
-        attributed: Option<Cause>,
+        leading: &[Cause],
         truth: &BTreeMap<Cause, u32>,
         perceived: &[Cause],
     ) -> Option<Cause> {
@@ -212,7 +214,15 @@ impl ExplanationCheck {
             .filter(|&(_, &n)| n == most)
             .map(|(&c, _)| c)
             .collect();
-        let right = attributed.is_some_and(|a| modes.contains(&a));
+        let right = match leading {
+            [] => false,
+            [one] => modes.contains(one),
+            tied => {
+                let mut tied = tied.to_vec();
+                tied.sort_unstable();
+                tied == modes
+            }
+        };
         self.given_up += 1;
         self.right += u32::from(right);
         if perceived.contains(&modes[0]) {
@@ -607,7 +617,7 @@ fn run_trial<D: Domain>(
         });
         if let Some(given_up) = explanation.and_then(|e| e.given_up.as_ref()) {
             given_up_truth.push(explained.score(
-                given_up.decided_reason(),
+                &given_up.leading_reasons(),
                 &behavior_truth,
                 perceived,
             ));
@@ -637,4 +647,45 @@ fn run_trial<D: Domain>(
         explained,
         given_up_truth,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const A: Cause = Cause::from_static("a");
+    const B: Cause = Cause::from_static("b");
+    const C: Cause = Cause::from_static("c");
+
+    #[test]
+    fn explanations_are_scored_by_hand() {
+        let truth = |counts: &[(Cause, u32)]| counts.iter().copied().collect::<BTreeMap<_, _>>();
+        let mut check = ExplanationCheck::default();
+        // One reason settled on, the most frequent truth: right; `a` is perceivable.
+        assert_eq!(check.score(&[A], &truth(&[(A, 3), (B, 1)]), &[A]), Some(A));
+        // Settled on `b` where `a` is more frequent: wrong.
+        check.score(&[B], &truth(&[(A, 3), (B, 1)]), &[A]);
+        // The truth ties: a reason among the tied ones is right.
+        assert_eq!(check.score(&[B], &truth(&[(A, 2), (B, 2)]), &[]), Some(A));
+        // The explanation ties: right only with the very same tie.
+        check.score(&[A, B], &truth(&[(A, 2), (B, 2), (C, 1)]), &[]);
+        check.score(&[A, B], &truth(&[(A, 2), (C, 1)]), &[]);
+        // Nothing attributed: wrong; no true reason: not counted.
+        check.score(&[], &truth(&[(C, 1)]), &[]);
+        assert_eq!(check.score(&[A], &truth(&[]), &[A]), None);
+        assert_eq!(
+            check,
+            ExplanationCheck {
+                given_up: 6,
+                right: 3,
+                perceivable: 2,
+                perceivable_right: 1,
+            }
+        );
+        let [all, perceivable, rest] = check.shares();
+        assert_eq!(all, Some(0.5));
+        assert_eq!(perceivable, Some(0.5));
+        assert_eq!(rest, Some(0.5));
+        assert_eq!(ExplanationCheck::default().shares(), [None, None, None]);
+    }
 }

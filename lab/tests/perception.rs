@@ -218,8 +218,8 @@ fn two_arms<'a>(
 ) -> ExperimentPlan<'a, Secretive> {
     ExperimentPlan {
         name: "secretive".into(),
-        domain: &domain,
-        operators: &operators,
+        domain,
+        operators,
         choice: OperatorChoice::Fixed(0),
         trials: 20,
         settings: TrialSettings::default(),

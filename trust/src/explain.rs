@@ -138,11 +138,23 @@ impl GivenUp {
     /// every other (`None` when nothing is attributed or the first reasons tie, so the
     /// order among them is only the order of their names).
     pub fn decided_reason(&self) -> Option<Cause> {
-        match self.reasons.as_slice() {
-            [] => None,
-            [only] => Some(only.cause),
-            [first, second, ..] => (first.weight > second.weight + TIE).then_some(first.cause),
+        match self.leading_reasons().as_slice() {
+            [only] => Some(*only),
+            _ => None,
         }
+    }
+
+    /// The reasons that share the first place (one when the robot settles on it; none when
+    /// nothing is attributed).
+    pub fn leading_reasons(&self) -> Vec<Cause> {
+        let Some(first) = self.reasons.first() else {
+            return Vec::new();
+        };
+        self.reasons
+            .iter()
+            .take_while(|r| r.weight > first.weight - TIE)
+            .map(|r| r.cause)
+            .collect()
     }
 }
 
