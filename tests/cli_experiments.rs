@@ -482,11 +482,15 @@ fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
         .find(|t| {
             t["experiment"] == "patrol/random"
                 && t["arm"] == "case-based"
-                && !t["given_up_reasons"].as_array().unwrap().is_empty()
+                && !t["given_up"].as_array().unwrap().is_empty()
         })
         .expect("a case-based patrol trial with a switch");
-    let given_up = trial["given_up_reasons"].as_array().unwrap().len();
-    assert_eq!(trial["given_up_truth"].as_array().unwrap().len(), given_up);
+    let records = trial["given_up"].as_array().unwrap();
+    let given_up = records.len();
+    for record in records {
+        assert!(record["right"].is_boolean(), "{record}");
+        assert!(record["reason"].is_string() || record["reason"].is_null());
+    }
     let number = trial["trial"].as_u64().unwrap().to_string();
     let story = succeed(trustcbr().arg("explain").arg(&out).args([
         "--experiment",

@@ -8,6 +8,7 @@
 use crate::behavior::{Behavior, BehaviorSpace};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// What a searcher proposes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,7 +23,8 @@ pub enum Proposal {
 }
 
 /// Why a strategy proposed a behavior, for explanations shown to operators and
-/// researchers ([`Searcher::rationale`]). Texts are short plain phrases, one line each.
+/// researchers ([`Searcher::rationale`]). Texts are short plain phrases, one line each;
+/// `"a fixed text".into()` or `format!(...).into()` makes one.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Rationale {
@@ -30,12 +32,12 @@ pub enum Rationale {
     Explores {
         /// How it picked the proposal (e.g. "one random step from the behavior that
         /// resisted longest").
-        how: String,
+        how: Cow<'static, str>,
     },
     /// The strategy expects the proposal to do better than what was given up.
     Expects {
         /// What it expects to change (e.g. "fewer collisions").
-        what: String,
+        what: Cow<'static, str>,
         /// Its confidence in that, a probability, when it has one.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         confidence: Option<f64>,
@@ -47,7 +49,7 @@ impl Rationale {
     /// [`Searcher::rationale`]).
     pub fn unstated() -> Self {
         Self::Explores {
-            how: "the search strategy gives no reason".to_owned(),
+            how: "the search strategy gives no reason".into(),
         }
     }
 

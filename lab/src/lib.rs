@@ -27,7 +27,8 @@ pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
 pub use runner::{
-    ArmResult, ExperimentPlan, ExperimentResult, ExplanationCheck, OperatorChoice, PairedTests,
-    PlanError, Step, TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
+    ArmResult, ExperimentPlan, ExperimentResult, ExplanationCheck, ExplanationSample,
+    GivenUpRecord, OperatorChoice, PairedTests, PlanError, SAMPLE_EXPLANATIONS, Step,
+    TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
 };
 pub use trust::{RetrieverFactory, SearcherFactory};

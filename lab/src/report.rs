@@ -9,7 +9,7 @@ use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
 use crate::limit::Costs;
 use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
-use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, TrialRecord};
+use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, TrialRecord};
 use crate::seeds::{Purpose, stream_seed};
 use crate::stats::{MeanCi, mean_ci95};
 use crate::timeline::{Timeline, timeline_figure};
@@ -267,33 +267,22 @@ pub fn explanations_table(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
-/// How many sample explanations the page shows per arm.
-pub const SAMPLE_EXPLANATIONS: usize = 2;
-
-/// A few explanations of behaviors each arm gave up, as its trials recorded them (the
-/// first switches of its first trials), with the operator's most frequent true reason.
+/// The explanations each arm kept whole ([`ArmResult::samples`]) as sentences, with the
+/// operator's most frequent true reason.
 pub fn sample_explanations(e: &ReportEntry<'_>) -> Vec<(String, Vec<String>)> {
     e.result
         .arms
         .iter()
         .map(|arm| {
             let samples = arm
-                .trials
+                .samples
                 .iter()
-                .flat_map(|t| {
-                    t.report
-                        .explanations
-                        .iter()
-                        .filter(|x| x.given_up.is_some())
-                        .zip(&t.given_up_truth)
-                        .map(move |(x, truth)| (t.trial, x, truth))
-                })
-                .take(SAMPLE_EXPLANATIONS)
-                .map(|(trial, x, truth)| {
+                .map(|x| {
                     format!(
-                        "trial {trial}: {} (the operator's most frequent true reason: {})",
-                        x.sentence(e.space),
-                        truth.map_or("none".to_owned(), |c| c.to_string())
+                        "trial {}: {} (the operator's most frequent true reason: {})",
+                        x.trial,
+                        x.explanation.sentence(e.space),
+                        x.truth.map_or("none".to_owned(), |c| c.to_string())
                     )
                 })
                 .collect();
@@ -542,11 +531,28 @@ struct TrialLine<'a> {
     truncated: bool,
     /// The operator's true reasons for the untrustworthy commands (evaluation only).
     true_causes: &'a BTreeMap<Cause, u32>,
-    /// Per given-up behavior, in order, the reason its explanation settles on (`null` when
-    /// none is attributed or the first ones tie).
-    given_up_reasons: Vec<Option<Cause>>,
-    /// Per given-up behavior, the operator's most frequent true reason (evaluation only).
-    given_up_truth: &'a [Option<Cause>],
+    /// Every behavior given up: the reason its explanation settled on, the most frequent
+    /// true reason (evaluation only), and whether it was right.
+    given_up: Vec<GivenUpLine>,
+}
+
+/// A given-up behavior in `trials.jsonl` (how the next behavior was chosen is counted by
+/// the line's `searched` and `reused`; a trial is told whole by `trustcbr explain`).
+#[derive(Serialize)]
+struct GivenUpLine {
+    reason: Option<Cause>,
+    truth: Option<Cause>,
+    right: bool,
+}
+
+impl From<&GivenUpRecord> for GivenUpLine {
+    fn from(record: &GivenUpRecord) -> Self {
+        Self {
+            reason: record.reason,
+            truth: record.truth,
+            right: record.right,
+        }
+    }
 }
 
 /// `trials.jsonl`: one JSON object per trial, experiments in order, arms in order.
@@ -582,13 +588,7 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         retained: t.report.retained.is_some(),
         truncated: t.truncated,
         true_causes: &t.true_causes,
-        given_up_reasons: t
-            .report
-            .explanations
-            .iter()
-            .filter_map(|x| x.given_up.as_ref().map(|g| g.decided_reason()))
-            .collect(),
-        given_up_truth: &t.given_up_truth,
+        given_up: t.given_up.iter().map(GivenUpLine::from).collect(),
     }
 }
 

@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
     AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, Explanation,
-    FeedbackChannel, Outcome, Retention, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase,
+    FeedbackChannel, Outcome, Retention, Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase,
     TrustMemory, UndeclaredCause, Vocabulary, find_declared,
 };
 
@@ -149,12 +149,43 @@ pub struct TrialRecord {
     /// evaluation only).
     #[serde(default)]
     pub explained: ExplanationCheck,
-    /// Per given-up behavior, in order, the operator's most frequent true reason on its
-    /// untrustworthy commands (the first by name in a tie; `None` when they carry none):
-    /// for evaluation only, beside `report.explanations`.
+    /// Every behavior the trial gave up, in order: the reason its explanation settled on,
+    /// how the next one was chosen, and the truth. The full explanations are taken out of
+    /// `report` (its `explanations` is empty) to keep an experiment's records small;
+    /// [`trace_trial`] replays a trial with them, and [`ArmResult::samples`] keeps a few.
     #[serde(default)]
-    pub given_up_truth: Vec<Option<Cause>>,
+    pub given_up: Vec<GivenUpRecord>,
 }
+
+/// One behavior a trial gave up, as its explanation put it and as it was.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GivenUpRecord {
+    /// The reason the explanation settled on (`None`: none was attributed, or no reason
+    /// stood out).
+    pub reason: Option<Cause>,
+    /// How the next behavior was chosen (`None`: every behavior had been tried and the
+    /// episode ended).
+    pub next: Option<Source>,
+    /// The operator's most frequent true reason on the behavior's untrustworthy commands
+    /// (the first by name in a tie; `None` when they carry none): for evaluation only.
+    pub truth: Option<Cause>,
+    /// Whether the explanation was right ([`ExplanationCheck`]'s rule).
+    pub right: bool,
+}
+
+/// An explanation an arm gave, kept whole for the report, with the truth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExplanationSample {
+    /// The trial.
+    pub trial: u32,
+    /// The explanation of a switch.
+    pub explanation: Explanation,
+    /// The operator's most frequent true reason on the behavior given up.
+    pub truth: Option<Cause>,
+}
+
+/// Explanations each arm keeps whole ([`ArmResult::samples`]): its first switches.
+pub const SAMPLE_EXPLANATIONS: usize = 2;
 
 /// How often the first reason an explanation gives for a given-up behavior is the
 /// operator's most frequent true reason on that behavior's untrustworthy commands. An
@@ -201,13 +232,14 @@ impl ExplanationCheck {
     /// Scores one given-up behavior: `leading` are the reasons its explanation puts first
     /// ([`trust::GivenUp::leading_reasons`]), `truth` the true reasons of its untrustworthy
     /// commands, counted. Returns the most frequent true reason (the first by name in a
-    /// tie).
+    /// tie) and whether the explanation was right; `None` when no true reason was given
+    /// (not counted).
     fn score(
         &mut self,
         leading: &[Cause],
         truth: &BTreeMap<Cause, u32>,
         perceived: &[Cause],
-    ) -> Option<Cause> {
+    ) -> Option<(Cause, bool)> {
         let &most = truth.values().max()?;
         let modes: Vec<Cause> = truth
             .iter()
@@ -229,7 +261,7 @@ impl ExplanationCheck {
             self.perceivable += 1;
             self.perceivable_right += u32::from(right);
         }
-        Some(modes[0])
+        Some((modes[0], right))
     }
 }
 
@@ -267,6 +299,8 @@ pub struct ArmResult {
     pub versus_first: Option<PairedTests>,
     /// How its explanations compare with the truth, over every trial.
     pub explained: ExplanationCheck,
+    /// Its first explanations of switches, kept whole (at most [`SAMPLE_EXPLANATIONS`]).
+    pub samples: Vec<ExplanationSample>,
     /// Every trial, in order.
     pub trials: Vec<TrialRecord>,
 }
@@ -418,9 +452,10 @@ fn run_chain<D: Domain>(
     // Every trial reads what earlier ones left: the case base, a learning search, and
     // what the explanations learned operators mean (trust::explain), so a chain runs in
     // order.
+    let mut samples = Vec::new();
     let trials: Vec<TrialRecord> = (0..plan.trials)
         .map(|trial| {
-            let record = run_trial(
+            let (record, explanations) = run_trial(
                 plan,
                 &mut adapter,
                 experiment,
@@ -429,6 +464,19 @@ fn run_chain<D: Domain>(
                 seed,
                 &mut |_| {},
             )?;
+            let wanted = SAMPLE_EXPLANATIONS - samples.len();
+            samples.extend(
+                explanations
+                    .into_iter()
+                    .filter(|x| x.given_up.is_some())
+                    .zip(&record.given_up)
+                    .take(wanted)
+                    .map(|(explanation, given_up)| ExplanationSample {
+                        trial,
+                        explanation,
+                        truth: given_up.truth,
+                    }),
+            );
             progress();
             Ok(record)
         })
@@ -458,6 +506,7 @@ fn run_chain<D: Domain>(
         final_cases,
         versus_first: None,
         explained,
+        samples,
         trials,
     })
 }
@@ -518,7 +567,7 @@ pub fn trace_trial<D: Domain>(
         )?;
     }
     let mut commands = Vec::new();
-    let record = run_trial(
+    let (record, _) = run_trial(
         plan,
         &mut adapter,
         experiment,
@@ -550,7 +599,7 @@ fn run_trial<D: Domain>(
     arm: &Arm,
     seed: u64,
     observe: &mut dyn FnMut(Step<'_>),
-) -> Result<TrialRecord, PlanError> {
+) -> Result<(TrialRecord, Vec<Explanation>), PlanError> {
     let space = plan.domain.space();
     let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
     let operator_index = match plan.choice {
@@ -578,7 +627,7 @@ fn run_trial<D: Domain>(
     let mut true_causes = BTreeMap::new();
     let mut behavior_truth: BTreeMap<Cause, u32> = BTreeMap::new();
     let mut explained = ExplanationCheck::default();
-    let mut given_up_truth = Vec::new();
+    let mut given_up = Vec::new();
     let mut estimate = 0.0;
     let perceived = plan.domain.observations();
     let (report, truncated) = loop {
@@ -615,12 +664,18 @@ fn run_trial<D: Domain>(
             estimate,
             explanation,
         });
-        if let Some(given_up) = explanation.and_then(|e| e.given_up.as_ref()) {
-            given_up_truth.push(explained.score(
-                &given_up.leading_reasons(),
-                &behavior_truth,
-                perceived,
-            ));
+        if let Some(x) = explanation.filter(|x| x.given_up.is_some()) {
+            let account = x.given_up.as_ref().expect("filtered");
+            let scored = explained.score(&account.leading_reasons(), &behavior_truth, perceived);
+            given_up.push(GivenUpRecord {
+                reason: account.decided_reason(),
+                next: match &decision {
+                    Decision::Switch { source, .. } => Some(*source),
+                    _ => None,
+                },
+                truth: scored.map(|(truth, _)| truth),
+                right: scored.is_some_and(|(_, right)| right),
+            });
         }
         match decision {
             Decision::Keep => {}
@@ -636,17 +691,22 @@ fn run_trial<D: Domain>(
             break (report, true);
         }
     };
-    Ok(TrialRecord {
-        trial,
-        arm: arm.name().to_owned(),
-        operator: operator_name.clone(),
-        initial,
-        report,
-        truncated,
-        true_causes,
-        explained,
-        given_up_truth,
-    })
+    let mut report = report;
+    let explanations = std::mem::take(&mut report.explanations);
+    Ok((
+        TrialRecord {
+            trial,
+            arm: arm.name().to_owned(),
+            operator: operator_name.clone(),
+            initial,
+            report,
+            truncated,
+            true_causes,
+            explained,
+            given_up,
+        },
+        explanations,
+    ))
 }
 
 #[cfg(test)]
@@ -662,11 +722,17 @@ mod tests {
         let truth = |counts: &[(Cause, u32)]| counts.iter().copied().collect::<BTreeMap<_, _>>();
         let mut check = ExplanationCheck::default();
         // One reason settled on, the most frequent truth: right; `a` is perceivable.
-        assert_eq!(check.score(&[A], &truth(&[(A, 3), (B, 1)]), &[A]), Some(A));
+        assert_eq!(
+            check.score(&[A], &truth(&[(A, 3), (B, 1)]), &[A]),
+            Some((A, true))
+        );
         // Settled on `b` where `a` is more frequent: wrong.
         check.score(&[B], &truth(&[(A, 3), (B, 1)]), &[A]);
         // The truth ties: a reason among the tied ones is right.
-        assert_eq!(check.score(&[B], &truth(&[(A, 2), (B, 2)]), &[]), Some(A));
+        assert_eq!(
+            check.score(&[B], &truth(&[(A, 2), (B, 2)]), &[]),
+            Some((A, true))
+        );
         // The explanation ties: right only with the very same tie.
         check.score(&[A, B], &truth(&[(A, 2), (B, 2), (C, 1)]), &[]);
         check.score(&[A, B], &truth(&[(A, 2), (C, 1)]), &[]);

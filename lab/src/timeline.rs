@@ -43,7 +43,7 @@ pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
         .position(|a| a.name == "case-based")
         .or_else(|| (result.arms.len() > 1).then_some(1))
         .or_else(|| (!result.arms.is_empty()).then_some(0))?;
-    let switches = |t: &TrialRecord| t.report.explanations.len().saturating_sub(1) as u64;
+    let switches = |t: &TrialRecord| t.given_up.len() as u64;
     let trials = &result.arms[arm].trials;
     let chosen = trials
         .iter()

@@ -496,7 +496,9 @@ impl Adaptation {
     }
 
     fn finish(&mut self, found_trustworthy: bool) -> EpisodeReport {
-        let episode = self.episode.take().expect("an episode is under way");
+        let mut episode = self.episode.take().expect("an episode is under way");
+        // Reports may be kept by the thousand (an experiment's trials): no spare capacity.
+        episode.explanations.shrink_to_fit();
         let settled = if found_trustworthy {
             Some(&episode.current)
         } else {

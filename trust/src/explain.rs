@@ -551,6 +551,7 @@ impl Attribution {
                 .then(a.cause.cmp(&b.cause))
         });
         reasons.truncate(MAX_REASONS);
+        reasons.shrink_to_fit();
         reasons
     }
 

@@ -45,7 +45,7 @@ impl cbr_core::Searcher for HiddenLearner {
 
     fn rationale(&self, _proposed: &cbr_core::Behavior) -> cbr_core::Rationale {
         cbr_core::Rationale::Expects {
-            what: "something".to_owned(),
+            what: "something".into(),
             confidence: Some(self.confidence),
         }
     }

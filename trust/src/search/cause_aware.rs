@@ -256,14 +256,15 @@ impl Searcher for CauseAware {
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
         if self.causes.iter().all(|c| self.weight(c) <= 0.0) {
             return Rationale::Explores {
-                how: "no trouble counted yet: an untried behavior drawn uniformly".to_owned(),
+                how: "no trouble counted yet: an untried behavior drawn uniformly".into(),
             };
         }
         Rationale::Expects {
             what: format!(
                 "the fewest of the troubles this operator reacts to, of {} untried behaviors",
                 self.last_pool
-            ),
+            )
+            .into(),
             confidence: None,
         }
     }

@@ -230,7 +230,7 @@ impl Searcher for Conditioned {
     fn rationale(&self, proposed: &Behavior) -> Rationale {
         match self.last {
             Some((b, accept)) if b == *proposed => Rationale::Expects {
-                what: "acceptance: earlier operators like this one trusted it".to_owned(),
+                what: "acceptance: earlier operators like this one trusted it".into(),
                 confidence: Some(accept),
             },
             _ => self.fallback.rationale(proposed),

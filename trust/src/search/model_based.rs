@@ -397,14 +397,15 @@ impl Searcher for ModelBased {
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
         if self.observed.is_empty() || self.largest_weight <= 0.0 {
             return Rationale::Explores {
-                how: "no outcome weighed yet: an untried behavior drawn uniformly".to_owned(),
+                how: "no outcome weighed yet: an untried behavior drawn uniformly".into(),
             };
         }
         let commands: f64 = self.observed.iter().map(|o| o.commands).sum();
         Rationale::Expects {
             what: format!(
                 "a better reaction, by a model of this operator fit to {commands} commands"
-            ),
+            )
+            .into(),
             confidence: None,
         }
     }

@@ -102,7 +102,7 @@ impl Searcher for RandomWalk {
 
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
         Rationale::Explores {
-            how: "one random step from the behavior that resisted longest".to_owned(),
+            how: "one random step from the behavior that resisted longest".into(),
         }
     }
 

@@ -44,7 +44,7 @@ impl Searcher for Uniform {
 
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
         Rationale::Explores {
-            how: "an untried behavior drawn uniformly".to_owned(),
+            how: "an untried behavior drawn uniformly".into(),
         }
     }
 }
