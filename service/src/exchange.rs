@@ -77,8 +77,9 @@ pub fn export(from: &Location, to: &Path) -> Result<usize, StoreError> {
 
 /// Appends every case of the RON file `from` to the case base at `to` (created when
 /// absent), learned in `domain`'s space. A file recording another space, or a case that
-/// does not fit the space, is refused and nothing is appended; so is a RON file as the
-/// target (RON case files are read-only). Returns how many cases.
+/// does not fit the space, is refused and nothing is appended; so are a RON file as the
+/// target (RON case files are read-only) and a target holding a case that `serve` would
+/// refuse. Returns how many cases.
 pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<usize, StoreError> {
     if let Location::Ron(path) = to {
         return Err(StoreError::ReadOnly(path.clone()));
@@ -97,5 +98,11 @@ pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<u
         Ok(())
     })?;
     let mut target = store::open(to, &identity)?;
+    // The cases already there are read as `serve` and `info` read them: a target they
+    // would refuse is refused before anything is appended.
+    let location = target.location();
+    target.read_after(None, &mut |stored| {
+        store::check_case(&location, &stored, &identity.space)
+    })?;
     target.append_all(&cases)
 }
