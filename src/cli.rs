@@ -68,7 +68,8 @@ enum CasesCommand {
     Export {
         /// The case base: an SQLite file, a postgres:// URL or a RON file.
         cases: String,
-        /// The RON file to write.
+        /// The RON file to write (`*.ron`): absent, or an earlier export to replace; never
+        /// the case base itself nor any other file.
         out: PathBuf,
     },
     /// Append the cases of a RON file to a case base (created when absent).

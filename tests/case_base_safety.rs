@@ -110,6 +110,93 @@ fn export(from: &Path, to: &Path) -> Command {
     command
 }
 
+#[test]
+fn an_export_never_writes_over_its_source_or_another_case_base() {
+    let bases = Bases::new();
+    let base = bases.path("base.db");
+    let other = bases.path("other.db");
+    bases.import(other.to_str().unwrap());
+    let before = [snapshot(&base), snapshot(&other)];
+    let unchanged_both = || unchanged(&base, &before[0]) && unchanged(&other, &before[1]);
+
+    // The same file, and another case base: neither is a RON file.
+    for out in [&base, &other] {
+        let stderr = refused(&mut export(&base, out));
+        assert!(
+            stderr.contains(&format!(
+                "{}: an export is a RON case file and its name must end in `.ron`",
+                out.display()
+            )),
+            "{stderr}"
+        );
+    }
+    // A `.ron` name that resolves to the source (a symlink) or to another base.
+    let to_source = bases.path("to-source.ron");
+    std::os::unix::fs::symlink(&base, &to_source).unwrap();
+    let stderr = refused(&mut export(&base, &to_source));
+    assert!(
+        stderr.contains(&format!(
+            "{}: this is the case base being exported ({}); give the export another file name",
+            to_source.display(),
+            base.display()
+        )),
+        "{stderr}"
+    );
+    let to_other = bases.path("to-other.ron");
+    std::os::unix::fs::symlink(&other, &to_other).unwrap();
+    let stderr = refused(&mut export(&base, &to_other));
+    assert!(
+        stderr.contains(&format!(
+            "{}: exists and is not an earlier export (an SQLite database); `cases export` writes over nothing else: give a new file name",
+            to_other.display()
+        )),
+        "{stderr}"
+    );
+    assert!(unchanged_both());
+
+    // A RON case base exported onto itself, however spelled: a hard link, `dir/../`.
+    let exported = bases.path("exported.ron");
+    succeed(&mut export(&base, &exported));
+    let text = std::fs::read(&exported).unwrap();
+    let hard = bases.path("hard.ron");
+    std::fs::hard_link(&exported, &hard).unwrap();
+    let dotted = bases.path("sub/../exported.ron");
+    std::fs::create_dir(bases.path("sub")).unwrap();
+    for out in [&exported, &hard, &dotted] {
+        let stderr = refused(&mut export(&exported, out));
+        assert!(
+            stderr.contains("this is the case base being exported"),
+            "{stderr}"
+        );
+    }
+    assert_eq!(std::fs::read(&exported).unwrap(), text);
+
+    // Any other existing file is kept: text that is no case file, a hand-written case file.
+    let notes = bases.path("notes.ron");
+    std::fs::write(&notes, "my notes").unwrap();
+    let stderr = refused(&mut export(&base, &notes));
+    assert!(
+        stderr.contains("exists and is not an earlier export (not a RON case file)"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&notes).unwrap(), b"my notes");
+    let hand = bases.path("three.ron");
+    let hand_text = std::fs::read(&hand).unwrap();
+    let stderr = refused(&mut export(&base, &hand));
+    assert!(
+        stderr.contains("a RON case file recording no behavior space"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&hand).unwrap(), hand_text);
+
+    // An earlier export is replaced.
+    let again = bases.path("again.ron");
+    succeed(&mut export(&other, &again));
+    succeed(&mut export(&base, &again));
+    assert_eq!(std::fs::read(&again).unwrap(), text);
+    assert!(unchanged_both());
+}
+
 /// SQLite files that are not case bases of ours, each made by `sql` on a fresh file in
 /// rollback-journal mode, and what the refusal says.
 const FOREIGN: [(&str, &str, &str); 5] = [

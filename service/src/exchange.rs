@@ -70,9 +70,47 @@ pub fn info(location: &Location) -> Result<CaseBaseInfo, StoreError> {
 }
 
 /// Writes the case base at `from` to the RON file `to`; returns how many cases.
+///
+/// `to` must end in `.ron` and be absent or an earlier export (a RON case file recording
+/// its behavior space); it is never the case base itself, however spelled (another path,
+/// a symlink or a hard link to the same file). A refused `to` is left as it is, and so is
+/// the case base, which is only read.
 pub fn export(from: &Location, to: &Path) -> Result<usize, StoreError> {
+    check_export_target(from, to)?;
     let mut store = store::open_existing(from)?;
     ron_file::export(store.as_mut(), to)
+}
+
+/// Refuses an export path that names the case base being exported or any file but an
+/// earlier export.
+fn check_export_target(from: &Location, to: &Path) -> Result<(), StoreError> {
+    if to.extension().is_none_or(|e| e != "ron") {
+        return Err(StoreError::ExportName(to.to_owned()));
+    }
+    if !store::check_file(to)? {
+        return Ok(());
+    }
+    if let Location::Sqlite(source) | Location::Ron(source) = from
+        && same_file(source, to)
+    {
+        return Err(StoreError::ExportOverSource {
+            out: to.to_owned(),
+            source_base: from.shown(),
+        });
+    }
+    ron_file::check_earlier_export(to).map_err(|reason| StoreError::ExportOverOther {
+        out: to.to_owned(),
+        reason,
+    })
+}
+
+/// Whether `a` and `b` are one file (the same device and inode, after symlinks).
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
+        _ => false,
+    }
 }
 
 /// Appends every case of the RON file `from` to the case base at `to` (created when

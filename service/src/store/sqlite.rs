@@ -288,6 +288,11 @@ fn starts_like_a_database(path: &Path) -> bool {
     matches!(header(path), Some(start) if start.is_empty() || start == HEADER)
 }
 
+/// Whether the file begins with SQLite's header.
+pub(crate) fn is_database(path: &Path) -> bool {
+    header(path).is_some_and(|start| start == HEADER)
+}
+
 const HEADER: &[u8; 16] = b"SQLite format 3\0";
 
 /// The file's first bytes, as many as SQLite's header has.
