@@ -392,6 +392,31 @@ fn info_and_export_read_a_case_base_on_a_read_only_file_system() {
     assert_eq!(text.matches("solution:").count(), 3, "{text}");
 }
 
+#[test]
+fn passwords_are_never_shown() {
+    let bases = Bases::new();
+    // Nothing listens on port 1: every command fails to connect and says so.
+    for url in [
+        "postgres://robot:s3cret-pw@127.0.0.1:1/fleet",
+        "postgres://127.0.0.1:1/fleet?user=robot&password=s3cret-pw",
+        "postgresql://127.0.0.1:1/fleet?password=s3cret-pw&user=robot",
+    ] {
+        let mut info = trustcbr();
+        info.args(["cases", "info", url]);
+        for mut command in [bases.serve_command(url), info, bases.import_command(url)] {
+            let output = command.stdin(Stdio::null()).output().unwrap();
+            let all = format!(
+                "{}{}",
+                String::from_utf8_lossy(&output.stdout),
+                String::from_utf8_lossy(&output.stderr)
+            );
+            assert_eq!(output.status.code(), Some(1), "{all}");
+            assert!(!all.contains("s3cret"), "{all}");
+            assert!(all.contains("***"), "{all}");
+        }
+    }
+}
+
 /// A fresh database on the test server, dropped at the end; `None` (with a message) when
 /// no server is named, which CI does not allow.
 struct TestDatabase {
@@ -570,4 +595,30 @@ fn a_select_only_role_reads_a_postgres_case_base() {
     )
     .unwrap();
     admin.batch_execute(&format!("DROP ROLE {role}")).unwrap();
+}
+
+#[test]
+fn passwords_are_not_shown_in_the_startup_line() {
+    let Some(db) = TestDatabase::create("secret") else {
+        return;
+    };
+    let bases = Bases::new();
+    // The test server trusts loopback connections, so any password is accepted.
+    let (scheme, rest) = db.url.split_once("://").unwrap();
+    let (user, rest) = rest.split_once('@').unwrap();
+    for url in [
+        format!("{scheme}://{user}:s3cret-pw@{rest}"),
+        format!("{}?password=s3cret-pw", db.url),
+    ] {
+        let output = bases
+            .serve_command(&url)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{stderr}");
+        assert!(stderr.contains("cases loaded from"), "{stderr}");
+        assert!(!stderr.contains("s3cret"), "{stderr}");
+        assert!(stderr.contains("***"), "{stderr}");
+    }
 }
