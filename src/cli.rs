@@ -8,8 +8,8 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite_with_report,
-    save_case_bases, suite_best_arms, suite_table, write_suite_report,
+    EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig,
+    run_suite_with_report, save_case_bases, suite_best_arms, suite_table, write_suite_report,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -171,8 +171,8 @@ struct LandscapeArgs {
     /// Operator: a built-in name or an operator file.
     #[arg(long)]
     operator: String,
-    /// Runs per behavior (at least 1).
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    /// Runs per behavior, 1 to 10000.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LANDSCAPE_RUNS)))]
     runs: u32,
     /// The two components of the heatmap, across then up (default: the first two).
     #[arg(long)]
@@ -208,9 +208,9 @@ struct RunOptions {
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
-    /// Runs per cell of the operator landscapes behind the final behaviors, 0 for none
-    /// (overrides the config).
-    #[arg(long)]
+    /// Runs per cell of the operator landscapes behind the final behaviors, 0 (none) to
+    /// 10000 (overrides the config).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(..=i64::from(MAX_LANDSCAPE_RUNS)))]
     landscape_runs: Option<u32>,
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
@@ -325,8 +325,8 @@ fn run_experiments<C: Catalog>(
     }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
-        config.validate(catalog, origin)?;
     }
+    config.validate(catalog, origin)?;
     let starting = options
         .cases
         .as_ref()

@@ -56,6 +56,18 @@ pub const MAX_TRIALS: u32 = 100_000;
 /// The most experiments a config may list.
 pub const MAX_EXPERIMENTS: usize = 1_000;
 
+/// The most trials a suite may run in all (experiments x arms x trials). Every trial's
+/// record is kept until the report is written: about 24 KB each (measured: `reproduce
+/// --arms random-walk,case-based` peaks at 207 MB with 7,000 trials and 869 MB with
+/// 35,000), so this is about 6 GB, and some 3 minutes of the two cores of the machine of
+/// `docs/results.md` for the paper's arms.
+pub const MAX_SUITE_TRIALS: u64 = 250_000;
+
+/// The most runs per behavior of a landscape (`landscape_runs`, `landscape --runs`): the
+/// default, 200, costs about 2.5 s of the two cores for `reproduce`'s landscapes, so this
+/// about 2 minutes.
+pub const MAX_LANDSCAPE_RUNS: u32 = 10_000;
+
 /// How errors name the catalog's embedded suite.
 pub const EMBEDDED_ORIGIN: &str = "<embedded suite>";
 
@@ -315,6 +327,28 @@ impl SuiteConfig {
                 format!(
                     "at most {MAX_EXPERIMENTS} experiments, got {}",
                     self.experiments.len()
+                ),
+            ));
+        }
+        let trials =
+            self.experiments.len() as u64 * self.arms.len() as u64 * u64::from(self.trials.get());
+        if trials > MAX_SUITE_TRIALS {
+            return Err(invalid(
+                "trials".into(),
+                format!(
+                    "{trials} trials in all ({} experiments x {} arms x {} trials); at most {MAX_SUITE_TRIALS}: every trial's record is kept for the report",
+                    self.experiments.len(),
+                    self.arms.len(),
+                    self.trials
+                ),
+            ));
+        }
+        if self.landscape_runs > MAX_LANDSCAPE_RUNS {
+            return Err(invalid(
+                "landscape_runs".into(),
+                format!(
+                    "must be 0 to {MAX_LANDSCAPE_RUNS}, got {}",
+                    self.landscape_runs
                 ),
             ));
         }
