@@ -30,6 +30,12 @@ use trust::{Retention, Thresholds, TimeUnit};
 /// The most runs (cells times seeds) a sweep may ask for.
 pub const MAX_RUNS: usize = 10_000;
 
+/// The most trials a sweep may run in all, over its runs (each run's experiments x arms x
+/// trials; a run itself is held to [`crate::suite::MAX_SUITE_TRIALS`]): runs go one after
+/// the other, so this bounds time, not memory; at the 1,600 trials a second of
+/// `reproduce` on the two cores of the machine of `docs/results.md`, about 2 hours.
+pub const MAX_SWEEP_TRIALS: u64 = 10_000_000;
+
 /// A sweep, as written in RON.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -121,35 +127,58 @@ impl Parameter {
         }
     }
 
+    /// Value `i` as labels show it, e.g. `0.9`.
+    fn value(&self, i: usize) -> String {
+        match self {
+            Parameter::Lambda(v) => v[i].to_string(),
+            Parameter::Thresholds(v) => format!("{}/{}", v[i].trustworthy, v[i].untrustworthy),
+            Parameter::Retention(v) => ron_name(&v[i]),
+            Parameter::TimeUnit(v) => ron_name(&v[i]),
+            Parameter::Reading(_, v) => v[i].clone(),
+            Parameter::Arms(v) => v[i].join("+"),
+        }
+    }
+
+    /// The first value listed twice (after an equal one), if any.
+    fn repeated(&self) -> Option<usize> {
+        fn first<T: PartialEq>(values: &[T]) -> Option<usize> {
+            (1..values.len()).find(|&j| values[..j].contains(&values[j]))
+        }
+        match self {
+            Parameter::Lambda(v) => first(v),
+            Parameter::Thresholds(v) => first(v),
+            Parameter::Retention(v) => first(v),
+            Parameter::TimeUnit(v) => first(v),
+            Parameter::Reading(_, v) => first(v),
+            Parameter::Arms(v) => first(v),
+        }
+    }
+
+    /// Whether value `i` is the one `base` has already.
+    fn is_in(&self, i: usize, base: &SuiteConfig) -> bool {
+        match self {
+            Parameter::Lambda(v) => v[i] == base.adapter.lambda,
+            Parameter::Thresholds(v) => v[i] == base.adapter.thresholds,
+            Parameter::Retention(v) => v[i] == base.adapter.retention,
+            Parameter::TimeUnit(v) => v[i] == base.adapter.time_unit,
+            Parameter::Reading(name, v) => base.readings.get(name) == Some(&v[i]),
+            Parameter::Arms(v) => v[i] == base.arms,
+        }
+    }
+
     /// Sets value `i` in `suite`; returns its label, e.g. `lambda=0.9`.
     fn apply(&self, i: usize, suite: &mut SuiteConfig) -> String {
-        let value = match self {
-            Parameter::Lambda(v) => {
-                suite.adapter.lambda = v[i];
-                v[i].to_string()
-            }
-            Parameter::Thresholds(v) => {
-                suite.adapter.thresholds = v[i];
-                format!("{}/{}", v[i].trustworthy, v[i].untrustworthy)
-            }
-            Parameter::Retention(v) => {
-                suite.adapter.retention = v[i];
-                ron_name(&v[i])
-            }
-            Parameter::TimeUnit(v) => {
-                suite.adapter.time_unit = v[i];
-                ron_name(&v[i])
-            }
+        match self {
+            Parameter::Lambda(v) => suite.adapter.lambda = v[i],
+            Parameter::Thresholds(v) => suite.adapter.thresholds = v[i],
+            Parameter::Retention(v) => suite.adapter.retention = v[i],
+            Parameter::TimeUnit(v) => suite.adapter.time_unit = v[i],
             Parameter::Reading(name, v) => {
                 suite.readings.insert(name.clone(), v[i].clone());
-                v[i].clone()
             }
-            Parameter::Arms(v) => {
-                suite.arms = v[i].clone();
-                v[i].join("+")
-            }
-        };
-        format!("{}={value}", self.name())
+            Parameter::Arms(v) => suite.arms.clone_from(&v[i]),
+        }
+        format!("{}={}", self.name(), self.value(i))
     }
 }
 
@@ -257,11 +286,28 @@ impl Sweep {
         if config.seeds.is_empty() {
             return Err(invalid("seeds", "at least one seed is needed".into()));
         }
+        if let Some(j) =
+            (1..config.seeds.len()).find(|&j| config.seeds[..j].contains(&config.seeds[j]))
+        {
+            return Err(invalid(
+                "seeds",
+                format!(
+                    "seed {} is listed twice; each seed runs every cell once",
+                    config.seeds[j]
+                ),
+            ));
+        }
         for (i, p) in config.parameters.iter().enumerate() {
             if p.len() == 0 {
                 return Err(invalid(
                     &format!("parameters[{i}]"),
                     format!("{} lists no value", p.name()),
+                ));
+            }
+            if let Some(j) = p.repeated() {
+                return Err(invalid(
+                    &format!("parameters[{i}]"),
+                    format!("{} lists {} twice", p.name(), p.value(j)),
                 ));
             }
         }
@@ -289,15 +335,51 @@ impl Sweep {
         if let Some(arms) = &config.arms {
             base.arms.clone_from(arms);
         }
+        // Counted before any cell is built: a grid of a few long lists has more cells than
+        // memory holds.
+        let cells = match config.design {
+            Design::OneAtATime => config.parameters.iter().fold(1usize, |n, p| {
+                n.saturating_add((0..p.len()).filter(|&i| !p.is_in(i, &base)).count())
+            }),
+            Design::Grid => config
+                .parameters
+                .iter()
+                .fold(1usize, |n, p| n.saturating_mul(p.len())),
+        };
+        let runs = cells.saturating_mul(config.seeds.len());
+        if runs > MAX_RUNS {
+            let design = match config.design {
+                Design::OneAtATime => "the base and each value it does not have",
+                Design::Grid => "every combination of the values",
+            };
+            return Err(invalid(
+                "parameters",
+                format!(
+                    "{runs} runs ({cells} cells, {design}, x {} seeds); at most {MAX_RUNS}",
+                    config.seeds.len()
+                ),
+            ));
+        }
         let cells = match config.design {
             Design::OneAtATime => one_at_a_time(&base, &config.parameters),
             Design::Grid => grid(&base, &config.parameters),
         };
-        let runs = cells.len() * config.seeds.len();
-        if runs > MAX_RUNS {
+        let trials = cells.iter().fold(0u64, |sum, cell| {
+            let suite = &cell.suite;
+            sum.saturating_add(
+                suite.experiments.len() as u64
+                    * suite.arms.len() as u64
+                    * u64::from(suite.trials.get())
+                    * config.seeds.len() as u64,
+            )
+        });
+        if trials > MAX_SWEEP_TRIALS {
             return Err(invalid(
                 "parameters",
-                format!("{runs} runs (cells x seeds); at most {MAX_RUNS}"),
+                format!(
+                    "{trials} trials in all (per cell: experiments x arms x trials, x {} seeds); at most {MAX_SWEEP_TRIALS}",
+                    config.seeds.len()
+                ),
             ));
         }
         for cell in &cells {
@@ -379,13 +461,11 @@ fn one_at_a_time(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
         suite: base.clone(),
     }];
     for p in parameters {
-        for i in 0..p.len() {
+        // A value equal to the base's is the base cell itself.
+        for i in (0..p.len()).filter(|&i| !p.is_in(i, base)) {
             let mut suite = base.clone();
             let label = p.apply(i, &mut suite);
-            // A value equal to the base's is the base cell itself.
-            if suite != *base {
-                cells.push(Cell { label, suite });
-            }
+            cells.push(Cell { label, suite });
         }
     }
     cells
@@ -558,9 +638,21 @@ pub fn merge(
 type Series = BTreeMap<(usize, String, String), (Vec<f64>, Vec<f64>, usize)>;
 
 /// One cell's aggregate for one experiment and arm: mean of the per-seed means and the
-/// half-width of its 95% confidence interval over seeds.
-fn aggregate(values: &[f64]) -> (f64, f64) {
-    mean_ci95(values).map_or((0.0, 0.0), |m| (m.mean, m.ci95))
+/// half-width of its 95% confidence interval over seeds (none from a single seed).
+fn aggregate(values: &[f64]) -> (f64, Option<f64>) {
+    match mean_ci95(values) {
+        Some(m) if values.len() > 1 => (m.mean, Some(m.ci95)),
+        Some(m) => (m.mean, None),
+        None => (0.0, None),
+    }
+}
+
+/// `mean ± half-width` to `decimals` places, or the mean alone without an interval.
+fn with_interval(mean: f64, ci: Option<f64>, decimals: usize) -> String {
+    match ci {
+        Some(ci) => format!("{mean:.decimals$} ± {ci:.decimals$}"),
+        None => format!("{mean:.decimals$}"),
+    }
 }
 
 /// Writes `sweep.md`, `sweep.json` and one plot per parameter (`sweep-NAME.svg`) into
@@ -593,7 +685,7 @@ pub fn write_report(
     }
     let seeds = sweep.config.seeds.len();
     let mut md = format!(
-        "# Sweep: {} cells x {seeds} seeds\n\nBehaviors evaluated per trial: the mean over seeds of each run's mean, ± the half-width of its 95% confidence interval over seeds; commands per trial likewise. Seeds: {:?}.\n",
+        "# Sweep: {} cells x {seeds} seeds\n\nBehaviors evaluated per trial: the mean over seeds of each run's mean, ± the half-width of its 95% confidence interval over seeds (none from one seed); commands per trial likewise. Seeds: {:?}.\n",
         sweep.cells.len(),
         sweep.config.seeds
     );
@@ -612,8 +704,10 @@ pub fn write_report(
                     let (m, mci) = aggregate(commands);
                     let _ = writeln!(
                         md,
-                        "| {} | {arm} | {b:.2} ± {bci:.2} | {m:.1} ± {mci:.1} | {truncated} |",
-                        cell.label
+                        "| {} | {arm} | {} | {} | {truncated} |",
+                        cell.label,
+                        with_interval(b, bci, 2),
+                        with_interval(m, mci, 1),
                     );
                     json_cells.push(serde_json::json!({
                         "cell": cell.label,
@@ -705,7 +799,7 @@ fn plot_parameter(
                 for arm in &arms {
                     if let Some((v, _, _)) = series.get(&(*cell, experiment.clone(), arm.clone())) {
                         let (m, ci) = aggregate(v);
-                        top = top.max(m + ci);
+                        top = top.max(m + ci.unwrap_or(0.0));
                     }
                 }
             }
@@ -727,7 +821,7 @@ fn plot_parameter(
                 .draw()?;
             for (k, arm) in arms.iter().enumerate() {
                 let color = Palette99::pick(k).to_rgba();
-                let points: Vec<(f64, f64, f64)> = axis
+                let points: Vec<(f64, f64, Option<f64>)> = axis
                     .iter()
                     .enumerate()
                     .filter_map(|(x, (_, cell))| {
@@ -748,11 +842,13 @@ fn plot_parameter(
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
                     });
-                chart.draw_series(points.iter().map(|&(x, m, ci)| {
-                    PathElement::new(
-                        vec![(x, (m - ci).max(0.9)), (x, m + ci)],
-                        color.stroke_width(1),
-                    )
+                chart.draw_series(points.iter().filter_map(|&(x, m, ci)| {
+                    ci.map(|ci| {
+                        PathElement::new(
+                            vec![(x, (m - ci).max(0.9)), (x, m + ci)],
+                            color.stroke_width(1),
+                        )
+                    })
                 }))?;
             }
             chart
