@@ -48,9 +48,8 @@ pub const RANDOM_OPERATOR: &str = "random";
 /// landscape for the report's limit).
 pub const MAX_FAMILY_SIZE: usize = 64;
 
-/// The most trials per experiment and arm a config may ask for: every trial's record is
-/// kept for the report, so this bounds a run's memory (with [`MAX_EXPERIMENTS`] and the
-/// arms, at most 10^8 records of about 200 bytes).
+/// The most trials per experiment and arm a config may ask for; all of a suite's trials
+/// together are held to [`MAX_SUITE_TRIALS`].
 pub const MAX_TRIALS: u32 = 100_000;
 
 /// The most experiments a config may list.
