@@ -215,13 +215,28 @@ pub enum SweepError {
         /// Why.
         reason: SuiteError,
     },
-    /// A run file is missing or unreadable when merging.
+    /// A run file is unreadable, or does not belong in its place, when merging.
     #[error("{path}: {message}")]
     Run {
         /// The run file.
         path: PathBuf,
         /// What is wrong.
         message: String,
+    },
+    /// Runs no folder holds, when merging.
+    #[error(
+        "{} of {total} runs are in none of the folders ({}): {}; run the shards that hold them first",
+        runs.len(),
+        folders.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", "),
+        runs.iter().map(|r| r.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    Missing {
+        /// The missing run files, relative to a folder.
+        runs: Vec<PathBuf>,
+        /// How many runs the sweep has.
+        total: usize,
+        /// The folders looked in.
+        folders: Vec<PathBuf>,
     },
     /// A plot could not be drawn.
     #[error("plot {path}: {message}")]
@@ -451,8 +466,90 @@ impl Sweep {
                     reason,
                 }
             })?;
-        Ok(RunSummary::of(&suite, &results))
+        Ok(RunSummary::of(&cell.label, &suite, &results))
     }
+
+    /// Checks that `summary`, read from a run file, is the summary of `run`: its cell,
+    /// seed, suite (by content hash: the sweep and its suite file as they are now), trials,
+    /// experiments and arms, and values a run can have. Says what does not fit.
+    fn check_run(&self, run: RunId, summary: &RunSummary) -> Result<(), String> {
+        let cell = &self.cells[run.cell];
+        let seed = self.config.seeds[run.seed];
+        if summary.cell != cell.label || summary.seed != seed {
+            return Err(format!(
+                "this is the run of cell `{}`, seed {}, not of cell `{}`, seed {} whose place it holds",
+                summary.cell, summary.seed, cell.label, seed
+            ));
+        }
+        let mut suite = cell.suite.clone();
+        suite.seed = seed;
+        if summary.suite != suite_hash(&suite) {
+            return Err(
+                "this run was made from another suite than the sweep's (the sweep, its suite file or the folder's runs are of another version); run it again".into(),
+            );
+        }
+        let experiments: Vec<String> = suite.experiments.iter().map(|e| e.name()).collect();
+        if summary.trials != suite.trials.get()
+            || summary.order != experiments
+            || summary.arms != suite.arms
+        {
+            return Err(format!(
+                "holds {} trials of experiments [{}] and arms [{}]; this cell runs {} trials of [{}] and [{}]",
+                summary.trials,
+                summary.order.join(", "),
+                summary.arms.join(", "),
+                suite.trials,
+                experiments.join(", "),
+                suite.arms.join(", ")
+            ));
+        }
+        let shape_fits = summary.experiments.len() == experiments.len()
+            && experiments.iter().all(|e| {
+                summary.experiments.get(e).is_some_and(|arms| {
+                    arms.len() == suite.arms.len()
+                        && suite.arms.iter().all(|a| arms.contains_key(a))
+                })
+            });
+        if !shape_fits {
+            return Err("its results do not cover every experiment and arm exactly once".into());
+        }
+        // No trial evaluates more behaviors or gives more commands than `max_commands`.
+        let most = suite.max_commands as f64;
+        for (experiment, arms) in &summary.experiments {
+            for (arm, means) in arms {
+                let counts = [
+                    ("behaviors", means.behaviors, most),
+                    ("commands", means.commands, most),
+                    ("untrustworthy", means.untrustworthy, most),
+                    ("found_share", means.found_share, 1.0),
+                ];
+                for (field, value, top) in counts {
+                    if !(0.0..=top).contains(&value) {
+                        return Err(format!(
+                            "experiment `{experiment}`, arm `{arm}`: {field} must be a number from 0 to {top}, got {value:?}"
+                        ));
+                    }
+                }
+                if means.truncated > summary.trials as usize {
+                    return Err(format!(
+                        "experiment `{experiment}`, arm `{arm}`: truncated must be 0 to {}, got {}",
+                        summary.trials, means.truncated
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A content hash of the suite a run runs (FNV-1a over its RON text), recorded in the run
+/// file so that a merge takes no run of another suite.
+fn suite_hash(suite: &SuiteConfig) -> String {
+    let text = ron::to_string(suite).expect("plain data serializes");
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
 }
 
 fn one_at_a_time(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
@@ -505,8 +602,12 @@ fn grid(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSummary {
+    /// The cell's label.
+    pub cell: String,
     /// The master seed.
     pub seed: u64,
+    /// The content hash of the suite run (the cell's, with this seed).
+    pub suite: String,
     /// Trials per experiment and arm.
     pub trials: u32,
     /// Experiment name -> arm name -> means.
@@ -534,7 +635,7 @@ pub struct ArmMeans {
 }
 
 impl RunSummary {
-    fn of(suite: &SuiteConfig, results: &SuiteResults) -> Self {
+    fn of(cell: &str, suite: &SuiteConfig, results: &SuiteResults) -> Self {
         let order: Vec<String> = suite.experiments.iter().map(|e| e.name()).collect();
         let experiments = order
             .iter()
@@ -560,7 +661,9 @@ impl RunSummary {
             })
             .collect();
         Self {
+            cell: cell.to_owned(),
             seed: suite.seed,
+            suite: suite_hash(suite),
             trials: suite.trials.get(),
             experiments,
             order,
@@ -591,8 +694,10 @@ pub fn write_config(dir: &Path, text: &str) -> Result<PathBuf, SweepError> {
 }
 
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
-/// `dirs` (the first folder holding a run's file wins) and writes the report into `out`.
-/// Every run must be present, and every folder must carry the same `sweep.ron`.
+/// `dirs` and writes the report into `out`. Every folder must carry the same `sweep.ron`;
+/// every run must be in some folder (all missing runs are named), and where several hold
+/// it, with the same bytes; every run file must be the run of its place
+/// ([`Sweep::check_run`]). Nothing is written unless all of it holds.
 pub fn merge(
     sweep: &Sweep,
     text: &str,
@@ -609,26 +714,45 @@ pub fn merge(
         }
     }
     let mut summaries = Vec::new();
+    let mut missing = Vec::new();
     for run in sweep.runs() {
         let file = sweep.run_file(run);
-        let Some(path) = dirs.iter().map(|d| d.join(&file)).find(|p| p.is_file()) else {
-            return Err(SweepError::Run {
-                path: file,
-                message: format!(
-                    "no shard folder holds this run (looked in {}); run the missing shard first",
-                    dirs.iter()
-                        .map(|d| d.display().to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            });
+        let mut found: Option<(PathBuf, String)> = None;
+        for path in dirs.iter().map(|d| d.join(&file)).filter(|p| p.is_file()) {
+            let text = read_text(&path)?;
+            match &found {
+                None => found = Some((path, text)),
+                Some((first, first_text)) if *first_text != text => {
+                    return Err(SweepError::Run {
+                        message: format!(
+                            "differs from {}: two versions of one run; remove the wrong one",
+                            first.display()
+                        ),
+                        path,
+                    });
+                }
+                Some(_) => {}
+            }
+        }
+        let Some((path, text)) = found else {
+            missing.push(file);
+            continue;
         };
-        let text = read_text(&path)?;
         let summary: RunSummary = serde_json::from_str(&text).map_err(|e| SweepError::Run {
             path: path.clone(),
             message: e.to_string(),
         })?;
+        sweep
+            .check_run(run, &summary)
+            .map_err(|message| SweepError::Run { path, message })?;
         summaries.push((run, summary));
+    }
+    if !missing.is_empty() {
+        return Err(SweepError::Missing {
+            runs: missing,
+            total: sweep.runs().len(),
+            folders: dirs.to_vec(),
+        });
     }
     write_report(sweep, &summaries, out)
 }
@@ -724,29 +848,30 @@ pub fn write_report(
             }
         }
     }
-    let mut written = Vec::new();
-    let mut write = |name: &str, text: &str| -> Result<(), SweepError> {
-        written.push(write_file_in(out, name, text)?);
-        Ok(())
-    };
-    write("sweep.md", &md)?;
     let json = serde_json::json!({
         "seeds": sweep.config.seeds,
         "cells": sweep.cells.iter().map(|c| &c.label).collect::<Vec<_>>(),
         "results": json_cells,
     });
-    write(
-        "sweep.json",
-        &(serde_json::to_string_pretty(&json).expect("plain data serializes") + "\n"),
-    )?;
+    let mut files = vec![
+        ("sweep.md".to_owned(), md),
+        (
+            "sweep.json".to_owned(),
+            serde_json::to_string_pretty(&json).expect("plain data serializes") + "\n",
+        ),
+    ];
     if sweep.config.design == Design::OneAtATime {
         for p in &sweep.config.parameters {
             let name = format!("sweep-{}.svg", p.name());
             let svg = plot_parameter(sweep, p, &series, &order, &arm_order, &out.join(&name))?;
-            write(&name, &svg)?;
+            files.push((name, svg));
         }
     }
-    Ok(written)
+    // Written only once every file is computed, so a failure leaves no partial report.
+    files
+        .iter()
+        .map(|(name, text)| Ok(write_file_in(out, name, text)?))
+        .collect()
 }
 
 /// One panel per experiment: behaviors evaluated (log scale) against the parameter's
