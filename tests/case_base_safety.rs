@@ -622,3 +622,52 @@ fn passwords_are_not_shown_in_the_startup_line() {
         assert!(stderr.contains("***"), "{stderr}");
     }
 }
+
+#[test]
+fn an_export_larger_than_a_config_is_read_back() {
+    let bases = Bases::new();
+    let exported = bases.path("exported.ron");
+    succeed(&mut export(&bases.path("base.db"), &exported));
+    // The three cases repeated to some 3 MB: more than the 1 MiB of a config file.
+    let text = std::fs::read_to_string(&exported).unwrap();
+    let start = text.find("cases: [").unwrap() + "cases: [".len();
+    let end = text.rfind(']').unwrap();
+    let cases = text[start..end].trim().trim_end_matches(',');
+    let copies = 3_000_000 / cases.len() + 1;
+    let big = format!(
+        "{}{}{}",
+        &text[..start],
+        format!("{cases},").repeat(copies),
+        &text[end..]
+    );
+    assert!(big.len() > 2 << 20);
+    let big_path = bases.path("big.ron");
+    std::fs::write(&big_path, &big).unwrap();
+    let count = copies * 3;
+    let info = succeed(trustcbr().args(["cases", "info"]).arg(&big_path));
+    assert!(info.contains(&format!("cases:     {count} ")), "{info}");
+    let big_db = bases.path("big.db");
+    let said = succeed(
+        trustcbr()
+            .args(["cases", "import"])
+            .arg(&big_path)
+            .arg(&big_db)
+            .arg("--domain")
+            .arg(bases.domain()),
+    );
+    assert!(
+        said.starts_with(&format!("imported {count} cases")),
+        "{said}"
+    );
+    let output = bases
+        .serve_command(big_path.to_str().unwrap())
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{count} cases loaded")),
+        "{stderr}"
+    );
+}
