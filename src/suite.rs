@@ -67,6 +67,12 @@ pub const MAX_SUITE_TRIALS: u64 = 250_000;
 /// about 2 minutes.
 pub const MAX_LANDSCAPE_RUNS: u32 = 10_000;
 
+/// The most simulated runs the known-operator limit's estimate may ask for, first
+/// (`limit.budget`) and second (`limit.candidates` x `limit.candidate_runs`) estimate each:
+/// 50 times the defaults' 160,000 and 12,800, which with the landscapes take about 2.5 s of
+/// the two cores for `reproduce`.
+pub const MAX_LIMIT_RUNS: u64 = 8_000_000;
+
 /// How errors name the catalog's embedded suite.
 pub const EMBEDDED_ORIGIN: &str = "<embedded suite>";
 
@@ -350,6 +356,28 @@ impl SuiteConfig {
                     self.landscape_runs
                 ),
             ));
+        }
+        let second = self.limit.candidates as u64 * u64::from(self.limit.candidate_runs);
+        let limit_sizes = [
+            (
+                "limit.runs",
+                u64::from(self.limit.runs),
+                u64::from(MAX_LANDSCAPE_RUNS),
+            ),
+            ("limit.budget", self.limit.budget, MAX_LIMIT_RUNS),
+            (
+                "limit.candidates x limit.candidate_runs",
+                second,
+                MAX_LIMIT_RUNS,
+            ),
+        ];
+        for (field, size, most) in limit_sizes {
+            if size > most {
+                return Err(invalid(
+                    field.into(),
+                    format!("{size} runs; at most {most}"),
+                ));
+            }
         }
         self.adapter
             .thresholds

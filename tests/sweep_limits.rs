@@ -206,6 +206,35 @@ fn a_suite_too_large_is_refused_before_any_work() {
         stderr.contains("landscape_runs: must be 0 to 10000, got 20000"),
         "{stderr}"
     );
+    // The known-operator limit's estimates.
+    for (limit, expected) in [
+        (
+            "(runs: 4294967295)",
+            "limit.runs: 4294967295 runs; at most 10000",
+        ),
+        (
+            "(budget: 18446744073709551615)",
+            "limit.budget: 18446744073709551615 runs; at most 8000000",
+        ),
+        (
+            "(candidates: 100000, candidate_runs: 100000)",
+            "limit.candidates x limit.candidate_runs: 10000000000 runs; at most 8000000",
+        ),
+    ] {
+        std::fs::write(
+            &landscapes,
+            SUITE.replace("trials: 2,", &format!("trials: 2, limit: {limit},")),
+        )
+        .unwrap();
+        let stderr = refused(
+            trustcbr()
+                .arg("run")
+                .arg(&landscapes)
+                .arg("--out")
+                .arg(&out),
+        );
+        assert!(stderr.contains(expected), "{stderr}");
+    }
     assert!(!out.join("summary.json").exists());
 }
 
