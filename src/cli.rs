@@ -506,6 +506,25 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
 
 fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     let domain = served_domain(catalog, &args.domain)?;
+    // Every option is checked, and the address bound, before the case base is opened: a
+    // refused command creates no case base.
+    let listening = match args.listen {
+        None => None,
+        Some(addr) => {
+            let seconds = |name: &str, s: f64| {
+                Duration::try_from_secs_f64(s)
+                    .ok()
+                    .filter(|d| !d.is_zero())
+                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
+            };
+            let limits = Limits {
+                max_connections: args.max_connections.get(),
+                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
+                write_timeout: seconds("write-timeout", args.write_timeout)?,
+            };
+            Some((transport::listen(addr)?, limits))
+        }
+    };
     let location = Location::parse(&args.cases);
     let cases = Arc::new(SharedCases::open(&domain, &location)?);
     let loaded = cases.current(|memory, _| memory.base().len())?;
@@ -522,25 +541,13 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
             catalog.tool().name
         );
     }
-    match args.listen {
+    match listening {
         None => {
             let mut session = Session::new(domain, cases, args.seed)?;
             let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
             transport::serve(&mut session, stdin, stdout)?;
         }
-        Some(addr) => {
-            let seconds = |name: &str, s: f64| {
-                Duration::try_from_secs_f64(s)
-                    .ok()
-                    .filter(|d| !d.is_zero())
-                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
-            };
-            let limits = Limits {
-                max_connections: args.max_connections.get(),
-                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
-                write_timeout: seconds("write-timeout", args.write_timeout)?,
-            };
-            let listener = transport::listen(addr)?;
+        Some((listener, limits)) => {
             let bound = listener.local_addr().context("reading the bound address")?;
             // Tests and controllers read this line to learn the port when 0 was asked for.
             eprintln!("listening on {bound}");

@@ -671,3 +671,25 @@ fn an_export_larger_than_a_config_is_read_back() {
         "{stderr}"
     );
 }
+
+#[test]
+fn serve_checks_its_options_before_creating_a_case_base() {
+    let bases = Bases::new();
+    let new = bases.path("new.db");
+    let shown = new.to_str().unwrap();
+    // Bound first, so the second server's port is taken.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = taken.local_addr().unwrap().to_string();
+    for (options, expected) in [
+        (&["--listen", "192.0.2.1:7878"][..], "192.0.2.1:7878"),
+        (&["--listen", &port], "cannot listen on"),
+        (
+            &["--listen", "127.0.0.1:0", "--idle-timeout", "0"],
+            "--idle-timeout must be a number of seconds > 0, got 0",
+        ),
+    ] {
+        let stderr = refused(bases.serve_command(shown).args(options));
+        assert!(stderr.contains(expected), "{options:?}: {stderr}");
+        assert!(!new.exists(), "{options:?} created the case base");
+    }
+}
