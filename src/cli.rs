@@ -252,7 +252,8 @@ struct ServeArgs {
     /// TCP: connections served at once; more are refused with an error line.
     #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
     max_connections: NonZeroUsize,
-    /// TCP: seconds a connection may stay silent before it is closed.
+    /// TCP: seconds a connection may stay silent, or take to send a line once begun, before
+    /// it is closed.
     #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
     idle_timeout: f64,
     /// TCP: seconds a reply may wait for the controller to read it before the connection
