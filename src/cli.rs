@@ -185,6 +185,15 @@ struct LandscapeArgs {
     out: PathBuf,
 }
 
+/// One name of `--arms`: an empty one is a stray comma, refused as the option's fault.
+fn arm_name(name: &str) -> Result<String, &'static str> {
+    if name.is_empty() {
+        Err("an empty arm name (a stray comma?)")
+    } else {
+        Ok(name.to_owned())
+    }
+}
+
 /// Options shared by `reproduce` and `run`.
 #[derive(Args)]
 struct RunOptions {
@@ -196,7 +205,7 @@ struct RunOptions {
     trials: Option<NonZeroU32>,
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = arm_name)]
     arms: Option<Vec<String>>,
     /// Save the case base each case-reusing arm ends every experiment with, as
     /// `DIR/EXPERIMENT/ARM.ron`.

@@ -263,3 +263,21 @@ fn one_seed_gives_a_mean_without_an_interval() {
         "{result}"
     );
 }
+
+#[test]
+fn a_stray_comma_in_arms_is_the_options_fault() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("suite.ron");
+    std::fs::write(&config, SUITE).unwrap();
+    let stderr = refused(
+        trustcbr()
+            .arg("run")
+            .arg(&config)
+            .args(["--arms", "random-walk,case-based,"]),
+    );
+    assert!(
+        stderr.contains("invalid value '' for '--arms <ARMS>': an empty arm name (a stray comma?)"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("suite.ron"), "{stderr}");
+}
