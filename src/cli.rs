@@ -429,11 +429,11 @@ fn trial_bar_style() -> ProgressStyle {
 
 /// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
 fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
-    use crate::sweep::{Sweep, merge, write_config, write_run};
+    use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
     if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
         let sweep = Sweep::load(catalog, file)?;
         let text = cbr_core::read_text(file)?;
-        cbr_core::output::ensure_writable_dir(out)?;
+        prepare_dir(out)?;
         let written = merge(&sweep, &text, dirs, out)?;
         println!(
             "merged {} runs from {} folders; report in {} ({} files)",
@@ -452,7 +452,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     })?;
     let sweep = Sweep::load(catalog, file)?;
     let text = cbr_core::read_text(file)?;
-    cbr_core::output::ensure_writable_dir(&args.out)?;
+    prepare_dir(&args.out)?;
     let runs = match args.shard {
         Some((i, n)) => sweep.shard(i, n),
         None => sweep.runs(),
@@ -463,6 +463,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
             .with_style(trial_bar_style())
             .with_prefix(format!("sweep ({} runs)", runs.len()));
     let started = Instant::now();
+    remove_earlier_sweep(&args.out, &text)?;
     write_config(&args.out, &text)?;
     for &run in &runs {
         let summary = pool.install(|| sweep.run(catalog, run, &|| bar.inc(1)))?;

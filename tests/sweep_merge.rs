@@ -197,3 +197,68 @@ fn two_versions_of_one_run_are_refused_naming_both_folders() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_failed_shards_empty_folder_counts_as_holding_no_run() {
+    let sweep = Sweep::new();
+    let first = sweep.shard("1/2", "first");
+    let failed = sweep.path("failed");
+    std::fs::create_dir(&failed).unwrap();
+    let stderr = sweep.refused(&[&first, &failed]);
+    assert!(
+        stderr.contains("2 of 4 runs are in none of the folders"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_sweep_folder_holds_one_sweep_and_nothing_else() {
+    let sweep = Sweep::new();
+    // A folder of unrelated files is refused before any work.
+    let notes = sweep.path("notes");
+    std::fs::create_dir(&notes).unwrap();
+    std::fs::write(notes.join("todo.txt"), "mine").unwrap();
+    let output = trustcbr()
+        .arg("sweep")
+        .arg(sweep.path("sweep.ron"))
+        .arg("--out")
+        .arg(&notes)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{}: the folder holds `todo.txt`, which is not part of a trustcbr sweep",
+            notes.display()
+        )),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_dir(&notes).unwrap().count(), 1);
+    // A folder reused for another sweep loses the old one's runs and figures.
+    let out = sweep.path("out");
+    succeed(
+        trustcbr()
+            .arg("sweep")
+            .arg(sweep.path("sweep.ron"))
+            .arg("--out")
+            .arg(&out),
+    );
+    assert!(out.join("sweep-lambda.svg").is_file());
+    assert!(out.join("runs/lambda-0-8/seed-1.json").is_file());
+    std::fs::write(
+        sweep.path("sweep.ron"),
+        SWEEP.replace("lambda([0.8])", "time_unit([commands])"),
+    )
+    .unwrap();
+    succeed(
+        trustcbr()
+            .arg("sweep")
+            .arg(sweep.path("sweep.ron"))
+            .arg("--out")
+            .arg(&out),
+    );
+    assert!(out.join("sweep-time_unit.svg").is_file());
+    assert!(!out.join("sweep-lambda.svg").exists());
+    assert!(!out.join("runs/lambda-0-8").exists());
+}
