@@ -585,10 +585,19 @@ fn cases<C: Catalog>(catalog: &C, command: &CasesCommand) -> Result<()> {
             let location = Location::parse(cases);
             let imported = exchange::import(input, &location, &domain)?;
             println!(
-                "imported {imported} cases from {} into {}",
+                "imported {} cases from {} into {}",
+                imported.cases,
                 input.display(),
                 location.shown()
             );
+            if imported.already_held > 0 {
+                eprintln!(
+                    "warning: {} of them were already in {} (the same evaluated pairs and solution): is {} imported twice? It now holds them twice",
+                    imported.already_held,
+                    location.shown(),
+                    input.display()
+                );
+            }
         }
         CasesCommand::Info { cases } => println!("{}", exchange::info(&Location::parse(cases))?),
     }

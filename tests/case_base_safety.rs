@@ -693,3 +693,35 @@ fn serve_checks_its_options_before_creating_a_case_base() {
         assert!(!new.exists(), "{options:?} created the case base");
     }
 }
+
+#[test]
+fn importing_a_file_twice_is_warned_of() {
+    let bases = Bases::new();
+    let base = bases.path("base.db");
+    let output = bases
+        .import_command(base.to_str().unwrap())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "warning: 3 of them were already in {} (the same evaluated pairs and solution): is {} imported twice? It now holds them twice",
+            base.display(),
+            bases.path("three.ron").display()
+        )),
+        "{stderr}"
+    );
+    // A RON file as the target: refused, with a target that would do.
+    let target = bases.path("three-copy.ron");
+    let stderr = refused(&mut bases.import_command(target.to_str().unwrap()));
+    assert!(
+        stderr.contains(&format!(
+            "{}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead, e.g. `{}`",
+            target.display(),
+            bases.path("three-copy.db").display()
+        )),
+        "{stderr}"
+    );
+    assert!(!target.exists());
+}

@@ -7,8 +7,9 @@
 //! and `info` describes a case base. None of them modifies its source.
 
 use crate::domain::DomainDefinition;
-use crate::store::{self, Identity, Location, StoreError, StoreId, ron_file};
+use crate::store::{self, Identity, Location, StoreError, StoreId, ron_file, row};
 use cbr_core::BehaviorSpace;
+use std::collections::HashSet;
 use std::fmt;
 use std::path::Path;
 use trust::TrustCase;
@@ -113,14 +114,31 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
+/// What an import did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Imported {
+    /// How many cases were appended.
+    pub cases: usize,
+    /// How many of them the case base already held (the same evaluated pairs and
+    /// solution): a file imported twice holds its cases twice.
+    pub already_held: usize,
+}
+
 /// Appends every case of the RON file `from` to the case base at `to` (created when
 /// absent), learned in `domain`'s space. A file recording another space, or a case that
 /// does not fit the space, is refused and nothing is appended; so are a RON file as the
 /// target (RON case files are read-only) and a target holding a case that `serve` would
-/// refuse. Returns how many cases.
-pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<usize, StoreError> {
+/// refuse.
+pub fn import(
+    from: &Path,
+    to: &Location,
+    domain: &DomainDefinition,
+) -> Result<Imported, StoreError> {
     if let Location::Ron(path) = to {
-        return Err(StoreError::ReadOnly(path.clone()));
+        return Err(StoreError::ImportIntoRon {
+            target: path.clone(),
+            instead: path.with_extension("db"),
+        });
     }
     let identity = Identity {
         domain: domain.name.clone(),
@@ -139,8 +157,18 @@ pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<u
     // The cases already there are read as `serve` and `info` read them: a target they
     // would refuse is refused before anything is appended.
     let location = target.location();
+    let mut held = HashSet::new();
     target.read_after(None, &mut |stored| {
-        store::check_case(&location, &stored, &identity.space)
+        store::check_case(&location, &stored, &identity.space)?;
+        held.insert(row::encode(&stored.case));
+        Ok(())
     })?;
-    target.append_all(&cases)
+    let already_held = cases
+        .iter()
+        .filter(|c| held.contains(&row::encode(c)))
+        .count();
+    Ok(Imported {
+        cases: target.append_all(&cases)?,
+        already_held,
+    })
 }

@@ -152,6 +152,16 @@ pub enum StoreError {
         "{0}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead"
     )]
     ReadOnly(PathBuf),
+    /// `cases import` was given a RON file as its target.
+    #[error(
+        "{target}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead, e.g. `{instead}`"
+    )]
+    ImportIntoRon {
+        /// The RON file given as the target.
+        target: PathBuf,
+        /// An SQLite file beside it.
+        instead: PathBuf,
+    },
     /// `cases export` was asked to write over the case base it exports.
     #[error(
         "{out}: this is the case base being exported ({source_base}); give the export another file name"
