@@ -801,8 +801,9 @@ pub fn write_config(dir: &Path, text: &str) -> Result<PathBuf, SweepError> {
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
 /// `dirs` and writes the report into `out`. Every folder must carry the same `sweep.ron`;
 /// every run must be in some folder (all missing runs are named), and where several hold
-/// it, with the same bytes; every run file must be the run of its place
-/// ([`Sweep::check_run`]). Nothing is written unless all of it holds.
+/// it, with the same bytes; every run file must be the run of its place (its cell, seed,
+/// suite content hash, trials, experiments and arms, and values a run can have). Nothing
+/// is written unless all of it holds.
 pub fn merge(
     sweep: &Sweep,
     text: &str,
