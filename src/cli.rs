@@ -8,8 +8,9 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, run_suite_with_report,
-    save_case_bases, suite_best_arms, suite_table, trace_suite_trial, write_suite_report,
+    EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig,
+    run_suite_with_report, save_case_bases, suite_best_arms, suite_table, trace_suite_trial,
+    write_suite_report,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -89,7 +90,8 @@ enum CasesCommand {
     Export {
         /// The case base: an SQLite file, a postgres:// URL or a RON file.
         cases: String,
-        /// The RON file to write.
+        /// The RON file to write (`*.ron`): absent, or an earlier export to replace; never
+        /// the case base itself nor any other file.
         out: PathBuf,
     },
     /// Append the cases of a RON file to a case base (created when absent).
@@ -191,8 +193,8 @@ struct LandscapeArgs {
     /// Operator: a built-in name or an operator file.
     #[arg(long)]
     operator: String,
-    /// Runs per behavior (at least 1).
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    /// Runs per behavior, 1 to 10000.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LANDSCAPE_RUNS)))]
     runs: u32,
     /// The two components of the heatmap, across then up (default: the first two).
     #[arg(long)]
@@ -203,6 +205,15 @@ struct LandscapeArgs {
     /// Output directory.
     #[arg(long, default_value = ".")]
     out: PathBuf,
+}
+
+/// One name of `--arms`: an empty one is a stray comma, refused as the option's fault.
+fn arm_name(name: &str) -> Result<String, &'static str> {
+    if name.is_empty() {
+        Err("an empty arm name (a stray comma?)")
+    } else {
+        Ok(name.to_owned())
+    }
 }
 
 /// Options shared by `reproduce` and `run`.
@@ -216,7 +227,7 @@ struct RunOptions {
     trials: Option<NonZeroU32>,
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = arm_name)]
     arms: Option<Vec<String>>,
     /// Save the case base each case-reusing arm ends every experiment with, as
     /// `DIR/EXPERIMENT/ARM.ron`.
@@ -228,9 +239,9 @@ struct RunOptions {
     /// Master seed (overrides the config).
     #[arg(long)]
     seed: Option<u64>,
-    /// Runs per cell of the operator landscapes behind the final behaviors, 0 for none
-    /// (overrides the config).
-    #[arg(long)]
+    /// Runs per cell of the operator landscapes behind the final behaviors, 0 (none) to
+    /// 10000 (overrides the config).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(..=i64::from(MAX_LANDSCAPE_RUNS)))]
     landscape_runs: Option<u32>,
     /// Worker threads, 1 to 256 (default: one per core).
     #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
@@ -272,7 +283,8 @@ struct ServeArgs {
     /// TCP: connections served at once; more are refused with an error line.
     #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
     max_connections: NonZeroUsize,
-    /// TCP: seconds a connection may stay silent before it is closed.
+    /// TCP: seconds a connection may stay silent, or take to send a line once begun, before
+    /// it is closed.
     #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
     idle_timeout: f64,
     /// TCP: seconds a reply may wait for the controller to read it before the connection
@@ -375,8 +387,8 @@ fn run_experiments<C: Catalog>(
     }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
-        config.validate(catalog, origin)?;
     }
+    config.validate(catalog, origin)?;
     let starting = options
         .cases
         .as_ref()
@@ -469,11 +481,11 @@ fn trial_bar_style() -> ProgressStyle {
 
 /// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
 fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
-    use crate::sweep::{Sweep, merge, write_config, write_run};
+    use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
     if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
         let sweep = Sweep::load(catalog, file)?;
         let text = cbr_core::read_text(file)?;
-        cbr_core::output::ensure_writable_dir(out)?;
+        prepare_dir(out)?;
         let written = merge(&sweep, &text, dirs, out)?;
         println!(
             "merged {} runs from {} folders; report in {} ({} files)",
@@ -492,7 +504,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     })?;
     let sweep = Sweep::load(catalog, file)?;
     let text = cbr_core::read_text(file)?;
-    cbr_core::output::ensure_writable_dir(&args.out)?;
+    prepare_dir(&args.out)?;
     let runs = match args.shard {
         Some((i, n)) => sweep.shard(i, n),
         None => sweep.runs(),
@@ -503,6 +515,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
             .with_style(trial_bar_style())
             .with_prefix(format!("sweep ({} runs)", runs.len()));
     let started = Instant::now();
+    remove_earlier_sweep(&args.out, &text)?;
     write_config(&args.out, &text)?;
     for &run in &runs {
         let summary = pool.install(|| sweep.run(catalog, run, &|| bar.inc(1)))?;
@@ -556,6 +569,25 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
 
 fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     let domain = served_domain(catalog, &args.domain)?;
+    // Every option is checked, and the address bound, before the case base is opened: a
+    // refused command creates no case base.
+    let listening = match args.listen {
+        None => None,
+        Some(addr) => {
+            let seconds = |name: &str, s: f64| {
+                Duration::try_from_secs_f64(s)
+                    .ok()
+                    .filter(|d| !d.is_zero())
+                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
+            };
+            let limits = Limits {
+                max_connections: args.max_connections.get(),
+                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
+                write_timeout: seconds("write-timeout", args.write_timeout)?,
+            };
+            Some((transport::listen(addr)?, limits))
+        }
+    };
     let location = Location::parse(&args.cases);
     let cases = Arc::new(SharedCases::open(&domain, &location)?);
     let loaded = cases.current(|memory, _| memory.base().len())?;
@@ -572,25 +604,13 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
             catalog.tool().name
         );
     }
-    match args.listen {
+    match listening {
         None => {
             let mut session = Session::new(domain, cases, args.seed)?;
             let (stdin, stdout) = (std::io::stdin().lock(), std::io::stdout().lock());
             transport::serve(&mut session, stdin, stdout)?;
         }
-        Some(addr) => {
-            let seconds = |name: &str, s: f64| {
-                Duration::try_from_secs_f64(s)
-                    .ok()
-                    .filter(|d| !d.is_zero())
-                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
-            };
-            let limits = Limits {
-                max_connections: args.max_connections.get(),
-                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
-                write_timeout: seconds("write-timeout", args.write_timeout)?,
-            };
-            let listener = transport::listen(addr)?;
+        Some((listener, limits)) => {
             let bound = listener.local_addr().context("reading the bound address")?;
             // Tests and controllers read this line to learn the port when 0 was asked for.
             eprintln!("listening on {bound}");
@@ -617,10 +637,19 @@ fn cases<C: Catalog>(catalog: &C, command: &CasesCommand) -> Result<()> {
             let location = Location::parse(cases);
             let imported = exchange::import(input, &location, &domain)?;
             println!(
-                "imported {imported} cases from {} into {}",
+                "imported {} cases from {} into {}",
+                imported.cases,
                 input.display(),
                 location.shown()
             );
+            if imported.already_held > 0 {
+                eprintln!(
+                    "warning: {} of them were already in {} (the same evaluated pairs and solution): is {} imported twice? It now holds them twice",
+                    imported.already_held,
+                    location.shown(),
+                    input.display()
+                );
+            }
         }
         CasesCommand::Info { cases } => println!("{}", exchange::info(&Location::parse(cases))?),
     }

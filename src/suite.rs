@@ -49,13 +49,30 @@ pub const RANDOM_OPERATOR: &str = "random";
 /// landscape for the report's limit).
 pub const MAX_FAMILY_SIZE: usize = 64;
 
-/// The most trials per experiment and arm a config may ask for: every trial's record is
-/// kept for the report, so this bounds a run's memory (with [`MAX_EXPERIMENTS`] and the
-/// arms, at most 10^8 records of about 200 bytes).
+/// The most trials per experiment and arm a config may ask for; all of a suite's trials
+/// together are held to [`MAX_SUITE_TRIALS`].
 pub const MAX_TRIALS: u32 = 100_000;
 
 /// The most experiments a config may list.
 pub const MAX_EXPERIMENTS: usize = 1_000;
+
+/// The most trials a suite may run in all (experiments x arms x trials). Every trial's
+/// record is kept until the report is written: about 24 KB each (measured: `reproduce
+/// --arms random-walk,case-based` peaks at 207 MB with 7,000 trials and 869 MB with
+/// 35,000), so this is about 6 GB, and some 3 minutes of the two cores of the machine of
+/// `docs/results.md` for the paper's arms.
+pub const MAX_SUITE_TRIALS: u64 = 250_000;
+
+/// The most runs per behavior of a landscape (`landscape_runs`, `landscape --runs`): the
+/// default, 200, costs about 2.5 s of the two cores for `reproduce`'s landscapes, so this
+/// about 2 minutes.
+pub const MAX_LANDSCAPE_RUNS: u32 = 10_000;
+
+/// The most simulated runs the known-operator limit's estimate may ask for, first
+/// (`limit.budget`) and second (`limit.candidates` x `limit.candidate_runs`) estimate each:
+/// 50 times the defaults' 160,000 and 12,800, which with the landscapes take about 2.5 s of
+/// the two cores for `reproduce`.
+pub const MAX_LIMIT_RUNS: u64 = 8_000_000;
 
 /// How errors name the catalog's embedded suite.
 pub const EMBEDDED_ORIGIN: &str = "<embedded suite>";
@@ -318,6 +335,50 @@ impl SuiteConfig {
                     self.experiments.len()
                 ),
             ));
+        }
+        let trials =
+            self.experiments.len() as u64 * self.arms.len() as u64 * u64::from(self.trials.get());
+        if trials > MAX_SUITE_TRIALS {
+            return Err(invalid(
+                "trials".into(),
+                format!(
+                    "{trials} trials in all ({} experiments x {} arms x {} trials); at most {MAX_SUITE_TRIALS}: every trial's record is kept for the report",
+                    self.experiments.len(),
+                    self.arms.len(),
+                    self.trials
+                ),
+            ));
+        }
+        if self.landscape_runs > MAX_LANDSCAPE_RUNS {
+            return Err(invalid(
+                "landscape_runs".into(),
+                format!(
+                    "must be 0 to {MAX_LANDSCAPE_RUNS}, got {}",
+                    self.landscape_runs
+                ),
+            ));
+        }
+        let second = self.limit.candidates as u64 * u64::from(self.limit.candidate_runs);
+        let limit_sizes = [
+            (
+                "limit.runs",
+                u64::from(self.limit.runs),
+                u64::from(MAX_LANDSCAPE_RUNS),
+            ),
+            ("limit.budget", self.limit.budget, MAX_LIMIT_RUNS),
+            (
+                "limit.candidates x limit.candidate_runs",
+                second,
+                MAX_LIMIT_RUNS,
+            ),
+        ];
+        for (field, size, most) in limit_sizes {
+            if size > most {
+                return Err(invalid(
+                    field.into(),
+                    format!("{size} runs; at most {most}"),
+                ));
+            }
         }
         self.adapter
             .thresholds

@@ -16,6 +16,7 @@
 
 use crate::catalog::{Catalog, resolve_readings};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
+use cbr_core::output::{OutputError, ensure_writable_dir};
 use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
 use lab::report::{category_label, file_stems};
 use lab::stats::mean_ci95;
@@ -29,6 +30,12 @@ use trust::{Retention, Thresholds, TimeUnit};
 
 /// The most runs (cells times seeds) a sweep may ask for.
 pub const MAX_RUNS: usize = 10_000;
+
+/// The most trials a sweep may run in all, over its runs (each run's experiments x arms x
+/// trials; a run itself is held to [`crate::suite::MAX_SUITE_TRIALS`]): runs go one after
+/// the other, so this bounds time, not memory; at the 1,600 trials a second of
+/// `reproduce` on the two cores of the machine of `docs/results.md`, about 2 hours.
+pub const MAX_SWEEP_TRIALS: u64 = 10_000_000;
 
 /// A sweep, as written in RON.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -121,35 +128,58 @@ impl Parameter {
         }
     }
 
+    /// Value `i` as labels show it, e.g. `0.9`.
+    fn value(&self, i: usize) -> String {
+        match self {
+            Parameter::Lambda(v) => v[i].to_string(),
+            Parameter::Thresholds(v) => format!("{}/{}", v[i].trustworthy, v[i].untrustworthy),
+            Parameter::Retention(v) => ron_name(&v[i]),
+            Parameter::TimeUnit(v) => ron_name(&v[i]),
+            Parameter::Reading(_, v) => v[i].clone(),
+            Parameter::Arms(v) => v[i].join("+"),
+        }
+    }
+
+    /// The first value listed twice (after an equal one), if any.
+    fn repeated(&self) -> Option<usize> {
+        fn first<T: PartialEq>(values: &[T]) -> Option<usize> {
+            (1..values.len()).find(|&j| values[..j].contains(&values[j]))
+        }
+        match self {
+            Parameter::Lambda(v) => first(v),
+            Parameter::Thresholds(v) => first(v),
+            Parameter::Retention(v) => first(v),
+            Parameter::TimeUnit(v) => first(v),
+            Parameter::Reading(_, v) => first(v),
+            Parameter::Arms(v) => first(v),
+        }
+    }
+
+    /// Whether value `i` is the one `base` has already.
+    fn is_in(&self, i: usize, base: &SuiteConfig) -> bool {
+        match self {
+            Parameter::Lambda(v) => v[i] == base.adapter.lambda,
+            Parameter::Thresholds(v) => v[i] == base.adapter.thresholds,
+            Parameter::Retention(v) => v[i] == base.adapter.retention,
+            Parameter::TimeUnit(v) => v[i] == base.adapter.time_unit,
+            Parameter::Reading(name, v) => base.readings.get(name) == Some(&v[i]),
+            Parameter::Arms(v) => v[i] == base.arms,
+        }
+    }
+
     /// Sets value `i` in `suite`; returns its label, e.g. `lambda=0.9`.
     fn apply(&self, i: usize, suite: &mut SuiteConfig) -> String {
-        let value = match self {
-            Parameter::Lambda(v) => {
-                suite.adapter.lambda = v[i];
-                v[i].to_string()
-            }
-            Parameter::Thresholds(v) => {
-                suite.adapter.thresholds = v[i];
-                format!("{}/{}", v[i].trustworthy, v[i].untrustworthy)
-            }
-            Parameter::Retention(v) => {
-                suite.adapter.retention = v[i];
-                ron_name(&v[i])
-            }
-            Parameter::TimeUnit(v) => {
-                suite.adapter.time_unit = v[i];
-                ron_name(&v[i])
-            }
+        match self {
+            Parameter::Lambda(v) => suite.adapter.lambda = v[i],
+            Parameter::Thresholds(v) => suite.adapter.thresholds = v[i],
+            Parameter::Retention(v) => suite.adapter.retention = v[i],
+            Parameter::TimeUnit(v) => suite.adapter.time_unit = v[i],
             Parameter::Reading(name, v) => {
                 suite.readings.insert(name.clone(), v[i].clone());
-                v[i].clone()
             }
-            Parameter::Arms(v) => {
-                suite.arms = v[i].clone();
-                v[i].join("+")
-            }
-        };
-        format!("{}={value}", self.name())
+            Parameter::Arms(v) => suite.arms.clone_from(&v[i]),
+        }
+        format!("{}={}", self.name(), self.value(i))
     }
 }
 
@@ -186,13 +216,42 @@ pub enum SweepError {
         /// Why.
         reason: SuiteError,
     },
-    /// A run file is missing or unreadable when merging.
+    /// A run file is unreadable, or does not belong in its place, when merging.
     #[error("{path}: {message}")]
     Run {
         /// The run file.
         path: PathBuf,
         /// What is wrong.
         message: String,
+    },
+    /// Runs no folder holds, when merging.
+    #[error(
+        "{} of {total} runs are in none of the folders ({}): {}; run the shards that hold them first",
+        runs.len(),
+        folders.iter().map(|d| d.display().to_string()).collect::<Vec<_>>().join(", "),
+        runs.iter().map(|r| r.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    Missing {
+        /// The missing run files, relative to a folder.
+        runs: Vec<PathBuf>,
+        /// How many runs the sweep has.
+        total: usize,
+        /// The folders looked in.
+        folders: Vec<PathBuf>,
+    },
+    /// A folder for a sweep's files cannot be used.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// A folder for a sweep's files holds other files.
+    #[error(
+        "{}: the folder holds `{entry}`, which is not part of a trustcbr sweep; give an empty or new folder, or one holding an earlier sweep (with its sweep.ron)",
+        path.display()
+    )]
+    Foreign {
+        /// The folder.
+        path: PathBuf,
+        /// The first entry that is not a sweep's.
+        entry: String,
     },
     /// A plot could not be drawn.
     #[error("plot {path}: {message}")]
@@ -257,11 +316,28 @@ impl Sweep {
         if config.seeds.is_empty() {
             return Err(invalid("seeds", "at least one seed is needed".into()));
         }
+        if let Some(j) =
+            (1..config.seeds.len()).find(|&j| config.seeds[..j].contains(&config.seeds[j]))
+        {
+            return Err(invalid(
+                "seeds",
+                format!(
+                    "seed {} is listed twice; each seed runs every cell once",
+                    config.seeds[j]
+                ),
+            ));
+        }
         for (i, p) in config.parameters.iter().enumerate() {
             if p.len() == 0 {
                 return Err(invalid(
                     &format!("parameters[{i}]"),
                     format!("{} lists no value", p.name()),
+                ));
+            }
+            if let Some(j) = p.repeated() {
+                return Err(invalid(
+                    &format!("parameters[{i}]"),
+                    format!("{} lists {} twice", p.name(), p.value(j)),
                 ));
             }
         }
@@ -289,15 +365,51 @@ impl Sweep {
         if let Some(arms) = &config.arms {
             base.arms.clone_from(arms);
         }
+        // Counted before any cell is built: a grid of a few long lists has more cells than
+        // memory holds.
+        let cells = match config.design {
+            Design::OneAtATime => config.parameters.iter().fold(1usize, |n, p| {
+                n.saturating_add((0..p.len()).filter(|&i| !p.is_in(i, &base)).count())
+            }),
+            Design::Grid => config
+                .parameters
+                .iter()
+                .fold(1usize, |n, p| n.saturating_mul(p.len())),
+        };
+        let runs = cells.saturating_mul(config.seeds.len());
+        if runs > MAX_RUNS {
+            let design = match config.design {
+                Design::OneAtATime => "the base and each value it does not have",
+                Design::Grid => "every combination of the values",
+            };
+            return Err(invalid(
+                "parameters",
+                format!(
+                    "{runs} runs ({cells} cells, {design}, x {} seeds); at most {MAX_RUNS}",
+                    config.seeds.len()
+                ),
+            ));
+        }
         let cells = match config.design {
             Design::OneAtATime => one_at_a_time(&base, &config.parameters),
             Design::Grid => grid(&base, &config.parameters),
         };
-        let runs = cells.len() * config.seeds.len();
-        if runs > MAX_RUNS {
+        let trials = cells.iter().fold(0u64, |sum, cell| {
+            let suite = &cell.suite;
+            sum.saturating_add(
+                suite.experiments.len() as u64
+                    * suite.arms.len() as u64
+                    * u64::from(suite.trials.get())
+                    * config.seeds.len() as u64,
+            )
+        });
+        if trials > MAX_SWEEP_TRIALS {
             return Err(invalid(
                 "parameters",
-                format!("{runs} runs (cells x seeds); at most {MAX_RUNS}"),
+                format!(
+                    "{trials} trials in all (per cell: experiments x arms x trials, x {} seeds); at most {MAX_SWEEP_TRIALS}",
+                    config.seeds.len()
+                ),
             ));
         }
         for cell in &cells {
@@ -369,8 +481,90 @@ impl Sweep {
                     reason,
                 }
             })?;
-        Ok(RunSummary::of(&suite, &results))
+        Ok(RunSummary::of(&cell.label, &suite, &results))
     }
+
+    /// Checks that `summary`, read from a run file, is the summary of `run`: its cell,
+    /// seed, suite (by content hash: the sweep and its suite file as they are now), trials,
+    /// experiments and arms, and values a run can have. Says what does not fit.
+    fn check_run(&self, run: RunId, summary: &RunSummary) -> Result<(), String> {
+        let cell = &self.cells[run.cell];
+        let seed = self.config.seeds[run.seed];
+        if summary.cell != cell.label || summary.seed != seed {
+            return Err(format!(
+                "this is the run of cell `{}`, seed {}, not of cell `{}`, seed {} whose place it holds",
+                summary.cell, summary.seed, cell.label, seed
+            ));
+        }
+        let mut suite = cell.suite.clone();
+        suite.seed = seed;
+        if summary.suite != suite_hash(&suite) {
+            return Err(
+                "this run was made from another suite than the sweep's (the sweep, its suite file or the folder's runs are of another version); run it again".into(),
+            );
+        }
+        let experiments: Vec<String> = suite.experiments.iter().map(|e| e.name()).collect();
+        if summary.trials != suite.trials.get()
+            || summary.order != experiments
+            || summary.arms != suite.arms
+        {
+            return Err(format!(
+                "holds {} trials of experiments [{}] and arms [{}]; this cell runs {} trials of [{}] and [{}]",
+                summary.trials,
+                summary.order.join(", "),
+                summary.arms.join(", "),
+                suite.trials,
+                experiments.join(", "),
+                suite.arms.join(", ")
+            ));
+        }
+        let shape_fits = summary.experiments.len() == experiments.len()
+            && experiments.iter().all(|e| {
+                summary.experiments.get(e).is_some_and(|arms| {
+                    arms.len() == suite.arms.len()
+                        && suite.arms.iter().all(|a| arms.contains_key(a))
+                })
+            });
+        if !shape_fits {
+            return Err("its results do not cover every experiment and arm exactly once".into());
+        }
+        // No trial evaluates more behaviors or gives more commands than `max_commands`.
+        let most = suite.max_commands as f64;
+        for (experiment, arms) in &summary.experiments {
+            for (arm, means) in arms {
+                let counts = [
+                    ("behaviors", means.behaviors, most),
+                    ("commands", means.commands, most),
+                    ("untrustworthy", means.untrustworthy, most),
+                    ("found_share", means.found_share, 1.0),
+                ];
+                for (field, value, top) in counts {
+                    if !(0.0..=top).contains(&value) {
+                        return Err(format!(
+                            "experiment `{experiment}`, arm `{arm}`: {field} must be a number from 0 to {top}, got {value:?}"
+                        ));
+                    }
+                }
+                if means.truncated > summary.trials as usize {
+                    return Err(format!(
+                        "experiment `{experiment}`, arm `{arm}`: truncated must be 0 to {}, got {}",
+                        summary.trials, means.truncated
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A content hash of the suite a run runs (FNV-1a over its RON text), recorded in the run
+/// file so that a merge takes no run of another suite.
+fn suite_hash(suite: &SuiteConfig) -> String {
+    let text = ron::to_string(suite).expect("plain data serializes");
+    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
 }
 
 fn one_at_a_time(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
@@ -379,13 +573,11 @@ fn one_at_a_time(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
         suite: base.clone(),
     }];
     for p in parameters {
-        for i in 0..p.len() {
+        // A value equal to the base's is the base cell itself.
+        for i in (0..p.len()).filter(|&i| !p.is_in(i, base)) {
             let mut suite = base.clone();
             let label = p.apply(i, &mut suite);
-            // A value equal to the base's is the base cell itself.
-            if suite != *base {
-                cells.push(Cell { label, suite });
-            }
+            cells.push(Cell { label, suite });
         }
     }
     cells
@@ -425,8 +617,12 @@ fn grid(base: &SuiteConfig, parameters: &[Parameter]) -> Vec<Cell> {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSummary {
+    /// The cell's label.
+    pub cell: String,
     /// The master seed.
     pub seed: u64,
+    /// The content hash of the suite run (the cell's, with this seed).
+    pub suite: String,
     /// Trials per experiment and arm.
     pub trials: u32,
     /// Experiment name -> arm name -> means.
@@ -454,7 +650,7 @@ pub struct ArmMeans {
 }
 
 impl RunSummary {
-    fn of(suite: &SuiteConfig, results: &SuiteResults) -> Self {
+    fn of(cell: &str, suite: &SuiteConfig, results: &SuiteResults) -> Self {
         let order: Vec<String> = suite.experiments.iter().map(|e| e.name()).collect();
         let experiments = order
             .iter()
@@ -480,7 +676,9 @@ impl RunSummary {
             })
             .collect();
         Self {
+            cell: cell.to_owned(),
             seed: suite.seed,
+            suite: suite_hash(suite),
             trials: suite.trials.get(),
             experiments,
             order,
@@ -504,6 +702,96 @@ pub fn write_run(
     Ok(write_file_in(dir, sweep.run_file(run), &summary.to_json())?)
 }
 
+/// The files of a sweep's report in its folder: `sweep.md`, `sweep.json` and the plots.
+fn is_report_file(name: &str) -> bool {
+    name == "sweep.md"
+        || name == "sweep.json"
+        || (name.starts_with("sweep-") && name.ends_with(".svg"))
+}
+
+/// Checks, before any work starts, that `dir` can take a sweep's files: it is created if
+/// missing, must be writable, and may hold nothing but an earlier sweep (marked by its
+/// `sweep.ron`) or a report (the files [`merge`] writes), or be empty.
+pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
+    ensure_writable_dir(dir)?;
+    let listed = |reason| FileError {
+        path: dir.to_owned(),
+        reason,
+    };
+    let entries: Vec<String> = std::fs::read_dir(dir)
+        .map_err(listed)?
+        .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<std::io::Result<_>>()
+        .map_err(listed)?;
+    if entries.iter().any(|name| name == "sweep.ron") {
+        return Ok(());
+    }
+    // Temporary files an interrupted atomic write may leave (`.NAME.tmp-...`).
+    let ours =
+        |name: &str| is_report_file(name) || (name.starts_with('.') && name.contains(".tmp-"));
+    match entries.into_iter().find(|name| !ours(name)) {
+        Some(entry) => Err(SweepError::Foreign {
+            path: dir.to_owned(),
+            entry,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Removes from `dir` the run files (`runs/CELL/seed-SEED.json`, and the folders they
+/// leave empty) and report of an earlier sweep of another config than `text`, so that a
+/// folder reused for another sweep holds nothing of the old one. Runs of the same sweep
+/// stay (shards may share a folder); so do files that are not a sweep's.
+pub fn remove_earlier_sweep(dir: &Path, text: &str) -> Result<(), SweepError> {
+    let Ok(earlier) = read_text(&dir.join("sweep.ron")) else {
+        return Ok(());
+    };
+    if earlier == text {
+        return Ok(());
+    }
+    let runs = dir.join("runs");
+    if let Ok(cells) = std::fs::read_dir(&runs) {
+        for cell in cells
+            .flatten()
+            .filter(|c| c.file_type().is_ok_and(|t| t.is_dir()))
+        {
+            for run in std::fs::read_dir(cell.path())
+                .into_iter()
+                .flatten()
+                .flatten()
+            {
+                let name = run.file_name().to_string_lossy().into_owned();
+                if name.starts_with("seed-") && name.ends_with(".json") {
+                    remove(&run.path())?;
+                }
+            }
+            std::fs::remove_dir(cell.path()).ok();
+        }
+        std::fs::remove_dir(&runs).ok();
+    }
+    remove_earlier_report(dir)
+}
+
+/// Removes an earlier sweep report's files from `dir`.
+fn remove_earlier_report(dir: &Path) -> Result<(), SweepError> {
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if is_report_file(&name) && entry.file_type().is_ok_and(|t| t.is_file()) {
+            remove(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
+fn remove(path: &Path) -> Result<(), SweepError> {
+    std::fs::remove_file(path).map_err(|reason| {
+        SweepError::Io(FileError {
+            path: path.to_owned(),
+            reason,
+        })
+    })
+}
+
 /// Writes the sweep config's text into `dir` as `sweep.ron` (every shard folder carries
 /// it, so a merge can check that its folders belong to one sweep).
 pub fn write_config(dir: &Path, text: &str) -> Result<PathBuf, SweepError> {
@@ -511,8 +799,11 @@ pub fn write_config(dir: &Path, text: &str) -> Result<PathBuf, SweepError> {
 }
 
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
-/// `dirs` (the first folder holding a run's file wins) and writes the report into `out`.
-/// Every run must be present, and every folder must carry the same `sweep.ron`.
+/// `dirs` and writes the report into `out`. Every folder must carry the same `sweep.ron`;
+/// every run must be in some folder (all missing runs are named), and where several hold
+/// it, with the same bytes; every run file must be the run of its place (its cell, seed,
+/// suite content hash, trials, experiments and arms, and values a run can have). Nothing
+/// is written unless all of it holds.
 pub fn merge(
     sweep: &Sweep,
     text: &str,
@@ -521,6 +812,12 @@ pub fn merge(
 ) -> Result<Vec<PathBuf>, SweepError> {
     for dir in dirs {
         let path = dir.join("sweep.ron");
+        // A shard that failed before writing anything leaves an empty folder, or none: it
+        // holds no run, and its runs are named below as missing.
+        let empty = std::fs::read_dir(dir).map_or(true, |mut entries| entries.next().is_none());
+        if empty {
+            continue;
+        }
         if read_text(&path)? != text {
             return Err(SweepError::Run {
                 path,
@@ -529,26 +826,45 @@ pub fn merge(
         }
     }
     let mut summaries = Vec::new();
+    let mut missing = Vec::new();
     for run in sweep.runs() {
         let file = sweep.run_file(run);
-        let Some(path) = dirs.iter().map(|d| d.join(&file)).find(|p| p.is_file()) else {
-            return Err(SweepError::Run {
-                path: file,
-                message: format!(
-                    "no shard folder holds this run (looked in {}); run the missing shard first",
-                    dirs.iter()
-                        .map(|d| d.display().to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            });
+        let mut found: Option<(PathBuf, String)> = None;
+        for path in dirs.iter().map(|d| d.join(&file)).filter(|p| p.is_file()) {
+            let text = read_text(&path)?;
+            match &found {
+                None => found = Some((path, text)),
+                Some((first, first_text)) if *first_text != text => {
+                    return Err(SweepError::Run {
+                        message: format!(
+                            "differs from {}: two versions of one run; remove the wrong one",
+                            first.display()
+                        ),
+                        path,
+                    });
+                }
+                Some(_) => {}
+            }
+        }
+        let Some((path, text)) = found else {
+            missing.push(file);
+            continue;
         };
-        let text = read_text(&path)?;
         let summary: RunSummary = serde_json::from_str(&text).map_err(|e| SweepError::Run {
             path: path.clone(),
             message: e.to_string(),
         })?;
+        sweep
+            .check_run(run, &summary)
+            .map_err(|message| SweepError::Run { path, message })?;
         summaries.push((run, summary));
+    }
+    if !missing.is_empty() {
+        return Err(SweepError::Missing {
+            runs: missing,
+            total: sweep.runs().len(),
+            folders: dirs.to_vec(),
+        });
     }
     write_report(sweep, &summaries, out)
 }
@@ -558,9 +874,21 @@ pub fn merge(
 type Series = BTreeMap<(usize, String, String), (Vec<f64>, Vec<f64>, usize)>;
 
 /// One cell's aggregate for one experiment and arm: mean of the per-seed means and the
-/// half-width of its 95% confidence interval over seeds.
-fn aggregate(values: &[f64]) -> (f64, f64) {
-    mean_ci95(values).map_or((0.0, 0.0), |m| (m.mean, m.ci95))
+/// half-width of its 95% confidence interval over seeds (none from a single seed).
+fn aggregate(values: &[f64]) -> (f64, Option<f64>) {
+    match mean_ci95(values) {
+        Some(m) if values.len() > 1 => (m.mean, Some(m.ci95)),
+        Some(m) => (m.mean, None),
+        None => (0.0, None),
+    }
+}
+
+/// `mean ± half-width` to `decimals` places, or the mean alone without an interval.
+fn with_interval(mean: f64, ci: Option<f64>, decimals: usize) -> String {
+    match ci {
+        Some(ci) => format!("{mean:.decimals$} ± {ci:.decimals$}"),
+        None => format!("{mean:.decimals$}"),
+    }
 }
 
 /// Writes `sweep.md`, `sweep.json` and one plot per parameter (`sweep-NAME.svg`) into
@@ -593,7 +921,7 @@ pub fn write_report(
     }
     let seeds = sweep.config.seeds.len();
     let mut md = format!(
-        "# Sweep: {} cells x {seeds} seeds\n\nBehaviors evaluated per trial: the mean over seeds of each run's mean, ± the half-width of its 95% confidence interval over seeds; commands per trial likewise. Seeds: {:?}.\n",
+        "# Sweep: {} cells x {seeds} seeds\n\nBehaviors evaluated per trial: the mean over seeds of each run's mean, ± the half-width of its 95% confidence interval over seeds (none from one seed); commands per trial likewise. Seeds: {:?}.\n",
         sweep.cells.len(),
         sweep.config.seeds
     );
@@ -612,8 +940,10 @@ pub fn write_report(
                     let (m, mci) = aggregate(commands);
                     let _ = writeln!(
                         md,
-                        "| {} | {arm} | {b:.2} ± {bci:.2} | {m:.1} ± {mci:.1} | {truncated} |",
-                        cell.label
+                        "| {} | {arm} | {} | {} | {truncated} |",
+                        cell.label,
+                        with_interval(b, bci, 2),
+                        with_interval(m, mci, 1),
                     );
                     json_cells.push(serde_json::json!({
                         "cell": cell.label,
@@ -630,29 +960,32 @@ pub fn write_report(
             }
         }
     }
-    let mut written = Vec::new();
-    let mut write = |name: &str, text: &str| -> Result<(), SweepError> {
-        written.push(write_file_in(out, name, text)?);
-        Ok(())
-    };
-    write("sweep.md", &md)?;
     let json = serde_json::json!({
         "seeds": sweep.config.seeds,
         "cells": sweep.cells.iter().map(|c| &c.label).collect::<Vec<_>>(),
         "results": json_cells,
     });
-    write(
-        "sweep.json",
-        &(serde_json::to_string_pretty(&json).expect("plain data serializes") + "\n"),
-    )?;
+    let mut files = vec![
+        ("sweep.md".to_owned(), md),
+        (
+            "sweep.json".to_owned(),
+            serde_json::to_string_pretty(&json).expect("plain data serializes") + "\n",
+        ),
+    ];
     if sweep.config.design == Design::OneAtATime {
         for p in &sweep.config.parameters {
             let name = format!("sweep-{}.svg", p.name());
             let svg = plot_parameter(sweep, p, &series, &order, &arm_order, &out.join(&name))?;
-            write(&name, &svg)?;
+            files.push((name, svg));
         }
     }
-    Ok(written)
+    // Written only once every file is computed, so a failure leaves no partial report;
+    // an earlier report's files go first, so no stale plot stays beside the new ones.
+    remove_earlier_report(out)?;
+    files
+        .iter()
+        .map(|(name, text)| Ok(write_file_in(out, name, text)?))
+        .collect()
 }
 
 /// One panel per experiment: behaviors evaluated (log scale) against the parameter's
@@ -705,7 +1038,7 @@ fn plot_parameter(
                 for arm in &arms {
                     if let Some((v, _, _)) = series.get(&(*cell, experiment.clone(), arm.clone())) {
                         let (m, ci) = aggregate(v);
-                        top = top.max(m + ci);
+                        top = top.max(m + ci.unwrap_or(0.0));
                     }
                 }
             }
@@ -727,7 +1060,7 @@ fn plot_parameter(
                 .draw()?;
             for (k, arm) in arms.iter().enumerate() {
                 let color = Palette99::pick(k).to_rgba();
-                let points: Vec<(f64, f64, f64)> = axis
+                let points: Vec<(f64, f64, Option<f64>)> = axis
                     .iter()
                     .enumerate()
                     .filter_map(|(x, (_, cell))| {
@@ -748,11 +1081,13 @@ fn plot_parameter(
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
                     });
-                chart.draw_series(points.iter().map(|&(x, m, ci)| {
-                    PathElement::new(
-                        vec![(x, (m - ci).max(0.9)), (x, m + ci)],
-                        color.stroke_width(1),
-                    )
+                chart.draw_series(points.iter().filter_map(|&(x, m, ci)| {
+                    ci.map(|ci| {
+                        PathElement::new(
+                            vec![(x, (m - ci).max(0.9)), (x, m + ci)],
+                            color.stroke_width(1),
+                        )
+                    })
                 }))?;
             }
             chart

@@ -72,7 +72,11 @@ fn shards_merge_into_the_report_of_one_run() {
         .unwrap();
     assert!(!output.status.success());
     assert!(
-        String::from_utf8_lossy(&output.stderr).contains("run the missing shard"),
+        String::from_utf8_lossy(&output.stderr).contains(
+            "3 of 9 runs are in none of the folders"
+        ) && String::from_utf8_lossy(&output.stderr).contains(
+            "runs/base/seed-3.json, runs/retention-final_from_search/seed-3.json, runs/time_unit-commands/seed-3.json; run the shards that hold them first"
+        ),
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );

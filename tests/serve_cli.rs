@@ -233,3 +233,58 @@ fn each_tcp_connection_is_its_own_episode_over_the_shared_cases() {
     assert_eq!(second[0]["episode"], Value::Null);
     assert_eq!(second[0]["cases"], 0);
 }
+
+#[test]
+fn request_ids_come_back_as_sent_or_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = dir.path().join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let mut child = serve(
+        &["--domain", domain.to_str().unwrap()],
+        &dir.path().join("c.db"),
+    )
+    .stdin(Stdio::piped())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap();
+    let requests = concat!(
+        r#"{"request": "state", "id": 18446744073709551615}"#,
+        "\n",
+        r#"{"request": "state", "id": -9223372036854775808}"#,
+        "\n",
+        r#"{"request": "state", "id": 18446744073709551616}"#,
+        "\n",
+    );
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(requests.as_bytes())
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    let replies: Vec<String> = String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    assert!(
+        replies[0].ends_with(r#","id":18446744073709551615}"#),
+        "{}",
+        replies[0]
+    );
+    assert!(
+        replies[1].ends_with(r#","id":-9223372036854775808}"#),
+        "{}",
+        replies[1]
+    );
+    let refused: Value = serde_json::from_str(&replies[2]).unwrap();
+    assert!(refused.get("id").is_none(), "{refused}");
+    assert!(
+        refused["error"]
+            .as_str()
+            .unwrap()
+            .contains("field `id`: the number 1.8446744073709552e+19 would not be echoed as sent"),
+        "{refused}"
+    );
+}

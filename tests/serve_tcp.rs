@@ -147,3 +147,50 @@ fn a_controller_beyond_the_limit_is_refused_with_a_clear_line() {
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+#[test]
+fn a_slow_drip_is_closed_once_its_line_is_overdue() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_server, addr) = start(
+        dir.path(),
+        &["--max-connections", "1", "--idle-timeout", "1"],
+    );
+    // One byte every 0.3 s: never silent for the idle timeout, never a whole line.
+    let mut dripper = TcpStream::connect(&addr).unwrap();
+    dripper
+        .set_read_timeout(Some(Duration::from_millis(300)))
+        .unwrap();
+    let started = Instant::now();
+    let request = br#"{"request": "state"}"#;
+    let closed = request.iter().cycle().take(40).any(|byte| {
+        if dripper.write_all(&[*byte]).is_err() {
+            return true;
+        }
+        let mut reply = [0u8; 256];
+        match std::io::Read::read(&mut dripper, &mut reply) {
+            Ok(0) => true,
+            Ok(_) => panic!("a reply before the line was finished"),
+            Err(e) => !matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ),
+        }
+    });
+    let held = started.elapsed();
+    assert!(closed, "the dripping connection was never closed");
+    assert!(
+        held < Duration::from_secs(5),
+        "it held its slot for {held:?}"
+    );
+    // Its slot is free again: the next controller is served.
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        let mut next = Controller::connect(&addr);
+        let reply = next.ask(r#"{"request": "state"}"#);
+        if reply["ok"] == "state" {
+            break;
+        }
+        assert!(Instant::now() < deadline, "{reply}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}

@@ -49,11 +49,20 @@ pub fn parse_ron<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T, Ro
         path: origin.to_owned(),
         line: e.position.line,
         column: e.position.col,
-        // ron 0.8 writes "named `x`in `Outer`"; restore the space.
-        message: e.code.to_string().replace("`in `", "` in `"),
+        message: match e.code {
+            // ron's own message suggests a crate to its programmers.
+            ron::Error::ExceededRecursionLimit => format!(
+                "nested more than {RECURSION_LIMIT} levels deep; no input of this program nests so deep"
+            ),
+            // ron 0.8 writes "named `x`in `Outer`"; restore the space.
+            code => code.to_string().replace("`in `", "` in `"),
+        },
         excerpt: excerpt(text, e.position.line, e.position.col),
     })
 }
+
+/// How deep ron lets a document nest (its default).
+const RECURSION_LIMIT: usize = 128;
 
 /// The most characters of the offending line an excerpt shows.
 pub const EXCERPT_CHARS: usize = 120;
@@ -95,6 +104,17 @@ mod tests {
     struct Point {
         x: f64,
         y: f64,
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_in_the_users_terms() {
+        let text = format!("{}{}", "[".repeat(300), "]".repeat(300));
+        let err = parse_ron::<ron::Value>(&text, Path::new("deep.ron")).unwrap_err();
+        assert_eq!(
+            err.message,
+            "nested more than 128 levels deep; no input of this program nests so deep"
+        );
+        assert!(!err.to_string().contains("serde_stacker"), "{err}");
     }
 
     #[test]

@@ -7,8 +7,9 @@
 //! and `info` describes a case base. None of them modifies its source.
 
 use crate::domain::DomainDefinition;
-use crate::store::{self, Identity, Location, StoreError, StoreId, ron_file};
+use crate::store::{self, Identity, Location, StoreError, StoreId, ron_file, row};
 use cbr_core::BehaviorSpace;
+use std::collections::HashSet;
 use std::fmt;
 use std::path::Path;
 use trust::TrustCase;
@@ -70,18 +71,74 @@ pub fn info(location: &Location) -> Result<CaseBaseInfo, StoreError> {
 }
 
 /// Writes the case base at `from` to the RON file `to`; returns how many cases.
+///
+/// `to` must end in `.ron` and be absent or an earlier export (a RON case file recording
+/// its behavior space); it is never the case base itself, however spelled (another path,
+/// a symlink or a hard link to the same file). A refused `to` is left as it is, and so is
+/// the case base, which is only read.
 pub fn export(from: &Location, to: &Path) -> Result<usize, StoreError> {
+    check_export_target(from, to)?;
     let mut store = store::open_existing(from)?;
     ron_file::export(store.as_mut(), to)
 }
 
+/// Refuses an export path that names the case base being exported or any file but an
+/// earlier export.
+fn check_export_target(from: &Location, to: &Path) -> Result<(), StoreError> {
+    if to.extension().is_none_or(|e| e != "ron") {
+        return Err(StoreError::ExportName(to.to_owned()));
+    }
+    if !store::check_file(to)? {
+        return Ok(());
+    }
+    if let Location::Sqlite(source) | Location::Ron(source) = from
+        && same_file(source, to)
+    {
+        return Err(StoreError::ExportOverSource {
+            out: to.to_owned(),
+            source_base: from.shown(),
+        });
+    }
+    ron_file::check_earlier_export(to).map_err(|reason| StoreError::ExportOverOther {
+        out: to.to_owned(),
+        reason,
+    })
+}
+
+/// Whether `a` and `b` are one file (the same device and inode, after symlinks).
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
+        _ => false,
+    }
+}
+
+/// What an import did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Imported {
+    /// How many cases were appended.
+    pub cases: usize,
+    /// How many of them the case base already held (the same evaluated pairs and
+    /// solution): a file imported twice holds its cases twice.
+    pub already_held: usize,
+}
+
 /// Appends every case of the RON file `from` to the case base at `to` (created when
 /// absent), learned in `domain`'s space. A file recording another space, or a case that
-/// does not fit the space, is refused and nothing is appended; so is a RON file as the
-/// target (RON case files are read-only). Returns how many cases.
-pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<usize, StoreError> {
+/// does not fit the space, is refused and nothing is appended; so are a RON file as the
+/// target (RON case files are read-only) and a target holding a case that `serve` would
+/// refuse.
+pub fn import(
+    from: &Path,
+    to: &Location,
+    domain: &DomainDefinition,
+) -> Result<Imported, StoreError> {
     if let Location::Ron(path) = to {
-        return Err(StoreError::ReadOnly(path.clone()));
+        return Err(StoreError::ImportIntoRon {
+            target: path.clone(),
+            instead: path.with_extension("db"),
+        });
     }
     let identity = Identity {
         domain: domain.name.clone(),
@@ -97,5 +154,21 @@ pub fn import(from: &Path, to: &Location, domain: &DomainDefinition) -> Result<u
         Ok(())
     })?;
     let mut target = store::open(to, &identity)?;
-    target.append_all(&cases)
+    // The cases already there are read as `serve` and `info` read them: a target they
+    // would refuse is refused before anything is appended.
+    let location = target.location();
+    let mut held = HashSet::new();
+    target.read_after(None, &mut |stored| {
+        store::check_case(&location, &stored, &identity.space)?;
+        held.insert(row::encode(&stored.case));
+        Ok(())
+    })?;
+    let already_held = cases
+        .iter()
+        .filter(|c| held.contains(&row::encode(c)))
+        .count();
+    Ok(Imported {
+        cases: target.append_all(&cases)?,
+        already_held,
+    })
 }

@@ -193,10 +193,29 @@ pub fn parse_line(line: &[u8], vocabulary: Vocabulary<'_>) -> Envelope {
                 ),
             }),
         },
+        Some(Value::Number(n)) if !echoed_exactly(&n) => Envelope {
+            id: None,
+            request: Err(RequestError::Field {
+                field: "id".to_owned(),
+                message: format!(
+                    "the number {n} would not be echoed as sent (integers are echoed exactly from -2^63 to 2^64 - 1, others below 2^53); send it as a string"
+                ),
+            }),
+        },
         id => Envelope {
             id,
             request: parse_object(map, vocabulary),
         },
+    }
+}
+
+/// Whether a number id read from JSON comes back as it was sent: an integer that fits 64
+/// bits does; one beyond (read as the nearest double) does not.
+fn echoed_exactly(n: &serde_json::Number) -> bool {
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
+    match n.as_f64() {
+        Some(x) if !n.is_i64() && !n.is_u64() => !(x.fract() == 0.0 && x.abs() >= EXACT),
+        _ => true,
     }
 }
 
@@ -482,6 +501,20 @@ mod tests {
 
     fn err(line: &str) -> String {
         parse_request(line.as_bytes()).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn ids_beyond_64_bits_are_refused_not_echoed_changed() {
+        let e = parse_line(br#"{"request":"state","id":18446744073709551615}"#);
+        assert_eq!(e.id, Some(Value::from(u64::MAX)));
+        let e = parse_line(br#"{"request":"state","id":18446744073709551616}"#);
+        assert_eq!(e.id, None);
+        assert_eq!(
+            e.request.unwrap_err().to_string(),
+            "field `id`: the number 1.8446744073709552e+19 would not be echoed as sent (integers are echoed exactly from -2^63 to 2^64 - 1, others below 2^53); send it as a string"
+        );
+        let e = parse_line(br#"{"request":"state","id":2.5}"#);
+        assert_eq!(e.id, Some(Value::from(2.5)));
     }
 
     #[test]

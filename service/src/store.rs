@@ -152,6 +152,41 @@ pub enum StoreError {
         "{0}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead"
     )]
     ReadOnly(PathBuf),
+    /// `cases import` was given a RON file as its target.
+    #[error(
+        "{target}: RON case files are read-only; import the cases into an SQLite file or a postgres:// URL instead, e.g. `{instead}`"
+    )]
+    ImportIntoRon {
+        /// The RON file given as the target.
+        target: PathBuf,
+        /// An SQLite file beside it.
+        instead: PathBuf,
+    },
+    /// `cases export` was asked to write over the case base it exports.
+    #[error(
+        "{out}: this is the case base being exported ({source_base}); give the export another file name"
+    )]
+    ExportOverSource {
+        /// The output path.
+        out: PathBuf,
+        /// The case base, as given.
+        source_base: String,
+    },
+    /// `cases export` was asked to write over a file that is not an earlier export.
+    #[error(
+        "{out}: exists and is not an earlier export ({reason}); `cases export` writes over nothing else: give a new file name"
+    )]
+    ExportOverOther {
+        /// The output path.
+        out: PathBuf,
+        /// What the file is.
+        reason: String,
+    },
+    /// `cases export` writes RON files, whose names end in `.ron`.
+    #[error(
+        "{0}: an export is a RON case file and its name must end in `.ron` (a case base named otherwise is read as SQLite)"
+    )]
+    ExportName(PathBuf),
     /// The database refused or failed.
     #[error("{location}: {reason}")]
     Database {

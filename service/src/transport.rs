@@ -8,8 +8,9 @@
 //!
 //! Over TCP every connection gets its own thread and its own [`Session`] (its own episode)
 //! over the server's one [`SharedCases`]. A connection idle longer than its read timeout,
-//! or that does not take its replies within the write timeout, is closed, so a stalled,
-//! slow or non-reading controller holds only its own thread; beyond
+//! that takes longer than the read timeout to send a line once it has begun it (a slow
+//! drip of bytes), or that does not take its replies within the write timeout, is closed,
+//! so a stalled, slow or non-reading controller holds its slot for a bounded time; beyond
 //! [`Limits::max_connections`] a new connection gets one error line and is closed.
 
 use crate::domain::DomainDefinition;
@@ -21,7 +22,7 @@ use std::io::{self, BufRead, BufReader, BufWriter, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The longest request line accepted, newline excluded.
 pub const MAX_LINE_BYTES: usize = 64 * 1024;
@@ -217,7 +218,10 @@ impl Server {
                 self.cases.clone(),
                 self.seed.wrapping_add(k),
             )?;
-            let reader = BufReader::new(stream.try_clone()?);
+            let reader = BufReader::new(LineDeadline::new(
+                stream.try_clone()?,
+                self.limits.read_timeout,
+            ));
             serve(&mut session, reader, &stream)
         })();
         match served {
@@ -229,7 +233,7 @@ impl Server {
                 ) =>
             {
                 (self.log)(&format!(
-                    "controller {peer} timed out (silent for {} s, or not reading its replies for {} s): closed",
+                    "controller {peer} timed out (silent for {} s, a line unfinished {0} s after it began, or not reading its replies for {} s): closed",
                     self.limits.read_timeout.as_secs_f64(),
                     self.limits.write_timeout.as_secs_f64()
                 ));
@@ -245,6 +249,50 @@ impl Server {
             }
             Err(e) => (self.log)(&format!("controller {peer}: {e}")),
         }
+    }
+}
+
+/// A connection's reading side that gives each line `timeout` from its first byte to its
+/// newline, and the wait for a line to begin the same: a peer sending a byte now and then
+/// is closed like a silent one.
+struct LineDeadline {
+    stream: TcpStream,
+    timeout: Duration,
+    /// When the line under way must be complete; `None` between lines.
+    deadline: Option<Instant>,
+}
+
+impl LineDeadline {
+    fn new(stream: TcpStream, timeout: Duration) -> Self {
+        Self {
+            stream,
+            timeout,
+            deadline: None,
+        }
+    }
+}
+
+impl io::Read for LineDeadline {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let wait = match self.deadline {
+            None => self.timeout,
+            Some(deadline) => deadline
+                .checked_duration_since(Instant::now())
+                .filter(|left| !left.is_zero())
+                .ok_or_else(|| io::Error::from(io::ErrorKind::TimedOut))?,
+        };
+        self.stream.set_read_timeout(Some(wait))?;
+        let n = io::Read::read(&mut self.stream, buf)?;
+        // A line is under way unless the bytes read end with a newline.
+        self.deadline = match buf[..n].iter().rposition(|&b| b == b'\n') {
+            Some(last) if last + 1 == n => None,
+            Some(_) => Some(Instant::now() + self.timeout),
+            None if n > 0 => self
+                .deadline
+                .or_else(|| Some(Instant::now() + self.timeout)),
+            None => self.deadline,
+        };
+        Ok(n)
     }
 }
 

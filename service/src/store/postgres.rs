@@ -49,66 +49,105 @@ pub struct PostgresStore {
     identity: Identity,
 }
 
-/// `url` with its password, if any, replaced by `***`.
+/// `url` with its password, if any, replaced by `***`: the one in the user part
+/// (`user:password@`) and every `password` parameter of the query (`?password=...`, the
+/// key spelled in any case or percent-encoded, as the `postgres` crate would read it).
 pub fn without_password(url: &str) -> String {
     let Some(start) = url.find("://").map(|i| i + 3) else {
         return url.to_owned();
     };
-    let Some(at) = url[start..].find('@').map(|i| start + i) else {
-        return url.to_owned();
+    let (url, query) = match url.find('?') {
+        Some(q) if q >= start => (&url[..q], Some(&url[q + 1..])),
+        _ => (url, None),
     };
-    match url[start..at].find(':') {
-        Some(colon) => format!("{}:***{}", &url[..start + colon], &url[at..]),
+    let mut shown = match url[start..].find('@').map(|i| start + i) {
+        Some(at) => match url[start..at].find(':') {
+            Some(colon) => format!("{}:***{}", &url[..start + colon], &url[at..]),
+            None => url.to_owned(),
+        },
         None => url.to_owned(),
+    };
+    if let Some(query) = query {
+        let parameters: Vec<String> = query
+            .split('&')
+            .map(|p| match p.split_once('=') {
+                Some((key, _)) if percent_decoded(key).eq_ignore_ascii_case("password") => {
+                    format!("{key}=***")
+                }
+                _ => p.to_owned(),
+            })
+            .collect();
+        shown = format!("{shown}?{}", parameters.join("&"));
     }
+    shown
+}
+
+/// `text` with its `%XX` escapes decoded (bytes that do not form UTF-8 are replaced).
+fn percent_decoded(text: &str) -> String {
+    let bytes = text.as_bytes();
+    let mut decoded = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(byte)) => {
+                decoded.push(byte);
+                i += 3;
+            }
+            (byte, _) => {
+                decoded.push(byte);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&decoded).into_owned()
 }
 
 impl PostgresStore {
     /// Connects to `url`. With an `identity`, a database without a case base gets one
-    /// recording it; without one, the case base must exist. The space recorded is not
-    /// compared here (see [`super::open`]).
+    /// recording it; without one, the case base must exist and is only read, in a
+    /// read-only transaction (a role with nothing but SELECT rights suffices). Tables of
+    /// our names with other columns, and a missing or unreadable identity, are refused
+    /// before anything is written. The space recorded is not compared here (see
+    /// [`super::open`]).
     pub fn open(url: &str, identity: Option<&Identity>) -> Result<Self, StoreError> {
         let location = without_password(url);
         let db = |e: postgres::Error| database_error(&location, &e);
         let mut client = Client::connect(url, NoTls).map_err(db)?;
-        let mut transaction = begin_append(&mut client, &location)?;
-        let exists: bool = transaction
-            .query_one("SELECT to_regclass('trustcbr_identity') IS NOT NULL", &[])
-            .map_err(db)?
-            .get(0);
-        if !exists && identity.is_none() {
-            return Err(StoreError::Missing(location));
-        }
-        transaction.batch_execute(SCHEMA).map_err(db)?;
-        let recorded = transaction
-            .query_opt("SELECT format, domain, space FROM trustcbr_identity", &[])
-            .map_err(db)?;
-        let identity = match (recorded, identity) {
-            (Some(r), _) => {
-                let format: i64 = r.get(0);
-                if format != FORMAT {
-                    return Err(StoreError::Corrupt {
-                        location,
-                        reason: format!("format {format}, this program reads format {FORMAT}"),
-                    });
-                }
-                Identity {
-                    domain: r.get(1),
-                    space: row::decode_space(&location, r.get(2))?,
-                }
-            }
-            (None, Some(identity)) => {
-                transaction
-                    .execute(
-                        "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, $1, $2, $3)",
-                        &[&FORMAT, &identity.domain, &row::encode_space(&identity.space)],
-                    )
+        let identity = match identity {
+            None => {
+                let mut transaction = client
+                    .build_transaction()
+                    .read_only(true)
+                    .start()
                     .map_err(db)?;
-                identity.clone()
+                let recorded = recorded(&mut transaction, &location)?
+                    .ok_or_else(|| StoreError::Missing(location.clone()))?;
+                transaction.commit().map_err(db)?;
+                recorded
             }
-            (None, None) => return Err(StoreError::Missing(location)),
+            Some(identity) => {
+                let mut transaction = begin_append(&mut client, &location)?;
+                let recorded = match recorded(&mut transaction, &location)? {
+                    Some(recorded) => recorded,
+                    None => {
+                        transaction.batch_execute(SCHEMA).map_err(db)?;
+                        transaction
+                            .execute(
+                                "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, $1, $2, $3)",
+                                &[&FORMAT, &identity.domain, &row::encode_space(&identity.space)],
+                            )
+                            .map_err(db)?;
+                        identity.clone()
+                    }
+                };
+                transaction.commit().map_err(db)?;
+                recorded
+            }
         };
-        transaction.commit().map_err(db)?;
         Ok(Self {
             url: url.to_owned(),
             location,
@@ -117,6 +156,93 @@ impl PostgresStore {
             identity,
         })
     }
+}
+
+/// The columns of our two tables (name, type as `format_type` shows it).
+const COLUMNS: [(&str, &[(&str, &str)]); 2] = [
+    (
+        "trustcbr_identity",
+        &[
+            ("singleton", "integer"),
+            ("format", "bigint"),
+            ("domain", "text"),
+            ("space", "text"),
+        ],
+    ),
+    (
+        "trustcbr_cases",
+        &[("id", "bigint"), ("problem", "text"), ("solution", "text")],
+    ),
+];
+
+/// The identity the case base records, read without writing anything: `None` when neither
+/// of our tables exists; an error for tables of our names that are not a case base's.
+fn recorded(
+    client: &mut impl GenericClient,
+    location: &str,
+) -> Result<Option<Identity>, StoreError> {
+    let db = |e: postgres::Error| database_error(location, &e);
+    let corrupt = |reason: String| StoreError::Corrupt {
+        location: location.to_owned(),
+        reason,
+    };
+    let mut missing = Vec::new();
+    for (table, expected) in COLUMNS {
+        let columns: Vec<(String, String)> = client
+            .query(
+                "SELECT attname::text, format_type(atttypid, atttypmod) FROM pg_attribute
+                 WHERE attrelid = to_regclass($1) AND attnum > 0 AND NOT attisdropped
+                 ORDER BY attnum",
+                &[&table],
+            )
+            .map_err(db)?
+            .iter()
+            .map(|r| (r.get(0), r.get(1)))
+            .collect();
+        if columns.is_empty() {
+            missing.push(table);
+            continue;
+        }
+        let fits = columns.len() == expected.len()
+            && columns
+                .iter()
+                .zip(expected)
+                .all(|((name, kind), (n, k))| name == n && kind == k);
+        if !fits {
+            let show = |c: Vec<String>| c.join(", ");
+            return Err(corrupt(format!(
+                "the table {table} has the columns ({}), a case base's has ({})",
+                show(columns.iter().map(|(n, k)| format!("{n} {k}")).collect()),
+                show(expected.iter().map(|(n, k)| format!("{n} {k}")).collect()),
+            )));
+        }
+    }
+    if missing.len() == COLUMNS.len() {
+        return Ok(None);
+    }
+    if let Some(table) = missing.first() {
+        return Err(corrupt(format!("the table {table} is missing")));
+    }
+    let rows = client
+        .query("SELECT format, domain, space FROM trustcbr_identity", &[])
+        .map_err(db)?;
+    let [r] = &rows[..] else {
+        return Err(corrupt(format!(
+            "the table trustcbr_identity holds {} rows, a case base's holds one",
+            rows.len()
+        )));
+    };
+    let unreadable = |e: postgres::Error| corrupt(format!("the row of trustcbr_identity: {e}"));
+    let format: i64 = r.try_get(0).map_err(unreadable)?;
+    if format != FORMAT {
+        return Err(corrupt(format!(
+            "format {format}, this program reads format {FORMAT}"
+        )));
+    }
+    Ok(Some(Identity {
+        domain: r.try_get(1).map_err(unreadable)?,
+        space: row::decode_space(location, r.try_get(2).map_err(unreadable)?)?,
+    }))
 }
 
 fn database_error(location: &str, e: &postgres::Error) -> StoreError {
@@ -154,7 +280,7 @@ fn insert(
             &[&problem, &solution],
         )
         .map_err(|e| database_error(location, &e))?;
-    Ok(row.get(0))
+    row.try_get(0).map_err(|e| database_error(location, &e))
 }
 
 fn read_rows(
@@ -172,7 +298,15 @@ fn read_rows(
         )
         .map_err(db)?;
     while let Some(r) = rows.next().map_err(db)? {
-        each(row::decode(location, r.get(0), r.get(1), r.get(2))?)?;
+        let id: StoreId = r.try_get(0).map_err(db)?;
+        let text = |column: usize| {
+            r.try_get(column)
+                .map_err(|e: postgres::Error| StoreError::Corrupt {
+                    location: location.to_owned(),
+                    reason: format!("case #{id}: {e}"),
+                })
+        };
+        each(row::decode(location, id, text(1)?, text(2)?)?)?;
     }
     Ok(())
 }
@@ -389,6 +523,16 @@ mod tests {
         assert_eq!(
             without_password("postgresql:///cases"),
             "postgresql:///cases"
+        );
+        assert_eq!(
+            without_password(
+                "postgres://fleet/cases?user=robot&password=s3cret&application_name=r7"
+            ),
+            "postgres://fleet/cases?user=robot&password=***&application_name=r7"
+        );
+        assert_eq!(
+            without_password("postgres://a:b@fleet/cases?PASS%77ord=s3cret"),
+            "postgres://a:***@fleet/cases?PASS%77ord=***"
         );
     }
 }

@@ -120,6 +120,23 @@ impl CaseStore for RonStore {
     }
 }
 
+/// Checks that the existing file at `path` is one an export may write over: an earlier
+/// export, that is a RON case file recording its behavior space; otherwise says what it is.
+pub fn check_earlier_export(path: &Path) -> Result<(), String> {
+    if super::sqlite::is_database(path) {
+        return Err("an SQLite database".to_owned());
+    }
+    let text = read_text_at_most(path, MAX_CASE_BASE_BYTES).map_err(|e| e.reason.to_string())?;
+    let file: CaseFile = parse_ron(&text, path).map_err(|_| "not a RON case file".to_owned())?;
+    match file.space {
+        Some(_) => Ok(()),
+        None => Err(
+            "a RON case file recording no behavior space, so not written by `cases export`"
+                .to_owned(),
+        ),
+    }
+}
+
 /// Writes every case of `store`, with its identity, to the RON file `out` (atomically).
 /// Returns how many cases were written.
 pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError> {

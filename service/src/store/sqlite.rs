@@ -8,7 +8,8 @@
 //! the write lock first (`BEGIN IMMEDIATE`) and waits for it up to [`BUSY_TIMEOUT`].
 
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file, row};
-use rusqlite::{Connection, OpenFlags, OptionalExtension, TransactionBehavior, params};
+use rusqlite::types::Value;
+use rusqlite::{Connection, OpenFlags, TransactionBehavior, params};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use trust::TrustCase;
@@ -42,9 +43,12 @@ pub struct SqliteStore {
 impl SqliteStore {
     /// Opens the database at `path`. With an `identity`, a missing file (or an empty
     /// database) becomes a new case base recording it; without one, the case base must
-    /// exist. A path that is not a regular file is refused before anything opens it, and a
-    /// database holding other tables is refused untouched. The space recorded is not
-    /// compared here (see [`super::open`]).
+    /// exist and is opened read-only: nothing is written to the file or beside it that a
+    /// reader would not write (no switch to WAL, no table). A path that is not a regular
+    /// file is refused before anything opens it, and a database that is not a case base of
+    /// this program (other tables, tables of our names with other columns, a missing or
+    /// unreadable identity) is refused before anything is written to it. The space
+    /// recorded is not compared here (see [`super::open`]).
     pub fn open(path: &Path, identity: Option<&Identity>) -> Result<Self, StoreError> {
         let exists = check_file(path)?;
         if !exists && identity.is_none() {
@@ -76,59 +80,34 @@ impl SqliteStore {
 
     /// One attempt at [`Self::open`] once the file is known to be fit to open.
     fn connect(path: &Path, location: &str, identity: Option<&Identity>) -> Result<Self, Failure> {
-        let mut flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-        if identity.is_some() {
-            flags |= OpenFlags::SQLITE_OPEN_CREATE;
-        }
+        let Some(identity) = identity else {
+            let (connection, recorded) = open_read_only(path, location)?;
+            return Ok(Self {
+                path: path.to_owned(),
+                connection,
+                identity: recorded.ok_or_else(|| StoreError::Missing(location.to_owned()))?,
+            });
+        };
+        let flags = OpenFlags::SQLITE_OPEN_READ_WRITE
+            | OpenFlags::SQLITE_OPEN_CREATE
+            | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let mut connection = Connection::open_with_flags(path, flags)?;
         connection.busy_timeout(BUSY_TIMEOUT)?;
-        let tables: Vec<String> = connection
-            .prepare("SELECT name FROM sqlite_master WHERE type = 'table'")?
-            .query_map([], |r| r.get(0))?
-            .collect::<Result<_, _>>()?;
-        let ours = tables.iter().any(|t| t == "trustcbr_identity");
-        if !ours && tables.iter().any(|t| !t.starts_with("sqlite_")) {
-            return Err(Failure::Store(StoreError::Corrupt {
-                location: location.to_owned(),
-                reason: format!(
-                    "an SQLite database with other tables ({}); give a new file name",
-                    tables.join(", ")
-                ),
-            }));
-        }
+        // Checked before the first write, so a database that is not ours stays as it is.
+        recorded(&connection, location)?;
         connection.pragma_update(None, "journal_mode", "WAL")?;
         connection.pragma_update(None, "synchronous", "FULL")?;
         let transaction = connection.transaction_with_behavior(TransactionBehavior::Immediate)?;
-        transaction.execute_batch(SCHEMA)?;
-        let recorded: Option<(i64, String, String)> = transaction
-            .query_row(
-                "SELECT format, domain, space FROM trustcbr_identity",
-                [],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
-            )
-            .optional()?;
-        let identity = match (recorded, identity) {
-            (Some((format, domain, space)), _) => {
-                if format != FORMAT {
-                    return Err(Failure::Store(StoreError::Corrupt {
-                        location: location.to_owned(),
-                        reason: format!("format {format}, this program reads format {FORMAT}"),
-                    }));
-                }
-                Identity {
-                    domain,
-                    space: row::decode_space(location, &space)?,
-                }
-            }
-            (None, Some(identity)) => {
+        // Another process may have created the case base since the check above.
+        let identity = match recorded(&transaction, location)? {
+            Some(recorded) => recorded,
+            None => {
+                transaction.execute_batch(SCHEMA)?;
                 transaction.execute(
                     "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, ?1, ?2, ?3)",
                     params![FORMAT, identity.domain, row::encode_space(&identity.space)],
                 )?;
                 identity.clone()
-            }
-            (None, None) => {
-                return Err(Failure::Store(StoreError::Missing(location.to_owned())));
             }
         };
         transaction.commit()?;
@@ -138,6 +117,142 @@ impl SqliteStore {
             identity,
         })
     }
+}
+
+/// Opens `path` read-only and reads its identity. A reader of a database in WAL mode needs
+/// its `-wal` and `-shm` files, and SQLite creates them beside the database when they are
+/// missing (holding nothing: the database file itself is never written). Where they cannot
+/// be created (a read-only folder or file system) and no `-wal` exists, so that no process
+/// has the database open for writing, it is opened as immutable: nothing can change it.
+fn open_read_only(path: &Path, location: &str) -> Result<(Connection, Option<Identity>), Failure> {
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    let connection = Connection::open_with_flags(path, flags)?;
+    connection.busy_timeout(BUSY_TIMEOUT)?;
+    match recorded(&connection, location) {
+        Err(Failure::Sqlite(e))
+            if e.sqlite_error_code() == Some(rusqlite::ErrorCode::CannotOpen)
+                && !sibling(path, "-wal").exists() =>
+        {
+            let mut uri = String::from("file:");
+            for byte in path.as_os_str().as_encoded_bytes() {
+                if byte.is_ascii_alphanumeric() || b"/-._~".contains(byte) {
+                    uri.push(char::from(*byte));
+                } else {
+                    uri.push_str(&format!("%{byte:02X}"));
+                }
+            }
+            uri.push_str("?immutable=1");
+            let connection = Connection::open_with_flags(&uri, flags | OpenFlags::SQLITE_OPEN_URI)?;
+            let recorded = recorded(&connection, location)?;
+            Ok((connection, recorded))
+        }
+        read => Ok((connection, read?)),
+    }
+}
+
+/// `path` with `suffix` appended to its file name (`-wal`, `-shm`).
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let mut name = path.as_os_str().to_owned();
+    name.push(suffix);
+    PathBuf::from(name)
+}
+
+/// The columns of our two tables, as `PRAGMA table_info` gives them (name, declared type).
+const COLUMNS: [(&str, &[(&str, &str)]); 2] = [
+    (
+        "trustcbr_identity",
+        &[
+            ("singleton", "INTEGER"),
+            ("format", "INTEGER"),
+            ("domain", "TEXT"),
+            ("space", "TEXT"),
+        ],
+    ),
+    (
+        "trustcbr_cases",
+        &[("id", "INTEGER"), ("problem", "TEXT"), ("solution", "TEXT")],
+    ),
+];
+
+/// The identity a case base records, read without writing anything: `None` for a database
+/// with no table at all (a new file); an error for anything but a case base of ours.
+fn recorded(connection: &Connection, location: &str) -> Result<Option<Identity>, Failure> {
+    let corrupt = |reason: String| {
+        Failure::Store(StoreError::Corrupt {
+            location: location.to_owned(),
+            reason,
+        })
+    };
+    let tables: Vec<String> = connection
+        .prepare("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite\\_%' ESCAPE '\\' ORDER BY name")?
+        .query_map([], |r| r.get(0))?
+        .collect::<Result<_, _>>()?;
+    if tables.is_empty() {
+        return Ok(None);
+    }
+    let ours = COLUMNS.map(|(table, _)| table);
+    let others: Vec<&str> = tables
+        .iter()
+        .map(String::as_str)
+        .filter(|t| !ours.contains(t))
+        .collect();
+    if !others.is_empty() {
+        return Err(corrupt(format!(
+            "an SQLite database with other tables ({}); give a new file name",
+            others.join(", ")
+        )));
+    }
+    for (table, expected) in COLUMNS {
+        if !tables.iter().any(|t| t == table) {
+            return Err(corrupt(format!("the table {table} is missing")));
+        }
+        let columns: Vec<(String, String)> = connection
+            .prepare(&format!("PRAGMA table_info({table})"))?
+            .query_map([], |r| Ok((r.get(1)?, r.get(2)?)))?
+            .collect::<Result<_, _>>()?;
+        let fits = columns.len() == expected.len()
+            && columns
+                .iter()
+                .zip(expected)
+                .all(|((name, kind), (n, k))| name == n && kind.eq_ignore_ascii_case(k));
+        if !fits {
+            let show = |c: &mut dyn Iterator<Item = (&str, &str)>| {
+                c.map(|(n, k)| format!("{n} {k}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Err(corrupt(format!(
+                "the table {table} has the columns ({}), a case base's has ({})",
+                show(&mut columns.iter().map(|(n, k)| (n.as_str(), k.as_str()))),
+                show(&mut expected.iter().copied()),
+            )));
+        }
+    }
+    let rows: Vec<(Value, Value, Value)> = connection
+        .prepare("SELECT format, domain, space FROM trustcbr_identity")?
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
+        .collect::<Result<_, _>>()?;
+    let [(format, domain, space)] = <[_; 1]>::try_from(rows).map_err(|rows: Vec<_>| {
+        corrupt(format!(
+            "the table trustcbr_identity holds {} rows, a case base's holds one",
+            rows.len()
+        ))
+    })?;
+    let (Value::Integer(format), Value::Text(domain), Value::Text(space)) = (format, domain, space)
+    else {
+        return Err(corrupt(
+            "the row of trustcbr_identity does not hold an integer format, a text domain and a text space".to_owned(),
+        ));
+    };
+    if format != FORMAT {
+        return Err(corrupt(format!(
+            "format {format}, this program reads format {FORMAT}"
+        )));
+    }
+    Ok(Some(Identity {
+        domain,
+        space: row::decode_space(location, &space)?,
+    }))
 }
 
 /// Why one attempt to open failed: SQLite's own error (perhaps worth another attempt), or
@@ -170,12 +285,24 @@ fn is_busy(e: &rusqlite::Error) -> bool {
 /// Whether the file is empty or begins with SQLite's header: SQLite would take any file
 /// shorter than a page for an empty database and write over it.
 fn starts_like_a_database(path: &Path) -> bool {
+    matches!(header(path), Some(start) if start.is_empty() || start == HEADER)
+}
+
+/// Whether the file begins with SQLite's header.
+pub(crate) fn is_database(path: &Path) -> bool {
+    header(path).is_some_and(|start| start == HEADER)
+}
+
+const HEADER: &[u8; 16] = b"SQLite format 3\0";
+
+/// The file's first bytes, as many as SQLite's header has.
+fn header(path: &Path) -> Option<Vec<u8>> {
     use std::io::Read;
-    const HEADER: &[u8; 16] = b"SQLite format 3\0";
     let mut start = Vec::with_capacity(HEADER.len());
-    let read =
-        std::fs::File::open(path).and_then(|f| f.take(HEADER.len() as u64).read_to_end(&mut start));
-    read.is_ok() && (start.is_empty() || start == HEADER)
+    std::fs::File::open(path)
+        .and_then(|f| f.take(HEADER.len() as u64).read_to_end(&mut start))
+        .ok()?;
+    Some(start)
 }
 
 fn database_error(location: &str, e: rusqlite::Error) -> StoreError {
@@ -227,19 +354,27 @@ fn read_rows(
         .map_err(db)?;
     while let Some(r) = rows.next().map_err(db)? {
         let id: StoreId = r.get(0).map_err(db)?;
-        let problem = r
-            .get_ref(1)
-            .map_err(db)?
-            .as_str()
-            .map_err(|e| db(e.into()))?;
-        let solution = r
-            .get_ref(2)
-            .map_err(db)?
-            .as_str()
-            .map_err(|e| db(e.into()))?;
-        each(row::decode(location, id, problem, solution)?)?;
+        let text = |column: usize, name: &str| match r.get_ref(column) {
+            Ok(rusqlite::types::ValueRef::Text(bytes)) => std::str::from_utf8(bytes)
+                .map_err(|_| corrupt_case(location, id, name, "not UTF-8 text")),
+            Ok(_) => Err(corrupt_case(location, id, name, "not text")),
+            Err(e) => Err(db(e)),
+        };
+        each(row::decode(
+            location,
+            id,
+            text(1, "problem")?,
+            text(2, "solution")?,
+        )?)?;
     }
     Ok(())
+}
+
+fn corrupt_case(location: &str, id: StoreId, column: &str, what: &str) -> StoreError {
+    StoreError::Corrupt {
+        location: location.to_owned(),
+        reason: format!("case #{id}: its {column} is {what}"),
+    }
 }
 
 impl CaseStore for SqliteStore {
