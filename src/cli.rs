@@ -7,6 +7,7 @@
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
+use crate::progress::Progress;
 use crate::suite::{
     EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig,
     run_suite_with_report, save_case_bases, suite_best_arms, suite_table, trace_suite_trial,
@@ -15,7 +16,6 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use lab::report::Provenance;
 use lab::{heatmap, landscape};
 use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
@@ -397,28 +397,19 @@ fn run_experiments<C: Catalog>(
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
     let (pool, threads) = worker_pool(options.threads)?;
-    // Drawn only when stderr is a terminal.
-    let bars = MultiProgress::with_draw_target(ProgressDrawTarget::stderr());
-    let style = trial_bar_style();
-    let progress: Vec<ProgressBar> = config
+    let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());
+    let parts: Vec<(String, u64)> = config
         .experiments
         .iter()
-        .map(|spec| {
-            bars.add(
-                ProgressBar::new(config.arms.len() as u64 * u64::from(config.trials.get()))
-                    .with_style(style.clone())
-                    .with_prefix(spec.name()),
-            )
-        })
+        .map(|spec| (spec.name(), per_experiment))
         .collect();
+    let progress = Progress::new("trial", &parts)
+        .with_afterwards("finishing the report's landscapes and limits");
     let (results, elapsed, estimates) = pool.install(|| {
         run_suite_with_report(catalog, &config, origin, starting.as_ref(), &|i| {
-            progress[i].inc(1);
+            progress.tick(i);
         })
     })?;
-    for bar in &progress {
-        bar.finish();
-    }
     println!("Behaviors evaluated per trial (mean ± 95% CI), the first two arms:\n");
     println!("{}", suite_table(&config, &results));
     print!("{}", suite_best_arms(&config, &results));
@@ -470,15 +461,6 @@ fn worker_pool(threads: Option<NonZeroUsize>) -> Result<(rayon::ThreadPool, usiz
     Ok((pool, threads))
 }
 
-/// The style of a progress bar counting trials, with the time left.
-fn trial_bar_style() -> ProgressStyle {
-    ProgressStyle::with_template(
-        "{prefix:>26} [{bar:40}] {pos}/{len} trials {elapsed}, about {eta} left",
-    )
-    .expect("a valid template")
-    .progress_chars("=> ")
-}
-
 /// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
 fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
@@ -510,18 +492,20 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
         None => sweep.runs(),
     };
     let (pool, threads) = worker_pool(args.threads)?;
-    let bar =
-        ProgressBar::with_draw_target(Some(sweep.trials_in(&runs)), ProgressDrawTarget::stderr())
-            .with_style(trial_bar_style())
-            .with_prefix(format!("sweep ({} runs)", runs.len()));
+    let progress = Progress::new(
+        "trial",
+        &[(
+            format!("sweep ({} runs)", runs.len()),
+            sweep.trials_in(&runs),
+        )],
+    );
     let started = Instant::now();
     remove_earlier_sweep(&args.out, &text)?;
     write_config(&args.out, &text)?;
     for &run in &runs {
-        let summary = pool.install(|| sweep.run(catalog, run, &|| bar.inc(1)))?;
+        let summary = pool.install(|| sweep.run(catalog, run, &|| progress.tick(0)))?;
         write_run(&args.out, &sweep, run, &summary)?;
     }
-    bar.finish();
     let elapsed = started.elapsed().as_secs_f64();
     if args.shard.is_some() {
         println!(
@@ -706,15 +690,10 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
             .join(","),
     };
     let (x, y) = landscape::axes(space, &components)?;
-    let bar = ProgressBar::with_draw_target(Some(space.size()), ProgressDrawTarget::stderr())
-        .with_style(
-            ProgressStyle::with_template(
-                "{prefix} [{bar:40}] {pos}/{len} behaviors {elapsed}, about {eta} left",
-            )
-            .expect("a valid template")
-            .progress_chars("=> "),
-        )
-        .with_prefix(format!("landscape ({} runs each)", args.runs));
+    let progress = Progress::new(
+        "behavior",
+        &[(format!("landscape ({} runs each)", args.runs), space.size())],
+    );
     let every_component: Vec<usize> = (0..space.components().len()).collect();
     let estimate = landscape::estimate(
         &domain,
@@ -722,9 +701,8 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
         &every_component,
         args.runs,
         args.seed,
-        &|| bar.inc(1),
+        &|| progress.tick(0),
     )?;
-    bar.finish();
     let title = format!(
         "{}, operator {}, {} runs per behavior",
         args.scenario, operator_name, args.runs

@@ -18,6 +18,7 @@
 
 pub mod catalog;
 pub mod cli;
+pub mod progress;
 pub mod suite;
 pub mod sweep;
 pub mod ugv;
