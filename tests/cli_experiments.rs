@@ -163,11 +163,27 @@ fn a_bad_config_names_file_line_and_column() {
 fn reproduce_accepts_overrides() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    succeed(
-        trustcbr()
-            .args(["reproduce", "--trials", "1", "--seed", "3"])
-            .args(["--landscape-runs", "10", "--out"])
-            .arg(&out),
+    let output = trustcbr()
+        .args(["reproduce", "--trials", "1", "--seed", "3"])
+        .args(["--landscape-runs", "10", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    // stderr is not a terminal here: plain progress lines, the last when the trials end
+    // (7 experiments x 9 arms x 1 trial), each within 100 columns.
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    let last = stderr.lines().last().unwrap_or_default();
+    assert!(
+        last.starts_with("progress: 63/63 trials done in ")
+            && last.ends_with("; finishing the report's landscapes and limits"),
+        "{stderr}"
+    );
+    assert!(
+        stderr
+            .lines()
+            .all(|l| l.starts_with("progress: ") && l.len() <= 100),
+        "{stderr}"
     );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
