@@ -30,8 +30,15 @@ pub use catalog::{Catalog, CatalogError, Family, Reading, Readings, ToolInfo, Un
 pub use ugv::UgvCatalog;
 
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of
-// each.
+// each (`trustcbr` alone; the `testing` feature turns on `trust::testing`): `rand` and
+// `rand_distr` for a domain's randomness (a `rand_distr` of another version does not
+// accept the `RngCore` the runner hands over), `serde` and `ron` for its files (derive
+// with `#[serde(crate = "trustcbr::serde")]`), `service` to serve it by hand.
 pub use cbr_core;
 pub use lab;
 pub use rand;
+pub use rand_distr;
+pub use ron;
+pub use serde;
+pub use service;
 pub use trust;

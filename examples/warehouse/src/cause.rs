@@ -5,14 +5,14 @@
 //! returns), and [`WarehouseCause::to_trust`] names one as a `trust::Cause`; inside this
 //! crate a cause is a [`WarehouseCause`], so a misspelt cause cannot compile.
 
-use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
+use trustcbr::serde::{Deserialize, Serialize};
 use trustcbr::trust;
 
 /// Why a pick failed or was interrupted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(into = "String", try_from = "String")]
+#[serde(crate = "trustcbr::serde", into = "String", try_from = "String")]
 pub enum WarehouseCause {
     /// The pick took longer than the operator allows.
     TooSlow,
@@ -75,9 +75,17 @@ impl fmt::Display for WarehouseCause {
 }
 
 /// A cause name that is not one of [`WarehouseCause::ALL`].
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown cause `{0}` (known: {known})", known = WarehouseCause::ALL.map(WarehouseCause::as_str).join(", "))]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnknownCause(pub String);
+
+impl fmt::Display for UnknownCause {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let known = WarehouseCause::ALL.map(WarehouseCause::as_str).join(", ");
+        write!(f, "unknown cause `{}` (known: {known})", self.0)
+    }
+}
+
+impl std::error::Error for UnknownCause {}
 
 impl FromStr for WarehouseCause {
     type Err = UnknownCause;

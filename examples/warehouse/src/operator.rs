@@ -11,10 +11,11 @@
 use crate::cause::WarehouseCause;
 use crate::trace::{Event, Trace};
 use rand::{Rng, RngCore};
-use serde::{Deserialize, Serialize};
+use std::fmt;
 use std::path::{Path, PathBuf};
 use trustcbr::cbr_core::{FileError, RonError, parse_ron, read_text};
 use trustcbr::rand;
+use trustcbr::serde::{Deserialize, Serialize};
 use trustcbr::trust::{Judgement, OutcomeKind, OutcomeWeights, WeightsError};
 
 fn two() -> f64 {
@@ -23,7 +24,7 @@ fn two() -> f64 {
 
 /// A simulated warehouse operator.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(crate = "trustcbr::serde", deny_unknown_fields)]
 pub struct WarehouseOperator {
     /// The operator's name (e.g. `throughput-focused`).
     pub name: String,
@@ -44,17 +45,14 @@ pub struct WarehouseOperator {
 }
 
 /// Why an operator file cannot be used.
-#[derive(Debug, thiserror::Error)]
+#[derive(Debug)]
 pub enum OperatorError {
     /// The file could not be read.
-    #[error(transparent)]
-    Io(#[from] FileError),
+    Io(FileError),
     /// The file is not a valid operator in RON (the error names line:column).
-    #[error(transparent)]
-    Syntax(#[from] RonError),
+    Syntax(RonError),
     /// A weight is out of range, or `weights.by_cause` names a cause the warehouse does
     /// not declare.
-    #[error("{file}: operator `{operator}`: {reason}")]
     Weights {
         /// The file.
         file: PathBuf,
@@ -64,7 +62,6 @@ pub enum OperatorError {
         reason: WeightsError,
     },
     /// A value is out of its allowed range.
-    #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
     Range {
         /// The file.
         file: PathBuf,
@@ -77,6 +74,53 @@ pub enum OperatorError {
         /// The value given.
         value: f64,
     },
+}
+
+impl fmt::Display for OperatorError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Io(e) => e.fmt(f),
+            Self::Syntax(e) => e.fmt(f),
+            Self::Weights {
+                file,
+                operator,
+                reason,
+            } => write!(f, "{}: operator `{operator}`: {reason}", file.display()),
+            Self::Range {
+                file,
+                operator,
+                field,
+                allowed,
+                value,
+            } => write!(
+                f,
+                "{}: operator `{operator}`: `{field}` must be {allowed}, got {value}",
+                file.display()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for OperatorError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Self::Io(e) => e.source(),
+            Self::Syntax(e) => e.source(),
+            Self::Weights { .. } | Self::Range { .. } => None,
+        }
+    }
+}
+
+impl From<FileError> for OperatorError {
+    fn from(e: FileError) -> Self {
+        Self::Io(e)
+    }
+}
+
+impl From<RonError> for OperatorError {
+    fn from(e: RonError) -> Self {
+        Self::Syntax(e)
+    }
 }
 
 impl WarehouseOperator {

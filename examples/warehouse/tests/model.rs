@@ -341,3 +341,10 @@ proptest! {
         }
     }
 }
+
+/// The conformance kits reach a plug-in through the tool's `testing` feature alone (this
+/// crate depends on `trustcbr` and nothing else of the workspace).
+#[test]
+fn the_kits_reach_a_plug_in_through_the_tool() {
+    trustcbr::trust::testing::check_searcher(|| trustcbr::trust::SearchKind::CauseAware.build());
+}
