@@ -74,8 +74,25 @@ pub fn check_retriever(
     );
 }
 
-/// A retrieval answer with its similarity as bits, so equality means bit-identical.
-type Answer = Option<(CaseId, u64)>;
+/// A similarity compared bit for bit, shown as its value (and its bits, which tell two
+/// values that print alike apart).
+#[derive(Clone, Copy)]
+struct Exact(f64);
+
+impl PartialEq for Exact {
+    fn eq(&self, other: &Exact) -> bool {
+        self.0.to_bits() == other.0.to_bits()
+    }
+}
+
+impl std::fmt::Debug for Exact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?} (bits {:#018x})", self.0, self.0.to_bits())
+    }
+}
+
+/// A retrieval answer, its similarity compared bit for bit.
+type Answer = Option<(CaseId, Exact)>;
 
 fn answer(
     memory: &TrustMemory,
@@ -84,7 +101,7 @@ fn answer(
 ) -> Answer {
     memory
         .retrieve(query, exclude)
-        .map(|r| (r.id, r.similarity.to_bits()))
+        .map(|r| (r.id, Exact(r.similarity)))
 }
 
 /// Numeric grids, plain and tabled categorical components, unequal and zero weights.
