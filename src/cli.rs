@@ -70,7 +70,7 @@ enum Command {
 struct ExplainArgs {
     /// A report folder written by `reproduce`, `run` or `sweep` (its `config.ron` is read).
     report: PathBuf,
-    /// The experiment, by name (e.g. `movement/speed-focused`).
+    /// The experiment, by its name in the report (`summary.json` lists them).
     #[arg(long)]
     experiment: String,
     /// The arm, by name (e.g. `case-based`).
@@ -166,11 +166,11 @@ fn parse_shard(text: &str) -> Result<(usize, usize), String> {
 
 #[derive(Args)]
 struct RenderArgs {
-    /// The scenario (e.g. `movement`).
+    /// The scenario, by the tool's name for it (an unknown name is refused with the list).
     #[arg(long)]
     scenario: String,
     /// The behavior: every component of the scenario's space as NAME=VALUE, comma-separated
-    /// (e.g. `speed=3.5,padding=0.4`).
+    /// (`config` shows the components).
     #[arg(long)]
     behavior: String,
     /// Seed of the run.
@@ -187,7 +187,7 @@ struct RenderArgs {
 
 #[derive(Args)]
 struct LandscapeArgs {
-    /// The scenario (e.g. `patrol`).
+    /// The scenario, by the tool's name for it (an unknown name is refused with the list).
     #[arg(long)]
     scenario: String,
     /// Operator: a built-in name or an operator file.
@@ -264,7 +264,7 @@ fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
 
 #[derive(Args)]
 struct ServeArgs {
-    /// A scenario name (e.g. `movement`), or a RON domain file declaring a behavior space
+    /// A scenario name (the tool lists them), or a RON domain file declaring a behavior space
     /// (and optionally the adapter config).
     #[arg(long)]
     domain: String,
@@ -372,10 +372,6 @@ fn run_experiments<C: Catalog>(
     origin: &Path,
     options: &RunOptions,
 ) -> Result<()> {
-    cbr_core::output::prepare_output_dir(&options.out)?;
-    if let Some(dir) = &options.save_cases {
-        cbr_core::output::ensure_writable_dir(dir)?;
-    }
     if let Some(trials) = options.trials {
         config.trials = trials;
     }
@@ -395,6 +391,11 @@ fn run_experiments<C: Catalog>(
         .map(|dir| StartingCases { dir: dir.clone() });
     if let Some(dir) = &options.cases {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
+    }
+    // Only a run that will start creates its folders: a refused option leaves none.
+    cbr_core::output::prepare_output_dir(&options.out)?;
+    if let Some(dir) = &options.save_cases {
+        cbr_core::output::ensure_writable_dir(dir)?;
     }
     let (pool, threads) = worker_pool(options.threads)?;
     let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());

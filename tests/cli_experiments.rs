@@ -215,16 +215,20 @@ fn arms_are_chosen_by_name_and_unknown_names_are_listed() {
         summary["experiments"][0]["arms"],
         serde_json::json!(["uniform", "cause-aware"])
     );
+    let refused_out = dir.path().join("refused");
     let output = trustcbr()
         .args([
             "run",
             config.to_str().unwrap(),
             "--arms",
             "uniform,annealing",
+            "--out",
         ])
+        .arg(&refused_out)
         .output()
         .unwrap();
     assert!(!output.status.success());
+    assert!(!refused_out.exists(), "a refused run leaves no folder");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
         stderr.contains("annealing") && stderr.contains("known: random-walk, case-based"),
