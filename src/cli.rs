@@ -8,6 +8,7 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::progress::Progress;
+use crate::suite::arm_named;
 use crate::suite::{
     EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig,
     run_suite_with_report, save_case_bases, suite_best_arms, suite_table, trace_suite_trial,
@@ -272,6 +273,11 @@ struct ServeArgs {
     /// file (served read-only).
     #[arg(long)]
     cases: String,
+    /// Serve an arm's strategy instead of the domain's adapter config: a built-in arm or
+    /// one the tool's catalog adds (the same names as `--arms`), e.g. `case-based+conditioned`
+    /// (its searcher, its retriever, whether it reuses cases).
+    #[arg(long, value_name = "NAME")]
+    arm: Option<String>,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
     /// stdin/stdout. Each connection is its own controller, served concurrently.
     #[arg(long)]
@@ -553,7 +559,16 @@ fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition
 }
 
 fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
-    let domain = served_domain(catalog, &args.domain)?;
+    let mut domain = served_domain(catalog, &args.domain)?;
+    if let Some(name) = &args.arm {
+        let arm = arm_named(catalog, name, domain.adapter.retriever)
+            .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+        domain.adapter.reuse_cases = arm.reuses_cases();
+        let (searcher, retriever) = (arm.clone(), arm);
+        domain = domain
+            .with_searcher(move |space| searcher.build_searcher(space))
+            .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda));
+    }
     // Every option is checked, and the address bound, before the case base is opened: a
     // refused command creates no case base.
     let listening = match args.listen {

@@ -600,7 +600,11 @@ impl StartingCases {
 
 /// The arm `name`: the catalog's own arm of that name, or else a built-in one; the error
 /// lists every name known.
-fn arm_named<C: Catalog>(catalog: &C, name: &str, retriever: RetrieverKind) -> Result<Arm, String> {
+pub fn arm_named<C: Catalog>(
+    catalog: &C,
+    name: &str,
+    retriever: RetrieverKind,
+) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
     if let Some(arm) = own.iter().find(|a| a.name() == name) {
         return Ok(arm.clone());

@@ -288,3 +288,80 @@ fn request_ids_come_back_as_sent_or_are_refused() {
         "{refused}"
     );
 }
+
+#[test]
+fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.db");
+    let interrupted = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 5.0}"#;
+    let mut input = String::from("{\"request\":\"config\"}\n{\"request\":\"begin\"}\n");
+    for _ in 0..5 {
+        input.push_str(interrupted);
+        input.push('\n');
+    }
+    let mut child = serve(
+        &["--domain", "movement", "--arm", "case-based+conditioned"],
+        &cases,
+    )
+    .stdin(Stdio::piped())
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped())
+    .spawn()
+    .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert!(output.status.success());
+    let replies: Vec<Value> = String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(replies[0]["strategy"], "conditioned");
+    assert_eq!(replies[0]["adapter"]["reuse_cases"], true);
+    // The fifth interruption gives the first behavior up; with no case yet, the arm's
+    // fallback search proposes, and says so.
+    let switch = replies.last().unwrap();
+    assert_eq!(switch["ok"], "switch");
+    assert_eq!(switch["explanation"]["next"]["strategy"], "conditioned");
+    // A search-only arm reuses no case.
+    let mut search_only = serve(&["--domain", "movement", "--arm", "uniform"], &cases)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    search_only
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"{\"request\":\"config\"}\n")
+        .unwrap();
+    let output = search_only.wait_with_output().unwrap();
+    let config: Value = serde_json::from_str(
+        String::from_utf8(output.stdout)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(config["strategy"], "uniform");
+    assert_eq!(config["adapter"]["reuse_cases"], false);
+    // An unknown arm is refused, naming the known ones, and creates no case base.
+    let fresh = dir.path().join("fresh.db");
+    let output = serve(&["--domain", "movement", "--arm", "annealing"], &fresh)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = failure(&output);
+    assert!(
+        stderr.contains("--arm: unknown arm `annealing` (known: random-walk, case-based"),
+        "{stderr}"
+    );
+    assert!(!fresh.exists());
+}

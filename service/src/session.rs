@@ -315,6 +315,7 @@ impl Session {
             "space": self.adaptation.space().as_ref(),
             "behaviors": self.adaptation.space().size(),
             "adapter": self.adaptation.config(),
+            "strategy": self.adaptation.strategy(),
         })
     }
 }

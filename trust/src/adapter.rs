@@ -531,6 +531,11 @@ impl Adaptation {
         self.searcher.learns_across_episodes()
     }
 
+    /// The search strategy's name.
+    pub fn strategy(&self) -> &str {
+        self.searcher.name()
+    }
+
     /// The episode under way, if any.
     pub fn episode(&self) -> Option<EpisodeView<'_>> {
         self.episode.as_ref().map(|e| EpisodeView {
