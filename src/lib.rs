@@ -26,7 +26,12 @@ pub mod ugv;
 #[doc = include_str!("../docs/plugin-guide.md")]
 pub mod plugin_guide {}
 
-pub use catalog::{Catalog, CatalogError, Family, Reading, Readings, ToolInfo, UnknownScenario};
+pub use catalog::{
+    Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings, ToolInfo,
+    UnknownScenario,
+};
+pub use suite::{SuiteError, TraceError};
+pub use sweep::SweepError;
 pub use ugv::UgvCatalog;
 
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of

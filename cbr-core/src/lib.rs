@@ -32,7 +32,7 @@ pub use component::{
 };
 pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use memory::CaseMemory;
-pub use output::{write_atomically, write_file_in};
+pub use output::{OutputError, write_atomically, write_file_in};
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Rationale, Searcher};

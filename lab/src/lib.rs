@@ -26,6 +26,12 @@ pub mod stats;
 pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
+pub use heatmap::LandscapeSvgError;
+pub use known_operator::KnownLimitError;
+pub use landscape::LandscapeError;
+pub use limit::LimitError;
+pub use plot::PlotError;
+pub use report::ReportError;
 pub use runner::{
     ArmResult, ExperimentPlan, ExperimentResult, ExplanationCheck, ExplanationSample,
     GivenUpRecord, OperatorChoice, PairedTests, PlanError, SAMPLE_EXPLANATIONS, Step,

@@ -46,10 +46,13 @@ pub use adapter::{
     Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
     Retention, Source, TimeUnit, TrustAdapter,
 };
-pub use cause::{Cause, CauseError, DeclaredCause, UndeclaredCause, find_declared};
+pub use cause::{
+    Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
+};
 pub use domain::Domain;
 pub use estimate::{
-    Judgement, Observations, Outcome, OutcomeError, OutcomeKind, Thresholds, TrustEstimate, Verdict,
+    Judgement, Observations, Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds,
+    TrustEstimate, Verdict,
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};

@@ -4,19 +4,28 @@
 use cbr_core::{Behavior, BehaviorSpace};
 use serde_json::{Map, Value, json};
 
-/// The behavior's components by name: numbers for numeric grids (rounded to remove binary
-/// noise), the shown value (a label, or a custom kind's text) for other kinds, in the
-/// space's component order.
+/// The behavior's components by name, in the space's component order: numbers for numeric
+/// grids (rounded to remove binary noise) and for a custom kind's values shown as numbers
+/// that read back (a log grid's `0.25`), the shown value (a label, a custom kind's text)
+/// otherwise.
 pub fn named_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Map<String, Value> {
     space
         .components()
         .iter()
         .zip(behavior.indices())
         .map(|(c, &i)| {
+            let text = c.display_value(i).to_string();
+            // A custom kind's value that is a number, and reads back from that number.
+            let number = text
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite() && c.values.component().parse(&x.to_string()) == Some(i));
             let value = if c.is_numeric() {
                 json!(c.real_value(i))
+            } else if let Some(number) = number {
+                json!(number)
             } else {
-                json!(c.display_value(i).to_string())
+                json!(text)
             };
             (c.name.clone(), value)
         })

@@ -21,7 +21,7 @@ mod registry;
 
 pub use categorical::Categorical;
 pub use custom::{ComponentKind, CustomComponent, KindError, KindProblem, MAX_CUSTOM_VALUES};
-pub use numeric::NumericGrid;
+pub use numeric::{NumericGrid, without_binary_noise};
 pub use registry::{RegistryError, register_component_kind, registered_component_kinds};
 
 use serde::{Deserialize, Serialize};

@@ -39,6 +39,22 @@ impl NumericGrid {
         Some(index as u16)
     }
 
+    /// The index of the grid value nearest to `value`, clamped to the grid (a real value
+    /// rounded onto the grid; `NaN` gives the first value).
+    ///
+    /// ```
+    /// let grid = cbr_core::NumericGrid { min: 0.5, step: 0.5, count: 4 };
+    /// assert_eq!((grid.nearest_index(1.2), grid.nearest_index(9.0), grid.nearest_index(-3.0)), (1, 3, 0));
+    /// ```
+    pub fn nearest_index(&self, value: f64) -> u16 {
+        let position = ((value - self.min) / self.step).round();
+        if position.is_nan() || position <= 0.0 {
+            0
+        } else {
+            position.min(f64::from(self.count - 1)) as u16
+        }
+    }
+
     /// Number of changes between the values at `a` and `b`: grid steps.
     pub fn changes(&self, a: u16, b: u16) -> u32 {
         u32::from(a.abs_diff(b))
@@ -118,8 +134,13 @@ impl Component for NumericGrid {
     }
 }
 
-/// `value` rounded to 9 decimals, which removes binary noise such as `0.30000000000000004`.
-pub(super) fn without_binary_noise(value: f64) -> f64 {
+/// `value` rounded to 9 decimals, which removes binary noise such as `0.30000000000000004`:
+/// how a grid shows and writes its values (a user's numeric kind may do the same).
+///
+/// ```
+/// assert_eq!(cbr_core::component::without_binary_noise(0.1 + 0.2), 0.3);
+/// ```
+pub fn without_binary_noise(value: f64) -> f64 {
     let scaled = value * 1e9;
     // Beyond about 1e299 the scaled value overflows; such values have no binary noise
     // below 1e-9 to remove.

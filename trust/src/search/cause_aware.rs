@@ -26,6 +26,7 @@
 
 use super::propose_untried;
 use super::untried::draw_untried;
+use super::value_counts::ValueCounts;
 use crate::Cause;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
@@ -36,39 +37,6 @@ pub const CAUSE_AWARE_POOL: usize = 128;
 
 /// Weight of the overall rate in each per-value rate, in commands (a Beta-prior strength).
 const PRIOR_COMMANDS: f64 = 2.0;
-
-/// Counts of commands by component value.
-#[derive(Clone, Debug, Default)]
-struct ValueCounts {
-    total: f64,
-    /// `by_value[k][v]`: commands with component `k` at value index `v`.
-    by_value: Vec<Vec<f64>>,
-}
-
-impl ValueCounts {
-    fn add(&mut self, behavior: &Behavior) {
-        self.total += 1.0;
-        if self.by_value.len() < behavior.len() {
-            self.by_value.resize(behavior.len(), Vec::new());
-        }
-        for (k, &v) in behavior.indices().iter().enumerate() {
-            let counts = &mut self.by_value[k];
-            let v = usize::from(v);
-            if counts.len() <= v {
-                counts.resize(v + 1, 0.0);
-            }
-            counts[v] += 1.0;
-        }
-    }
-
-    fn at(&self, component: usize, value: usize) -> f64 {
-        self.by_value
-            .get(component)
-            .and_then(|c| c.get(value))
-            .copied()
-            .unwrap_or(0.0)
-    }
-}
 
 /// What an untrustworthy outcome tells the robot about why it happened.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -138,7 +106,7 @@ impl CauseAware {
             .iter()
             .filter(|c| self.weight(c) > 0.0)
             .map(|c| {
-                let overall = (c.counts.total + 1.0) / (self.commands.total + 2.0);
+                let overall = (c.counts.total() + 1.0) / (self.commands.total() + 2.0);
                 let tables = space
                     .components()
                     .iter()

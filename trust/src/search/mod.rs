@@ -18,6 +18,7 @@ pub mod model_based;
 pub mod random_walk;
 pub mod uniform;
 mod untried;
+pub mod value_counts;
 
 pub use cause_aware::CauseAware;
 pub use conditioned::Conditioned;
@@ -25,6 +26,7 @@ pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
 pub use uniform::Uniform;
 pub use untried::{draw_untried, evaluated_set};
+pub use value_counts::ValueCounts;
 
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
