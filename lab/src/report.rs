@@ -8,7 +8,10 @@ use crate::heatmap::{self, KEY_WIDTH};
 use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
 use crate::limit::Costs;
-use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
+use crate::plot::{
+    Area, ArmStyle, DrawResult, Overlay, PlotError, Shape, arm_style, drawing_order, log_ticks,
+    svg, svg_with, tick_label, wrap,
+};
 use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, TrialRecord};
 use crate::seeds::{Purpose, stream_seed};
 use crate::stats::{MeanCi, mean_ci95};
@@ -660,8 +663,8 @@ pub fn write_report(
     let mut figures: Vec<Figure> = Vec::new();
     for metric in SUMMARY_METRICS {
         let name = format!("{}.svg", metric.stem);
-        let summary_svg = svg(&dir.join(&name), (1200, 560), |area| {
-            summary_figure(area, entries, metric)
+        let summary_svg = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
+            summary_figure(area, overlay, entries, metric)
         })?;
         write(&name, &summary_svg)?;
         figures.push(Figure::new("summary", summary_svg, String::new()));
@@ -671,11 +674,13 @@ pub fn write_report(
         .zip(file_stems(entries.iter().map(|e| &e.result.name)))
     {
         let name = format!("curves-{stem}.svg");
-        let curves = svg(&dir.join(&name), (1250, 520), |area| {
-            learning_curves(area, e)
-        })?;
-        write(&name, &curves)?;
-        figures.push(Figure::new(&e.result.name, curves, String::new()));
+        let curves = |dots: bool| {
+            svg_with(&dir.join(&name), (1250, 520), |area, overlay| {
+                learning_curves(area, overlay, e, dots)
+            })
+        };
+        write(&name, &curves(true)?)?;
+        figures.push(Figure::new(&e.result.name, curves(false)?, String::new()));
         if let Some(timeline) = e.timeline {
             let name = format!("timeline-{stem}.svg");
             let switches = timeline
@@ -704,6 +709,8 @@ pub fn write_report(
                     components[x].name, components[y].name
                 )
             };
+            // The id of the heatmap every arm's panel shares, unique in the page.
+            let id = format!("cells-{}", name.trim_end_matches(".svg"));
             let grid = e
                 .landscapes
                 .iter()
@@ -715,8 +722,8 @@ pub fn write_report(
                     message: reason.to_string(),
                 })?;
             let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
-            let finals = svg(&dir.join(&name), layout.size(), |area| {
-                final_behaviors(area, e, (x, y), grid.as_ref(), &layout)
+            let finals = svg_with(&dir.join(&name), layout.size(), |area, overlay| {
+                final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
             })?;
             write(&name, &finals)?;
             figures.push(Figure::new(&e.result.name, finals, String::new()));
@@ -902,14 +909,42 @@ fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
 /// Width of the legend strip right of a chart, in pixels.
 const LEGEND_WIDTH: u32 = 250;
 
-/// Draws a legend of `entries` (label, colour) in `area`, top to bottom.
-fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
-    for (k, (label, color)) in entries.iter().enumerate() {
+/// What a legend entry draws before its label.
+enum Key {
+    /// A line (a series drawn as a line).
+    Line(RGBColor),
+    /// The arm's marker (a series drawn as markers).
+    Marker(ArmStyle),
+    /// A line with the arm's marker on it.
+    LineMarker(ArmStyle),
+}
+
+/// Draws a legend of `entries` (label, key) in `area`, top to bottom; markers go into
+/// `overlay`.
+fn legend(area: &Area<'_>, overlay: &mut Overlay, entries: &[(String, Key)]) -> DrawResult {
+    let (left, top) = area.get_base_pixel();
+    for (k, (label, key)) in entries.iter().enumerate() {
         let y = 60 + 22 * k as i32;
-        area.draw(&PathElement::new(
-            vec![(8, y), (32, y)],
-            color.stroke_width(3),
-        ))?;
+        let (line, marker) = match key {
+            Key::Line(color) => (Some(*color), None),
+            Key::Marker(style) => (None, Some(style)),
+            Key::LineMarker(style) => (Some(style.color), Some(style)),
+        };
+        if let Some(color) = line {
+            area.draw(&PathElement::new(
+                vec![(8, y), (32, y)],
+                color.stroke_width(3),
+            ))?;
+        }
+        if let Some(style) = marker {
+            let at = (f64::from(left + 20), f64::from(top + y));
+            overlay.markers(
+                style.shape,
+                Some((style.color, 1.0)),
+                Some((WHITE, 1.0)),
+                [(at, 5.0)],
+            );
+        }
         area.draw(&Text::new(
             label.clone(),
             (40, y - 7),
@@ -918,6 +953,19 @@ fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
     }
     Ok(())
 }
+
+/// Points a curve of `n` trials is drawn through: at most [`CURVE_POINTS`], evenly
+/// spaced, the first and the last always (a moving average of
+/// [`MOVING_AVERAGE_WINDOW`] changes little from one trial to the next).
+fn thinned(n: usize) -> impl Iterator<Item = usize> {
+    let step = n.div_ceil(CURVE_POINTS).max(1);
+    (0..n)
+        .step_by(step)
+        .chain((n > 0 && (n - 1) % step != 0).then(|| n - 1))
+}
+
+/// At most this many points per learning curve (and one more: the last).
+const CURVE_POINTS: usize = 200;
 
 /// The 95% confidence band of the moving average: mean ± t * sd / sqrt(n) over the same
 /// window, per trial.
@@ -931,7 +979,15 @@ fn moving_band(values: &[f64], window: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
+/// The learning curves of an experiment: each arm's moving average of behaviors
+/// evaluated with its 95% band, and each trial's count as a faint dot when `dots` (the
+/// SVG file has them, the page does not: they are most of its weight).
+fn learning_curves(
+    area: &Area<'_>,
+    overlay: &mut Overlay,
+    e: &ReportEntry<'_>,
+    dots: bool,
+) -> DrawResult {
     let trials = e.result.trials().max(1) as u32;
     let top = e
         .result
@@ -951,55 +1007,80 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(0u32..trials, (0.8f64..top * 1.2).log_scale())?;
+        .build_cartesian_2d(
+            0u32..trials,
+            (0.8f64..top * 1.2)
+                .log_scale()
+                .with_key_points(log_ticks(0.8, top * 1.2, 400)),
+        )?;
     chart
         .configure_mesh()
         .light_line_style(TRANSPARENT)
         .x_desc("trial (in order; the case base grows)")
         .y_desc("behaviors evaluated (log scale)")
-        .y_label_formatter(&integer_label)
+        .y_label_formatter(&tick_label)
         .draw()?;
-    let mut entries = Vec::new();
-    for (index, s) in e.result.arms.iter().enumerate() {
-        let color = arm_color(index);
+    let names: Vec<&str> = e.result.arms.iter().map(|a| a.name.as_str()).collect();
+    let styles: Vec<ArmStyle> = names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| arm_style(name, i))
+        .collect();
+    for index in drawing_order(&names) {
+        let (s, style) = (&e.result.arms[index], styles[index]);
+        let color = style.color;
         let counts = s.counts();
-        chart.draw_series(
-            counts
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.25).filled())),
-        )?;
-        let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
-        let outline: Vec<(u32, f64)> = band
-            .iter()
-            .enumerate()
-            .map(|(i, &(_, high))| (i as u32, high.max(0.8)))
-            .chain(
-                band.iter()
+        if dots {
+            chart.draw_series(
+                counts
+                    .iter()
                     .enumerate()
-                    .rev()
-                    .map(|(i, &(low, _))| (i as u32, low.max(0.8))),
-            )
+                    .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.25).filled())),
+            )?;
+        }
+        let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
+        let kept: Vec<usize> = thinned(band.len()).collect();
+        let outline: Vec<(u32, f64)> = kept
+            .iter()
+            .map(|&i| (i as u32, band[i].1.max(0.8)))
+            .chain(kept.iter().rev().map(|&i| (i as u32, band[i].0.max(0.8))))
             .collect();
         chart.draw_series(std::iter::once(Polygon::new(
             outline,
             color.mix(0.18).filled(),
         )))?;
+        let average = moving_average(&counts, MOVING_AVERAGE_WINDOW);
         chart.draw_series(LineSeries::new(
-            moving_average(&counts, MOVING_AVERAGE_WINDOW)
-                .into_iter()
-                .enumerate()
-                .map(|(i, m)| (i as u32, m)),
+            thinned(average.len()).map(|i| (i as u32, average[i])),
             color.stroke_width(3),
         ))?;
-        entries.push((s.name.clone(), color));
+        // The arm's marker on its line at eight places, staggered by arm so that markers
+        // of lines that run together do not hide each other.
+        let stagger = trials as usize / (8 * names.len().max(1));
+        overlay.markers(
+            style.shape,
+            Some((color, 1.0)),
+            Some((WHITE, 1.0)),
+            (0..8)
+                .map(|k| k * trials as usize / 8 + index * stagger)
+                .filter_map(|i| average.get(i).map(|&m| (i, m)))
+                .map(|(i, m)| {
+                    let (x, y) = chart.backend_coord(&(i as u32, m));
+                    ((f64::from(x), f64::from(y)), 4.5)
+                }),
+        );
     }
     side.draw(&Text::new(
         format!("moving average of {MOVING_AVERAGE_WINDOW}, 95% CI band"),
         (8, 30),
         ("sans-serif", 12).into_font(),
     ))?;
-    legend(&side, &entries)
+    let entries: Vec<(String, Key)> = names
+        .iter()
+        .zip(&styles)
+        .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
+        .collect();
+    legend(&side, overlay, &entries)
 }
 
 /// Every experiment and arm at once: mean behaviors evaluated with its 95% confidence
@@ -1070,6 +1151,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
 
 fn summary_figure(
     area: &Area<'_>,
+    overlay: &mut Overlay,
     entries: &[ReportEntry<'_>],
     metric: SummaryMetric,
 ) -> DrawResult {
@@ -1108,7 +1190,9 @@ fn summary_figure(
         .y_label_area_size(60)
         .build_cartesian_2d(
             -0.5..names.len() as f64 - 0.5,
-            (bottom * 0.8..top * 1.3).log_scale(),
+            (bottom * 0.8..top * 1.3)
+                .log_scale()
+                .with_key_points(log_ticks(bottom * 0.8, top * 1.3, 420)),
         )?;
     let label = category_label(&names);
     chart
@@ -1119,11 +1203,21 @@ fn summary_figure(
         .x_label_formatter(&label)
         .x_label_style(("sans-serif", 11))
         .y_desc(metric.axis)
-        .y_label_formatter(&integer_label)
+        .y_label_formatter(&tick_label)
         .draw()?;
     let mut legend_entries = Vec::new();
+    let arm_names: Vec<&str> = entries
+        .first()
+        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .unwrap_or_default();
     for a in 0..arms {
-        let color = arm_color(a);
+        if let Some(name) = arm_names.get(a) {
+            legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name, a))));
+        }
+    }
+    for a in drawing_order(&arm_names) {
+        let style = arm_style(arm_names[a], a);
+        let color = style.color;
         let offset = (a as f64 + 0.5) / arms as f64 * 0.7 - 0.35;
         let points: Vec<(f64, MeanCi)> = entries
             .iter()
@@ -1144,14 +1238,15 @@ fn summary_figure(
                 color.stroke_width(2),
             )
         }))?;
-        chart.draw_series(
-            points
-                .iter()
-                .map(|&(x, m)| Circle::new((x, m.mean), 4, color.filled())),
-        )?;
-        if let Some(arm) = entries.first().and_then(|e| e.result.arms.get(a)) {
-            legend_entries.push((arm.name.clone(), color));
-        }
+        overlay.markers(
+            style.shape,
+            Some((color, 1.0)),
+            Some((WHITE, 1.0)),
+            points.iter().map(|&(x, m)| {
+                let (x, y) = chart.backend_coord(&(x, m.mean));
+                ((f64::from(x), f64::from(y)), 4.5)
+            }),
+        );
     }
     // The known-operator limit: a black bar across each experiment's arms.
     let limits: Vec<(f64, f64)> = entries
@@ -1163,9 +1258,9 @@ fn summary_figure(
         chart.draw_series(limits.iter().map(|&(x, y)| {
             PathElement::new(vec![(x - 0.42, y), (x + 0.42, y)], BLACK.stroke_width(2))
         }))?;
-        legend_entries.push(("known-operator limit".to_owned(), BLACK));
+        legend_entries.push(("known-operator limit".to_owned(), Key::Line(BLACK)));
     }
-    legend(&side, &legend_entries)
+    legend(&side, overlay, &legend_entries)
 }
 
 /// The layout of a final-behaviors figure: a title band with the subtitle's lines, then
@@ -1255,11 +1350,14 @@ fn count_key(most: u32) -> Vec<u32> {
     key
 }
 
+/// The smallest marker's radius (px), so that one trial shows.
+const SMALLEST_MARKER: f64 = 1.0;
+
 /// The radius (px) of the marker of `count` trials when the most in one cell is `most`
 /// and the largest marker has radius `largest`: area in proportion to the count, at
-/// least 2 px so that one trial shows.
+/// least [`SMALLEST_MARKER`].
 fn marker_radius(count: u32, most: u32, largest: f64) -> f64 {
-    (largest * (f64::from(count) / f64::from(most.max(1))).sqrt()).max(2.0)
+    (largest * (f64::from(count) / f64::from(most.max(1))).sqrt()).max(SMALLEST_MARKER)
 }
 
 /// Where each arm's final behaviors land over components `x` and `y`: one panel per arm,
@@ -1268,10 +1366,12 @@ fn marker_radius(count: u32, most: u32, largest: f64) -> f64 {
 /// outlined; the colour bar and both keys right of the panels.
 fn final_behaviors(
     area: &Area<'_>,
+    overlay: &mut Overlay,
     e: &ReportEntry<'_>,
     (x, y): (usize, usize),
     grid: Option<&Grid>,
     layout: &FinalsLayout,
+    id: &str,
 ) -> DrawResult {
     let components = e.space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
@@ -1296,8 +1396,10 @@ fn final_behaviors(
         .unwrap_or(0)
         .max(1);
     let title = format!(
-        "{}: final behaviors of every arm ({} trials each)",
+        "{}: final behaviors of every arm by {} and {} ({} trials each)",
         e.result.name,
+        components[x].name,
+        components[y].name,
         e.result.trials()
     );
     area.draw(&Text::new(title, (10, 8), ("sans-serif", 21).into_font()))?;
@@ -1317,22 +1419,26 @@ fn final_behaviors(
     let panels = panels_area.split_evenly((layout.rows, layout.columns));
     let mut largest = 0.0;
     for (panel, (arm, counts)) in panels.iter().zip(e.result.arms.iter().zip(&all_counts)) {
-        let mut chart = heatmap::panel(panel, e.space, (x, y), grid, &arm.name, false)?;
+        let chart = heatmap::panel(panel, overlay, e.space, (x, y), grid, &arm.name, false, id)?;
         let (width, height) = chart.plotting_area().dim_in_pixel();
         let cell = (f64::from(width) / nx as f64).min(f64::from(height) / ny as f64);
         largest = 0.48 * cell;
-        // A light disc under a dark ring, readable on every colour of the scale.
-        for style in [WHITE.mix(0.85).filled(), BLACK.stroke_width(1)] {
-            chart.draw_series(
-                (0..nx)
-                    .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                    .filter(|&(i, j)| counts[i * ny + j] > 0)
-                    .map(|(i, j)| {
-                        let r = marker_radius(counts[i * ny + j], most, largest);
-                        Circle::new((i as f64, j as f64), r, style)
-                    }),
-            )?;
-        }
+        // A light disc in a dark ring, readable on every colour of the scale.
+        overlay.markers(
+            Shape::Circle,
+            Some((WHITE, 0.85)),
+            Some((BLACK, 1.0)),
+            (0..nx)
+                .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                .filter(|&(i, j)| counts[i * ny + j] > 0)
+                .map(|(i, j)| {
+                    let (px, py) = chart.backend_coord(&(i as f64, j as f64));
+                    (
+                        (f64::from(px), f64::from(py)),
+                        marker_radius(counts[i * ny + j], most, largest),
+                    )
+                }),
+        );
     }
     let mut top = 10;
     if grid.is_some() {
@@ -1340,16 +1446,26 @@ fn final_behaviors(
         top += heatmap::color_key_height() + 20;
     }
     key_area.draw(&Text::new(
-        "final behaviors",
+        "trials ending there",
         (10, top),
         ("sans-serif", 14).into_font(),
     ))?;
-    top += 22;
+    key_area.draw(&Text::new(
+        "(marker area in proportion)",
+        (10, top + 17),
+        ("sans-serif", 12).into_font(),
+    ))?;
+    top += 40;
+    let (left, base) = key_area.get_base_pixel();
     for count in count_key(most) {
         let r = marker_radius(count, most, largest);
         let cy = top + r.ceil() as i32;
-        key_area.draw(&Circle::new((19, cy), r, WHITE.filled()))?;
-        key_area.draw(&Circle::new((19, cy), r, BLACK.stroke_width(1)))?;
+        overlay.markers(
+            Shape::Circle,
+            Some((WHITE, 1.0)),
+            Some((BLACK, 1.0)),
+            [((f64::from(left + 19), f64::from(base + cy)), r)],
+        );
         let label = if count == 1 {
             "1 trial".to_owned()
         } else {
@@ -1379,16 +1495,28 @@ mod tests {
     }
 
     #[test]
+    fn curves_are_thinned_to_about_200_points() {
+        assert_eq!(thinned(3).collect::<Vec<_>>(), [0, 1, 2]);
+        let points: Vec<usize> = thinned(500).collect();
+        assert_eq!(
+            (points.len(), points[1], points.last()),
+            (168, 3, Some(&499))
+        );
+        assert_eq!(thinned(0).count(), 0);
+    }
+
+    #[test]
     fn count_keys_are_round_integers() {
         assert_eq!(count_key(1), [1]);
         assert_eq!(count_key(3), [1, 3]);
         assert_eq!(count_key(37), [1, 5, 37]);
         assert_eq!(count_key(120), [1, 20, 120]);
         assert_eq!(count_key(500), [1, 100, 500]);
-        // Area in proportion to the count, never below 1.5 px.
+        // Area in proportion to the count, never below 1 px; 1 and 20 trials differ.
         assert_eq!(marker_radius(100, 100, 7.0), 7.0);
         assert_eq!(marker_radius(25, 100, 8.0), 4.0);
-        assert_eq!(marker_radius(1, 500, 7.0), 2.0);
+        assert_eq!(marker_radius(1, 500, 7.0), 1.0);
+        assert!(marker_radius(20, 300, 6.0) > marker_radius(1, 300, 6.0) + 0.5);
     }
 
     #[test]
