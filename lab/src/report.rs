@@ -12,9 +12,11 @@ use crate::plot::{
     Area, ArmStyle, DrawResult, Overlay, PlotError, Shape, arm_style, drawing_order, log_ticks,
     svg, svg_with, tick_label, wrap,
 };
-use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, TrialRecord};
+use crate::runner::{
+    ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, PairedTests, TrialRecord,
+};
 use crate::seeds::{Purpose, stream_seed};
-use crate::stats::{MeanCi, mean_ci95};
+use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
@@ -45,6 +47,32 @@ pub struct ReportEntry<'a> {
     pub limit: Option<&'a ExperimentLimit>,
     /// A sample trial traced command by command ([`crate::timeline`]), when traced.
     pub timeline: Option<&'a Timeline>,
+    /// The arm every other arm is tested against (p-values); when it is not among the
+    /// arms, no arm is tested.
+    pub reference: &'a str,
+}
+
+/// Each arm of `e` against its reference arm ([`ReportEntry::reference`]): paired tests
+/// of the behaviors evaluated per trial; `None` for the reference itself, and for every
+/// arm when the reference is not among them.
+pub fn versus_reference(e: &ReportEntry<'_>) -> Vec<Option<PairedTests>> {
+    let Some(reference) = e.result.arm(e.reference) else {
+        return vec![None; e.result.arms.len()];
+    };
+    let base = reference.counts();
+    e.result
+        .arms
+        .iter()
+        .map(|arm| {
+            (arm.name != reference.name).then(|| {
+                let counts = arm.counts();
+                PairedTests {
+                    t_test_p: paired_t_test(&base, &counts).unwrap_or(1.0),
+                    wilcoxon_p: wilcoxon_signed_rank(&base, &counts).unwrap_or(1.0),
+                }
+            })
+        })
+        .collect()
 }
 
 pub use crate::plot::category_label;
@@ -199,24 +227,25 @@ pub fn best_arms(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
-/// Every arm of every experiment: what it costs the operator, and the paired tests
-/// against the experiment's first arm.
+/// Every arm of every experiment: what it costs the operator, and the paired tests of
+/// its behaviors evaluated against the experiment's reference arm (marked).
 pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::from(
-        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p | Wilcoxon p |\n",
+        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p vs reference | Wilcoxon p vs reference |\n",
     );
     out.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for e in entries {
-        for arm in &e.result.arms {
-            let (t, w) = arm
-                .versus_first
-                .map_or(("—".to_owned(), "—".to_owned()), |p| {
-                    (format_p(p.t_test_p), format_p(p.wilcoxon_p))
-                });
-            let started = match arm.starting_cases {
+        for (arm, tests) in e.result.arms.iter().zip(versus_reference(e)) {
+            let (t, w) = tests.map_or(("—".to_owned(), "—".to_owned()), |p| {
+                (format_p(p.t_test_p), format_p(p.wilcoxon_p))
+            });
+            let mut started = match arm.starting_cases {
                 0 => String::new(),
                 n => format!(" (from {n} saved)"),
             };
+            if arm.name == e.reference {
+                started.push_str(" (reference)");
+            }
             let _ = writeln!(
                 out,
                 "| {} | {}{started} | {} | {} | {} | {:.1}% ± {:.1} | {} | {} | {t} | {w} |",
@@ -425,8 +454,10 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
         .iter()
         .map(|e| {
             let mut strategies = Map::new();
-            for arm in &e.result.arms {
+            for (arm, tests) in e.result.arms.iter().zip(versus_reference(e)) {
                 let mut summary = arm_summary(arm);
+                summary["t_test_p_vs_reference"] = json!(tests.map(|t| t.t_test_p));
+                summary["wilcoxon_p_vs_reference"] = json!(tests.map(|t| t.wilcoxon_p));
                 if let Some(limit) = e.limit {
                     let [b, c, u] = ratios(arm, &limit.limit.paper);
                     summary["ratio_to_limit"] = json!({
@@ -467,6 +498,7 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
                 "operator": e.operator,
                 "trials": e.result.trials(),
                 "arms": e.result.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>(),
+                "reference": e.reference,
                 "p_value": e.result.arms.get(1).and_then(|a| a.versus_first).map_or(1.0, |t| t.t_test_p),
                 "strategies": strategies,
                 "limit": limit,
@@ -667,7 +699,18 @@ pub fn write_report(
             summary_figure(area, overlay, entries, metric)
         })?;
         write(&name, &summary_svg)?;
-        figures.push(Figure::new("summary", summary_svg, String::new()));
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            summary_svg,
+            format!(
+                "{}: the mean per trial of each arm (its marker, offset within its \
+                 experiment; key at the right) with its 95% confidence interval (the vertical \
+                 line), one column per experiment, on a log axis (lower is better). The black \
+                 bar is the known-operator limit: an agent that knows the operator's outcome \
+                 distribution of every behavior, starting from a random behavior as the arms do.",
+                metric.what
+            ),
+        ));
     }
     for (e, stem) in entries
         .iter()
@@ -680,7 +723,18 @@ pub fn write_report(
             })
         };
         write(&name, &curves(true)?)?;
-        figures.push(Figure::new(&e.result.name, curves(false)?, String::new()));
+        figures.push(Figure::new(
+            &e.result.name,
+            curves(false)?,
+            format!(
+                "Behaviors evaluated in each trial, trials in order: the moving average over \
+                 {MOVING_AVERAGE_WINDOW} trials (the line, with the arm's marker at eight places) \
+                 and its 95% band, on a log axis (lower is better). An arm that learns across \
+                 trials (a growing case base, a searcher's memory) falls as trials go on; one \
+                 that does not stays level. Each trial's count is a dot in \
+                 <code>{name}</code> and a line of <code>trials.jsonl</code>."
+            ),
+        ));
         if let Some(timeline) = e.timeline {
             let name = format!("timeline-{stem}.svg");
             let switches = timeline
@@ -726,7 +780,11 @@ pub fn write_report(
                 final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
             })?;
             write(&name, &finals)?;
-            figures.push(Figure::new(&e.result.name, finals, String::new()));
+            figures.push(Figure::new(
+                &e.result.name,
+                finals,
+                finals_caption(e, (x, y), grid.as_ref()),
+            ));
         }
     }
     write(
@@ -736,7 +794,7 @@ pub fn write_report(
     Ok(written)
 }
 
-/// A figure of the page: its section, its SVG text and its caption (HTML, may be empty).
+/// A figure of the page: its section, its SVG text and its caption (HTML).
 struct Figure {
     section: String,
     svg: String,
@@ -782,7 +840,8 @@ fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A Markdown table as made by [`table`] and [`arms_table`], as an HTML table.
+/// A Markdown table as made by [`table`] and [`arms_table`], as an HTML table in a
+/// container that scrolls sideways when the table is wider than the screen.
 fn html_table(markdown: &str) -> String {
     let cells = |line: &str| -> Vec<String> {
         line.trim()
@@ -792,7 +851,7 @@ fn html_table(markdown: &str) -> String {
             .collect()
     };
     let mut lines = markdown.lines().filter(|l| l.starts_with('|'));
-    let mut html = String::from("<table>\n<thead><tr>");
+    let mut html = String::from("<div class=\"scroll\">\n<table>\n<thead><tr>");
     if let Some(header) = lines.next() {
         for c in cells(header) {
             let _ = write!(html, "<th>{c}</th>");
@@ -806,20 +865,193 @@ fn html_table(markdown: &str) -> String {
         }
         html.push_str("</tr>\n");
     }
-    html.push_str("</tbody>\n</table>\n");
+    html.push_str("</tbody>\n</table>\n</div>\n");
     html
 }
 
-/// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched) with the
-/// tables, the figures (the same SVG text as the files), the config and the provenance.
+/// What the tables' columns mean, one line each.
+const METRICS: [(&str, &str); 9] = [
+    (
+        "Behaviors evaluated",
+        "behaviors the robot tried in a trial before settling on one the operator trusts (the paper's metric; lower is better)",
+    ),
+    (
+        "Commands",
+        "commands the operator gave in a trial until it ended",
+    ),
+    (
+        "Untrustworthy commands",
+        "commands that failed or that the operator interrupted: what the operator endured",
+    ),
+    (
+        "Found trustworthy",
+        "share of trials that ended on a behavior whose trust estimate reached the trustworthy threshold",
+    ),
+    (
+        "Cases acquired",
+        "cases retained over the experiment (an arm that reuses cases reads them in later trials)",
+    ),
+    (
+        "Cut off",
+        "trials stopped by the suite's <code>max_commands</code> before they ended",
+    ),
+    (
+        "Mean ± CI",
+        "the mean over trials and the half-width of its 95% confidence interval",
+    ),
+    (
+        "t-test p, Wilcoxon p",
+        "two-sided p-values of the paired t-test and the Wilcoxon signed-rank test of behaviors evaluated, trial by trial, against the reference arm",
+    ),
+    (
+        "Known-operator limit",
+        "the cost of an agent that knows every behavior's outcome distribution under the operator and tries them in the best order: no arm can do better on average",
+    ),
+];
+
+/// The glossary: each arm of the report in one line, then the metrics.
+fn glossary(entries: &[ReportEntry<'_>]) -> String {
+    let mut html = String::from("<h3>Arms</h3>\n<dl>\n");
+    let mut seen: Vec<&str> = Vec::new();
+    for arm in entries.iter().flat_map(|e| &e.result.arms) {
+        if seen.contains(&arm.name.as_str()) {
+            continue;
+        }
+        seen.push(&arm.name);
+        let what = crate::arm::describe(&arm.name).unwrap_or(if arm.reuses_cases {
+            "an arm of the catalog's own that reuses cases"
+        } else {
+            "an arm of the catalog's own"
+        });
+        let _ = writeln!(
+            html,
+            "<dt><code>{}</code></dt><dd>{}</dd>",
+            escape(&arm.name),
+            escape(what)
+        );
+    }
+    html.push_str("</dl>\n<h3>Metrics</h3>\n<dl>\n");
+    for (name, what) in METRICS {
+        let _ = writeln!(html, "<dt>{name}</dt><dd>{what}</dd>");
+    }
+    html.push_str("</dl>\n");
+    html
+}
+
+/// The page's style: readable at 800 px, tables scroll sideways in their container,
+/// numbers never wrap.
+const STYLE: &str = "body { font-family: sans-serif; margin: 2em auto; padding: 0 1em; max-width: 1300px; color: #222; }
+table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
+.scroll { overflow-x: auto; }
+th, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }
+th { background: #eee; }
+td { text-align: right; white-space: nowrap; }
+td:first-child, td:nth-child(2) { text-align: left; white-space: normal; }
+figure { margin: 1em 0 2em; }
+figure svg { max-width: 100%; height: auto; }
+figcaption { max-width: 60em; color: #333; }
+dt { font-weight: bold; margin-top: 0.4em; }
+code { overflow-wrap: anywhere; }
+pre { background: #f6f6f6; padding: 1em; overflow-x: auto; }
+";
+
+/// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched): a
+/// contents list, the glossary, the tables, the figures (the same SVG text as the files,
+/// but the learning curves without their per-trial dots) each with a caption, the config
+/// and the provenance.
 fn html_page(
     entries: &[ReportEntry<'_>],
     config_ron: &str,
     provenance: &Provenance,
     figures: &[Figure],
 ) -> String {
-    let mut page = String::from(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>trustcbr report</title>\n<style>\nbody { font-family: sans-serif; margin: 2em auto; max-width: 1300px; color: #222; }\ntable { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }\nth, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }\nth { background: #eee; }\ntd { text-align: right; }\ntd:first-child, td:nth-child(2) { text-align: left; }\nfigure { margin: 1em 0; }\nfigure svg { max-width: 100%; height: auto; }\npre { background: #f6f6f6; padding: 1em; overflow-x: auto; }\n</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n",
+    // The sections, in order: (id, title, HTML).
+    let mut sections: Vec<(String, String, String)> = Vec::new();
+    let mut section = |id: &str, title: &str, html: String| {
+        sections.push((id.to_owned(), title.to_owned(), html));
+    };
+    section("glossary", "Arms and metrics", glossary(entries));
+    section(
+        "paper",
+        "Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms",
+        html_table(&table(entries)),
+    );
+    let reference = entries.first().map_or("", |e| e.reference);
+    section(
+        "arms",
+        "Every arm: what it costs the operator",
+        format!(
+            "<p>p-values test each arm's behaviors evaluated against the reference arm, \
+             <code>{}</code> (the suite's <code>reference</code>), trial by trial.</p>\n{}",
+            escape(reference),
+            html_table(&arms_table(entries))
+        ),
+    );
+    let limits = limit_table(entries);
+    if !limits.is_empty() {
+        section(
+            "limit",
+            "Against the known-operator limit (the paper's protocol: a random first behavior)",
+            html_table(&limits),
+        );
+        section(
+            "population",
+            "How much each experiment's operators disagree (their trustworthy regions)",
+            html_table(&population_table(entries)),
+        );
+    }
+    let mut explanations = format!(
+        "<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
+        html_table(&explanations_table(entries))
+    );
+    for e in entries {
+        let _ = writeln!(
+            explanations,
+            "<details><summary>Sample explanations: {}</summary><ul>",
+            escape(&e.result.name)
+        );
+        for (arm, samples) in sample_explanations(e) {
+            for sample in samples {
+                let _ = writeln!(
+                    explanations,
+                    "<li><b>{}</b>, {}</li>",
+                    escape(&arm),
+                    escape(&sample)
+                );
+            }
+        }
+        explanations.push_str("</ul></details>\n");
+    }
+    section(
+        "explanations",
+        "Explanations against the truth",
+        explanations,
+    );
+    let mut titles: Vec<&str> = Vec::new();
+    for figure in figures {
+        if !titles.contains(&figure.section.as_str()) {
+            titles.push(&figure.section);
+        }
+    }
+    for (title, stem) in titles.iter().zip(file_stems(&titles)) {
+        let mut html = String::new();
+        for figure in figures.iter().filter(|f| f.section == *title) {
+            let _ = write!(
+                html,
+                "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+                figure.svg, figure.caption
+            );
+        }
+        section(&format!("figures-{stem}"), title, html);
+    }
+    section(
+        "config",
+        "Config",
+        format!("<pre>{}</pre>\n", escape(config_ron)),
+    );
+
+    let mut page = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>trustcbr report</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n"
     );
     let _ = writeln!(
         page,
@@ -835,61 +1067,15 @@ fn html_page(
             )),
         escape(&provenance.command_line.join(" "))
     );
-    let _ = write!(
-        page,
-        "<h2>Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms</h2>\n{}<h2>Every arm: what it costs the operator</h2>\n{}",
-        html_table(&table(entries)),
-        html_table(&arms_table(entries))
-    );
-    let limits = limit_table(entries);
-    if !limits.is_empty() {
-        let _ = write!(
-            page,
-            "<h2>Against the known-operator limit (the paper's protocol: a random first behavior)</h2>\n{}<h2>How much each experiment's operators disagree (their trustworthy regions)</h2>\n{}",
-            html_table(&limits),
-            html_table(&population_table(entries))
-        );
+    page.push_str("<nav>\n<h2>Contents</h2>\n<ul>\n");
+    for (id, title, _) in &sections {
+        let _ = writeln!(page, "<li><a href=\"#{id}\">{}</a></li>", escape(title));
     }
-    let _ = write!(
-        page,
-        "<h2>Explanations against the truth</h2>\n<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
-        html_table(&explanations_table(entries))
-    );
-    for e in entries {
-        let _ = writeln!(
-            page,
-            "<details><summary>Sample explanations: {}</summary><ul>",
-            escape(&e.result.name)
-        );
-        for (arm, samples) in sample_explanations(e) {
-            for sample in samples {
-                let _ = writeln!(
-                    page,
-                    "<li><b>{}</b>, {}</li>",
-                    escape(&arm),
-                    escape(&sample)
-                );
-            }
-        }
-        page.push_str("</ul></details>\n");
+    page.push_str("</ul>\n</nav>\n");
+    for (id, title, html) in &sections {
+        let _ = write!(page, "<h2 id=\"{id}\">{}</h2>\n{html}", escape(title));
     }
-    let mut current = "";
-    for figure in figures {
-        if figure.section != current {
-            let _ = writeln!(page, "<h2>{}</h2>", escape(&figure.section));
-            current = &figure.section;
-        }
-        let _ = write!(page, "<figure>\n{}\n", figure.svg);
-        if !figure.caption.is_empty() {
-            let _ = writeln!(page, "<figcaption>{}</figcaption>", figure.caption);
-        }
-        page.push_str("</figure>\n");
-    }
-    let _ = write!(
-        page,
-        "<h2>Config</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        escape(config_ron)
-    );
+    page.push_str("</body>\n</html>\n");
     page
 }
 
@@ -1115,6 +1301,8 @@ struct SummaryMetric {
     stem: &'static str,
     /// The figure's title.
     title: &'static str,
+    /// What it measures, for its caption.
+    what: &'static str,
     /// The y axis's title.
     axis: &'static str,
     /// The arm's mean and CI.
@@ -1129,6 +1317,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary",
         title: "Behaviors evaluated per trial: every experiment and arm (mean, 95% CI)",
+        what: "Behaviors evaluated per trial (the paper's metric)",
         axis: "behaviors evaluated (log scale)",
         arm: |a| a.behaviors,
         limit: |c| c.behaviors,
@@ -1136,6 +1325,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary-commands",
         title: "Commands per trial: every experiment and arm (mean, 95% CI)",
+        what: "Commands per trial (how long the operator waited for a trustworthy behavior)",
         axis: "commands (log scale)",
         arm: |a| a.commands,
         limit: |c| c.commands,
@@ -1143,6 +1333,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary-untrustworthy",
         title: "Untrustworthy commands per trial: every experiment and arm (mean, 95% CI)",
+        what: "Untrustworthy commands per trial (commands that failed or that the operator interrupted)",
         axis: "untrustworthy commands (log scale)",
         arm: |a| a.untrustworthy,
         limit: |c| c.untrustworthy,
@@ -1298,6 +1489,45 @@ impl FinalsLayout {
             self.header() + Self::PANEL.1 * self.rows as u32,
         )
     }
+}
+
+/// How to read a final-behaviors figure over components `x` and `y`, and why it is empty
+/// of trustworthy cells when it is.
+fn finals_caption(e: &ReportEntry<'_>, (x, y): (usize, usize), grid: Option<&Grid>) -> String {
+    let components = e.space.components();
+    let mut caption = format!(
+        "Where each arm's trials ended: one panel per arm, each cell a setting of {} \
+         (across) and {} (up){}. ",
+        escape(&components[x].name),
+        escape(&components[y].name),
+        if components.len() > 2 {
+            ", the other components pooled"
+        } else {
+            ""
+        }
+    );
+    match grid {
+        Some(grid) => {
+            caption.push_str(
+                "The colour is the chance that the operator lets a command with that setting \
+                 complete (dark: rarely, yellow: almost always); the outlined cells are the \
+                 trustworthy region, where the trust estimate is expected to climb. ",
+            );
+            if !grid.tallies.iter().any(|t| t.trusted_on_average()) {
+                caption.push_str(
+                    "No cell of this pair is trustworthy on average over the other \
+                     components: whether a setting of these two is trusted depends on the \
+                     others, so the panels show where trials ended, not a region to find. ",
+                );
+            }
+        }
+        None => caption.push_str("No landscape of the operator was estimated. "),
+    }
+    caption.push_str(
+        "A marker's area is in proportion to the trials that ended in its cell (the key at \
+         the right gives sizes); a good arm ends its trials inside the outline.",
+    );
+    caption
 }
 
 /// What the colour and the circles of a final-behaviors figure show.
