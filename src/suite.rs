@@ -946,6 +946,7 @@ fn entries<'a>(
                 .map_or(&spec.operator, |population| &population.name),
             space,
             reference: config.reference(),
+            seed: config.seed,
         })
         .collect()
 }

@@ -365,7 +365,7 @@ fn the_printed_tables_fit_a_terminal() {
     assert!(
         std::fs::read_to_string(out.join("table.md"))
             .unwrap()
-            .contains("| Wilcoxon p |")
+            .contains("| Wilcoxon p vs reference |")
     );
 }
 

@@ -48,22 +48,39 @@ pub fn label_areas(space: &BehaviorSpace, y: usize) -> (u32, u32) {
     )
 }
 
-/// Draws the heatmap panel of components `x` (across) and `y` (up) on `area`: `caption` on
-/// top, the cells of `grid` coloured (none without one), the trustworthy region outlined,
-/// each cell's completion probability written in it when `write_values`; the cells, the
-/// outline and the values go into `overlay`, as group `id` (drawn once, referred to by
-/// the next panels of the same id: they must show the same grid). Returns the chart, to
-/// place what goes on top of it.
+/// How a heatmap panel is drawn.
+#[derive(Clone, Copy, Debug)]
+pub struct PanelStyle<'s> {
+    /// The title on top (none when empty).
+    pub caption: &'s str,
+    /// Whether each cell's completion probability is written in it.
+    pub write_values: bool,
+    /// The id of the group of cells and outline in the overlay: drawn once, referred to
+    /// by the next panels of the same id (they must show the same grid).
+    pub id: &'s str,
+    /// Whether the axes across and up have ticks and tick labels (panels of one figure
+    /// label only the outer ones).
+    pub ticks: (bool, bool),
+}
+
+/// Draws the heatmap panel of components `x` (across) and `y` (up) on `area`: the
+/// caption on top, the cells of `grid` coloured (none without one), the trustworthy
+/// region outlined, the values written in when the style says so; the cells, the outline
+/// and the values go into `overlay`. Returns the chart, to place what goes on top of it.
 pub fn panel<'a, 'b>(
     area: &'a Area<'b>,
     overlay: &mut Overlay,
     space: &BehaviorSpace,
     (x, y): (usize, usize),
     grid: Option<&Grid>,
-    caption: &str,
-    write_values: bool,
-    id: &str,
+    style: PanelStyle<'_>,
 ) -> Result<CellChart<'a, 'b>, Box<dyn std::error::Error + 'static>> {
+    let PanelStyle {
+        caption,
+        write_values,
+        id,
+        ticks,
+    } = style;
     let components = space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
     let (left, bottom) = label_areas(space, y);
@@ -105,8 +122,8 @@ pub fn panel<'a, 'b>(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_labels(nx + 1)
-        .y_labels(ny + 1)
+        .x_labels(if ticks.0 { nx + 1 } else { 0 })
+        .y_labels(if ticks.1 { ny + 1 } else { 0 })
         .x_desc(x_title)
         .y_desc(y_title)
         .x_label_formatter(&x_label)
@@ -285,16 +302,13 @@ pub fn landscape_svg(
         let (_, body) = root.split_vertically(header);
         let (chart_area, key_area) = body.split_horizontally(chart_width);
         let (chart_area, _) = chart_area.split_vertically(chart_height);
-        panel(
-            &chart_area,
-            overlay,
-            space,
-            (x, y),
-            Some(&grid),
-            "",
-            true,
-            "landscape",
-        )?;
+        let style = PanelStyle {
+            caption: "",
+            write_values: true,
+            id: "landscape",
+            ticks: (true, true),
+        };
+        panel(&chart_area, overlay, space, (x, y), Some(&grid), style)?;
         color_key(&key_area, caption as i32)?;
         Ok(())
     })?)

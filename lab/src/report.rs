@@ -15,8 +15,10 @@ use crate::plot::{
 use crate::runner::{
     ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, PairedTests, TrialRecord,
 };
-use crate::seeds::{Purpose, stream_seed};
-use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
+use crate::seeds::{Purpose, stream, stream_seed};
+use crate::stats::{
+    MeanCi, RatioCi, mean_ci95, paired_bootstrap_ratio, paired_t_test, wilcoxon_signed_rank,
+};
 use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
@@ -47,9 +49,61 @@ pub struct ReportEntry<'a> {
     pub limit: Option<&'a ExperimentLimit>,
     /// A sample trial traced command by command ([`crate::timeline`]), when traced.
     pub timeline: Option<&'a Timeline>,
-    /// The arm every other arm is tested against (p-values); when it is not among the
-    /// arms, no arm is tested.
+    /// The arm every other arm is tested against (p-values) and measured against (effect
+    /// sizes); when it is not among the arms, no arm is.
     pub reference: &'a str,
+    /// The master seed of the experiments, from which the effect sizes' bootstrap
+    /// streams derive ([`Purpose::Bootstrap`]).
+    pub seed: u64,
+}
+
+/// Resamples of the paired bootstrap of an effect size.
+const BOOTSTRAP_RESAMPLES: usize = 2000;
+
+/// Each arm's effect size in experiment number `experiment` (its place in the report):
+/// its mean behaviors evaluated as a ratio to the reference arm's, with the paired
+/// bootstrap's 95% interval (arm `a` resampled from stream `(seed, experiment, a,
+/// Bootstrap)`); `None` for the reference itself, and for every arm when the reference
+/// is not among them or evaluated nothing.
+pub fn effect_sizes(e: &ReportEntry<'_>, experiment: usize) -> Vec<Option<RatioCi>> {
+    let Some(reference) = e.result.arm(e.reference) else {
+        return vec![None; e.result.arms.len()];
+    };
+    let base = reference.counts();
+    e.result
+        .arms
+        .iter()
+        .enumerate()
+        .map(|(a, arm)| {
+            if arm.name == reference.name {
+                return None;
+            }
+            let mut rng = stream(e.seed, experiment as u64, a as u64, Purpose::Bootstrap);
+            paired_bootstrap_ratio(&arm.counts(), &base, BOOTSTRAP_RESAMPLES, &mut rng)
+        })
+        .collect()
+}
+
+/// Every arm's effect size against its experiment's reference arm ([`effect_sizes`]).
+pub fn effects_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::from(
+        "| Experiment | Arm | Behaviors evaluated ÷ reference's | 95% CI (paired bootstrap) |\n",
+    );
+    out.push_str("|---|---|---:|---:|\n");
+    for (k, e) in entries.iter().enumerate() {
+        for (arm, effect) in e.result.arms.iter().zip(effect_sizes(e, k)) {
+            let (ratio, ci) = match effect {
+                Some(r) => (
+                    format!("{:.2}", r.ratio),
+                    format!("{:.2} to {:.2}", r.low, r.high),
+                ),
+                None if arm.name == e.reference => ("1 (reference)".to_owned(), "—".to_owned()),
+                None => ("—".to_owned(), "—".to_owned()),
+            };
+            let _ = writeln!(out, "| {} | {} | {ratio} | {ci} |", e.result.name, arm.name);
+        }
+    }
+    out
 }
 
 /// Each arm of `e` against its reference arm ([`ReportEntry::reference`]): paired tests
@@ -452,10 +506,15 @@ fn format_p(p: f64) -> String {
 pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
     let experiments: Vec<Value> = entries
         .iter()
-        .map(|e| {
+        .enumerate()
+        .map(|(k, e)| {
             let mut strategies = Map::new();
-            for (arm, tests) in e.result.arms.iter().zip(versus_reference(e)) {
+            let effects = effect_sizes(e, k);
+            for ((arm, tests), effect) in e.result.arms.iter().zip(versus_reference(e)).zip(effects) {
                 let mut summary = arm_summary(arm);
+                summary["behaviors_ratio_to_reference"] = effect.map_or(Value::Null, |r| {
+                    json!({ "ratio": r.ratio, "ci95_low": r.low, "ci95_high": r.high })
+                });
                 summary["t_test_p_vs_reference"] = json!(tests.map(|t| t.t_test_p));
                 summary["wilcoxon_p_vs_reference"] = json!(tests.map(|t| t.wilcoxon_p));
                 if let Some(limit) = e.limit {
@@ -680,9 +739,11 @@ pub fn write_report(
     write(
         "table.md",
         &format!(
-            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
+            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator (p-values against the reference arm, {})\n\n{}\n## Effect sizes against the reference arm\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
             table(entries),
+            entries.first().map_or("", |e| e.reference),
             arms_table(entries),
+            effects_table(entries),
             explanations_table(entries)
         ),
     )?;
@@ -696,7 +757,7 @@ pub fn write_report(
     for metric in SUMMARY_METRICS {
         let name = format!("{}.svg", metric.stem);
         let summary_svg = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
-            summary_figure(area, overlay, entries, metric)
+            every_arm_figure(area, overlay, entries, &summary_figure(entries, metric))
         })?;
         write(&name, &summary_svg)?;
         figures.push(Figure::new(
@@ -710,6 +771,125 @@ pub fn write_report(
                  distribution of every behavior, starting from a random behavior as the arms do.",
                 metric.what
             ),
+        ));
+    }
+    let reference = entries.first().map_or("", |e| e.reference);
+    let effects = EveryArm {
+        title: format!("Behaviors evaluated per trial as a ratio to {reference}'s (95% CI)"),
+        axis: "ratio to the reference arm (log scale)",
+        values: entries
+            .iter()
+            .enumerate()
+            .map(|(k, e)| {
+                effect_sizes(e, k)
+                    .into_iter()
+                    .map(|r| {
+                        r.map(|r| Interval {
+                            mid: r.ratio,
+                            low: r.low,
+                            high: r.high,
+                        })
+                    })
+                    .collect()
+            })
+            .collect(),
+        bars: vec![Some(1.0); entries.len()],
+        bar_key: format!("{reference} (the reference) = 1"),
+    };
+    let name = "effect-sizes.svg";
+    let drawn = svg_with(&dir.join(name), (1200, 560), |area, overlay| {
+        every_arm_figure(area, overlay, entries, &effects)
+    })?;
+    write(name, &drawn)?;
+    figures.push(Figure::new(
+        "Every experiment and arm",
+        drawn,
+        format!(
+            "Effect sizes: each arm's mean behaviors evaluated per trial divided by the \
+             reference arm's ({}; the black bar at 1), with the 95% interval of a paired \
+             bootstrap ({BOOTSTRAP_RESAMPLES} resamples of the trials, the same trials for both \
+             arms), on a log axis. Below 1 the arm needs fewer behaviors than the reference; \
+             an interval that crosses 1 is no evidence of a difference.",
+            escape(reference)
+        ),
+    ));
+    let over_trials = [
+        (
+            "untrustworthy-over-trials.svg",
+            Panels {
+                title: "Untrustworthy commands summed over the trials so far".to_owned(),
+                x_axis: "trial",
+                y_axis: "untrustworthy commands so far",
+                log_x: false,
+                series: per_trial_lines(entries, |_| true, cumulative_untrustworthy),
+            },
+            "What the operator has endured: the commands that failed or that it interrupted, \
+             summed from the first trial on, one panel per experiment and one line per arm \
+             (its marker at the end). A steeper line costs the operator more per trial; a line \
+             that bends flatter has learned.",
+        ),
+        (
+            "case-base-over-trials.svg",
+            Panels {
+                title: "Cases in the base of each arm that reuses cases, after each trial"
+                    .to_owned(),
+                x_axis: "trial",
+                y_axis: "cases",
+                log_x: false,
+                series: per_trial_lines(entries, |a| a.reuses_cases, case_base_sizes),
+            },
+            "The case base of each arm that reuses cases (Algorithm 1), trial by trial: the \
+             cases it started from, plus one for each trial whose behavior is retained. It \
+             levels off once the base covers the situations the operators bring.",
+        ),
+        (
+            "reuse-over-trials.svg",
+            Panels {
+                title: format!(
+                    "Share of adaptations taken from a case (moving average of {MOVING_AVERAGE_WINDOW} trials)"
+                ),
+                x_axis: "trial",
+                y_axis: "share from a case",
+                log_x: false,
+                series: per_trial_lines(entries, |a| a.reuses_cases, reuse_rates),
+            },
+            "How often an arm that reuses cases took its next behavior from a stored case \
+             rather than from its search, per trial and averaged over the last 25 trials: it \
+             rises as the base fills, and stays low where the stored cases seldom fit.",
+        ),
+        (
+            "distributions.svg",
+            Panels {
+                title: "Behaviors evaluated per trial: each arm's distribution".to_owned(),
+                x_axis: "behaviors evaluated (log scale)",
+                y_axis: "share of trials",
+                log_x: true,
+                series: entries
+                    .iter()
+                    .map(|e| {
+                        e.result
+                            .arms
+                            .iter()
+                            .map(|a| Some(ecdf(a.counts())))
+                            .collect()
+                    })
+                    .collect(),
+            },
+            "Each arm's distribution of behaviors evaluated per trial (the empirical \
+             cumulative distribution): across, a number of behaviors (log scale); up, the share \
+             of trials that needed at most that many. Further up and left is better; a long \
+             tail to the right, which a mean and its CI hide, shows here.",
+        ),
+    ];
+    for (name, panels, caption) in over_trials {
+        let drawn = svg_with(&dir.join(name), panels.size(), |area, overlay| {
+            small_multiples(area, overlay, entries, &panels)
+        })?;
+        write(name, &drawn)?;
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            drawn,
+            caption.to_owned(),
         ));
     }
     for (e, stem) in entries
@@ -987,6 +1167,11 @@ fn html_page(
             html_table(&arms_table(entries))
         ),
     );
+    section(
+        "effects",
+        "Effect sizes against the reference arm",
+        html_table(&effects_table(entries)),
+    );
     let limits = limit_table(entries);
     if !limits.is_empty() {
         section(
@@ -1140,11 +1325,11 @@ fn legend(area: &Area<'_>, overlay: &mut Overlay, entries: &[(String, Key)]) -> 
     Ok(())
 }
 
-/// Points a curve of `n` trials is drawn through: at most [`CURVE_POINTS`], evenly
-/// spaced, the first and the last always (a moving average of
+/// Points a curve of `n` trials is drawn through: at most `points` (and the last),
+/// evenly spaced, the first and the last always (a moving average of
 /// [`MOVING_AVERAGE_WINDOW`] changes little from one trial to the next).
-fn thinned(n: usize) -> impl Iterator<Item = usize> {
-    let step = n.div_ceil(CURVE_POINTS).max(1);
+fn thinned(n: usize, points: usize) -> impl Iterator<Item = usize> {
+    let step = n.div_ceil(points).max(1);
     (0..n)
         .step_by(step)
         .chain((n > 0 && (n - 1) % step != 0).then(|| n - 1))
@@ -1152,6 +1337,226 @@ fn thinned(n: usize) -> impl Iterator<Item = usize> {
 
 /// At most this many points per learning curve (and one more: the last).
 const CURVE_POINTS: usize = 200;
+
+/// At most this many points per curve of a panel of [`small_multiples`].
+const PANEL_POINTS: usize = 100;
+
+/// A figure of one panel per experiment (four a row), one line per arm, the legend at the
+/// right.
+struct Panels {
+    title: String,
+    x_axis: &'static str,
+    y_axis: &'static str,
+    /// Whether the x axis is logarithmic (the x values must then be positive).
+    log_x: bool,
+    /// Per experiment, per arm: the line's points (`None`: the arm is not drawn).
+    series: Vec<Vec<Option<Vec<(f64, f64)>>>>,
+}
+
+impl Panels {
+    /// Size of one panel (px).
+    const PANEL: (u32, u32) = (300, 260);
+
+    fn size(&self) -> (u32, u32) {
+        let n = self.series.len().max(1);
+        let columns = n.min(4) as u32;
+        (
+            Self::PANEL.0 * columns + LEGEND_WIDTH,
+            50 + Self::PANEL.1 * n.div_ceil(4) as u32,
+        )
+    }
+}
+
+/// Per experiment, per arm, a line over its trials in order from `value(arm)` (one value
+/// per trial), thinned to [`PANEL_POINTS`]; arms for which `drawn` is false are left out.
+fn per_trial_lines(
+    entries: &[ReportEntry<'_>],
+    drawn: impl Fn(&ArmResult) -> bool,
+    value: impl Fn(&ArmResult) -> Vec<f64>,
+) -> Vec<Vec<Option<Vec<(f64, f64)>>>> {
+    entries
+        .iter()
+        .map(|e| {
+            e.result
+                .arms
+                .iter()
+                .map(|arm| {
+                    drawn(arm).then(|| {
+                        let values = value(arm);
+                        thinned(values.len(), PANEL_POINTS)
+                            .map(|i| ((i + 1) as f64, values[i]))
+                            .collect()
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Untrustworthy commands summed over the trials so far, trial by trial.
+fn cumulative_untrustworthy(arm: &ArmResult) -> Vec<f64> {
+    arm.trials
+        .iter()
+        .scan(0.0, |sum, t| {
+            *sum += t.report.untrustworthy as f64;
+            Some(*sum)
+        })
+        .collect()
+}
+
+/// Cases in the arm's base after each trial: those it started from and those retained.
+fn case_base_sizes(arm: &ArmResult) -> Vec<f64> {
+    arm.trials
+        .iter()
+        .scan(arm.starting_cases as f64, |size, t| {
+            *size += f64::from(u8::from(t.report.retained.is_some()));
+            Some(*size)
+        })
+        .collect()
+}
+
+/// The share of each trial's adaptations that reused a case (0 for a trial without
+/// adaptation), as a moving average of [`MOVING_AVERAGE_WINDOW`] trials.
+fn reuse_rates(arm: &ArmResult) -> Vec<f64> {
+    let shares: Vec<f64> = arm
+        .trials
+        .iter()
+        .map(|t| {
+            let adaptations = t.report.reused + t.report.searched;
+            if adaptations == 0 {
+                0.0
+            } else {
+                f64::from(t.report.reused) / f64::from(adaptations)
+            }
+        })
+        .collect();
+    moving_average(&shares, MOVING_AVERAGE_WINDOW)
+}
+
+/// The empirical distribution of `counts` as the steps of its cumulative share:
+/// `(count, share of trials with at most that count)`, each step's foot then its top.
+fn ecdf(mut counts: Vec<f64>) -> Vec<(f64, f64)> {
+    counts.sort_by(f64::total_cmp);
+    let n = counts.len() as f64;
+    let mut steps = Vec::new();
+    let mut below = 0.0;
+    for (k, &c) in counts.iter().enumerate() {
+        if counts.get(k + 1) != Some(&c) {
+            let share = (k + 1) as f64 / n;
+            steps.push((c, below));
+            steps.push((c, share));
+            below = share;
+        }
+    }
+    steps
+}
+
+/// Draws `figure`: a panel per experiment, each arm's line in its colour (the paper's two
+/// last) with its marker at the line's end, a shared legend at the right.
+fn small_multiples(
+    area: &Area<'_>,
+    overlay: &mut Overlay,
+    entries: &[ReportEntry<'_>],
+    figure: &Panels,
+) -> DrawResult {
+    let (width, _) = area.dim_in_pixel();
+    let (top, body) = area.split_vertically(50);
+    top.draw(&Text::new(
+        figure.title.as_str(),
+        (10, 12),
+        ("sans-serif", 20).into_font(),
+    ))?;
+    let (panels_area, side) = body.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
+    let columns = entries.len().clamp(1, 4);
+    let panels = panels_area.split_evenly((entries.len().div_ceil(4).max(1), columns));
+    let names: Vec<&str> = entries
+        .first()
+        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .unwrap_or_default();
+    let scale = |v: f64| if figure.log_x { v.max(1e-9).log10() } else { v };
+    for ((panel, e), series) in panels.iter().zip(entries).zip(&figure.series) {
+        let points = || series.iter().flatten().flatten();
+        let (mut x0, mut x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.0), b.max(p.0))
+        });
+        if !x0.is_finite() || x1 <= x0 {
+            (x0, x1) = (1.0, x0.max(1.0) * 2.0);
+        }
+        if figure.log_x {
+            (x0, x1) = (x0 * 0.9, x1 * 1.1);
+        }
+        let y1 = points().map(|p| p.1).fold(0.0f64, f64::max).max(1e-9) * 1.05;
+        let mut chart = ChartBuilder::on(panel)
+            .caption(&e.result.name, ("sans-serif", 14))
+            .margin(8)
+            .margin_right(14)
+            .x_label_area_size(36)
+            .y_label_area_size(48)
+            .build_cartesian_2d(scale(x0)..scale(x1), 0.0..y1)?;
+        let mut mesh = chart.configure_mesh();
+        mesh.light_line_style(TRANSPARENT)
+            .x_label_formatter(&tick_label)
+            .y_label_formatter(&tick_label)
+            .label_style(("sans-serif", 11))
+            .axis_desc_style(("sans-serif", 12))
+            .x_desc(figure.x_axis)
+            .y_desc(figure.y_axis)
+            .y_labels(5);
+        // A log axis is drawn in log10 units: its ticks and labels are placed by hand.
+        mesh.x_labels(if figure.log_x { 0 } else { 5 });
+        mesh.draw()?;
+        if figure.log_x {
+            let at: Vec<(f64, (f64, f64))> = log_ticks(x0, x1, 220)
+                .into_iter()
+                .map(|t| {
+                    let (px, py) = chart.backend_coord(&(scale(t), 0.0));
+                    (t, (f64::from(px), f64::from(py)))
+                })
+                .collect();
+            overlay.segments(
+                BLACK,
+                1.0,
+                at.iter().map(|&(_, (x, y))| ((x, y), (x, y + 5.0))),
+            );
+            overlay.texts(
+                11,
+                at.iter()
+                    .map(|&(t, (x, y))| ((x, y + 12.0), BLACK, tick_label(&t))),
+            );
+        }
+        for a in drawing_order(&names) {
+            let Some(Some(line)) = series.get(a) else {
+                continue;
+            };
+            let style = arm_style(names[a], a);
+            chart.draw_series(LineSeries::new(
+                line.iter().map(|&(x, y)| (scale(x), y)),
+                style.color.stroke_width(2),
+            ))?;
+            if let Some(&(x, y)) = line.last() {
+                let (px, py) = chart.backend_coord(&(scale(x), y));
+                overlay.markers(
+                    style.shape,
+                    Some((style.color, 1.0)),
+                    Some((WHITE, 1.0)),
+                    [((f64::from(px), f64::from(py)), 4.0)],
+                );
+            }
+        }
+    }
+    let drawn: Vec<(String, Key)> = names
+        .iter()
+        .enumerate()
+        .filter(|&(a, _)| {
+            figure
+                .series
+                .iter()
+                .any(|s| matches!(s.get(a), Some(Some(_))))
+        })
+        .map(|(a, name)| ((*name).to_owned(), Key::LineMarker(arm_style(name, a))))
+        .collect();
+    legend(&side, overlay, &drawn)
+}
 
 /// The 95% confidence band of the moving average: mean ± t * sd / sqrt(n) over the same
 /// window, per trial.
@@ -1225,7 +1630,7 @@ fn learning_curves(
             )?;
         }
         let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
-        let kept: Vec<usize> = thinned(band.len()).collect();
+        let kept: Vec<usize> = thinned(band.len(), CURVE_POINTS).collect();
         let outline: Vec<(u32, f64)> = kept
             .iter()
             .map(|&i| (i as u32, band[i].1.max(0.8)))
@@ -1237,7 +1642,7 @@ fn learning_curves(
         )))?;
         let average = moving_average(&counts, MOVING_AVERAGE_WINDOW);
         chart.draw_series(LineSeries::new(
-            thinned(average.len()).map(|i| (i as u32, average[i])),
+            thinned(average.len(), CURVE_POINTS).map(|i| (i as u32, average[i])),
             color.stroke_width(3),
         ))?;
         // The arm's marker on its line at eight places, staggered by arm so that markers
@@ -1340,39 +1745,84 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     },
 ];
 
-fn summary_figure(
+/// A value with its 95% interval, as a figure of every experiment and arm draws it.
+#[derive(Clone, Copy, Debug)]
+struct Interval {
+    mid: f64,
+    low: f64,
+    high: f64,
+}
+
+impl From<MeanCi> for Interval {
+    fn from(m: MeanCi) -> Self {
+        Self {
+            mid: m.mean,
+            low: m.mean - m.ci95,
+            high: m.mean + m.ci95,
+        }
+    }
+}
+
+/// What a figure of every experiment (across) and arm (offset within it) shows.
+struct EveryArm<'a> {
+    title: String,
+    axis: &'a str,
+    /// Per experiment, per arm: the value and its interval (`None`: not drawn).
+    values: Vec<Vec<Option<Interval>>>,
+    /// Per experiment, a black bar across its arms (`None`: none), and its key.
+    bars: Vec<Option<f64>>,
+    bar_key: String,
+}
+
+/// The summary figure of `metric`: each arm's mean and CI, the limit as bars.
+fn summary_figure(entries: &[ReportEntry<'_>], metric: SummaryMetric) -> EveryArm<'static> {
+    EveryArm {
+        title: metric.title.to_owned(),
+        axis: metric.axis,
+        values: entries
+            .iter()
+            .map(|e| {
+                e.result
+                    .arms
+                    .iter()
+                    .map(|a| Some((metric.arm)(a).into()))
+                    .collect()
+            })
+            .collect(),
+        bars: entries
+            .iter()
+            .map(|e| e.limit.map(|l| (metric.limit)(&l.limit.paper)))
+            .collect(),
+        bar_key: "known-operator limit".to_owned(),
+    }
+}
+
+/// Draws `figure`: one column per experiment, each arm's value as its marker with its
+/// interval as a vertical line, on a log axis, the bars in black, the legend at the right.
+fn every_arm_figure(
     area: &Area<'_>,
     overlay: &mut Overlay,
     entries: &[ReportEntry<'_>],
-    metric: SummaryMetric,
+    figure: &EveryArm<'_>,
 ) -> DrawResult {
     let (width, _) = area.dim_in_pixel();
     let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let arms = entries.first().map_or(0, |e| e.result.arms.len()).max(1);
-    let top = entries
-        .iter()
-        .flat_map(|e| {
-            e.result
-                .arms
-                .iter()
-                .map(|a| (metric.arm)(a).mean + (metric.arm)(a).ci95)
-        })
+    let drawn = || figure.values.iter().flatten().flatten();
+    let top = drawn()
+        .map(|v| v.high)
+        .chain(figure.bars.iter().flatten().copied())
         .fold(2.0f64, f64::max);
-    let bottom = entries
-        .iter()
-        .flat_map(|e| {
-            e.result
-                .arms
-                .iter()
-                .map(|a| (metric.arm)(a).mean)
-                .chain(e.limit.map(|l| (metric.limit)(&l.limit.paper)))
-        })
+    // The lower ends where they are positive (a mean minus its CI may not be).
+    let bottom = drawn()
+        .map(|v| if v.low > 0.0 { v.low } else { v.mid })
+        .chain(figure.bars.iter().flatten().copied())
         .fold(0.8f64, f64::min)
         .max(0.1);
     let (scenario, names) = category_names(entries);
     let title = match scenario {
-        Some(scenario) => format!("{scenario}: {}", metric.title),
-        None => metric.title.to_owned(),
+        Some(scenario) => format!("{scenario}: {}", figure.title),
+        None => figure.title.clone(),
     };
     let mut chart = ChartBuilder::on(&plot)
         .caption(title, ("sans-serif", 20))
@@ -1393,7 +1843,7 @@ fn summary_figure(
         .x_labels(names.len().max(1))
         .x_label_formatter(&label)
         .x_label_style(("sans-serif", 11))
-        .y_desc(metric.axis)
+        .y_desc(figure.axis)
         .y_label_formatter(&tick_label)
         .draw()?;
     let mut legend_entries = Vec::new();
@@ -1401,31 +1851,28 @@ fn summary_figure(
         .first()
         .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
         .unwrap_or_default();
-    for a in 0..arms {
-        if let Some(name) = arm_names.get(a) {
-            legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name, a))));
-        }
+    for (a, name) in arm_names.iter().enumerate() {
+        legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name, a))));
     }
     for a in drawing_order(&arm_names) {
         let style = arm_style(arm_names[a], a);
         let color = style.color;
         let offset = (a as f64 + 0.5) / arms as f64 * 0.7 - 0.35;
-        let points: Vec<(f64, MeanCi)> = entries
+        let points: Vec<(f64, Interval)> = figure
+            .values
             .iter()
             .enumerate()
-            .filter_map(|(x, e)| {
-                e.result
-                    .arms
+            .filter_map(|(x, values)| {
+                values
                     .get(a)
-                    .map(|r| (x as f64 + offset, (metric.arm)(r)))
+                    .copied()
+                    .flatten()
+                    .map(|v| (x as f64 + offset, v))
             })
             .collect();
-        chart.draw_series(points.iter().map(|&(x, m)| {
+        chart.draw_series(points.iter().map(|&(x, v)| {
             PathElement::new(
-                vec![
-                    (x, (m.mean - m.ci95).max(bottom * 0.8)),
-                    (x, m.mean + m.ci95),
-                ],
+                vec![(x, v.low.max(bottom * 0.8)), (x, v.high)],
                 color.stroke_width(2),
             )
         }))?;
@@ -1433,23 +1880,23 @@ fn summary_figure(
             style.shape,
             Some((color, 1.0)),
             Some((WHITE, 1.0)),
-            points.iter().map(|&(x, m)| {
-                let (x, y) = chart.backend_coord(&(x, m.mean));
+            points.iter().map(|&(x, v)| {
+                let (x, y) = chart.backend_coord(&(x, v.mid));
                 ((f64::from(x), f64::from(y)), 4.5)
             }),
         );
     }
-    // The known-operator limit: a black bar across each experiment's arms.
-    let limits: Vec<(f64, f64)> = entries
+    let bars: Vec<(f64, f64)> = figure
+        .bars
         .iter()
         .enumerate()
-        .filter_map(|(x, e)| e.limit.map(|l| (x as f64, (metric.limit)(&l.limit.paper))))
+        .filter_map(|(x, bar)| bar.map(|y| (x as f64, y)))
         .collect();
-    if !limits.is_empty() {
-        chart.draw_series(limits.iter().map(|&(x, y)| {
+    if !bars.is_empty() {
+        chart.draw_series(bars.iter().map(|&(x, y)| {
             PathElement::new(vec![(x - 0.42, y), (x + 0.42, y)], BLACK.stroke_width(2))
         }))?;
-        legend_entries.push(("known-operator limit".to_owned(), Key::Line(BLACK)));
+        legend_entries.push((figure.bar_key.clone(), Key::Line(BLACK)));
     }
     legend(&side, overlay, &legend_entries)
 }
@@ -1648,8 +2095,20 @@ fn final_behaviors(
         body.split_horizontally(FinalsLayout::PANEL.0 * layout.columns as u32);
     let panels = panels_area.split_evenly((layout.rows, layout.columns));
     let mut largest = 0.0;
-    for (panel, (arm, counts)) in panels.iter().zip(e.result.arms.iter().zip(&all_counts)) {
-        let chart = heatmap::panel(panel, overlay, e.space, (x, y), grid, &arm.name, false, id)?;
+    let arms = e.result.arms.len();
+    for (k, (panel, (arm, counts))) in panels
+        .iter()
+        .zip(e.result.arms.iter().zip(&all_counts))
+        .enumerate()
+    {
+        // Ticks on the outer axes only: the bottom panel of each column, the first column.
+        let style = heatmap::PanelStyle {
+            caption: &arm.name,
+            write_values: false,
+            id,
+            ticks: (k + layout.columns >= arms, k % layout.columns == 0),
+        };
+        let chart = heatmap::panel(panel, overlay, e.space, (x, y), grid, style)?;
         let (width, height) = chart.plotting_area().dim_in_pixel();
         let cell = (f64::from(width) / nx as f64).min(f64::from(height) / ny as f64);
         largest = 0.48 * cell;
@@ -1726,13 +2185,31 @@ mod tests {
 
     #[test]
     fn curves_are_thinned_to_about_200_points() {
-        assert_eq!(thinned(3).collect::<Vec<_>>(), [0, 1, 2]);
-        let points: Vec<usize> = thinned(500).collect();
+        assert_eq!(thinned(3, 200).collect::<Vec<_>>(), [0, 1, 2]);
+        assert_eq!(thinned(10, 4).collect::<Vec<_>>(), [0, 3, 6, 9]);
+        let points: Vec<usize> = thinned(500, 200).collect();
         assert_eq!(
             (points.len(), points[1], points.last()),
             (168, 3, Some(&499))
         );
-        assert_eq!(thinned(0).count(), 0);
+        assert_eq!(thinned(0, 200).count(), 0);
+    }
+
+    #[test]
+    fn distributions_step_by_hand() {
+        // Counts 1, 1, 3, 2: half of the trials at 1, three quarters at 2, all at 3.
+        assert_eq!(
+            ecdf(vec![1.0, 1.0, 3.0, 2.0]),
+            [
+                (1.0, 0.0),
+                (1.0, 0.5),
+                (2.0, 0.5),
+                (2.0, 0.75),
+                (3.0, 0.75),
+                (3.0, 1.0)
+            ]
+        );
+        assert_eq!(ecdf(Vec::new()), []);
     }
 
     #[test]

@@ -162,6 +162,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             landscapes: &[],
             limit: None,
             reference: "case-based",
+            seed: 1,
         })
         .collect()
 }
@@ -231,6 +232,7 @@ fn arms_are_paired_and_cases_help() {
             landscapes: &[],
             limit: None,
             reference,
+            seed: 1,
         };
         let tests = versus_reference(&toy_entry("case-based"));
         for (arm, tests) in result.arms.iter().zip(&tests) {
@@ -424,6 +426,7 @@ fn plot_names_never_collide() {
             landscapes: &[],
             limit: None,
             reference: "case-based",
+            seed: 1,
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();
@@ -431,6 +434,6 @@ fn plot_names_never_collide() {
     let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
     assert_eq!(written.len(), on_disk);
     // Three experiments, each with a curve and a heatmap, plus the four text files, the
-    // three summary figures and the page.
-    assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1);
+    // three summary figures, the effect sizes, the four figures over trials and the page.
+    assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1 + 4 + 1);
 }
