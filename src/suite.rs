@@ -84,7 +84,12 @@ pub struct SuiteConfig {
     pub arms: Vec<String>,
     /// The arm the report tests every other arm against (p-values), one of `arms`;
     /// default ([`SuiteConfig::reference`]): `case-based` when it runs, else the first arm.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "plain_name",
+        deserialize_with = "some_name"
+    )]
     pub reference: Option<String>,
     /// The experiments, in report order.
     pub experiments: Vec<ExperimentSpec>,
@@ -95,6 +100,17 @@ pub struct SuiteConfig {
     /// How the report estimates each experiment's known-operator limit (`runs: 0`: none).
     #[serde(default)]
     pub limit: LimitSettings,
+}
+
+/// An optional name written as a plain string (`reference: "case-based"`, not
+/// `Some("case-based")`).
+fn plain_name<S: serde::Serializer>(name: &Option<String>, s: S) -> Result<S::Ok, S::Error> {
+    name.as_deref().unwrap_or_default().serialize(s)
+}
+
+/// Reads what [`plain_name`] writes.
+fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    String::deserialize(d).map(Some)
 }
 
 fn default_landscape_runs() -> u32 {

@@ -881,7 +881,11 @@ pub fn write_report(
              tail to the right, which a mean and its CI hide, shows here.",
         ),
     ];
+    // A figure with no line at all (no arm reuses cases) is left out.
     for (name, panels, caption) in over_trials {
+        if panels.series.iter().flatten().all(Option::is_none) {
+            continue;
+        }
         let drawn = svg_with(&dir.join(name), panels.size(), |area, overlay| {
             small_multiples(area, overlay, entries, &panels)
         })?;
@@ -1479,13 +1483,19 @@ fn small_multiples(
         let (mut x0, mut x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
             (a.min(p.0), b.max(p.0))
         });
-        if !x0.is_finite() || x1 <= x0 {
-            (x0, x1) = (1.0, x0.max(1.0) * 2.0);
+        // Plotters never ends placing ticks on an empty or infinite range.
+        if !x0.is_finite() {
+            (x0, x1) = (1.0, 2.0);
+        } else if x1 <= x0 {
+            x1 = x0 + 1.0;
         }
         if figure.log_x {
             (x0, x1) = (x0 * 0.9, x1 * 1.1);
         }
-        let y1 = points().map(|p| p.1).fold(0.0f64, f64::max).max(1e-9) * 1.05;
+        let y1 = match points().map(|p| p.1).fold(0.0f64, f64::max) {
+            most if most > 0.0 => most * 1.05,
+            _ => 1.0,
+        };
         let mut chart = ChartBuilder::on(panel)
             .caption(&e.result.name, ("sans-serif", 14))
             .margin(8)
