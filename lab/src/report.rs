@@ -1336,7 +1336,7 @@ fn thinned(n: usize, points: usize) -> impl Iterator<Item = usize> {
     let step = n.div_ceil(points).max(1);
     (0..n)
         .step_by(step)
-        .chain((n > 0 && (n - 1) % step != 0).then(|| n - 1))
+        .chain((n > 0 && !(n - 1).is_multiple_of(step)).then(|| n - 1))
 }
 
 /// At most this many points per learning curve (and one more: the last).
@@ -1344,6 +1344,9 @@ const CURVE_POINTS: usize = 200;
 
 /// At most this many points per curve of a panel of [`small_multiples`].
 const PANEL_POINTS: usize = 100;
+
+/// The points of a line, in data units.
+type Line = Vec<(f64, f64)>;
 
 /// A figure of one panel per experiment (four a row), one line per arm, the legend at the
 /// right.
@@ -1354,7 +1357,7 @@ struct Panels {
     /// Whether the x axis is logarithmic (the x values must then be positive).
     log_x: bool,
     /// Per experiment, per arm: the line's points (`None`: the arm is not drawn).
-    series: Vec<Vec<Option<Vec<(f64, f64)>>>>,
+    series: Vec<Vec<Option<Line>>>,
 }
 
 impl Panels {
@@ -1377,7 +1380,7 @@ fn per_trial_lines(
     entries: &[ReportEntry<'_>],
     drawn: impl Fn(&ArmResult) -> bool,
     value: impl Fn(&ArmResult) -> Vec<f64>,
-) -> Vec<Vec<Option<Vec<(f64, f64)>>>> {
+) -> Vec<Vec<Option<Line>>> {
     entries
         .iter()
         .map(|e| {
