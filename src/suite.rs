@@ -96,10 +96,18 @@ pub struct SuiteConfig {
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub readings: BTreeMap<String, String>,
     /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
-    /// ([`Catalog::arms`]); default: every built-in arm. Every arm is tested against the
-    /// first.
+    /// ([`Catalog::arms`]); default: every built-in arm.
     #[serde(default = "default_arms")]
     pub arms: Vec<String>,
+    /// The arm the report tests every other arm against (p-values), one of `arms`;
+    /// default ([`SuiteConfig::reference`]): `case-based` when it runs, else the first arm.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "plain_name",
+        deserialize_with = "some_name"
+    )]
+    pub reference: Option<String>,
     /// The experiments, in report order.
     pub experiments: Vec<ExperimentSpec>,
     /// Runs per cell of the operator landscapes the report draws the final behaviors over
@@ -109,6 +117,17 @@ pub struct SuiteConfig {
     /// How the report estimates each experiment's known-operator limit (`runs: 0`: none).
     #[serde(default)]
     pub limit: LimitSettings,
+}
+
+/// An optional name written as a plain string (`reference: "case-based"`, not
+/// `Some("case-based")`).
+fn plain_name<S: serde::Serializer>(name: &Option<String>, s: S) -> Result<S::Ok, S::Error> {
+    name.as_deref().unwrap_or_default().serialize(s)
+}
+
+/// Reads what [`plain_name`] writes.
+fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    String::deserialize(d).map(Some)
 }
 
 fn default_landscape_runs() -> u32 {
@@ -283,6 +302,21 @@ impl From<ConfigError> for SuiteError {
 }
 
 impl SuiteConfig {
+    /// The arm the report tests the others against: the configured `reference`, else
+    /// `case-based` when it runs, else the first arm.
+    pub fn reference(&self) -> &str {
+        self.reference
+            .as_deref()
+            .or_else(|| {
+                self.arms
+                    .iter()
+                    .find(|a| *a == "case-based")
+                    .map(String::as_str)
+            })
+            .or_else(|| self.arms.first().map(String::as_str))
+            .unwrap_or_default()
+    }
+
     /// The suite the catalog embeds ([`Catalog::default_suite`], what `reproduce` runs).
     pub fn embedded<C: Catalog>(catalog: &C) -> Result<Self, SuiteError> {
         Self::from_ron(catalog, catalog.default_suite(), Path::new(EMBEDDED_ORIGIN))
@@ -385,6 +419,17 @@ impl SuiteConfig {
             .validate()
             .map_err(ConfigError::from)?;
         trust::evaluated::validate_lambda(self.adapter.lambda).map_err(ConfigError::from)?;
+        if let Some(reference) = &self.reference
+            && !self.arms.contains(reference)
+        {
+            return Err(invalid(
+                "reference".into(),
+                format!(
+                    "`{reference}` is not one of the suite's arms ({})",
+                    self.arms.join(", ")
+                ),
+            ));
+        }
         if self.arms.is_empty() {
             return Err(invalid("arms".into(), "at least one arm is needed".into()));
         }
@@ -981,6 +1026,8 @@ fn entries<'a>(
                 .as_ref()
                 .map_or(&spec.operator, |population| &population.name),
             space,
+            reference: config.reference(),
+            seed: config.seed,
         })
         .collect()
 }
@@ -1246,6 +1293,38 @@ mod tests {
                 && err.contains("annealing")
                 && err.contains("known: random-walk"),
             "{err}"
+        );
+        // The reference arm must be one of the arms; by default case-based when it runs.
+        let suite = |arms: &str, reference: &str| {
+            SuiteConfig::from_ron(
+                &UgvCatalog,
+                &format!(
+                    "(seed: 1, trials: 5, arms: {arms}, {reference} experiments: [(scenario: \"movement\", operator: \"random\")])"
+                ),
+                origin,
+            )
+        };
+        let err = suite(
+            "[\"uniform\", \"case-based\"]",
+            "reference: \"random-walk\",",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("reference")
+                && err
+                    .contains("`random-walk` is not one of the suite's arms (uniform, case-based)"),
+            "{err}"
+        );
+        let reference = |arms, given| suite(arms, given).unwrap().reference().to_owned();
+        assert_eq!(reference("[\"uniform\", \"case-based\"]", ""), "case-based");
+        assert_eq!(reference("[\"uniform\", \"model-based\"]", ""), "uniform");
+        assert_eq!(
+            reference(
+                "[\"uniform\", \"model-based\"]",
+                "reference: \"model-based\","
+            ),
+            "model-based"
         );
         let err = SuiteConfig::from_ron(
             &UgvCatalog,

@@ -18,6 +18,7 @@ use crate::catalog::{Catalog, resolve_readings};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
 use cbr_core::output::{OutputError, ensure_writable_dir};
 use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
+use lab::plot::{ArmStyle, arm_style, drawing_order, log_ticks, text_width, tick_label};
 use lab::report::{category_label, file_stems};
 use lab::stats::mean_ci95;
 use plotters::prelude::*;
@@ -989,7 +990,9 @@ pub fn write_report(
 }
 
 /// One panel per experiment: behaviors evaluated (log scale) against the parameter's
-/// values, one line per arm with its confidence interval over seeds.
+/// values, one line per arm (its colour and marker as in every report) with its
+/// confidence interval over seeds, the paper's two arms on top; the legend right of the
+/// panels.
 fn plot_parameter(
     sweep: &Sweep,
     parameter: &Parameter,
@@ -1012,16 +1015,19 @@ fn plot_parameter(
         axis.push((label.trim_start_matches(&prefix).to_owned(), cell));
     }
     let arms: Vec<String> = arm_order.first().cloned().unwrap_or_default();
+    let styles: Vec<ArmStyle> = arms
+        .iter()
+        .enumerate()
+        .map(|(k, arm)| arm_style(arm, k))
+        .collect();
     let columns = order.len().clamp(1, 4);
     let rows = order.len().div_ceil(columns).max(1);
-    let mut svg = String::new();
-    let drawn = (|| -> Result<(), Box<dyn std::error::Error>> {
-        let area = SVGBackend::with_string(
-            &mut svg,
-            (340 * columns as u32 + 20, 300 * rows as u32 + 60),
-        )
-        .into_drawing_area();
-        area.fill(&WHITE)?;
+    let (panel_width, legend_width) = (340u32, 230u32);
+    let size = (
+        panel_width * columns as u32 + legend_width,
+        300 * rows as u32 + 60,
+    );
+    let svg = lab::plot::svg_with(path, size, |area, overlay| {
         let (title, body) = area.split_vertically(40);
         title.titled(
             &format!(
@@ -1031,7 +1037,9 @@ fn plot_parameter(
             ),
             ("sans-serif", 18),
         )?;
-        let panels = body.split_evenly((rows, columns));
+        let (panels_area, legend_area) = body.split_horizontally(panel_width * columns as u32);
+        let panels = panels_area.split_evenly((rows, columns));
+        let labels: Vec<String> = axis.iter().map(|(l, _)| l.clone()).collect();
         for (panel, experiment) in panels.iter().zip(order) {
             let mut top: f64 = 1.0;
             for (_, cell) in &axis {
@@ -1046,20 +1054,46 @@ fn plot_parameter(
             let mut chart = ChartBuilder::on(panel)
                 .caption(experiment, ("sans-serif", 14))
                 .margin(8)
-                .x_label_area_size(30)
+                .margin_right(16)
+                .x_label_area_size(44)
                 .y_label_area_size(50)
-                .build_cartesian_2d(-0.5..n as f64 - 0.5, (0.9f64..top * 1.3).log_scale())?;
-            let labels: Vec<String> = axis.iter().map(|(l, _)| l.clone()).collect();
-            let label = category_label(&labels);
+                .build_cartesian_2d(
+                    -0.5..n as f64 - 0.5,
+                    (0.9f64..top * 1.3)
+                        .log_scale()
+                        .with_key_points(log_ticks(0.9, top * 1.3, 190)),
+                )?;
+            // Every `step`-th value is labelled so that labels never overlap.
+            let (plot_width, _) = chart.plotting_area().dim_in_pixel();
+            let widest = labels.iter().map(|l| text_width(l, 12)).max().unwrap_or(0);
+            let step = ((f64::from(widest) + 6.0) * n as f64 / f64::from(plot_width.max(1)))
+                .ceil()
+                .max(1.0) as usize;
+            let sparse: Vec<String> = labels
+                .iter()
+                .enumerate()
+                .map(|(i, l)| {
+                    if i % step == 0 {
+                        l.clone()
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
+            let label = category_label(&sparse);
             chart
                 .configure_mesh()
                 .disable_x_mesh()
+                .light_line_style(TRANSPARENT)
                 .x_labels(n)
                 .x_label_formatter(&label)
-                .y_desc("behaviors evaluated")
+                .y_label_formatter(&tick_label)
+                .label_style(("sans-serif", 12))
+                .x_desc(parameter.name())
+                .y_desc("behaviors evaluated (log scale)")
                 .draw()?;
-            for (k, arm) in arms.iter().enumerate() {
-                let color = Palette99::pick(k).to_rgba();
+            for k in drawing_order(&arms) {
+                let (arm, style) = (&arms[k], styles[k]);
                 let points: Vec<(f64, f64, Option<f64>)> = axis
                     .iter()
                     .enumerate()
@@ -1072,40 +1106,55 @@ fn plot_parameter(
                             })
                     })
                     .collect();
-                chart
-                    .draw_series(LineSeries::new(
-                        points.iter().map(|&(x, m, _)| (x, m)),
-                        color.stroke_width(2),
-                    ))?
-                    .label(arm.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
-                    });
+                chart.draw_series(LineSeries::new(
+                    points.iter().map(|&(x, m, _)| (x, m)),
+                    style.color.stroke_width(2),
+                ))?;
                 chart.draw_series(points.iter().filter_map(|&(x, m, ci)| {
                     ci.map(|ci| {
                         PathElement::new(
                             vec![(x, (m - ci).max(0.9)), (x, m + ci)],
-                            color.stroke_width(1),
+                            style.color.stroke_width(1),
                         )
                     })
                 }))?;
+                overlay.markers(
+                    style.shape,
+                    Some((style.color, 1.0)),
+                    Some((WHITE, 1.0)),
+                    points.iter().map(|&(x, m, _)| {
+                        let (px, py) = chart.backend_coord(&(x, m));
+                        ((f64::from(px), f64::from(py)), 4.0)
+                    }),
+                );
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 10))
-                .draw()?;
         }
-        area.present()?;
+        // The legend, right of the panels: each arm's line and marker.
+        let (left, base) = legend_area.get_base_pixel();
+        for (k, (arm, style)) in arms.iter().zip(&styles).enumerate() {
+            let y = 30 + 20 * k as i32;
+            legend_area.draw(&PathElement::new(
+                vec![(8, y), (32, y)],
+                style.color.stroke_width(2),
+            ))?;
+            overlay.markers(
+                style.shape,
+                Some((style.color, 1.0)),
+                Some((WHITE, 1.0)),
+                [((f64::from(left + 20), f64::from(base + y)), 4.0)],
+            );
+            legend_area.draw(&Text::new(
+                arm.as_str(),
+                (40, y - 7),
+                ("sans-serif", 12).into_font(),
+            ))?;
+        }
         Ok(())
-    })();
-    drawn.map_err(|e| SweepError::Plot {
-        path: path.to_owned(),
-        message: e.to_string(),
-    })?;
-    Ok(svg)
+    });
+    svg.map_err(|e| SweepError::Plot {
+        path: e.path,
+        message: e.message,
+    })
 }
 
 #[cfg(test)]

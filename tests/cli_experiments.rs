@@ -60,6 +60,13 @@ fn run_writes_a_complete_report() {
     }
     let p = experiments[0]["p_value"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&p));
+    // p-values against the reference arm (case-based by default), beside those against the
+    // first.
+    assert_eq!(experiments[0]["reference"], "case-based");
+    let strategies = &experiments[0]["strategies"];
+    assert!(strategies["case-based"]["t_test_p_vs_reference"].is_null());
+    assert!(strategies["random-walk"]["t_test_p_vs_reference"].is_f64());
+    assert!(strategies["random-walk"]["t_test_p_vs_first"].is_null());
     assert!(summary["provenance"]["version"].is_string());
     assert_eq!(summary["provenance"]["command_line"][1], "run");
 
@@ -378,7 +385,7 @@ fn the_printed_tables_fit_a_terminal() {
     assert!(
         std::fs::read_to_string(out.join("table.md"))
             .unwrap()
-            .contains("| Wilcoxon p |")
+            .contains("| Wilcoxon p vs reference |")
     );
 }
 
@@ -618,6 +625,6 @@ fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
         );
     }
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
-    assert!(page.contains("<h2>Explanations against the truth</h2>"));
+    assert!(page.contains("<h2 id=\"explanations\">Explanations against the truth</h2>"));
     assert!(page.contains("<figcaption>The trust estimate of the behavior in use"));
 }

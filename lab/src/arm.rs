@@ -27,6 +27,35 @@ pub const BUILTIN_ARMS: [&str; 9] = [
     "case-based+conditioned",
 ];
 
+/// What each built-in arm does, in one line (docs/search-strategies.md tells more);
+/// `None` for an arm that is not built in.
+pub fn describe(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "random-walk" => {
+            "the paper's search: from the behavior that resisted longest, an untried behavior at the fewest changes; no case reuse"
+        }
+        "case-based" => {
+            "the paper's strategy: a stored case of a similar situation first (Algorithm 1), the random walk when none fits"
+        }
+        "uniform" => {
+            "an untried behavior uniformly at random: the baseline a learning strategy must beat"
+        }
+        "cause-aware" => {
+            "learns from why commands failed (stated reasons, perceived events) which component values cause trouble, and avoids them"
+        }
+        "model-based" => {
+            "a Gaussian-process model of the current operator's reactions over the behavior space picks the next behavior"
+        }
+        "conditioned" => {
+            "remembers earlier operators' rejected and trusted behaviors, weighed by how much each resembles the current operator"
+        }
+        "case-based+cause-aware" => "case reuse first, the cause-aware search when no case fits",
+        "case-based+model-based" => "case reuse first, the model-based search when no case fits",
+        "case-based+conditioned" => "case reuse first, the conditioned search when no case fits",
+        _ => return None,
+    })
+}
+
 /// One strategy of an experiment.
 #[derive(Clone)]
 pub struct Arm {

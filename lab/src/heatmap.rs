@@ -7,8 +7,8 @@
 
 use crate::landscape::{Grid, Landscape, LandscapeError};
 use crate::plot::{
-    Area, PlotError, axis_title, category_label, probability_color, svg, text_width, value_labels,
-    wrap,
+    Area, Overlay, PlotError, axis_title, category_label, probability_color, svg_with, text_width,
+    value_labels, wrap,
 };
 use cbr_core::BehaviorSpace;
 use plotters::coord::types::RangedCoordf64;
@@ -48,18 +48,39 @@ pub fn label_areas(space: &BehaviorSpace, y: usize) -> (u32, u32) {
     )
 }
 
-/// Draws the heatmap panel of components `x` (across) and `y` (up) on `area`: `caption` on
-/// top, the cells of `grid` coloured (none without one), the trustworthy region outlined,
-/// each cell's completion probability written in it when `write_values`. Returns the
-/// chart, to draw on top of it.
+/// How a heatmap panel is drawn.
+#[derive(Clone, Copy, Debug)]
+pub struct PanelStyle<'s> {
+    /// The title on top (none when empty).
+    pub caption: &'s str,
+    /// Whether each cell's completion probability is written in it.
+    pub write_values: bool,
+    /// The id of the group of cells and outline in the overlay: drawn once, referred to
+    /// by the next panels of the same id (they must show the same grid).
+    pub id: &'s str,
+    /// Whether the axes across and up have ticks and tick labels (panels of one figure
+    /// label only the outer ones).
+    pub ticks: (bool, bool),
+}
+
+/// Draws the heatmap panel of components `x` (across) and `y` (up) on `area`: the
+/// caption on top, the cells of `grid` coloured (none without one), the trustworthy
+/// region outlined, the values written in when the style says so; the cells, the outline
+/// and the values go into `overlay`. Returns the chart, to place what goes on top of it.
 pub fn panel<'a, 'b>(
     area: &'a Area<'b>,
+    overlay: &mut Overlay,
     space: &BehaviorSpace,
     (x, y): (usize, usize),
     grid: Option<&Grid>,
-    caption: &str,
-    write_values: bool,
+    style: PanelStyle<'_>,
 ) -> Result<CellChart<'a, 'b>, Box<dyn std::error::Error + 'static>> {
+    let PanelStyle {
+        caption,
+        write_values,
+        id,
+        ticks,
+    } = style;
     let components = space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
     let (left, bottom) = label_areas(space, y);
@@ -101,8 +122,8 @@ pub fn panel<'a, 'b>(
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_labels(nx + 1)
-        .y_labels(ny + 1)
+        .x_labels(if ticks.0 { nx + 1 } else { 0 })
+        .y_labels(if ticks.1 { ny + 1 } else { 0 })
         .x_desc(x_title)
         .y_desc(y_title)
         .x_label_formatter(&x_label)
@@ -114,36 +135,39 @@ pub fn panel<'a, 'b>(
         return Ok(chart);
     };
     let cells = (0..nx).flat_map(|i| (0..ny).map(move |j| (i, j)));
-    chart.draw_series(cells.clone().map(|(i, j)| {
-        let (cx, cy) = (i as f64, j as f64);
-        Rectangle::new(
-            [(cx - 0.5, cy - 0.5), (cx + 0.5, cy + 0.5)],
-            probability_color(grid.at(i, j).p_complete()).filled(),
-        )
-    }))?;
-    if write_values {
-        chart.draw_series(cells.map(|(i, j)| {
-            let p = grid.at(i, j).p_complete();
-            let ink = if p > 0.6 { BLACK } else { WHITE };
-            Text::new(
-                format!("{p:.2}"),
-                (i as f64, j as f64),
-                ("sans-serif", 12)
-                    .into_font()
-                    .color(&ink)
-                    .pos(Pos::new(HPos::Center, VPos::Center)),
+    let at = |x: f64, y: f64| {
+        let (px, py) = chart.backend_coord(&(x, y));
+        (f64::from(px), f64::from(py))
+    };
+    overlay.group(id, at(-0.5, -0.5), |overlay| {
+        overlay.rects(cells.clone().map(|(i, j)| {
+            let (cx, cy) = (i as f64, j as f64);
+            (
+                probability_color(grid.at(i, j).p_complete()),
+                at(cx - 0.5, cy - 0.5),
+                at(cx + 0.5, cy + 0.5),
             )
-        }))?;
-    }
-    let edges = region_outline(grid);
-    // A cased line (dark under light) reads on every colour of the scale.
-    for (color, width) in [(BLACK, 4), (WHITE, 2)] {
-        chart.draw_series(
-            edges
-                .iter()
-                .map(|&(a, b)| PathElement::new(vec![a, b], color.stroke_width(width))),
-        )?;
-    }
+        }));
+        if write_values {
+            overlay.texts(
+                12,
+                cells.map(|(i, j)| {
+                    let p = grid.at(i, j).p_complete();
+                    let ink = if p > 0.6 { BLACK } else { WHITE };
+                    (at(i as f64, j as f64), ink, format!("{p:.2}"))
+                }),
+            );
+        }
+        let edges = region_outline(grid);
+        // A cased line (dark under light) reads on every colour of the scale.
+        for (color, width) in [(BLACK, 4.0), (WHITE, 2.0)] {
+            overlay.segments(
+                color,
+                width,
+                edges.iter().map(|&(a, b)| (at(a.0, a.1), at(b.0, b.1))),
+            );
+        }
+    });
     Ok(chart)
 }
 
@@ -268,7 +292,7 @@ pub fn landscape_svg(
     let titles = text_width(title, 20).max(text_width(subtitle, 15)) + 20;
     let width = (chart_width + KEY_WIDTH).max(titles);
     let height = header + chart_height.max(key_height + caption);
-    Ok(svg(path, (width, height), |root| {
+    Ok(svg_with(path, (width, height), |root, overlay| {
         root.draw(&Text::new(title, (10, 8), ("sans-serif", 20).into_font()))?;
         root.draw(&Text::new(
             subtitle,
@@ -278,7 +302,13 @@ pub fn landscape_svg(
         let (_, body) = root.split_vertically(header);
         let (chart_area, key_area) = body.split_horizontally(chart_width);
         let (chart_area, _) = chart_area.split_vertically(chart_height);
-        panel(&chart_area, space, (x, y), Some(&grid), "", true)?;
+        let style = PanelStyle {
+            caption: "",
+            write_values: true,
+            id: "landscape",
+            ticks: (true, true),
+        };
+        panel(&chart_area, overlay, space, (x, y), Some(&grid), style)?;
         color_key(&key_area, caption as i32)?;
         Ok(())
     })?)

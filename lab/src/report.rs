@@ -8,10 +8,17 @@ use crate::heatmap::{self, KEY_WIDTH};
 use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
 use crate::limit::Costs;
-use crate::plot::{Area, DrawResult, PlotError, arm_color, integer_label, svg, wrap};
-use crate::runner::{ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, TrialRecord};
-use crate::seeds::{Purpose, stream_seed};
-use crate::stats::{MeanCi, mean_ci95};
+use crate::plot::{
+    Area, ArmStyle, DrawResult, Overlay, PlotError, Shape, arm_style, drawing_order, log_ticks,
+    svg, svg_with, tick_label, wrap,
+};
+use crate::runner::{
+    ArmResult, ExperimentResult, ExplanationCheck, GivenUpRecord, PairedTests, TrialRecord,
+};
+use crate::seeds::{Purpose, stream, stream_seed};
+use crate::stats::{
+    MeanCi, RatioCi, mean_ci95, paired_bootstrap_ratio, paired_t_test, wilcoxon_signed_rank,
+};
 use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
@@ -42,6 +49,84 @@ pub struct ReportEntry<'a> {
     pub limit: Option<&'a ExperimentLimit>,
     /// A sample trial traced command by command ([`crate::timeline`]), when traced.
     pub timeline: Option<&'a Timeline>,
+    /// The arm every other arm is tested against (p-values) and measured against (effect
+    /// sizes); when it is not among the arms, no arm is.
+    pub reference: &'a str,
+    /// The master seed of the experiments, from which the effect sizes' bootstrap
+    /// streams derive ([`Purpose::Bootstrap`]).
+    pub seed: u64,
+}
+
+/// Resamples of the paired bootstrap of an effect size.
+const BOOTSTRAP_RESAMPLES: usize = 2000;
+
+/// Each arm's effect size in experiment number `experiment` (its place in the report):
+/// its mean behaviors evaluated as a ratio to the reference arm's, with the paired
+/// bootstrap's 95% interval (arm `a` resampled from stream `(seed, experiment, a,
+/// Bootstrap)`); `None` for the reference itself, and for every arm when the reference
+/// is not among them or evaluated nothing.
+pub fn effect_sizes(e: &ReportEntry<'_>, experiment: usize) -> Vec<Option<RatioCi>> {
+    let Some(reference) = e.result.arm(e.reference) else {
+        return vec![None; e.result.arms.len()];
+    };
+    let base = reference.counts();
+    e.result
+        .arms
+        .iter()
+        .enumerate()
+        .map(|(a, arm)| {
+            if arm.name == reference.name {
+                return None;
+            }
+            let mut rng = stream(e.seed, experiment as u64, a as u64, Purpose::Bootstrap);
+            paired_bootstrap_ratio(&arm.counts(), &base, BOOTSTRAP_RESAMPLES, &mut rng)
+        })
+        .collect()
+}
+
+/// Every arm's effect size against its experiment's reference arm ([`effect_sizes`]).
+pub fn effects_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::from(
+        "| Experiment | Arm | Behaviors evaluated ÷ reference's | 95% CI (paired bootstrap) |\n",
+    );
+    out.push_str("|---|---|---:|---:|\n");
+    for (k, e) in entries.iter().enumerate() {
+        for (arm, effect) in e.result.arms.iter().zip(effect_sizes(e, k)) {
+            let (ratio, ci) = match effect {
+                Some(r) => (
+                    format!("{:.2}", r.ratio),
+                    format!("{:.2} to {:.2}", r.low, r.high),
+                ),
+                None if arm.name == e.reference => ("1 (reference)".to_owned(), "—".to_owned()),
+                None => ("—".to_owned(), "—".to_owned()),
+            };
+            let _ = writeln!(out, "| {} | {} | {ratio} | {ci} |", e.result.name, arm.name);
+        }
+    }
+    out
+}
+
+/// Each arm of `e` against its reference arm ([`ReportEntry::reference`]): paired tests
+/// of the behaviors evaluated per trial; `None` for the reference itself, and for every
+/// arm when the reference is not among them.
+pub fn versus_reference(e: &ReportEntry<'_>) -> Vec<Option<PairedTests>> {
+    let Some(reference) = e.result.arm(e.reference) else {
+        return vec![None; e.result.arms.len()];
+    };
+    let base = reference.counts();
+    e.result
+        .arms
+        .iter()
+        .map(|arm| {
+            (arm.name != reference.name).then(|| {
+                let counts = arm.counts();
+                PairedTests {
+                    t_test_p: paired_t_test(&base, &counts).unwrap_or(1.0),
+                    wilcoxon_p: wilcoxon_signed_rank(&base, &counts).unwrap_or(1.0),
+                }
+            })
+        })
+        .collect()
 }
 
 pub use crate::plot::category_label;
@@ -196,24 +281,25 @@ pub fn best_arms(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
-/// Every arm of every experiment: what it costs the operator, and the paired tests
-/// against the experiment's first arm.
+/// Every arm of every experiment: what it costs the operator, and the paired tests of
+/// its behaviors evaluated against the experiment's reference arm (marked).
 pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::from(
-        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p | Wilcoxon p |\n",
+        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p vs reference | Wilcoxon p vs reference |\n",
     );
     out.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for e in entries {
-        for arm in &e.result.arms {
-            let (t, w) = arm
-                .versus_first
-                .map_or(("—".to_owned(), "—".to_owned()), |p| {
-                    (format_p(p.t_test_p), format_p(p.wilcoxon_p))
-                });
-            let started = match arm.starting_cases {
+        for (arm, tests) in e.result.arms.iter().zip(versus_reference(e)) {
+            let (t, w) = tests.map_or(("—".to_owned(), "—".to_owned()), |p| {
+                (format_p(p.t_test_p), format_p(p.wilcoxon_p))
+            });
+            let mut started = match arm.starting_cases {
                 0 => String::new(),
                 n => format!(" (from {n} saved)"),
             };
+            if arm.name == e.reference {
+                started.push_str(" (reference)");
+            }
             let _ = writeln!(
                 out,
                 "| {} | {}{started} | {} | {} | {} | {:.1}% ± {:.1} | {} | {} | {t} | {w} |",
@@ -420,10 +506,17 @@ fn format_p(p: f64) -> String {
 pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
     let experiments: Vec<Value> = entries
         .iter()
-        .map(|e| {
+        .enumerate()
+        .map(|(k, e)| {
             let mut strategies = Map::new();
-            for arm in &e.result.arms {
+            let effects = effect_sizes(e, k);
+            for ((arm, tests), effect) in e.result.arms.iter().zip(versus_reference(e)).zip(effects) {
                 let mut summary = arm_summary(arm);
+                summary["behaviors_ratio_to_reference"] = effect.map_or(Value::Null, |r| {
+                    json!({ "ratio": r.ratio, "ci95_low": r.low, "ci95_high": r.high })
+                });
+                summary["t_test_p_vs_reference"] = json!(tests.map(|t| t.t_test_p));
+                summary["wilcoxon_p_vs_reference"] = json!(tests.map(|t| t.wilcoxon_p));
                 if let Some(limit) = e.limit {
                     let [b, c, u] = ratios(arm, &limit.limit.paper);
                     summary["ratio_to_limit"] = json!({
@@ -464,6 +557,7 @@ pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provena
                 "operator": e.operator,
                 "trials": e.result.trials(),
                 "arms": e.result.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>(),
+                "reference": e.reference,
                 "p_value": e.result.arms.get(1).and_then(|a| a.versus_first).map_or(1.0, |t| t.t_test_p),
                 "strategies": strategies,
                 "limit": limit,
@@ -645,9 +739,11 @@ pub fn write_report(
     write(
         "table.md",
         &format!(
-            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
+            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator (p-values against the reference arm, {})\n\n{}\n## Effect sizes against the reference arm\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
             table(entries),
+            entries.first().map_or("", |e| e.reference),
             arms_table(entries),
+            effects_table(entries),
             explanations_table(entries)
         ),
     )?;
@@ -660,22 +756,169 @@ pub fn write_report(
     let mut figures: Vec<Figure> = Vec::new();
     for metric in SUMMARY_METRICS {
         let name = format!("{}.svg", metric.stem);
-        let summary_svg = svg(&dir.join(&name), (1200, 560), |area| {
-            summary_figure(area, entries, metric)
+        let summary_svg = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
+            every_arm_figure(area, overlay, entries, &summary_figure(entries, metric))
         })?;
         write(&name, &summary_svg)?;
-        figures.push(Figure::new("summary", summary_svg, String::new()));
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            summary_svg,
+            format!(
+                "{}: the mean per trial of each arm (its marker, offset within its \
+                 experiment; key at the right) with its 95% confidence interval (the vertical \
+                 line), one column per experiment, on a log axis (lower is better). The black \
+                 bar is the known-operator limit: an agent that knows the operator's outcome \
+                 distribution of every behavior, starting from a random behavior as the arms do.",
+                metric.what
+            ),
+        ));
+    }
+    let reference = entries.first().map_or("", |e| e.reference);
+    let effects = EveryArm {
+        title: format!("Behaviors evaluated per trial as a ratio to {reference}'s (95% CI)"),
+        axis: "ratio to the reference arm (log scale)",
+        values: entries
+            .iter()
+            .enumerate()
+            .map(|(k, e)| {
+                effect_sizes(e, k)
+                    .into_iter()
+                    .map(|r| {
+                        r.map(|r| Interval {
+                            mid: r.ratio,
+                            low: r.low,
+                            high: r.high,
+                        })
+                    })
+                    .collect()
+            })
+            .collect(),
+        bars: vec![Some(1.0); entries.len()],
+        bar_key: format!("{reference} (the reference) = 1"),
+    };
+    let name = "effect-sizes.svg";
+    let drawn = svg_with(&dir.join(name), (1200, 560), |area, overlay| {
+        every_arm_figure(area, overlay, entries, &effects)
+    })?;
+    write(name, &drawn)?;
+    figures.push(Figure::new(
+        "Every experiment and arm",
+        drawn,
+        format!(
+            "Effect sizes: each arm's mean behaviors evaluated per trial divided by the \
+             reference arm's ({}; the black bar at 1), with the 95% interval of a paired \
+             bootstrap ({BOOTSTRAP_RESAMPLES} resamples of the trials, the same trials for both \
+             arms), on a log axis. Below 1 the arm needs fewer behaviors than the reference; \
+             an interval that crosses 1 is no evidence of a difference.",
+            escape(reference)
+        ),
+    ));
+    let over_trials = [
+        (
+            "untrustworthy-over-trials.svg",
+            Panels {
+                title: "Untrustworthy commands summed over the trials so far".to_owned(),
+                x_axis: "trial",
+                y_axis: "untrustworthy commands so far",
+                log_x: false,
+                series: per_trial_lines(entries, |_| true, cumulative_untrustworthy),
+            },
+            "What the operator has endured: the commands that failed or that it interrupted, \
+             summed from the first trial on, one panel per experiment and one line per arm \
+             (its marker at the end). A steeper line costs the operator more per trial; a line \
+             that bends flatter has learned.",
+        ),
+        (
+            "case-base-over-trials.svg",
+            Panels {
+                title: "Cases in the base of each arm that reuses cases, after each trial"
+                    .to_owned(),
+                x_axis: "trial",
+                y_axis: "cases",
+                log_x: false,
+                series: per_trial_lines(entries, |a| a.reuses_cases, case_base_sizes),
+            },
+            "The case base of each arm that reuses cases (Algorithm 1), trial by trial: the \
+             cases it started from, plus one for each trial whose behavior is retained. It \
+             levels off once the base covers the situations the operators bring.",
+        ),
+        (
+            "reuse-over-trials.svg",
+            Panels {
+                title: format!(
+                    "Share of adaptations taken from a case (moving average of {MOVING_AVERAGE_WINDOW} trials)"
+                ),
+                x_axis: "trial",
+                y_axis: "share from a case",
+                log_x: false,
+                series: per_trial_lines(entries, |a| a.reuses_cases, reuse_rates),
+            },
+            "How often an arm that reuses cases took its next behavior from a stored case \
+             rather than from its search, per trial and averaged over the last 25 trials: it \
+             rises as the base fills, and stays low where the stored cases seldom fit.",
+        ),
+        (
+            "distributions.svg",
+            Panels {
+                title: "Behaviors evaluated per trial: each arm's distribution".to_owned(),
+                x_axis: "behaviors evaluated (log scale)",
+                y_axis: "share of trials",
+                log_x: true,
+                series: entries
+                    .iter()
+                    .map(|e| {
+                        e.result
+                            .arms
+                            .iter()
+                            .map(|a| Some(ecdf(a.counts())))
+                            .collect()
+                    })
+                    .collect(),
+            },
+            "Each arm's distribution of behaviors evaluated per trial (the empirical \
+             cumulative distribution): across, a number of behaviors (log scale); up, the share \
+             of trials that needed at most that many. Further up and left is better; a long \
+             tail to the right, which a mean and its CI hide, shows here.",
+        ),
+    ];
+    // A figure with no line at all (no arm reuses cases) is left out.
+    for (name, panels, caption) in over_trials {
+        if panels.series.iter().flatten().all(Option::is_none) {
+            continue;
+        }
+        let drawn = svg_with(&dir.join(name), panels.size(), |area, overlay| {
+            small_multiples(area, overlay, entries, &panels)
+        })?;
+        write(name, &drawn)?;
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            drawn,
+            caption.to_owned(),
+        ));
     }
     for (e, stem) in entries
         .iter()
         .zip(file_stems(entries.iter().map(|e| &e.result.name)))
     {
         let name = format!("curves-{stem}.svg");
-        let curves = svg(&dir.join(&name), (1250, 520), |area| {
-            learning_curves(area, e)
-        })?;
-        write(&name, &curves)?;
-        figures.push(Figure::new(&e.result.name, curves, String::new()));
+        let curves = |dots: bool| {
+            svg_with(&dir.join(&name), (1250, 520), |area, overlay| {
+                learning_curves(area, overlay, e, dots)
+            })
+        };
+        write(&name, &curves(true)?)?;
+        figures.push(Figure::new(
+            &e.result.name,
+            curves(false)?,
+            format!(
+                "Behaviors evaluated in each trial, trials in order: the moving average over \
+                 {MOVING_AVERAGE_WINDOW} trials (the line, with the arm's marker at eight places) \
+                 and its 95% band, on a log axis (lower is better). An arm that learns across \
+                 trials (a growing case base, a searcher's memory) falls as trials go on; one \
+                 that does not stays level. Each trial's count is a dot in \
+                 <code>{name}</code> and a line of <code>trials.jsonl</code>."
+            ),
+        ));
         if let Some(timeline) = e.timeline {
             let name = format!("timeline-{stem}.svg");
             let switches = timeline
@@ -704,6 +947,8 @@ pub fn write_report(
                     components[x].name, components[y].name
                 )
             };
+            // The id of the heatmap every arm's panel shares, unique in the page.
+            let id = format!("cells-{}", name.trim_end_matches(".svg"));
             let grid = e
                 .landscapes
                 .iter()
@@ -715,11 +960,15 @@ pub fn write_report(
                     message: reason.to_string(),
                 })?;
             let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
-            let finals = svg(&dir.join(&name), layout.size(), |area| {
-                final_behaviors(area, e, (x, y), grid.as_ref(), &layout)
+            let finals = svg_with(&dir.join(&name), layout.size(), |area, overlay| {
+                final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
             })?;
             write(&name, &finals)?;
-            figures.push(Figure::new(&e.result.name, finals, String::new()));
+            figures.push(Figure::new(
+                &e.result.name,
+                finals,
+                finals_caption(e, (x, y), grid.as_ref()),
+            ));
         }
     }
     write(
@@ -729,7 +978,7 @@ pub fn write_report(
     Ok(written)
 }
 
-/// A figure of the page: its section, its SVG text and its caption (HTML, may be empty).
+/// A figure of the page: its section, its SVG text and its caption (HTML).
 struct Figure {
     section: String,
     svg: String,
@@ -775,7 +1024,8 @@ fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A Markdown table as made by [`table`] and [`arms_table`], as an HTML table.
+/// A Markdown table as made by [`table`] and [`arms_table`], as an HTML table in a
+/// container that scrolls sideways when the table is wider than the screen.
 fn html_table(markdown: &str) -> String {
     let cells = |line: &str| -> Vec<String> {
         line.trim()
@@ -785,7 +1035,7 @@ fn html_table(markdown: &str) -> String {
             .collect()
     };
     let mut lines = markdown.lines().filter(|l| l.starts_with('|'));
-    let mut html = String::from("<table>\n<thead><tr>");
+    let mut html = String::from("<div class=\"scroll\">\n<table>\n<thead><tr>");
     if let Some(header) = lines.next() {
         for c in cells(header) {
             let _ = write!(html, "<th>{c}</th>");
@@ -799,20 +1049,198 @@ fn html_table(markdown: &str) -> String {
         }
         html.push_str("</tr>\n");
     }
-    html.push_str("</tbody>\n</table>\n");
+    html.push_str("</tbody>\n</table>\n</div>\n");
     html
 }
 
-/// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched) with the
-/// tables, the figures (the same SVG text as the files), the config and the provenance.
+/// What the tables' columns mean, one line each.
+const METRICS: [(&str, &str); 9] = [
+    (
+        "Behaviors evaluated",
+        "behaviors the robot tried in a trial before settling on one the operator trusts (the paper's metric; lower is better)",
+    ),
+    (
+        "Commands",
+        "commands the operator gave in a trial until it ended",
+    ),
+    (
+        "Untrustworthy commands",
+        "commands that failed or that the operator interrupted: what the operator endured",
+    ),
+    (
+        "Found trustworthy",
+        "share of trials that ended on a behavior whose trust estimate reached the trustworthy threshold",
+    ),
+    (
+        "Cases acquired",
+        "cases retained over the experiment (an arm that reuses cases reads them in later trials)",
+    ),
+    (
+        "Cut off",
+        "trials stopped by the suite's <code>max_commands</code> before they ended",
+    ),
+    (
+        "Mean ± CI",
+        "the mean over trials and the half-width of its 95% confidence interval",
+    ),
+    (
+        "t-test p, Wilcoxon p",
+        "two-sided p-values of the paired t-test and the Wilcoxon signed-rank test of behaviors evaluated, trial by trial, against the reference arm",
+    ),
+    (
+        "Known-operator limit",
+        "the cost of an agent that knows every behavior's outcome distribution under the operator and tries them in the best order: no arm can do better on average",
+    ),
+];
+
+/// The glossary: each arm of the report in one line, then the metrics.
+fn glossary(entries: &[ReportEntry<'_>]) -> String {
+    let mut html = String::from("<h3>Arms</h3>\n<dl>\n");
+    let mut seen: Vec<&str> = Vec::new();
+    for arm in entries.iter().flat_map(|e| &e.result.arms) {
+        if seen.contains(&arm.name.as_str()) {
+            continue;
+        }
+        seen.push(&arm.name);
+        let what = crate::arm::describe(&arm.name).unwrap_or(if arm.reuses_cases {
+            "an arm of the catalog's own that reuses cases"
+        } else {
+            "an arm of the catalog's own"
+        });
+        let _ = writeln!(
+            html,
+            "<dt><code>{}</code></dt><dd>{}</dd>",
+            escape(&arm.name),
+            escape(what)
+        );
+    }
+    html.push_str("</dl>\n<h3>Metrics</h3>\n<dl>\n");
+    for (name, what) in METRICS {
+        let _ = writeln!(html, "<dt>{name}</dt><dd>{what}</dd>");
+    }
+    html.push_str("</dl>\n");
+    html
+}
+
+/// The page's style: readable at 800 px, tables scroll sideways in their container,
+/// numbers never wrap.
+const STYLE: &str = "body { font-family: sans-serif; margin: 2em auto; padding: 0 1em; max-width: 1300px; color: #222; }
+table { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }
+.scroll { overflow-x: auto; }
+th, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }
+th { background: #eee; }
+td { text-align: right; white-space: nowrap; }
+td:first-child, td:nth-child(2) { text-align: left; white-space: normal; }
+figure { margin: 1em 0 2em; }
+figure svg { max-width: 100%; height: auto; }
+figcaption { max-width: 60em; color: #333; }
+dt { font-weight: bold; margin-top: 0.4em; }
+code { overflow-wrap: anywhere; }
+pre { background: #f6f6f6; padding: 1em; overflow-x: auto; }
+";
+
+/// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched): a
+/// contents list, the glossary, the tables, the figures (the same SVG text as the files,
+/// but the learning curves without their per-trial dots) each with a caption, the config
+/// and the provenance.
 fn html_page(
     entries: &[ReportEntry<'_>],
     config_ron: &str,
     provenance: &Provenance,
     figures: &[Figure],
 ) -> String {
-    let mut page = String::from(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>trustcbr report</title>\n<style>\nbody { font-family: sans-serif; margin: 2em auto; max-width: 1300px; color: #222; }\ntable { border-collapse: collapse; margin: 1em 0; font-size: 0.9em; }\nth, td { border: 1px solid #bbb; padding: 0.25em 0.6em; }\nth { background: #eee; }\ntd { text-align: right; }\ntd:first-child, td:nth-child(2) { text-align: left; }\nfigure { margin: 1em 0; }\nfigure svg { max-width: 100%; height: auto; }\npre { background: #f6f6f6; padding: 1em; overflow-x: auto; }\n</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n",
+    // The sections, in order: (id, title, HTML).
+    let mut sections: Vec<(String, String, String)> = Vec::new();
+    let mut section = |id: &str, title: &str, html: String| {
+        sections.push((id.to_owned(), title.to_owned(), html));
+    };
+    section("glossary", "Arms and metrics", glossary(entries));
+    section(
+        "paper",
+        "Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms",
+        html_table(&table(entries)),
+    );
+    let reference = entries.first().map_or("", |e| e.reference);
+    section(
+        "arms",
+        "Every arm: what it costs the operator",
+        format!(
+            "<p>p-values test each arm's behaviors evaluated against the reference arm, \
+             <code>{}</code> (the suite's <code>reference</code>), trial by trial.</p>\n{}",
+            escape(reference),
+            html_table(&arms_table(entries))
+        ),
+    );
+    section(
+        "effects",
+        "Effect sizes against the reference arm",
+        html_table(&effects_table(entries)),
+    );
+    let limits = limit_table(entries);
+    if !limits.is_empty() {
+        section(
+            "limit",
+            "Against the known-operator limit (the paper's protocol: a random first behavior)",
+            html_table(&limits),
+        );
+        section(
+            "population",
+            "How much each experiment's operators disagree (their trustworthy regions)",
+            html_table(&population_table(entries)),
+        );
+    }
+    let mut explanations = format!(
+        "<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
+        html_table(&explanations_table(entries))
+    );
+    for e in entries {
+        let _ = writeln!(
+            explanations,
+            "<details><summary>Sample explanations: {}</summary><ul>",
+            escape(&e.result.name)
+        );
+        for (arm, samples) in sample_explanations(e) {
+            for sample in samples {
+                let _ = writeln!(
+                    explanations,
+                    "<li><b>{}</b>, {}</li>",
+                    escape(&arm),
+                    escape(&sample)
+                );
+            }
+        }
+        explanations.push_str("</ul></details>\n");
+    }
+    section(
+        "explanations",
+        "Explanations against the truth",
+        explanations,
+    );
+    let mut titles: Vec<&str> = Vec::new();
+    for figure in figures {
+        if !titles.contains(&figure.section.as_str()) {
+            titles.push(&figure.section);
+        }
+    }
+    for (title, stem) in titles.iter().zip(file_stems(&titles)) {
+        let mut html = String::new();
+        for figure in figures.iter().filter(|f| f.section == *title) {
+            let _ = write!(
+                html,
+                "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+                figure.svg, figure.caption
+            );
+        }
+        section(&format!("figures-{stem}"), title, html);
+    }
+    section(
+        "config",
+        "Config",
+        format!("<pre>{}</pre>\n", escape(config_ron)),
+    );
+
+    let mut page = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>trustcbr report</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n"
     );
     let _ = writeln!(
         page,
@@ -828,61 +1256,15 @@ fn html_page(
             )),
         escape(&provenance.command_line.join(" "))
     );
-    let _ = write!(
-        page,
-        "<h2>Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms</h2>\n{}<h2>Every arm: what it costs the operator</h2>\n{}",
-        html_table(&table(entries)),
-        html_table(&arms_table(entries))
-    );
-    let limits = limit_table(entries);
-    if !limits.is_empty() {
-        let _ = write!(
-            page,
-            "<h2>Against the known-operator limit (the paper's protocol: a random first behavior)</h2>\n{}<h2>How much each experiment's operators disagree (their trustworthy regions)</h2>\n{}",
-            html_table(&limits),
-            html_table(&population_table(entries))
-        );
+    page.push_str("<nav>\n<h2>Contents</h2>\n<ul>\n");
+    for (id, title, _) in &sections {
+        let _ = writeln!(page, "<li><a href=\"#{id}\">{}</a></li>", escape(title));
     }
-    let _ = write!(
-        page,
-        "<h2>Explanations against the truth</h2>\n<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
-        html_table(&explanations_table(entries))
-    );
-    for e in entries {
-        let _ = writeln!(
-            page,
-            "<details><summary>Sample explanations: {}</summary><ul>",
-            escape(&e.result.name)
-        );
-        for (arm, samples) in sample_explanations(e) {
-            for sample in samples {
-                let _ = writeln!(
-                    page,
-                    "<li><b>{}</b>, {}</li>",
-                    escape(&arm),
-                    escape(&sample)
-                );
-            }
-        }
-        page.push_str("</ul></details>\n");
+    page.push_str("</ul>\n</nav>\n");
+    for (id, title, html) in &sections {
+        let _ = write!(page, "<h2 id=\"{id}\">{}</h2>\n{html}", escape(title));
     }
-    let mut current = "";
-    for figure in figures {
-        if figure.section != current {
-            let _ = writeln!(page, "<h2>{}</h2>", escape(&figure.section));
-            current = &figure.section;
-        }
-        let _ = write!(page, "<figure>\n{}\n", figure.svg);
-        if !figure.caption.is_empty() {
-            let _ = writeln!(page, "<figcaption>{}</figcaption>", figure.caption);
-        }
-        page.push_str("</figure>\n");
-    }
-    let _ = write!(
-        page,
-        "<h2>Config</h2>\n<pre>{}</pre>\n</body>\n</html>\n",
-        escape(config_ron)
-    );
+    page.push_str("</body>\n</html>\n");
     page
 }
 
@@ -902,14 +1284,42 @@ fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
 /// Width of the legend strip right of a chart, in pixels.
 const LEGEND_WIDTH: u32 = 250;
 
-/// Draws a legend of `entries` (label, colour) in `area`, top to bottom.
-fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
-    for (k, (label, color)) in entries.iter().enumerate() {
+/// What a legend entry draws before its label.
+enum Key {
+    /// A line (a series drawn as a line).
+    Line(RGBColor),
+    /// The arm's marker (a series drawn as markers).
+    Marker(ArmStyle),
+    /// A line with the arm's marker on it.
+    LineMarker(ArmStyle),
+}
+
+/// Draws a legend of `entries` (label, key) in `area`, top to bottom; markers go into
+/// `overlay`.
+fn legend(area: &Area<'_>, overlay: &mut Overlay, entries: &[(String, Key)]) -> DrawResult {
+    let (left, top) = area.get_base_pixel();
+    for (k, (label, key)) in entries.iter().enumerate() {
         let y = 60 + 22 * k as i32;
-        area.draw(&PathElement::new(
-            vec![(8, y), (32, y)],
-            color.stroke_width(3),
-        ))?;
+        let (line, marker) = match key {
+            Key::Line(color) => (Some(*color), None),
+            Key::Marker(style) => (None, Some(style)),
+            Key::LineMarker(style) => (Some(style.color), Some(style)),
+        };
+        if let Some(color) = line {
+            area.draw(&PathElement::new(
+                vec![(8, y), (32, y)],
+                color.stroke_width(3),
+            ))?;
+        }
+        if let Some(style) = marker {
+            let at = (f64::from(left + 20), f64::from(top + y));
+            overlay.markers(
+                style.shape,
+                Some((style.color, 1.0)),
+                Some((WHITE, 1.0)),
+                [(at, 5.0)],
+            );
+        }
         area.draw(&Text::new(
             label.clone(),
             (40, y - 7),
@@ -917,6 +1327,248 @@ fn legend(area: &Area<'_>, entries: &[(String, RGBColor)]) -> DrawResult {
         ))?;
     }
     Ok(())
+}
+
+/// Points a curve of `n` trials is drawn through: at most `points` (and the last),
+/// evenly spaced, the first and the last always (a moving average of
+/// [`MOVING_AVERAGE_WINDOW`] changes little from one trial to the next).
+fn thinned(n: usize, points: usize) -> impl Iterator<Item = usize> {
+    let step = n.div_ceil(points).max(1);
+    (0..n)
+        .step_by(step)
+        .chain((n > 0 && !(n - 1).is_multiple_of(step)).then(|| n - 1))
+}
+
+/// At most this many points per learning curve (and one more: the last).
+const CURVE_POINTS: usize = 200;
+
+/// At most this many points per curve of a panel of [`small_multiples`].
+const PANEL_POINTS: usize = 100;
+
+/// The points of a line, in data units.
+type Line = Vec<(f64, f64)>;
+
+/// A figure of one panel per experiment (four a row), one line per arm, the legend at the
+/// right.
+struct Panels {
+    title: String,
+    x_axis: &'static str,
+    y_axis: &'static str,
+    /// Whether the x axis is logarithmic (the x values must then be positive).
+    log_x: bool,
+    /// Per experiment, per arm: the line's points (`None`: the arm is not drawn).
+    series: Vec<Vec<Option<Line>>>,
+}
+
+impl Panels {
+    /// Size of one panel (px).
+    const PANEL: (u32, u32) = (300, 260);
+
+    fn size(&self) -> (u32, u32) {
+        let n = self.series.len().max(1);
+        let columns = n.min(4) as u32;
+        (
+            Self::PANEL.0 * columns + LEGEND_WIDTH,
+            50 + Self::PANEL.1 * n.div_ceil(4) as u32,
+        )
+    }
+}
+
+/// Per experiment, per arm, a line over its trials in order from `value(arm)` (one value
+/// per trial), thinned to [`PANEL_POINTS`]; arms for which `drawn` is false are left out.
+fn per_trial_lines(
+    entries: &[ReportEntry<'_>],
+    drawn: impl Fn(&ArmResult) -> bool,
+    value: impl Fn(&ArmResult) -> Vec<f64>,
+) -> Vec<Vec<Option<Line>>> {
+    entries
+        .iter()
+        .map(|e| {
+            e.result
+                .arms
+                .iter()
+                .map(|arm| {
+                    drawn(arm).then(|| {
+                        let values = value(arm);
+                        thinned(values.len(), PANEL_POINTS)
+                            .map(|i| ((i + 1) as f64, values[i]))
+                            .collect()
+                    })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Untrustworthy commands summed over the trials so far, trial by trial.
+fn cumulative_untrustworthy(arm: &ArmResult) -> Vec<f64> {
+    arm.trials
+        .iter()
+        .scan(0.0, |sum, t| {
+            *sum += t.report.untrustworthy as f64;
+            Some(*sum)
+        })
+        .collect()
+}
+
+/// Cases in the arm's base after each trial: those it started from and those retained.
+fn case_base_sizes(arm: &ArmResult) -> Vec<f64> {
+    arm.trials
+        .iter()
+        .scan(arm.starting_cases as f64, |size, t| {
+            *size += f64::from(u8::from(t.report.retained.is_some()));
+            Some(*size)
+        })
+        .collect()
+}
+
+/// The share of each trial's adaptations that reused a case (0 for a trial without
+/// adaptation), as a moving average of [`MOVING_AVERAGE_WINDOW`] trials.
+fn reuse_rates(arm: &ArmResult) -> Vec<f64> {
+    let shares: Vec<f64> = arm
+        .trials
+        .iter()
+        .map(|t| {
+            let adaptations = t.report.reused + t.report.searched;
+            if adaptations == 0 {
+                0.0
+            } else {
+                f64::from(t.report.reused) / f64::from(adaptations)
+            }
+        })
+        .collect();
+    moving_average(&shares, MOVING_AVERAGE_WINDOW)
+}
+
+/// The empirical distribution of `counts` as the steps of its cumulative share:
+/// `(count, share of trials with at most that count)`, each step's foot then its top.
+fn ecdf(mut counts: Vec<f64>) -> Vec<(f64, f64)> {
+    counts.sort_by(f64::total_cmp);
+    let n = counts.len() as f64;
+    let mut steps = Vec::new();
+    let mut below = 0.0;
+    for (k, &c) in counts.iter().enumerate() {
+        if counts.get(k + 1) != Some(&c) {
+            let share = (k + 1) as f64 / n;
+            steps.push((c, below));
+            steps.push((c, share));
+            below = share;
+        }
+    }
+    steps
+}
+
+/// Draws `figure`: a panel per experiment, each arm's line in its colour (the paper's two
+/// last) with its marker at the line's end, a shared legend at the right.
+fn small_multiples(
+    area: &Area<'_>,
+    overlay: &mut Overlay,
+    entries: &[ReportEntry<'_>],
+    figure: &Panels,
+) -> DrawResult {
+    let (width, _) = area.dim_in_pixel();
+    let (top, body) = area.split_vertically(50);
+    top.draw(&Text::new(
+        figure.title.as_str(),
+        (10, 12),
+        ("sans-serif", 20).into_font(),
+    ))?;
+    let (panels_area, side) = body.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
+    let columns = entries.len().clamp(1, 4);
+    let panels = panels_area.split_evenly((entries.len().div_ceil(4).max(1), columns));
+    let names: Vec<&str> = entries
+        .first()
+        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .unwrap_or_default();
+    let scale = |v: f64| if figure.log_x { v.max(1e-9).log10() } else { v };
+    for ((panel, e), series) in panels.iter().zip(entries).zip(&figure.series) {
+        let points = || series.iter().flatten().flatten();
+        let (mut x0, mut x1) = points().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.0), b.max(p.0))
+        });
+        // Plotters never ends placing ticks on an empty or infinite range.
+        if !x0.is_finite() {
+            (x0, x1) = (1.0, 2.0);
+        } else if x1 <= x0 {
+            x1 = x0 + 1.0;
+        }
+        if figure.log_x {
+            (x0, x1) = (x0 * 0.9, x1 * 1.1);
+        }
+        let y1 = match points().map(|p| p.1).fold(0.0f64, f64::max) {
+            most if most > 0.0 => most * 1.05,
+            _ => 1.0,
+        };
+        let mut chart = ChartBuilder::on(panel)
+            .caption(&e.result.name, ("sans-serif", 14))
+            .margin(8)
+            .margin_right(14)
+            .x_label_area_size(36)
+            .y_label_area_size(48)
+            .build_cartesian_2d(scale(x0)..scale(x1), 0.0..y1)?;
+        let mut mesh = chart.configure_mesh();
+        mesh.light_line_style(TRANSPARENT)
+            .x_label_formatter(&tick_label)
+            .y_label_formatter(&tick_label)
+            .label_style(("sans-serif", 11))
+            .axis_desc_style(("sans-serif", 12))
+            .x_desc(figure.x_axis)
+            .y_desc(figure.y_axis)
+            .y_labels(5);
+        // A log axis is drawn in log10 units: its ticks and labels are placed by hand.
+        mesh.x_labels(if figure.log_x { 0 } else { 5 });
+        mesh.draw()?;
+        if figure.log_x {
+            let at: Vec<(f64, (f64, f64))> = log_ticks(x0, x1, 220)
+                .into_iter()
+                .map(|t| {
+                    let (px, py) = chart.backend_coord(&(scale(t), 0.0));
+                    (t, (f64::from(px), f64::from(py)))
+                })
+                .collect();
+            overlay.segments(
+                BLACK,
+                1.0,
+                at.iter().map(|&(_, (x, y))| ((x, y), (x, y + 5.0))),
+            );
+            overlay.texts(
+                11,
+                at.iter()
+                    .map(|&(t, (x, y))| ((x, y + 12.0), BLACK, tick_label(&t))),
+            );
+        }
+        for a in drawing_order(&names) {
+            let Some(Some(line)) = series.get(a) else {
+                continue;
+            };
+            let style = arm_style(names[a], a);
+            chart.draw_series(LineSeries::new(
+                line.iter().map(|&(x, y)| (scale(x), y)),
+                style.color.stroke_width(2),
+            ))?;
+            if let Some(&(x, y)) = line.last() {
+                let (px, py) = chart.backend_coord(&(scale(x), y));
+                overlay.markers(
+                    style.shape,
+                    Some((style.color, 1.0)),
+                    Some((WHITE, 1.0)),
+                    [((f64::from(px), f64::from(py)), 4.0)],
+                );
+            }
+        }
+    }
+    let drawn: Vec<(String, Key)> = names
+        .iter()
+        .enumerate()
+        .filter(|&(a, _)| {
+            figure
+                .series
+                .iter()
+                .any(|s| matches!(s.get(a), Some(Some(_))))
+        })
+        .map(|(a, name)| ((*name).to_owned(), Key::LineMarker(arm_style(name, a))))
+        .collect();
+    legend(&side, overlay, &drawn)
 }
 
 /// The 95% confidence band of the moving average: mean ± t * sd / sqrt(n) over the same
@@ -931,7 +1583,15 @@ fn moving_band(values: &[f64], window: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
+/// The learning curves of an experiment: each arm's moving average of behaviors
+/// evaluated with its 95% band, and each trial's count as a faint dot when `dots` (the
+/// SVG file has them, the page does not: they are most of its weight).
+fn learning_curves(
+    area: &Area<'_>,
+    overlay: &mut Overlay,
+    e: &ReportEntry<'_>,
+    dots: bool,
+) -> DrawResult {
     let trials = e.result.trials().max(1) as u32;
     let top = e
         .result
@@ -951,55 +1611,80 @@ fn learning_curves(area: &Area<'_>, e: &ReportEntry<'_>) -> DrawResult {
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(0u32..trials, (0.8f64..top * 1.2).log_scale())?;
+        .build_cartesian_2d(
+            0u32..trials,
+            (0.8f64..top * 1.2)
+                .log_scale()
+                .with_key_points(log_ticks(0.8, top * 1.2, 400)),
+        )?;
     chart
         .configure_mesh()
         .light_line_style(TRANSPARENT)
         .x_desc("trial (in order; the case base grows)")
         .y_desc("behaviors evaluated (log scale)")
-        .y_label_formatter(&integer_label)
+        .y_label_formatter(&tick_label)
         .draw()?;
-    let mut entries = Vec::new();
-    for (index, s) in e.result.arms.iter().enumerate() {
-        let color = arm_color(index);
+    let names: Vec<&str> = e.result.arms.iter().map(|a| a.name.as_str()).collect();
+    let styles: Vec<ArmStyle> = names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| arm_style(name, i))
+        .collect();
+    for index in drawing_order(&names) {
+        let (s, style) = (&e.result.arms[index], styles[index]);
+        let color = style.color;
         let counts = s.counts();
-        chart.draw_series(
-            counts
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.25).filled())),
-        )?;
-        let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
-        let outline: Vec<(u32, f64)> = band
-            .iter()
-            .enumerate()
-            .map(|(i, &(_, high))| (i as u32, high.max(0.8)))
-            .chain(
-                band.iter()
+        if dots {
+            chart.draw_series(
+                counts
+                    .iter()
                     .enumerate()
-                    .rev()
-                    .map(|(i, &(low, _))| (i as u32, low.max(0.8))),
-            )
+                    .map(|(i, &c)| Circle::new((i as u32, c), 2, color.mix(0.25).filled())),
+            )?;
+        }
+        let band = moving_band(&counts, MOVING_AVERAGE_WINDOW);
+        let kept: Vec<usize> = thinned(band.len(), CURVE_POINTS).collect();
+        let outline: Vec<(u32, f64)> = kept
+            .iter()
+            .map(|&i| (i as u32, band[i].1.max(0.8)))
+            .chain(kept.iter().rev().map(|&i| (i as u32, band[i].0.max(0.8))))
             .collect();
         chart.draw_series(std::iter::once(Polygon::new(
             outline,
             color.mix(0.18).filled(),
         )))?;
+        let average = moving_average(&counts, MOVING_AVERAGE_WINDOW);
         chart.draw_series(LineSeries::new(
-            moving_average(&counts, MOVING_AVERAGE_WINDOW)
-                .into_iter()
-                .enumerate()
-                .map(|(i, m)| (i as u32, m)),
+            thinned(average.len(), CURVE_POINTS).map(|i| (i as u32, average[i])),
             color.stroke_width(3),
         ))?;
-        entries.push((s.name.clone(), color));
+        // The arm's marker on its line at eight places, staggered by arm so that markers
+        // of lines that run together do not hide each other.
+        let stagger = trials as usize / (8 * names.len().max(1));
+        overlay.markers(
+            style.shape,
+            Some((color, 1.0)),
+            Some((WHITE, 1.0)),
+            (0..8)
+                .map(|k| k * trials as usize / 8 + index * stagger)
+                .filter_map(|i| average.get(i).map(|&m| (i, m)))
+                .map(|(i, m)| {
+                    let (x, y) = chart.backend_coord(&(i as u32, m));
+                    ((f64::from(x), f64::from(y)), 4.5)
+                }),
+        );
     }
     side.draw(&Text::new(
         format!("moving average of {MOVING_AVERAGE_WINDOW}, 95% CI band"),
         (8, 30),
         ("sans-serif", 12).into_font(),
     ))?;
-    legend(&side, &entries)
+    let entries: Vec<(String, Key)> = names
+        .iter()
+        .zip(&styles)
+        .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
+        .collect();
+    legend(&side, overlay, &entries)
 }
 
 /// Every experiment and arm at once: mean behaviors evaluated with its 95% confidence
@@ -1034,6 +1719,8 @@ struct SummaryMetric {
     stem: &'static str,
     /// The figure's title.
     title: &'static str,
+    /// What it measures, for its caption.
+    what: &'static str,
     /// The y axis's title.
     axis: &'static str,
     /// The arm's mean and CI.
@@ -1048,6 +1735,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary",
         title: "Behaviors evaluated per trial: every experiment and arm (mean, 95% CI)",
+        what: "Behaviors evaluated per trial (the paper's metric)",
         axis: "behaviors evaluated (log scale)",
         arm: |a| a.behaviors,
         limit: |c| c.behaviors,
@@ -1055,6 +1743,7 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary-commands",
         title: "Commands per trial: every experiment and arm (mean, 95% CI)",
+        what: "Commands per trial (how long the operator waited for a trustworthy behavior)",
         axis: "commands (log scale)",
         arm: |a| a.commands,
         limit: |c| c.commands,
@@ -1062,44 +1751,91 @@ const SUMMARY_METRICS: [SummaryMetric; 3] = [
     SummaryMetric {
         stem: "summary-untrustworthy",
         title: "Untrustworthy commands per trial: every experiment and arm (mean, 95% CI)",
+        what: "Untrustworthy commands per trial (commands that failed or that the operator interrupted)",
         axis: "untrustworthy commands (log scale)",
         arm: |a| a.untrustworthy,
         limit: |c| c.untrustworthy,
     },
 ];
 
-fn summary_figure(
+/// A value with its 95% interval, as a figure of every experiment and arm draws it.
+#[derive(Clone, Copy, Debug)]
+struct Interval {
+    mid: f64,
+    low: f64,
+    high: f64,
+}
+
+impl From<MeanCi> for Interval {
+    fn from(m: MeanCi) -> Self {
+        Self {
+            mid: m.mean,
+            low: m.mean - m.ci95,
+            high: m.mean + m.ci95,
+        }
+    }
+}
+
+/// What a figure of every experiment (across) and arm (offset within it) shows.
+struct EveryArm<'a> {
+    title: String,
+    axis: &'a str,
+    /// Per experiment, per arm: the value and its interval (`None`: not drawn).
+    values: Vec<Vec<Option<Interval>>>,
+    /// Per experiment, a black bar across its arms (`None`: none), and its key.
+    bars: Vec<Option<f64>>,
+    bar_key: String,
+}
+
+/// The summary figure of `metric`: each arm's mean and CI, the limit as bars.
+fn summary_figure(entries: &[ReportEntry<'_>], metric: SummaryMetric) -> EveryArm<'static> {
+    EveryArm {
+        title: metric.title.to_owned(),
+        axis: metric.axis,
+        values: entries
+            .iter()
+            .map(|e| {
+                e.result
+                    .arms
+                    .iter()
+                    .map(|a| Some((metric.arm)(a).into()))
+                    .collect()
+            })
+            .collect(),
+        bars: entries
+            .iter()
+            .map(|e| e.limit.map(|l| (metric.limit)(&l.limit.paper)))
+            .collect(),
+        bar_key: "known-operator limit".to_owned(),
+    }
+}
+
+/// Draws `figure`: one column per experiment, each arm's value as its marker with its
+/// interval as a vertical line, on a log axis, the bars in black, the legend at the right.
+fn every_arm_figure(
     area: &Area<'_>,
+    overlay: &mut Overlay,
     entries: &[ReportEntry<'_>],
-    metric: SummaryMetric,
+    figure: &EveryArm<'_>,
 ) -> DrawResult {
     let (width, _) = area.dim_in_pixel();
     let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let arms = entries.first().map_or(0, |e| e.result.arms.len()).max(1);
-    let top = entries
-        .iter()
-        .flat_map(|e| {
-            e.result
-                .arms
-                .iter()
-                .map(|a| (metric.arm)(a).mean + (metric.arm)(a).ci95)
-        })
+    let drawn = || figure.values.iter().flatten().flatten();
+    let top = drawn()
+        .map(|v| v.high)
+        .chain(figure.bars.iter().flatten().copied())
         .fold(2.0f64, f64::max);
-    let bottom = entries
-        .iter()
-        .flat_map(|e| {
-            e.result
-                .arms
-                .iter()
-                .map(|a| (metric.arm)(a).mean)
-                .chain(e.limit.map(|l| (metric.limit)(&l.limit.paper)))
-        })
+    // The lower ends where they are positive (a mean minus its CI may not be).
+    let bottom = drawn()
+        .map(|v| if v.low > 0.0 { v.low } else { v.mid })
+        .chain(figure.bars.iter().flatten().copied())
         .fold(0.8f64, f64::min)
         .max(0.1);
     let (scenario, names) = category_names(entries);
     let title = match scenario {
-        Some(scenario) => format!("{scenario}: {}", metric.title),
-        None => metric.title.to_owned(),
+        Some(scenario) => format!("{scenario}: {}", figure.title),
+        None => figure.title.clone(),
     };
     let mut chart = ChartBuilder::on(&plot)
         .caption(title, ("sans-serif", 20))
@@ -1108,7 +1844,9 @@ fn summary_figure(
         .y_label_area_size(60)
         .build_cartesian_2d(
             -0.5..names.len() as f64 - 0.5,
-            (bottom * 0.8..top * 1.3).log_scale(),
+            (bottom * 0.8..top * 1.3)
+                .log_scale()
+                .with_key_points(log_ticks(bottom * 0.8, top * 1.3, 420)),
         )?;
     let label = category_label(&names);
     chart
@@ -1118,54 +1856,62 @@ fn summary_figure(
         .x_labels(names.len().max(1))
         .x_label_formatter(&label)
         .x_label_style(("sans-serif", 11))
-        .y_desc(metric.axis)
-        .y_label_formatter(&integer_label)
+        .y_desc(figure.axis)
+        .y_label_formatter(&tick_label)
         .draw()?;
     let mut legend_entries = Vec::new();
-    for a in 0..arms {
-        let color = arm_color(a);
+    let arm_names: Vec<&str> = entries
+        .first()
+        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .unwrap_or_default();
+    for (a, name) in arm_names.iter().enumerate() {
+        legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name, a))));
+    }
+    for a in drawing_order(&arm_names) {
+        let style = arm_style(arm_names[a], a);
+        let color = style.color;
         let offset = (a as f64 + 0.5) / arms as f64 * 0.7 - 0.35;
-        let points: Vec<(f64, MeanCi)> = entries
+        let points: Vec<(f64, Interval)> = figure
+            .values
             .iter()
             .enumerate()
-            .filter_map(|(x, e)| {
-                e.result
-                    .arms
+            .filter_map(|(x, values)| {
+                values
                     .get(a)
-                    .map(|r| (x as f64 + offset, (metric.arm)(r)))
+                    .copied()
+                    .flatten()
+                    .map(|v| (x as f64 + offset, v))
             })
             .collect();
-        chart.draw_series(points.iter().map(|&(x, m)| {
+        chart.draw_series(points.iter().map(|&(x, v)| {
             PathElement::new(
-                vec![
-                    (x, (m.mean - m.ci95).max(bottom * 0.8)),
-                    (x, m.mean + m.ci95),
-                ],
+                vec![(x, v.low.max(bottom * 0.8)), (x, v.high)],
                 color.stroke_width(2),
             )
         }))?;
-        chart.draw_series(
-            points
-                .iter()
-                .map(|&(x, m)| Circle::new((x, m.mean), 4, color.filled())),
-        )?;
-        if let Some(arm) = entries.first().and_then(|e| e.result.arms.get(a)) {
-            legend_entries.push((arm.name.clone(), color));
-        }
+        overlay.markers(
+            style.shape,
+            Some((color, 1.0)),
+            Some((WHITE, 1.0)),
+            points.iter().map(|&(x, v)| {
+                let (x, y) = chart.backend_coord(&(x, v.mid));
+                ((f64::from(x), f64::from(y)), 4.5)
+            }),
+        );
     }
-    // The known-operator limit: a black bar across each experiment's arms.
-    let limits: Vec<(f64, f64)> = entries
+    let bars: Vec<(f64, f64)> = figure
+        .bars
         .iter()
         .enumerate()
-        .filter_map(|(x, e)| e.limit.map(|l| (x as f64, (metric.limit)(&l.limit.paper))))
+        .filter_map(|(x, bar)| bar.map(|y| (x as f64, y)))
         .collect();
-    if !limits.is_empty() {
-        chart.draw_series(limits.iter().map(|&(x, y)| {
+    if !bars.is_empty() {
+        chart.draw_series(bars.iter().map(|&(x, y)| {
             PathElement::new(vec![(x - 0.42, y), (x + 0.42, y)], BLACK.stroke_width(2))
         }))?;
-        legend_entries.push(("known-operator limit".to_owned(), BLACK));
+        legend_entries.push((figure.bar_key.clone(), Key::Line(BLACK)));
     }
-    legend(&side, &legend_entries)
+    legend(&side, overlay, &legend_entries)
 }
 
 /// The layout of a final-behaviors figure: a title band with the subtitle's lines, then
@@ -1203,6 +1949,45 @@ impl FinalsLayout {
             self.header() + Self::PANEL.1 * self.rows as u32,
         )
     }
+}
+
+/// How to read a final-behaviors figure over components `x` and `y`, and why it is empty
+/// of trustworthy cells when it is.
+fn finals_caption(e: &ReportEntry<'_>, (x, y): (usize, usize), grid: Option<&Grid>) -> String {
+    let components = e.space.components();
+    let mut caption = format!(
+        "Where each arm's trials ended: one panel per arm, each cell a setting of {} \
+         (across) and {} (up){}. ",
+        escape(&components[x].name),
+        escape(&components[y].name),
+        if components.len() > 2 {
+            ", the other components pooled"
+        } else {
+            ""
+        }
+    );
+    match grid {
+        Some(grid) => {
+            caption.push_str(
+                "The colour is the chance that the operator lets a command with that setting \
+                 complete (dark: rarely, yellow: almost always); the outlined cells are the \
+                 trustworthy region, where the trust estimate is expected to climb. ",
+            );
+            if !grid.tallies.iter().any(|t| t.trusted_on_average()) {
+                caption.push_str(
+                    "No cell of this pair is trustworthy on average over the other \
+                     components: whether a setting of these two is trusted depends on the \
+                     others, so the panels show where trials ended, not a region to find. ",
+                );
+            }
+        }
+        None => caption.push_str("No landscape of the operator was estimated. "),
+    }
+    caption.push_str(
+        "A marker's area is in proportion to the trials that ended in its cell (the key at \
+         the right gives sizes); a good arm ends its trials inside the outline.",
+    );
+    caption
 }
 
 /// What the colour and the circles of a final-behaviors figure show.
@@ -1255,11 +2040,14 @@ fn count_key(most: u32) -> Vec<u32> {
     key
 }
 
+/// The smallest marker's radius (px), so that one trial shows.
+const SMALLEST_MARKER: f64 = 1.0;
+
 /// The radius (px) of the marker of `count` trials when the most in one cell is `most`
 /// and the largest marker has radius `largest`: area in proportion to the count, at
-/// least 2 px so that one trial shows.
+/// least [`SMALLEST_MARKER`].
 fn marker_radius(count: u32, most: u32, largest: f64) -> f64 {
-    (largest * (f64::from(count) / f64::from(most.max(1))).sqrt()).max(2.0)
+    (largest * (f64::from(count) / f64::from(most.max(1))).sqrt()).max(SMALLEST_MARKER)
 }
 
 /// Where each arm's final behaviors land over components `x` and `y`: one panel per arm,
@@ -1268,10 +2056,12 @@ fn marker_radius(count: u32, most: u32, largest: f64) -> f64 {
 /// outlined; the colour bar and both keys right of the panels.
 fn final_behaviors(
     area: &Area<'_>,
+    overlay: &mut Overlay,
     e: &ReportEntry<'_>,
     (x, y): (usize, usize),
     grid: Option<&Grid>,
     layout: &FinalsLayout,
+    id: &str,
 ) -> DrawResult {
     let components = e.space.components();
     let (nx, ny) = (components[x].len(), components[y].len());
@@ -1296,8 +2086,10 @@ fn final_behaviors(
         .unwrap_or(0)
         .max(1);
     let title = format!(
-        "{}: final behaviors of every arm ({} trials each)",
+        "{}: final behaviors of every arm by {} and {} ({} trials each)",
         e.result.name,
+        components[x].name,
+        components[y].name,
         e.result.trials()
     );
     area.draw(&Text::new(title, (10, 8), ("sans-serif", 21).into_font()))?;
@@ -1316,23 +2108,39 @@ fn final_behaviors(
         body.split_horizontally(FinalsLayout::PANEL.0 * layout.columns as u32);
     let panels = panels_area.split_evenly((layout.rows, layout.columns));
     let mut largest = 0.0;
-    for (panel, (arm, counts)) in panels.iter().zip(e.result.arms.iter().zip(&all_counts)) {
-        let mut chart = heatmap::panel(panel, e.space, (x, y), grid, &arm.name, false)?;
+    let arms = e.result.arms.len();
+    for (k, (panel, (arm, counts))) in panels
+        .iter()
+        .zip(e.result.arms.iter().zip(&all_counts))
+        .enumerate()
+    {
+        // Ticks on the outer axes only: the bottom panel of each column, the first column.
+        let style = heatmap::PanelStyle {
+            caption: &arm.name,
+            write_values: false,
+            id,
+            ticks: (k + layout.columns >= arms, k % layout.columns == 0),
+        };
+        let chart = heatmap::panel(panel, overlay, e.space, (x, y), grid, style)?;
         let (width, height) = chart.plotting_area().dim_in_pixel();
         let cell = (f64::from(width) / nx as f64).min(f64::from(height) / ny as f64);
         largest = 0.48 * cell;
-        // A light disc under a dark ring, readable on every colour of the scale.
-        for style in [WHITE.mix(0.85).filled(), BLACK.stroke_width(1)] {
-            chart.draw_series(
-                (0..nx)
-                    .flat_map(|i| (0..ny).map(move |j| (i, j)))
-                    .filter(|&(i, j)| counts[i * ny + j] > 0)
-                    .map(|(i, j)| {
-                        let r = marker_radius(counts[i * ny + j], most, largest);
-                        Circle::new((i as f64, j as f64), r, style)
-                    }),
-            )?;
-        }
+        // A light disc in a dark ring, readable on every colour of the scale.
+        overlay.markers(
+            Shape::Circle,
+            Some((WHITE, 0.85)),
+            Some((BLACK, 1.0)),
+            (0..nx)
+                .flat_map(|i| (0..ny).map(move |j| (i, j)))
+                .filter(|&(i, j)| counts[i * ny + j] > 0)
+                .map(|(i, j)| {
+                    let (px, py) = chart.backend_coord(&(i as f64, j as f64));
+                    (
+                        (f64::from(px), f64::from(py)),
+                        marker_radius(counts[i * ny + j], most, largest),
+                    )
+                }),
+        );
     }
     let mut top = 10;
     if grid.is_some() {
@@ -1340,16 +2148,26 @@ fn final_behaviors(
         top += heatmap::color_key_height() + 20;
     }
     key_area.draw(&Text::new(
-        "final behaviors",
+        "trials ending there",
         (10, top),
         ("sans-serif", 14).into_font(),
     ))?;
-    top += 22;
+    key_area.draw(&Text::new(
+        "(marker area in proportion)",
+        (10, top + 17),
+        ("sans-serif", 12).into_font(),
+    ))?;
+    top += 40;
+    let (left, base) = key_area.get_base_pixel();
     for count in count_key(most) {
         let r = marker_radius(count, most, largest);
         let cy = top + r.ceil() as i32;
-        key_area.draw(&Circle::new((19, cy), r, WHITE.filled()))?;
-        key_area.draw(&Circle::new((19, cy), r, BLACK.stroke_width(1)))?;
+        overlay.markers(
+            Shape::Circle,
+            Some((WHITE, 1.0)),
+            Some((BLACK, 1.0)),
+            [((f64::from(left + 19), f64::from(base + cy)), r)],
+        );
         let label = if count == 1 {
             "1 trial".to_owned()
         } else {
@@ -1379,16 +2197,46 @@ mod tests {
     }
 
     #[test]
+    fn curves_are_thinned_to_about_200_points() {
+        assert_eq!(thinned(3, 200).collect::<Vec<_>>(), [0, 1, 2]);
+        assert_eq!(thinned(10, 4).collect::<Vec<_>>(), [0, 3, 6, 9]);
+        let points: Vec<usize> = thinned(500, 200).collect();
+        assert_eq!(
+            (points.len(), points[1], points.last()),
+            (168, 3, Some(&499))
+        );
+        assert_eq!(thinned(0, 200).count(), 0);
+    }
+
+    #[test]
+    fn distributions_step_by_hand() {
+        // Counts 1, 1, 3, 2: half of the trials at 1, three quarters at 2, all at 3.
+        assert_eq!(
+            ecdf(vec![1.0, 1.0, 3.0, 2.0]),
+            [
+                (1.0, 0.0),
+                (1.0, 0.5),
+                (2.0, 0.5),
+                (2.0, 0.75),
+                (3.0, 0.75),
+                (3.0, 1.0)
+            ]
+        );
+        assert_eq!(ecdf(Vec::new()), []);
+    }
+
+    #[test]
     fn count_keys_are_round_integers() {
         assert_eq!(count_key(1), [1]);
         assert_eq!(count_key(3), [1, 3]);
         assert_eq!(count_key(37), [1, 5, 37]);
         assert_eq!(count_key(120), [1, 20, 120]);
         assert_eq!(count_key(500), [1, 100, 500]);
-        // Area in proportion to the count, never below 1.5 px.
+        // Area in proportion to the count, never below 1 px; 1 and 20 trials differ.
         assert_eq!(marker_radius(100, 100, 7.0), 7.0);
         assert_eq!(marker_radius(25, 100, 8.0), 4.0);
-        assert_eq!(marker_radius(1, 500, 7.0), 2.0);
+        assert_eq!(marker_radius(1, 500, 7.0), 1.0);
+        assert!(marker_radius(20, 300, 6.0) > marker_radius(1, 300, 6.0) + 0.5);
     }
 
     #[test]

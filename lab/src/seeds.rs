@@ -26,6 +26,9 @@ pub enum Purpose {
     /// The landscape of an operator the known-operator limit is solved from (here "trial"
     /// is the operator's place among the experiment's).
     Limit = 6,
+    /// The report's bootstrap of an arm's effect size (here "trial" is the arm's place
+    /// among the experiment's).
+    Bootstrap = 7,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

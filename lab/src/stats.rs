@@ -1,7 +1,60 @@
-//! Summary statistics for experiment results: mean with a 95% confidence interval, and the
-//! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts.
+//! Summary statistics for experiment results: mean with a 95% confidence interval, the
+//! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts, and the
+//! ratio of their means with a paired bootstrap confidence interval.
 
+use rand::{Rng, RngCore};
 use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
+
+/// A ratio of two means with its 95% confidence interval.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RatioCi {
+    /// `mean(a) / mean(b)`.
+    pub ratio: f64,
+    /// The interval's lower end.
+    pub low: f64,
+    /// The interval's upper end.
+    pub high: f64,
+}
+
+/// `mean(a) / mean(b)` with the 95% interval of the paired bootstrap: `resamples` times,
+/// the same `n` pairs `(a[i], b[i])` drawn with replacement from `rng` for both, the ratio
+/// of their means; the 2.5th and 97.5th percentiles of those ratios. `None` if the slices
+/// differ in length, are empty, or `b`'s mean is 0.
+pub fn paired_bootstrap_ratio(
+    a: &[f64],
+    b: &[f64],
+    resamples: usize,
+    rng: &mut dyn RngCore,
+) -> Option<RatioCi> {
+    let n = a.len();
+    let sum = |v: &[f64]| v.iter().sum::<f64>();
+    if n != b.len() || n == 0 || sum(b) == 0.0 {
+        return None;
+    }
+    let mut ratios: Vec<f64> = (0..resamples.max(1))
+        .map(|_| {
+            let (mut sa, mut sb) = (0.0, 0.0);
+            for _ in 0..n {
+                let i = rng.random_range(0..n);
+                sa += a[i];
+                sb += b[i];
+            }
+            sa / sb
+        })
+        .filter(|r| r.is_finite())
+        .collect();
+    ratios.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        ratios
+            .get(((ratios.len() - 1) as f64 * q).round() as usize)
+            .copied()
+    };
+    Some(RatioCi {
+        ratio: sum(a) / sum(b),
+        low: at(0.025)?,
+        high: at(0.975)?,
+    })
+}
 
 /// Mean and the half-width of its 95% confidence interval (Student's t).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,6 +177,22 @@ pub fn wilcoxon_signed_rank(a: &[f64], b: &[f64]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn bootstrap_ratios_bracket_the_ratio() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let a: Vec<f64> = (0..40).map(|i| f64::from(i % 5 + 1)).collect();
+        let b: Vec<f64> = a.iter().map(|x| 2.0 * x).collect();
+        // Every resample keeps the pairs, so a ratio of exactly one half holds throughout.
+        let r = paired_bootstrap_ratio(&a, &b, 200, &mut rng).unwrap();
+        assert_eq!((r.ratio, r.low, r.high), (0.5, 0.5, 0.5));
+        let c: Vec<f64> = (0..40).map(|i| f64::from(i % 7 + 1)).collect();
+        let r = paired_bootstrap_ratio(&c, &a, 500, &mut rng).unwrap();
+        assert!(r.low < r.ratio && r.ratio < r.high, "{r:?}");
+        assert_eq!(paired_bootstrap_ratio(&a, &[0.0; 40], 10, &mut rng), None);
+        assert_eq!(paired_bootstrap_ratio(&a, &b[1..], 10, &mut rng), None);
+    }
 
     #[test]
     fn mean_and_interval_by_hand() {

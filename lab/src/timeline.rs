@@ -3,7 +3,7 @@
 //! a sample trial per experiment, the paper's central idea drawn: an estimate that climbs
 //! and falls between two thresholds).
 
-use crate::plot::{Area, DrawResult, arm_color, text_width};
+use crate::plot::{Area, DrawResult, arm_style, text_width};
 use crate::runner::{ExperimentResult, TracedCommand, TrialRecord};
 use cbr_core::BehaviorSpace;
 use plotters::prelude::*;
@@ -213,7 +213,7 @@ pub fn timeline_figure(area: &Area<'_>, timeline: &Timeline) -> DrawResult {
             ("sans-serif", 13).into_font(),
         )))?;
     }
-    let color = arm_color(timeline.arm_index);
+    let color = arm_style(&timeline.arm, timeline.arm_index).color;
     // Each behavior's estimate, from zero at its first command.
     let mut segment: Vec<(f64, f64)> = vec![(0.0, 0.0)];
     for (i, c) in timeline.commands.iter().enumerate() {

@@ -4,7 +4,7 @@
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
-use lab::report::{Provenance, ReportEntry, table, trials_jsonl, write_report};
+use lab::report::{Provenance, ReportEntry, table, trials_jsonl, versus_reference, write_report};
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
@@ -161,6 +161,8 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             space: &toy.space,
             landscapes: &[],
             limit: None,
+            reference: "case-based",
+            seed: 1,
         })
         .collect()
 }
@@ -219,6 +221,32 @@ fn arms_are_paired_and_cases_help() {
             }
             assert_eq!(arm.final_cases.is_some(), arm.reuses_cases);
         }
+        // The report tests every arm against its reference; against the first, as the
+        // runner does.
+        let toy_entry = |reference| ReportEntry {
+            timeline: None,
+            result,
+            scenario: "toy",
+            operator: "low",
+            space: &toy.space,
+            landscapes: &[],
+            limit: None,
+            reference,
+            seed: 1,
+        };
+        let tests = versus_reference(&toy_entry("case-based"));
+        for (arm, tests) in result.arms.iter().zip(&tests) {
+            assert_eq!(tests.is_none(), arm.name == "case-based");
+        }
+        let against_first = versus_reference(&toy_entry("random-walk"));
+        for (arm, tests) in result.arms.iter().zip(against_first) {
+            assert_eq!(tests, arm.versus_first);
+        }
+        assert!(
+            versus_reference(&toy_entry("none"))
+                .iter()
+                .all(Option::is_none)
+        );
         assert!(cb.cases_acquired > 0);
         assert!(
             cb.behaviors.mean < rw.behaviors.mean,
@@ -321,10 +349,17 @@ fn the_report_folder_holds_every_file() {
     assert!(line["final"]["a"].is_f64());
     let svg = std::fs::read_to_string(out.join("curves-toy-low.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("case-based+smallest-of-four"));
-    // The page holds the same figures as the files, inline, and fetches nothing.
+    // The page holds the same figures as the files, inline (the learning curves without
+    // their per-trial dots), each with a caption, and fetches nothing.
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
-    assert!(page.contains(&svg));
+    assert!(!page.contains(&svg) && page.contains("toy/low: behaviors evaluated per trial"));
     assert!(page.contains(&std::fs::read_to_string(out.join("summary.svg")).unwrap()));
+    assert!(page.contains(&std::fs::read_to_string(out.join("finals-toy-low.svg")).unwrap()));
+    assert_eq!(
+        page.matches("<figure>").count(),
+        page.matches("<figcaption>").count()
+    );
+    assert!(page.contains("<a href=\"#glossary\">") && page.contains("<h2 id=\"glossary\">"));
     assert!(!page.contains("url(http") && !page.contains("@import"));
     assert!(!page.contains("<script") && !page.contains("<link") && !page.contains("src="));
 }
@@ -390,6 +425,8 @@ fn plot_names_never_collide() {
             space: &toy.space,
             landscapes: &[],
             limit: None,
+            reference: "case-based",
+            seed: 1,
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();
@@ -397,6 +434,6 @@ fn plot_names_never_collide() {
     let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
     assert_eq!(written.len(), on_disk);
     // Three experiments, each with a curve and a heatmap, plus the four text files, the
-    // three summary figures and the page.
-    assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1);
+    // three summary figures, the effect sizes, the four figures over trials and the page.
+    assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1 + 4 + 1);
 }
