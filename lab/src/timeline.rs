@@ -33,9 +33,14 @@ pub struct Timeline {
 /// something to tell and stays readable.
 const SAMPLE_SWITCHES: std::ops::RangeInclusive<u64> = 2..=6;
 
+/// The trials a sample is chosen among: the first ones, so replaying it (and the trials
+/// before it, [`crate::runner::trace_trial`]) costs little.
+pub const SAMPLE_WINDOW: usize = 25;
+
 /// The trial a report draws for an experiment: of the paper's case-based arm when it ran
-/// (else the second arm, else the first), the first trial with 2 to 6 switches, else the
-/// first with the most switches below that. Returns the arm's index and the trial.
+/// (else the second arm, else the first), among its first [`SAMPLE_WINDOW`] trials, the
+/// first whose number of switches is in 2 to 6, else the first nearest that range.
+/// Returns the arm's index and the trial.
 pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
     let arm = result
         .arms
@@ -43,17 +48,18 @@ pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
         .position(|a| a.name == "case-based")
         .or_else(|| (result.arms.len() > 1).then_some(1))
         .or_else(|| (!result.arms.is_empty()).then_some(0))?;
-    let switches = |t: &TrialRecord| t.given_up.len() as u64;
-    let trials = &result.arms[arm].trials;
-    let chosen = trials
+    let off_range = |t: &TrialRecord| {
+        let switches = t.given_up.len() as u64;
+        SAMPLE_SWITCHES
+            .start()
+            .saturating_sub(switches)
+            .max(switches.saturating_sub(*SAMPLE_SWITCHES.end()))
+    };
+    let chosen = result.arms[arm]
+        .trials
         .iter()
-        .find(|t| SAMPLE_SWITCHES.contains(&switches(t)))
-        .or_else(|| {
-            trials
-                .iter()
-                .filter(|t| switches(t) < *SAMPLE_SWITCHES.start())
-                .max_by_key(|t| (switches(t), std::cmp::Reverse(t.trial)))
-        })?;
+        .take(SAMPLE_WINDOW)
+        .min_by_key(|t| (off_range(t), t.trial))?;
     Some((arm, chosen.trial))
 }
 
