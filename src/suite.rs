@@ -26,8 +26,8 @@ use lab::report::{
 use lab::seeds::{Purpose, stream_seed};
 use lab::timeline::{Timeline, sample_trial};
 use lab::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TrialSettings,
-    run_experiments, trace_trial,
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TracedCommand,
+    TrialRecord, TrialSettings, run_experiments, trace_trial,
 };
 use serde::{Deserialize, Serialize};
 use service::StoreError;
@@ -779,14 +779,20 @@ fn run_parts<C: Catalog>(
     let timelines = plans
         .iter()
         .zip(&results)
-        .enumerate()
-        .map(|(k, (plan, result))| {
-            sample_trial(result)
-                .filter(|_| trace)
-                .map(|(arm, trial)| timeline(plan, config, k, arm, trial))
-                .transpose()
+        .map(|(plan, result)| {
+            // The trial as it ran: the sample arm traced its first trials.
+            sample_trial(result).filter(|_| trace).map(|(arm, trial)| {
+                let ran = &result.arms[arm];
+                timeline_of(
+                    plan,
+                    config,
+                    arm,
+                    ran.trials[trial as usize].clone(),
+                    ran.traced[trial as usize].clone(),
+                )
+            })
         })
-        .collect::<Result<Vec<_>, PlanError>>()?;
+        .collect();
     let spaces = (0..config.experiments.len())
         .map(|k| parts.domain(k).space().clone())
         .collect();
@@ -806,7 +812,18 @@ fn timeline<D: Domain>(
     trial: u32,
 ) -> Result<Timeline, PlanError> {
     let (record, commands) = trace_trial(plan, k as u64, arm, trial, config.seed)?;
-    Ok(Timeline {
+    Ok(timeline_of(plan, config, arm, record, commands))
+}
+
+/// The timeline of a traced trial of arm `arm`.
+fn timeline_of<D: Domain>(
+    plan: &ExperimentPlan<'_, D>,
+    config: &SuiteConfig,
+    arm: usize,
+    record: TrialRecord,
+    commands: Vec<TracedCommand>,
+) -> Timeline {
+    Timeline {
         experiment: plan.name.clone(),
         arm: plan.arms[arm].name().to_owned(),
         arm_index: arm,
@@ -814,7 +831,7 @@ fn timeline<D: Domain>(
         commands,
         thresholds: config.adapter.thresholds,
         observations: plan.domain.observations().to_vec(),
-    })
+    }
 }
 
 /// Why a trial cannot be told ([`trace_suite_trial`]).

@@ -187,6 +187,19 @@ pub struct ExplanationSample {
 /// Explanations each arm keeps whole ([`ArmResult::samples`]): its first switches.
 pub const SAMPLE_EXPLANATIONS: usize = 2;
 
+/// Trials of an experiment's [`sample_arm`] traced command by command as they run
+/// ([`ArmResult::traced`]).
+pub const TRACED_TRIALS: u32 = 25;
+
+/// The arm whose first trials an experiment traces: the paper's case-based arm when it
+/// runs, else the second arm, else the first.
+pub fn sample_arm(arms: &[Arm]) -> Option<usize> {
+    arms.iter()
+        .position(|a| a.name() == "case-based")
+        .or_else(|| (arms.len() > 1).then_some(1))
+        .or_else(|| (!arms.is_empty()).then_some(0))
+}
+
 /// How often the first reason an explanation gives for a given-up behavior is the
 /// operator's most frequent true reason on that behavior's untrustworthy commands. An
 /// explanation that settles on one reason is right when it is among the most frequent
@@ -301,6 +314,9 @@ pub struct ArmResult {
     pub explained: ExplanationCheck,
     /// Its first explanations of switches, kept whole (at most [`SAMPLE_EXPLANATIONS`]).
     pub samples: Vec<ExplanationSample>,
+    /// Its first [`TRACED_TRIALS`] trials command by command, as they ran, when it is the
+    /// experiment's [`sample_arm`] (empty otherwise): what a report's timeline draws.
+    pub traced: Vec<Vec<TracedCommand>>,
     /// Every trial, in order.
     pub trials: Vec<TrialRecord>,
 }
@@ -453,8 +469,12 @@ fn run_chain<D: Domain>(
     // what the explanations learned operators mean (trust::explain), so a chain runs in
     // order.
     let mut samples = Vec::new();
+    let mut traced = Vec::new();
+    let traces = sample_arm(&plan.arms) == Some(arm_index);
     let trials: Vec<TrialRecord> = (0..plan.trials)
         .map(|trial| {
+            let mut commands = Vec::new();
+            let tracing = traces && trial < TRACED_TRIALS;
             let (record, explanations) = run_trial(
                 plan,
                 &mut adapter,
@@ -462,8 +482,15 @@ fn run_chain<D: Domain>(
                 trial,
                 arm,
                 seed,
-                &mut |_| {},
+                &mut |step| {
+                    if tracing {
+                        commands.push(TracedCommand::of(&step));
+                    }
+                },
             )?;
+            if tracing {
+                traced.push(commands);
+            }
             let wanted = SAMPLE_EXPLANATIONS - samples.len();
             samples.extend(
                 explanations
@@ -507,6 +534,7 @@ fn run_chain<D: Domain>(
         versus_first: None,
         explained,
         samples,
+        traced,
         trials,
     })
 }
@@ -539,6 +567,19 @@ pub struct TracedCommand {
     pub estimate: f64,
     /// The explanation of the decision the command led to (a switch or the end).
     pub explanation: Option<Explanation>,
+}
+
+impl TracedCommand {
+    /// The command a step shows, owned.
+    fn of(step: &Step<'_>) -> Self {
+        Self {
+            behavior: step.behavior,
+            outcome: *step.outcome,
+            truth: step.truth,
+            estimate: step.estimate,
+            explanation: step.explanation.cloned(),
+        }
+    }
 }
 
 /// Replays trial `trial` of arm `arm` in plan `experiment` (its index in the suite, which
@@ -575,13 +616,7 @@ pub fn trace_trial<D: Domain>(
         arm,
         seed,
         &mut |step| {
-            commands.push(TracedCommand {
-                behavior: step.behavior,
-                outcome: *step.outcome,
-                truth: step.truth,
-                estimate: step.estimate,
-                explanation: step.explanation.cloned(),
-            });
+            commands.push(TracedCommand::of(&step));
         },
     )?;
     Ok((record, commands))

@@ -33,21 +33,13 @@ pub struct Timeline {
 /// something to tell and stays readable.
 const SAMPLE_SWITCHES: std::ops::RangeInclusive<u64> = 2..=6;
 
-/// The trials a sample is chosen among: the first ones, so replaying it (and the trials
-/// before it, [`crate::runner::trace_trial`]) costs little.
-pub const SAMPLE_WINDOW: usize = 25;
-
-/// The trial a report draws for an experiment: of the paper's case-based arm when it ran
-/// (else the second arm, else the first), among its first [`SAMPLE_WINDOW`] trials, the
-/// first whose number of switches is in 2 to 6, else the first nearest that range.
-/// Returns the arm's index and the trial.
+/// The trial a report draws for an experiment: among the trials its
+/// [`sample_arm`](crate::runner::sample_arm)
+/// traced as they ran ([`ArmResult::traced`](crate::runner::ArmResult::traced), the
+/// first ones), the first whose number of switches is in 2 to 6, else the first nearest
+/// that range. Returns the arm's index and the trial.
 pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
-    let arm = result
-        .arms
-        .iter()
-        .position(|a| a.name == "case-based")
-        .or_else(|| (result.arms.len() > 1).then_some(1))
-        .or_else(|| (!result.arms.is_empty()).then_some(0))?;
+    let arm = result.arms.iter().position(|a| !a.traced.is_empty())?;
     let off_range = |t: &TrialRecord| {
         let switches = t.given_up.len() as u64;
         SAMPLE_SWITCHES
@@ -58,7 +50,7 @@ pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
     let chosen = result.arms[arm]
         .trials
         .iter()
-        .take(SAMPLE_WINDOW)
+        .take(result.arms[arm].traced.len())
         .min_by_key(|t| (off_range(t), t.trial))?;
     Some((arm, chosen.trial))
 }
