@@ -130,7 +130,8 @@ fn attribute(tag: &str, name: &str) -> Option<f64> {
 
 /// The rectangles and texts of an SVG that reach outside its view box, described. A
 /// text's width is overestimated as 0.6 em a character and placed by its anchor; rotated
-/// texts (axis titles) are skipped.
+/// texts (axis titles) are skipped. A text may take its font size and anchor from the
+/// group (`<g ...>`) around it.
 pub fn outside_view(svg: &str) -> Vec<String> {
     let head = svg.split('>').next().unwrap();
     let (width, height) = (
@@ -145,29 +146,48 @@ pub fn outside_view(svg: &str) -> Vec<String> {
             outside.push(format!("rect {tag}"));
         }
     }
-    for text in svg.split("<text").skip(1) {
+    // The opening tag of the group a text is in, if any (groups are not nested here).
+    let mut group = String::new();
+    let follow = |between: &str, group: &mut String| {
+        for piece in between.split('<').skip(1) {
+            if let Some(attributes) = piece.strip_prefix("g ") {
+                *group = format!(" {}", attributes.split('>').next().unwrap_or_default());
+            } else if piece.starts_with("/g>") {
+                group.clear();
+            }
+        }
+    };
+    let mut pieces = svg.split("<text");
+    follow(pieces.next().unwrap_or_default(), &mut group);
+    for text in pieces {
         let (tag, rest) = text.split_once('>').unwrap();
-        if tag.contains("transform") {
-            continue;
-        }
-        let content = rest.split("</text>").next().unwrap().trim();
-        let size = attribute(tag, "font-size").unwrap();
-        let w = content.chars().count() as f64 * 0.6 * size;
-        let x = attribute(tag, "x").unwrap();
-        let left = if tag.contains("text-anchor=\"end\"") {
-            x - w
-        } else if tag.contains("text-anchor=\"middle\"") {
-            x - w / 2.0
-        } else {
-            x
+        let (content, after) = rest.split_once("</text>").unwrap();
+        let content = content.trim();
+        let own = |name: &str| attribute(tag, name).or_else(|| attribute(&group, name));
+        let anchored = |anchor: &str| {
+            let key = format!("text-anchor=\"{anchor}\"");
+            tag.contains(&key) || (!tag.contains("text-anchor") && group.contains(&key))
         };
-        let y = attribute(tag, "y").unwrap();
-        if left < 0.0 || left + w > width || y < 0.0 || y + size > height {
-            outside.push(format!(
-                "text `{content}` at x {left:.0} to {:.0}, y {y:.0}",
-                left + w
-            ));
+        if !tag.contains("transform") {
+            let size = own("font-size").unwrap();
+            let w = content.chars().count() as f64 * 0.6 * size;
+            let x = attribute(tag, "x").unwrap();
+            let left = if anchored("end") {
+                x - w
+            } else if anchored("middle") {
+                x - w / 2.0
+            } else {
+                x
+            };
+            let y = attribute(tag, "y").unwrap();
+            if left < 0.0 || left + w > width || y < 0.0 || y + size > height {
+                outside.push(format!(
+                    "text `{content}` at x {left:.0} to {:.0}, y {y:.0}",
+                    left + w
+                ));
+            }
         }
+        follow(after, &mut group);
     }
     outside
 }
