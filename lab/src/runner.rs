@@ -699,8 +699,7 @@ fn run_trial<D: Domain>(
             estimate,
             explanation,
         });
-        if let Some(x) = explanation.filter(|x| x.given_up.is_some()) {
-            let account = x.given_up.as_ref().expect("filtered");
+        if let Some(account) = explanation.and_then(|x| x.given_up.as_ref()) {
             let scored = explained.score(&account.leading_reasons(), &behavior_truth, perceived);
             given_up.push(GivenUpRecord {
                 reason: account.decided_reason(),

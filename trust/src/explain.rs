@@ -448,22 +448,27 @@ impl Attribution {
         if !outcome.is_untrustworthy() {
             return;
         }
-        let attested: Vec<usize> = outcome
-            .observed
-            .indices()
-            .filter_map(|o| self.attests.get(o).copied().flatten())
-            .collect();
-        for &c in &attested {
+        // The causes perceived on this command (every untrustworthy command passes here:
+        // no allocation).
+        let attests = &self.attests;
+        let attested = || {
+            outcome
+                .observed
+                .indices()
+                .filter_map(|o| attests.get(o).copied().flatten())
+        };
+        for c in attested() {
             self.perceived[c] += 1;
         }
+        let perceived = attested().count();
         if let Some(reason) = outcome.stated {
             let c = self.cause_index(reason);
             self.stated[c] += 1;
             self.direct[c] += 1.0;
             self.learn(outcome.observed, c);
-        } else if !attested.is_empty() {
-            let share = 1.0 / attested.len() as f64;
-            for &c in &attested {
+        } else if perceived > 0 {
+            let share = 1.0 / perceived as f64;
+            for c in attested() {
                 self.direct[c] += share;
             }
         } else {
