@@ -18,7 +18,7 @@ use crate::catalog::{Catalog, resolve_readings};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
 use cbr_core::output::{OutputError, ensure_writable_dir};
 use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
-use lab::plot::{ArmStyle, arm_style, drawing_order, log_ticks, text_width, tick_label};
+use lab::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use lab::report::{category_label, file_stems};
 use lab::stats::mean_ci95;
 use plotters::prelude::*;
@@ -1065,21 +1065,8 @@ fn plot_parameter(
                 )?;
             // Every `step`-th value is labelled so that labels never overlap.
             let (plot_width, _) = chart.plotting_area().dim_in_pixel();
-            let widest = labels.iter().map(|l| text_width(l, 12)).max().unwrap_or(0);
-            let step = ((f64::from(widest) + 6.0) * n as f64 / f64::from(plot_width.max(1)))
-                .ceil()
-                .max(1.0) as usize;
-            let sparse: Vec<String> = labels
-                .iter()
-                .enumerate()
-                .map(|(i, l)| {
-                    if i % step == 0 {
-                        l.clone()
-                    } else {
-                        String::new()
-                    }
-                })
-                .collect();
+            let cell_width = f64::from(plot_width.max(1)) / n as f64;
+            let sparse = sparse_labels(&labels, 12, 6.0, cell_width);
             let label = category_label(&sparse);
             chart
                 .configure_mesh()

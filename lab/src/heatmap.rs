@@ -7,8 +7,8 @@
 
 use crate::landscape::{Grid, Landscape, LandscapeError};
 use crate::plot::{
-    Area, Overlay, PlotError, axis_title, category_label, probability_color, svg_with, text_width,
-    value_labels, wrap,
+    Area, Overlay, PlotError, axis_title, category_label, probability_color, sparse_labels,
+    svg_with, text_width, value_labels, wrap,
 };
 use cbr_core::BehaviorSpace;
 use plotters::coord::types::RangedCoordf64;
@@ -100,23 +100,7 @@ pub fn panel<'a, 'b>(
     // Across, every `step`-th value is labelled so that labels never touch.
     let (width, _) = chart.plotting_area().dim_in_pixel();
     let cell_width = f64::from(width) / nx as f64;
-    let widest = x_labels
-        .iter()
-        .map(|l| text_width(l, TICK_FONT))
-        .max()
-        .unwrap_or(0);
-    let step = ((f64::from(widest) + 4.0) / cell_width).ceil().max(1.0) as usize;
-    let sparse_x: Vec<String> = x_labels
-        .iter()
-        .enumerate()
-        .map(|(i, l)| {
-            if i % step == 0 {
-                l.clone()
-            } else {
-                String::new()
-            }
-        })
-        .collect();
+    let sparse_x = sparse_labels(&x_labels, TICK_FONT, 4.0, cell_width);
     let (x_label, y_label) = (category_label(&sparse_x), category_label(&y_labels));
     let (x_title, y_title) = (axis_title(&components[x]), axis_title(&components[y]));
     chart

@@ -503,6 +503,29 @@ pub fn text_width(text: &str, size: u32) -> u32 {
     (text.chars().count() as f64 * 0.6 * f64::from(size) / 1.24).ceil() as u32
 }
 
+/// `labels` with only every `step`-th kept (the others empty), `step` the smallest that
+/// leaves `gap` px between labels drawn at font size `size` in cells `cell_width` px wide,
+/// so that labels never overlap.
+pub fn sparse_labels(labels: &[String], size: u32, gap: f64, cell_width: f64) -> Vec<String> {
+    let widest = labels
+        .iter()
+        .map(|l| text_width(l, size))
+        .max()
+        .unwrap_or(0);
+    let step = ((f64::from(widest) + gap) / cell_width).ceil().max(1.0) as usize;
+    labels
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            if i % step == 0 {
+                l.clone()
+            } else {
+                String::new()
+            }
+        })
+        .collect()
+}
+
 /// `text` broken into lines at spaces so that each is at most `width` px wide at font
 /// size `size` by [`text_width`] (a word wider than that gets a line of its own).
 pub fn wrap(text: &str, size: u32, width: u32) -> Vec<String> {
