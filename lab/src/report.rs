@@ -281,13 +281,38 @@ pub fn best_arms(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
+/// Whether every trial of every arm ended on a behavior found trustworthy, as in the
+/// paper's experiments, where some behavior always pleases the operator: a column of 100%
+/// in every row says nothing, so the tables leave it out and say so once.
+fn every_trial_found(entries: &[ReportEntry<'_>]) -> bool {
+    entries
+        .iter()
+        .flat_map(|e| &e.result.arms)
+        .all(|arm| arm.found_share.mean >= 1.0)
+}
+
+/// The sentence that stands for the share found trustworthy when [`every_trial_found`].
+fn found_note(entries: &[ReportEntry<'_>]) -> &'static str {
+    if every_trial_found(entries) {
+        "Every trial of every arm ended on a behavior found trustworthy (100%), so the table leaves out that column.\n"
+    } else {
+        ""
+    }
+}
+
 /// Every arm of every experiment: what it costs the operator, and the paired tests of
-/// its behaviors evaluated against the experiment's reference arm (marked).
+/// its behaviors evaluated against the experiment's reference arm (marked). The share of
+/// trials found trustworthy is a column only when some arm falls short of 100%.
 pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
-    let mut out = String::from(
-        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands | Found trustworthy | Cases acquired | Cut off | t-test p vs reference | Wilcoxon p vs reference |\n",
+    let with_found = !every_trial_found(entries);
+    let (found_head, found_align) = if with_found {
+        (" Found trustworthy |", "---:|")
+    } else {
+        ("", "")
+    };
+    let mut out = format!(
+        "| Experiment | Arm | Behaviors evaluated | Commands | Untrustworthy commands |{found_head} Cases acquired | Cut off | t-test p vs reference | Wilcoxon p vs reference |\n|---|---|---:|---:|---:|{found_align}---:|---:|---:|---:|\n"
     );
-    out.push_str("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for e in entries {
         for (arm, tests) in e.result.arms.iter().zip(versus_reference(e)) {
             let (t, w) = tests.map_or(("—".to_owned(), "—".to_owned()), |p| {
@@ -300,16 +325,23 @@ pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
             if arm.name == e.reference {
                 started.push_str(" (reference)");
             }
+            let found = if with_found {
+                format!(
+                    " {:.1}% ± {:.1} |",
+                    100.0 * arm.found_share.mean,
+                    100.0 * arm.found_share.ci95
+                )
+            } else {
+                String::new()
+            };
             let _ = writeln!(
                 out,
-                "| {} | {}{started} | {} | {} | {} | {:.1}% ± {:.1} | {} | {} | {t} | {w} |",
+                "| {} | {}{started} | {} | {} | {} |{found} {} | {} | {t} | {w} |",
                 e.result.name,
                 arm.name,
                 mean_cell(&arm.behaviors, 0),
                 mean_cell(&arm.commands, 0),
                 mean_cell(&arm.untrustworthy, 0),
-                100.0 * arm.found_share.mean,
-                100.0 * arm.found_share.ci95,
                 arm.cases_acquired,
                 arm.truncated(),
             );
@@ -739,10 +771,11 @@ pub fn write_report(
     write(
         "table.md",
         &format!(
-            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator (p-values against the reference arm, {})\n\n{}\n## Effect sizes against the reference arm\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
+            "## Behaviors evaluated per trial (mean ± 95% CI): the paper's two arms\n\n{}\n## Every arm: what it costs the operator (p-values against the reference arm, {})\n\n{}{}\n## Effect sizes against the reference arm\n\n{}{limits}\n## Explanations against the truth: is the first reason given for a behavior given up the operator's most frequent true reason?\n\n{}",
             table(entries),
             entries.first().map_or("", |e| e.reference),
             arms_table(entries),
+            found_note(entries),
             effects_table(entries),
             explanations_table(entries)
         ),
@@ -1166,9 +1199,13 @@ fn html_page(
         "Every arm: what it costs the operator",
         format!(
             "<p>p-values test each arm's behaviors evaluated against the reference arm, \
-             <code>{}</code> (the suite's <code>reference</code>), trial by trial.</p>\n{}",
+             <code>{}</code> (the suite's <code>reference</code>), trial by trial.</p>\n{}{}",
             escape(reference),
-            html_table(&arms_table(entries))
+            html_table(&arms_table(entries)),
+            match found_note(entries) {
+                "" => String::new(),
+                note => format!("<p>{}</p>\n", note.trim_end()),
+            }
         ),
     );
     section(

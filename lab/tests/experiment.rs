@@ -4,7 +4,9 @@
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
-use lab::report::{Provenance, ReportEntry, table, trials_jsonl, versus_reference, write_report};
+use lab::report::{
+    Provenance, ReportEntry, arms_table, table, trials_jsonl, versus_reference, write_report,
+};
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
@@ -378,6 +380,26 @@ fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
     let entries = entries(&results, &toy);
     let text = table(&entries);
     assert!(text.contains("(8 cut off)"), "{text}");
+}
+
+#[test]
+fn the_found_trustworthy_column_appears_only_when_some_trial_falls_short() {
+    let toy = Toy::new();
+    let ops = operators();
+    // Every toy trial ends on the operator's favourite: a column of 100% says nothing.
+    let results = run_experiments(&plans(&toy, &ops, 6), 2, &|_| {}).unwrap();
+    let text = arms_table(&entries(&results, &toy));
+    assert!(!text.contains("Found trustworthy"), "{text}");
+    // Trials cut off after four commands never reach the trustworthy threshold: 0.0%.
+    let mut short = plans(&toy, &ops, 6);
+    for plan in &mut short {
+        plan.max_commands = 4;
+        plan.arms.truncate(2);
+    }
+    let results = run_experiments(&short, 2, &|_| {}).unwrap();
+    let text = arms_table(&entries(&results, &toy));
+    assert!(text.contains("| Found trustworthy |"), "{text}");
+    assert!(text.contains("| 0.0% ± 0.0 |"), "{text}");
 }
 
 #[test]
