@@ -12,6 +12,7 @@ pub mod causes;
 pub mod detector;
 pub mod drive;
 pub mod geometry;
+pub mod map_labels;
 pub mod operator;
 pub mod patrol;
 pub mod perception;

@@ -5,6 +5,7 @@
 //! runs).
 
 use crate::geometry::{Shape, Vec2};
+use crate::map_labels::{Horizontal, Label, LabelPlacer, MapRect, Role, Vertical};
 use crate::operator::OperatorModel;
 use crate::trace::EventKind;
 use crate::ugv::{Run, UgvDomain};
@@ -349,21 +350,6 @@ fn draw_map(map: &mut Map<'_, '_>, domain: &UgvDomain, run: &Run<'_>) -> DrawRes
             shape(map, &spot.shape, None, ABSENT.stroke_width(1))?;
         }
     }
-    let font = |size: u32, color: RGBColor| ("sans-serif", size).into_font().color(&color);
-    map.draw_series(world.landmarks.iter().map(|landmark| {
-        Text::new(
-            landmark.name,
-            (landmark.at.x + 0.4, landmark.at.y + 0.4),
-            font(13, RGBColor(51, 51, 51)).pos(Pos::new(HPos::Left, VPos::Bottom)),
-        )
-    }))?;
-    map.draw_series(world.roads.iter().map(|road| {
-        Text::new(
-            road.name,
-            (road.min.x + 1.0, road.min.y + 0.5),
-            font(12, RGBColor(102, 102, 102)).pos(Pos::new(HPos::Left, VPos::Bottom)),
-        )
-    }))?;
     if let Some(plan) = run.plan {
         let points: Vec<(f64, f64)> = plan.points.iter().map(|p| (p.x, p.y)).collect();
         map.draw_series(std::iter::once(DashedPathElement::new(
@@ -402,21 +388,6 @@ fn draw_map(map: &mut Map<'_, '_>, domain: &UgvDomain, run: &Run<'_>) -> DrawRes
         };
         map.draw_series(std::iter::once(Circle::new(at, 4, color.filled())))?;
         map.draw_series(std::iter::once(Circle::new(at, 4, BLACK.stroke_width(1))))?;
-        let label = match fate.labelled_explosive {
-            Some(true) => "explosive",
-            Some(false) => "harmless",
-            None => "unscanned",
-        };
-        let truth = if fate.object.explosive {
-            "explosive"
-        } else {
-            "harmless"
-        };
-        map.draw_series(std::iter::once(Text::new(
-            format!("{truth}/{label}"),
-            (at.0 + 0.6, at.1),
-            font(12, BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
-        )))?;
     }
     // Marks of a fixed size in pixels, anchored at a point of the map.
     let mark = |at: Vec2, size: i32| {
@@ -440,16 +411,124 @@ fn draw_map(map: &mut Map<'_, '_>, domain: &UgvDomain, run: &Run<'_>) -> DrawRes
             }),
     )?;
     let route = domain.route();
-    let bold = ("sans-serif", 13).into_font().style(FontStyle::Bold);
-    map.draw_series(
-        [(route[0], "start"), (route[route.len() - 1], "goal")].map(|(p, name)| {
-            EmptyElement::at((p.x, p.y))
-                + Rectangle::new([(-4, -4), (4, 4)], WHITE.filled())
-                + Rectangle::new([(-4, -4), (4, 4)], BLACK.stroke_width(2))
-                + Text::new(name, (6, 4), bold.clone())
-        }),
-    )?;
+    map.draw_series([route[0], route[route.len() - 1]].map(|p| {
+        EmptyElement::at((p.x, p.y))
+            + Rectangle::new([(-4, -4), (4, 4)], WHITE.filled())
+            + Rectangle::new([(-4, -4), (4, 4)], BLACK.stroke_width(2))
+    }))?;
+    let labels = map_labels(domain, run);
+    map.draw_series(labels.iter().filter_map(|label| {
+        label.leader_from.map(|from| {
+            PathElement::new(
+                vec![(from.x, from.y), (label.at.x, label.at.y)],
+                SPUR.stroke_width(1),
+            )
+        })
+    }))?;
+    map.draw_series(labels.into_iter().map(|label| {
+        let color = match label.role {
+            Role::Street => RGBColor(102, 102, 102),
+            Role::Place => RGBColor(51, 51, 51),
+            Role::Route | Role::Object => BLACK,
+        };
+        let style = if label.role == Role::Route {
+            FontStyle::Bold
+        } else {
+            FontStyle::Normal
+        };
+        let font = ("sans-serif", label.font)
+            .into_font()
+            .style(style)
+            .color(&color);
+        let horizontal = match label.horizontal {
+            Horizontal::Left => HPos::Left,
+            Horizontal::Center => HPos::Center,
+            Horizontal::Right => HPos::Right,
+        };
+        let vertical = match label.vertical {
+            Vertical::Top => VPos::Top,
+            Vertical::Center => VPos::Center,
+            Vertical::Bottom => VPos::Bottom,
+        };
+        Text::new(
+            label.text,
+            (label.at.x, label.at.y),
+            font.pos(Pos::new(horizontal, vertical)),
+        )
+    }))?;
     Ok(())
+}
+
+/// Font size of landmark names (px).
+const PLACE_FONT: u32 = 13;
+/// Font size of street names (px).
+const STREET_FONT: u32 = 12;
+/// Font size of an object's truth/label text (px).
+const OBJECT_FONT: u32 = 12;
+/// Font size of the start and goal labels (px, bold).
+const ROUTE_FONT: u32 = 13;
+
+/// The map's labels, none covering another or a marked point: street names inside their
+/// street, then start and goal, landmarks, and each patrol object's truth and label
+/// (`truth/label`).
+pub fn map_labels(domain: &UgvDomain, run: &Run<'_>) -> Vec<Label> {
+    let world = domain.world();
+    let mut placer = LabelPlacer::new(
+        SCALE,
+        MapRect {
+            min: Vec2::new(0.0, 0.0),
+            max: Vec2::new(world.size.x + f64::from(LABEL_ROOM) / SCALE, world.size.y),
+        },
+    );
+    let px = |n: f64| n / SCALE;
+    let route = domain.route();
+    for at in [route[0], route[route.len() - 1]] {
+        placer.mark(MapRect::around(at, px(5.0)));
+    }
+    for fate in &run.objects {
+        placer.mark(MapRect::around(fate.object.at, px(5.0)));
+        if let Some(from) = fate.scanned_from {
+            placer.mark(MapRect::around(from, px(3.5)));
+        }
+    }
+    for event in &run.trace.events {
+        if let EventKind::Collision { at } = event.kind {
+            placer.mark(MapRect::around(at, px(6.0)));
+        }
+    }
+    for road in &world.roads {
+        placer.fixed(
+            road.name,
+            STREET_FONT,
+            Vec2::new(road.min.x + 1.0, road.min.y + 0.5),
+            Horizontal::Left,
+            Vertical::Bottom,
+        );
+    }
+    placer.beside("start", ROUTE_FONT, Role::Route, route[0]);
+    placer.beside("goal", ROUTE_FONT, Role::Route, route[route.len() - 1]);
+    for landmark in &world.landmarks {
+        placer.beside(landmark.name, PLACE_FONT, Role::Place, landmark.at);
+    }
+    for fate in &run.objects {
+        let label = match fate.labelled_explosive {
+            Some(true) => "explosive",
+            Some(false) => "harmless",
+            None => "unscanned",
+        };
+        let truth = if fate.object.explosive {
+            "explosive"
+        } else {
+            "harmless"
+        };
+        placer.beside(
+            &format!("{truth}/{label}"),
+            OBJECT_FONT,
+            Role::Object,
+            fate.object.at,
+        );
+    }
+    placer.into_labels()
 }
 
 /// The scale bar and the legend below the map, whose bottom edge is `top` px down.
@@ -533,6 +612,40 @@ mod tests {
             assert!(!has_text(&svg, patrol_only), "{patrol_only}");
         }
         assert!(!svg.contains("scanned from"));
+    }
+
+    #[test]
+    fn no_label_covers_another_on_any_patrol_run() {
+        let domain = UgvDomain::new(Scenario::Patrol);
+        let world = domain.world();
+        let mut runs = 0;
+        for behavior in [
+            "speed=0.5,padding=0.5,scan_time=1,scan_distance=1",
+            "speed=2,padding=0.3,scan_time=2,scan_distance=0.5",
+            "speed=4,padding=0.1,scan_time=0.5,scan_distance=0.25",
+        ] {
+            let b = domain.space().parse(behavior).unwrap();
+            for seed in 0..40 {
+                let run = domain.simulate(&b, &mut ChaCha8Rng::seed_from_u64(seed), true);
+                let labels = map_labels(&domain, &run);
+                // Streets, landmarks, start, goal and every object.
+                let expected = world.roads.len() + world.landmarks.len() + 2 + run.objects.len();
+                assert_eq!(labels.len(), expected);
+                for (i, a) in labels.iter().enumerate() {
+                    for b in &labels[i + 1..] {
+                        assert_eq!(
+                            a.covers.overlap(&b.covers),
+                            0.0,
+                            "{behavior}, seed {seed}: `{}` covers `{}`",
+                            a.text,
+                            b.text
+                        );
+                    }
+                }
+                runs += 1;
+            }
+        }
+        assert_eq!(runs, 120);
     }
 
     #[test]
