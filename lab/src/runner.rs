@@ -3,10 +3,11 @@
 //!
 //! The case base (and what a learning search and the explanations learn) persists across
 //! an experiment's trials, so the trials of one (experiment, arm) pair form a sequential
-//! *chain*; chains run in parallel on the current rayon pool. Every random draw comes from a stream named by (seed, experiment, trial,
-//! purpose), and trial `i` of every arm gets the same streams (operator and initial
-//! behavior, simulated runs, search), so arms are paired trial by trial and results do
-//! not depend on the number of threads.
+//! *chain*; chains run in parallel on the current rayon pool, and so do the trials of a
+//! chain whose arm reads nothing from earlier episodes. Every random draw comes from a
+//! stream named by (seed, experiment, trial, purpose), and trial `i` of every arm gets the
+//! same streams (operator and initial behavior, simulated runs, search), so arms are
+//! paired trial by trial and results do not depend on the number of threads.
 
 use crate::arm::Arm;
 use crate::seeds::{Purpose, stream, stream_seed};
@@ -425,6 +426,18 @@ impl<D: Domain> ExperimentPlan<'_, D> {
         Ok(())
     }
 
+    /// Whether no operator of the plan ever states a reason: its channel, or every
+    /// operator's own, is silent, so explanations learn nothing across episodes.
+    fn never_told(&self) -> bool {
+        match self.feedback {
+            Some(channel) => channel.is_silent(),
+            None => self
+                .operators
+                .iter()
+                .all(|(_, operator)| self.domain.feedback(operator).is_silent()),
+        }
+    }
+
     /// A fresh adapter for `arm`, from its starting cases.
     fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
         let space = self.domain.space();
@@ -455,6 +468,15 @@ impl<D: Domain> ExperimentPlan<'_, D> {
     }
 }
 
+/// What one trial of a chain leaves for its arm's result.
+struct ChainTrial {
+    record: TrialRecord,
+    /// Explanations of its given-up behaviors, at most [`SAMPLE_EXPLANATIONS`].
+    samples: Vec<ExplanationSample>,
+    /// Every command, when the trial is traced.
+    traced: Option<Vec<TracedCommand>>,
+}
+
 fn run_chain<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     experiment: u64,
@@ -465,51 +487,75 @@ fn run_chain<D: Domain>(
     let arm = &plan.arms[arm_index];
     let starting_cases = arm.starting_cases().map_or(0, |c| c.len());
     let mut adapter = plan.adapter(arm)?;
+    let traces = sample_arm(&plan.arms) == Some(arm_index);
+    // One trial, with the explanations of its given-up behaviors (at most as many as the
+    // samples need) and, for the first traced trials of the sample arm, every command.
+    let one = |adapter: &mut TrustAdapter, trial: u32| -> Result<ChainTrial, PlanError> {
+        let mut commands = Vec::new();
+        let tracing = traces && trial < TRACED_TRIALS;
+        let (record, explanations) =
+            run_trial(plan, adapter, experiment, trial, arm, seed, &mut |step| {
+                if tracing {
+                    commands.push(TracedCommand::of(&step));
+                }
+            })?;
+        let samples = explanations
+            .into_iter()
+            .filter(|x| x.given_up.is_some())
+            .zip(&record.given_up)
+            .take(SAMPLE_EXPLANATIONS)
+            .map(|(explanation, given_up)| ExplanationSample {
+                trial,
+                explanation,
+                truth: given_up.truth,
+            })
+            .collect();
+        progress();
+        Ok(ChainTrial {
+            record,
+            samples,
+            traced: tracing.then_some(commands),
+        })
+    };
     // Every trial reads what earlier ones left: the case base, a learning search, and
-    // what the explanations learned operators mean (trust::explain), so a chain runs in
-    // order.
+    // what the explanations learned from the reasons operators stated (trust::explain),
+    // so a chain runs in order. Where an arm reads none of these (it reuses no case, its
+    // search forgets, and no operator of the plan ever states a reason), trials are
+    // independent: each gets a fresh adapter and they run in parallel, with the same
+    // records; the cases the episodes would have retained are counted.
+    let independent =
+        !arm.reuses_cases() && !adapter.learns_across_episodes() && plan.never_told();
+    let outputs: Vec<ChainTrial> = if independent {
+        (0..plan.trials)
+            .into_par_iter()
+            .map(|trial| one(&mut plan.adapter(arm)?, trial))
+            .collect::<Result<_, PlanError>>()?
+    } else {
+        (0..plan.trials)
+            .map(|trial| one(&mut adapter, trial))
+            .collect::<Result<_, PlanError>>()?
+    };
+    let mut trials = Vec::with_capacity(outputs.len());
     let mut samples = Vec::new();
     let mut traced = Vec::new();
-    let traces = sample_arm(&plan.arms) == Some(arm_index);
-    let trials: Vec<TrialRecord> = (0..plan.trials)
-        .map(|trial| {
-            let mut commands = Vec::new();
-            let tracing = traces && trial < TRACED_TRIALS;
-            let (record, explanations) = run_trial(
-                plan,
-                &mut adapter,
-                experiment,
-                trial,
-                arm,
-                seed,
-                &mut |step| {
-                    if tracing {
-                        commands.push(TracedCommand::of(&step));
-                    }
-                },
-            )?;
-            if tracing {
-                traced.push(commands);
-            }
-            let wanted = SAMPLE_EXPLANATIONS - samples.len();
-            samples.extend(
-                explanations
-                    .into_iter()
-                    .filter(|x| x.given_up.is_some())
-                    .zip(&record.given_up)
-                    .take(wanted)
-                    .map(|(explanation, given_up)| ExplanationSample {
-                        trial,
-                        explanation,
-                        truth: given_up.truth,
-                    }),
-            );
-            progress();
-            Ok(record)
-        })
-        .collect::<Result<_, PlanError>>()?;
-    let final_cases = arm.reuses_cases().then(|| adapter.cases().clone());
-    let cases_acquired = adapter.cases().len() - starting_cases;
+    for output in outputs {
+        let wanted = SAMPLE_EXPLANATIONS - samples.len();
+        samples.extend(output.samples.into_iter().take(wanted));
+        traced.extend(output.traced);
+        trials.push(output.record);
+    }
+    let (cases_acquired, final_cases) = if independent {
+        let retained = trials
+            .iter()
+            .filter(|t| t.report.retained.is_some())
+            .count();
+        (retained, None)
+    } else {
+        (
+            adapter.cases().len() - starting_cases,
+            arm.reuses_cases().then(|| adapter.cases().clone()),
+        )
+    };
     let summary = |values: Vec<f64>| {
         mean_ci95(&values).unwrap_or(MeanCi {
             mean: 0.0,

@@ -73,6 +73,11 @@ impl FeedbackChannel {
         Ok(Self { explains, wrong })
     }
 
+    /// Whether the operator never explains.
+    pub fn is_silent(&self) -> bool {
+        self.explains <= 0.0
+    }
+
     /// What the operator says of a command whose real reason is `truth` (`None`: it
     /// completed, nothing to explain), among the domain's `declared` causes. Draws from
     /// `rng` only when there is something to explain and the channel is open, so a silent
@@ -84,7 +89,7 @@ impl FeedbackChannel {
         rng: &mut dyn RngCore,
     ) -> Option<Cause> {
         let truth = truth?;
-        if self.explains <= 0.0 || rng.random::<f64>() >= self.explains {
+        if self.is_silent() || rng.random::<f64>() >= self.explains {
             return None;
         }
         if self.wrong <= 0.0 || rng.random::<f64>() >= self.wrong {
