@@ -725,3 +725,63 @@ fn importing_a_file_twice_is_warned_of() {
     );
     assert!(!target.exists());
 }
+
+#[test]
+fn a_case_base_of_another_domain_of_the_same_space_is_refused_untouched() {
+    let bases = Bases::new();
+    let base = bases.path("base.db");
+    let before = snapshot(&base);
+    // The same domain file under another name: the same space, another domain.
+    let depot = bases.path("depot.ron");
+    std::fs::copy(bases.domain(), &depot).unwrap();
+    let expected = format!(
+        "error: {}: the case base was learned in domain `{}`, not `{}` (domains are compared by name, a domain file by its file name); serve or import it with the domain it was learned in\n",
+        base.display(),
+        bases.domain().display(),
+        depot.display()
+    );
+    let mut serve = trustcbr();
+    serve
+        .args(["serve", "--domain"])
+        .arg(&depot)
+        .args(["--cases", base.to_str().unwrap()]);
+    assert_eq!(refused(&mut serve), expected);
+    let mut import = trustcbr();
+    import
+        .args(["cases", "import"])
+        .arg(bases.path("three.ron"))
+        .arg(&base)
+        .arg("--domain")
+        .arg(&depot);
+    assert_eq!(refused(&mut import), expected);
+    assert!(unchanged(&base, &before));
+    // An export records its domain: importing it into a new base for another domain is
+    // refused too, and creates nothing.
+    let exported = bases.path("export.ron");
+    succeed(&mut export(&base, &exported));
+    let fresh = bases.path("fresh.db");
+    let mut import = trustcbr();
+    import
+        .args(["cases", "import"])
+        .arg(&exported)
+        .arg(&fresh)
+        .arg("--domain")
+        .arg(&depot);
+    assert_eq!(
+        refused(&mut import),
+        expected.replace(base.to_str().unwrap(), exported.to_str().unwrap())
+    );
+    assert!(!fresh.exists());
+    // The domain file moved to another folder keeps its bases.
+    let moved = bases.path("moved");
+    std::fs::create_dir(&moved).unwrap();
+    std::fs::rename(bases.domain(), moved.join("quick.ron")).unwrap();
+    let mut again = trustcbr();
+    again
+        .args(["cases", "import"])
+        .arg(&exported)
+        .arg(&fresh)
+        .arg("--domain")
+        .arg(moved.join("quick.ron"));
+    succeed(&mut again);
+}

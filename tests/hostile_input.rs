@@ -153,7 +153,7 @@ fn an_unusable_report_folder_is_refused_before_any_work() {
         (file.as_path(), "exists and is a regular file, not a folder"),
         (
             Path::new("/proc/self"),
-            "cannot write the report in this folder",
+            "/proc/self: cannot create a file in this folder: ",
         ),
         (
             notes.as_path(),

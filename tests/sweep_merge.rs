@@ -1,7 +1,8 @@
 //! End-to-end: `sweep merge` is correct or refused. Every run file is checked against its
 //! place (cell, seed, the content of the suite it ran, trials, experiments and arms, values
 //! a run can have); two folders holding different versions of one run are refused naming
-//! both; every missing run is named; nothing of the report is written when a merge is
+//! both; every missing run is named (a shard that could not write says where and why, and
+//! its runs are named missing); nothing of the report is written when a merge is
 //! refused, and a huge value is refused at once instead of hanging the report.
 
 mod support;
@@ -207,6 +208,40 @@ fn a_failed_shards_empty_folder_counts_as_holding_no_run() {
     let stderr = sweep.refused(&[&first, &failed]);
     assert!(
         stderr.contains("2 of 4 runs are in none of the folders"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_shard_that_cannot_write_names_the_path_and_the_reason_and_its_runs_are_named_missing() {
+    let sweep = Sweep::new();
+    let first = sweep.shard("1/2", "first");
+    // A regular file where the shard's folder should go: the folder cannot be created,
+    // whoever runs the shard (root included).
+    let blocked = sweep.path("blocked");
+    std::fs::write(&blocked, b"a file").unwrap();
+    let out = blocked.join("shard-2");
+    let output = trustcbr()
+        .arg("sweep")
+        .arg(sweep.path("sweep.ron"))
+        .args(["--shard", "2/2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: {}: cannot create this folder: Not a directory (os error 20)\n",
+            out.display()
+        )
+    );
+    assert_eq!(std::fs::read(&blocked).unwrap(), b"a file");
+    let stderr = sweep.refused(&[&first, &out]);
+    assert!(
+        stderr.contains("2 of 4 runs are in none of the folders")
+            && stderr.contains("runs/base/seed-2.json, runs/lambda-0-8/seed-2.json"),
         "{stderr}"
     );
 }

@@ -39,10 +39,13 @@ pub enum OutputError {
         kind: &'static str,
     },
     /// The folder could not be created, listed or written in.
-    #[error("{}: cannot write the report in this folder: {reason}", path.display())]
+    #[error("{}: cannot {action}: {reason}", path.display())]
     Unwritable {
         /// The folder.
         path: PathBuf,
+        /// What could not be done: `create this folder`, `create a file in this folder`,
+        /// `list this folder`.
+        action: &'static str,
         /// Why (shown in the message, so not chained as a source).
         reason: io::Error,
     },
@@ -67,9 +70,12 @@ pub enum OutputError {
 /// be written in (a temporary file is created and removed to find out: permissions,
 /// read-only file systems).
 pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
-    let unwritable = |reason| OutputError::Unwritable {
-        path: dir.to_owned(),
-        reason,
+    let unwritable = |action| {
+        move |reason| OutputError::Unwritable {
+            path: dir.to_owned(),
+            action,
+            reason,
+        }
     };
     match fs::metadata(dir) {
         Ok(meta) if !meta.is_dir() => {
@@ -80,14 +86,14 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
         }
         Ok(_) => {}
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
-            fs::create_dir_all(dir).map_err(unwritable)?;
+            fs::create_dir_all(dir).map_err(unwritable("create this folder"))?;
         }
-        Err(e) => return Err(unwritable(e)),
+        Err(e) => return Err(unwritable("create this folder")(e)),
     }
     tempfile::Builder::new()
         .prefix(".trustcbr-probe-")
         .tempfile_in(dir)
-        .map_err(|e| unwritable(without_temporary_path(e)))?;
+        .map_err(|e| unwritable("create a file in this folder")(without_temporary_path(e)))?;
     Ok(())
 }
 
@@ -98,6 +104,7 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
     ensure_writable_dir(dir)?;
     let unwritable = |reason| OutputError::Unwritable {
         path: dir.to_owned(),
+        action: "list this folder",
         reason,
     };
     let entries: Vec<String> = fs::read_dir(dir)
@@ -126,6 +133,7 @@ pub fn remove_previous_report(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     }
     let listing = fs::read_dir(dir).map_err(|reason| OutputError::Unwritable {
         path: dir.to_owned(),
+        action: "list this folder",
         reason,
     })?;
     let mut removed = Vec::new();
@@ -493,7 +501,7 @@ mod tests {
         let err = prepare_output_dir(Path::new("/proc/self")).unwrap_err();
         assert!(
             err.to_string()
-                .starts_with("/proc/self: cannot write the report in this folder: "),
+                .starts_with("/proc/self: cannot create a file in this folder: "),
             "{err}"
         );
         let notes = dir.path().join("notes");

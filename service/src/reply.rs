@@ -3,11 +3,14 @@
 //!
 //! A [`Reply`] is either a JSON value or the case listing, which is written case by case
 //! as it is copied from the shared memory, so a listing never holds the case base twice.
+//! An [`Answer`] is a reply with the request's `id`, written as the controller sent it.
 
+use crate::request::RequestId;
 use crate::shared::SharedCases;
 use crate::store::StoreId;
 use cbr_core::{Behavior, BehaviorSpace, CaseId};
-use serde_json::{Value, json};
+use serde::ser::{SerializeMap, Serializer};
+use serde_json::{Map, Value, json};
 use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
@@ -32,49 +35,81 @@ pub struct CaseListing {
     pub space: Arc<BehaviorSpace>,
     /// How many cases to list (those held when the request was handled).
     pub count: usize,
-    /// The request's `id`, echoed.
-    pub id: Option<Value>,
+}
+
+/// A reply with the request's `id` (when one was given), echoed as the controller wrote it.
+pub struct Answer {
+    /// The reply.
+    pub reply: Reply,
+    /// The request's `id`.
+    pub id: Option<RequestId>,
 }
 
 impl Reply {
-    /// Echoes the request's `id` (when one was given).
-    pub fn with_id(mut self, id: Option<Value>) -> Self {
-        if let Some(id) = id {
-            match &mut self {
-                Reply::Json(Value::Object(map)) => {
-                    map.insert("id".to_owned(), id);
-                }
-                Reply::Json(_) => {}
-                Reply::Cases(listing) => listing.id = Some(id),
-            }
-        }
-        self
+    /// The reply with the request's `id` (when one was given).
+    pub fn with_id(self, id: Option<RequestId>) -> Answer {
+        Answer { reply: self, id }
     }
 
     /// Writes the reply and its newline.
     pub fn write_line(&self, out: &mut dyn Write) -> io::Result<()> {
-        match self {
-            Reply::Json(value) => serde_json::to_writer(&mut *out, value)?,
-            Reply::Cases(listing) => listing.write(out)?,
-        }
+        self.write(None, out)?;
         out.write_all(b"\n")
     }
 
-    /// The reply as one JSON value (for callers in the same process, and tests).
-    pub fn into_value(self) -> Value {
-        match self {
-            Reply::Json(value) => value,
-            Reply::Cases(listing) => {
-                let mut bytes = Vec::new();
-                listing.write(&mut bytes).expect("writing to memory");
-                serde_json::from_slice(&bytes).expect("a listing is JSON")
+    /// Writes the reply; an object gets `id`'s text as its `id` field (in place of one it
+    /// has, or last).
+    fn write(&self, id: Option<&RequestId>, out: &mut dyn Write) -> io::Result<()> {
+        match (self, id) {
+            (Reply::Json(Value::Object(map)), Some(id)) => {
+                write_with_id(map, id, out)?;
             }
+            (Reply::Json(value), _) => serde_json::to_writer(&mut *out, value)?,
+            (Reply::Cases(listing), id) => listing.write(id, out)?,
         }
+        Ok(())
     }
 }
 
+impl Answer {
+    /// Writes the answer and its newline.
+    pub fn write_line(&self, out: &mut dyn Write) -> io::Result<()> {
+        self.reply.write(self.id.as_ref(), out)?;
+        out.write_all(b"\n")
+    }
+
+    /// The answer as one JSON value (for callers in the same process, and tests; a number
+    /// `id` is then read as `serde_json` reads numbers).
+    pub fn into_value(self) -> Value {
+        let mut bytes = Vec::new();
+        self.reply
+            .write(self.id.as_ref(), &mut bytes)
+            .expect("writing to memory");
+        serde_json::from_slice(&bytes).expect("a reply is JSON")
+    }
+}
+
+/// Writes the object `map` with `id` as its `id` field, where `map` has one, or last.
+fn write_with_id(map: &Map<String, Value>, id: &RequestId, out: &mut dyn Write) -> io::Result<()> {
+    let mut serializer = serde_json::Serializer::new(out);
+    let has_id = map.contains_key("id");
+    let mut object = serializer.serialize_map(Some(map.len() + usize::from(!has_id)))?;
+    for (key, value) in map {
+        if key == "id" {
+            object.serialize_entry(key, id)?;
+        } else {
+            object.serialize_entry(key, value)?;
+        }
+    }
+    if !has_id {
+        object.serialize_entry("id", id)?;
+    }
+    object.end()?;
+    Ok(())
+}
+
 impl CaseListing {
-    fn write(&self, out: &mut dyn Write) -> io::Result<()> {
+    fn write(&self, id: Option<&RequestId>, out: &mut dyn Write) -> io::Result<()> {
         out.write_all(br#"{"ok":"cases","cases":["#)?;
         let mut written = 0;
         while written < self.count {
@@ -98,9 +133,9 @@ impl CaseListing {
             }
         }
         out.write_all(b"]")?;
-        if let Some(id) = &self.id {
+        if let Some(id) = id {
             out.write_all(br#","id":"#)?;
-            serde_json::to_writer(&mut *out, id)?;
+            out.write_all(id.as_json().as_bytes())?;
         }
         out.write_all(b"}")
     }

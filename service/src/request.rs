@@ -2,7 +2,8 @@
 //!
 //! A line is a JSON object. An outcome report carries an `outcome` field; every other
 //! request names itself in a `request` field. Any request may carry an `id` (a JSON
-//! scalar) that the reply echoes. Unknown fields, wrong types, unknown names
+//! scalar) that the reply echoes as it was sent, byte for byte (a number is never read
+//! into a double and written back). Unknown fields, wrong types, unknown names
 //! and unusable numbers are refused with an error naming the field and what it allows.
 //! An outcome report says what the robot knows: how the command ended, its weight and
 //! duration, what the robot perceived (`observed`: names the served domain declares as
@@ -15,6 +16,7 @@
 
 use serde::Deserialize;
 use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
+use serde_json::value::RawValue;
 use serde_json::{Map, Value};
 use std::fmt;
 use trust::estimate::OutcomeError;
@@ -142,9 +144,34 @@ impl From<OutcomeError> for RequestError {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Envelope {
     /// The optional `id` field: any JSON scalar (string, number, boolean, null).
-    pub id: Option<Value>,
+    pub id: Option<RequestId>,
     /// The request, or why the line is not one.
     pub request: Result<Request, RequestError>,
+}
+
+/// A request's `id` as the controller wrote it: the JSON text of a scalar, kept verbatim
+/// so the reply echoes it byte for byte (`18446744073709551616` and `0.1000000000000000055`
+/// come back as sent, not as the nearest double).
+#[derive(Clone, Debug)]
+pub struct RequestId(Box<RawValue>);
+
+impl RequestId {
+    /// The id's JSON text, as sent (without the whitespace around it).
+    pub fn as_json(&self) -> &str {
+        self.0.get()
+    }
+}
+
+impl PartialEq for RequestId {
+    fn eq(&self, other: &Self) -> bool {
+        self.as_json() == other.as_json()
+    }
+}
+
+impl serde::Serialize for RequestId {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(serializer)
+    }
 }
 
 /// What a served domain lets an outcome report name: its declared causes (for a stated
@@ -164,8 +191,14 @@ pub fn parse_line(line: &[u8], vocabulary: Vocabulary<'_>) -> Envelope {
     let line = line
         .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
         .unwrap_or(line);
-    let value: Value = match serde_json::from_slice::<UniqueKeys>(line) {
-        Ok(UniqueKeys(value)) => value,
+    let (map, id) = match serde_json::from_slice::<Line>(line) {
+        Ok(Line::Object(map, id)) => (map, id),
+        Ok(Line::Other(kind)) => {
+            return Envelope {
+                id: None,
+                request: Err(RequestError::NotAnObject(kind)),
+            };
+        }
         Err(e) => {
             return Envelope {
                 id: None,
@@ -173,49 +206,25 @@ pub fn parse_line(line: &[u8], vocabulary: Vocabulary<'_>) -> Envelope {
             };
         }
     };
-    let mut map = match value {
-        Value::Object(map) => map,
-        other => {
-            return Envelope {
-                id: None,
-                request: Err(RequestError::NotAnObject(json_type(&other))),
-            };
-        }
-    };
-    match map.remove("id") {
-        Some(id @ (Value::Array(_) | Value::Object(_))) => Envelope {
+    let kind = id
+        .as_ref()
+        .and_then(|id| match id.as_json().as_bytes().first() {
+            Some(b'[') => Some("an array"),
+            Some(b'{') => Some("an object"),
+            _ => None,
+        });
+    match kind {
+        Some(kind) => Envelope {
             id: None,
             request: Err(RequestError::Field {
                 field: "id".to_owned(),
-                message: format!(
-                    "expected a string, a number, a boolean or null, got {}",
-                    json_type(&id)
-                ),
+                message: format!("expected a string, a number, a boolean or null, got {kind}"),
             }),
         },
-        Some(Value::Number(n)) if !echoed_exactly(&n) => Envelope {
-            id: None,
-            request: Err(RequestError::Field {
-                field: "id".to_owned(),
-                message: format!(
-                    "the number {n} would not be echoed as sent (integers are echoed exactly from -2^63 to 2^64 - 1, others below 2^53); send it as a string"
-                ),
-            }),
-        },
-        id => Envelope {
+        None => Envelope {
             id,
             request: parse_object(map, vocabulary),
         },
-    }
-}
-
-/// Whether a number id read from JSON comes back as it was sent: an integer that fits 64
-/// bits does; one beyond (read as the nearest double) does not.
-fn echoed_exactly(n: &serde_json::Number) -> bool {
-    const EXACT: f64 = 9_007_199_254_740_992.0; // 2^53
-    match n.as_f64() {
-        Some(x) if !n.is_i64() && !n.is_u64() => !(x.fract() == 0.0 && x.abs() >= EXACT),
-        _ => true,
     }
 }
 
@@ -370,6 +379,79 @@ impl Fields {
     }
 }
 
+/// A whole request line: an object, with its `id` kept as the JSON text sent and its
+/// other fields read as [`UniqueKeys`] reads them (a key given twice is refused); or what
+/// else the line holds.
+enum Line {
+    Object(Map<String, Value>, Option<RequestId>),
+    Other(&'static str),
+}
+
+impl<'de> Deserialize<'de> for Line {
+    fn deserialize<D: de::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(LineVisitor)
+    }
+}
+
+struct LineVisitor;
+
+impl<'de> Visitor<'de> for LineVisitor {
+    type Value = Line;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a JSON object")
+    }
+
+    fn visit_bool<E>(self, _: bool) -> Result<Line, E> {
+        Ok(Line::Other("a boolean"))
+    }
+
+    fn visit_i64<E>(self, _: i64) -> Result<Line, E> {
+        Ok(Line::Other("a number"))
+    }
+
+    fn visit_u64<E>(self, _: u64) -> Result<Line, E> {
+        Ok(Line::Other("a number"))
+    }
+
+    fn visit_f64<E>(self, _: f64) -> Result<Line, E> {
+        Ok(Line::Other("a number"))
+    }
+
+    fn visit_str<E>(self, _: &str) -> Result<Line, E> {
+        Ok(Line::Other("a string"))
+    }
+
+    fn visit_unit<E>(self) -> Result<Line, E> {
+        Ok(Line::Other("null"))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<Line, A::Error> {
+        UniqueKeysVisitor
+            .visit_seq(seq)
+            .map(|_| Line::Other("an array"))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut access: A) -> Result<Line, A::Error> {
+        let mut map = Map::new();
+        let mut id: Option<RequestId> = None;
+        while let Some(key) = access.next_key::<String>()? {
+            if map.contains_key(&key) || (key == "id" && id.is_some()) {
+                return Err(de::Error::custom(format_args!(
+                    "field `{key}` is given twice"
+                )));
+            }
+            if key == "id" {
+                id = Some(RequestId(access.next_value()?));
+            } else {
+                let UniqueKeys(value) = access.next_value()?;
+                map.insert(key, value);
+            }
+        }
+        Ok(Line::Object(map, id))
+    }
+}
+
 /// A JSON value whose objects, at every depth, give each key once.
 struct UniqueKeys(Value);
 
@@ -503,18 +585,31 @@ mod tests {
         parse_request(line.as_bytes()).unwrap_err().to_string()
     }
 
+    fn id(line: &[u8]) -> Option<String> {
+        parse_line(line).id.map(|id| id.as_json().to_owned())
+    }
+
     #[test]
-    fn ids_beyond_64_bits_are_refused_not_echoed_changed() {
-        let e = parse_line(br#"{"request":"state","id":18446744073709551615}"#);
-        assert_eq!(e.id, Some(Value::from(u64::MAX)));
-        let e = parse_line(br#"{"request":"state","id":18446744073709551616}"#);
-        assert_eq!(e.id, None);
-        assert_eq!(
-            e.request.unwrap_err().to_string(),
-            "field `id`: the number 1.8446744073709552e+19 would not be echoed as sent (integers are echoed exactly from -2^63 to 2^64 - 1, others below 2^53); send it as a string"
-        );
-        let e = parse_line(br#"{"request":"state","id":2.5}"#);
-        assert_eq!(e.id, Some(Value::from(2.5)));
+    fn number_ids_are_kept_as_sent_whatever_their_size() {
+        for sent in [
+            "18446744073709551615",
+            "18446744073709551616",
+            "-92233720368547758080",
+            "123456789012345678901234567890",
+            "2.5",
+            "0.1000000000000000055511151231257827",
+            "1e400",
+            "-0",
+            "1E+2",
+        ] {
+            let line = format!(r#"{{"request":"state","id": {sent} }}"#);
+            let e = parse_line(line.as_bytes());
+            assert_eq!(e.request, Ok(Request::State), "{sent}");
+            assert_eq!(
+                e.id.map(|id| id.as_json().to_owned()),
+                Some(sent.to_owned())
+            );
+        }
     }
 
     #[test]
@@ -674,11 +769,11 @@ mod tests {
     #[test]
     fn ids_are_scalars_taken_apart_from_the_request() {
         let e = parse_line(br#"{"request":"state","id":17}"#);
-        assert_eq!(e.id, Some(Value::from(17)));
+        assert_eq!(id(br#"{"request":"state","id":17}"#).as_deref(), Some("17"));
         assert_eq!(e.request, Ok(Request::State));
         let e =
             parse_line(br#"{"id":"robot-3/42","outcome":"completed","weight":1,"duration_s":2}"#);
-        assert_eq!(e.id, Some(Value::from("robot-3/42")));
+        assert_eq!(e.id.unwrap().as_json(), r#""robot-3/42""#);
         assert_eq!(
             e.request,
             Ok(Request::Outcome(Outcome::completed(1.0, 2.0)))
@@ -689,8 +784,18 @@ mod tests {
             e.request.unwrap_err().to_string(),
             "field `id`: expected a string, a number, a boolean or null, got an array"
         );
+        let e = parse_line(br#"{"request":"state","id":{"a":1}}"#);
+        assert_eq!(e.id, None);
+        assert_eq!(
+            e.request.unwrap_err().to_string(),
+            "field `id`: expected a string, a number, a boolean or null, got an object"
+        );
+        assert_eq!(
+            err(r#"{"request":"state","id":1,"id":2}"#),
+            "field `id` is given twice at line 1 column 30; give each field once"
+        );
         let e = parse_line(br#"{"request":"fly","id":true}"#);
-        assert_eq!(e.id, Some(Value::Bool(true)));
+        assert_eq!(e.id.unwrap().as_json(), "true");
         assert!(e.request.is_err());
     }
 

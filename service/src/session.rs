@@ -13,7 +13,7 @@
 //! acknowledges a case that is not stored.
 
 use crate::domain::DomainDefinition;
-use crate::reply::{self, CaseListing, Reply};
+use crate::reply::{self, Answer, CaseListing, Reply};
 use crate::request::{BehaviorSpec, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
 use crate::store::{StoreError, StoreId};
@@ -91,7 +91,7 @@ impl Session {
 
     /// Handles one request line (without its newline) and returns the reply, which echoes
     /// the request's `id`.
-    pub fn handle_line(&mut self, line: &[u8]) -> Result<Reply, SessionError> {
+    pub fn handle_line(&mut self, line: &[u8]) -> Result<Answer, SessionError> {
         let vocabulary = Vocabulary {
             causes: &self.causes,
             observations: &self.observations,
@@ -252,7 +252,6 @@ impl Session {
                 cases: self.cases.clone(),
                 space: self.adaptation.space().clone(),
                 count,
-                id: None,
             }),
             Err(e) => Reply::Json(store_unavailable(&e)),
         }

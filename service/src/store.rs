@@ -6,7 +6,8 @@
 //!
 //! Every store records the domain name and the [`BehaviorSpace`] its cases were learned in
 //! (their [`Identity`]) and refuses to open with another space, naming the first
-//! difference. Cases have store ids that only grow and are never reused; a store hands back
+//! difference, or for another domain of the same space (a domain file is named by its
+//! file name, so it may move). Cases have store ids that only grow and are never reused; a store hands back
 //! the cases stored after a given id, so several processes on one store can each catch up
 //! with what the others retained. An append is one durable transaction that first hands
 //! back the cases stored since the caller last looked, so every process sees the cases in
@@ -114,6 +115,18 @@ pub enum StoreError {
         /// Its value in the case base.
         stored: String,
         /// Its value in the space being served.
+        here: String,
+    },
+    /// The case base was learned in another domain of the same behavior space.
+    #[error(
+        "{location}: the case base was learned in domain `{recorded}`, not `{here}` (domains are compared by name, a domain file by its file name); serve or import it with the domain it was learned in"
+    )]
+    OtherDomain {
+        /// The store.
+        location: String,
+        /// The domain recorded in the case base.
+        recorded: String,
+        /// The domain being served or imported into.
         here: String,
     },
     /// A stored case does not fit the behavior space.
@@ -242,6 +255,7 @@ pub fn open(location: &Location, identity: &Identity) -> Result<Box<dyn CaseStor
         Location::Ron(path) => Box::new(ron_file::RonStore::open(path, Some(identity))?),
     };
     check_space(store.as_ref(), &identity.space)?;
+    check_domain(store.as_ref(), &identity.domain)?;
     Ok(store)
 }
 
@@ -267,6 +281,27 @@ fn check_space(store: &dyn CaseStore, space: &BehaviorSpace) -> Result<(), Store
             here: d.other,
         }),
     }
+}
+
+/// Refuses a case base recording another domain than `domain`. Built-in domains are
+/// compared by name; a domain file (named by the path it was given) by its file name, so
+/// the file may move or be given by another path. A case file recording no domain (one
+/// written by hand) is not compared.
+fn check_domain(store: &dyn CaseStore, domain: &str) -> Result<(), StoreError> {
+    let recorded = &store.identity().domain;
+    let key = |name: &str| {
+        Path::new(name)
+            .file_name()
+            .map_or_else(|| name.to_owned(), |f| f.to_string_lossy().into_owned())
+    };
+    if recorded.is_empty() || key(recorded) == key(domain) {
+        return Ok(());
+    }
+    Err(StoreError::OtherDomain {
+        location: store.location(),
+        recorded: recorded.clone(),
+        here: domain.to_owned(),
+    })
 }
 
 /// Refuses a path that exists but is not a regular file (after following symlinks), so a
@@ -531,6 +566,33 @@ mod tests {
             err.contains("(domain `movement`): number of components 2 in the case base, 4 here"),
             "{err}"
         );
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+    }
+
+    #[test]
+    fn a_base_of_another_domain_of_the_same_space_is_refused_naming_both() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.db");
+        let location = Location::Sqlite(path.clone());
+        let file_domain = |name: &str| Identity {
+            domain: name.into(),
+            ..movement()
+        };
+        open(&location, &file_domain("/srv/domains/warehouse.ron")).unwrap();
+        let before = std::fs::read(&path).unwrap();
+        // The same domain file, moved or given by another path.
+        open(&location, &file_domain("warehouse.ron")).unwrap();
+        open(&location, &file_domain("./d/warehouse.ron")).unwrap();
+        for other in ["movement", "/srv/domains/depot.ron"] {
+            let err = refused(open(&location, &file_domain(other))).to_string();
+            assert_eq!(
+                err,
+                format!(
+                    "{}: the case base was learned in domain `/srv/domains/warehouse.ron`, not `{other}` (domains are compared by name, a domain file by its file name); serve or import it with the domain it was learned in",
+                    path.display()
+                )
+            );
+        }
         assert_eq!(std::fs::read(&path).unwrap(), before);
     }
 

@@ -73,12 +73,13 @@ pub fn serve<R: BufRead, W: Write>(
             LineRead::TooLong => (
                 Reply::Json(reply::error(format_args!(
                     "line too long: a request line may hold at most {MAX_LINE_BYTES} bytes; it was discarded"
-                ))),
+                )))
+                .with_id(None),
                 None,
             ),
             LineRead::Line => match session.handle_line(&line) {
                 Ok(answer) => (answer, None),
-                Err(e) => (Reply::Json(reply::error(&e)), Some(e)),
+                Err(e) => (Reply::Json(reply::error(&e)).with_id(None), Some(e)),
             },
         };
         answer.write_line(&mut output)?;
