@@ -97,9 +97,7 @@ class TpeSearcher:
         for e in evaluated[self.told :]:
             self._record(self._params(e["behavior"]), e["time"])
         self.told = len(evaluated)
-        tried: Dict[Params, float] = {
-            self._params(e["behavior"]): e["time"] for e in evaluated
-        }
+        tried: Dict[Params, float] = {self._params(e["behavior"]): e["time"] for e in evaluated}
         if len(tried) >= self.size:
             return None
         for _ in range(RETRIES):
@@ -162,9 +160,7 @@ ARMS = [
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--trials", type=int, default=500)
-    parser.add_argument(
-        "--suite", help="a suite file (default: the paper's seven experiments)"
-    )
+    parser.add_argument("--suite", help="a suite file (default: the paper's seven experiments)")
     parser.add_argument("--out", help="write the report folder here")
     parser.add_argument("--seed", type=int, default=None)
     args = parser.parse_args()

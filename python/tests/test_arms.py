@@ -7,9 +7,10 @@ import random
 from typing import Any, List, Optional
 
 import pytest
-from conftest import UniformSearcher, small_suite
 
 import trustcbr
+
+from conftest import UniformSearcher, small_suite
 
 
 def run_with_python(**kwargs: Any) -> trustcbr.Results:

@@ -10,9 +10,10 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import small_suite
 
 import trustcbr
+
+from conftest import small_suite
 
 REPO = Path(__file__).resolve().parents[2]
 
