@@ -111,3 +111,20 @@ def test_the_embedded_suite_is_the_papers() -> None:
     text = trustcbr.default_suite()
     assert "experiments" in text
     assert trustcbr.builtin_arms()[:2] == ["random-walk", "case-based"]
+
+
+@pytest.mark.skipif(BIN is None, reason="set TRUSTCBR_BIN to the trustcbr binary")
+def test_the_report_is_the_binarys_byte_for_byte(tmp_path: Path) -> None:
+    assert BIN is not None
+    suite = tmp_path / "suite.ron"
+    suite.write_text(
+        """(seed: 3, trials: 10, arms: ["random-walk", "cause-aware"], landscape_runs: 0,
+        limit: (runs: 0), experiments: [(scenario: "patrol", operator: "random")])"""
+    )
+    trustcbr.run(suite, out=tmp_path / "python")
+    cli = subprocess.run(
+        [BIN, "run", str(suite), "--out", str(tmp_path / "cli")], capture_output=True, text=True
+    )
+    assert cli.returncode == 0, cli.stderr
+    for name in ["trials.jsonl", "table.md", "config.ron"]:
+        assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
