@@ -82,6 +82,21 @@ pub fn run_with_report<C: Catalog>(
     settings: &RunSettings,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Ran> {
+    run_with_report_checked(catalog, config, origin, settings, progress, &|| Ok(()))
+}
+
+/// [`run_with_report`], with `before_writing` asked once the experiments have run and
+/// before anything is written: an error stops the run there, leaving the report folder
+/// (and an earlier report in it) and the case bases untouched. A caller whose arms cannot
+/// fail inside the runner (a Python arm keeps its exception) says so here.
+pub fn run_with_report_checked<C: Catalog>(
+    catalog: &C,
+    config: SuiteConfig,
+    origin: &Path,
+    settings: &RunSettings,
+    progress: &(dyn Fn(usize) + Sync),
+    before_writing: &dyn Fn() -> Result<()>,
+) -> Result<Ran> {
     config.validate(catalog, origin)?;
     if let Some(dir) = settings.starting.as_ref().map(|s| &s.dir) {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
@@ -102,6 +117,7 @@ pub fn run_with_report<C: Catalog>(
             progress,
         )
     })?;
+    before_writing()?;
     let tool = catalog.tool();
     let provenance = Provenance {
         tool: tool.name,

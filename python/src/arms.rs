@@ -43,7 +43,8 @@ impl FirstError {
         }
     }
 
-    fn failed(&self) -> bool {
+    /// Whether an error is kept.
+    pub fn failed(&self) -> bool {
         self.0.lock().unwrap_or_else(|p| p.into_inner()).is_some()
     }
 

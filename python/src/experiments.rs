@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trustcbr::catalog::{Catalog, domain_of};
 use trustcbr::lab::BUILTIN_ARMS;
-use trustcbr::run::{RunSettings, run_with_report};
+use trustcbr::run::{RunSettings, run_with_report_checked};
 use trustcbr::suite::{EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, suite_table};
 use trustcbr::trust::Domain;
 use trustcbr::{AddedArm, UgvCatalog, WithArms};
@@ -142,7 +142,15 @@ pub fn run_suite(
         threads,
         command_line: vec!["python".into(), "trustcbr.run".into()],
     };
-    let ran = py.detach(|| run_with_report(&catalog, config, &origin, &settings, &|_| {}));
+    // A Python arm's exception stops the run before any report or case base is written.
+    let failed = || {
+        if errors.failed() {
+            anyhow::bail!("a Python arm raised an exception")
+        }
+        Ok(())
+    };
+    let ran = py
+        .detach(|| run_with_report_checked(&catalog, config, &origin, &settings, &|_| {}, &failed));
     if let Some(e) = errors.take() {
         return Err(e);
     }

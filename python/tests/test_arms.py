@@ -4,6 +4,7 @@ reproducible, conformant, and failing loudly."""
 from __future__ import annotations
 
 import random
+from pathlib import Path
 from typing import Any, List, Optional
 
 import pytest
@@ -93,6 +94,23 @@ def test_a_python_exception_stops_the_run_and_is_raised() -> None:
 
     with pytest.raises(ValueError, match="no idea what to try"):
         trustcbr.run(small_suite(arms=["random-walk", "failing"]), python_arms={"failing": Failing})
+
+
+def test_a_failed_run_writes_no_report(tmp_path: Path) -> None:
+    class Failing(UniformSearcher):
+        def propose(self, evaluated: Any, rng: random.Random) -> Optional[trustcbr.Behavior]:
+            raise RuntimeError("broken")
+
+    out = tmp_path / "report"
+    with pytest.raises(RuntimeError, match="broken"):
+        trustcbr.run(
+            small_suite(arms=["random-walk", "failing"]),
+            python_arms={"failing": Failing},
+            out=out,
+            save_cases=tmp_path / "cases",
+        )
+    assert not (out / "trials.jsonl").exists()
+    assert not any((tmp_path / "cases").iterdir())
 
 
 def test_a_proposal_outside_the_space_is_refused() -> None:
