@@ -240,6 +240,92 @@ pub trait Catalog: Send + Sync {
     }
 }
 
+/// An arm added to a catalog, built for the suite's retriever ([`Catalog::arms`]).
+pub type AddedArm = std::sync::Arc<dyn Fn(RetrieverKind) -> Arm + Send + Sync>;
+
+/// A catalog with arms added to its own ([`Catalog::arms`]): how arms built at run time
+/// (a Python object's strategy, `python/`) enter the runner through the same door as a
+/// plug-in's arms; every other question goes to `inner`. An added arm hides an arm of the
+/// same name.
+pub struct WithArms<C> {
+    /// The catalog answering everything else.
+    pub inner: C,
+    /// The arms added.
+    pub arms: Vec<AddedArm>,
+}
+
+impl<C: Catalog> Catalog for WithArms<C> {
+    type Domain = C::Domain;
+
+    fn tool(&self) -> ToolInfo {
+        self.inner.tool()
+    }
+
+    fn scenarios(&self) -> Vec<String> {
+        self.inner.scenarios()
+    }
+
+    fn domain(&self, scenario: &str) -> Option<Self::Domain> {
+        self.inner.domain(scenario)
+    }
+
+    fn operators(&self, scenario: &str, readings: &Readings) -> Vec<(String, OperatorOf<Self>)> {
+        self.inner.operators(scenario, readings)
+    }
+
+    fn load_operator(
+        &self,
+        scenario: &str,
+        path: &Path,
+        readings: &Readings,
+    ) -> Result<(String, OperatorOf<Self>), CatalogError> {
+        self.inner.load_operator(scenario, path, readings)
+    }
+
+    fn family(
+        &self,
+        scenario: &str,
+        family: &Family,
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorOf<Self>)>, CatalogError> {
+        self.inner.family(scenario, family, readings)
+    }
+
+    fn readings(&self) -> Vec<Reading> {
+        self.inner.readings()
+    }
+
+    fn completion_weight(&self, operator: &OperatorOf<Self>) -> Option<f64> {
+        self.inner.completion_weight(operator)
+    }
+
+    fn arms(&self, retriever: RetrieverKind) -> Vec<Arm> {
+        let mut arms: Vec<Arm> = self.arms.iter().map(|build| build(retriever)).collect();
+        let inner: Vec<Arm> = self
+            .inner
+            .arms(retriever)
+            .into_iter()
+            .filter(|a| !arms.iter().any(|added| added.name() == a.name()))
+            .collect();
+        arms.extend(inner);
+        arms
+    }
+
+    fn default_suite(&self) -> &str {
+        self.inner.default_suite()
+    }
+
+    fn render(
+        &self,
+        domain: &Self::Domain,
+        behavior: &Behavior,
+        operator: &OperatorOf<Self>,
+        seed: u64,
+    ) -> Option<String> {
+        self.inner.render(domain, behavior, operator, seed)
+    }
+}
+
 /// An operator named on the command line: a built-in name of `scenario`, or else a file.
 pub fn find_operator<C: Catalog>(
     catalog: &C,

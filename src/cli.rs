@@ -8,18 +8,17 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::progress::Progress;
-use crate::suite::arm_named;
+use crate::run::{RunSettings, run_with_report, worker_pool};
+use crate::served::{served_domain, serving_arm};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig,
-    run_suite_with_report, save_case_bases, suite_best_arms, suite_table, trace_suite_trial,
-    write_suite_report,
+    EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig, suite_best_arms,
+    suite_table, trace_suite_trial,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use lab::report::Provenance;
 use lab::{heatmap, landscape};
-use service::{DomainDefinition, Limits, Location, Session, SharedCases, exchange, transport};
+use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
 use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
@@ -27,7 +26,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use trust::{AdapterConfig, Domain};
+use trust::Domain;
 
 /// The command line; name, version and description come from the catalog.
 #[derive(Parser)]
@@ -390,20 +389,16 @@ fn run_experiments<C: Catalog>(
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
     }
-    config.validate(catalog, origin)?;
-    let starting = options
-        .cases
-        .as_ref()
-        .map(|dir| StartingCases { dir: dir.clone() });
-    if let Some(dir) = &options.cases {
-        anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
-    }
-    // Only a run that will start creates its folders: a refused option leaves none.
-    cbr_core::output::prepare_output_dir(&options.out)?;
-    if let Some(dir) = &options.save_cases {
-        cbr_core::output::ensure_writable_dir(dir)?;
-    }
-    let (pool, threads) = worker_pool(options.threads)?;
+    let settings = RunSettings {
+        out: Some(options.out.clone()),
+        starting: options
+            .cases
+            .as_ref()
+            .map(|dir| StartingCases { dir: dir.clone() }),
+        save_cases: options.save_cases.clone(),
+        threads: options.threads,
+        command_line: std::env::args().collect(),
+    };
     let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());
     let parts: Vec<(String, u64)> = config
         .experiments
@@ -412,63 +407,30 @@ fn run_experiments<C: Catalog>(
         .collect();
     let progress = Progress::new("trial", &parts)
         .with_afterwards("finishing the report's landscapes and limits");
-    let (results, elapsed, estimates) = pool.install(|| {
-        run_suite_with_report(catalog, &config, origin, starting.as_ref(), &|i| {
-            progress.tick(i);
-        })
-    })?;
+    let ran = run_with_report(catalog, config, origin, &settings, &|i| progress.tick(i))?;
+    let (config, results) = (&ran.config, &ran.results);
     println!("Behaviors evaluated per trial (mean ± 95% CI), the first two arms:\n");
-    println!("{}", suite_table(&config, &results));
-    print!("{}", suite_best_arms(&config, &results));
+    println!("{}", suite_table(config, results));
+    print!("{}", suite_best_arms(config, results));
     println!(
         "Every arm, with what it costs the operator: table.md and report.html in the report.\n"
     );
-    let tool = catalog.tool();
-    let provenance = Provenance {
-        tool: tool.name,
-        version: tool.version,
-        git_commit: tool.git_commit,
-        command_line: std::env::args().collect(),
-    };
-    cbr_core::output::remove_previous_report(&options.out)?;
-    let written = write_suite_report(
-        &options.out,
-        &config,
-        origin,
-        &results,
-        &estimates,
-        elapsed,
-        &provenance,
-    )?;
     println!(
-        "{} experiments x {} trials x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        "{} experiments x {} trials x {} arms on {} threads in {:.1} s; report in {} ({} files)",
         config.experiments.len(),
         config.trials,
         config.arms.len(),
+        ran.threads,
+        ran.elapsed_s,
         options.out.display(),
-        written.len()
+        ran.written.len()
     );
     if let Some(dir) = &options.save_cases {
-        let saved = save_case_bases(dir, &config, &results)?;
-        println!("saved {} case bases in {}", saved.len(), dir.display());
+        println!("saved {} case bases in {}", ran.saved.len(), dir.display());
     }
     Ok(())
 }
 
-/// A rayon pool of `threads` workers (default: one per core), and its size.
-fn worker_pool(threads: Option<NonZeroUsize>) -> Result<(rayon::ThreadPool, usize)> {
-    let threads = threads.map_or_else(
-        || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
-        NonZeroUsize::get,
-    );
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("cannot start the worker threads")?;
-    Ok((pool, threads))
-}
-
-/// `sweep FILE.ron` (all runs, or one shard's) and `sweep merge FILE.ron DIR...`.
 fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
     if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
@@ -536,38 +498,10 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     Ok(())
 }
 
-/// The domain `serve` and `cases import` name: a scenario of the catalog (its space and
-/// the paper's adapter defaults) or a RON domain file.
-fn served_domain<C: Catalog>(catalog: &C, name: &str) -> Result<DomainDefinition> {
-    Ok(DomainDefinition::resolve(
-        name,
-        &catalog.scenarios(),
-        |scenario| {
-            catalog.domain(scenario).map(|d| {
-                DomainDefinition::new(
-                    scenario,
-                    d.space().clone(),
-                    d.causes().to_vec(),
-                    AdapterConfig::default(),
-                )
-                .with_observations(d.observations().to_vec())
-                .with_hints(d.hints().to_vec())
-                .expect("a built-in domain's hints name its own observations and causes")
-            })
-        },
-    )?)
-}
-
 fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     let mut domain = served_domain(catalog, &args.domain)?;
     if let Some(name) = &args.arm {
-        let arm = arm_named(catalog, name, domain.adapter.retriever)
-            .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
-        domain.adapter.reuse_cases = arm.reuses_cases();
-        let (searcher, retriever) = (arm.clone(), arm);
-        domain = domain
-            .with_searcher(move |space| searcher.build_searcher(space))
-            .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda));
+        domain = serving_arm(catalog, domain, name)?;
     }
     // Every option is checked, and the address bound, before the case base is opened: a
     // refused command creates no case base.

@@ -11,6 +11,8 @@
 //! - [`catalog`]: the [`Catalog`] trait and what it names (scenarios, operators, readings);
 //! - [`suite`]: suite configs (RON) and their runs and reports;
 //! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
+//! - [`run`]: a suite run with its report folder, as `run` does it;
+//! - [`served`]: the domain and strategy `serve` serves;
 //! - [`cli`]: the command line;
 //! - [`ugv`]: the built-in catalog.
 
@@ -19,6 +21,8 @@
 pub mod catalog;
 pub mod cli;
 pub mod progress;
+pub mod run;
+pub mod served;
 pub mod suite;
 pub mod sweep;
 pub mod ugv;
@@ -27,8 +31,8 @@ pub mod ugv;
 pub mod plugin_guide {}
 
 pub use catalog::{
-    Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings, ToolInfo,
-    UnknownScenario,
+    AddedArm, Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings,
+    ToolInfo, UnknownScenario, WithArms,
 };
 pub use suite::{SuiteError, TraceError};
 pub use sweep::SweepError;

@@ -339,6 +339,19 @@ impl SuiteConfig {
         Ok(config)
     }
 
+    /// Parses and checks a suite config given as JSON (the same fields as the RON file: a
+    /// Python dict); `origin` names the source in errors and anchors operator files.
+    pub fn from_json<C: Catalog>(
+        catalog: &C,
+        text: &str,
+        origin: &Path,
+    ) -> Result<Self, SuiteError> {
+        let config: Self = serde_json::from_str(text)
+            .map_err(|e| invalid(origin, "config".into(), e.to_string()))?;
+        config.validate(catalog, origin)?;
+        Ok(config)
+    }
+
     /// Checks every field against `catalog`; `origin` names the file in errors and anchors
     /// operator files.
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
@@ -1047,6 +1060,16 @@ fn entries<'a>(
             seed: config.seed,
         })
         .collect()
+}
+
+/// The report entries of a suite's results with its report's estimates: what the report's
+/// tables, `summary.json` and `trials.jsonl` are made from.
+pub fn report_entries<'a>(
+    config: &'a SuiteConfig,
+    results: &'a SuiteResults,
+    estimates: &'a ReportEstimates,
+) -> Vec<ReportEntry<'a>> {
+    entries(config, results, &estimates.landscapes, &estimates.limits)
 }
 
 /// The results table in Markdown.

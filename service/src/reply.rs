@@ -14,7 +14,7 @@ use serde_json::{Map, Value, json};
 use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
-use trust::{EpisodeReport, Evaluated, Explanation, GivenUp, Next};
+use trust::{Cause, EpisodeReport, Evaluated, Explanation, GivenUp, Next, Outcome};
 
 /// How many cases a listing copies from the shared memory at a time.
 const LISTING_CHUNK: usize = 256;
@@ -152,6 +152,25 @@ pub fn behavior(space: &BehaviorSpace, behavior: &Behavior) -> Value {
     Value::Object(named_behavior(space, behavior))
 }
 
+/// An outcome as the protocol's outcome report spells it (what a controller sends, and so
+/// what it may send back): `{"outcome": "interrupted", "weight": 1.0, "duration_s": 10.0,
+/// "observed": ["collision"], "stated": null}`, the observations by the names the domain
+/// declares (`observations`, bit `i` the `i`-th).
+pub fn outcome(outcome: &Outcome, observations: &[Cause]) -> Value {
+    let observed: Vec<&str> = outcome
+        .observed
+        .indices()
+        .filter_map(|i| observations.get(i).map(Cause::as_str))
+        .collect();
+    json!({
+        "outcome": outcome.kind,
+        "weight": outcome.weight,
+        "duration_s": outcome.duration_s,
+        "observed": observed,
+        "stated": outcome.stated,
+    })
+}
+
 /// Evaluated pairs: `[{"behavior": {...}, "time": 12.5}, ...]`.
 pub fn evaluated(space: &BehaviorSpace, pairs: &[Evaluated]) -> Value {
     pairs
@@ -264,6 +283,30 @@ pub fn episode_end(
 mod tests {
     use super::*;
     use cbr_core::NamedComponent;
+
+    #[test]
+    fn an_outcome_is_written_as_the_report_that_reads_back_to_it() {
+        let (bump, late) = (Cause::from_static("bump"), Cause::from_static("late"));
+        let declared = [trust::DeclaredCause {
+            name: late,
+            default_weight: None,
+        }];
+        let observations = [bump, late];
+        let outcome = Outcome::interrupted(0.5, 12.0)
+            .observing(trust::Observations::NONE.with(1))
+            .stating(Some(late));
+        let value = super::outcome(&outcome, &observations);
+        assert_eq!(
+            value.to_string(),
+            r#"{"outcome":"interrupted","weight":0.5,"duration_s":12.0,"observed":["late"],"stated":"late"}"#
+        );
+        let vocabulary = crate::request::Vocabulary {
+            causes: &declared,
+            observations: &observations,
+        };
+        let parsed = crate::request::parse_line(value.to_string().as_bytes(), vocabulary);
+        assert_eq!(parsed.request, Ok(crate::Request::Outcome(outcome)));
+    }
 
     #[test]
     fn behaviors_are_written_in_real_units() {

@@ -1,0 +1,105 @@
+"""The ask/tell adapter: episodes, decisions with explanations, case bases, errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import trustcbr
+
+
+def test_an_episode_switches_with_an_explanation_and_settles_retaining_a_case(
+    tmp_path: Path,
+) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=3)
+    start = adapter.begin({"speed": 9.5, "padding": 0.2})
+    assert start == {"speed": 9.5, "padding": 0.2}
+    decisions = [
+        adapter.tell("interrupted", duration_s=10.0, observed=["collision"]) for _ in range(5)
+    ]
+    assert [d.kind for d in decisions[:4]] == ["keep"] * 4
+    switch = decisions[4]
+    assert switch.kind == "switch"
+    assert switch.behavior != start
+    assert switch.explanation is not None
+    assert "collision" in (switch.sentence or "")
+    decision = switch
+    for _ in range(5):
+        decision = adapter.tell("completed", duration_s=10.0)
+    assert decision.kind == "settled"
+    assert decision.reply["trustworthy"] is True
+    assert decision.reply["retained"] == 1
+    assert decision.behavior == switch.behavior
+    assert len(adapter.cases()) == 1
+    # A second adapter on the same base sees the case.
+    other = trustcbr.Adapter("movement", tmp_path / "cases.db")
+    assert other.state()["cases"] == 1
+
+
+def test_refused_requests_raise_the_servers_messages_and_change_nothing(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("patrol", tmp_path / "cases.db")
+    with pytest.raises(trustcbr.TrustcbrError, match="no episode is under way"):
+        adapter.tell("completed")
+    adapter.begin()
+    before = adapter.state()
+    with pytest.raises(trustcbr.TrustcbrError, match="unknown variant `exploded`"):
+        adapter.tell("exploded")
+    with pytest.raises(
+        trustcbr.TrustcbrError, match="field `observed`: observation `smoke` is not declared"
+    ):
+        adapter.tell("failed", observed=["smoke"])
+    with pytest.raises(trustcbr.TrustcbrError, match="field `stated`"):
+        adapter.tell("failed", stated="boredom")
+    with pytest.raises(trustcbr.TrustcbrError, match="field `weight`"):
+        adapter.tell("failed", weight=float("nan"))
+    with pytest.raises(trustcbr.TrustcbrError, match="an episode is already under way"):
+        adapter.begin()
+    assert adapter.state() == before
+    with pytest.raises(trustcbr.TrustcbrError, match="field `behavior`"):
+        trustcbr.Adapter("movement", tmp_path / "other.db").begin({"speed": 99.0, "padding": 0.2})
+
+
+def test_unknown_domains_and_arms_are_refused_naming_the_known_ones(tmp_path: Path) -> None:
+    with pytest.raises(
+        trustcbr.TrustcbrError, match=r"neither a built-in domain \(movement, patrol\)"
+    ):
+        trustcbr.Adapter("warehouse", tmp_path / "c.db")
+    with pytest.raises(trustcbr.TrustcbrError, match=r"--arm: unknown arm `annealing` \(known: "):
+        trustcbr.Adapter("movement", tmp_path / "c.db", arm="annealing")
+    assert not (tmp_path / "c.db").exists()
+
+
+def test_a_domain_file_and_an_arm_are_served(tmp_path: Path) -> None:
+    domain = Path(__file__).resolve().parents[2] / "examples" / "domain.ron"
+    adapter = trustcbr.Adapter(str(domain), tmp_path / "w.db", arm="case-based+cause-aware")
+    config = adapter.config()
+    assert config["strategy"]
+    assert adapter.writable
+    adapter.begin()
+    assert adapter.abandon()["ok"] == "abandoned"
+
+
+def test_the_same_seed_gives_the_same_episode(tmp_path: Path) -> None:
+    def episode(path: Path) -> list[str]:
+        adapter = trustcbr.Adapter("movement", path, seed=11)
+        adapter.begin()
+        seen = []
+        for _ in range(15):
+            decision = adapter.tell("interrupted", duration_s=3.0)
+            seen.append(repr(decision))
+        return seen
+
+    assert episode(tmp_path / "a.db") == episode(tmp_path / "b.db")
+
+
+def test_simulated_outcomes_can_be_told_to_the_adapter(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=1)
+    behavior = adapter.begin()
+    for seed in range(200):
+        outcome = trustcbr.simulate("movement", behavior, "balanced", seed=seed)
+        decision = adapter.tell_outcome(outcome)
+        behavior = decision.behavior
+        if decision.kind == "settled":
+            break
+    assert decision.kind == "settled"

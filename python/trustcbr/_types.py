@@ -1,0 +1,119 @@
+"""The shapes trustcbr's values take in Python: behaviors, outcomes, spaces, decisions and
+the protocol a search strategy written in Python follows."""
+
+from __future__ import annotations
+
+import random
+import sys
+from typing import Any, Callable, Dict, List, Optional, Union
+
+if sys.version_info >= (3, 11):  # pragma: no cover - depends on the interpreter
+    from typing import NotRequired, Protocol, TypedDict
+else:  # pragma: no cover
+    from typing import Protocol
+
+    from typing_extensions import NotRequired, TypedDict
+
+Behavior = Dict[str, Union[float, str]]
+"""A behavior: component name to value in real units (a number, or a label)."""
+
+
+class Evaluated(TypedDict):
+    """A behavior given up in the episode and how long it resisted (task seconds)."""
+
+    behavior: Behavior
+    time: float
+
+
+class Outcome(TypedDict):
+    """How a command ended, as the adapter is told it."""
+
+    outcome: str
+    weight: float
+    duration_s: float
+    observed: List[str]
+    stated: Optional[str]
+
+
+class SimulatedOutcome(Outcome):
+    """A simulated command's outcome, with the operator's true reason (evaluation only)."""
+
+    truth: Optional[str]
+
+
+class Component(TypedDict):
+    """One component of a behavior space and its values in real units."""
+
+    name: str
+    unit: str
+    values: List[Union[float, str]]
+
+
+class Space(TypedDict):
+    """A behavior space (as :func:`trustcbr.space` describes a scenario's)."""
+
+    components: List[Component]
+    behaviors: int
+    causes: NotRequired[List[str]]
+    observations: NotRequired[List[str]]
+
+
+class Decision:
+    """What the adapter says after an outcome: ``kind`` is ``keep``, ``switch`` or
+    ``settled``; ``behavior`` is the behavior to use from now on (the one settled on);
+    ``explanation`` says why, for a switch and an end; ``reply`` is the whole reply (trust
+    estimate, source of a switch, counts at the end)."""
+
+    __slots__ = ("reply",)
+
+    def __init__(self, reply: Dict[str, Any]) -> None:
+        self.reply = reply
+
+    @property
+    def kind(self) -> str:
+        """``keep``, ``switch`` or ``settled``."""
+        return str(self.reply["ok"])
+
+    @property
+    def behavior(self) -> Behavior:
+        """The behavior in use from now on."""
+        behavior: Behavior = self.reply["behavior"]
+        return behavior
+
+    @property
+    def explanation(self) -> Optional[Dict[str, Any]]:
+        """Why the behavior was given up and why the next one (a switch, an end)."""
+        explanation: Optional[Dict[str, Any]] = self.reply.get("explanation")
+        return explanation
+
+    @property
+    def sentence(self) -> Optional[str]:
+        """The explanation as one plain sentence, when there is one."""
+        explanation = self.explanation
+        if explanation is None:
+            return None
+        sentence = explanation.get("sentence")
+        return None if sentence is None else str(sentence)
+
+    def __repr__(self) -> str:
+        return f"Decision(kind={self.kind!r}, behavior={self.behavior!r})"
+
+
+class Searcher(Protocol):
+    """A search strategy written in Python (only ``propose`` is required).
+
+    Optional: ``begin_episode(initial)``, ``observe(behavior, outcome)``,
+    ``end_episode(evaluated, settled)``, ``rationale(proposed) -> str`` (one plain line),
+    and ``learns_across_episodes = True`` for a strategy that carries anything from one
+    episode into the next.
+    """
+
+    def propose(self, evaluated: List[Evaluated], rng: random.Random) -> Optional[Behavior]:
+        """The next behavior to try, given the episode's evaluated behaviors in order and a
+        random source seeded from the trial's search stream (draw only from it); ``None``
+        when every behavior has been tried (the one that resisted longest is kept)."""
+        ...
+
+
+SearcherFactory = Callable[[Space], Searcher]
+"""Builds a fresh searcher for a behavior space."""

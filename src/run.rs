@@ -1,0 +1,170 @@
+//! A suite run as `reproduce` and `run` do it, with its report folder: the one path the
+//! command line and the Python package (`python/`) share.
+//!
+//! [`run_with_report`] checks the config, prepares the folders, runs the experiments with
+//! the report's estimates on a worker pool and writes the report; [`Ran`] holds what the
+//! caller prints or hands back ([`Ran::trials_jsonl`], [`Ran::summary`]: the report's
+//! `trials.jsonl` and `summary.json`, also without a folder).
+
+use crate::catalog::Catalog;
+use crate::suite::{
+    ReportEstimates, StartingCases, SuiteConfig, SuiteResults, report_entries,
+    run_suite_with_report, save_case_bases, write_suite_report,
+};
+use anyhow::{Context, Result};
+use lab::report::Provenance;
+use std::num::NonZeroUsize;
+use std::path::{Path, PathBuf};
+
+/// Where and how a suite runs.
+#[derive(Clone, Debug, Default)]
+pub struct RunSettings {
+    /// The report folder (emptied of an earlier report first); `None` writes no report.
+    pub out: Option<PathBuf>,
+    /// Start case-reusing arms from the case bases saved in this folder.
+    pub starting: Option<StartingCases>,
+    /// Save the case base each case-reusing arm ends every experiment with, here.
+    pub save_cases: Option<PathBuf>,
+    /// Worker threads (default: one per core).
+    pub threads: Option<NonZeroUsize>,
+    /// The command line recorded in the report's provenance.
+    pub command_line: Vec<String>,
+}
+
+/// A finished suite run.
+pub struct Ran {
+    /// The config that ran.
+    pub config: SuiteConfig,
+    /// The experiments' results.
+    pub results: SuiteResults,
+    /// The report's landscapes and limits.
+    pub estimates: ReportEstimates,
+    /// The experiments' own run time (s).
+    pub elapsed_s: f64,
+    /// The worker threads used.
+    pub threads: usize,
+    /// Who ran it.
+    pub provenance: Provenance,
+    /// The report's files, when a folder was asked for.
+    pub written: Vec<PathBuf>,
+    /// The case bases saved, when asked for.
+    pub saved: Vec<PathBuf>,
+}
+
+impl Ran {
+    /// The report's `trials.jsonl`: one JSON object per trial.
+    pub fn trials_jsonl(&self) -> String {
+        lab::report::trials_jsonl(&report_entries(
+            &self.config,
+            &self.results,
+            &self.estimates,
+        ))
+    }
+
+    /// The report's `summary.json` document.
+    pub fn summary(&self) -> serde_json::Value {
+        lab::report::summary(
+            &report_entries(&self.config, &self.results, &self.estimates),
+            self.elapsed_s,
+            &self.provenance,
+        )
+    }
+}
+
+/// Runs `config` (operator files relative to `origin`) as `trustcbr run` does: the config
+/// checked, the folders prepared before any work (a refused run creates none), the
+/// experiments and the report's estimates on a pool of `settings.threads` workers,
+/// `progress(experiment)` after every trial, then the report and the saved case bases.
+pub fn run_with_report<C: Catalog>(
+    catalog: &C,
+    config: SuiteConfig,
+    origin: &Path,
+    settings: &RunSettings,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Ran> {
+    run_with_report_checked(catalog, config, origin, settings, progress, &|| Ok(()))
+}
+
+/// [`run_with_report`], with `before_writing` asked once the experiments have run and
+/// before anything is written: an error stops the run there, leaving the report folder
+/// (and an earlier report in it) and the case bases untouched. A caller whose arms cannot
+/// fail inside the runner (a Python arm keeps its exception) says so here.
+pub fn run_with_report_checked<C: Catalog>(
+    catalog: &C,
+    config: SuiteConfig,
+    origin: &Path,
+    settings: &RunSettings,
+    progress: &(dyn Fn(usize) + Sync),
+    before_writing: &dyn Fn() -> Result<()>,
+) -> Result<Ran> {
+    config.validate(catalog, origin)?;
+    if let Some(dir) = settings.starting.as_ref().map(|s| &s.dir) {
+        anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
+    }
+    if let Some(out) = &settings.out {
+        cbr_core::output::prepare_output_dir(out)?;
+    }
+    if let Some(dir) = &settings.save_cases {
+        cbr_core::output::ensure_writable_dir(dir)?;
+    }
+    let (pool, threads) = worker_pool(settings.threads)?;
+    let (results, elapsed_s, estimates) = pool.install(|| {
+        run_suite_with_report(
+            catalog,
+            &config,
+            origin,
+            settings.starting.as_ref(),
+            progress,
+        )
+    })?;
+    before_writing()?;
+    let tool = catalog.tool();
+    let provenance = Provenance {
+        tool: tool.name,
+        version: tool.version,
+        git_commit: tool.git_commit,
+        command_line: settings.command_line.clone(),
+    };
+    let written = match &settings.out {
+        Some(out) => {
+            cbr_core::output::remove_previous_report(out)?;
+            write_suite_report(
+                out,
+                &config,
+                origin,
+                &results,
+                &estimates,
+                elapsed_s,
+                &provenance,
+            )?
+        }
+        None => Vec::new(),
+    };
+    let saved = match &settings.save_cases {
+        Some(dir) => save_case_bases(dir, &config, &results)?,
+        None => Vec::new(),
+    };
+    Ok(Ran {
+        config,
+        results,
+        estimates,
+        elapsed_s,
+        threads,
+        provenance,
+        written,
+        saved,
+    })
+}
+
+/// A rayon pool of `threads` workers (default: one per core), and its size.
+pub fn worker_pool(threads: Option<NonZeroUsize>) -> Result<(rayon::ThreadPool, usize)> {
+    let threads = threads.map_or_else(
+        || std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
+        NonZeroUsize::get,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    Ok((pool, threads))
+}

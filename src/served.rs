@@ -1,0 +1,45 @@
+//! What `serve` serves: a catalog's scenario or a RON domain file, and optionally an arm's
+//! strategy; shared by the command line (`serve`, `cases import`) and the Python package's
+//! ask/tell adapter (`python/`), so both accept the same names and give the same errors.
+
+use crate::catalog::Catalog;
+use crate::suite::arm_named;
+use service::DomainDefinition;
+use trust::{AdapterConfig, Domain};
+
+/// The domain `name` names: a scenario of the catalog (its space, causes, observations
+/// and hints, with the paper's adapter defaults) or a RON domain file.
+pub fn served_domain<C: Catalog>(
+    catalog: &C,
+    name: &str,
+) -> Result<DomainDefinition, service::DomainError> {
+    DomainDefinition::resolve(name, &catalog.scenarios(), |scenario| {
+        catalog.domain(scenario).map(|d| {
+            DomainDefinition::new(
+                scenario,
+                d.space().clone(),
+                d.causes().to_vec(),
+                AdapterConfig::default(),
+            )
+            .with_observations(d.observations().to_vec())
+            .with_hints(d.hints().to_vec())
+            .expect("a built-in domain's hints name its own observations and causes")
+        })
+    })
+}
+
+/// `domain` served with the strategy of the arm `name` (the catalog's own arms, then the
+/// built-in ones): its searcher, its retriever and whether it reuses cases.
+pub fn serving_arm<C: Catalog>(
+    catalog: &C,
+    mut domain: DomainDefinition,
+    name: &str,
+) -> anyhow::Result<DomainDefinition> {
+    let arm = arm_named(catalog, name, domain.adapter.retriever)
+        .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+    domain.adapter.reuse_cases = arm.reuses_cases();
+    let (searcher, retriever) = (arm.clone(), arm);
+    Ok(domain
+        .with_searcher(move |space| searcher.build_searcher(space))
+        .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda)))
+}
