@@ -523,8 +523,7 @@ fn run_chain<D: Domain>(
     // search forgets, and no operator of the plan ever states a reason), trials are
     // independent: each gets a fresh adapter and they run in parallel, with the same
     // records; the cases the episodes would have retained are counted.
-    let independent =
-        !arm.reuses_cases() && !adapter.learns_across_episodes() && plan.never_told();
+    let independent = !arm.reuses_cases() && !adapter.learns_across_episodes() && plan.never_told();
     let outputs: Vec<ChainTrial> = if independent {
         (0..plan.trials)
             .into_par_iter()
