@@ -23,6 +23,7 @@ use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::{BehaviorSpace, FileError, write_file_in};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;
@@ -84,14 +85,25 @@ pub fn effect_sizes(e: &ReportEntry<'_>, experiment: usize) -> Vec<Option<RatioC
         .collect()
 }
 
-/// Every arm's effect size against its experiment's reference arm ([`effect_sizes`]).
-pub fn effects_table(entries: &[ReportEntry<'_>]) -> String {
+/// The effect sizes of every entry ([`effect_sizes`]), in the entries' order: the
+/// bootstrap runs once per report, and the entries' in parallel (each has its streams).
+pub fn all_effect_sizes(entries: &[ReportEntry<'_>]) -> Vec<Vec<Option<RatioCi>>> {
+    entries
+        .par_iter()
+        .enumerate()
+        .map(|(k, e)| effect_sizes(e, k))
+        .collect()
+}
+
+/// Every arm's effect size against its experiment's reference arm, from
+/// [`all_effect_sizes`].
+pub fn effects_table(entries: &[ReportEntry<'_>], effects: &[Vec<Option<RatioCi>>]) -> String {
     let mut out = String::from(
         "| Experiment | Arm | Behaviors evaluated ÷ reference's | 95% CI (paired bootstrap) |\n",
     );
     out.push_str("|---|---|---:|---:|\n");
-    for (k, e) in entries.iter().enumerate() {
-        for (arm, effect) in e.result.arms.iter().zip(effect_sizes(e, k)) {
+    for (e, effects) in entries.iter().zip(effects) {
+        for (arm, effect) in e.result.arms.iter().zip(effects.iter().copied()) {
             let (ratio, ci) = match effect {
                 Some(r) => (
                     format!("{:.2}", r.ratio),
@@ -536,13 +548,28 @@ fn format_p(p: f64) -> String {
 
 /// The `summary.json` document.
 pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
+    summary_of(entries, &all_effect_sizes(entries), elapsed_s, provenance)
+}
+
+/// The `summary.json` document, with the effect sizes already estimated.
+fn summary_of(
+    entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
+    elapsed_s: f64,
+    provenance: &Provenance,
+) -> Value {
     let experiments: Vec<Value> = entries
         .iter()
-        .enumerate()
-        .map(|(k, e)| {
+        .zip(effects)
+        .map(|(e, effects)| {
             let mut strategies = Map::new();
-            let effects = effect_sizes(e, k);
-            for ((arm, tests), effect) in e.result.arms.iter().zip(versus_reference(e)).zip(effects) {
+            for ((arm, tests), effect) in e
+                .result
+                .arms
+                .iter()
+                .zip(versus_reference(e))
+                .zip(effects.iter().copied())
+            {
                 let mut summary = arm_summary(arm);
                 summary["behaviors_ratio_to_reference"] = effect.map_or(Value::Null, |r| {
                     json!({ "ratio": r.ratio, "ci95_low": r.low, "ci95_high": r.high })
@@ -759,6 +786,7 @@ pub fn write_report(
         written.push(write_file_in(dir, name, text)?);
         Ok(())
     };
+    let effects = all_effect_sizes(entries);
     let limits = limit_table(entries);
     let limits = if limits.is_empty() {
         String::new()
@@ -776,12 +804,13 @@ pub fn write_report(
             entries.first().map_or("", |e| e.reference),
             arms_table(entries),
             found_note(entries),
-            effects_table(entries),
+            effects_table(entries, &effects),
             explanations_table(entries)
         ),
     )?;
-    let summary = serde_json::to_string_pretty(&summary(entries, elapsed_s, provenance))
-        .expect("plain data serializes");
+    let summary =
+        serde_json::to_string_pretty(&summary_of(entries, &effects, elapsed_s, provenance))
+            .expect("plain data serializes");
     write("summary.json", &(summary + "\n"))?;
     write("trials.jsonl", &trials_jsonl(entries))?;
     write("config.ron", config_ron)?;
@@ -807,15 +836,14 @@ pub fn write_report(
         ));
     }
     let reference = entries.first().map_or("", |e| e.reference);
-    let effects = EveryArm {
+    let effects_figure = EveryArm {
         title: format!("Behaviors evaluated per trial as a ratio to {reference}'s (95% CI)"),
         axis: "ratio to the reference arm (log scale)",
-        values: entries
+        values: effects
             .iter()
-            .enumerate()
-            .map(|(k, e)| {
-                effect_sizes(e, k)
-                    .into_iter()
+            .map(|effects| {
+                effects
+                    .iter()
                     .map(|r| {
                         r.map(|r| Interval {
                             mid: r.ratio,
@@ -831,7 +859,7 @@ pub fn write_report(
     };
     let name = "effect-sizes.svg";
     let drawn = svg_with(&dir.join(name), (1200, 560), |area, overlay| {
-        every_arm_figure(area, overlay, entries, &effects)
+        every_arm_figure(area, overlay, entries, &effects_figure)
     })?;
     write(name, &drawn)?;
     figures.push(Figure::new(
@@ -1006,7 +1034,7 @@ pub fn write_report(
     }
     write(
         "report.html",
-        &html_page(entries, config_ron, provenance, &figures),
+        &html_page(entries, &effects, config_ron, provenance, &figures),
     )?;
     Ok(written)
 }
@@ -1178,6 +1206,7 @@ pre { background: #f6f6f6; padding: 1em; overflow-x: auto; }
 /// and the provenance.
 fn html_page(
     entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
     config_ron: &str,
     provenance: &Provenance,
     figures: &[Figure],
@@ -1211,7 +1240,7 @@ fn html_page(
     section(
         "effects",
         "Effect sizes against the reference arm",
-        html_table(&effects_table(entries)),
+        html_table(&effects_table(entries, effects)),
     );
     let limits = limit_table(entries);
     if !limits.is_empty() {

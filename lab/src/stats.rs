@@ -2,7 +2,7 @@
 //! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts, and the
 //! ratio of their means with a paired bootstrap confidence interval.
 
-use rand::{Rng, RngCore};
+use rand::Rng;
 use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
 
 /// A ratio of two means with its 95% confidence interval.
@@ -20,11 +20,11 @@ pub struct RatioCi {
 /// the same `n` pairs `(a[i], b[i])` drawn with replacement from `rng` for both, the ratio
 /// of their means; the 2.5th and 97.5th percentiles of those ratios. `None` if the slices
 /// differ in length, are empty, or `b`'s mean is 0.
-pub fn paired_bootstrap_ratio(
+pub fn paired_bootstrap_ratio<R: Rng + ?Sized>(
     a: &[f64],
     b: &[f64],
     resamples: usize,
-    rng: &mut dyn RngCore,
+    rng: &mut R,
 ) -> Option<RatioCi> {
     let n = a.len();
     let sum = |v: &[f64]| v.iter().sum::<f64>();
