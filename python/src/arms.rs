@@ -7,7 +7,8 @@
 //! `None` when nothing is left to try, which keeps the behavior that resisted longest) and
 //! optionally `begin_episode(initial)`, `observe(behavior, outcome)`,
 //! `end_episode(evaluated, settled)`, `rationale(proposed) -> str` and the attributes
-//! `name` and `learns_across_episodes`. A factory builds one per chain of trials:
+//! `name` and `learns_across_episodes`. A factory builds one per chain of trials (one per
+//! trial when the runner runs an arm's trials independently, as it does for built-in arms):
 //! `factory(space)`, with the space as `trustcbr.space` gives it.
 //!
 //! Calling Python takes the interpreter lock, so a run with Python arms runs on one worker

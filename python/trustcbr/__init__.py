@@ -261,7 +261,9 @@ class PythonArm:
     """An arm whose search strategy is written in Python.
 
     ``factory(space)`` builds one searcher per chain of trials (an experiment's trials for
-    this arm, in order); see :class:`Searcher` for its methods. With ``reuses_cases`` the
+    this arm, in order), or one per trial when the trials are independent (no case reuse,
+    ``learns_across_episodes`` false, no operator states a reason); see :class:`Searcher`
+    for its methods. With ``reuses_cases`` the
     arm reuses cases first (Algorithm 1, the suite's retriever) and falls back on the
     searcher, as ``case-based+NAME`` arms do.
     """
