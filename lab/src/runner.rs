@@ -772,6 +772,9 @@ fn run_trial<D: Domain>(
     };
     let mut report = report;
     let explanations = std::mem::take(&mut report.explanations);
+    // An experiment keeps every trial's record for its report: no spare capacity.
+    given_up.shrink_to_fit();
+    report.evaluated.shrink_to_fit();
     Ok((
         TrialRecord {
             trial,
