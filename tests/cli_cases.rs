@@ -4,7 +4,7 @@
 //! import's target; the case bases `--save-cases` writes are read as they are.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 mod support;
@@ -60,6 +60,23 @@ fn learn(domain: &Path, cases: &Path, episodes: usize) -> Vec<serde_json::Value>
         .map(|l| serde_json::from_str(l).unwrap())
         .chain(std::iter::once(serde_json::Value::String(stderr)))
         .collect()
+}
+
+/// The quick domain's file in `dir`, and the two cases two episodes learned in
+/// `learned.db` exported to `cases.ron`.
+fn learned_and_exported(dir: &Path) -> (PathBuf, PathBuf) {
+    let domain = dir.join("quick.ron");
+    std::fs::write(&domain, support::quick_domain(false)).unwrap();
+    let db = dir.join("learned.db");
+    learn(&domain, &db, 2);
+    let exported = dir.join("cases.ron");
+    succeeded(trustcbr(&[
+        "cases",
+        "export",
+        db.to_str().unwrap(),
+        exported.to_str().unwrap(),
+    ]));
+    (domain, exported)
 }
 
 #[test]
@@ -137,17 +154,7 @@ fn a_case_base_goes_to_ron_and_back_unchanged() {
 #[test]
 fn a_ron_case_file_is_served_read_only() {
     let dir = tempfile::tempdir().unwrap();
-    let domain = dir.path().join("quick.ron");
-    std::fs::write(&domain, support::quick_domain(false)).unwrap();
-    let db = dir.path().join("learned.db");
-    learn(&domain, &db, 2);
-    let exported = dir.path().join("cases.ron");
-    succeeded(trustcbr(&[
-        "cases",
-        "export",
-        db.to_str().unwrap(),
-        exported.to_str().unwrap(),
-    ]));
+    let (domain, exported) = learned_and_exported(dir.path());
     let before = std::fs::read(&exported).unwrap();
     let replies = learn(&domain, &exported, 2);
     let stderr = replies.last().unwrap().as_str().unwrap();
@@ -231,17 +238,7 @@ fn saved_case_bases_are_read_by_cases_info_and_import() {
 #[test]
 fn importing_into_a_ron_file_says_it_is_read_only() {
     let dir = tempfile::tempdir().unwrap();
-    let domain = dir.path().join("quick.ron");
-    std::fs::write(&domain, support::quick_domain(false)).unwrap();
-    let db = dir.path().join("learned.db");
-    learn(&domain, &db, 2);
-    let exported = dir.path().join("cases.ron");
-    succeeded(trustcbr(&[
-        "cases",
-        "export",
-        db.to_str().unwrap(),
-        exported.to_str().unwrap(),
-    ]));
+    let (domain, exported) = learned_and_exported(dir.path());
     let before = std::fs::read(&exported).unwrap();
     let existing = dir.path().join("existing.ron");
     std::fs::copy(&exported, &existing).unwrap();
