@@ -6,7 +6,8 @@
 //! from the trial's search stream; it returns the next behavior as a dict in real units, or
 //! `None` when nothing is left to try, which keeps the behavior that resisted longest) and
 //! optionally `begin_episode(initial)`, `observe(behavior, outcome)`,
-//! `end_episode(evaluated, settled)`, `rationale(proposed) -> str` and the attributes
+//! `end_episode(evaluated, settled)`, `rationale(proposed)` (a str: how it explores; or a
+//! dict `{"expects": what, "confidence": p}`: what it expects) and the attributes
 //! `name` and `learns_across_episodes`. A factory builds one per chain of trials (one per
 //! trial when the runner runs an arm's trials independently, as it does for built-in arms):
 //! `factory(space)`, with the space as `trustcbr.space` gives it.
@@ -20,6 +21,7 @@
 use crate::convert::{behavior_from_py, behavior_to_py, to_py};
 use crate::error;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use rand::RngCore;
 use serde_json::json;
 use std::borrow::Cow;
@@ -218,19 +220,17 @@ impl Searcher for PySearcher {
             return Rationale::unstated();
         }
         Python::attach(|py| {
-            let said = (|| -> PyResult<Option<String>> {
+            let said = (|| -> PyResult<Option<Rationale>> {
                 match object.bind(py).getattr_opt("rationale")? {
                     Some(f) => {
                         let b = behavior_to_py(py, space, proposed)?;
-                        Ok(Some(f.call1((b,))?.extract::<String>()?))
+                        rationale_from_py(&f.call1((b,))?).map(Some)
                     }
                     None => Ok(None),
                 }
             })();
             match said {
-                Ok(Some(how)) => Rationale::Explores {
-                    how: Cow::Owned(how),
-                },
+                Ok(Some(rationale)) => rationale,
                 Ok(None) => Rationale::unstated(),
                 Err(e) => {
                     self.errors.keep(e);
@@ -345,4 +345,38 @@ pub fn check_searcher(py: Python<'_>, factory: Py<PyAny>) -> PyResult<()> {
             Err(error(message))
         }
     }
+}
+
+/// What a Python searcher's `rationale(proposed)` returned, as a [`Rationale`]: a string
+/// says how it explores; a dict `{"expects": what, "confidence": p}` (the confidence a
+/// probability, optional) says what it expects of the proposal.
+fn rationale_from_py(said: &Bound<'_, PyAny>) -> PyResult<Rationale> {
+    if let Ok(how) = said.extract::<String>() {
+        return Ok(Rationale::Explores {
+            how: Cow::Owned(how),
+        });
+    }
+    let wrong = || {
+        pyo3::exceptions::PyTypeError::new_err(
+            "rationale(proposed) must return a str (how it explores) or a dict \
+             {\"expects\": str, \"confidence\": float in [0, 1] or None}",
+        )
+    };
+    let dict = said.cast::<PyDict>().map_err(|_| wrong())?;
+    let what: String = dict
+        .get_item("expects")?
+        .ok_or_else(wrong)?
+        .extract()
+        .map_err(|_| wrong())?;
+    let confidence: Option<f64> = match dict.get_item("confidence")? {
+        Some(p) if !p.is_none() => Some(p.extract().map_err(|_| wrong())?),
+        _ => None,
+    };
+    if confidence.is_some_and(|p| !(0.0..=1.0).contains(&p)) {
+        return Err(wrong());
+    }
+    Ok(Rationale::Expects {
+        what: Cow::Owned(what),
+        confidence,
+    })
 }

@@ -120,3 +120,27 @@ def test_a_proposal_outside_the_space_is_refused() -> None:
 
     with pytest.raises(trustcbr.TrustcbrError, match="propose returned"):
         trustcbr.run(small_suite(arms=["random-walk", "wild"]), python_arms={"wild": Wild})
+
+
+def test_a_rationale_that_expects_reaches_the_explanations(tmp_path: Path) -> None:
+    class Expecting(UniformSearcher):
+        def rationale(self, proposed: trustcbr.Behavior) -> Any:
+            return {"expects": "fewer surprises", "confidence": 0.8}
+
+    out = tmp_path / "report"
+    trustcbr.run(
+        small_suite(arms=["random-walk", "expecting"]),
+        python_arms={"expecting": Expecting},
+        out=out,
+    )
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "expecting search, expecting fewer surprises (confidence 80%)" in page
+
+
+def test_a_rationale_of_another_type_is_refused() -> None:
+    class Vague(UniformSearcher):
+        def rationale(self, proposed: trustcbr.Behavior) -> Any:
+            return {"hopes": "something"}
+
+    with pytest.raises(TypeError, match="must return a str"):
+        trustcbr.run(small_suite(arms=["random-walk", "vague"]), python_arms={"vague": Vague})

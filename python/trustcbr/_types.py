@@ -103,7 +103,9 @@ class Searcher(Protocol):
     """A search strategy written in Python (only ``propose`` is required).
 
     Optional: ``begin_episode(initial)``, ``observe(behavior, outcome)``,
-    ``end_episode(evaluated, settled)``, ``rationale(proposed) -> str`` (one plain line),
+    ``end_episode(evaluated, settled)``, ``rationale(proposed)`` (a str, one plain line
+    saying how it explores, or a dict ``{"expects": what, "confidence": p}`` saying what it
+    expects of the proposal, ``p`` a probability or ``None``),
     and ``learns_across_episodes = True`` for a strategy that carries anything from one
     episode into the next.
     """
