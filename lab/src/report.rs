@@ -67,21 +67,31 @@ const BOOTSTRAP_RESAMPLES: usize = 2000;
 /// Bootstrap)`); `None` for the reference itself, and for every arm when the reference
 /// is not among them or evaluated nothing.
 pub fn effect_sizes(e: &ReportEntry<'_>, experiment: usize) -> Vec<Option<RatioCi>> {
+    against_reference(e, |a, counts, base| {
+        let mut rng = stream(e.seed, experiment as u64, a as u64, Purpose::Bootstrap);
+        paired_bootstrap_ratio(counts, base, BOOTSTRAP_RESAMPLES, &mut rng)
+    })
+    .into_iter()
+    .map(Option::flatten)
+    .collect()
+}
+
+/// `compare(a, counts, reference_counts)` for each arm `a` of `e` but its reference arm
+/// ([`ReportEntry::reference`]), over the behaviors evaluated per trial; `None` for the
+/// reference itself, and for every arm when the reference is not among them.
+fn against_reference<T>(
+    e: &ReportEntry<'_>,
+    compare: impl Fn(usize, &[f64], &[f64]) -> T,
+) -> Vec<Option<T>> {
     let Some(reference) = e.result.arm(e.reference) else {
-        return vec![None; e.result.arms.len()];
+        return e.result.arms.iter().map(|_| None).collect();
     };
     let base = reference.counts();
     e.result
         .arms
         .iter()
         .enumerate()
-        .map(|(a, arm)| {
-            if arm.name == reference.name {
-                return None;
-            }
-            let mut rng = stream(e.seed, experiment as u64, a as u64, Purpose::Bootstrap);
-            paired_bootstrap_ratio(&arm.counts(), &base, BOOTSTRAP_RESAMPLES, &mut rng)
-        })
+        .map(|(a, arm)| (arm.name != reference.name).then(|| compare(a, &arm.counts(), &base)))
         .collect()
 }
 
@@ -122,23 +132,10 @@ pub fn effects_table(entries: &[ReportEntry<'_>], effects: &[Vec<Option<RatioCi>
 /// of the behaviors evaluated per trial; `None` for the reference itself, and for every
 /// arm when the reference is not among them.
 pub fn versus_reference(e: &ReportEntry<'_>) -> Vec<Option<PairedTests>> {
-    let Some(reference) = e.result.arm(e.reference) else {
-        return vec![None; e.result.arms.len()];
-    };
-    let base = reference.counts();
-    e.result
-        .arms
-        .iter()
-        .map(|arm| {
-            (arm.name != reference.name).then(|| {
-                let counts = arm.counts();
-                PairedTests {
-                    t_test_p: paired_t_test(&base, &counts).unwrap_or(1.0),
-                    wilcoxon_p: wilcoxon_signed_rank(&base, &counts).unwrap_or(1.0),
-                }
-            })
-        })
-        .collect()
+    against_reference(e, |_, counts, base| PairedTests {
+        t_test_p: paired_t_test(base, counts).unwrap_or(1.0),
+        wilcoxon_p: wilcoxon_signed_rank(base, counts).unwrap_or(1.0),
+    })
 }
 
 pub use crate::plot::category_label;
