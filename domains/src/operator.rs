@@ -34,6 +34,7 @@ use crate::trace::{EventKind, Trace};
 use cbr_core::{FileError, RonError, parse_ron, read_text};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 use trust::{Cause, DeclaredCause, FeedbackChannel, Judgement, OutcomeWeights, WeightsError};
 
@@ -318,33 +319,64 @@ impl OperatorModel {
     /// Watches a run and decides how it ends, and why (the truth). Random reactions draw
     /// from `rng`.
     pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Judgement {
+        self.judge_attending(trace, 1.0, rng)
+    }
+
+    /// [`OperatorModel::judge`] by an operator whose `attention`, in `[0, 1]`, is the chance
+    /// it notices what it would react to (docs/simulation.md, "Complacency"): a reaction
+    /// it would have had with probability `p` happens with probability `p * attention`,
+    /// on the same draw, so at attention 1 this is exactly `judge`. What it overlooks lets
+    /// the run go on, and the first such cause is the judgement's `overlooked`. A robot
+    /// stuck, a detonation and a task past the operator's patience are noticed whatever
+    /// the attention: the robot stops, the explosion is heard, the task never ends.
+    pub fn judge_attending(
+        &self,
+        trace: &Trace,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
         let give_up = self.t_complete * self.give_up_factor;
-        let interrupt = |cause, t| Judgement::interrupted(self.weights.of(cause), cause, t);
+        // The first cause overlooked (shared by the reactions below and the endings).
+        let overlooked = Cell::new(None);
+        let interrupt = |cause, t| {
+            Judgement::interrupted(self.weights.of(cause), cause, t).overlooking(overlooked.get())
+        };
         let mut deadline_seen = false;
-        let mut react = |p: f64| rng.random::<f64>() < p;
+        // Whether the operator reacts to `cause`, which it minds with probability `p`.
+        let mut react = |p: f64, cause: Cause| {
+            let draw = rng.random::<f64>();
+            if draw < p * attention {
+                return true;
+            }
+            if draw < p && overlooked.get().is_none() {
+                overlooked.set(Some(cause));
+            }
+            false
+        };
         for event in &trace.events {
             if !deadline_seen && event.t > self.t_complete {
                 deadline_seen = true;
-                if react(self.p_deadline) {
+                if react(self.p_deadline, DEADLINE) {
                     return interrupt(DEADLINE, self.t_complete);
                 }
             }
             if event.t > give_up {
-                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
+                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up)
+                    .overlooking(overlooked.get());
             }
             match event.kind {
-                EventKind::Collision { .. } if react(self.p_collision) => {
+                EventKind::Collision { .. } if react(self.p_collision, COLLISION) => {
                     return interrupt(COLLISION, event.t);
                 }
                 EventKind::Stuck => return interrupt(STUCK, event.t),
-                EventKind::MissedObject { .. } if react(self.p_missed_object) => {
+                EventKind::MissedObject { .. } if react(self.p_missed_object, MISSED_OBJECT) => {
                     return interrupt(MISSED_OBJECT, event.t);
                 }
                 EventKind::Labelled {
                     explosive: false,
                     labelled_explosive: true,
                     ..
-                } if react(self.p_false_alarm) => {
+                } if react(self.p_false_alarm, FALSE_ALARM) => {
                     return interrupt(FALSE_ALARM, event.t);
                 }
                 EventKind::PassedPerson {
@@ -353,29 +385,36 @@ impl OperatorModel {
                     speed,
                     ..
                 } if self.comfort.is_some_and(|c| {
-                    (present || c.expected_too) && gap < c.distance && speed > c.speed && react(c.p)
+                    (present || c.expected_too)
+                        && gap < c.distance
+                        && speed > c.speed
+                        && react(c.p, TOO_FAST_NEAR_PEOPLE)
                 }) =>
                 {
                     return interrupt(TOO_FAST_NEAR_PEOPLE, event.t);
                 }
                 EventKind::ClosestPass { gap, .. }
-                    if self.clearance.is_some_and(|c| gap < c.gap && react(c.p)) =>
+                    if self
+                        .clearance
+                        .is_some_and(|c| gap < c.gap && react(c.p, TOO_CLOSE)) =>
                 {
                     return interrupt(TOO_CLOSE, event.t);
                 }
                 EventKind::Scanned {
                     distance, duration, ..
                 } if self.scan_standard.is_some_and(|c| {
-                    (distance > c.max_distance || duration < c.min_time) && react(c.p)
+                    (distance > c.max_distance || duration < c.min_time) && react(c.p, POOR_SCAN)
                 }) =>
                 {
                     return interrupt(POOR_SCAN, event.t);
                 }
                 EventKind::Detonation { .. } => {
-                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t);
+                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t)
+                        .overlooking(overlooked.get());
                 }
                 EventKind::Arrived { .. } => {
-                    return Judgement::completed(self.weights.completed, event.t);
+                    return Judgement::completed(self.weights.completed, event.t)
+                        .overlooking(overlooked.get());
                 }
                 _ => {}
             }

@@ -22,6 +22,7 @@ use crate::Scenario;
 use crate::causes::{
     COLLISION, DEADLINE, DETONATION, FALSE_ALARM, STUCK, TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
 };
+use crate::detector::Detector;
 use crate::trace::{EventKind, Trace};
 use trust::{Cause, Hint, Observations};
 
@@ -146,10 +147,67 @@ pub fn perceive(trace: &Trace, until: f64, declared: &[Cause]) -> Observations {
         .fold(Observations::NONE, Observations::with)
 }
 
+/// The robot's own confidence that the command of `trace` went as it should, up to time
+/// `until` (s): the least, over the objects it scanned and labelled, of the chance the
+/// `detector` labels an object of the kind it said correctly from a scan like its own (the
+/// gap and the time it scanned, both of which it knows). It trusts its label's kind, as it
+/// trusts its own alarms; what it doubts is a scan too short or too far for its detector.
+/// `None` when it labelled nothing (no self-assessment: a movement run, a patrol that
+/// scanned nothing).
+pub fn self_assessment(trace: &Trace, until: f64, detector: &Detector) -> Option<f64> {
+    let mut scan = None;
+    let mut confidence: Option<f64> = None;
+    for event in trace.events.iter().take_while(|e| e.t <= until) {
+        match event.kind {
+            EventKind::Scanned {
+                distance, duration, ..
+            } => scan = Some((distance, duration)),
+            EventKind::Labelled {
+                labelled_explosive, ..
+            } => {
+                if let Some((distance, duration)) = scan.take() {
+                    let sure = detector.accuracy(labelled_explosive, duration, distance);
+                    confidence = Some(confidence.map_or(sure, |c| c.min(sure)));
+                }
+            }
+            _ => {}
+        }
+    }
+    confidence
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::Vec2;
+
+    #[test]
+    fn the_robot_doubts_its_worst_scan_and_has_no_self_assessment_without_one() {
+        let detector = Detector::default();
+        let scanned = |object, distance, duration| EventKind::Scanned {
+            object,
+            distance,
+            duration,
+        };
+        let labelled = |object, labelled_explosive| EventKind::Labelled {
+            object,
+            explosive: false,
+            labelled_explosive,
+        };
+        let t = trace(&[
+            (1.0, scanned(0, 0.1, 3.0)),
+            (1.0, labelled(0, false)),
+            (4.0, scanned(1, 1.5, 0.5)),
+            (4.0, labelled(1, true)),
+            (9.0, EventKind::Arrived { at: O }),
+        ]);
+        let close = detector.accuracy(false, 3.0, 0.1);
+        let far = detector.accuracy(true, 0.5, 1.5);
+        assert!(far < close);
+        assert_eq!(self_assessment(&t, 2.0, &detector), Some(close));
+        assert_eq!(self_assessment(&t, 9.0, &detector), Some(far));
+        assert_eq!(self_assessment(&t, 0.5, &detector), None);
+    }
 
     fn trace(events: &[(f64, EventKind)]) -> Trace {
         Trace::of(events)

@@ -463,13 +463,26 @@ impl Domain for UgvDomain {
         operator: &OperatorModel,
         rng: &mut dyn RngCore,
     ) -> Judgement {
+        self.run_attending(behavior, operator, 1.0, rng)
+    }
+
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
         let run = self.simulate(behavior, rng, false);
-        let judgement = operator.judge(&run.trace, rng);
-        let observed = perception::perceive(
-            &run.trace,
-            judgement.outcome.duration_s,
-            self.observations(),
-        );
-        judgement.observing(observed)
+        let judgement = operator.judge_attending(&run.trace, attention, rng);
+        let until = judgement.outcome.duration_s;
+        let observed = perception::perceive(&run.trace, until, self.observations());
+        judgement
+            .observing(observed)
+            .assessing(perception::self_assessment(
+                &run.trace,
+                until,
+                &self.detector,
+            ))
     }
 }

@@ -733,7 +733,8 @@ fn run_trial<D: Domain>(
             .record(&outcome)
             .expect("domains report valid outcomes");
         let explanation = match &decision {
-            Decision::Keep => None,
+            // Alerts come only in mission mode (crate::mission).
+            Decision::Keep | Decision::Alert(_) => None,
             Decision::Switch { explanation, .. } => Some(&**explanation),
             Decision::Settled(report) => report.explanations.last(),
         };
@@ -757,7 +758,7 @@ fn run_trial<D: Domain>(
             });
         }
         match decision {
-            Decision::Keep => {}
+            Decision::Keep | Decision::Alert(_) => {}
             Decision::Switch { to, .. } => {
                 behavior = to;
                 behavior_truth.clear();

@@ -205,6 +205,14 @@ impl Session {
                 reply["explanation"] = reply::explanation(&space, &explanation, &|_| reused);
                 reply
             }
+            Decision::Alert(alert) => json!({
+                "ok": "alert",
+                "behavior": reply::behavior(&space, &alert.behavior),
+                "trust": alert.estimate,
+                "own_record": alert.own_record,
+                "commands": alert.commands,
+                "unacknowledged": alert.unacknowledged,
+            }),
             Decision::Settled(report) => {
                 let (retained, held) = match self.adaptation.case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {

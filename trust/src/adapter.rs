@@ -2,7 +2,12 @@
 //!
 //! Report every command's outcome with [`TrustAdapter::record`]; the answer says whether to
 //! keep the current behavior, switch to another, or that the episode is over (a trustworthy
-//! behavior was found, or every behavior was tried). An [`Adaptation`] holds one robot's
+//! behavior was found, or every behavior was tried). In mission mode ([`Mode::Mission`],
+//! docs/missions.md) outcomes keep coming after the episode is over: the settled behavior
+//! stays under watch ([`crate::watch`]), a fall of its estimate to the untrustworthy
+//! threshold starts a new episode with a switch, and an [`Alert`] asks the operator to
+//! supervise when its trust is high while the robot's own record is not
+//! ([`crate::overtrust`]). An [`Adaptation`] holds one robot's
 //! episode (the evaluated pairs `E_past`) and search strategy and selects from a case memory
 //! it is handed; the [`TrustAdapter`] pairs one with the memory it owns and retains a case at
 //! the end of an episode (docs/model.md#cases-and-retention). Robots sharing one case
@@ -13,9 +18,11 @@ use crate::estimate::{
 };
 use crate::evaluated::{LambdaError, validate_lambda};
 use crate::explain::{Attribution, Explanation, GivenUp, Next, Vocabulary};
+use crate::overtrust::{Alert, OwnRecord};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
+use crate::watch::{Mode, Watch};
 use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
 use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
 use rand::SeedableRng;
@@ -43,6 +50,10 @@ pub struct AdapterConfig {
     pub retention: Retention,
     /// The unit of an evaluated pair's time `t` (docs/model.md#open-readings).
     pub time_unit: TimeUnit,
+    /// Whether the adapter stops at the first trustworthy behavior (`episode`, the paper's)
+    /// or keeps watching it (`mission`, docs/missions.md).
+    #[serde(skip_serializing_if = "Mode::is_episode")]
+    pub mode: Mode,
 }
 
 /// Which successful episodes are retained as cases. The paper glosses its own
@@ -82,6 +93,7 @@ impl Default for AdapterConfig {
             search: SearchKind::default(),
             retention: Retention::default(),
             time_unit: TimeUnit::default(),
+            mode: Mode::default(),
         }
     }
 }
@@ -188,15 +200,20 @@ pub enum Decision {
         /// to the commands kept).
         explanation: Box<Explanation>,
     },
-    /// The episode is over.
+    /// The episode is over. In mission mode the settled behavior stays under watch and
+    /// outcomes keep coming.
     Settled(EpisodeReport),
+    /// Mission mode: keep the behavior, and ask the operator to supervise it: its trust is
+    /// high while the robot's own record says the behavior is not earning it.
+    Alert(Alert),
 }
 
 /// Why an adapter call was refused. The adapter's state is unchanged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum AdapterError {
-    /// `record` was called with no episode under way.
+    /// `record` was called with no episode under way (and, in mission mode, no settled
+    /// behavior under watch).
     #[error("no episode is under way: begin one first")]
     NoEpisode,
     /// `begin_episode` was called while one is under way.
@@ -280,6 +297,10 @@ pub struct Adaptation {
     rng: ChaCha8Rng,
     episode: Option<Episode>,
     attribution: Attribution,
+    /// Mission mode: the settled behavior under watch, between episodes.
+    watch: Option<Watch>,
+    /// Mission mode: the robot's own record of the watched behavior.
+    own_record: OwnRecord,
 }
 
 impl Adaptation {
@@ -313,6 +334,8 @@ impl Adaptation {
             rng,
             episode: None,
             attribution: Attribution::default(),
+            watch: None,
+            own_record: OwnRecord::default(),
         }
     }
 
@@ -330,7 +353,9 @@ impl Adaptation {
         self.rng = ChaCha8Rng::seed_from_u64(seed);
     }
 
-    /// Starts an episode (a new operator, a new mission) with `initial` in use.
+    /// Starts an episode (a new operator, a new mission) with `initial` in use; in mission
+    /// mode this ends the watch of a settled behavior, and what the robot learned of how
+    /// its operator reacts is forgotten.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         if self.episode.is_some() {
             return Err(AdapterError::EpisodeUnderWay);
@@ -338,21 +363,27 @@ impl Adaptation {
         if !self.space.contains(&initial) {
             return Err(AdapterError::ForeignBehavior);
         }
+        self.watch = None;
+        self.own_record.forget_operator();
+        self.start_episode(initial, TrustEstimate::default(), 0);
+        Ok(())
+    }
+
+    /// Puts `initial` in use with its estimate so far and its untrustworthy commands.
+    fn start_episode(&mut self, initial: Behavior, estimate: TrustEstimate, untrustworthy: u64) {
         self.episode = Some(Episode {
             current: initial,
-            estimate: TrustEstimate::default(),
+            estimate,
             evaluated: Vec::new(),
-            commands: 0,
-            untrustworthy: 0,
+            commands: u64::from(estimate.commands),
+            untrustworthy,
             searched: 0,
             reused: 0,
             current_from_search: false,
-            current_untrustworthy: 0,
+            current_untrustworthy: untrustworthy,
             explanations: Vec::new(),
         });
-        self.attribution.next_behavior();
         self.searcher.begin_episode(&self.space, &initial);
-        Ok(())
     }
 
     /// Records one command's outcome for the behavior in use and decides what to do next,
@@ -364,7 +395,13 @@ impl Adaptation {
         memory: &TrustMemory,
     ) -> Result<Decision, AdapterError> {
         outcome.validate()?;
+        if self.episode.is_none() && self.watch.is_some() {
+            return Ok(self.watched(outcome, memory));
+        }
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
+        if self.config.mode == Mode::Mission {
+            self.own_record.learn(outcome);
+        }
         episode.estimate.record(outcome);
         episode.commands += 1;
         if outcome.kind != OutcomeKind::Completed {
@@ -385,93 +422,147 @@ impl Adaptation {
                         estimate: episode.estimate.value,
                     },
                 });
-                Ok(Decision::Settled(self.finish(true)))
+                Ok(self.settle(true))
             }
-            Verdict::Untrustworthy => {
-                let given_up = GivenUp {
-                    behavior: episode.current,
-                    commands: u64::from(episode.estimate.commands),
-                    untrustworthy: episode.current_untrustworthy,
-                    estimate: episode.estimate.value,
-                    reasons: self.attribution.reasons(),
+            Verdict::Untrustworthy => Ok(self.give_up(memory)),
+        }
+    }
+
+    /// Mission mode: one command of the settled behavior under watch. Its estimate falling
+    /// to the untrustworthy threshold starts a new episode from it and gives it up; the
+    /// robot's own record falling there while the estimate is above 0 raises an alert.
+    fn watched(&mut self, outcome: &Outcome, memory: &TrustMemory) -> Decision {
+        let thresholds = self.config.thresholds;
+        let watch = self.watch.as_mut().expect("a behavior is under watch");
+        self.attribution.record(outcome);
+        if watch.record(outcome, &thresholds) {
+            // Back at the cap: the account of its untrustworthy commands starts again.
+            self.attribution.next_behavior();
+        }
+        self.own_record.record(outcome, &thresholds);
+        let watch = *watch;
+        if watch.fallen(&thresholds) {
+            self.watch = None;
+            self.start_episode(watch.behavior, watch.estimate, watch.untrustworthy);
+            return self.give_up(memory);
+        }
+        match self
+            .own_record
+            .alert(watch.behavior, watch.estimate.value, &thresholds)
+        {
+            Some(alert) => {
+                self.own_record.restart();
+                Decision::Alert(alert)
+            }
+            None => Decision::Keep,
+        }
+    }
+
+    /// The episode's behavior in use is untrustworthy: records its evaluated pair and
+    /// selects the next behavior from `memory` (or ends the episode when every behavior
+    /// has been tried).
+    fn give_up(&mut self, memory: &TrustMemory) -> Decision {
+        let episode = self.episode.as_mut().expect("an episode is under way");
+        let given_up = GivenUp {
+            behavior: episode.current,
+            commands: u64::from(episode.estimate.commands),
+            untrustworthy: episode.current_untrustworthy,
+            estimate: episode.estimate.value,
+            reasons: self.attribution.reasons(),
+        };
+        self.attribution.next_behavior();
+        episode.current_untrustworthy = 0;
+        episode.evaluated.push(Evaluated {
+            behavior: episode.current,
+            time: match self.config.time_unit {
+                TimeUnit::TaskSeconds => episode.estimate.elapsed_s,
+                TimeUnit::Commands => f64::from(episode.estimate.commands),
+            },
+        });
+        let memory = self.config.reuse_cases.then_some(memory);
+        let selection = select_behavior(
+            &episode.evaluated,
+            memory,
+            self.searcher.as_mut(),
+            &self.space,
+            &mut self.rng,
+        );
+        let (to, source, next) = match selection {
+            Selection::Reuse {
+                case,
+                similarity,
+                behavior,
+            } => {
+                episode.reused += 1;
+                episode.current_from_search = false;
+                let next = Next::Case {
+                    behavior,
+                    case,
+                    similarity,
+                    matched: matched_by_case(
+                        &self.space,
+                        self.config.lambda,
+                        &episode.evaluated,
+                        memory.and_then(|m| m.base().get(case)),
+                    ),
+                    given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
                 };
-                self.attribution.next_behavior();
-                episode.current_untrustworthy = 0;
-                episode.evaluated.push(Evaluated {
-                    behavior: episode.current,
-                    time: match self.config.time_unit {
-                        TimeUnit::TaskSeconds => episode.estimate.elapsed_s,
-                        TimeUnit::Commands => f64::from(episode.estimate.commands),
+                (behavior, Source::Case { case, similarity }, next)
+            }
+            Selection::Search(Proposal::Next(behavior)) => {
+                episode.searched += 1;
+                episode.current_from_search = true;
+                let next = Next::Search {
+                    behavior,
+                    strategy: self.searcher.name().to_owned(),
+                    rationale: self.searcher.rationale(&behavior),
+                };
+                (behavior, Source::Search, next)
+            }
+            Selection::Search(Proposal::Exhausted { keep }) => {
+                episode.current = keep;
+                episode.explanations.push(Explanation {
+                    given_up: Some(given_up),
+                    next: Next::Kept {
+                        behavior: keep,
+                        trustworthy: false,
+                        commands: episode.commands,
+                        estimate: episode.estimate.value,
                     },
                 });
-                let memory = self.config.reuse_cases.then_some(memory);
-                let selection = select_behavior(
-                    &episode.evaluated,
-                    memory,
-                    self.searcher.as_mut(),
-                    &self.space,
-                    &mut self.rng,
-                );
-                let (to, source, next) = match selection {
-                    Selection::Reuse {
-                        case,
-                        similarity,
-                        behavior,
-                    } => {
-                        episode.reused += 1;
-                        episode.current_from_search = false;
-                        let next = Next::Case {
-                            behavior,
-                            case,
-                            similarity,
-                            matched: matched_by_case(
-                                &self.space,
-                                self.config.lambda,
-                                &episode.evaluated,
-                                memory.and_then(|m| m.base().get(case)),
-                            ),
-                            given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
-                        };
-                        (behavior, Source::Case { case, similarity }, next)
-                    }
-                    Selection::Search(Proposal::Next(behavior)) => {
-                        episode.searched += 1;
-                        episode.current_from_search = true;
-                        let next = Next::Search {
-                            behavior,
-                            strategy: self.searcher.name().to_owned(),
-                            rationale: self.searcher.rationale(&behavior),
-                        };
-                        (behavior, Source::Search, next)
-                    }
-                    Selection::Search(Proposal::Exhausted { keep }) => {
-                        episode.current = keep;
-                        episode.explanations.push(Explanation {
-                            given_up: Some(given_up),
-                            next: Next::Kept {
-                                behavior: keep,
-                                trustworthy: false,
-                                commands: episode.commands,
-                                estimate: episode.estimate.value,
-                            },
-                        });
-                        return Ok(Decision::Settled(self.finish(false)));
-                    }
-                };
-                episode.current = to;
-                episode.estimate = TrustEstimate::default();
-                let explanation = Explanation {
-                    given_up: Some(given_up),
-                    next,
-                };
-                episode.explanations.push(explanation.clone());
-                Ok(Decision::Switch {
-                    to,
-                    source,
-                    explanation: Box::new(explanation),
-                })
+                return self.settle(false);
             }
+        };
+        episode.current = to;
+        episode.estimate = TrustEstimate::default();
+        let explanation = Explanation {
+            given_up: Some(given_up),
+            next,
+        };
+        episode.explanations.push(explanation.clone());
+        Decision::Switch {
+            to,
+            source,
+            explanation: Box::new(explanation),
         }
+    }
+
+    /// Ends the episode under way (`found`: with a trustworthy behavior); in mission mode
+    /// the behavior settled on goes under watch.
+    fn settle(&mut self, found: bool) -> Decision {
+        let value = self.episode.as_ref().map_or(0.0, |e| e.estimate.value);
+        let report = self.finish(found);
+        if self.config.mode == Mode::Mission {
+            self.watch = Some(Watch::new(
+                report.settled,
+                value,
+                found,
+                &self.config.thresholds,
+            ));
+            self.own_record.restart();
+            self.attribution.next_behavior();
+        }
+        Decision::Settled(report)
     }
 
     /// The case a finished episode retains (docs/model.md#cases-and-retention): its
@@ -489,8 +580,10 @@ impl Adaptation {
     }
 
     /// Ends the episode under way without a trustworthy behavior and without retaining a
-    /// case (the operator left). Returns its report, or `None` if none was under way.
+    /// case (the operator left), and in mission mode the watch of a settled behavior.
+    /// Returns the episode's report, or `None` if none was under way.
     pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        self.watch = None;
         self.episode.as_ref()?;
         Some(self.finish(false))
     }
@@ -551,13 +644,28 @@ impl Adaptation {
     /// reasons its untrustworthy commands are attributed to (`None` with no episode under
     /// way).
     pub fn standing(&self) -> Option<GivenUp> {
-        self.episode.as_ref().map(|e| GivenUp {
-            behavior: e.current,
-            commands: u64::from(e.estimate.commands),
-            untrustworthy: e.current_untrustworthy,
-            estimate: e.estimate.value,
+        let (behavior, estimate, untrustworthy) = match (&self.episode, &self.watch) {
+            (Some(e), _) => (e.current, e.estimate, e.current_untrustworthy),
+            (None, Some(w)) => (w.behavior, w.estimate, w.untrustworthy),
+            (None, None) => return None,
+        };
+        Some(GivenUp {
+            behavior,
+            commands: u64::from(estimate.commands),
+            untrustworthy,
+            estimate: estimate.value,
             reasons: self.attribution.reasons(),
         })
+    }
+
+    /// Mission mode: the settled behavior under watch between episodes, if any.
+    pub fn watching(&self) -> Option<&Watch> {
+        self.watch.as_ref()
+    }
+
+    /// Mission mode: the robot's own record of the watched behavior ([`crate::overtrust`]).
+    pub fn own_record(&self) -> &OwnRecord {
+        &self.own_record
     }
 
     /// The behavior space.
@@ -658,6 +766,16 @@ impl TrustAdapter {
     /// The account of the behavior in use so far (see [`Adaptation::standing`]).
     pub fn standing(&self) -> Option<GivenUp> {
         self.adaptation.standing()
+    }
+
+    /// Mission mode: the settled behavior under watch between episodes, if any.
+    pub fn watching(&self) -> Option<&Watch> {
+        self.adaptation.watching()
+    }
+
+    /// Mission mode: the robot's own record of the watched behavior.
+    pub fn own_record(&self) -> &OwnRecord {
+        self.adaptation.own_record()
     }
 
     /// The behavior space.

@@ -57,4 +57,21 @@ pub trait Domain: Send + Sync {
         operator: &Self::Operator,
         rng: &mut dyn RngCore,
     ) -> Judgement;
+
+    /// [`Domain::run`] under an operator whose `attention`, in `[0, 1]`, is the chance it
+    /// notices a problem it would react to when attentive (1: the paper's operator, who
+    /// notices everything it minds). A problem it overlooks lets the run go on, and is
+    /// named in the judgement's [`Judgement::overlooked`] for evaluation. A domain whose
+    /// operators never lose attention keeps this default, which ignores `attention`; one
+    /// that overrides it must return exactly [`Domain::run`]'s judgement at attention 1.
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &Self::Operator,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        let _ = attention;
+        self.run(behavior, operator, rng)
+    }
 }

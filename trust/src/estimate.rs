@@ -111,6 +111,11 @@ pub struct Outcome {
     /// declared causes, when it gave one (it may be wrong); `None` when it said nothing.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stated: Option<Cause>,
+    /// The robot's own confidence, in `[0, 1]`, that the command went as it should, when
+    /// the domain gives it a self-assessment (a detector's confidence in its labels);
+    /// `None` when it has none. The overtrust monitor reads it ([`crate::overtrust`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confidence: Option<f64>,
 }
 
 /// Why an outcome cannot be recorded.
@@ -123,33 +128,37 @@ pub enum OutcomeError {
     /// The duration is negative or not a number.
     #[error("duration_s must be a finite number >= 0, got {0}")]
     Duration(f64),
+    /// The self-assessed confidence is not a probability.
+    #[error("confidence must be a number in [0, 1], got {0}")]
+    Confidence(f64),
 }
 
 impl Outcome {
     /// An outcome of any kind: how it ended, its weight and how long it took (nothing
     /// perceived, nothing stated), for callers that know the kind only at run time.
-    pub fn new(kind: OutcomeKind, weight: f64, duration_s: f64) -> Self {
+    pub const fn new(kind: OutcomeKind, weight: f64, duration_s: f64) -> Self {
         Self {
             kind,
             weight,
             duration_s,
             observed: Observations::NONE,
             stated: None,
+            confidence: None,
         }
     }
 
     /// A completion with weight `weight` that took `duration_s` seconds.
-    pub fn completed(weight: f64, duration_s: f64) -> Self {
+    pub const fn completed(weight: f64, duration_s: f64) -> Self {
         Self::new(OutcomeKind::Completed, weight, duration_s)
     }
 
     /// A failure.
-    pub fn failed(weight: f64, duration_s: f64) -> Self {
+    pub const fn failed(weight: f64, duration_s: f64) -> Self {
         Self::new(OutcomeKind::Failed, weight, duration_s)
     }
 
     /// An interruption.
-    pub fn interrupted(weight: f64, duration_s: f64) -> Self {
+    pub const fn interrupted(weight: f64, duration_s: f64) -> Self {
         Self::new(OutcomeKind::Interrupted, weight, duration_s)
     }
 
@@ -168,6 +177,12 @@ impl Outcome {
         }
     }
 
+    /// The same outcome with the robot's own confidence that the command went as it should.
+    #[must_use]
+    pub fn assessing(self, confidence: Option<f64>) -> Self {
+        Self { confidence, ..self }
+    }
+
     /// Whether the command failed or was interrupted (what the operator endured).
     pub fn is_untrustworthy(&self) -> bool {
         self.kind != OutcomeKind::Completed
@@ -180,6 +195,9 @@ impl Outcome {
         }
         if !(self.duration_s.is_finite() && self.duration_s >= 0.0) {
             return Err(OutcomeError::Duration(self.duration_s));
+        }
+        if let Some(c) = self.confidence.filter(|c| !(0.0..=1.0).contains(c)) {
+            return Err(OutcomeError::Confidence(c));
         }
         Ok(())
     }
@@ -201,6 +219,10 @@ pub struct Judgement {
     /// Why the operator really reacted: one of the domain's declared causes; `None` for a
     /// completion.
     pub truth: Option<Cause>,
+    /// A problem an attentive operator would have reacted to but this one overlooked (its
+    /// attention was low: [`crate::Domain::run_attending`]); the run went on past it.
+    /// `None` for an attentive operator. For evaluation only, as the truth.
+    pub overlooked: Option<Cause>,
 }
 
 impl Judgement {
@@ -209,6 +231,7 @@ impl Judgement {
         Self {
             outcome: Outcome::completed(weight, duration_s),
             truth: None,
+            overlooked: None,
         }
     }
 
@@ -217,6 +240,7 @@ impl Judgement {
         Self {
             outcome: Outcome::failed(weight, duration_s),
             truth: Some(truth),
+            overlooked: None,
         }
     }
 
@@ -225,6 +249,7 @@ impl Judgement {
         Self {
             outcome: Outcome::interrupted(weight, duration_s),
             truth: Some(truth),
+            overlooked: None,
         }
     }
 
@@ -234,6 +259,7 @@ impl Judgement {
         Self {
             outcome: Outcome::new(kind, weight, duration_s),
             truth,
+            overlooked: None,
         }
     }
 
@@ -244,6 +270,21 @@ impl Judgement {
             outcome: self.outcome.observing(observed),
             ..self
         }
+    }
+
+    /// The same judgement with the robot's own confidence in the command.
+    #[must_use]
+    pub fn assessing(self, confidence: Option<f64>) -> Self {
+        Self {
+            outcome: self.outcome.assessing(confidence),
+            ..self
+        }
+    }
+
+    /// The same judgement with a problem the operator overlooked.
+    #[must_use]
+    pub fn overlooking(self, overlooked: Option<Cause>) -> Self {
+        Self { overlooked, ..self }
     }
 }
 

@@ -16,6 +16,9 @@
 //! - [`retrieval`]: the retrievers a config can name.
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
 //!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
+//! - [`watch`]: mission mode, the settled behavior kept under watch.
+//! - [`overtrust`]: the robot's own record of a settled behavior, and the alert it raises
+//!   when its operator trusts it more than that record says it should.
 //! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
 //! - `testing` (feature `testing`): conformance kits for users' own parts.
@@ -35,11 +38,13 @@ pub mod evaluated;
 pub mod explain;
 pub mod feedback;
 pub mod named;
+pub mod overtrust;
 pub mod retrieval;
 pub mod search;
 pub mod select;
 #[cfg(feature = "testing")]
 pub mod testing;
+pub mod watch;
 pub mod weights;
 
 pub use adapter::{
@@ -58,9 +63,11 @@ pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use explain::{AttributedReason, Attribution, Explanation, GivenUp, Hint, Next, Vocabulary};
 pub use feedback::{FeedbackChannel, FeedbackError};
+pub use overtrust::{Alert, OwnRecord};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};
 pub use select::{Selection, select_behavior};
+pub use watch::{Mode, Watch};
 pub use weights::{OutcomeWeights, WeightsError};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};

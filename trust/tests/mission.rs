@@ -1,0 +1,184 @@
+//! Mission mode and the overtrust alert: hand-computed missions through the adapter.
+
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use proptest::prelude::*;
+use std::sync::Arc;
+use trust::{
+    AdapterConfig, AdapterError, Decision, Evaluated, Mode, Observations, Outcome, Source,
+    TrustAdapter, TrustCaseBase,
+};
+
+fn grid() -> Arc<BehaviorSpace> {
+    Arc::new(
+        BehaviorSpace::new(vec![
+            NamedComponent::numeric("a", "", 0.0, 1.0, 4).unwrap(),
+            NamedComponent::numeric("b", "", 0.0, 1.0, 4).unwrap(),
+        ])
+        .unwrap(),
+    )
+}
+
+fn mission_adapter() -> TrustAdapter {
+    let config = AdapterConfig {
+        mode: Mode::Mission,
+        ..AdapterConfig::default()
+    };
+    TrustAdapter::new(grid(), config, TrustCaseBase::new(), 3).unwrap()
+}
+
+const DONE: Outcome = Outcome::completed(1.0, 2.0);
+const STOPPED: Outcome = Outcome::interrupted(1.0, 2.0);
+
+/// A bump the robot perceived (observation 0).
+fn bumped(outcome: Outcome) -> Outcome {
+    outcome.observing(Observations::NONE.with(0))
+}
+
+/// The evaluated pairs of a re-adaptation from `b`: `b`, ten commands of 2 s.
+fn episode_pairs(b: Behavior) -> Vec<Evaluated> {
+    vec![Evaluated {
+        behavior: b,
+        time: 20.0,
+    }]
+}
+
+/// Five completions settle the behavior in use.
+fn settle(a: &mut TrustAdapter) {
+    for _ in 0..4 {
+        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+    }
+    assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(r) if r.found_trustworthy));
+}
+
+#[test]
+fn the_paper_s_episode_mode_stays_the_default_and_stops_listening() {
+    assert_eq!(AdapterConfig::default().mode, Mode::Episode);
+    let mut a =
+        TrustAdapter::new(grid(), AdapterConfig::default(), TrustCaseBase::new(), 3).unwrap();
+    a.begin_episode(Behavior::new(&[1, 1])).unwrap();
+    settle(&mut a);
+    assert_eq!(a.record(&DONE), Err(AdapterError::NoEpisode));
+    assert!(a.watching().is_none());
+}
+
+#[test]
+fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() {
+    let mut a = mission_adapter();
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    settle(&mut a);
+    // Fifty more completions: capped at +5, nothing banked.
+    for _ in 0..50 {
+        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+    }
+    let watch = a.watching().unwrap();
+    assert_eq!(
+        (watch.behavior, watch.estimate.value, watch.commands),
+        (b0, 5.0, 50)
+    );
+    assert_eq!(a.standing().unwrap().estimate, 5.0);
+    // Nine interruptions: +5 - 9 = -4, kept.
+    for _ in 0..9 {
+        assert_eq!(a.record(&STOPPED).unwrap(), Decision::Keep);
+    }
+    // The tenth: -5, the behavior is given up and a new episode starts.
+    let Decision::Switch {
+        to,
+        source,
+        explanation,
+    } = a.record(&STOPPED).unwrap()
+    else {
+        panic!("expected a re-adaptation");
+    };
+    assert_eq!(source, Source::Search);
+    assert_ne!(to, b0);
+    let given_up = explanation.given_up.unwrap();
+    assert_eq!(
+        (given_up.behavior, given_up.commands, given_up.untrustworthy),
+        (b0, 10, 10)
+    );
+    assert!(a.watching().is_none());
+    let episode = a.episode().unwrap();
+    assert_eq!(episode.current, to);
+    // The evaluated pair: the ten commands (20 s) it took to fall from trusted.
+    assert_eq!(episode.evaluated, episode_pairs(b0));
+    // The evaluated pair: the ten commands (20 s) it took to fall from trusted.
+    assert_eq!(episode.evaluated.len(), 1);
+    assert_eq!(
+        (episode.evaluated[0].behavior, episode.evaluated[0].time),
+        (b0, 20.0)
+    );
+    // The re-adaptation settles as any episode does, and its case is retained (the first
+    // episode's was not: no search found it).
+    settle(&mut a);
+    assert_eq!(a.cases().len(), 1);
+    assert_eq!(a.cases().cases()[0].problem, episode_pairs(b0));
+}
+
+#[test]
+fn a_new_operator_ends_the_watch_and_abandoning_ends_it_too() {
+    let mut a = mission_adapter();
+    a.begin_episode(Behavior::new(&[0, 0])).unwrap();
+    settle(&mut a);
+    assert!(a.watching().is_some());
+    a.begin_episode(Behavior::new(&[2, 2])).unwrap();
+    assert!(a.watching().is_none());
+    settle(&mut a);
+    assert_eq!(a.abandon_episode(), None);
+    assert_eq!(a.record(&DONE), Err(AdapterError::NoEpisode));
+}
+
+#[test]
+fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
+    let mut a = mission_adapter();
+    a.begin_episode(Behavior::new(&[1, 2])).unwrap();
+    // While deciding, the operator reacted to 3 bumps of 3: p = 4/5, a bump scores -0.6.
+    for _ in 0..3 {
+        assert_eq!(a.record(&bumped(STOPPED)).unwrap(), Decision::Keep);
+    }
+    // Eight completions: -3 + 8 = +5, settled.
+    for _ in 0..7 {
+        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+    }
+    assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(_)));
+    // Bumps the operator lets pass: the estimate stays at +5, the own record falls by 0.6
+    // each; at the ninth it is -5.4.
+    for _ in 0..8 {
+        assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
+    }
+    let Decision::Alert(alert) = a.record(&bumped(DONE)).unwrap() else {
+        panic!("expected an alert");
+    };
+    assert_eq!(alert.estimate, 5.0);
+    assert!((alert.own_record + 5.4).abs() < 1e-9);
+    assert_eq!((alert.commands, alert.unacknowledged), (9, 9));
+    // The record starts again: the next bump alone raises nothing.
+    assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
+    assert!((a.own_record().value() + 0.6).abs() < 1e-9);
+}
+
+proptest! {
+    /// In mission mode every outcome is answered (never `NoEpisode`), an episode runs or a
+    /// behavior is watched after every answer, and the watched estimate never exceeds the
+    /// trustworthy threshold nor reaches the untrustworthy one.
+    #[test]
+    fn a_mission_always_listens(
+        outcomes in proptest::collection::vec((0u8..3, any::<bool>()), 1..400)
+    ) {
+        let mut a = mission_adapter();
+        a.begin_episode(Behavior::new(&[0, 3])).unwrap();
+        for (kind, bump) in outcomes {
+            let outcome = match kind {
+                0 => Outcome::completed(1.0, 1.0),
+                1 => Outcome::failed(0.5, 1.0),
+                _ => Outcome::interrupted(1.0, 1.0),
+            };
+            let outcome = if bump { bumped(outcome) } else { outcome };
+            a.record(&outcome).unwrap();
+            prop_assert!(a.episode().is_some() != a.watching().is_some());
+            if let Some(w) = a.watching() {
+                prop_assert!(w.estimate.value <= 5.0 && w.estimate.value > -5.0);
+            }
+        }
+    }
+}
