@@ -7,6 +7,9 @@
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
+use crate::missions::{
+    MissionSuiteConfig, is_mission_suite, run_mission_suite, write_mission_report,
+};
 use crate::progress::Progress;
 use crate::run::{RunSettings, run_with_report, worker_pool};
 use crate::served::{served_domain, serving_arm};
@@ -318,9 +321,7 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
             .and_then(|suite| {
                 run_experiments(&catalog, suite, Path::new(EMBEDDED_ORIGIN), &options)
             }),
-        Command::Run { config, options } => SuiteConfig::load(&catalog, &config)
-            .map_err(Into::into)
-            .and_then(|suite| run_experiments(&catalog, suite, &config, &options)),
+        Command::Run { config, options } => run_file(&catalog, &config, &options),
         Command::Config => {
             print!("{}", catalog.default_suite());
             Ok(())
@@ -367,6 +368,73 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
         args.trial,
     )?;
     print!("{}", lab::timeline::story(&timeline, &space));
+    Ok(())
+}
+
+/// Runs the suite in the file `path`: an experiment suite, or a mission suite (a
+/// `missions` field).
+fn run_file<C: Catalog>(catalog: &C, path: &Path, options: &RunOptions) -> Result<()> {
+    if is_mission_suite(&cbr_core::read_text(path)?) {
+        let config = MissionSuiteConfig::load(catalog, path)?;
+        return run_mission_file(catalog, config, path, options);
+    }
+    let suite = SuiteConfig::load(catalog, path)?;
+    run_experiments(catalog, suite, path, options)
+}
+
+/// Runs a mission suite with progress bars on stderr and writes its report; options that
+/// only experiments have are refused.
+fn run_mission_file<C: Catalog>(
+    catalog: &C,
+    mut config: MissionSuiteConfig,
+    origin: &Path,
+    options: &RunOptions,
+) -> Result<()> {
+    let experiments_only = [
+        ("--trials", options.trials.is_some()),
+        ("--landscape-runs", options.landscape_runs.is_some()),
+        ("--cases", options.cases.is_some()),
+        ("--save-cases", options.save_cases.is_some()),
+    ];
+    if let Some((flag, _)) = experiments_only.iter().find(|(_, given)| *given) {
+        anyhow::bail!(
+            "{flag} applies to experiment suites; {} is a mission suite (its plans set `count` and `commands`)",
+            origin.display()
+        );
+    }
+    if let Some(seed) = options.seed {
+        config.seed = seed;
+    }
+    if let Some(arms) = &options.arms {
+        config.arms = arms.clone();
+        config.validate(catalog, origin)?;
+    }
+    cbr_core::output::prepare_output_dir(&options.out)?;
+    let parts: Vec<(String, u64)> = config
+        .missions
+        .iter()
+        .map(|spec| {
+            let doubled = if spec.complacency.is_some() { 2 } else { 1 };
+            let chains = config.arms.len() as u64 * doubled;
+            (spec.name.clone(), chains * u64::from(spec.count.get()))
+        })
+        .collect();
+    let progress = Progress::new("mission", &parts);
+    let (pool, threads) = crate::run::worker_pool(options.threads)?;
+    let started = std::time::Instant::now();
+    let results =
+        pool.install(|| run_mission_suite(catalog, &config, origin, &|i| progress.tick(i)))?;
+    let elapsed = started.elapsed().as_secs_f64();
+    cbr_core::output::remove_previous_report(&options.out)?;
+    let written = write_mission_report(&options.out, &config, &results)?;
+    print!("{}", lab::mission_report::missions_markdown(&results));
+    println!(
+        "{} mission plans x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
+        config.missions.len(),
+        config.arms.len(),
+        options.out.display(),
+        written.len()
+    );
     Ok(())
 }
 

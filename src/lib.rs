@@ -11,6 +11,8 @@
 //! - [`catalog`]: the [`Catalog`] trait and what it names (scenarios, operators, readings);
 //! - [`suite`]: suite configs (RON) and their runs and reports;
 //! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
+//! - [`missions`]: mission suites (long missions, operator changes, complacency) and
+//!   their reports;
 //! - [`run`]: a suite run with its report folder, as `run` does it;
 //! - [`served`]: the domain and strategy `serve` serves;
 //! - [`cli`]: the command line;
@@ -20,6 +22,7 @@
 
 pub mod catalog;
 pub mod cli;
+pub mod missions;
 pub mod progress;
 pub mod run;
 pub mod served;

@@ -678,7 +678,7 @@ pub fn arm_named<C: Catalog>(
 }
 
 /// A [`SuiteError::Invalid`] of `field` in the file `origin`.
-fn invalid(origin: &Path, field: String, message: String) -> SuiteError {
+pub(crate) fn invalid(origin: &Path, field: String, message: String) -> SuiteError {
     SuiteError::Invalid {
         path: origin.to_owned(),
         field,

@@ -21,7 +21,14 @@ use std::path::{Path, PathBuf};
 pub const REPORT_MARKER: &str = "summary.json";
 
 /// The files of a report, besides its plots: removed with an earlier report.
-pub const REPORT_FILES: &[&str] = &["summary.json", "table.md", "trials.jsonl", "config.ron"];
+pub const REPORT_FILES: &[&str] = &[
+    "summary.json",
+    "table.md",
+    "trials.jsonl",
+    "config.ron",
+    "missions.md",
+    "missions.jsonl",
+];
 
 /// The extensions of a report's plots: removed with an earlier report.
 pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];

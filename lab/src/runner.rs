@@ -21,8 +21,8 @@ use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
     AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, Explanation,
-    FeedbackChannel, Outcome, Retention, Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase,
-    TrustMemory, UndeclaredCause, Vocabulary, find_declared,
+    FeedbackChannel, Mode, Outcome, Retention, Source, Thresholds, TimeUnit, TrustAdapter,
+    TrustCaseBase, TrustMemory, UndeclaredCause, Vocabulary, find_declared,
 };
 
 /// Which operator judges each trial.
@@ -440,32 +440,44 @@ impl<D: Domain> ExperimentPlan<'_, D> {
 
     /// A fresh adapter for `arm`, from its starting cases.
     fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
-        let space = self.domain.space();
-        let config = AdapterConfig {
-            thresholds: self.settings.thresholds,
-            lambda: self.settings.lambda,
-            reuse_cases: arm.reuses_cases(),
-            retention: self.settings.retention,
-            time_unit: self.settings.time_unit,
-            ..AdapterConfig::default()
-        };
-        let retriever = arm
-            .build_retriever(space, self.settings.lambda)
-            .map_err(|e| PlanError::Config {
+        fresh_adapter(self.domain, &self.settings, arm, Mode::Episode).map_err(|reason| {
+            PlanError::Config {
                 plan: self.name.clone(),
-                reason: e.into(),
-            })?;
-        let cases = arm.starting_cases().cloned().unwrap_or_default();
-        Ok(TrustAdapter::with_parts(
-            space.clone(),
-            config,
-            TrustMemory::new(cases, retriever),
-            arm.build_searcher(space),
-            // Every trial reseeds the search stream before its episode.
-            ChaCha8Rng::seed_from_u64(0),
-        )
-        .with_vocabulary(Vocabulary::of(self.domain)))
+                reason,
+            }
+        })
     }
+}
+
+/// A fresh adapter in `mode` for `arm` over `domain`'s space, from the arm's starting
+/// cases, explaining itself in the domain's terms. Its search stream is reseeded before
+/// every episode.
+pub(crate) fn fresh_adapter<D: Domain>(
+    domain: &D,
+    settings: &TrialSettings,
+    arm: &Arm,
+    mode: Mode,
+) -> Result<TrustAdapter, ConfigError> {
+    let space = domain.space();
+    let config = AdapterConfig {
+        thresholds: settings.thresholds,
+        lambda: settings.lambda,
+        reuse_cases: arm.reuses_cases(),
+        retention: settings.retention,
+        time_unit: settings.time_unit,
+        mode,
+        ..AdapterConfig::default()
+    };
+    let retriever = arm.build_retriever(space, settings.lambda)?;
+    let cases = arm.starting_cases().cloned().unwrap_or_default();
+    Ok(TrustAdapter::with_parts(
+        space.clone(),
+        config,
+        TrustMemory::new(cases, retriever),
+        arm.build_searcher(space),
+        ChaCha8Rng::seed_from_u64(0),
+    )
+    .with_vocabulary(Vocabulary::of(domain)))
 }
 
 /// What one trial of a chain leaves for its arm's result.

@@ -29,6 +29,9 @@ pub enum Purpose {
     /// The report's bootstrap of an arm's effect size (here "trial" is the arm's place
     /// among the experiment's).
     Bootstrap = 7,
+    /// A mission's truth: whether the behavior in use when the operator changed is
+    /// trustworthy for the new one (here "trial" numbers the mission's change).
+    Truth = 8,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -439,17 +439,14 @@ impl Adaptation {
             // Back at the cap: the account of its untrustworthy commands starts again.
             self.attribution.next_behavior();
         }
-        self.own_record.record(outcome, &thresholds);
+        self.own_record.record(outcome);
         let watch = *watch;
         if watch.fallen(&thresholds) {
             self.watch = None;
             self.start_episode(watch.behavior, watch.estimate, watch.untrustworthy);
             return self.give_up(memory);
         }
-        match self
-            .own_record
-            .alert(watch.behavior, watch.estimate.value, &thresholds)
-        {
+        match self.own_record.alert(watch.behavior, watch.estimate.value) {
             Some(alert) => {
                 self.own_record.restart();
                 Decision::Alert(alert)

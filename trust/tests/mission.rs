@@ -132,7 +132,10 @@ fn a_new_operator_ends_the_watch_and_abandoning_ends_it_too() {
 fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
     let mut a = mission_adapter();
     a.begin_episode(Behavior::new(&[1, 2])).unwrap();
-    // While deciding, the operator reacted to 3 bumps of 3: p = 4/5, a bump scores -0.6.
+    // While deciding, the operator reacted to 3 bumps of 3 (the fleet's rate
+    // (3 + 1) / (3 + 2) = 0.8, the operator's (3 + 2 x 0.8) / 5 = 0.92) and let 8 commands
+    // without a signal pass (base: fleet 1/10, operator 0.2 / 10 = 0.02): a bump's own
+    // rate is 0.9 / 0.98 = 45/49.
     for _ in 0..3 {
         assert_eq!(a.record(&bumped(STOPPED)).unwrap(), Decision::Keep);
     }
@@ -141,20 +144,22 @@ fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
         assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
     }
     assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(_)));
-    // Bumps the operator lets pass: the estimate stays at +5, the own record falls by 0.6
-    // each; at the ninth it is -5.4.
-    for _ in 0..8 {
+    // Bumps the operator lets pass: the estimate stays at +5, and each adds
+    // ln((1 - 22.5/49) / (4/49)) = ln 6.625 to the evidence of a lapse; the third passes
+    // ln 100.
+    let step = 6.625f64.ln();
+    for _ in 0..2 {
         assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
     }
     let Decision::Alert(alert) = a.record(&bumped(DONE)).unwrap() else {
         panic!("expected an alert");
     };
     assert_eq!(alert.estimate, 5.0);
-    assert!((alert.own_record + 5.4).abs() < 1e-9);
-    assert_eq!((alert.commands, alert.unacknowledged), (9, 9));
-    // The record starts again: the next bump alone raises nothing.
+    assert!((alert.own_record - 3.0 * step).abs() < 1e-9);
+    assert_eq!((alert.commands, alert.unacknowledged), (3, 3));
+    // The evidence starts again: the next bump alone raises nothing.
     assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
-    assert!((a.own_record().value() + 0.6).abs() < 1e-9);
+    assert!((a.own_record().value() - step).abs() < 1e-9);
 }
 
 proptest! {

@@ -1,0 +1,582 @@
+//! Missions: long runs of commands in which the operator changes without the robot being
+//! told, and operators may grow complacent (docs/missions.md).
+//!
+//! A *mission* is `commands` commands from one population. It starts with a member drawn
+//! at random and the paper's random initial behavior; at random times (exponential gaps
+//! of mean [`Changes::every`] commands) the operator changes: another operator *takes
+//! over* (a new person, who starts without trust in the robot) or the same operator's
+//! preferences *shift* to another member's (the context changed; its trust in the robot
+//! carries over). The robot runs in mission mode ([`trust::Mode::Mission`]) and is told
+//! only outcomes.
+//!
+//! With a [`Complacency`] model the operator's attention falls as its own trust in the
+//! robot builds: each arm then runs twice on the same streams, once ignoring the robot's
+//! alerts and once answering them (the operator is asked to supervise and looks afresh:
+//! its trust restarts from nothing and its attention is whole again), so the harm done
+//! with and without alerts is paired mission by mission.
+//!
+//! The missions of one arm form a chain (the case base carries from one to the next);
+//! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
+//! mission, purpose), the same for every arm.
+
+use crate::arm::Arm;
+use crate::runner::{PlanError, TrialSettings, fresh_adapter};
+use crate::seeds::{Purpose, stream, stream_seed};
+use cbr_core::Behavior;
+use rand::{Rng, RngCore};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use trust::{Decision, Domain, FeedbackChannel, Mode, OutcomeKind, TrustAdapter};
+
+/// When the operator changes during a mission.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Changes {
+    /// Mean commands between changes (gaps are exponential, at least one command).
+    pub every: f64,
+    /// The share of changes that are takeovers by another operator; the others are shifts
+    /// of the same operator's preferences.
+    pub takeover: f64,
+}
+
+/// How an operator grows complacent: its own trust in the robot is an average of how the
+/// commands it watched went, over about `memory` commands, and its attention (the chance
+/// it notices a problem it minds) falls linearly with that trust, from 1 with no trust to
+/// `floor` with full trust (docs/simulation.md, "Complacency").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Complacency {
+    /// Commands the operator's trust averages over (the weight of the last is `1 / memory`).
+    pub memory: f64,
+    /// Its attention at full trust.
+    pub floor: f64,
+}
+
+/// Attention below this is complacency: the operator overlooks more of what it minds
+/// than it notices.
+pub const COMPLACENT_BELOW: f64 = 0.5;
+
+/// A complacent operator has recovered once its attention is back at or above this,
+/// halfway from the complacency bound to full attention (so an attention wavering around
+/// the bound is one onset, not many).
+pub const RECOVERED_AT: f64 = 0.75;
+
+/// An onset detected within this many commands counts towards the detection target.
+pub const DETECTION_WINDOW: u32 = 25;
+
+impl Complacency {
+    /// The operator's attention at its own trust `felt` (in `[0, 1]`).
+    pub fn attention(&self, felt: f64) -> f64 {
+        1.0 - (1.0 - self.floor) * felt
+    }
+
+    /// Checks the numbers: `memory >= 1` and `floor` in `[0, 1]`.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.memory.is_finite() && self.memory >= 1.0) {
+            return Err(format!(
+                "complacency.memory: a number of commands >= 1, got {}",
+                self.memory
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.floor) {
+            return Err(format!(
+                "complacency.floor: an attention in [0, 1], got {}",
+                self.floor
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Changes {
+    /// Checks the numbers: `every >= 1` and `takeover` in `[0, 1]`.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.every.is_finite() && self.every >= 1.0) {
+            return Err(format!(
+                "changes.every: a mean number of commands >= 1, got {}",
+                self.every
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.takeover) {
+            return Err(format!(
+                "changes.takeover: a share in [0, 1], got {}",
+                self.takeover
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Missions to run: a population, the changes, maybe complacency, and the arms.
+pub struct MissionPlan<'a, D: Domain> {
+    /// Its name in reports.
+    pub name: String,
+    /// The domain.
+    pub domain: &'a D,
+    /// The population, by name (at least two for changes to change anything).
+    pub operators: &'a [(String, D::Operator)],
+    /// Missions per arm.
+    pub missions: u32,
+    /// Commands per mission.
+    pub commands: u32,
+    /// When the operator changes.
+    pub changes: Changes,
+    /// How operators grow complacent (`None`: they stay attentive, the paper's).
+    pub complacency: Option<Complacency>,
+    /// The adapter parameters every arm shares.
+    pub settings: TrialSettings,
+    /// The arms.
+    pub arms: Vec<Arm>,
+    /// How every operator explains itself, overriding its own channel.
+    pub feedback: Option<FeedbackChannel>,
+    /// Runs that estimate whether a behavior is trustworthy for an operator (the truth of
+    /// whether a change needed an adaptation).
+    pub truth_runs: u32,
+}
+
+/// What changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChangeKind {
+    /// Another operator took over.
+    Takeover,
+    /// The operator's preferences shifted to another member's.
+    Shift,
+}
+
+/// One change of a mission and how the robot met it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChangeRecord {
+    /// The command at which it happened (from 0; the command is the new operator's).
+    pub at: u32,
+    /// What changed.
+    pub kind: ChangeKind,
+    /// Whether the behavior in use was not trustworthy for the new operator (its mean
+    /// weighted outcome, over the plan's truth runs, at most 0): the robot had to adapt.
+    pub needed: bool,
+    /// Commands from the change until the robot next settled on a trustworthy behavior,
+    /// if it did before the next change or the mission's end.
+    pub trusted_again: Option<u32>,
+    /// Untrustworthy commands from the change until then (or until the next change or the
+    /// end).
+    pub untrustworthy: u32,
+}
+
+/// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`]) and
+/// when the robot raised an alert after it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OnsetRecord {
+    /// The command at which attention fell below the bound.
+    pub at: u32,
+    /// Commands from the onset to the first alert while the operator stayed complacent.
+    pub detected_after: Option<u32>,
+    /// Commands, while complacent and before any alert, whose overlooked problem came with
+    /// something the robot perceived (a signal of its own record): the evidence the robot
+    /// could have had.
+    pub perceivable: u32,
+}
+
+/// One mission of one arm.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MissionRecord {
+    /// The mission's number.
+    pub mission: u32,
+    /// Every change, in order.
+    pub changes: Vec<ChangeRecord>,
+    /// Times the robot gave up a behavior it had settled on.
+    pub readaptations: u32,
+    /// Of those, times no change had happened since the behavior settled.
+    pub false_alarms: u32,
+    /// Commands at which the robot raised an alert.
+    pub alerts: Vec<u32>,
+    /// Complacency onsets.
+    pub onsets: Vec<OnsetRecord>,
+    /// Commands that failed (the harm happened: a detonation, a task given up).
+    pub failures: u32,
+    /// Commands with a problem the operator overlooked.
+    pub overlooked: u32,
+    /// Untrustworthy commands in all.
+    pub untrustworthy: u32,
+}
+
+impl MissionRecord {
+    /// Harm done: failures and problems nobody noticed.
+    pub fn harm(&self) -> u32 {
+        self.failures + self.overlooked
+    }
+}
+
+/// What happened at one command of a traced mission.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mark {
+    /// The operator changed.
+    Change(ChangeKind),
+    /// The robot gave up a behavior it had settled on.
+    Readaptation,
+    /// The robot switched behavior during an episode.
+    Switch,
+    /// The robot settled.
+    Settled,
+    /// The robot raised an alert.
+    Alert,
+    /// The operator became complacent.
+    Onset,
+}
+
+/// One command of a traced mission: the estimate of the behavior in use after it, the
+/// robot's own record, and what happened.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MissionStep {
+    /// The estimate after the command.
+    pub estimate: f64,
+    /// The robot's own record of a settled behavior (`None` during an episode).
+    pub own_record: Option<f64>,
+    /// Whether the command was untrustworthy.
+    pub untrustworthy: bool,
+    /// What happened at it.
+    pub marks: Vec<Mark>,
+}
+
+/// One arm's missions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionArmResult {
+    /// The arm's name.
+    pub arm: String,
+    /// Whether the operator answered the robot's alerts.
+    pub answers_alerts: bool,
+    /// Every mission, in order.
+    pub missions: Vec<MissionRecord>,
+    /// The first mission, command by command.
+    pub traced: Vec<MissionStep>,
+}
+
+/// A mission plan's results.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionResult {
+    /// The plan's name.
+    pub name: String,
+    /// Whether operators could grow complacent.
+    pub complacency: bool,
+    /// Every arm (answering alerts second, for complacency plans), in the plan's order.
+    pub arms: Vec<MissionArmResult>,
+}
+
+/// Runs every plan: each (plan, arm, whether alerts are answered) is a chain of missions,
+/// chains in parallel on the current rayon pool.
+pub fn run_missions<D: Domain>(
+    plans: &[MissionPlan<'_, D>],
+    seed: u64,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<MissionResult>, PlanError> {
+    let chains: Vec<(usize, usize, bool)> = plans
+        .iter()
+        .enumerate()
+        .flat_map(|(p, plan)| {
+            let answers: &[bool] = if plan.complacency.is_some() {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            (0..plan.arms.len()).flat_map(move |a| answers.iter().map(move |&y| (p, a, y)))
+        })
+        .collect();
+    let mut ran = chains
+        .par_iter()
+        .map(|&(p, a, answers)| run_chain(&plans[p], p as u64, a, answers, seed, &|| progress(p)))
+        .collect::<Result<Vec<_>, PlanError>>()?
+        .into_iter();
+    Ok(plans
+        .iter()
+        .map(|plan| {
+            let per_arm = if plan.complacency.is_some() { 2 } else { 1 };
+            MissionResult {
+                name: plan.name.clone(),
+                complacency: plan.complacency.is_some(),
+                arms: ran.by_ref().take(plan.arms.len() * per_arm).collect(),
+            }
+        })
+        .collect())
+}
+
+fn run_chain<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    index: u64,
+    arm_index: usize,
+    answers_alerts: bool,
+    seed: u64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<MissionArmResult, PlanError> {
+    let arm = &plan.arms[arm_index];
+    let mut adapter =
+        fresh_adapter(plan.domain, &plan.settings, arm, Mode::Mission).map_err(|reason| {
+            PlanError::Config {
+                plan: plan.name.clone(),
+                reason,
+            }
+        })?;
+    let mut missions = Vec::with_capacity(plan.missions as usize);
+    let mut traced = Vec::new();
+    for mission in 0..plan.missions {
+        let trace = (mission == 0).then_some(&mut traced);
+        missions.push(run_mission(
+            plan,
+            &mut adapter,
+            index,
+            mission,
+            answers_alerts,
+            seed,
+            trace,
+        ));
+        progress();
+    }
+    Ok(MissionArmResult {
+        arm: arm.name().to_owned(),
+        answers_alerts,
+        missions,
+        traced,
+    })
+}
+
+/// A change scheduled for a mission: when, what, and the operator after it.
+struct Scheduled {
+    at: u32,
+    kind: ChangeKind,
+    operator: usize,
+}
+
+/// The mission's first operator, initial behavior and changes, the same for every arm.
+fn schedule<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    setup: &mut dyn RngCore,
+) -> (usize, Behavior, Vec<Scheduled>) {
+    let n = plan.operators.len();
+    let first = setup.random_range(0..n);
+    let initial = plan.domain.space().draw(setup);
+    let mut changes = Vec::new();
+    let (mut at, mut operator) = (0.0f64, first);
+    loop {
+        let u: f64 = setup.random();
+        at += (-plan.changes.every * (1.0 - u).ln()).ceil().max(1.0);
+        if at >= f64::from(plan.commands) || n < 2 {
+            break;
+        }
+        let kind = if setup.random::<f64>() < plan.changes.takeover {
+            ChangeKind::Takeover
+        } else {
+            ChangeKind::Shift
+        };
+        // Another member, uniformly.
+        let mut next = setup.random_range(0..n - 1);
+        if next >= operator {
+            next += 1;
+        }
+        operator = next;
+        changes.push(Scheduled {
+            at: at as u32,
+            kind,
+            operator,
+        });
+    }
+    (first, initial, changes)
+}
+
+/// Whether `behavior` is trustworthy for `operator`: its mean weighted outcome over the
+/// plan's truth runs is above 0 (the expected estimate climbs).
+fn trustworthy<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    behavior: &Behavior,
+    operator: &D::Operator,
+    rng: &mut dyn RngCore,
+) -> bool {
+    let sum: f64 = (0..plan.truth_runs)
+        .map(|_| {
+            plan.domain
+                .run(behavior, operator, rng)
+                .outcome
+                .contribution()
+        })
+        .sum();
+    sum > 0.0
+}
+
+/// The operator's own state in a mission: its trust in the robot and whether it is
+/// complacent.
+struct OperatorState {
+    /// Its trust in the robot, in `[0, 1]`.
+    felt: f64,
+    /// The onset under way, if the operator is complacent.
+    onset: Option<usize>,
+}
+
+fn run_mission<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    adapter: &mut TrustAdapter,
+    index: u64,
+    mission: u32,
+    answers_alerts: bool,
+    seed: u64,
+    mut trace: Option<&mut Vec<MissionStep>>,
+) -> MissionRecord {
+    let m = u64::from(mission);
+    let mut setup = stream(seed, index, m, Purpose::Setup);
+    let (first, initial, scheduled) = schedule(plan, &mut setup);
+    adapter.reseed(stream_seed(seed, index, m, Purpose::Search));
+    let mut runs = stream(seed, index, m, Purpose::Runs);
+    let mut feedback = stream(seed, index, m, Purpose::Feedback);
+    let causes = plan.domain.causes();
+    adapter
+        .begin_episode(initial)
+        .expect("no episode is under way and the behavior is drawn from the space");
+    let mut record = MissionRecord {
+        mission,
+        changes: Vec::new(),
+        readaptations: 0,
+        false_alarms: 0,
+        alerts: Vec::new(),
+        onsets: Vec::new(),
+        failures: 0,
+        overlooked: 0,
+        untrustworthy: 0,
+    };
+    let mut operator = first;
+    let mut state = OperatorState {
+        felt: 0.0,
+        onset: None,
+    };
+    let mut behavior = initial;
+    let mut upcoming = scheduled.iter().peekable();
+    // The last change, while the robot has not settled since, and whether any change
+    // happened since the behavior in use settled.
+    let mut waiting: Option<usize> = None;
+    let mut changed_since_settled = false;
+    for c in 0..plan.commands {
+        let mut marks = Vec::new();
+        if let Some(change) = upcoming.next_if(|s| s.at == c) {
+            operator = change.operator;
+            if change.kind == ChangeKind::Takeover {
+                state = OperatorState {
+                    felt: 0.0,
+                    onset: None,
+                };
+            }
+            let mut truth = stream(
+                seed,
+                index,
+                m << 16 | record.changes.len() as u64,
+                Purpose::Truth,
+            );
+            let needed = !trustworthy(plan, &behavior, &plan.operators[operator].1, &mut truth);
+            waiting = Some(record.changes.len());
+            record.changes.push(ChangeRecord {
+                at: c,
+                kind: change.kind,
+                needed,
+                trusted_again: None,
+                untrustworthy: 0,
+            });
+            changed_since_settled = true;
+            marks.push(Mark::Change(change.kind));
+        }
+        let attention = plan
+            .complacency
+            .map_or(1.0, |model| model.attention(state.felt));
+        if attention < COMPLACENT_BELOW && state.onset.is_none() {
+            state.onset = Some(record.onsets.len());
+            record.onsets.push(OnsetRecord {
+                at: c,
+                detected_after: None,
+                perceivable: 0,
+            });
+            marks.push(Mark::Onset);
+        } else if attention >= RECOVERED_AT {
+            state.onset = None;
+        }
+        let judge = &plan.operators[operator].1;
+        let judgement = plan
+            .domain
+            .run_attending(&behavior, judge, attention, &mut runs);
+        let channel = plan.feedback.unwrap_or_else(|| plan.domain.feedback(judge));
+        let stated = channel.state(judgement.truth, causes, &mut feedback);
+        let outcome = judgement.outcome.stating(stated);
+        record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
+        record.overlooked += u32::from(judgement.overlooked.is_some());
+        if let Some(k) = state.onset {
+            let onset = &mut record.onsets[k];
+            let signalled = !outcome.observed.is_empty()
+                || outcome
+                    .confidence
+                    .is_some_and(|c| c < trust::overtrust::DOUBT_BELOW);
+            if judgement.overlooked.is_some() && signalled && onset.detected_after.is_none() {
+                onset.perceivable += 1;
+            }
+        }
+        if outcome.is_untrustworthy() {
+            record.untrustworthy += 1;
+            if let Some(k) = waiting {
+                record.changes[k].untrustworthy += 1;
+            }
+        }
+        if let Some(model) = plan.complacency {
+            let went_well = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
+            state.felt += (went_well - state.felt) / model.memory;
+        }
+        let was_watching = adapter.watching().is_some();
+        let decision = adapter
+            .record(&outcome)
+            .expect("domains report valid outcomes");
+        match decision {
+            Decision::Keep => {}
+            Decision::Alert(_) => {
+                record.alerts.push(c);
+                marks.push(Mark::Alert);
+                if let Some(k) = state.onset {
+                    let onset = &mut record.onsets[k];
+                    onset.detected_after.get_or_insert(c - onset.at);
+                }
+                if answers_alerts {
+                    // Asked to supervise, the operator looks afresh.
+                    state = OperatorState {
+                        felt: 0.0,
+                        onset: None,
+                    };
+                }
+            }
+            Decision::Switch { to, .. } => {
+                if was_watching {
+                    record.readaptations += 1;
+                    record.false_alarms += u32::from(!changed_since_settled);
+                    marks.push(Mark::Readaptation);
+                } else {
+                    marks.push(Mark::Switch);
+                }
+                behavior = to;
+            }
+            Decision::Settled(report) => {
+                behavior = report.settled;
+                changed_since_settled = false;
+                if report.found_trustworthy
+                    && let Some(k) = waiting.take()
+                {
+                    record.changes[k].trusted_again = Some(c + 1 - record.changes[k].at);
+                }
+                marks.push(Mark::Settled);
+            }
+        }
+        if let Some(steps) = trace.as_deref_mut() {
+            let estimate = adapter
+                .episode()
+                .map(|e| e.estimate.value)
+                .or_else(|| adapter.watching().map(|w| w.estimate.value))
+                .unwrap_or(0.0);
+            steps.push(MissionStep {
+                estimate,
+                own_record: adapter.watching().map(|_| adapter.own_record().value()),
+                untrustworthy: outcome.is_untrustworthy(),
+                marks,
+            });
+        }
+    }
+    adapter.abandon_episode();
+    record
+}

@@ -1,0 +1,154 @@
+//! The mission timeline figure: the trust estimate of the behavior in use over a whole
+//! mission, the robot's own record of a settled behavior, both thresholds, the changes of
+//! operator (which the robot is not told of), re-adaptations, alerts and complacency
+//! onsets.
+
+use crate::mission::{ChangeKind, Mark, MissionArmResult};
+use crate::plot::{Area, DrawResult, arm_style};
+use plotters::prelude::*;
+use trust::Thresholds;
+
+const CHANGE: RGBColor = RGBColor(120, 120, 120);
+const READAPTATION: RGBColor = RGBColor(200, 40, 40);
+const ALERT: RGBColor = RGBColor(230, 140, 0);
+const ONSET: RGBColor = RGBColor(120, 60, 170);
+const OWN: RGBColor = RGBColor(40, 40, 40);
+
+/// Draws `arm`'s first mission of plan `plan` against `thresholds`.
+pub fn mission_figure(
+    area: &Area<'_>,
+    plan: &str,
+    arm_index: usize,
+    arm: &MissionArmResult,
+    thresholds: &Thresholds,
+) -> DrawResult {
+    let steps = &arm.traced;
+    let n = steps.len().max(1) as f64;
+    let (low, high) = (thresholds.untrustworthy - 1.5, thresholds.trustworthy + 2.5);
+    let clamp = |v: f64| v.clamp(low, high);
+    let (plot, key) = area.split_vertically(area.dim_in_pixel().1.saturating_sub(30));
+    let answered = if arm.answers_alerts {
+        ", alerts answered"
+    } else {
+        ""
+    };
+    let mut chart = ChartBuilder::on(&plot)
+        .caption(
+            format!("{plan}: mission 0 ({} arm{answered})", arm.arm),
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..n, low..high)?;
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .x_desc("command of the mission")
+        .y_desc("trust estimate of the behavior in use")
+        .draw()?;
+    for value in [thresholds.trustworthy, thresholds.untrustworthy] {
+        chart.draw_series(DashedLineSeries::new(
+            [(0.0, value), (n, value)],
+            6,
+            4,
+            RGBColor(90, 90, 90).stroke_width(1),
+        ))?;
+    }
+    // Changes first, under the estimate.
+    for (i, step) in steps.iter().enumerate() {
+        for mark in &step.marks {
+            if let Mark::Change(kind) = mark {
+                let x = i as f64;
+                chart.draw_series(LineSeries::new(
+                    [(x, low), (x, high)],
+                    CHANGE.stroke_width(2),
+                ))?;
+                let label = match kind {
+                    ChangeKind::Takeover => "takeover",
+                    ChangeKind::Shift => "shift",
+                };
+                chart.draw_series(std::iter::once(Text::new(
+                    label,
+                    (x + n * 0.004, high - 0.3),
+                    ("sans-serif", 12).into_font().color(&CHANGE),
+                )))?;
+            }
+        }
+    }
+    let color = arm_style(&arm.arm, arm_index).color;
+    chart.draw_series(LineSeries::new(
+        steps
+            .iter()
+            .enumerate()
+            .map(|(i, s)| ((i + 1) as f64, clamp(s.estimate))),
+        color.stroke_width(1),
+    ))?;
+    // The own record where a behavior is settled, one segment per watch.
+    let mut segment: Vec<(f64, f64)> = Vec::new();
+    for (i, step) in steps.iter().enumerate() {
+        match step.own_record {
+            Some(v) => segment.push(((i + 1) as f64, clamp(v))),
+            None if !segment.is_empty() => {
+                chart.draw_series(DashedLineSeries::new(
+                    std::mem::take(&mut segment),
+                    3,
+                    3,
+                    OWN.stroke_width(1),
+                ))?;
+            }
+            None => {}
+        }
+    }
+    if !segment.is_empty() {
+        chart.draw_series(DashedLineSeries::new(segment, 3, 3, OWN.stroke_width(1)))?;
+    }
+    let top = high - 1.0;
+    for (i, step) in steps.iter().enumerate() {
+        let x = (i + 1) as f64;
+        for mark in &step.marks {
+            match mark {
+                Mark::Readaptation => {
+                    chart.draw_series(std::iter::once(TriangleMarker::new(
+                        (x, top),
+                        6,
+                        READAPTATION.filled(),
+                    )))?;
+                }
+                Mark::Alert => {
+                    chart.draw_series(std::iter::once(Circle::new(
+                        (x, top - 0.5),
+                        5,
+                        ALERT.filled(),
+                    )))?;
+                }
+                Mark::Onset => {
+                    chart.draw_series(std::iter::once(Cross::new(
+                        (x, top - 1.0),
+                        5,
+                        ONSET.stroke_width(2),
+                    )))?;
+                }
+                Mark::Change(_) | Mark::Switch | Mark::Settled => {}
+            }
+        }
+    }
+    let mut x = 72;
+    for (label, colour) in [
+        ("estimate", color),
+        ("own record (dashed)", OWN),
+        ("operator change", CHANGE),
+        ("re-adaptation (triangle)", READAPTATION),
+        ("alert (dot)", ALERT),
+        ("complacency onset (cross)", ONSET),
+    ] {
+        key.draw(&Rectangle::new([(x, 8), (x + 12, 20)], colour.filled()))?;
+        key.draw(&Text::new(
+            label,
+            (x + 16, 6),
+            ("sans-serif", 13).into_font(),
+        ))?;
+        x += 30 + crate::plot::text_width(label, 13) as i32;
+    }
+    Ok(())
+}

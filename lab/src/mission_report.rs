@@ -1,0 +1,430 @@
+//! What a mission suite reports per arm (docs/missions.md): how it met the changes, its
+//! false alarms, its alerts against complacency onsets, and the harm done with and
+//! without alerts answered, as tables (`missions.md`), data (`summary.json`, one record
+//! per mission in `missions.jsonl`) and a timeline figure per plan.
+
+use crate::mission::{DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult};
+use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
+use serde_json::{Value, json};
+use std::fmt::Write as _;
+
+/// One arm's missions summed up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionSummary {
+    /// The arm's name.
+    pub arm: String,
+    /// Whether the operator answered the robot's alerts.
+    pub answers_alerts: bool,
+    /// Missions run.
+    pub missions: usize,
+    /// Changes in all.
+    pub changes: usize,
+    /// Changes after which the behavior in use was not trustworthy for the new operator.
+    pub needed: usize,
+    /// Of those, changes after which the robot settled on a trustworthy behavior again
+    /// before the next change or the mission's end.
+    pub adapted: usize,
+    /// Commands from a change until trusted again, over the needed changes adapted to.
+    pub trusted_again: Option<MeanCi>,
+    /// Untrustworthy commands per change, over every change.
+    pub untrustworthy_per_change: Option<MeanCi>,
+    /// Re-adaptations per mission.
+    pub readaptations: MeanCi,
+    /// Re-adaptations without any change since the behavior settled, in all.
+    pub false_alarms: u32,
+    /// Missions with at least one alert.
+    pub missions_alerted: usize,
+    /// Complacency onsets in all.
+    pub onsets: usize,
+    /// Of those, onsets an alert followed within [`DETECTION_WINDOW`] commands.
+    pub detected_in_window: usize,
+    /// Onsets during which, before any alert, the operator overlooked a problem that came
+    /// with something the robot perceived (detectable in principle).
+    pub perceivable_onsets: usize,
+    /// Of those, onsets an alert followed within [`DETECTION_WINDOW`] commands.
+    pub perceivable_detected: usize,
+    /// The median detection delay (commands) of the onsets detected at all.
+    pub median_delay: Option<f64>,
+    /// Harm per mission (failures and problems nobody noticed).
+    pub harm: MeanCi,
+}
+
+fn summary_of(values: &[f64]) -> MeanCi {
+    mean_ci95(values).unwrap_or(MeanCi {
+        mean: 0.0,
+        ci95: 0.0,
+    })
+}
+
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    Some(if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        (values[n / 2 - 1] + values[n / 2]) / 2.0
+    })
+}
+
+impl MissionSummary {
+    /// Sums up `arm`'s missions.
+    pub fn of(arm: &MissionArmResult) -> Self {
+        let changes: Vec<_> = arm.missions.iter().flat_map(|m| &m.changes).collect();
+        let needed: Vec<_> = changes.iter().filter(|c| c.needed).collect();
+        let again: Vec<f64> = needed
+            .iter()
+            .filter_map(|c| c.trusted_again.map(f64::from))
+            .collect();
+        let per_change: Vec<f64> = changes.iter().map(|c| f64::from(c.untrustworthy)).collect();
+        let onsets: Vec<_> = arm.missions.iter().flat_map(|m| &m.onsets).collect();
+        let delays: Vec<f64> = onsets
+            .iter()
+            .filter_map(|o| o.detected_after.map(f64::from))
+            .collect();
+        let per_mission = |f: fn(&MissionRecord) -> f64| {
+            summary_of(&arm.missions.iter().map(f).collect::<Vec<_>>())
+        };
+        Self {
+            arm: arm.arm.clone(),
+            answers_alerts: arm.answers_alerts,
+            missions: arm.missions.len(),
+            changes: changes.len(),
+            needed: needed.len(),
+            adapted: again.len(),
+            trusted_again: mean_ci95(&again),
+            untrustworthy_per_change: mean_ci95(&per_change),
+            readaptations: per_mission(|m| f64::from(m.readaptations)),
+            false_alarms: arm.missions.iter().map(|m| m.false_alarms).sum(),
+            missions_alerted: arm.missions.iter().filter(|m| !m.alerts.is_empty()).count(),
+            onsets: onsets.len(),
+            detected_in_window: delays
+                .iter()
+                .filter(|&&d| d <= f64::from(DETECTION_WINDOW))
+                .count(),
+            perceivable_onsets: onsets.iter().filter(|o| o.perceivable > 0).count(),
+            perceivable_detected: onsets
+                .iter()
+                .filter(|o| {
+                    o.perceivable > 0 && o.detected_after.is_some_and(|d| d <= DETECTION_WINDOW)
+                })
+                .count(),
+            median_delay: median(delays),
+            harm: per_mission(|m| f64::from(m.harm())),
+        }
+    }
+
+    /// The arm's name in tables: `ARM` or `ARM, alerts answered`.
+    pub fn label(&self) -> String {
+        if self.answers_alerts {
+            format!("{}, alerts answered", self.arm)
+        } else {
+            self.arm.clone()
+        }
+    }
+}
+
+/// The harm of one arm's missions with and without alerts answered, paired by mission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HarmComparison {
+    /// The arm.
+    pub arm: String,
+    /// Harm per mission when alerts are ignored.
+    pub ignored: MeanCi,
+    /// Harm per mission when alerts are answered.
+    pub answered: MeanCi,
+    /// The paired difference, ignored minus answered.
+    pub difference: MeanCi,
+    /// The Wilcoxon signed-rank test's p-value (1 when every pair ties).
+    pub wilcoxon_p: f64,
+}
+
+/// The paired harm comparison of every arm of a complacency plan.
+pub fn harm_comparisons(result: &MissionResult) -> Vec<HarmComparison> {
+    let harm = |arm: &MissionArmResult| -> Vec<f64> {
+        arm.missions.iter().map(|m| f64::from(m.harm())).collect()
+    };
+    result
+        .arms
+        .iter()
+        .filter(|a| !a.answers_alerts)
+        .filter_map(|ignored| {
+            let answered = result
+                .arms
+                .iter()
+                .find(|a| a.answers_alerts && a.arm == ignored.arm)?;
+            let (without, with) = (harm(ignored), harm(answered));
+            let difference: Vec<f64> = without.iter().zip(&with).map(|(a, b)| a - b).collect();
+            Some(HarmComparison {
+                arm: ignored.arm.clone(),
+                ignored: summary_of(&without),
+                answered: summary_of(&with),
+                difference: summary_of(&difference),
+                wilcoxon_p: wilcoxon_signed_rank(&without, &with).unwrap_or(1.0),
+            })
+        })
+        .collect()
+}
+
+fn ci(value: Option<MeanCi>) -> String {
+    value.map_or("-".to_owned(), |v| format!("{:.1} ± {:.1}", v.mean, v.ci95))
+}
+
+fn share(part: usize, whole: usize) -> String {
+    if whole == 0 {
+        "-".to_owned()
+    } else {
+        format!(
+            "{part} of {whole} ({:.0}%)",
+            100.0 * part as f64 / whole as f64
+        )
+    }
+}
+
+/// The targets of docs/missions.md, checked on a plan's summaries: detection and harm on
+/// complacency plans, false alerts on the others. One line each.
+pub fn targets(result: &MissionResult, summaries: &[MissionSummary]) -> Vec<String> {
+    let mut lines = Vec::new();
+    if result.complacency {
+        for s in summaries.iter().filter(|s| !s.answers_alerts) {
+            let rate = (s.onsets > 0).then(|| s.detected_in_window as f64 / s.onsets as f64);
+            lines.push(format!(
+                "{}: {} of complacency onsets detected within {DETECTION_WINDOW} commands (target at least 90%): {}",
+                s.arm,
+                rate.map_or("none".to_owned(), |r| format!("{:.0}%", 100.0 * r)),
+                match rate {
+                    Some(r) if r >= 0.9 => "met",
+                    Some(_) => "missed",
+                    None => "no onset",
+                }
+            ));
+        }
+        for h in harm_comparisons(result) {
+            let lower = h.difference.mean > 0.0 && h.wilcoxon_p < 0.05;
+            lines.push(format!(
+                "{}: harm per mission {:.2} without alerts, {:.2} with (paired difference {:.2} ± {:.2}, Wilcoxon p = {:.2e}): {}",
+                h.arm,
+                h.ignored.mean,
+                h.answered.mean,
+                h.difference.mean,
+                h.difference.ci95,
+                h.wilcoxon_p,
+                if lower { "lower with alerts, met" } else { "not lower with alerts, missed" }
+            ));
+        }
+    } else {
+        for s in summaries {
+            let rate = s.missions_alerted as f64 / s.missions.max(1) as f64;
+            lines.push(format!(
+                "{}: false alerts on {:.1}% of missions without complacency (target at most 5%): {}",
+                s.arm,
+                100.0 * rate,
+                if rate <= 0.05 { "met" } else { "missed" }
+            ));
+        }
+    }
+    lines
+}
+
+/// The markdown tables of every plan (`missions.md`).
+pub fn missions_markdown(results: &[MissionResult]) -> String {
+    let mut md = String::from("# Missions\n\n");
+    for result in results {
+        let summaries: Vec<MissionSummary> = result.arms.iter().map(MissionSummary::of).collect();
+        let missions = summaries.first().map_or(0, |s| s.missions);
+        let _ = writeln!(md, "## {}\n\n{missions} missions per arm.\n", result.name);
+        md.push_str(
+            "| arm | changes needing adaptation | adapted to | commands until trusted again | untrustworthy commands per change | re-adaptations per mission | false alarms | missions with an alert | onsets detected within 25 commands | of those with a perceivable problem overlooked | median delay | harm per mission |\n",
+        );
+        md.push_str("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for s in &summaries {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {:.2} ± {:.2} | {} | {} | {} | {} | {} | {:.2} ± {:.2} |",
+                s.label(),
+                share(s.needed, s.changes),
+                share(s.adapted, s.needed),
+                ci(s.trusted_again),
+                ci(s.untrustworthy_per_change),
+                s.readaptations.mean,
+                s.readaptations.ci95,
+                s.false_alarms,
+                share(s.missions_alerted, s.missions),
+                share(s.detected_in_window, s.onsets),
+                share(s.perceivable_detected, s.perceivable_onsets),
+                s.median_delay.map_or("-".to_owned(), |d| format!("{d:.0}")),
+                s.harm.mean,
+                s.harm.ci95,
+            );
+        }
+        md.push('\n');
+        for line in targets(result, &summaries) {
+            let _ = writeln!(md, "- {line}");
+        }
+        md.push('\n');
+    }
+    md
+}
+
+/// The summaries of every plan (the mission report's `summary.json`).
+pub fn missions_json(results: &[MissionResult]) -> Value {
+    let ci_json = |v: Option<MeanCi>| v.map(|v| json!({"mean": v.mean, "ci95": v.ci95}));
+    Value::Array(
+        results
+            .iter()
+            .map(|result| {
+                let summaries: Vec<MissionSummary> =
+                    result.arms.iter().map(MissionSummary::of).collect();
+                json!({
+                    "plan": result.name,
+                    "complacency": result.complacency,
+                    "targets": targets(result, &summaries),
+                    "harm_with_and_without_alerts": harm_comparisons(result).iter().map(|h| json!({
+                        "arm": h.arm,
+                        "ignored": ci_json(Some(h.ignored)),
+                        "answered": ci_json(Some(h.answered)),
+                        "difference": ci_json(Some(h.difference)),
+                        "wilcoxon_p": h.wilcoxon_p,
+                    })).collect::<Vec<_>>(),
+                    "arms": summaries.iter().map(|s| json!({
+                        "arm": s.arm,
+                        "answers_alerts": s.answers_alerts,
+                        "missions": s.missions,
+                        "changes": s.changes,
+                        "needed": s.needed,
+                        "adapted": s.adapted,
+                        "commands_until_trusted_again": ci_json(s.trusted_again),
+                        "untrustworthy_per_change": ci_json(s.untrustworthy_per_change),
+                        "readaptations_per_mission": ci_json(Some(s.readaptations)),
+                        "false_alarms": s.false_alarms,
+                        "missions_alerted": s.missions_alerted,
+                        "onsets": s.onsets,
+                        "detected_within_25": s.detected_in_window,
+                        "perceivable_onsets": s.perceivable_onsets,
+                        "perceivable_detected_within_25": s.perceivable_detected,
+                        "median_detection_delay": s.median_delay,
+                        "harm_per_mission": ci_json(Some(s.harm)),
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect(),
+    )
+}
+
+/// One JSON line per mission of every arm (`missions.jsonl`).
+pub fn missions_jsonl(results: &[MissionResult]) -> String {
+    let mut out = String::new();
+    for result in results {
+        for arm in &result.arms {
+            for m in &arm.missions {
+                let line = json!({
+                    "plan": result.name,
+                    "arm": arm.arm,
+                    "answers_alerts": arm.answers_alerts,
+                    "harm": m.harm(),
+                    "record": m,
+                });
+                out.push_str(&line.to_string());
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mission::{ChangeKind, ChangeRecord, OnsetRecord};
+
+    fn mission(changes: Vec<ChangeRecord>, onsets: Vec<OnsetRecord>, harm: u32) -> MissionRecord {
+        MissionRecord {
+            mission: 0,
+            changes,
+            readaptations: 1,
+            false_alarms: 1,
+            alerts: vec![3],
+            onsets,
+            failures: harm,
+            overlooked: 0,
+            untrustworthy: 0,
+        }
+    }
+
+    fn change(needed: bool, trusted_again: Option<u32>, untrustworthy: u32) -> ChangeRecord {
+        ChangeRecord {
+            at: 10,
+            kind: ChangeKind::Shift,
+            needed,
+            trusted_again,
+            untrustworthy,
+        }
+    }
+
+    #[test]
+    fn a_summary_by_hand() {
+        let arm = MissionArmResult {
+            arm: "a".into(),
+            answers_alerts: false,
+            missions: vec![
+                mission(
+                    vec![change(true, Some(20), 4), change(false, None, 0)],
+                    vec![OnsetRecord {
+                        at: 5,
+                        detected_after: Some(10),
+                        perceivable: 1,
+                    }],
+                    2,
+                ),
+                mission(
+                    vec![change(true, None, 8), change(true, Some(40), 6)],
+                    vec![
+                        OnsetRecord {
+                            at: 5,
+                            detected_after: Some(30),
+                            perceivable: 0,
+                        },
+                        OnsetRecord {
+                            at: 50,
+                            detected_after: None,
+                            perceivable: 2,
+                        },
+                    ],
+                    4,
+                ),
+            ],
+            traced: Vec::new(),
+        };
+        let s = MissionSummary::of(&arm);
+        assert_eq!((s.changes, s.needed, s.adapted), (4, 3, 2));
+        assert_eq!(s.trusted_again.unwrap().mean, 30.0);
+        assert_eq!(s.untrustworthy_per_change.unwrap().mean, 4.5);
+        assert_eq!((s.false_alarms, s.missions_alerted), (2, 2));
+        assert_eq!((s.onsets, s.detected_in_window), (3, 1));
+        assert_eq!((s.perceivable_onsets, s.perceivable_detected), (2, 1));
+        assert_eq!(s.median_delay, Some(20.0));
+        assert_eq!(s.harm.mean, 3.0);
+        let answered = MissionArmResult {
+            answers_alerts: true,
+            missions: vec![
+                mission(Vec::new(), Vec::new(), 1),
+                mission(Vec::new(), Vec::new(), 1),
+            ],
+            ..arm.clone()
+        };
+        let result = MissionResult {
+            name: "p".into(),
+            complacency: true,
+            arms: vec![arm, answered],
+        };
+        let [h] = harm_comparisons(&result).try_into().unwrap();
+        assert_eq!(
+            (h.ignored.mean, h.answered.mean, h.difference.mean),
+            (3.0, 1.0, 2.0)
+        );
+        let lines = targets(&result, &[s]);
+        assert!(lines[0].contains("33% of complacency onsets") && lines[0].ends_with("missed"));
+    }
+}
