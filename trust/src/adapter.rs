@@ -16,6 +16,7 @@ use crate::explain::{Attribution, Explanation, GivenUp, Next, Vocabulary};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
+use crate::start::{FirstGuess, first_guess};
 use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
 use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
 use rand::SeedableRng;
@@ -673,5 +674,12 @@ impl TrustAdapter {
     /// The case base (every retained case, in order).
     pub fn cases(&self) -> &TrustCaseBase {
         self.memory.base()
+    }
+
+    /// The memory's best guess of a first behavior for an operator it does not yet know
+    /// ([`crate::start`]), `None` while the case base is empty; behaviors more similar
+    /// than the config's `lambda` count as the same.
+    pub fn first_guess(&self) -> Option<FirstGuess> {
+        first_guess(self.memory.base(), self.space(), self.config().lambda)
     }
 }

@@ -14,6 +14,8 @@
 //! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
 //!   and model-based search.
 //! - [`retrieval`]: the retrievers a config can name.
+//! - [`start`]: a learned first behavior, the case memory's best guess for an operator
+//!   the robot does not yet know.
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
 //!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
 //! - [`domain`]: the contract a task domain implements.
@@ -38,6 +40,7 @@ pub mod named;
 pub mod retrieval;
 pub mod search;
 pub mod select;
+pub mod start;
 #[cfg(feature = "testing")]
 pub mod testing;
 pub mod weights;
@@ -61,6 +64,7 @@ pub use feedback::{FeedbackChannel, FeedbackError};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};
 pub use select::{Selection, select_behavior};
+pub use start::{FirstGuess, first_guess};
 pub use weights::{OutcomeWeights, WeightsError};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};
