@@ -165,11 +165,11 @@ fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::E
                 match key {
                     Field::Name if name.is_none() => name = Some(map.next_value()?),
                     Field::Initial if initial.is_none() => {
-                        initial = Some(map.next_value().map_err(|e| {
-                            A::Error::custom(format!(
-                                "field `initial`: {e} (allowed: `random`, the paper's, or `learned`)"
-                            ))
-                        })?);
+                        // The parser's message lists the allowed values.
+                        initial = Some(
+                            map.next_value()
+                                .map_err(|e| A::Error::custom(format!("field `initial`: {e}")))?,
+                        );
                     }
                     Field::Name => return Err(A::Error::duplicate_field("name")),
                     Field::Initial => return Err(A::Error::duplicate_field("initial")),
