@@ -4,6 +4,7 @@
 
 use crate::catalog::Catalog;
 use crate::suite::arm_named;
+use lab::Initial;
 use service::DomainDefinition;
 use trust::{AdapterConfig, Domain};
 
@@ -29,7 +30,8 @@ pub fn served_domain<C: Catalog>(
 }
 
 /// `domain` served with the strategy of the arm `name` (the catalog's own arms, then the
-/// built-in ones): its searcher, its retriever and whether it reuses cases.
+/// built-in ones): its searcher, its retriever and whether it reuses cases. An arm that
+/// starts from the case memory's guess is refused: the controller's `begin` chooses.
 pub fn serving_arm<C: Catalog>(
     catalog: &C,
     mut domain: DomainDefinition,
@@ -37,6 +39,12 @@ pub fn serving_arm<C: Catalog>(
 ) -> anyhow::Result<DomainDefinition> {
     let arm = arm_named(catalog, name, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+    if arm.initial() != Initial::Random {
+        anyhow::bail!(
+            "--arm: `{name}` starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one); serve `{}`",
+            Initial::of_name(name).0
+        );
+    }
     domain.adapter.reuse_cases = arm.reuses_cases();
     let (searcher, retriever) = (arm.clone(), arm);
     Ok(domain

@@ -26,8 +26,8 @@ use lab::report::{
 use lab::seeds::{Purpose, stream_seed};
 use lab::timeline::{Timeline, sample_trial};
 use lab::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, PlanError, TracedCommand,
-    TrialRecord, TrialSettings, run_experiments, trace_trial,
+    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, Initial, LEARNED_START, OperatorChoice,
+    PlanError, TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
 };
 use serde::{Deserialize, Serialize};
 use service::StoreError;
@@ -96,8 +96,11 @@ pub struct SuiteConfig {
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub readings: BTreeMap<String, String>,
     /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
-    /// ([`Catalog::arms`]); default: every built-in arm.
-    #[serde(default = "default_arms")]
+    /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
+    /// episode from the case memory's guess); default: every built-in arm. A config may
+    /// also write an arm as `(name: "case-based", initial: learned)` (`initial`: `random`,
+    /// the default, or `learned`), which is read as the name `case-based+learned-start`.
+    #[serde(default = "default_arms", deserialize_with = "arm_names")]
     pub arms: Vec<String>,
     /// The arm the report tests every other arm against (p-values), one of `arms`;
     /// default ([`SuiteConfig::reference`]): `case-based` when it runs, else the first arm.
@@ -128,6 +131,64 @@ fn plain_name<S: serde::Serializer>(name: &Option<String>, s: S) -> Result<S::Ok
 /// Reads what [`plain_name`] writes.
 fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
     String::deserialize(d).map(Some)
+}
+
+/// Reads the arms of a suite: each a name, or `(name: NAME, initial: random | learned)`
+/// read as the name of the arm it stands for ([`Initial::of_name`]).
+fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
+    struct ArmName(String);
+    impl<'de> Deserialize<'de> for ArmName {
+        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            d.deserialize_any(ArmVisitor).map(ArmName)
+        }
+    }
+    struct ArmVisitor;
+    impl<'de> serde::de::Visitor<'de> for ArmVisitor {
+        type Value = String;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("an arm's name as a string, or `(name: \"case-based\", initial: learned)`")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
+            Ok(name.to_owned())
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<String, A::Error> {
+            use serde::de::Error;
+            /// The fields of an arm's options (read as identifiers, as RON writes them).
+            #[derive(Deserialize)]
+            #[serde(field_identifier, rename_all = "snake_case")]
+            enum Field {
+                Name,
+                Initial,
+            }
+            let (mut name, mut initial) = (None::<String>, None::<Initial>);
+            while let Some(key) = map.next_key::<Field>()? {
+                match key {
+                    Field::Name if name.is_none() => name = Some(map.next_value()?),
+                    Field::Initial if initial.is_none() => {
+                        // The parser's message lists the allowed values.
+                        initial = Some(
+                            map.next_value()
+                                .map_err(|e| A::Error::custom(format!("field `initial`: {e}")))?,
+                        );
+                    }
+                    Field::Name => return Err(A::Error::duplicate_field("name")),
+                    Field::Initial => return Err(A::Error::duplicate_field("initial")),
+                }
+            }
+            let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
+            if Initial::of_name(&name).1 == Initial::Learned {
+                return Err(A::Error::custom(format!(
+                    "field `name`: `{name}` already names how its episodes start; write the arm `{}` and set `initial`",
+                    Initial::of_name(&name).0
+                )));
+            }
+            Ok(match initial.unwrap_or_default() {
+                Initial::Random => name,
+                Initial::Learned => name + LEARNED_START,
+            })
+        }
+    }
+    Vec::<ArmName>::deserialize(d).map(|arms| arms.into_iter().map(|a| a.0).collect())
 }
 
 fn default_landscape_runs() -> u32 {
@@ -617,8 +678,9 @@ pub struct SuiteResults {
 }
 
 /// Case bases saved by an earlier run ([`save_case_bases`]): `DIR/EXPERIMENT/ARM.ron`, the
-/// experiment's name made a file name ([`file_stems`]). An arm that reuses cases starts
-/// from its file when there is one, and from an empty case base otherwise.
+/// experiment's name made a file name ([`file_stems`]). An arm that reads cases (it reuses
+/// them, or starts from their guess: [`Arm::reads_cases`]) starts from its file when there
+/// is one, and from an empty case base otherwise.
 #[derive(Clone, Debug)]
 pub struct StartingCases {
     /// The folder.
@@ -656,24 +718,33 @@ impl StartingCases {
     }
 }
 
-/// The arm `name`: the catalog's own arm of that name, or else a built-in one; the error
-/// lists every name known.
+/// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
+/// followed by [`LEARNED_START`] ([`Arm::learned_start`]); the error lists every name
+/// known.
 pub fn arm_named<C: Catalog>(
     catalog: &C,
     name: &str,
     retriever: RetrieverKind,
 ) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
-    if let Some(arm) = own.iter().find(|a| a.name() == name) {
-        return Ok(arm.clone());
-    }
-    Arm::builtin(name, retriever).map_err(|_| {
-        let known: Vec<&str> = BUILTIN_ARMS
-            .iter()
-            .copied()
-            .chain(own.iter().map(Arm::name))
-            .collect();
-        format!("unknown arm `{name}` (known: {})", known.join(", "))
+    let (base, initial) = Initial::of_name(name);
+    let arm = match own.iter().find(|a| a.name() == base) {
+        Some(arm) => arm.clone(),
+        None => Arm::builtin(base, retriever).map_err(|_| {
+            let known: Vec<&str> = BUILTIN_ARMS
+                .iter()
+                .copied()
+                .chain(own.iter().map(Arm::name))
+                .collect();
+            format!(
+                "unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START})",
+                known.join(", ")
+            )
+        })?,
+    };
+    Ok(match initial {
+        Initial::Random => arm,
+        Initial::Learned => arm.learned_start(),
     })
 }
 
@@ -957,7 +1028,7 @@ fn plans<'p, C: Catalog>(
         let mut plan_arms = Vec::with_capacity(arms.len());
         for arm in &arms {
             let saved = match starting {
-                Some(s) if arm.reuses_cases() => {
+                Some(s) if arm.reads_cases() => {
                     s.load(stem, arm.name(), &spec.scenario, domain.space())?
                 }
                 _ => None,
@@ -997,7 +1068,8 @@ fn plans<'p, C: Catalog>(
     Ok(plans)
 }
 
-/// Saves the case base each case-reusing arm ended every experiment with, as
+/// Saves the case base each case-reading arm ([`Arm::reads_cases`]) ended every
+/// experiment with, as
 /// `DIR/EXPERIMENT/ARM.ron` (what [`StartingCases`] reads), each file naming its scenario
 /// and behavior space as `trustcbr cases export` writes them, so that `cases info`,
 /// `cases import` and `serve` read it as it is. Returns the files written.
@@ -1570,8 +1642,146 @@ mod tests {
         assert!(
             err.contains("arms[0]")
                 && err.contains("unknown arm `yours`")
-                && err.ends_with("case-based+model-based, case-based+conditioned, mine)"),
+                && err.ends_with(
+                    "case-based+model-based, case-based+conditioned, mine; each also as NAME+learned-start)"
+                ),
             "{err}"
         );
+    }
+
+    #[test]
+    fn the_learned_start_suite_pairs_each_arm_with_its_learned_start() {
+        let file =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/experiments/learned-start.ron");
+        let suite = SuiteConfig::load(&UgvCatalog, &file).unwrap();
+        assert_eq!(suite.experiments.len(), 7 + 2 * 5);
+        for pair in suite.arms.chunks(2) {
+            assert_eq!(pair[1], format!("{}+learned-start", pair[0]));
+        }
+    }
+
+    #[test]
+    fn an_arm_may_start_from_the_memory_s_guess() {
+        let origin = Path::new("learned.ron");
+        let parse = |arms: &str| {
+            SuiteConfig::from_ron(
+                &WithOwnArm,
+                &format!(
+                    "(seed: 1, trials: 4, arms: {arms}, experiments: [(scenario: \"movement\", operator: \"random\")])"
+                ),
+                origin,
+            )
+        };
+        // Plain names are read as they always were; an arm's options are read as the
+        // name of the arm they make, for a built-in arm or the catalog's own.
+        let config = parse(
+            "[\"case-based\", (name: \"case-based\", initial: learned), (name: \"uniform\", initial: random), (name: \"mine\", initial: learned), \"conditioned+learned-start\"]",
+        )
+        .unwrap();
+        assert_eq!(
+            config.arms,
+            [
+                "case-based",
+                "case-based+learned-start",
+                "uniform",
+                "mine+learned-start",
+                "conditioned+learned-start"
+            ]
+        );
+        let back = SuiteConfig::from_ron(&WithOwnArm, &config.to_ron(), origin).unwrap();
+        assert_eq!(back, config);
+        let json = SuiteConfig::from_json(
+            &WithOwnArm,
+            r#"{"seed": 1, "trials": 4, "arms": ["uniform", {"name": "uniform", "initial": "learned"}], "experiments": [{"scenario": "movement", "operator": "random"}]}"#,
+            origin,
+        )
+        .unwrap();
+        assert_eq!(json.arms, ["uniform", "uniform+learned-start"]);
+        // A bad value is refused where it stands, with the allowed ones.
+        let err = parse("[\"uniform\",\n  (name: \"case-based\", initial: fast)]")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("learned.ron:2:")
+                && err.contains("field `initial`")
+                && err.contains("`random`")
+                && err.contains("`learned`"),
+            "{err}"
+        );
+        for (arms, expected) in [
+            (
+                "[(name: \"case-based+learned-start\", initial: learned)]",
+                "write the arm `case-based` and set `initial`",
+            ),
+            ("[(name: \"case-based\", start: learned)]", "start"),
+            ("[(initial: learned)]", "missing field `name`"),
+            ("[(name: \"x\", name: \"y\")]", "duplicate field `name`"),
+            ("[3]", "an arm's name as a string"),
+            (
+                "[\"case-based+learned-start\", (name: \"case-based\", initial: learned)]",
+                "arms[1]: `case-based+learned-start` is listed twice",
+            ),
+            (
+                "[(name: \"annealing\", initial: learned)]",
+                "unknown arm `annealing+learned-start`",
+            ),
+        ] {
+            let err = parse(arms).unwrap_err().to_string();
+            assert!(err.contains(expected), "{arms}: {err}");
+        }
+
+        // Every name works where arm names do: the run, the reference, a replayed trial,
+        // saved case bases read back.
+        let config = parse(
+            "[\"case-based\", (name: \"case-based\", initial: learned), (name: \"mine\", initial: learned)], reference: \"case-based+learned-start\"",
+        )
+        .unwrap();
+        assert_eq!(config.reference(), "case-based+learned-start");
+        let results = run_suite(&WithOwnArm, &config, origin, None, &|_| ()).unwrap();
+        let result = &results.results[0];
+        let names: Vec<&str> = result.arms.iter().map(|a| a.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "case-based",
+                "case-based+learned-start",
+                "mine+learned-start"
+            ]
+        );
+        for arm in &result.arms {
+            // Trial 0 of every arm starts from the same random behavior.
+            assert_eq!(arm.trials[0].initial, result.arms[0].trials[0].initial);
+            assert!(!arm.trials[0].learned_start);
+        }
+        let learned = &result.arms[1];
+        let replayed = trace_suite_trial(
+            &WithOwnArm,
+            &config,
+            origin,
+            None,
+            &result.name,
+            "case-based+learned-start",
+            3,
+        )
+        .unwrap()
+        .0;
+        assert_eq!(replayed.record, learned.trials[3]);
+        let dir = tempfile::tempdir().unwrap();
+        let written = save_case_bases(dir.path(), &config, &results).unwrap();
+        // Every arm reads cases: the plain one reuses them, the others start from them.
+        assert_eq!(written.len(), 3);
+        assert!(written[2].ends_with("movement-random/mine+learned-start.ron"));
+        let starting = StartingCases {
+            dir: dir.path().to_owned(),
+        };
+        let again = run_suite(&WithOwnArm, &config, origin, Some(&starting), &|_| ()).unwrap();
+        let mine = &again.results[0].arms[2];
+        assert_eq!(
+            mine.starting_cases,
+            result.arms[2].final_cases.as_ref().unwrap().len()
+        );
+        if mine.starting_cases > 0 {
+            assert!(mine.trials[0].learned_start);
+        }
     }
 }

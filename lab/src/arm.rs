@@ -1,12 +1,15 @@
 //! Arms: the strategies an experiment compares, as data.
 //!
 //! An [`Arm`] is a named way of adapting: a search strategy, whether cases are reused
-//! (Algorithm 1) and with which retriever, and optionally a case base to start from. The
-//! runner builds every arm's parts through factories, so a user's own searcher or
-//! retriever enters an experiment exactly as the built-in ones do ([`Arm::search_only`],
-//! [`Arm::case_based`]). [`Arm::builtin`] names the built-in arms.
+//! (Algorithm 1) and with which retriever, how each episode starts ([`Initial`]), and
+//! optionally a case base to start from. The runner builds every arm's parts through
+//! factories, so a user's own searcher or retriever enters an experiment exactly as the
+//! built-in ones do ([`Arm::search_only`], [`Arm::case_based`]). [`Arm::builtin`] names
+//! the built-in arms; any arm's name followed by [`LEARNED_START`] is that arm starting
+//! each episode from the memory's guess ([`Arm::learned_start`]).
 
 use cbr_core::BehaviorSpace;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::sync::Arc;
 use trust::retrieval::RetrieverKind;
@@ -27,9 +30,48 @@ pub const BUILTIN_ARMS: [&str; 9] = [
     "case-based+conditioned",
 ];
 
-/// What each built-in arm does, in one line (docs/search-strategies.md tells more);
-/// `None` for an arm that is not built in.
-pub fn describe(name: &str) -> Option<&'static str> {
+/// What ends the name of an arm that starts each episode from the memory's guess
+/// ([`Initial::Learned`]): `case-based+conditioned+learned-start`.
+pub const LEARNED_START: &str = "+learned-start";
+
+/// How each episode of an arm starts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Initial {
+    /// The trial's uniformly random behavior (the paper's protocol).
+    #[default]
+    Random,
+    /// The case memory's best guess for an operator it does not yet know
+    /// ([`trust::start`]); the trial's random behavior while the memory is empty.
+    Learned,
+}
+
+impl Initial {
+    /// The arm name `name` split into the name of the arm it is built on and how its
+    /// episodes start: `x+learned-start` is `x`, learned; any other name starts at random.
+    pub fn of_name(name: &str) -> (&str, Initial) {
+        match name.strip_suffix(LEARNED_START) {
+            Some(base) => (base, Initial::Learned),
+            None => (name, Initial::Random),
+        }
+    }
+}
+
+/// What each built-in arm does, in one line (docs/search-strategies.md tells more),
+/// followed for a [`LEARNED_START`] arm by how it starts; `None` for an arm that is not
+/// built in.
+pub fn describe(name: &str) -> Option<String> {
+    let (base, initial) = Initial::of_name(name);
+    let what = describe_builtin(base)?;
+    Some(match initial {
+        Initial::Random => what.to_owned(),
+        Initial::Learned => format!(
+            "{what}; each episode starts from the behavior earlier operators accepted most often (the case memory's guess), not at random"
+        ),
+    })
+}
+
+fn describe_builtin(name: &str) -> Option<&'static str> {
     Some(match name {
         "random-walk" => {
             "the paper's search: from the behavior that resisted longest, an untried behavior at the fewest changes; no case reuse"
@@ -62,6 +104,7 @@ pub struct Arm {
     name: String,
     searcher: SearcherFactory,
     retriever: Option<RetrieverFactory>,
+    initial: Initial,
     starting_cases: Option<Arc<TrustCaseBase>>,
 }
 
@@ -70,6 +113,7 @@ impl fmt::Debug for Arm {
         f.debug_struct("Arm")
             .field("name", &self.name)
             .field("reuses_cases", &self.reuses_cases())
+            .field("initial", &self.initial)
             .field(
                 "starting_cases",
                 &self.starting_cases.as_ref().map(|c| c.len()),
@@ -80,7 +124,7 @@ impl fmt::Debug for Arm {
 
 /// An arm name that is not a built-in one.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown arm `{name}` (known: {})", BUILTIN_ARMS.join(", "))]
+#[error("unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START})", BUILTIN_ARMS.join(", "))]
 pub struct UnknownArm {
     /// The name asked for.
     pub name: String,
@@ -97,6 +141,7 @@ impl Arm {
             name: name.into(),
             searcher: Arc::new(searcher),
             retriever: None,
+            initial: Initial::Random,
             starting_cases: None,
         }
     }
@@ -122,16 +167,39 @@ impl Arm {
         self
     }
 
+    /// The same arm starting each episode from the case memory's guess
+    /// ([`Initial::Learned`]), named with [`LEARNED_START`] after its name (once: an arm
+    /// that already starts so is returned as it is). Its trials read the cases earlier
+    /// ones retained, so they run in order even where the arm reuses no case.
+    pub fn learned_start(mut self) -> Self {
+        if self.initial == Initial::Random {
+            self.initial = Initial::Learned;
+            self.name.push_str(LEARNED_START);
+        }
+        self
+    }
+
     /// A built-in arm by name ([`BUILTIN_ARMS`]): `NAME` is a search strategy alone and
     /// `case-based+NAME` is Algorithm 1 with it as fallback (`case-based` falls back to
-    /// the random walk, as in the paper); case-based arms use `retriever`.
+    /// the random walk, as in the paper); case-based arms use `retriever`. Each name
+    /// followed by [`LEARNED_START`] is the same arm with [`Arm::learned_start`].
     pub fn builtin(name: &str, retriever: RetrieverKind) -> Result<Self, UnknownArm> {
         let unknown = || UnknownArm {
             name: name.to_owned(),
         };
-        if !BUILTIN_ARMS.contains(&name) {
+        let (base, initial) = Initial::of_name(name);
+        if !BUILTIN_ARMS.contains(&base) {
             return Err(unknown());
         }
+        let arm = Self::builtin_random(base, retriever).ok_or_else(unknown)?;
+        Ok(match initial {
+            Initial::Random => arm,
+            Initial::Learned => arm.learned_start(),
+        })
+    }
+
+    /// The built-in arm `name` (one of [`BUILTIN_ARMS`]), starting at random.
+    fn builtin_random(name: &str, retriever: RetrieverKind) -> Option<Self> {
         let (reuse, search) = match name {
             "case-based" => (true, "random-walk"),
             other => match other.strip_prefix("case-based+") {
@@ -139,12 +207,9 @@ impl Arm {
                 None => (false, other),
             },
         };
-        let kind = SearchKind::ALL
-            .into_iter()
-            .find(|k| k.name() == search)
-            .ok_or_else(unknown)?;
+        let kind = SearchKind::ALL.into_iter().find(|k| k.name() == search)?;
         let searcher = move |_: &Arc<BehaviorSpace>| kind.build();
-        Ok(if reuse {
+        Some(if reuse {
             Self::case_based(name, searcher, move |space, lambda| {
                 retriever.build(space.clone(), lambda)
             })
@@ -161,6 +226,17 @@ impl Arm {
     /// Whether the arm reuses cases (Algorithm 1).
     pub fn reuses_cases(&self) -> bool {
         self.retriever.is_some()
+    }
+
+    /// How the arm's episodes start.
+    pub fn initial(&self) -> Initial {
+        self.initial
+    }
+
+    /// Whether the arm reads the cases earlier episodes retained: it reuses them, or it
+    /// starts each episode from their guess.
+    pub fn reads_cases(&self) -> bool {
+        self.reuses_cases() || self.initial == Initial::Learned
     }
 
     /// The case base the arm starts from, if any.
@@ -216,5 +292,47 @@ mod tests {
                 .contains("known: random-walk, case-based, uniform")
         );
         assert!(Arm::builtin("annealing", RetrieverKind::Linear).is_err());
+    }
+
+    #[test]
+    fn a_learned_start_is_a_suffix_of_any_arm_name() {
+        let arm = Arm::builtin(
+            "case-based+conditioned+learned-start",
+            RetrieverKind::Linear,
+        )
+        .unwrap();
+        assert_eq!(arm.name(), "case-based+conditioned+learned-start");
+        assert_eq!(arm.initial(), Initial::Learned);
+        assert!(arm.reuses_cases() && arm.reads_cases());
+        // A search-only arm that starts from the guess reads cases, without reusing them.
+        let arm = Arm::builtin("uniform+learned-start", RetrieverKind::Linear).unwrap();
+        assert!(!arm.reuses_cases() && arm.reads_cases());
+        let plain = Arm::builtin("uniform", RetrieverKind::Linear).unwrap();
+        assert_eq!(plain.initial(), Initial::Random);
+        assert!(!plain.reads_cases());
+        // Once only.
+        assert_eq!(arm.learned_start().name(), "uniform+learned-start");
+        for bad in [
+            "learned-start",
+            "+learned-start",
+            "uniform+learned-start+learned-start",
+        ] {
+            let err = Arm::builtin(bad, RetrieverKind::Linear).unwrap_err();
+            assert!(err.to_string().contains("each also as NAME+learned-start"));
+        }
+        assert_eq!(
+            Initial::of_name("mine+learned-start"),
+            ("mine", Initial::Learned)
+        );
+        assert!(
+            describe("case-based+learned-start")
+                .unwrap()
+                .contains("not at random")
+        );
+        assert_eq!(
+            describe("uniform").unwrap(),
+            "an untried behavior uniformly at random: the baseline a learning strategy must beat"
+        );
+        assert_eq!(describe("mine+learned-start"), None);
     }
 }

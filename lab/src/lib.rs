@@ -8,7 +8,8 @@
 //!
 //! A *trial* is one adaptation episode driven through the same
 //! [`TrustAdapter`](trust::TrustAdapter) a robot embeds. An *experiment* runs a number of trials with one operator (or one drawn
-//! at random per trial) once per [`Arm`] (a search strategy, with or without case reuse),
+//! at random per trial) once per [`Arm`] (a search strategy, with or without case reuse,
+//! starting each episode at random or from the memory's guess),
 //! pairing trial `i` of every arm. Arms, statistics and report files live in submodules.
 
 #![deny(missing_docs)]
@@ -28,7 +29,7 @@ pub mod seeds;
 pub mod stats;
 pub mod timeline;
 
-pub use arm::{Arm, BUILTIN_ARMS, UnknownArm};
+pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};
 pub use heatmap::LandscapeSvgError;
 pub use known_operator::KnownLimitError;
 pub use landscape::LandscapeError;

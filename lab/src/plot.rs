@@ -3,6 +3,7 @@
 //! labels for categories and counts, and a conservative estimate of text width for
 //! layouts (plotters' SVG backend cannot measure text, and underestimates it).
 
+use crate::arm::Initial;
 use cbr_core::NamedComponent;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -226,18 +227,22 @@ pub struct ArmStyle {
 
 /// The style of the arm named `name`, at `index` in its experiment: each built-in arm
 /// ([`crate::arm::BUILTIN_ARMS`]) has its own, the same in every figure of every report
-/// and sweep (the paper's two: vermillion discs and blue squares); another arm gets one
-/// by its index.
+/// and sweep (the paper's two: vermillion discs and blue squares); a built-in arm that
+/// starts from the case memory's guess ([`crate::arm::LEARNED_START`]) has its base arm's
+/// shape in another colour, never one of the paper's two; another arm gets one by its
+/// index.
 pub fn arm_style(name: &str, index: usize) -> ArmStyle {
-    let k = crate::arm::BUILTIN_ARMS
-        .iter()
-        .position(|&a| a == name)
-        .unwrap_or(index);
+    let (base, initial) = Initial::of_name(name);
+    let builtin = crate::arm::BUILTIN_ARMS.iter().position(|&a| a == base);
+    let k = builtin.unwrap_or(index);
     // The paper's two colours are theirs alone; the others take turns.
-    let color = if k < 2 {
-        k
-    } else {
-        2 + (k - 2) % (ARM_COLORS.len() - 2)
+    let others = ARM_COLORS.len() - 2;
+    let color = match (builtin, initial) {
+        // Three places along the others' turn from where the base arm's would be: never
+        // its base arm's colour.
+        (Some(_), Initial::Learned) => 2 + (k + 3) % others,
+        _ if k < 2 => k,
+        _ => 2 + (k - 2) % others,
     };
     ArmStyle {
         color: ARM_COLORS[color],
@@ -579,6 +584,13 @@ mod tests {
         for (i, a) in builtin.iter().enumerate() {
             assert!(builtin[..i].iter().all(|b| b.shape != a.shape));
             assert!(i < 2 || builtin[..2].iter().all(|b| b.color != a.color));
+        }
+        // A learned start keeps its base arm's shape in a colour of its own.
+        for (k, name) in crate::arm::BUILTIN_ARMS.iter().enumerate() {
+            let learned = arm_style(&format!("{name}{}", crate::arm::LEARNED_START), 0);
+            assert_eq!(learned.shape, builtin[k].shape);
+            assert_ne!(learned.color, builtin[k].color);
+            assert!(builtin[..2].iter().all(|b| b.color != learned.color));
         }
         assert_eq!(
             drawing_order(&["uniform", "case-based", "random-walk", "x"]),

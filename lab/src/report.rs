@@ -4,6 +4,7 @@
 //! and where the final behaviors land in the behavior space, over the operator's
 //! landscape). Every file is written atomically.
 
+use crate::arm::Initial;
 use crate::heatmap::{self, KEY_WIDTH};
 use crate::known_operator::ExperimentLimit;
 use crate::landscape::{self, Grid, Landscape};
@@ -497,6 +498,63 @@ pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
+/// Whether an experiment has an arm that starts each episode from the case memory's guess.
+fn has_learned_start(e: &ReportEntry<'_>) -> bool {
+    e.result.arms.iter().any(|a| a.initial == Initial::Learned)
+}
+
+/// Every arm of each experiment that has one starting from the case memory's guess
+/// ([`Initial::Learned`]), against the known-operator limit free to choose its first
+/// behavior (the paper's limit assumes a random first behavior, which such an arm does not
+/// take): the limit, then each arm's behaviors, commands and untrustworthy commands (mean
+/// ± 95% CI) with their multiples of the limit's where it is not 0. Empty when no such
+/// experiment has a limit.
+pub fn free_first_table(entries: &[ReportEntry<'_>]) -> String {
+    let mut out = String::new();
+    for e in entries.iter().filter(|e| has_learned_start(e)) {
+        let Some(limit) = e.limit else {
+            continue;
+        };
+        if out.is_empty() {
+            out.push_str(
+                "| Experiment | Arm or limit | Behaviors | Commands | Untrustworthy commands |\n",
+            );
+            out.push_str("|---|---|---:|---:|---:|\n");
+        }
+        let free = limit.limit.free_first;
+        let _ = writeln!(
+            out,
+            "| {} | {}, free to choose its first behavior | {:.2} | {:.1} | {:.1} |",
+            e.result.name,
+            limit_label(limit),
+            free.behaviors,
+            free.commands,
+            free.untrustworthy
+        );
+        for arm in &e.result.arms {
+            let [b, c, u] = ratios(arm, &free);
+            let cell = |mean: &MeanCi, ratio: f64| {
+                let cell = mean_cell(mean, 0);
+                if ratio.is_finite() {
+                    format!("{cell} ({ratio:.2} ×)")
+                } else {
+                    cell
+                }
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | {} | {} |",
+                e.result.name,
+                arm.name,
+                cell(&arm.behaviors, b),
+                cell(&arm.commands, c),
+                cell(&arm.untrustworthy, u)
+            );
+        }
+    }
+    out
+}
+
 /// How much each experiment's operators disagree, measured on their trustworthy regions
 /// (the landscapes behind the limit): the behaviors each trusts, those all trust, the
 /// pairwise Jaccard index, whether one behavior pleases everyone. Empty when no experiment
@@ -573,13 +631,24 @@ fn summary_of(
                 });
                 summary["t_test_p_vs_reference"] = json!(tests.map(|t| t.t_test_p));
                 summary["wilcoxon_p_vs_reference"] = json!(tests.map(|t| t.wilcoxon_p));
-                if let Some(limit) = e.limit {
-                    let [b, c, u] = ratios(arm, &limit.limit.paper);
-                    summary["ratio_to_limit"] = json!({
+                let ratio_json = |[b, c, u]: [f64; 3]| {
+                    json!({
                         "behaviors": finite_or_null(b),
                         "commands": finite_or_null(c),
                         "untrustworthy": finite_or_null(u),
-                    });
+                    })
+                };
+                if let Some(limit) = e.limit {
+                    summary["ratio_to_limit"] = ratio_json(ratios(arm, &limit.limit.paper));
+                }
+                // Only where an arm starts from the memory's guess, so that other reports
+                // stay as they were.
+                if arm.initial == Initial::Learned {
+                    summary["initial"] = json!(arm.initial);
+                    if let Some(limit) = e.limit {
+                        summary["ratio_to_free_first_limit"] =
+                            ratio_json(ratios(arm, &limit.limit.free_first));
+                    }
                 }
                 strategies.insert(arm.name.clone(), summary);
             }
@@ -675,6 +744,9 @@ struct TrialLine<'a> {
     #[serde(rename = "final")]
     final_behavior: Map<String, Value>,
     initial: Map<String, Value>,
+    /// Whether the initial behavior was the case memory's guess (left out when not).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    learned_start: bool,
     searched: u32,
     reused: u32,
     retained: bool,
@@ -733,6 +805,7 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         found_trustworthy: t.report.found_trustworthy,
         final_behavior: named_behavior(e.space, &t.report.settled),
         initial: named_behavior(e.space, &t.initial),
+        learned_start: t.learned_start,
         searched: t.report.searched,
         reused: t.report.reused,
         retained: t.report.retained.is_some(),
@@ -769,6 +842,9 @@ pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<Strin
     stems
 }
 
+/// The title of [`free_first_table`]'s section.
+const FREE_FIRST_TITLE: &str = "Arms that may start from the case memory's guess, against the known-operator limit free to choose its first behavior";
+
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
 /// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
 pub fn write_report(
@@ -785,11 +861,17 @@ pub fn write_report(
     };
     let effects = all_effect_sizes(entries);
     let limits = limit_table(entries);
+    let free_first = free_first_table(entries);
     let limits = if limits.is_empty() {
         String::new()
     } else {
         format!(
-            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}\n## How much each experiment's operators disagree (their trustworthy regions)\n\n{}",
+            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}{}\n## How much each experiment's operators disagree (their trustworthy regions)\n\n{}",
+            if free_first.is_empty() {
+                String::new()
+            } else {
+                format!("\n## {FREE_FIRST_TITLE}\n\n{free_first}")
+            },
             population_table(entries)
         )
     };
@@ -1160,16 +1242,24 @@ fn glossary(entries: &[ReportEntry<'_>]) -> String {
             continue;
         }
         seen.push(&arm.name);
-        let what = crate::arm::describe(&arm.name).unwrap_or(if arm.reuses_cases {
-            "an arm of the catalog's own that reuses cases"
-        } else {
-            "an arm of the catalog's own"
+        let what = crate::arm::describe(&arm.name).unwrap_or_else(|| {
+            let what = if arm.reuses_cases {
+                "an arm of the catalog's own that reuses cases"
+            } else {
+                "an arm of the catalog's own"
+            };
+            match arm.initial {
+                Initial::Random => what.to_owned(),
+                Initial::Learned => {
+                    format!("{what}, starting each episode from the case memory's guess")
+                }
+            }
         });
         let _ = writeln!(
             html,
             "<dt><code>{}</code></dt><dd>{}</dd>",
             escape(&arm.name),
-            escape(what)
+            escape(&what)
         );
     }
     html.push_str("</dl>\n<h3>Metrics</h3>\n<dl>\n");
@@ -1246,6 +1336,10 @@ fn html_page(
             "Against the known-operator limit (the paper's protocol: a random first behavior)",
             html_table(&limits),
         );
+        let free_first = free_first_table(entries);
+        if !free_first.is_empty() {
+            section("free-first", FREE_FIRST_TITLE, html_table(&free_first));
+        }
         section(
             "population",
             "How much each experiment's operators disagree (their trustworthy regions)",

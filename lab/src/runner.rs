@@ -6,10 +6,11 @@
 //! *chain*; chains run in parallel on the current rayon pool, and so do the trials of a
 //! chain whose arm reads nothing from earlier episodes. Every random draw comes from a
 //! stream named by (seed, experiment, trial, purpose), and trial `i` of every arm gets the
-//! same streams (operator and initial behavior, simulated runs, search), so arms are
-//! paired trial by trial and results do not depend on the number of threads.
+//! same streams (operator and random initial behavior, simulated runs, search), so arms
+//! are paired trial by trial and results do not depend on the number of threads; an arm
+//! that starts from the case memory's guess draws the random behavior all the same.
 
-use crate::arm::Arm;
+use crate::arm::{Arm, Initial};
 use crate::seeds::{Purpose, stream, stream_seed};
 use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use cbr_core::Behavior;
@@ -137,6 +138,10 @@ pub struct TrialRecord {
     pub operator: String,
     /// The behavior the trial started with.
     pub initial: Behavior,
+    /// Whether it was the case memory's guess (an arm with [`Initial::Learned`] whose
+    /// memory held a case) rather than the trial's random draw.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub learned_start: bool,
     /// How the episode ended.
     pub report: EpisodeReport,
     /// Whether the trial hit `max_commands` and was abandoned.
@@ -295,6 +300,8 @@ pub struct ArmResult {
     pub name: String,
     /// Whether the arm reuses cases.
     pub reuses_cases: bool,
+    /// How the arm's episodes start.
+    pub initial: Initial,
     /// Cases the arm started from (0: an empty case base).
     pub starting_cases: usize,
     /// Behaviors evaluated per trial (the paper's metric).
@@ -307,7 +314,7 @@ pub struct ArmResult {
     pub found_share: MeanCi,
     /// Cases retained during the experiment.
     pub cases_acquired: usize,
-    /// The case base at the end (arms that reuse cases only).
+    /// The case base at the end (arms that read cases only: [`Arm::reads_cases`]).
     pub final_cases: Option<TrustCaseBase>,
     /// This arm against the first arm (`None` for the first arm).
     pub versus_first: Option<PairedTests>,
@@ -529,13 +536,14 @@ fn run_chain<D: Domain>(
             traced: tracing.then_some(commands),
         })
     };
-    // Every trial reads what earlier ones left: the case base, a learning search, and
-    // what the explanations learned from the reasons operators stated (trust::explain),
-    // so a chain runs in order. Where an arm reads none of these (it reuses no case, its
-    // search forgets, and no operator of the plan ever states a reason), trials are
-    // independent: each gets a fresh adapter and they run in parallel, with the same
-    // records; the cases the episodes would have retained are counted.
-    let independent = !arm.reuses_cases() && !adapter.learns_across_episodes() && plan.never_told();
+    // Every trial reads what earlier ones left: the case base (reused, or guessed a first
+    // behavior from), a learning search, and what the explanations learned from the
+    // reasons operators stated (trust::explain), so a chain runs in order. Where an arm
+    // reads none of these (it reads no case, its search forgets, and no operator of the
+    // plan ever states a reason), trials are independent: each gets a fresh adapter and
+    // they run in parallel, with the same records; the cases the episodes would have
+    // retained are counted.
+    let independent = !arm.reads_cases() && !adapter.learns_across_episodes() && plan.never_told();
     let outputs: Vec<ChainTrial> = if independent {
         (0..plan.trials)
             .into_par_iter()
@@ -564,7 +572,7 @@ fn run_chain<D: Domain>(
     } else {
         (
             adapter.cases().len() - starting_cases,
-            arm.reuses_cases().then(|| adapter.cases().clone()),
+            arm.reads_cases().then(|| adapter.cases().clone()),
         )
     };
     let summary = |values: Vec<f64>| {
@@ -581,6 +589,7 @@ fn run_chain<D: Domain>(
     Ok(ArmResult {
         name: arm.name().to_owned(),
         reuses_cases: arm.reuses_cases(),
+        initial: arm.initial(),
         starting_cases,
         behaviors: of(|t| t.report.behaviors_evaluated as f64),
         commands: of(|t| t.report.commands as f64),
@@ -679,10 +688,12 @@ pub fn trace_trial<D: Domain>(
     Ok((record, commands))
 }
 
-/// One trial: an episode from a drawn initial behavior until the adapter settles. Every
-/// judgement's true reason must be one the domain declares; the adapter is told only the
-/// outcome, with the reason the operator's feedback channel states (drawn on the trial's
-/// feedback stream).
+/// One trial: an episode from its initial behavior until the adapter settles. The
+/// trial's random behavior is always drawn, so every arm's streams stay paired; an arm
+/// with [`Initial::Learned`] starts instead from the case memory's guess when it has one.
+/// Every judgement's true reason must be one the domain declares; the adapter is told
+/// only the outcome, with the reason the operator's feedback channel states (drawn on the
+/// trial's feedback stream).
 fn run_trial<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     adapter: &mut TrustAdapter,
@@ -699,7 +710,12 @@ fn run_trial<D: Domain>(
         OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
     };
     let (operator_name, operator) = &plan.operators[operator_index];
-    let initial = space.draw(&mut setup);
+    let drawn = space.draw(&mut setup);
+    let guess = match arm.initial() {
+        Initial::Random => None,
+        Initial::Learned => adapter.first_guess(),
+    };
+    let initial = guess.map_or(drawn, |g| g.behavior);
     adapter.reseed(stream_seed(
         seed,
         experiment,
@@ -794,6 +810,7 @@ fn run_trial<D: Domain>(
             arm: arm.name().to_owned(),
             operator: operator_name.clone(),
             initial,
+            learned_start: guess.is_some(),
             report,
             truncated,
             true_causes,

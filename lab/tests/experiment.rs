@@ -459,3 +459,81 @@ fn plot_names_never_collide() {
     // three summary figures, the effect sizes, the four figures over trials and the page.
     assert_eq!(on_disk, 3 * 2 + 4 + 3 + 1 + 4 + 1);
 }
+
+#[test]
+fn a_learned_start_begins_from_the_memory_once_it_holds_a_case() {
+    let toy = Toy::new();
+    let ops = operators();
+    let learned = |name: &str| Arm::builtin(name, RetrieverKind::Linear).unwrap();
+    let mut plans = plans(&toy, &ops, 30);
+    for plan in &mut plans {
+        plan.arms = vec![
+            learned("case-based"),
+            learned("case-based+learned-start"),
+            // A search-only arm reads the cases it retains only to start from them.
+            learned("uniform+learned-start"),
+        ];
+    }
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| run_experiments(&plans, 4, &|_| {}))
+            .unwrap()
+    };
+    let results = run(2);
+    assert_eq!(
+        trials_jsonl(&entries(&results, &toy)),
+        trials_jsonl(&entries(&run(1), &toy))
+    );
+    for result in &results {
+        let random = &result.arms[0];
+        for arm in &result.arms[1..] {
+            assert_eq!(arm.initial, lab::Initial::Learned);
+            let cases = arm
+                .final_cases
+                .as_ref()
+                .expect("an arm that reads cases keeps them");
+            let mut held = 0;
+            for (t, paired) in arm.trials.iter().zip(&random.trials) {
+                assert_eq!(t.operator, paired.operator);
+                // An empty memory has no guess: the trial's random behavior, as every arm
+                // draws it; afterwards a remembered solution.
+                assert_eq!(t.learned_start, held > 0, "{} trial {}", arm.name, t.trial);
+                if t.learned_start {
+                    assert!(
+                        cases.cases()[..held]
+                            .iter()
+                            .any(|c| c.solution == t.initial)
+                    );
+                } else {
+                    assert_eq!(t.initial, paired.initial);
+                }
+                held += usize::from(t.report.retained.is_some());
+            }
+            assert_eq!(held, cases.len());
+            // The replay of a later trial is the trial that ran.
+            let index = result.arms.iter().position(|a| a.name == arm.name).unwrap();
+            let plan = plans.iter().find(|p| p.name == result.name).unwrap();
+            let k = plans.iter().position(|p| p.name == result.name).unwrap();
+            let (record, _) = lab::trace_trial(plan, k as u64, index, 20, 4).unwrap();
+            assert_eq!(record, arm.trials[20]);
+        }
+    }
+    // With one operator who trusts one behavior, the memory's guess is that behavior
+    // once it has been found: the learned arms need fewer behaviors.
+    let low = &results[0];
+    assert!(
+        low.arms[1].behaviors.mean < low.arms[0].behaviors.mean,
+        "{} vs {}",
+        low.arms[1].behaviors.mean,
+        low.arms[0].behaviors.mean
+    );
+    let later: Vec<_> = low.arms[1].trials[10..].iter().collect();
+    assert!(
+        later
+            .iter()
+            .all(|t| t.initial == ops[0].1.0 && t.report.behaviors_evaluated == 1)
+    );
+}

@@ -22,6 +22,7 @@ use crate::overtrust::{Alert, OwnRecord};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, select_behavior};
+use crate::start::{FirstGuess, first_guess};
 use crate::watch::{Mode, Watch};
 use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
 use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
@@ -788,5 +789,12 @@ impl TrustAdapter {
     /// The case base (every retained case, in order).
     pub fn cases(&self) -> &TrustCaseBase {
         self.memory.base()
+    }
+
+    /// The memory's best guess of a first behavior for an operator it does not yet know
+    /// ([`crate::start`]), `None` while the case base is empty; behaviors more similar
+    /// than the config's `lambda` count as the same.
+    pub fn first_guess(&self) -> Option<FirstGuess> {
+        first_guess(self.memory.base(), self.space(), self.config().lambda)
     }
 }

@@ -14,6 +14,8 @@
 //! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
 //!   and model-based search.
 //! - [`retrieval`]: the retrievers a config can name.
+//! - [`start`]: a learned first behavior, the case memory's best guess for an operator
+//!   the robot does not yet know.
 //! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
 //!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
 //! - [`watch`]: mission mode, the settled behavior kept under watch.
@@ -42,6 +44,7 @@ pub mod overtrust;
 pub mod retrieval;
 pub mod search;
 pub mod select;
+pub mod start;
 #[cfg(feature = "testing")]
 pub mod testing;
 pub mod watch;
@@ -67,6 +70,7 @@ pub use overtrust::{Alert, OwnRecord};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};
 pub use select::{Selection, select_behavior};
+pub use start::{FirstGuess, first_guess};
 pub use watch::{Mode, Watch};
 pub use weights::{OutcomeWeights, WeightsError};
 
