@@ -321,43 +321,45 @@ impl Session {
     }
 
     /// The explanation of the episode so far: the account of the behavior in use and the
-    /// explanation of every switch, reused cases named by their store ids. In mission mode,
-    /// between episodes, the account of the watched behavior instead.
+    /// explanation of every switch, reused cases named by their store ids; in mission mode
+    /// also the account of the behavior watched between episodes.
     fn explain(&self) -> Value {
         let space = self.adaptation.space();
-        let (Some(episode), Some(standing)) =
-            (self.adaptation.episode(), self.adaptation.standing())
-        else {
-            let mut reply = json!({ "ok": "explanation", "episode": null });
-            if self.mission() {
-                let watching = self.adaptation.watching().zip(self.adaptation.standing());
-                reply["watching"] = json!(watching.map(|(w, standing)| json!({
-                    "current": reply::account(space, &standing),
-                    "commands": w.commands,
-                    "own_record": self.adaptation.own_record().value(),
-                })));
+        let standing = self.adaptation.standing();
+        let episode = match (self.adaptation.episode(), &standing) {
+            (Some(episode), Some(standing)) => {
+                let switches = self.cases.current(|_, ids| {
+                    episode
+                        .explanations
+                        .iter()
+                        .map(|e| {
+                            reply::explanation(space, e, &|case| ids.get(case.index()).copied())
+                        })
+                        .collect::<Vec<Value>>()
+                });
+                let switches = match switches {
+                    Ok(switches) => switches,
+                    Err(e) => return store_unavailable(&e),
+                };
+                json!({
+                    "current": reply::account(space, standing),
+                    "commands": episode.commands,
+                    "switches": switches,
+                })
             }
-            return reply;
+            _ => Value::Null,
         };
-        let switches = self.cases.current(|_, ids| {
-            episode
-                .explanations
-                .iter()
-                .map(|e| reply::explanation(space, e, &|case| ids.get(case.index()).copied()))
-                .collect::<Vec<Value>>()
-        });
-        let switches = match switches {
-            Ok(switches) => switches,
-            Err(e) => return store_unavailable(&e),
-        };
-        json!({
-            "ok": "explanation",
-            "episode": {
+        let mut reply = json!({ "ok": "explanation", "episode": episode });
+        if self.mission() {
+            // The account `standing` gives is the watched behavior's between episodes.
+            let watching = self.adaptation.watching().zip(standing);
+            reply["watching"] = json!(watching.map(|(w, standing)| json!({
                 "current": reply::account(space, &standing),
-                "commands": episode.commands,
-                "switches": switches,
-            },
-        })
+                "commands": w.commands,
+                "own_record": self.adaptation.own_record().value(),
+            })));
+        }
+        reply
     }
 
     fn config(&self) -> Value {

@@ -142,6 +142,9 @@ fn after_settling_outcomes_are_answered_for_the_watched_behavior_until_it_falls(
     let state = ok(&mut s, r#"{"request":"state"}"#);
     assert_eq!(state["watching"], Value::Null);
     assert_eq!(state["episode"]["behavior"], switched["behavior"]);
+    let explained = ok(&mut s, r#"{"request":"explain"}"#);
+    assert_eq!(explained["watching"], Value::Null);
+    assert_eq!(explained["episode"]["switches"][0], switched["explanation"]);
     // The evaluated time: the ten commands it took to fall from trusted.
     assert_eq!(
         state["episode"]["evaluated"],
