@@ -280,6 +280,12 @@ struct ServeArgs {
     /// (its searcher, its retriever, whether it reuses cases).
     #[arg(long, value_name = "NAME")]
     arm: Option<String>,
+    /// Mission mode: after an episode settles, keep answering outcomes for the settled
+    /// behavior, adapt again when its trust falls, and alert when the operator trusts it
+    /// while the robot's own record says it should not (a domain file may also set
+    /// `adapter: (mode: mission)`). The default is the paper's episode mode.
+    #[arg(long)]
+    mission: bool,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
     /// stdin/stdout. Each connection is its own controller, served concurrently.
     #[arg(long)]
@@ -570,6 +576,9 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     let mut domain = served_domain(catalog, &args.domain)?;
     if let Some(name) = &args.arm {
         domain = serving_arm(catalog, domain, name)?;
+    }
+    if args.mission {
+        domain = domain.in_mission_mode();
     }
     // Every option is checked, and the address bound, before the case base is opened: a
     // refused command creates no case base.

@@ -1,5 +1,6 @@
 //! End to end: `examples/controller.py` (Python standard library only) drives
-//! `trustcbr serve` like a robot controller, twice on the same case file.
+//! `trustcbr serve` like a robot controller, twice on the same case file, and through a
+//! mission (`serve --mission`).
 
 use std::path::Path;
 use std::process::Command;
@@ -12,12 +13,18 @@ fn python3_available() -> bool {
 }
 
 fn run_controller(cases: &Path, seed: u32) -> String {
+    controller(cases, &["--episodes", "20", "--seed", &seed.to_string()])
+}
+
+/// Runs the example against the binary under test with the case file `cases` and `args`;
+/// returns its stdout.
+fn controller(cases: &Path, args: &[&str]) -> String {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/controller.py");
     let output = Command::new("python3")
         .arg(script)
         .args(["--server", env!("CARGO_BIN_EXE_trustcbr"), "--cases"])
         .arg(cases)
-        .args(["--episodes", "20", "--seed", &seed.to_string()])
+        .args(args)
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
@@ -78,6 +85,32 @@ fn the_example_controller_drives_the_server() {
         "{second}"
     );
     assert!(number_after(&second, ", cases: ") >= learned);
+}
+
+#[test]
+fn the_example_controller_runs_a_mission_through_changes_and_an_alert() {
+    if !python3_available() {
+        eprintln!("SKIPPED: python3 is not installed, so examples/controller.py cannot run");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // Seed 2: the first behavior settles slow, an operator in a hurry takes over, and later
+    // the route gets crowded while the operator looks away.
+    let out = controller(&dir.path().join("cases.db"), &["--mission", "--seed", "2"]);
+    // Outcomes after `settled` are answered: the world's changes are noticed and followed.
+    assert!(out.contains("(the robot is not told)"), "{out}");
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("command ") && l.ends_with(" fell, re-adapting")),
+        "{out}"
+    );
+    assert!(number_after(&out, "re-adapted ") >= 1, "{out}");
+    // The complacent operator lets bumps pass: the robot asks for supervision.
+    assert!(
+        out.contains("the robot asks the operator to supervise\n  Please supervise speed="),
+        "{out}"
+    );
+    assert!(number_after(&out, "after settling, ") >= 1, "alerts: {out}");
 }
 
 /// The interpreter itself (not a shim that needs `PATH`), so `PATH` can be emptied.

@@ -1,6 +1,6 @@
 //! The ask/tell adapter: `serve`'s [`Session`] over the same domain names, case stores and
-//! arms as `trustcbr serve --domain D --cases C [--arm A] [--seed N]`, driven one request at
-//! a time. A request is a protocol line (`docs/protocol.md`) and its reply a JSON object;
+//! arms as `trustcbr serve --domain D --cases C [--arm A] [--seed N] [--mission]`, driven
+//! one request at a time. A request is a protocol line (`docs/protocol.md`) and its reply a JSON object;
 //! an error reply becomes a `TrustcbrError` with the reply's message, and leaves the
 //! episode, the case base and the random stream unchanged, as in the protocol.
 
@@ -23,14 +23,24 @@ pub struct Session {
 impl Session {
     /// Opens the case base `cases` (an SQLite file, created when absent; a `postgres://`
     /// URL; or a read-only `.ron` file) for `domain` (a built-in scenario or a RON domain
-    /// file), searching as the domain's config says or as the arm `arm` does.
+    /// file), searching as the domain's config says or as the arm `arm` does; with
+    /// `mission`, outcomes keep coming after an episode settles (`serve --mission`).
     #[new]
-    #[pyo3(signature = (domain, cases, seed = 0, arm = None))]
-    fn new(domain: &str, cases: &str, seed: u64, arm: Option<&str>) -> PyResult<Self> {
+    #[pyo3(signature = (domain, cases, seed = 0, arm = None, mission = false))]
+    fn new(
+        domain: &str,
+        cases: &str,
+        seed: u64,
+        arm: Option<&str>,
+        mission: bool,
+    ) -> PyResult<Self> {
         let catalog = UgvCatalog;
         let mut definition = served_domain(&catalog, domain).map_err(error)?;
         if let Some(name) = arm {
             definition = serving_arm(&catalog, definition, name).map_err(|e| anyhow_error(&e))?;
+        }
+        if mission {
+            definition = definition.in_mission_mode();
         }
         let shared = SharedCases::open(&definition, &Location::parse(cases)).map_err(error)?;
         let (location, writable) = (shared.location().to_owned(), shared.writable());

@@ -103,3 +103,52 @@ def test_simulated_outcomes_can_be_told_to_the_adapter(tmp_path: Path) -> None:
         if decision.kind == "settled":
             break
     assert decision.kind == "settled"
+
+
+def test_a_mission_keeps_listening_after_settling_and_alerts(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=3, mission=True)
+    assert adapter.config()["adapter"]["mode"] == "mission"
+    start = adapter.begin({"speed": 3.5, "padding": 0.4})
+    # While deciding, the operator interrupts three bumps the robot felt, then lets eight
+    # commands complete: -3 + 8 = +5, settled.
+    for _ in range(3):
+        adapter.tell("interrupted", duration_s=2.0, observed=["collision"])
+    decisions = [adapter.tell("completed", duration_s=2.0) for _ in range(8)]
+    assert decisions[-1].kind == "settled"
+
+    # After settling, outcomes are answered for the watched behavior, its trust capped;
+    # the robot now feels bumps the operator lets pass (and is sure of its commands).
+    def bump() -> trustcbr.Decision:
+        return adapter.tell("completed", duration_s=2.0, observed=["collision"], confidence=0.95)
+
+    kept = bump()
+    assert (kept.kind, kept.behavior, kept.reply["trust"]) == ("keep", start, 5.0)
+    assert adapter.state()["watching"]["behavior"] == start
+    # Each bump let pass scores 1 - 2 * 4/5 = -0.6 on the robot's own record: at the ninth,
+    # -5.4, it asks for supervision.
+    bumps = [bump() for _ in range(8)]
+    assert [d.kind for d in bumps] == ["keep"] * 7 + ["alert"]
+    alert = bumps[-1]
+    assert alert.behavior == start
+    assert alert.reply["trust"] == 5.0
+    assert alert.reply["own_record"] <= -5.0
+    assert (alert.sentence or "").startswith("Please supervise speed=3.5 m/s, padding=0.4 m")
+    # Ten interruptions give the watched behavior up: a new episode starts with a switch.
+    falls = [adapter.tell("interrupted", duration_s=2.0) for _ in range(10)]
+    assert [d.kind for d in falls] == ["keep"] * 9 + ["switch"]
+    assert falls[-1].explanation is not None
+    assert falls[-1].explanation["given_up"]["behavior"] == start
+    assert adapter.state()["watching"] is None
+    with pytest.raises(
+        trustcbr.TrustcbrError, match=r"confidence must be a number in \[0, 1\], got 1.5"
+    ):
+        adapter.tell("completed", confidence=1.5)
+
+
+def test_without_mission_outcomes_after_settling_are_refused(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db")
+    adapter.begin({"speed": 3.5, "padding": 0.4})
+    assert [adapter.tell("completed").kind for _ in range(5)][-1] == "settled"
+    assert "watching" not in adapter.state()
+    with pytest.raises(trustcbr.TrustcbrError, match="no episode is under way"):
+        adapter.tell("completed")

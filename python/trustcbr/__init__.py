@@ -90,6 +90,9 @@ class Adapter:
     ``cases`` is the case base: an SQLite file (created when absent), a ``postgres://`` URL,
     or a ``.ron`` file (read-only). ``seed`` drives the search and the behaviors the
     adapter draws; ``arm`` serves a built-in arm's strategy instead of the domain's.
+    With ``mission`` (``trustcbr serve --mission``) outcomes keep coming after an episode
+    settles: the settled behavior is watched, a fall of its trust starts a new episode
+    with a ``switch``, and an ``alert`` asks the operator to supervise.
     Several adapters (processes, robots) may share one SQLite or PostgreSQL case base.
 
     Every method sends one request of the protocol (docs/protocol.md) and returns its
@@ -103,8 +106,9 @@ class Adapter:
         *,
         seed: int = 0,
         arm: Optional[str] = None,
+        mission: bool = False,
     ) -> None:
-        self._session = _native.Session(str(domain), os.fspath(cases), seed, arm)
+        self._session = _native.Session(str(domain), os.fspath(cases), seed, arm, mission)
 
     def _request(self, request: Mapping[str, Any]) -> Dict[str, Any]:
         reply: Dict[str, Any] = json.loads(self._session.request(_dumps(request)))
@@ -136,14 +140,17 @@ class Adapter:
         duration_s: float = 0.0,
         observed: Sequence[str] = (),
         stated: Optional[str] = None,
+        confidence: Optional[float] = None,
     ) -> Decision:
         """Reports how the last command ended and returns what to do next.
 
         ``outcome`` is ``"completed"``, ``"failed"`` or ``"interrupted"``; ``observed`` lists
         what the robot perceived itself (observations the domain declares); ``stated`` is
-        the reason the operator gave, if any (a cause the domain declares). The decision is
-        ``keep``, ``switch`` (use ``behavior`` from now on) or ``settled`` (the episode is
-        over), with the explanation of a switch or an end.
+        the reason the operator gave, if any (a cause the domain declares); ``confidence``
+        is the robot's own confidence in ``[0, 1]`` that the command went as it should, when
+        it assesses itself. The decision is ``keep``, ``switch`` (use ``behavior`` from now
+        on), ``settled`` (the episode is over), with the explanation of a switch or an end,
+        or in mission mode ``alert`` (keep the behavior and ask the operator to supervise).
         """
         if isinstance(observed, str):
             raise TrustcbrError("field `observed`: a list of observation names, not a str")
@@ -155,6 +162,8 @@ class Adapter:
         }
         if stated is not None:
             request["stated"] = stated
+        if confidence is not None:
+            request["confidence"] = confidence
         return Decision(self._request(request))
 
     def tell_outcome(self, outcome: Mapping[str, Any]) -> Decision:
@@ -164,11 +173,13 @@ class Adapter:
         return Decision(self._request(request))
 
     def abandon(self) -> Dict[str, Any]:
-        """Ends the episode under way without retaining a case."""
+        """Ends the episode under way without retaining a case (in mission mode, or the
+        watch of a settled behavior)."""
         return self._request({"request": "abandon"})
 
     def state(self) -> Dict[str, Any]:
-        """The episode under way (or ``None``) and the number of cases."""
+        """The episode under way (or ``None``), in mission mode the behavior watched between
+        episodes (``watching``, or ``None``), and the number of cases."""
         return self._request({"request": "state"})
 
     def config(self) -> Dict[str, Any]:
@@ -213,7 +224,8 @@ def simulate(scenario: str, behavior: Behavior, operator: str, seed: int = 0) ->
 
     Returns the outcome as the adapter is told it (``outcome``, ``weight``, ``duration_s``,
     ``observed``: what the robot perceived, ``stated``: the reason the operator gave, if
-    any) and ``truth``, the operator's true reason, for evaluation only.
+    any, and ``confidence`` when the robot assesses itself) and ``truth``, the operator's
+    true reason, for evaluation only.
     """
     result: SimulatedOutcome = _native.simulate(scenario, dict(behavior), operator, seed)
     return result

@@ -11,7 +11,12 @@ class Session:
     """One controller's adapter over a case base (``trustcbr serve`` for one controller)."""
 
     def __init__(
-        self, domain: str, cases: str, seed: int = 0, arm: Optional[str] = None
+        self,
+        domain: str,
+        cases: str,
+        seed: int = 0,
+        arm: Optional[str] = None,
+        mission: bool = False,
     ) -> None: ...
     def request(self, line: str) -> str:
         """Handles one protocol request (JSON text); returns the reply's JSON text."""

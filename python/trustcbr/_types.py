@@ -26,13 +26,15 @@ class Evaluated(TypedDict):
 
 
 class Outcome(TypedDict):
-    """How a command ended, as the adapter is told it."""
+    """How a command ended, as the adapter is told it (``confidence``: the robot's own, in
+    ``[0, 1]``, when it assesses itself)."""
 
     outcome: str
     weight: float
     duration_s: float
     observed: List[str]
     stated: Optional[str]
+    confidence: NotRequired[float]
 
 
 class SimulatedOutcome(Outcome):
@@ -59,10 +61,12 @@ class Space(TypedDict):
 
 
 class Decision:
-    """What the adapter says after an outcome: ``kind`` is ``keep``, ``switch`` or
-    ``settled``; ``behavior`` is the behavior to use from now on (the one settled on);
-    ``explanation`` says why, for a switch and an end; ``reply`` is the whole reply (trust
-    estimate, source of a switch, counts at the end)."""
+    """What the adapter says after an outcome: ``kind`` is ``keep``, ``switch``,
+    ``settled`` or, in mission mode, ``alert``; ``behavior`` is the behavior to use from now
+    on (the one settled on, the one kept by an alert); ``explanation`` says why, for a
+    switch and an end; ``sentence`` says it in one plain sentence (an alert's asks the
+    operator to supervise); ``reply`` is the whole reply (trust estimate, source of a
+    switch, counts at the end, an alert's own record)."""
 
     __slots__ = ("reply",)
 
@@ -71,7 +75,7 @@ class Decision:
 
     @property
     def kind(self) -> str:
-        """``keep``, ``switch`` or ``settled``."""
+        """``keep``, ``switch``, ``settled`` or ``alert``."""
         return str(self.reply["ok"])
 
     @property
@@ -88,11 +92,10 @@ class Decision:
 
     @property
     def sentence(self) -> Optional[str]:
-        """The explanation as one plain sentence, when there is one."""
-        explanation = self.explanation
-        if explanation is None:
-            return None
-        sentence = explanation.get("sentence")
+        """The explanation as one plain sentence, or an alert's request for supervision,
+        when there is one."""
+        source = self.reply if self.explanation is None else self.explanation
+        sentence = source.get("sentence")
         return None if sentence is None else str(sentence)
 
     def __repr__(self) -> str:

@@ -200,6 +200,14 @@ impl DomainDefinition {
         }
     }
 
+    /// The same domain served in mission mode ([`trust::Mode::Mission`]): outcomes keep
+    /// coming after an episode settles (`serve --mission`, docs/protocol.md#mission-mode).
+    #[must_use]
+    pub fn in_mission_mode(mut self) -> Self {
+        self.adapter.mode = trust::Mode::Mission;
+        self
+    }
+
     /// The same domain whose explanations read `hints` (each names a declared observation
     /// and a declared cause; see [`trust::explain`]).
     pub fn with_hints(self, hints: Vec<Hint>) -> Result<Self, DomainError> {

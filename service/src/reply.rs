@@ -14,7 +14,7 @@ use serde_json::{Map, Value, json};
 use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
-use trust::{Cause, EpisodeReport, Evaluated, Explanation, GivenUp, Next, Outcome};
+use trust::{Alert, Cause, EpisodeReport, Evaluated, Explanation, GivenUp, Next, Outcome};
 
 /// How many cases a listing copies from the shared memory at a time.
 const LISTING_CHUNK: usize = 256;
@@ -155,20 +155,25 @@ pub fn behavior(space: &BehaviorSpace, behavior: &Behavior) -> Value {
 /// An outcome as the protocol's outcome report spells it (what a controller sends, and so
 /// what it may send back): `{"outcome": "interrupted", "weight": 1.0, "duration_s": 10.0,
 /// "observed": ["collision"], "stated": null}`, the observations by the names the domain
-/// declares (`observations`, bit `i` the `i`-th).
+/// declares (`observations`, bit `i` the `i`-th), and `confidence` when the robot assessed
+/// itself.
 pub fn outcome(outcome: &Outcome, observations: &[Cause]) -> Value {
     let observed: Vec<&str> = outcome
         .observed
         .indices()
         .filter_map(|i| observations.get(i).map(Cause::as_str))
         .collect();
-    json!({
+    let mut report = json!({
         "outcome": outcome.kind,
         "weight": outcome.weight,
         "duration_s": outcome.duration_s,
         "observed": observed,
         "stated": outcome.stated,
-    })
+    });
+    if let Some(confidence) = outcome.confidence {
+        report["confidence"] = json!(confidence);
+    }
+    report
 }
 
 /// Evaluated pairs: `[{"behavior": {...}, "time": 12.5}, ...]`.
@@ -254,6 +259,32 @@ pub fn explanation(
     })
 }
 
+/// An alert (mission mode): the behavior kept, the operator's estimate of it (`trust`), the
+/// robot's own record of it (`own_record`), the commands that record covers and how many of
+/// them had a signal the operator let pass (`unacknowledged`), and a `sentence` asking the
+/// operator to supervise, for its screen.
+pub fn alert(space: &BehaviorSpace, alert: &Alert) -> Value {
+    let sentence = format!(
+        "Please supervise {}: the operator's trust is {:+.2}, but {} of the last {} commands \
+         showed signs the operator reacted to before and now let pass (the robot's own \
+         record: {:+.2}).",
+        space.display(&alert.behavior),
+        alert.estimate,
+        alert.unacknowledged,
+        alert.commands,
+        alert.own_record,
+    );
+    json!({
+        "ok": "alert",
+        "behavior": behavior(space, &alert.behavior),
+        "trust": alert.estimate,
+        "own_record": alert.own_record,
+        "commands": alert.commands,
+        "unacknowledged": alert.unacknowledged,
+        "sentence": sentence,
+    })
+}
+
 /// The summary of a finished episode, under the `ok` name `kind`: `retained` is the store
 /// id of the case it retained, `cases` the number of cases held, `explanation` why it
 /// ended (an [`explanation`], for a settled episode).
@@ -306,6 +337,43 @@ mod tests {
         };
         let parsed = crate::request::parse_line(value.to_string().as_bytes(), vocabulary);
         assert_eq!(parsed.request, Ok(crate::Request::Outcome(outcome)));
+    }
+
+    #[test]
+    fn a_self_assessment_is_written_only_when_the_robot_made_one() {
+        let assessed = Outcome::completed(1.0, 2.0).assessing(Some(0.25));
+        assert_eq!(
+            super::outcome(&assessed, &[]).to_string(),
+            r#"{"outcome":"completed","weight":1.0,"duration_s":2.0,"observed":[],"stated":null,"confidence":0.25}"#
+        );
+        let parsed = crate::request::parse_line(
+            super::outcome(&assessed, &[]).to_string().as_bytes(),
+            crate::request::Vocabulary {
+                causes: &[],
+                observations: &[],
+            },
+        );
+        assert_eq!(parsed.request, Ok(crate::Request::Outcome(assessed)));
+    }
+
+    #[test]
+    fn an_alert_asks_for_supervision_in_real_units() {
+        let space = BehaviorSpace::new(vec![
+            NamedComponent::numeric("speed", "m/s", 0.5, 0.5, 20).unwrap(),
+            NamedComponent::numeric("padding", "m", 0.1, 0.1, 20).unwrap(),
+        ])
+        .unwrap();
+        let raised = Alert {
+            behavior: Behavior::new(&[6, 3]),
+            estimate: 5.0,
+            own_record: -5.4,
+            commands: 9,
+            unacknowledged: 9,
+        };
+        assert_eq!(
+            alert(&space, &raised).to_string(),
+            r#"{"ok":"alert","behavior":{"speed":3.5,"padding":0.4},"trust":5.0,"own_record":-5.4,"commands":9,"unacknowledged":9,"sentence":"Please supervise speed=3.5 m/s, padding=0.4 m: the operator's trust is +5.00, but 9 of the last 9 commands showed signs the operator reacted to before and now let pass (the robot's own record: -5.40)."}"#
+        );
     }
 
     #[test]

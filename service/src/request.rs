@@ -7,9 +7,10 @@
 //! and unusable numbers are refused with an error naming the field and what it allows.
 //! An outcome report says what the robot knows: how the command ended, its weight and
 //! duration, what the robot perceived (`observed`: names the served domain declares as
-//! observations) and, when the operator gave one, its stated reason (`stated`: a cause the
-//! domain declares). The operator's true reason is never sent: the retired `cause` field is
-//! refused with the spelling to use.
+//! observations), when the operator gave one, its stated reason (`stated`: a cause the
+//! domain declares) and, when the robot assesses itself, its confidence that the command
+//! went as it should (`confidence`, in `[0, 1]`). The operator's true reason is never sent:
+//! the retired `cause` field is refused with the spelling to use.
 //! A key given twice in an object (at any depth) is refused rather than last-wins, and a
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
 //! adapter: it only says what was asked.
@@ -65,7 +66,14 @@ const NAMED: &[(&str, &[&str])] = &[
 ];
 
 /// The fields of an outcome report.
-const OUTCOME_FIELDS: &[&str] = &["outcome", "weight", "duration_s", "observed", "stated"];
+const OUTCOME_FIELDS: &[&str] = &[
+    "outcome",
+    "weight",
+    "duration_s",
+    "observed",
+    "stated",
+    "confidence",
+];
 
 /// Why a line is not a valid request.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -127,8 +135,8 @@ pub enum RequestError {
         "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (docs/protocol.md)"
     )]
     RetiredCause,
-    /// The outcome's numbers are unusable (negative weight or duration; shown in the
-    /// message, so not chained as a source).
+    /// The outcome's numbers are unusable (negative weight or duration, a confidence
+    /// outside `[0, 1]`; shown in the message, so not chained as a source).
     #[error("invalid outcome: {0}")]
     Outcome(OutcomeError),
 }
@@ -277,6 +285,7 @@ fn parse_outcome(
     let weight = fields.require("weight")?;
     let duration_s = fields.require("duration_s")?;
     let stated = fields.take::<Option<Cause>>("stated")?.flatten();
+    let confidence = fields.take::<Option<f64>>("confidence")?.flatten();
     if let Some(cause) = stated {
         find_declared(vocabulary.causes, cause).map_err(RequestError::UndeclaredCause)?;
     }
@@ -303,7 +312,8 @@ fn parse_outcome(
     }
     let outcome = Outcome::new(kind, weight, duration_s)
         .observing(observed)
-        .stating(stated);
+        .stating(stated)
+        .assessing(confidence);
     outcome.validate()?;
     Ok(Request::Outcome(outcome))
 }
@@ -670,6 +680,35 @@ mod tests {
     }
 
     #[test]
+    fn a_self_assessed_confidence_is_a_probability() {
+        let r = parse_request(
+            br#"{"outcome":"completed","weight":1,"duration_s":2,"confidence":0.75}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            r,
+            Request::Outcome(Outcome::completed(1.0, 2.0).assessing(Some(0.75)))
+        );
+        for bound in ["0", "1", "null"] {
+            let line =
+                format!(r#"{{"outcome":"failed","weight":1,"duration_s":2,"confidence":{bound}}}"#);
+            assert!(parse_request(line.as_bytes()).is_ok(), "{bound}");
+        }
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":1,"duration_s":2,"confidence":1.5}"#),
+            "invalid outcome: confidence must be a number in [0, 1], got 1.5"
+        );
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":1,"duration_s":2,"confidence":-0.1}"#),
+            "invalid outcome: confidence must be a number in [0, 1], got -0.1"
+        );
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":1,"duration_s":2,"confidence":"high"}"#),
+            "field `confidence`: invalid type: string \"high\", expected f64"
+        );
+    }
+
+    #[test]
     fn named_requests() {
         assert_eq!(
             parse_request(br#"{"request":"state"}"#).unwrap(),
@@ -697,7 +736,7 @@ mod tests {
         assert!(err(r#"{"request": "fly"}"#).contains("unknown request `fly`"));
         assert_eq!(
             err(r#"{"outcome":"completed","weight":1,"duration_s":1,"colour":"red"}"#),
-            "unknown field `colour` in an outcome report (allowed: outcome, weight, duration_s, observed, stated)"
+            "unknown field `colour` in an outcome report (allowed: outcome, weight, duration_s, observed, stated, confidence)"
         );
         assert_eq!(
             err(r#"{"request":"state","verbose":true}"#),

@@ -11,6 +11,12 @@
 //! stored durably before the reply that reports it is returned; if that fails the session
 //! reports [`SessionError::Save`] and the server must stop, so that no reply ever
 //! acknowledges a case that is not stored.
+//!
+//! In mission mode (the adapter config's [`Mode::Mission`]) outcomes keep coming after an
+//! episode settles: they are answered for the settled behavior under watch (its estimate
+//! capped at the trustworthy threshold, [`trust::watch`]), a fall of that estimate starts a
+//! new episode with a switch, and an alert asks the operator to supervise
+//! ([`trust::overtrust`]); `state` and `explain` report the watch.
 
 use crate::domain::DomainDefinition;
 use crate::reply::{self, Answer, CaseListing, Reply};
@@ -22,7 +28,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::sync::Arc;
-use trust::{Adaptation, Cause, ConfigError, Decision, DeclaredCause, Outcome, Source};
+use trust::{
+    Adaptation, Cause, ConfigError, Decision, DeclaredCause, Mode, Outcome, Source, TrustEstimate,
+};
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
 const DRAW_STREAM: u64 = 1;
@@ -153,15 +161,25 @@ impl Session {
         }
     }
 
+    /// The behavior in use and its estimate: the episode's, or in mission mode the watched
+    /// behavior's between episodes.
+    fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        match (self.adaptation.episode(), self.adaptation.watching()) {
+            (Some(episode), _) => Some((episode.current, episode.estimate)),
+            (None, Some(watch)) => Some((watch.behavior, watch.estimate)),
+            (None, None) => None,
+        }
+    }
+
     fn outcome(&mut self, outcome: &Outcome) -> Result<Value, SessionError> {
-        let Some(episode) = self.adaptation.episode() else {
+        let Some((_, estimate)) = self.in_use() else {
             return Ok(reply::error(
                 "no episode is under way: start one with {\"request\": \"begin\"}",
             ));
         };
         // The elapsed time becomes a case's evaluated time; an infinite one could not be
         // loaded back, so it is refused here.
-        if !(episode.estimate.elapsed_s + outcome.duration_s).is_finite() {
+        if !(estimate.elapsed_s + outcome.duration_s).is_finite() {
             return Ok(reply::error(format_args!(
                 "field `duration_s`: {} s would make the behavior's total time overflow",
                 outcome.duration_s
@@ -189,11 +207,11 @@ impl Session {
         let space = self.adaptation.space().clone();
         Ok(match decision {
             Decision::Keep => {
-                let episode = self.adaptation.episode();
+                let in_use = self.in_use();
                 json!({
                     "ok": "keep",
-                    "behavior": episode.map(|e| reply::behavior(&space, &e.current)),
-                    "trust": episode.map(|e| e.estimate.value),
+                    "behavior": in_use.map(|(b, _)| reply::behavior(&space, &b)),
+                    "trust": in_use.map(|(_, e)| e.value),
                 })
             }
             Decision::Switch {
@@ -205,14 +223,7 @@ impl Session {
                 reply["explanation"] = reply::explanation(&space, &explanation, &|_| reused);
                 reply
             }
-            Decision::Alert(alert) => json!({
-                "ok": "alert",
-                "behavior": reply::behavior(&space, &alert.behavior),
-                "trust": alert.estimate,
-                "own_record": alert.own_record,
-                "commands": alert.commands,
-                "unacknowledged": alert.unacknowledged,
-            }),
+            Decision::Alert(alert) => reply::alert(&space, &alert),
             Decision::Settled(report) => {
                 let (retained, held) = match self.adaptation.case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {
@@ -246,12 +257,26 @@ impl Session {
                 "evaluated": reply::evaluated(space, e.evaluated),
             })
         });
-        json!({
+        let mut reply = json!({
             "ok": "state",
             "domain": self.domain,
             "episode": episode,
-            "cases": held,
-        })
+        });
+        if self.mission() {
+            reply["watching"] = json!(self.adaptation.watching().map(|w| json!({
+                "behavior": reply::behavior(space, &w.behavior),
+                "trust": w.estimate.value,
+                "commands": w.commands,
+                "own_record": self.adaptation.own_record().value(),
+            })));
+        }
+        reply["cases"] = json!(held);
+        reply
+    }
+
+    /// Whether the adapter keeps watching a settled behavior ([`Mode::Mission`]).
+    fn mission(&self) -> bool {
+        self.adaptation.config().mode == Mode::Mission
     }
 
     fn cases(&self) -> Reply {
@@ -270,6 +295,18 @@ impl Session {
             Ok(held) => held,
             Err(e) => return store_unavailable(&e),
         };
+        if self.adaptation.episode().is_none()
+            && let Some(watch) = self.adaptation.watching().copied()
+        {
+            // Mission mode: the operator left while a settled behavior was watched.
+            self.adaptation.abandon_episode();
+            return json!({
+                "ok": "abandoned",
+                "behavior": reply::behavior(self.adaptation.space(), &watch.behavior),
+                "commands": watch.commands,
+                "cases": held,
+            });
+        }
         match self.adaptation.abandon_episode() {
             Some(report) => reply::episode_end(
                 "abandoned",
@@ -284,33 +321,45 @@ impl Session {
     }
 
     /// The explanation of the episode so far: the account of the behavior in use and the
-    /// explanation of every switch, reused cases named by their store ids.
+    /// explanation of every switch, reused cases named by their store ids; in mission mode
+    /// also the account of the behavior watched between episodes.
     fn explain(&self) -> Value {
         let space = self.adaptation.space();
-        let (Some(episode), Some(standing)) =
-            (self.adaptation.episode(), self.adaptation.standing())
-        else {
-            return json!({ "ok": "explanation", "episode": null });
+        let standing = self.adaptation.standing();
+        let episode = match (self.adaptation.episode(), &standing) {
+            (Some(episode), Some(standing)) => {
+                let switches = self.cases.current(|_, ids| {
+                    episode
+                        .explanations
+                        .iter()
+                        .map(|e| {
+                            reply::explanation(space, e, &|case| ids.get(case.index()).copied())
+                        })
+                        .collect::<Vec<Value>>()
+                });
+                let switches = match switches {
+                    Ok(switches) => switches,
+                    Err(e) => return store_unavailable(&e),
+                };
+                json!({
+                    "current": reply::account(space, standing),
+                    "commands": episode.commands,
+                    "switches": switches,
+                })
+            }
+            _ => Value::Null,
         };
-        let switches = self.cases.current(|_, ids| {
-            episode
-                .explanations
-                .iter()
-                .map(|e| reply::explanation(space, e, &|case| ids.get(case.index()).copied()))
-                .collect::<Vec<Value>>()
-        });
-        let switches = match switches {
-            Ok(switches) => switches,
-            Err(e) => return store_unavailable(&e),
-        };
-        json!({
-            "ok": "explanation",
-            "episode": {
+        let mut reply = json!({ "ok": "explanation", "episode": episode });
+        if self.mission() {
+            // The account `standing` gives is the watched behavior's between episodes.
+            let watching = self.adaptation.watching().zip(standing);
+            reply["watching"] = json!(watching.map(|(w, standing)| json!({
                 "current": reply::account(space, &standing),
-                "commands": episode.commands,
-                "switches": switches,
-            },
-        })
+                "commands": w.commands,
+                "own_record": self.adaptation.own_record().value(),
+            })));
+        }
+        reply
     }
 
     fn config(&self) -> Value {
