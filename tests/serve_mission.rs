@@ -134,27 +134,27 @@ fn an_operator_who_lets_pass_what_it_reacted_to_gets_an_alert() {
     let bump_stopped = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
     let bump_passed =
         r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
-    // Three bumps interrupted while deciding (a bump's reaction rate 4/5), eight
-    // completions settle at +5; then bumps let pass score -0.6 each on the robot's own
-    // record: the ninth takes it to -5.4.
+    // Three bumps interrupted while deciding, eight completions settle at +5 (a bump's own
+    // reaction rate is then 45/49: trust/tests/mission.rs); each bump let pass adds
+    // ln 6.625 to the evidence of a lapse, and the third passes ln 100.
     let lines: Vec<&str> = [BEGIN]
         .into_iter()
         .chain(repeat(bump_stopped, 3))
         .chain(repeat(DONE, 8))
-        .chain(repeat(bump_passed, 9))
+        .chain(repeat(bump_passed, 3))
         .chain([STATE])
         .collect();
     let r = exchange(true, &lines);
     assert_eq!(r[11]["ok"], "settled");
-    assert!(r[12..20].iter().all(|k| k["ok"] == "keep"));
-    let alert = &r[20];
+    assert!(r[12..14].iter().all(|k| k["ok"] == "keep"));
+    let alert = &r[14];
     assert_eq!(alert["ok"], "alert", "{alert}");
     assert_eq!(alert["behavior"], behavior());
     assert_eq!(alert["trust"], 5.0);
-    assert!((alert["own_record"].as_f64().unwrap() + 5.4).abs() < 1e-9);
+    assert!((alert["own_record"].as_f64().unwrap() - 3.0 * 6.625f64.ln()).abs() < 1e-9);
     assert_eq!(
         (&alert["commands"], &alert["unacknowledged"]),
-        (&json!(9), &json!(9))
+        (&json!(3), &json!(3))
     );
     assert!(
         alert["sentence"]
@@ -162,8 +162,8 @@ fn an_operator_who_lets_pass_what_it_reacted_to_gets_an_alert() {
             .unwrap()
             .starts_with("Please supervise speed=3.5 m/s, padding=0.4 m: ")
     );
-    assert_eq!(r[21]["watching"]["own_record"], 0.0);
-    assert_eq!(r[21]["watching"]["trust"], 5.0);
+    assert_eq!(r[15]["watching"]["own_record"], 0.0);
+    assert_eq!(r[15]["watching"]["trust"], 5.0);
 }
 
 #[test]

@@ -266,13 +266,13 @@ pub fn explanation(
 pub fn alert(space: &BehaviorSpace, alert: &Alert) -> Value {
     let sentence = format!(
         "Please supervise {}: the operator's trust is {:+.2}, but {} of the last {} commands \
-         showed signs the operator reacted to before and now let pass (the robot's own \
-         record: {:+.2}).",
+         showed signs operators stop the robot for when attentive, and were let pass (the \
+         robot's own record makes a lapse of attention {:.0} times likelier than attention).",
         space.display(&alert.behavior),
         alert.estimate,
         alert.unacknowledged,
         alert.commands,
-        alert.own_record,
+        alert.own_record.exp(),
     );
     json!({
         "ok": "alert",
@@ -366,13 +366,13 @@ mod tests {
         let raised = Alert {
             behavior: Behavior::new(&[6, 3]),
             estimate: 5.0,
-            own_record: -5.4,
+            own_record: 100f64.ln(),
             commands: 9,
-            unacknowledged: 9,
+            unacknowledged: 4,
         };
         assert_eq!(
             alert(&space, &raised).to_string(),
-            r#"{"ok":"alert","behavior":{"speed":3.5,"padding":0.4},"trust":5.0,"own_record":-5.4,"commands":9,"unacknowledged":9,"sentence":"Please supervise speed=3.5 m/s, padding=0.4 m: the operator's trust is +5.00, but 9 of the last 9 commands showed signs the operator reacted to before and now let pass (the robot's own record: -5.40)."}"#
+            r#"{"ok":"alert","behavior":{"speed":3.5,"padding":0.4},"trust":5.0,"own_record":4.605170185988092,"commands":9,"unacknowledged":4,"sentence":"Please supervise speed=3.5 m/s, padding=0.4 m: the operator's trust is +5.00, but 4 of the last 9 commands showed signs operators stop the robot for when attentive, and were let pass (the robot's own record makes a lapse of attention 100 times likelier than attention)."}"#
         );
     }
 

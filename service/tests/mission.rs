@@ -102,11 +102,12 @@ fn after_settling_outcomes_are_answered_for_the_watched_behavior_until_it_falls(
             json!({"ok": "keep", "behavior": behavior(), "trust": 5.0})
         );
     }
+    // Commands without a signal say nothing of a lapse: the own record stays at 0.
     let state = ok(&mut s, r#"{"request":"state"}"#);
     assert_eq!(state["episode"], Value::Null);
     assert_eq!(
         state["watching"],
-        json!({"behavior": behavior(), "trust": 5.0, "commands": 3, "own_record": 3.0})
+        json!({"behavior": behavior(), "trust": 5.0, "commands": 3, "own_record": 0.0})
     );
     // Nine interruptions: +5 down to -4, kept.
     for i in 1..=9 {
@@ -241,8 +242,9 @@ fn an_alert_when_the_operator_lets_pass_what_it_reacted_to() {
     let dir = tempfile::tempdir().unwrap();
     let mut s = session(dir.path(), movement(true));
     ok(&mut s, BEGIN);
-    // While deciding, the operator interrupted all three bumps: a bump's reaction rate is
-    // (3 + 1) / (3 + 2) = 4/5, so a bump it lets pass scores 1 - 8/5 = -0.6.
+    // While deciding, the operator interrupted all three bumps and let the eight
+    // completions pass: a bump's own reaction rate is 45/49 (trust/tests/mission.rs), so
+    // a bump it lets pass adds ln 6.625 to the evidence of a lapse.
     for _ in 0..3 {
         assert_eq!(ok(&mut s, BUMP_STOPPED)["ok"], "keep");
     }
@@ -251,28 +253,28 @@ fn an_alert_when_the_operator_lets_pass_what_it_reacted_to() {
         ok(&mut s, DONE);
     }
     assert_eq!(ok(&mut s, DONE)["ok"], "settled");
-    // Bumps let pass: the operator's estimate stays at +5, the own record falls by 0.6 a
-    // command; at the ninth it is -5.4, past -5.
-    for _ in 0..8 {
+    // Bumps let pass: the operator's estimate stays at +5; the third takes the evidence
+    // past ln 100.
+    for _ in 0..2 {
         assert_eq!(ok(&mut s, BUMP_PASSED)["ok"], "keep");
     }
     let alert = ok(&mut s, BUMP_PASSED);
     assert_eq!(alert["ok"], "alert");
     assert_eq!(alert["behavior"], behavior());
     assert_eq!(alert["trust"], 5.0);
-    assert!((alert["own_record"].as_f64().unwrap() + 5.4).abs() < 1e-9);
+    assert!((alert["own_record"].as_f64().unwrap() - 3.0 * 6.625f64.ln()).abs() < 1e-9);
     assert_eq!(
         (&alert["commands"], &alert["unacknowledged"]),
-        (&json!(9), &json!(9))
+        (&json!(3), &json!(3))
     );
     assert_eq!(
         alert["sentence"],
-        "Please supervise speed=3.5 m/s, padding=0.4 m: the operator's trust is +5.00, but 9 of the last 9 commands showed signs the operator reacted to before and now let pass (the robot's own record: -5.40)."
+        "Please supervise speed=3.5 m/s, padding=0.4 m: the operator's trust is +5.00, but 3 of the last 3 commands showed signs operators stop the robot for when attentive, and were let pass (the robot's own record makes a lapse of attention 291 times likelier than attention)."
     );
     // The own record starts again; the behavior is still watched.
     let state = ok(&mut s, r#"{"request":"state"}"#);
     assert_eq!(state["watching"]["own_record"], 0.0);
-    assert_eq!(state["watching"]["commands"], 9);
+    assert_eq!(state["watching"]["commands"], 3);
     assert_eq!(ok(&mut s, BUMP_PASSED)["ok"], "keep");
 }
 
