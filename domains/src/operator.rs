@@ -485,6 +485,70 @@ mod tests {
         Trace::of(events)
     }
 
+    /// A run with two collisions and a false alarm before it arrives.
+    fn eventful() -> Trace {
+        trace(&[
+            (
+                2.0,
+                EventKind::Collision {
+                    at: Vec2::new(0.0, 0.0),
+                },
+            ),
+            (
+                4.0,
+                EventKind::Collision {
+                    at: Vec2::new(1.0, 0.0),
+                },
+            ),
+            (
+                6.0,
+                EventKind::Labelled {
+                    object: 0,
+                    explosive: false,
+                    labelled_explosive: true,
+                },
+            ),
+            (
+                30.0,
+                EventKind::Arrived {
+                    at: Vec2::new(2.0, 0.0),
+                },
+            ),
+        ])
+    }
+
+    #[test]
+    fn an_attentive_operator_judges_exactly_as_the_paper_s() {
+        let t = eventful();
+        for operator in builtin_operators(Scenario::Patrol) {
+            for seed in 0..200 {
+                let paper = operator.judge(&t, &mut ChaCha8Rng::seed_from_u64(seed));
+                let attending =
+                    operator.judge_attending(&t, 1.0, &mut ChaCha8Rng::seed_from_u64(seed));
+                assert_eq!(paper, attending);
+                assert_eq!(attending.overlooked, None);
+            }
+        }
+    }
+
+    #[test]
+    fn an_operator_who_notices_nothing_overlooks_the_first_problem_and_lets_the_run_finish() {
+        let t = eventful();
+        let mut operator = builtin_operators(Scenario::Patrol).remove(0);
+        operator.p_collision = 1.0;
+        let judged = operator.judge_attending(&t, 0.0, &mut ChaCha8Rng::seed_from_u64(3));
+        assert_eq!(judged.outcome.kind, OutcomeKind::Completed);
+        assert_eq!(judged.overlooked, Some(COLLISION));
+        // Half attentive, over many draws: about half the runs stopped at a collision.
+        let stopped = (0..2000)
+            .filter(|&seed| {
+                let j = operator.judge_attending(&t, 0.5, &mut ChaCha8Rng::seed_from_u64(seed));
+                j.truth == Some(COLLISION) && j.outcome.duration_s == 2.0
+            })
+            .count();
+        assert!((900..1100).contains(&stopped), "{stopped}");
+    }
+
     fn operator(p_deadline: f64, p_collision: f64) -> OperatorModel {
         OperatorModel {
             name: "test".into(),

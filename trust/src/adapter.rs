@@ -366,6 +366,7 @@ impl Adaptation {
         }
         self.watch = None;
         self.own_record.forget_operator();
+        self.attribution.next_behavior();
         self.start_episode(initial, TrustEstimate::default(), 0);
         Ok(())
     }

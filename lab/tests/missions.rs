@@ -1,0 +1,199 @@
+//! Missions on a toy domain whose operators may overlook what they mind: pairing across
+//! arms, determinism across thread counts, and what the records count.
+
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use lab::mission::{ChangeKind, Changes, Complacency, MissionPlan, MissionResult, run_missions};
+use lab::mission_report::{MissionSummary, harm_comparisons};
+use lab::{Arm, TrialSettings};
+use rand::{Rng, RngCore};
+use std::sync::Arc;
+use trust::{Cause, DeclaredCause, Domain, Judgement, Observations, RetrieverKind};
+
+const BUMPED: Cause = Cause::from_static("bumped");
+
+/// A 6 x 6 grid; an operator minds every behavior but its favourite, where the robot
+/// bumps into things (and feels it) four times in five; it stops the robot for a bump it
+/// notices.
+struct Toy {
+    space: Arc<BehaviorSpace>,
+    causes: Vec<DeclaredCause>,
+    observations: Vec<Cause>,
+}
+
+struct Favourite(Behavior);
+
+impl Toy {
+    fn new() -> Self {
+        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 6).unwrap();
+        Self {
+            space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
+            causes: vec![DeclaredCause::new(BUMPED)],
+            observations: vec![BUMPED],
+        }
+    }
+}
+
+impl Domain for Toy {
+    type Operator = Favourite;
+
+    fn name(&self) -> &str {
+        "toy"
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        &self.causes
+    }
+
+    fn observations(&self) -> &[Cause] {
+        &self.observations
+    }
+
+    fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
+        self.run_attending(behavior, operator, 1.0, rng)
+    }
+
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &Favourite,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        let bumps = if *behavior == operator.0 { 0.05 } else { 0.8 };
+        if !rng.random_bool(bumps) {
+            return Judgement::completed(1.0, 1.0);
+        }
+        let felt = Observations::NONE.with(0);
+        if rng.random::<f64>() < attention {
+            Judgement::interrupted(1.0, BUMPED, 1.0).observing(felt)
+        } else {
+            Judgement::completed(1.0, 1.0)
+                .observing(felt)
+                .overlooking(Some(BUMPED))
+        }
+    }
+}
+
+fn operators() -> Vec<(String, Favourite)> {
+    vec![
+        ("low".to_owned(), Favourite(Behavior::new(&[1, 1]))),
+        ("high".to_owned(), Favourite(Behavior::new(&[4, 5]))),
+    ]
+}
+
+fn arms() -> Vec<Arm> {
+    ["case-based", "uniform"]
+        .into_iter()
+        .map(|name| Arm::builtin(name, RetrieverKind::Linear).unwrap())
+        .collect()
+}
+
+fn run(
+    domain: &Toy,
+    operators: &[(String, Favourite)],
+    complacency: Option<Complacency>,
+    threads: usize,
+) -> Vec<MissionResult> {
+    let plan = MissionPlan {
+        name: "toy".into(),
+        domain,
+        operators,
+        missions: 12,
+        commands: 300,
+        changes: Changes {
+            every: 80.0,
+            takeover: 0.5,
+        },
+        complacency,
+        settings: TrialSettings::default(),
+        arms: arms(),
+        feedback: None,
+        truth_runs: 50,
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| run_missions(&[plan], 7, &|_| {}))
+        .unwrap()
+}
+
+#[test]
+fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
+    let (domain, operators) = (Toy::new(), operators());
+    let one = run(&domain, &operators, None, 1);
+    assert_eq!(one, run(&domain, &operators, None, 2));
+    let [result] = one.as_slice() else {
+        panic!("one plan")
+    };
+    assert!(!result.complacency);
+    assert_eq!(result.arms.len(), 2);
+    // Every arm meets the same changes at the same commands.
+    let schedule = |a: usize| -> Vec<Vec<(u32, ChangeKind)>> {
+        result.arms[a]
+            .missions
+            .iter()
+            .map(|m| m.changes.iter().map(|c| (c.at, c.kind)).collect())
+            .collect()
+    };
+    assert_eq!(schedule(0), schedule(1));
+    assert!(schedule(0).iter().map(Vec::len).sum::<usize>() > 12);
+    for arm in &result.arms {
+        assert_eq!(arm.missions.len(), 12);
+        assert_eq!(arm.traced.len(), 300);
+        for m in &arm.missions {
+            // Attentive operators overlook nothing and never become complacent.
+            assert_eq!((m.overlooked, m.onsets.len()), (0, 0));
+            assert!(m.false_alarms <= m.readaptations);
+            for c in &m.changes {
+                assert!(c.trusted_again.is_none_or(|t| t >= 1));
+            }
+        }
+        // The two favourites differ: most changes need an adaptation, and the robot
+        // adapts to some of them before the next change.
+        let s = MissionSummary::of(arm);
+        assert!(s.needed * 2 > s.changes && s.adapted > 0, "{s:?}");
+    }
+}
+
+#[test]
+fn complacent_operators_overlook_bumps_and_answered_alerts_are_paired() {
+    let (domain, operators) = (Toy::new(), operators());
+    let complacency = Complacency {
+        memory: 20.0,
+        floor: 0.3,
+    };
+    let results = run(&domain, &operators, Some(complacency), 2);
+    let result = &results[0];
+    assert!(result.complacency);
+    // Each arm twice: alerts ignored, then answered, on the same missions.
+    let names: Vec<(&str, bool)> = result
+        .arms
+        .iter()
+        .map(|a| (a.arm.as_str(), a.answers_alerts))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("case-based", false),
+            ("case-based", true),
+            ("uniform", false),
+            ("uniform", true)
+        ]
+    );
+    let ignored = &result.arms[0];
+    let onsets: usize = ignored.missions.iter().map(|m| m.onsets.len()).sum();
+    let overlooked: u32 = ignored.missions.iter().map(|m| m.overlooked).sum();
+    assert!(onsets > 0 && overlooked > 0);
+    // Until the first alert the two runs of an arm are the same mission command for
+    // command: the first mission's changes match.
+    assert_eq!(
+        ignored.missions[0].changes.first().map(|c| c.at),
+        result.arms[1].missions[0].changes.first().map(|c| c.at)
+    );
+    assert_eq!(harm_comparisons(result).len(), 2);
+}

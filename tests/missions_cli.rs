@@ -1,0 +1,138 @@
+//! `trustcbr run` on mission suites, as a real process: the report's files, a rerun into
+//! the same folder, and bad suites refused with the file and the field.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const SUITE: &str = r#"(
+    seed: 5,
+    arms: ["case-based", "uniform"],
+    missions: [
+        (
+            name: "movement/paper",
+            operators: (scenario: "movement", operator: "random"),
+            count: 3,
+            commands: 120,
+            changes: (every: 40.0, takeover: 0.5),
+        ),
+        (
+            name: "patrol/paper/complacent",
+            operators: (scenario: "patrol", operator: "random"),
+            count: 2,
+            commands: 120,
+            changes: (every: 60.0, takeover: 0.5),
+            complacency: Some((memory: 20.0, floor: 0.3)),
+        ),
+    ],
+)
+"#;
+
+fn trustcbr(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    trustcbr(&args)
+}
+
+#[test]
+fn a_mission_suite_writes_its_report_and_reruns_into_the_same_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("missions.ron");
+    std::fs::write(&config, SUITE).unwrap();
+    let out = dir.path().join("report");
+    let ran = run(&config, &out, &["--threads", "2"]);
+    assert!(
+        ran.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ran.stderr)
+    );
+    let stdout = String::from_utf8(ran.stdout).unwrap();
+    assert!(stdout.contains("## movement/paper") && stdout.contains("## patrol/paper/complacent"));
+    let mut files: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        [
+            "config.ron",
+            "mission-movement-paper.svg",
+            "mission-patrol-paper-complacent.svg",
+            "missions.jsonl",
+            "missions.md",
+            "summary.json"
+        ]
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary[0]["plan"], "movement/paper");
+    assert_eq!(summary[1]["arms"].as_array().unwrap().len(), 4);
+    assert_eq!(
+        std::fs::read_to_string(out.join("missions.jsonl"))
+            .unwrap()
+            .lines()
+            .count(),
+        2 * 3 + 4 * 2
+    );
+    let md = std::fs::read_to_string(out.join("missions.md")).unwrap();
+    assert!(md.contains("case-based, alerts answered"));
+    // The same seed, again into the same folder: the same report.
+    let again = run(&config, &out, &["--threads", "1"]);
+    assert!(
+        again.status.success(),
+        "{}",
+        String::from_utf8_lossy(&again.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("missions.md")).unwrap(),
+        md
+    );
+}
+
+#[test]
+fn bad_mission_suites_are_refused_with_the_file_and_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("bad.ron");
+    std::fs::write(
+        &config,
+        SUITE.replace(
+            "takeover: 0.5),\n        ),\n        (",
+            "takeover: 1.5),\n        ),\n        (",
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("report");
+    let refused = run(&config, &out, &[]);
+    assert!(!refused.status.success());
+    let stderr = String::from_utf8(refused.stderr).unwrap();
+    assert!(
+        stderr
+            .contains("bad.ron: missions[0].changes: changes.takeover: a share in [0, 1], got 1.5"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "a refused suite creates no folder");
+    std::fs::write(&config, SUITE.replace("count: 3", "count: \"three\"")).unwrap();
+    let stderr = String::from_utf8(run(&config, &out, &[]).stderr).unwrap();
+    assert!(
+        stderr.contains("bad.ron:8:20: Expected integer"),
+        "{stderr}"
+    );
+    std::fs::write(&config, SUITE).unwrap();
+    let stderr = String::from_utf8(run(&config, &out, &["--trials", "5"]).stderr).unwrap();
+    assert!(
+        stderr.contains("--trials applies to experiment suites"),
+        "{stderr}"
+    );
+}
