@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -124,14 +125,15 @@ def test_a_mission_keeps_listening_after_settling_and_alerts(tmp_path: Path) -> 
     kept = bump()
     assert (kept.kind, kept.behavior, kept.reply["trust"]) == ("keep", start, 5.0)
     assert adapter.state()["watching"]["behavior"] == start
-    # Each bump let pass scores 1 - 2 * 4/5 = -0.6 on the robot's own record: at the ninth,
-    # -5.4, it asks for supervision.
-    bumps = [bump() for _ in range(8)]
-    assert [d.kind for d in bumps] == ["keep"] * 7 + ["alert"]
+    # Each bump let pass adds ln 6.625 to the robot's evidence that the operator has
+    # stopped watching (docs/protocol.md, "Mission mode"): the third passes ln 100 and the
+    # robot asks for supervision.
+    bumps = [bump() for _ in range(2)]
+    assert [d.kind for d in bumps] == ["keep", "alert"]
     alert = bumps[-1]
     assert alert.behavior == start
     assert alert.reply["trust"] == 5.0
-    assert alert.reply["own_record"] <= -5.0
+    assert alert.reply["own_record"] >= math.log(100)
     assert (alert.sentence or "").startswith("Please supervise speed=3.5 m/s, padding=0.4 m")
     # Ten interruptions give the watched behavior up: a new episode starts with a switch.
     falls = [adapter.tell("interrupted", duration_s=2.0) for _ in range(10)]
