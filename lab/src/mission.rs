@@ -26,7 +26,7 @@ use cbr_core::Behavior;
 use rand::{Rng, RngCore};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use trust::{Decision, Domain, FeedbackChannel, Mode, OutcomeKind, TrustAdapter};
+use trust::{Decision, Domain, FeedbackChannel, Mode, OutcomeKind, OwnRecord, TrustAdapter};
 
 /// When the operator changes during a mission.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -503,11 +503,10 @@ fn run_mission<D: Domain>(
         record.overlooked += u32::from(judgement.overlooked.is_some());
         if let Some(k) = state.onset {
             let onset = &mut record.onsets[k];
-            let signalled = !outcome.observed.is_empty()
-                || outcome
-                    .confidence
-                    .is_some_and(|c| c < trust::overtrust::DOUBT_BELOW);
-            if judgement.overlooked.is_some() && signalled && onset.detected_after.is_none() {
+            if judgement.overlooked.is_some()
+                && OwnRecord::has_signal(&outcome)
+                && onset.detected_after.is_none()
+            {
                 onset.perceivable += 1;
             }
         }
@@ -564,11 +563,7 @@ fn run_mission<D: Domain>(
             }
         }
         if let Some(steps) = trace.as_deref_mut() {
-            let estimate = adapter
-                .episode()
-                .map(|e| e.estimate.value)
-                .or_else(|| adapter.watching().map(|w| w.estimate.value))
-                .unwrap_or(0.0);
+            let estimate = adapter.in_use().map_or(0.0, |(_, e)| e.value);
             steps.push(MissionStep {
                 estimate,
                 own_record: adapter.watching().map(|_| adapter.own_record().value()),

@@ -164,11 +164,7 @@ impl Session {
     /// The behavior in use and its estimate: the episode's, or in mission mode the watched
     /// behavior's between episodes.
     fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        match (self.adaptation.episode(), self.adaptation.watching()) {
-            (Some(episode), _) => Some((episode.current, episode.estimate)),
-            (None, Some(watch)) => Some((watch.behavior, watch.estimate)),
-            (None, None) => None,
-        }
+        self.adaptation.in_use()
     }
 
     fn outcome(&mut self, outcome: &Outcome) -> Result<Value, SessionError> {

@@ -643,11 +643,7 @@ impl Adaptation {
     /// reasons its untrustworthy commands are attributed to (`None` with no episode under
     /// way).
     pub fn standing(&self) -> Option<GivenUp> {
-        let (behavior, estimate, untrustworthy) = match (&self.episode, &self.watch) {
-            (Some(e), _) => (e.current, e.estimate, e.current_untrustworthy),
-            (None, Some(w)) => (w.behavior, w.estimate, w.untrustworthy),
-            (None, None) => return None,
-        };
+        let (behavior, estimate, untrustworthy) = self.current()?;
         Some(GivenUp {
             behavior,
             commands: u64::from(estimate.commands),
@@ -655,6 +651,23 @@ impl Adaptation {
             estimate: estimate.value,
             reasons: self.attribution.reasons(),
         })
+    }
+
+    /// The behavior in use, its estimate and its untrustworthy commands: the episode's,
+    /// or in mission mode the watched behavior's between episodes.
+    fn current(&self) -> Option<(Behavior, TrustEstimate, u64)> {
+        match (&self.episode, &self.watch) {
+            (Some(e), _) => Some((e.current, e.estimate, e.current_untrustworthy)),
+            (None, Some(w)) => Some((w.behavior, w.estimate, w.untrustworthy)),
+            (None, None) => None,
+        }
+    }
+
+    /// The behavior in use and its estimate: the episode's, or in mission mode the
+    /// watched behavior's between episodes (`None` when neither).
+    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        self.current()
+            .map(|(behavior, estimate, _)| (behavior, estimate))
     }
 
     /// Mission mode: the settled behavior under watch between episodes, if any.
@@ -765,6 +778,11 @@ impl TrustAdapter {
     /// The account of the behavior in use so far (see [`Adaptation::standing`]).
     pub fn standing(&self) -> Option<GivenUp> {
         self.adaptation.standing()
+    }
+
+    /// The behavior in use and its estimate (see [`Adaptation::in_use`]).
+    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        self.adaptation.in_use()
     }
 
     /// Mission mode: the settled behavior under watch between episodes, if any.

@@ -120,6 +120,11 @@ impl OwnRecord {
         outcome.observed.indices().chain(doubt.then_some(DOUBT))
     }
 
+    /// Whether `outcome` carries a signal: something perceived, or doubt.
+    pub fn has_signal(outcome: &Outcome) -> bool {
+        Self::signals(outcome).next().is_some()
+    }
+
     /// Learns from a command the operator judged attentively (one of an adaptation
     /// episode) how it reacts to the command's signals, or to a command without one.
     pub fn learn(&mut self, outcome: &Outcome) {
@@ -187,7 +192,7 @@ impl OwnRecord {
     pub fn record(&mut self, outcome: &Outcome) -> f64 {
         self.value = (self.value + self.score(outcome)).max(0.0);
         self.commands += 1;
-        if !outcome.is_untrustworthy() && Self::signals(outcome).next().is_some() {
+        if !outcome.is_untrustworthy() && Self::has_signal(outcome) {
             self.unacknowledged += 1;
         }
         self.value
