@@ -14,7 +14,8 @@
 //! use std::sync::Arc;
 //! use trustcbr::cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 //! use trustcbr::rand::{Rng, RngCore};
-//! use trustcbr::trust::{Cause, DeclaredCause, Domain, Judgement};
+//! use trustcbr::trust::{Cause, DeclaredCause};
+//! use trustcbr::lab::{Domain, Judgement};
 //! use trustcbr::{Catalog, CatalogError, Readings};
 //!
 //! /// A lamp whose brightness an operator likes or not.
@@ -77,10 +78,11 @@
 
 use cbr_core::Behavior;
 use lab::Arm;
+use lab::Domain;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use trust::{Domain, RetrieverKind};
+use trust::RetrieverKind;
 
 /// The operator type of a catalog's domain.
 pub type OperatorOf<C> = <<C as Catalog>::Domain as Domain>::Operator;

@@ -20,6 +20,7 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use lab::Domain;
 use lab::{heatmap, landscape};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
@@ -29,7 +30,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use trust::Domain;
 
 /// The command line; name, version and description come from the catalog.
 #[derive(Parser)]
@@ -380,7 +380,7 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
 /// Runs the suite in the file `path`: an experiment suite, or a mission suite (a
 /// `missions` field).
 fn run_file<C: Catalog>(catalog: &C, path: &Path, options: &RunOptions) -> Result<()> {
-    if is_mission_suite(&cbr_core::read_text(path)?) {
+    if is_mission_suite(&files::read_text(path)?) {
         let config = MissionSuiteConfig::load(catalog, path)?;
         return run_mission_file(catalog, config, path, options);
     }
@@ -415,7 +415,7 @@ fn run_mission_file<C: Catalog>(
         config.arms = arms.clone();
         config.validate(catalog, origin)?;
     }
-    cbr_core::output::prepare_output_dir(&options.out)?;
+    lab::folder::prepare_output_dir(&options.out)?;
     let parts: Vec<(String, u64)> = config
         .missions
         .iter()
@@ -431,7 +431,7 @@ fn run_mission_file<C: Catalog>(
     let results =
         pool.install(|| run_mission_suite(catalog, &config, origin, &|i| progress.tick(i)))?;
     let elapsed = started.elapsed().as_secs_f64();
-    cbr_core::output::remove_previous_report(&options.out)?;
+    lab::folder::remove_previous_report(&options.out)?;
     let written = write_mission_report(&options.out, &config, &results)?;
     print!("{}", lab::mission_report::missions_markdown(&results));
     println!(
@@ -509,7 +509,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
     use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
     if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
         let sweep = Sweep::load(catalog, file)?;
-        let text = cbr_core::read_text(file)?;
+        let text = files::read_text(file)?;
         prepare_dir(out)?;
         let written = merge(&sweep, &text, dirs, out)?;
         println!(
@@ -528,7 +528,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
         )
     })?;
     let sweep = Sweep::load(catalog, file)?;
-    let text = cbr_core::read_text(file)?;
+    let text = files::read_text(file)?;
     prepare_dir(&args.out)?;
     let runs = match args.shard {
         Some((i, n)) => sweep.shard(i, n),
@@ -693,7 +693,7 @@ fn render<C: Catalog>(catalog: &C, args: &RenderArgs) -> Result<()> {
                 args.scenario
             )
         })?;
-    cbr_core::write_atomically(&args.output, svg.as_bytes())
+    files::write_atomically(&args.output, svg.as_bytes())
         .with_context(|| format!("writing {}", args.output.display()))?;
     println!("wrote {}", args.output.display());
     Ok(())
@@ -704,7 +704,7 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
     let readings = resolve_readings(catalog, &Default::default())?;
     let (operator_name, operator) =
         find_operator(catalog, &args.scenario, &args.operator, &readings)?;
-    cbr_core::output::ensure_writable_dir(&args.out)?;
+    files::output::ensure_writable_dir(&args.out)?;
     let space = domain.space();
     let components = match &args.components {
         Some(names) => names.clone(),
@@ -756,7 +756,7 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
         ),
     ] {
         let path = args.out.join(name);
-        cbr_core::write_atomically(&path, &bytes)
+        files::write_atomically(&path, &bytes)
             .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     }

@@ -4,7 +4,7 @@
 //! (`render`, `landscape`), serves the online adapter to robot controllers (`serve`) and
 //! manages case bases (`cases`) for the scenarios of a [`Catalog`]. The shipped binary is
 //! [`cli::main`] over [`UgvCatalog`] (the paper's movement and patrol scenarios); a task
-//! plug-in in its own crate implements [`trust::Domain`] and [`Catalog`] and gets the whole
+//! plug-in in its own crate implements [`lab::Domain`] and [`Catalog`] and gets the whole
 //! tool with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`
 //! (`docs/plugin-guide.md`).
 //!
@@ -47,6 +47,7 @@ pub use ugv::UgvCatalog;
 // accept the `RngCore` the runner hands over), `serde` and `ron` for its files (derive
 // with `#[serde(crate = "trustcbr::serde")]`), `service` to serve it by hand.
 pub use cbr_core;
+pub use files;
 pub use lab;
 pub use rand;
 pub use rand_distr;

@@ -11,8 +11,8 @@
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::suite::{ExperimentSpec, RANDOM_OPERATOR, SuiteAdapter, SuiteError, arm_named, invalid};
-use cbr_core::output::write_file_in;
-use cbr_core::{FileError, parse_ron, read_text};
+use files::write_file_in;
+use files::{FileError, parse_ron, read_text};
 use lab::Arm;
 use lab::mission::{Changes, Complacency, MissionPlan, MissionResult, run_missions};
 use lab::mission_figure::mission_figure;

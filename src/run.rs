@@ -102,10 +102,10 @@ pub fn run_with_report_checked<C: Catalog>(
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
     if let Some(out) = &settings.out {
-        cbr_core::output::prepare_output_dir(out)?;
+        lab::folder::prepare_output_dir(out)?;
     }
     if let Some(dir) = &settings.save_cases {
-        cbr_core::output::ensure_writable_dir(dir)?;
+        files::output::ensure_writable_dir(dir)?;
     }
     let (pool, threads) = worker_pool(settings.threads)?;
     let (results, elapsed_s, estimates) = pool.install(|| {
@@ -127,7 +127,7 @@ pub fn run_with_report_checked<C: Catalog>(
     };
     let written = match &settings.out {
         Some(out) => {
-            cbr_core::output::remove_previous_report(out)?;
+            lab::folder::remove_previous_report(out)?;
             write_suite_report(
                 out,
                 &config,

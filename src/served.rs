@@ -4,9 +4,10 @@
 
 use crate::catalog::Catalog;
 use crate::suite::arm_named;
+use lab::Domain;
 use lab::Initial;
 use service::DomainDefinition;
-use trust::{AdapterConfig, Domain};
+use trust::AdapterConfig;
 
 /// The domain `name` names: a scenario of the catalog (its space, causes, observations
 /// and hints, with the paper's adapter defaults) or a RON domain file.

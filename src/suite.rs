@@ -12,9 +12,8 @@ use crate::catalog::{
     Catalog, CatalogError, Family, OperatorOf, Readings, UnknownScenario, domain_of,
     resolve_readings,
 };
-use cbr_core::{
-    BehaviorSpace, CaseBaseError, FileError, RonError, parse_ron, read_text, write_file_in,
-};
+use cbr_core::BehaviorSpace;
+use files::{FileError, RonError, parse_ron, read_text, write_file_in};
 use lab::known_operator::{
     ExperimentLimit, KnownLimitError, KnownOperator, LimitSettings, known_operator,
 };
@@ -29,18 +28,17 @@ use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, Initial, LEARNED_START, OperatorChoice,
     PlanError, TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
 };
+use lab::{Domain, FeedbackChannel};
 use serde::{Deserialize, Serialize};
 use service::StoreError;
+use service::store::ron_file::CaseBaseError;
 use service::store::{self, Identity, Location, ron_file};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-use trust::{
-    ConfigError, Domain, FeedbackChannel, Retention, RetrieverKind, Thresholds, TimeUnit,
-    TrustCaseBase,
-};
+use trust::{ConfigError, Retention, RetrieverKind, Thresholds, TimeUnit, TrustCaseBase};
 
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";

@@ -16,8 +16,8 @@
 
 use crate::catalog::{Catalog, resolve_readings};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig, SuiteError, SuiteResults, run_suite};
-use cbr_core::output::{OutputError, ensure_writable_dir};
-use cbr_core::{FileError, RonError, parse_ron, read_text, write_file_in};
+use files::output::{FolderError, ensure_writable_dir};
+use files::{FileError, RonError, parse_ron, read_text, write_file_in};
 use lab::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use lab::report::{category_label, file_stems};
 use lab::stats::mean_ci95;
@@ -242,7 +242,7 @@ pub enum SweepError {
     },
     /// A folder for a sweep's files cannot be used.
     #[error(transparent)]
-    Output(#[from] OutputError),
+    Output(#[from] FolderError),
     /// A folder for a sweep's files holds other files.
     #[error(
         "{}: the folder holds `{entry}`, which is not part of a trustcbr sweep; give an empty or new folder, or one holding an earlier sweep (with its sweep.ron)",

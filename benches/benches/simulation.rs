@@ -5,10 +5,10 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use domains::{Scenario, UgvDomain, builtin_operators};
+use lab::Domain;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
-use trust::Domain;
 
 fn one_run(c: &mut Criterion) {
     let mut group = c.benchmark_group("simulation/run");

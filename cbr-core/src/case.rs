@@ -1,17 +1,12 @@
-//! Cases and the append-only case base, with atomic RON persistence.
+//! Cases and the append-only case base.
 //!
 //! A [`Case`] pairs a problem with its solution. A [`CaseBase`] only grows: a case, once
 //! appended, keeps its [`CaseId`] (its position) for good, so indices built over the base
-//! stay valid. Saving goes through [`write_atomically`], so a crash leaves either the old
-//! or the new file, never a torn one.
+//! stay valid. It serializes with serde; where it is stored is the caller's business
+//! (the service's case stores).
 
-use crate::input::{FileError, MAX_CASE_BASE_BYTES, read_text_at_most};
-use crate::output::write_atomically;
-use crate::ron_text::{RonError, parse_ron};
-use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::fmt;
-use std::path::{Path, PathBuf};
 
 /// The stable identity of a case: its position in the case base.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -51,26 +46,6 @@ impl<P, S> Default for CaseBase<P, S> {
     fn default() -> Self {
         Self { cases: Vec::new() }
     }
-}
-
-/// Why a case base could not be loaded or saved.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum CaseBaseError {
-    /// The file could not be read or written.
-    #[error(transparent)]
-    Io(#[from] FileError),
-    /// The file is not a valid case base.
-    #[error(transparent)]
-    Parse(#[from] RonError),
-    /// The case base could not be serialized.
-    #[error("{path}: cannot serialize the case base: {message}")]
-    Serialize {
-        /// The file.
-        path: PathBuf,
-        /// What went wrong.
-        message: String,
-    },
 }
 
 impl<P, S> CaseBase<P, S> {
@@ -115,40 +90,6 @@ impl<P, S> CaseBase<P, S> {
     }
 }
 
-impl<P: Serialize, S: Serialize> CaseBase<P, S> {
-    /// Writes the case base to `path` as RON, atomically: the previous file stays intact
-    /// until the new one is complete and synced.
-    pub fn save_ron(&self, path: &Path) -> Result<(), CaseBaseError> {
-        let text =
-            ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default()).map_err(|e| {
-                CaseBaseError::Serialize {
-                    path: path.to_owned(),
-                    message: e.to_string(),
-                }
-            })?;
-        write_atomically(path, text.as_bytes()).map_err(|reason| {
-            CaseBaseError::Io(FileError {
-                path: path.to_owned(),
-                reason,
-            })
-        })
-    }
-}
-
-impl<P: DeserializeOwned, S: DeserializeOwned> CaseBase<P, S> {
-    /// Reads a case base written by [`Self::save_ron`] (at most [`MAX_CASE_BASE_BYTES`]).
-    /// The file is only read.
-    pub fn load_ron(path: &Path) -> Result<Self, CaseBaseError> {
-        let text = read_text_at_most(path, MAX_CASE_BASE_BYTES)?;
-        Self::from_ron(&text, path)
-    }
-
-    /// Parses a case base from RON text; `origin` names the source in errors.
-    pub fn from_ron(text: &str, origin: &Path) -> Result<Self, CaseBaseError> {
-        Ok(parse_ron(text, origin)?)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -179,69 +120,5 @@ mod tests {
         assert_eq!(base.get(CaseId(0)).unwrap().solution, "a");
         assert_eq!(base.get(id).unwrap().problem, vec![3]);
         assert_eq!(base.len(), 3);
-    }
-
-    #[test]
-    fn save_and_load_round_trip() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("cases.ron");
-        let base = sample();
-        base.save_ron(&path).unwrap();
-        assert_eq!(Base::load_ron(&path).unwrap(), base);
-        // No temporary files are left behind.
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
-    }
-
-    #[test]
-    fn truncated_file_gives_position_and_is_left_untouched() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("cases.ron");
-        sample().save_ron(&path).unwrap();
-        let full = std::fs::read_to_string(&path).unwrap();
-        let truncated = &full[..full.len() / 2];
-        std::fs::write(&path, truncated).unwrap();
-        let err = Base::load_ron(&path).unwrap_err();
-        match &err {
-            CaseBaseError::Parse(RonError {
-                path: p,
-                line,
-                column,
-                ..
-            }) => {
-                assert_eq!(p, &path);
-                assert!(*line >= 1 && *column >= 1);
-            }
-            other => panic!("expected a parse error, got {other}"),
-        }
-        assert!(err.to_string().starts_with(&path.display().to_string()));
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), truncated);
-    }
-
-    #[test]
-    fn malformed_file_names_line_and_column() {
-        let text = "(\n  cases: [\n    (problem: [1], solution: \"a\"),\n    (problem: [x], solution: \"b\"),\n  ],\n)";
-        let err = Base::from_ron(text, Path::new("cb.ron")).unwrap_err();
-        let CaseBaseError::Parse(RonError { line, column, .. }) = err else {
-            panic!("expected a parse error");
-        };
-        // `x` is the 16th character of line 4: `    (problem: [x]`.
-        assert_eq!((line, column), (4, 16));
-    }
-
-    #[test]
-    fn an_unknown_field_in_a_case_is_refused_where_it_is() {
-        let text = "(cases: [(problem: [1], solution: \"a\", note: \"x\")])";
-        let err = Base::from_ron(text, Path::new("cb.ron")).unwrap_err();
-        let CaseBaseError::Parse(RonError { message, .. }) = err else {
-            panic!("expected a parse error");
-        };
-        assert!(message.contains("`note`"), "{message}");
-    }
-
-    #[test]
-    fn missing_file_is_an_io_error_naming_it() {
-        let err = Base::load_ron(Path::new("/nonexistent/cases.ron")).unwrap_err();
-        assert!(matches!(err, CaseBaseError::Io(_)));
-        assert!(err.to_string().contains("/nonexistent/cases.ron"));
     }
 }

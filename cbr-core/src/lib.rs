@@ -13,28 +13,22 @@
 pub mod behavior;
 pub mod case;
 pub mod component;
-pub mod input;
 pub mod memory;
 pub mod neighbourhood;
-pub mod output;
 pub mod retrieve;
-pub mod ron_text;
 pub mod search;
 pub mod similarity;
 pub mod space_diff;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
-pub use case::{Case, CaseBase, CaseBaseError, CaseId};
+pub use case::{Case, CaseBase, CaseId};
 pub use component::{
     Categorical, Component, ComponentError, ComponentKind, CustomComponent, KindError, KindProblem,
     NamedComponent, NumericGrid, RegistryError, Values, register_component_kind,
     registered_component_kinds,
 };
-pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use memory::CaseMemory;
-pub use output::{OutputError, write_atomically, write_file_in};
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
-pub use ron_text::{RonError, parse_ron};
 pub use search::{Proposal, Rationale, Searcher};
 pub use similarity::SimilarityMeasure;
 pub use space_diff::SpaceDifference;

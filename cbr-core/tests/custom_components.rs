@@ -5,8 +5,9 @@
 
 use cbr_core::{
     Behavior, BehaviorSpace, Component, ComponentError, ComponentKind, KindProblem, NamedComponent,
-    Values, parse_ron, register_component_kind, registered_component_kinds,
+    Values, register_component_kind, registered_component_kinds,
 };
+use files::parse_ron;
 use proptest::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt;

@@ -1,5 +1,5 @@
 //! The causes of failure of the UGV tasks, as the movement and patrol scenarios declare
-//! them ([`trust::Domain::causes`]).
+//! them ([`lab::Domain::causes`]).
 //!
 //! A movement run can end early by the deadline, a collision or a stuck robot, and, for
 //! operators with the preferences that watch them, by passing people too fast or anything

@@ -31,12 +31,13 @@ use crate::causes::{
     TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
 };
 use crate::trace::{EventKind, Trace};
-use cbr_core::{FileError, RonError, parse_ron, read_text};
+use files::{FileError, RonError, parse_ron, read_text};
+use lab::{FeedbackChannel, Judgement};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
-use trust::{Cause, DeclaredCause, FeedbackChannel, Judgement, OutcomeWeights, WeightsError};
+use trust::{Cause, DeclaredCause, OutcomeWeights, WeightsError};
 
 fn one() -> f64 {
     1.0

@@ -46,7 +46,7 @@ pub const CLOSE_PASS: Cause = Cause::from_static("close-pass");
 /// alarm was false.
 pub const RAISED_ALARM: Cause = Cause::from_static("raised-alarm");
 
-/// What a movement robot perceives, in bit order ([`trust::Domain::observations`]).
+/// What a movement robot perceives, in bit order ([`lab::Domain::observations`]).
 pub const MOVEMENT: [Cause; 5] = [COLLISION, STUCK, BEHIND_PLAN, NEAR_PERSON_FAST, CLOSE_PASS];
 /// What a patrol robot perceives, in bit order: the movement robot's, an explosion, and
 /// the alarms it raised itself.

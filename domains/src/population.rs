@@ -131,7 +131,7 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
             p,
         }),
         // How an operator explains itself is the experiment's to vary, not the family's.
-        feedback: trust::FeedbackChannel::SILENT,
+        feedback: lab::FeedbackChannel::SILENT,
     }
 }
 

@@ -12,6 +12,7 @@ use crate::ugv::{Run, UgvDomain};
 use crate::world::ObstacleKind;
 use cbr_core::Behavior;
 use lab::plot::{Area, DrawResult, svg, text_width};
+use lab::{Domain, Judgement};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::element::DashedPathElement;
@@ -20,7 +21,6 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
-use trust::{Domain, Judgement};
 
 /// Pixels per metre.
 const SCALE: f64 = 10.0;

@@ -18,9 +18,10 @@ use crate::scenario::Scenario;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace};
+use lab::{Domain, FeedbackChannel, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
-use trust::{Cause, DeclaredCause, Domain, FeedbackChannel, Hint, Judgement};
+use trust::{Cause, DeclaredCause, Hint};
 
 /// The behavior's settings in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]

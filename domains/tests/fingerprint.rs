@@ -5,9 +5,10 @@
 //! extra random number and change no outcome.
 
 use domains::{Scenario, UgvDomain, builtin_operators};
+use lab::{Domain, Judgement};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use trust::{Domain, Judgement, OutcomeKind};
+use trust::OutcomeKind;
 
 /// FNV-1a over the bytes of each judgement: kind, weight, true cause, duration.
 fn fold(hash: &mut u64, bytes: &[u8]) {

@@ -5,12 +5,13 @@ use cbr_core::Behavior;
 use domains::causes;
 use domains::geometry::Shape;
 use domains::{EventKind, OperatorModel, Scenario, UgvDomain, builtin_operators};
+use lab::Domain;
 use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::sync::OnceLock;
-use trust::{Domain, OutcomeKind};
+use trust::OutcomeKind;
 
 fn domain(scenario: Scenario) -> &'static UgvDomain {
     static DOMAINS: [OnceLock<UgvDomain>; 2] = [OnceLock::new(), OnceLock::new()];

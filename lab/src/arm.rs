@@ -207,7 +207,10 @@ impl Arm {
                 None => (false, other),
             },
         };
-        let kind = SearchKind::ALL.into_iter().find(|k| k.name() == search)?;
+        let kind = SearchKind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name() == search)?;
         let searcher = move |_: &Arc<BehaviorSpace>| kind.build();
         Some(if reuse {
             Self::case_based(name, searcher, move |space, lambda| {

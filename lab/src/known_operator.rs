@@ -21,6 +21,7 @@
 //! the same landscapes: the share of behaviors every operator trusts, the pairwise Jaccard
 //! index of their trustworthy regions, and whether any single behavior pleases everyone.
 
+use crate::Domain;
 use crate::landscape::{self, LandscapeError, Tally};
 use crate::limit::{self, DEFAULT_MAX_STATES, Limit, LimitError, Step, WalkOutcome};
 use crate::seeds::{Purpose, stream_seed};
@@ -30,7 +31,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
-use trust::{Domain, Thresholds};
+use trust::Thresholds;
 
 /// How the limit is estimated. The defaults keep the paper's seven experiments within
 /// their time budget (see `docs/search-strategies.md`).

@@ -24,13 +24,14 @@
 //! ruin); with cause-dependent weights (the patrol operators weigh a detonation three times
 //! the rest) the boundary moves with the causes of the failures.
 
+use crate::{Domain, Judgement};
 use cbr_core::{Behavior, BehaviorSpace};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use trust::{Cause, DeclaredCause, Domain, Judgement, OutcomeKind};
+use trust::{Cause, DeclaredCause, OutcomeKind};
 
 /// The runs of one cell, counted.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -368,10 +369,10 @@ impl Landscape {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Judgement;
     use cbr_core::NamedComponent;
     use rand::RngCore;
     use std::sync::Arc;
-    use trust::Judgement;
 
     /// Two components `a` (3 values) and `b` (2 values). An operator is a table of
     /// completion probabilities by value of `a` (the run completes when a uniform draw

@@ -1,6 +1,6 @@
 //! The trust laboratory: the experiment machinery of the paper's experiments (trials,
 //! arms, statistics), landscapes, reports and plots, generic over any
-//! [`Domain`](trust::Domain).
+//! [`Domain`](crate::Domain).
 //!
 //! This crate is what a researcher runs and a robot does not embed: the adapter, the
 //! estimate and the search strategies are the lean `trust` crate's; everything that needs
@@ -15,6 +15,9 @@
 #![deny(missing_docs)]
 
 pub mod arm;
+pub mod domain;
+pub mod feedback;
+pub mod folder;
 pub mod heatmap;
 pub mod known_operator;
 pub mod landscape;
@@ -30,6 +33,8 @@ pub mod stats;
 pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};
+pub use domain::{Domain, Judgement, vocabulary};
+pub use feedback::{FeedbackChannel, FeedbackError};
 pub use heatmap::LandscapeSvgError;
 pub use known_operator::KnownLimitError;
 pub use landscape::LandscapeError;

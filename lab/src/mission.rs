@@ -22,11 +22,12 @@
 use crate::arm::Arm;
 use crate::runner::{PlanError, TrialSettings, fresh_adapter};
 use crate::seeds::{Purpose, stream, stream_seed};
+use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
 use rand::{Rng, RngCore};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use trust::{Decision, Domain, FeedbackChannel, Mode, OutcomeKind, OwnRecord, TrustAdapter};
+use trust::{Decision, Mode, OutcomeKind, OwnRecord, TrustAdapter};
 
 /// When the operator changes during a mission.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

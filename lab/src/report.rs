@@ -4,6 +4,7 @@
 //! and where the final behaviors land in the behavior space, over the operator's
 //! landscape). Every file is written atomically.
 
+use crate::Domain;
 use crate::arm::Initial;
 use crate::heatmap::{self, KEY_WIDTH};
 use crate::known_operator::ExperimentLimit;
@@ -21,7 +22,8 @@ use crate::stats::{
     MeanCi, RatioCi, mean_ci95, paired_bootstrap_ratio, paired_t_test, wilcoxon_signed_rank,
 };
 use crate::timeline::{Timeline, timeline_figure};
-use cbr_core::{BehaviorSpace, FileError, write_file_in};
+use cbr_core::BehaviorSpace;
+use files::{FileError, write_file_in};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use rayon::prelude::*;
@@ -30,8 +32,8 @@ use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use trust::Cause;
 use trust::named::named_behavior;
-use trust::{Cause, Domain};
 
 /// One experiment's results with what the report needs to describe them.
 pub struct ReportEntry<'a> {

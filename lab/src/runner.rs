@@ -13,6 +13,7 @@
 use crate::arm::{Arm, Initial};
 use crate::seeds::{Purpose, stream, stream_seed};
 use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
+use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -21,9 +22,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
-    AdapterConfig, Cause, ConfigError, Decision, Domain, EpisodeReport, Explanation,
-    FeedbackChannel, Mode, Outcome, Retention, Source, Thresholds, TimeUnit, TrustAdapter,
-    TrustCaseBase, TrustMemory, UndeclaredCause, Vocabulary, find_declared,
+    AdapterConfig, Cause, ConfigError, Decision, EpisodeReport, Explanation, Mode, Outcome,
+    Retention, Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory,
+    UndeclaredCause, find_declared,
 };
 
 /// Which operator judges each trial.
@@ -484,7 +485,7 @@ pub(crate) fn fresh_adapter<D: Domain>(
         arm.build_searcher(space),
         ChaCha8Rng::seed_from_u64(0),
     )
-    .with_vocabulary(Vocabulary::of(domain)))
+    .with_vocabulary(crate::vocabulary(domain)))
 }
 
 /// What one trial of a chain leaves for its arm's result.

@@ -11,12 +11,13 @@ use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
 };
+use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
 use trust::search::{draw_untried, propose_untried};
 use trust::{
-    Cause, DeclaredCause, Domain, Evaluated, Judgement, Outcome, RetrieverKind, SetSimilarity,
-    Thresholds, TrustRetriever,
+    Cause, DeclaredCause, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds,
+    TrustRetriever,
 };
 
 /// The toy domain's one cause.

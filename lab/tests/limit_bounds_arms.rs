@@ -5,10 +5,11 @@
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use lab::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
+use lab::{Domain, Judgement};
 use proptest::prelude::*;
 use rand::{Rng, RngCore};
 use std::sync::Arc;
-use trust::{Cause, DeclaredCause, Domain, Judgement, RetrieverKind, Thresholds};
+use trust::{Cause, DeclaredCause, RetrieverKind, Thresholds};
 
 const DULL: Cause = Cause::from_static("dull");
 

@@ -5,9 +5,10 @@ use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use lab::mission::{ChangeKind, Changes, Complacency, MissionPlan, MissionResult, run_missions};
 use lab::mission_report::{MissionSummary, harm_comparisons};
 use lab::{Arm, TrialSettings};
+use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
-use trust::{Cause, DeclaredCause, Domain, Judgement, Observations, RetrieverKind};
+use trust::{Cause, DeclaredCause, Observations, RetrieverKind};
 
 const BUMPED: Cause = Cause::from_static("bumped");
 

@@ -3,14 +3,12 @@
 
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Searcher};
 use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments, trace_trial};
+use lab::{Domain, FeedbackChannel, Judgement};
 use proptest::prelude::*;
 use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
 use trust::search::Uniform;
-use trust::{
-    Cause, DeclaredCause, Domain, Evaluated, Explanation, FeedbackChannel, Judgement, Observations,
-    Outcome, RetrieverKind,
-};
+use trust::{Cause, DeclaredCause, Evaluated, Explanation, Observations, Outcome, RetrieverKind};
 
 /// The operator's real reason: never perceived by the robot.
 const HIDDEN: Cause = Cause::from_static("hidden-reason");

@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trustcbr::catalog::{Catalog, domain_of};
 use trustcbr::lab::BUILTIN_ARMS;
+use trustcbr::lab::Domain;
 use trustcbr::run::{RunSettings, run_with_report_checked};
 use trustcbr::suite::{EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, suite_table};
-use trustcbr::trust::Domain;
 use trustcbr::{AddedArm, UgvCatalog, WithArms};
 
 /// The embedded suite (the paper's seven experiments) as RON text, as `trustcbr config`

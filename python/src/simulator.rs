@@ -9,9 +9,9 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 use trustcbr::catalog::{Catalog, domain_of, find_operator, resolve_readings};
+use trustcbr::lab::Domain;
 use trustcbr::lab::landscape as estimates;
 use trustcbr::service::reply;
-use trustcbr::trust::Domain;
 use trustcbr::trust::named::named_space;
 use trustcbr::{Readings, UgvCatalog};
 

@@ -43,7 +43,8 @@
 //! assert_eq!(domain.build_searcher().name(), "uniform");
 //! ```
 
-use cbr_core::{BehaviorSpace, FileError, RonError, parse_ron, read_text};
+use cbr_core::BehaviorSpace;
+use files::{FileError, RonError, parse_ron, read_text};
 use serde::Deserialize;
 use std::fmt;
 use std::path::Path;

@@ -197,7 +197,7 @@ pub struct Vocabulary<'a> {
 /// twice is refused.
 pub fn parse_line(line: &[u8], vocabulary: Vocabulary<'_>) -> Envelope {
     let line = line
-        .strip_prefix(cbr_core::input::BYTE_ORDER_MARK.as_bytes())
+        .strip_prefix(files::input::BYTE_ORDER_MARK.as_bytes())
         .unwrap_or(line);
     let (map, id) = match serde_json::from_slice::<Line>(line) {
         Ok(Line::Object(map, id)) => (map, id),

@@ -210,7 +210,7 @@ pub enum StoreError {
     },
     /// A RON file could not be read, parsed or written.
     #[error(transparent)]
-    Ron(#[from] cbr_core::CaseBaseError),
+    Ron(#[from] ron_file::CaseBaseError),
 }
 
 /// A case base: cases with growing ids, learned in one [`Identity`].

@@ -2,7 +2,7 @@
 //!
 //! A failed or interrupted command may carry a [`Cause`]: a short name such as
 //! `too-slow` or `dropped-item`. This crate knows no particular cause; every domain
-//! declares its own ([`crate::Domain::causes`]), each as a [`DeclaredCause`] with an
+//! declares its own (the lab's `Domain::causes`), each as a [`DeclaredCause`] with an
 //! optional default weight, and outcomes carry those names. A cause is a small `Copy`
 //! value (the name is held inline), so outcomes stay `Copy` and the cause-aware search
 //! compares and hashes causes without allocating.

@@ -30,12 +30,12 @@ impl OutcomeKind {
 }
 
 /// What the robot perceived itself during one command: which of its domain's declared
-/// observations ([`Domain::observations`](crate::Domain::observations), at most
+/// observations (the lab's `Domain::observations`, at most
 /// [`Observations::CAPACITY`]) happened, as bits in the order the domain declares them.
 ///
 /// Observations come from the robot's own sensors and clock (a bump, being stuck, an
 /// explosion, running behind its own plan). They are never the operator's reason: that is
-/// the truth of the simulated run ([`Judgement::truth`]), which no searcher sees.
+/// the truth of the simulated run (the lab's `Judgement::truth`), which no searcher sees.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct Observations(u32);
@@ -92,7 +92,7 @@ fn nothing_observed(observed: &Observations) -> bool {
 /// operator gave one.
 ///
 /// This is everything a searcher, the adapter and `serve` are told. The operator's true
-/// reason is not here: a simulated run returns it beside the outcome, in a [`Judgement`],
+/// reason is not here: a simulated run returns it beside the outcome, in the lab's `Judgement`,
 /// for evaluation only.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -205,86 +205,6 @@ impl Outcome {
     /// The signed, weighted contribution `w * cmd` to the estimate.
     pub fn contribution(&self) -> f64 {
         self.weight * self.kind.sign()
-    }
-}
-
-/// One simulated command as a domain's run yields it: the [`Outcome`] the robot is told
-/// (what it perceived, nothing stated yet: the operator's feedback channel adds a stated
-/// reason, see [`FeedbackChannel`](crate::FeedbackChannel)) and the *truth*, the
-/// operator's real reason for a failure or interruption, which only evaluation reads.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Judgement {
-    /// What the robot knows of the command.
-    pub outcome: Outcome,
-    /// Why the operator really reacted: one of the domain's declared causes; `None` for a
-    /// completion.
-    pub truth: Option<Cause>,
-    /// A problem an attentive operator would have reacted to but this one overlooked (its
-    /// attention was low: [`crate::Domain::run_attending`]); the run went on past it.
-    /// `None` for an attentive operator. For evaluation only, as the truth.
-    pub overlooked: Option<Cause>,
-}
-
-impl Judgement {
-    /// A completion: nothing to explain.
-    pub fn completed(weight: f64, duration_s: f64) -> Self {
-        Self {
-            outcome: Outcome::completed(weight, duration_s),
-            truth: None,
-            overlooked: None,
-        }
-    }
-
-    /// A failure whose real reason is `truth`.
-    pub fn failed(weight: f64, truth: Cause, duration_s: f64) -> Self {
-        Self {
-            outcome: Outcome::failed(weight, duration_s),
-            truth: Some(truth),
-            overlooked: None,
-        }
-    }
-
-    /// An interruption whose real reason is `truth`.
-    pub fn interrupted(weight: f64, truth: Cause, duration_s: f64) -> Self {
-        Self {
-            outcome: Outcome::interrupted(weight, duration_s),
-            truth: Some(truth),
-            overlooked: None,
-        }
-    }
-
-    /// A judgement of any kind (`truth` `None` for completions), for callers that know the
-    /// kind only at run time.
-    pub fn new(kind: OutcomeKind, weight: f64, truth: Option<Cause>, duration_s: f64) -> Self {
-        Self {
-            outcome: Outcome::new(kind, weight, duration_s),
-            truth,
-            overlooked: None,
-        }
-    }
-
-    /// The same judgement with what the robot perceived.
-    #[must_use]
-    pub fn observing(self, observed: Observations) -> Self {
-        Self {
-            outcome: self.outcome.observing(observed),
-            ..self
-        }
-    }
-
-    /// The same judgement with the robot's own confidence in the command.
-    #[must_use]
-    pub fn assessing(self, confidence: Option<f64>) -> Self {
-        Self {
-            outcome: self.outcome.assessing(confidence),
-            ..self
-        }
-    }
-
-    /// The same judgement with a problem the operator overlooked.
-    #[must_use]
-    pub fn overlooking(self, overlooked: Option<Cause>) -> Self {
-        Self { overlooked, ..self }
     }
 }
 
@@ -456,19 +376,6 @@ mod tests {
             r#"{"kind":"failed","weight":1.0,"duration_s":2.0,"observed":9,"stated":"dropped-item"}"#
         );
         assert_eq!(serde_json::from_str::<Outcome>(&text).unwrap(), told);
-    }
-
-    #[test]
-    fn a_judgement_keeps_the_truth_beside_the_outcome() {
-        let j = Judgement::interrupted(0.5, TOO_SLOW, 3.0).observing(Observations::NONE.with(1));
-        assert_eq!(j.truth, Some(TOO_SLOW));
-        assert_eq!(
-            j.outcome.stated, None,
-            "nothing is stated until a channel says so"
-        );
-        assert!(j.outcome.observed.contains(1));
-        assert!(j.outcome.is_untrustworthy());
-        assert_eq!(Judgement::completed(1.0, 1.0).truth, None);
     }
 
     #[test]

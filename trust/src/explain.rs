@@ -68,17 +68,6 @@ pub struct Vocabulary {
     pub hints: Vec<Hint>,
 }
 
-impl Vocabulary {
-    /// The vocabulary of a domain.
-    pub fn of<D: crate::Domain + ?Sized>(domain: &D) -> Self {
-        Self {
-            causes: domain.causes().iter().map(|d| d.name).collect(),
-            observations: domain.observations().to_vec(),
-            hints: domain.hints().to_vec(),
-        }
-    }
-}
-
 /// One reason the robot attributes a given-up behavior's untrustworthy commands to, with
 /// its evidence.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -2,11 +2,8 @@
 //! any domain.
 //!
 //! - [`cause`]: causes of failure as names a domain declares.
-//! - [`estimate`]: outcomes (what the robot is told and perceives), judgements (an outcome
-//!   and the operator's true reason, for evaluation), the inverse trust estimate,
-//!   thresholds and verdicts.
-//! - [`feedback`]: the operator's feedback channel (how often it explains, how often
-//!   wrongly).
+//! - [`estimate`]: outcomes (what the robot is told and perceives), the inverse trust
+//!   estimate, thresholds and verdicts.
 //! - [`explain`]: explanations of every decision (why a behavior was given up, why the
 //!   next one, why the episode ended), from what the robot was told and perceived.
 //! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
@@ -21,11 +18,21 @@
 //! - [`watch`]: mission mode, the settled behavior kept under watch.
 //! - [`overtrust`]: the robot's own record of a settled behavior, and the alert it raises
 //!   when its operator trusts it more than that record says it should.
-//! - [`domain`]: the contract a task domain implements.
 //! - [`named`]: behaviors as JSON objects in real units.
 //! - `testing` (feature `testing`): conformance kits for users' own parts.
 //!
-//! This crate knows nothing of any particular robot or simulator, and it is lean: what a
+//! This crate knows nothing of any particular robot or simulator, and nothing in it can
+//! read the truth of a simulated command: the simulation contract (`Domain`, `Judgement`,
+//! `FeedbackChannel`) is the `lab` crate's, which depends on this one and not the other
+//! way round. What a domain tells the adapter is its [`Vocabulary`] (causes, observations,
+//! hints), the names a robot also knows:
+//!
+//! ```compile_fail
+//! // The truth of a run is not a type of this crate.
+//! use trust::Judgement;
+//! ```
+//!
+//! It is lean: what a
 //! robot embeds, with no plotting, statistics or thread pool (the parallel scan's thread
 //! pool is the opt-in `parallel` feature). Experiments, statistics, landscapes, reports
 //! and plots are the `lab` crate's.
@@ -34,11 +41,9 @@
 
 pub mod adapter;
 pub mod cause;
-pub mod domain;
 pub mod estimate;
 pub mod evaluated;
 pub mod explain;
-pub mod feedback;
 pub mod named;
 pub mod overtrust;
 pub mod retrieval;
@@ -57,15 +62,13 @@ pub use adapter::{
 pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
 };
-pub use domain::Domain;
 pub use estimate::{
-    Judgement, Observations, Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds,
-    TrustEstimate, Verdict,
+    Observations, Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate,
+    Verdict,
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use explain::{AttributedReason, Attribution, Explanation, GivenUp, Hint, Next, Vocabulary};
-pub use feedback::{FeedbackChannel, FeedbackError};
 pub use overtrust::{Alert, OwnRecord};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};

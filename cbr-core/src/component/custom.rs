@@ -197,9 +197,9 @@ impl CustomComponent {
         self.inner.component.as_ref()
     }
 
-    /// The definition as RON text, e.g. `{"count":8,"min":1.0,"ratio":2.0}`.
+    /// The definition as text, e.g. `{"count":8,"min":1.0,"ratio":2.0}`.
     pub fn definition_text(&self) -> String {
-        ron::to_string(&self.inner.definition).expect("a JSON value is always valid RON")
+        self.inner.definition.to_string()
     }
 
     pub(super) fn definition(&self) -> &serde_json::Value {

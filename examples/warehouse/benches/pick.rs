@@ -4,9 +4,9 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use trustcbr::lab::Domain;
 use trustcbr::rand::SeedableRng;
 use trustcbr::rand::rngs::StdRng;
-use trustcbr::trust::Domain;
 use warehouse::{WarehouseDomain, builtin_operators};
 
 fn one_pick(c: &mut Criterion) {

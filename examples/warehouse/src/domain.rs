@@ -1,4 +1,4 @@
-//! `WarehouseDomain`: one pick (shelf to packing station) behind the `trust::Domain`
+//! `WarehouseDomain`: one pick (shelf to packing station) behind the `lab::Domain`
 //! contract.
 //!
 //! A pick draws the item and how far its shelf is, drives out (people may cross), finds
@@ -19,8 +19,9 @@ use std::convert::Infallible;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
+use trustcbr::lab::{Domain, Judgement};
 use trustcbr::rand;
-use trustcbr::trust::{DeclaredCause, Domain, Judgement};
+use trustcbr::trust::DeclaredCause;
 
 /// The scenario's name.
 pub const PICKING: &str = "picking";

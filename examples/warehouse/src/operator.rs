@@ -13,10 +13,11 @@ use crate::trace::{Event, Trace};
 use rand::{Rng, RngCore};
 use std::fmt;
 use std::path::{Path, PathBuf};
-use trustcbr::cbr_core::{FileError, RonError, parse_ron, read_text};
+use trustcbr::files::{FileError, RonError, parse_ron, read_text};
+use trustcbr::lab::Judgement;
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
-use trustcbr::trust::{Judgement, OutcomeKind, OutcomeWeights, WeightsError};
+use trustcbr::trust::{OutcomeKind, OutcomeWeights, WeightsError};
 
 fn two() -> f64 {
     2.0

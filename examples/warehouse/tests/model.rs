@@ -3,8 +3,8 @@
 
 use proptest::prelude::*;
 use std::path::Path;
+use trustcbr::lab::{Domain, Judgement};
 use trustcbr::rand::{RngCore, SeedableRng};
-use trustcbr::trust::{Domain, Judgement};
 use warehouse::WarehouseCause;
 use warehouse::domain::{Settings, WarehouseDomain};
 use warehouse::gripper::{Grasp, Gripper};

@@ -15,12 +15,31 @@
 //! writes one. A case's id in a RON file is its position, from 0.
 
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file};
-use cbr_core::{
-    BehaviorSpace, CaseBaseError, FileError, MAX_CASE_BASE_BYTES, parse_ron, read_text_at_most,
-};
+use cbr_core::BehaviorSpace;
+use files::{FileError, MAX_CASE_BASE_BYTES, RonError, parse_ron, read_text_at_most};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use trust::TrustCase;
+
+/// Why a RON case file could not be read or written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CaseBaseError {
+    /// The file could not be read or written.
+    #[error(transparent)]
+    Io(#[from] FileError),
+    /// The file is not a valid case base.
+    #[error(transparent)]
+    Parse(#[from] RonError),
+    /// The case base could not be serialized.
+    #[error("{path}: cannot serialize the case base: {message}")]
+    Serialize {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
 
 /// The layout of a RON case file, as read.
 #[derive(Deserialize)]
@@ -165,7 +184,7 @@ pub fn save(out: &Path, identity: &Identity, cases: &[TrustCase]) -> Result<(), 
                 message: e.to_string(),
             }
         })?;
-    cbr_core::write_atomically(out, text.as_bytes()).map_err(|reason| {
+    files::write_atomically(out, text.as_bytes()).map_err(|reason| {
         CaseBaseError::Io(FileError {
             path: out.to_owned(),
             reason,

@@ -6,7 +6,8 @@
 //! - [`Uniform`]: uniform among untried behaviors, the honest baseline;
 //! - [`CauseAware`]: learns which component values bring which signals of failure (stated
 //!   reasons, what the robot perceived);
-//! - [`ModelBased`]: a Gaussian-process surrogate of the operator, solved with faer;
+//! - `ModelBased`: a Gaussian-process surrogate of the operator, solved with faer (the
+//!   `model-based` cargo feature, on by default);
 //! - [`Conditioned`]: what earlier operators trusted, weighed by how consistent each is
 //!   with this episode's rejections (the operators who disagree are told apart).
 //!
@@ -14,6 +15,7 @@
 
 pub mod cause_aware;
 pub mod conditioned;
+#[cfg(feature = "model-based")]
 pub mod model_based;
 pub mod random_walk;
 pub mod uniform;
@@ -22,6 +24,7 @@ pub mod value_counts;
 
 pub use cause_aware::CauseAware;
 pub use conditioned::Conditioned;
+#[cfg(feature = "model-based")]
 pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
 pub use uniform::Uniform;
@@ -84,19 +87,29 @@ pub enum SearchKind {
     Uniform,
     /// Cause-aware search ([`CauseAware`]).
     CauseAware,
-    /// Model-based search ([`ModelBased`]).
+    /// Model-based search (`ModelBased`; the `model-based` feature).
+    #[cfg(feature = "model-based")]
     ModelBased,
     /// Conditioned search ([`Conditioned`]).
     Conditioned,
 }
 
 impl SearchKind {
-    /// Every kind, the paper's first.
-    pub const ALL: [SearchKind; 5] = [
+    /// Every kind built in, the paper's first.
+    #[cfg(feature = "model-based")]
+    pub const ALL: &[SearchKind] = &[
         SearchKind::RandomWalk,
         SearchKind::Uniform,
         SearchKind::CauseAware,
         SearchKind::ModelBased,
+        SearchKind::Conditioned,
+    ];
+    /// Every kind built in, the paper's first.
+    #[cfg(not(feature = "model-based"))]
+    pub const ALL: &[SearchKind] = &[
+        SearchKind::RandomWalk,
+        SearchKind::Uniform,
+        SearchKind::CauseAware,
         SearchKind::Conditioned,
     ];
 
@@ -106,6 +119,7 @@ impl SearchKind {
             SearchKind::RandomWalk => Box::new(RandomWalk::new()),
             SearchKind::Uniform => Box::new(Uniform::new()),
             SearchKind::CauseAware => Box::new(CauseAware::new()),
+            #[cfg(feature = "model-based")]
             SearchKind::ModelBased => Box::new(ModelBased::new()),
             SearchKind::Conditioned => Box::new(Conditioned::new()),
         }
@@ -117,6 +131,7 @@ impl SearchKind {
             SearchKind::RandomWalk => "random-walk",
             SearchKind::Uniform => "uniform",
             SearchKind::CauseAware => "cause-aware",
+            #[cfg(feature = "model-based")]
             SearchKind::ModelBased => "model-based",
             SearchKind::Conditioned => "conditioned",
         }

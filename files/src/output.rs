@@ -3,12 +3,10 @@
 //! [`write_atomically`] replaces a file so that readers see either the old content or all
 //! of the new, never through a link planted beside it, keeping the file's mode and owner
 //! and, when the path is a symbolic link, replacing the file the link points to.
-//!
-//! A report folder is checked before any work starts ([`prepare_output_dir`]) and an
-//! earlier report in it is removed before the new one is written
-//! ([`remove_previous_report`]), so a report never mixes with another's files. The rule:
-//! the folder may be missing (it is created), empty, or hold an earlier report (it has a
-//! `summary.json`); a folder holding anything else is refused.
+//! [`write_file_in`] writes a file in a folder, creating the folder first, and
+//! [`ensure_writable_dir`] checks before any work starts that a folder can take files.
+//! What makes a folder a *report* folder is not this crate's business (the lab's
+//! `folder` module).
 
 use crate::input::{FileError, special_file_kind};
 use std::ffi::{OsStr, OsString};
@@ -17,26 +15,10 @@ use std::io::{self, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
-/// The file that marks a folder as holding a report.
-pub const REPORT_MARKER: &str = "summary.json";
-
-/// The files of a report, besides its plots: removed with an earlier report.
-pub const REPORT_FILES: &[&str] = &[
-    "summary.json",
-    "table.md",
-    "trials.jsonl",
-    "config.ron",
-    "missions.md",
-    "missions.jsonl",
-];
-
-/// The extensions of a report's plots: removed with an earlier report.
-pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];
-
-/// Why a report folder cannot be used.
+/// Why a folder cannot take the files to be written in it.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
-pub enum OutputError {
+pub enum FolderError {
     /// The path exists and is not a folder.
     #[error("{}: exists and is {kind}, not a folder for the report", path.display())]
     NotAFolder {
@@ -56,29 +38,15 @@ pub enum OutputError {
         /// Why (shown in the message, so not chained as a source).
         reason: io::Error,
     },
-    /// The folder holds files that are not part of a report.
-    #[error(
-        "{}: the folder holds `{entry}`, which is not part of a trustcbr report; give an empty or new folder, or one holding an earlier report (with its {REPORT_MARKER})",
-        path.display()
-    )]
-    Foreign {
-        /// The folder.
-        path: PathBuf,
-        /// One entry that is not part of a report.
-        entry: String,
-    },
-    /// A file of an earlier report could not be removed.
-    #[error(transparent)]
-    Remove(#[from] FileError),
 }
 
 /// Checks, before any work starts, that files can be written in the folder `dir`:
 /// creates it if missing, and refuses a path that is not a folder or a folder that cannot
 /// be written in (a temporary file is created and removed to find out: permissions,
 /// read-only file systems).
-pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
+pub fn ensure_writable_dir(dir: &Path) -> Result<(), FolderError> {
     let unwritable = |action| {
-        move |reason| OutputError::Unwritable {
+        move |reason| FolderError::Unwritable {
             path: dir.to_owned(),
             action,
             reason,
@@ -86,7 +54,7 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
     };
     match fs::metadata(dir) {
         Ok(meta) if !meta.is_dir() => {
-            return Err(OutputError::NotAFolder {
+            return Err(FolderError::NotAFolder {
                 path: dir.to_owned(),
                 kind: special_file_kind(&meta.file_type()).unwrap_or("a regular file"),
             });
@@ -104,69 +72,9 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<(), OutputError> {
     Ok(())
 }
 
-/// Checks, before any work starts, that a report can be written in `dir`: as
-/// [`ensure_writable_dir`], and refuses a folder that holds anything but an earlier
-/// report. Writes nothing but the folder.
-pub fn prepare_output_dir(dir: &Path) -> Result<(), OutputError> {
-    ensure_writable_dir(dir)?;
-    let unwritable = |reason| OutputError::Unwritable {
-        path: dir.to_owned(),
-        action: "list this folder",
-        reason,
-    };
-    let entries: Vec<String> = fs::read_dir(dir)
-        .map_err(unwritable)?
-        .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
-        .collect::<io::Result<_>>()
-        .map_err(unwritable)?;
-    if entries.iter().any(|name| name == REPORT_MARKER) {
-        return Ok(());
-    }
-    match entries.into_iter().find(|name| !is_temporary_name(name)) {
-        Some(entry) => Err(OutputError::Foreign {
-            path: dir.to_owned(),
-            entry,
-        }),
-        None => Ok(()),
-    }
-}
-
-/// Removes the files of an earlier report from `dir` (only if it holds one, marked by its
-/// [`REPORT_MARKER`]): [`REPORT_FILES`] and the plots ([`REPORT_PLOT_EXTENSIONS`]). Other
-/// files stay. Returns the files removed.
-pub fn remove_previous_report(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    if !dir.join(REPORT_MARKER).is_file() {
-        return Ok(Vec::new());
-    }
-    let listing = fs::read_dir(dir).map_err(|reason| OutputError::Unwritable {
-        path: dir.to_owned(),
-        action: "list this folder",
-        reason,
-    })?;
-    let mut removed = Vec::new();
-    for entry in listing.flatten() {
-        let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let is_plot = path
-            .extension()
-            .and_then(OsStr::to_str)
-            .is_some_and(|ext| REPORT_PLOT_EXTENSIONS.contains(&ext));
-        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
-        if is_file && (REPORT_FILES.contains(&name.as_str()) || is_plot) {
-            fs::remove_file(&path).map_err(|reason| FileError {
-                path: path.clone(),
-                reason,
-            })?;
-            removed.push(path);
-        }
-    }
-    removed.sort();
-    Ok(removed)
-}
-
 /// Whether `name` is a temporary file of [`write_atomically`] (`.NAME.tmp-...`), which
 /// an interrupted write may leave.
-fn is_temporary_name(name: &str) -> bool {
+pub fn is_temporary_name(name: &str) -> bool {
     name.starts_with('.') && name.contains(".tmp-")
 }
 
@@ -477,84 +385,5 @@ mod tests {
                 "cases.ron".to_owned(),
             ]
         );
-    }
-
-    #[test]
-    fn a_missing_report_folder_is_created_and_an_empty_one_accepted() {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("a/b/report");
-        prepare_output_dir(&out).unwrap();
-        assert!(out.is_dir());
-        assert!(names_in(&out).is_empty(), "the probe file is removed");
-        prepare_output_dir(&out).unwrap();
-    }
-
-    #[test]
-    fn a_file_an_unwritable_folder_and_foreign_files_are_refused() {
-        let dir = tempfile::tempdir().unwrap();
-        let file = dir.path().join("report");
-        fs::write(&file, b"x").unwrap();
-        let err = prepare_output_dir(&file).unwrap_err();
-        assert_eq!(
-            err.to_string(),
-            format!(
-                "{}: exists and is a regular file, not a folder for the report",
-                file.display()
-            )
-        );
-        let err = prepare_output_dir(Path::new("/dev/null")).unwrap_err();
-        assert!(err.to_string().contains("is a character device"), "{err}");
-        // Not writable even by root.
-        let err = prepare_output_dir(Path::new("/proc/self")).unwrap_err();
-        assert!(
-            err.to_string()
-                .starts_with("/proc/self: cannot create a file in this folder: "),
-            "{err}"
-        );
-        let notes = dir.path().join("notes");
-        fs::create_dir(&notes).unwrap();
-        fs::write(notes.join("todo.txt"), b"keep").unwrap();
-        let err = prepare_output_dir(&notes).unwrap_err();
-        assert!(matches!(&err, OutputError::Foreign { entry, .. } if entry == "todo.txt"));
-        assert_eq!(names_in(&notes), ["todo.txt"]);
-    }
-
-    #[test]
-    fn an_earlier_report_is_accepted_and_removed_file_by_file() {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path();
-        for name in [
-            "summary.json",
-            "table.md",
-            "trials.jsonl",
-            "config.ron",
-            "curves-movement-balanced.svg",
-            "index.html",
-            "notes.txt",
-            ".table.md.tmp-99999999-abc",
-        ] {
-            fs::write(out.join(name), b"old").unwrap();
-        }
-        fs::create_dir(out.join("plots.svg")).unwrap();
-        prepare_output_dir(out).unwrap();
-        let removed = remove_previous_report(out).unwrap();
-        assert_eq!(removed.len(), 6);
-        assert_eq!(
-            names_in(out),
-            [".table.md.tmp-99999999-abc", "notes.txt", "plots.svg"]
-        );
-        // Without its summary the folder no longer holds a report: nothing more goes.
-        assert!(remove_previous_report(out).unwrap().is_empty());
-        assert!(matches!(
-            prepare_output_dir(out),
-            Err(OutputError::Foreign { .. })
-        ));
-    }
-
-    #[test]
-    fn temporary_files_of_an_interrupted_write_do_not_make_a_folder_foreign() {
-        let dir = tempfile::tempdir().unwrap();
-        fs::write(dir.path().join(".summary.json.tmp-99999999-abc"), b"x").unwrap();
-        prepare_output_dir(dir.path()).unwrap();
     }
 }

@@ -4,12 +4,12 @@
 //! The paper's robot is told nothing ("infers that any interruptions are a result of the
 //! operator being unsatisfied"): [`FeedbackChannel::SILENT`], the default. Operators who do
 //! explain do it now and then, and not always rightly. A channel turns the truth of a
-//! simulated command (the operator's real reason, [`Judgement::truth`](crate::Judgement))
-//! into what the robot is told ([`Outcome::stated`](crate::Outcome)).
+//! simulated command (the operator's real reason, [`Judgement::truth`](crate::domain::Judgement::truth))
+//! into what the robot is told ([`Outcome::stated`](trust::Outcome)).
 
-use crate::{Cause, DeclaredCause};
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
+use trust::{Cause, DeclaredCause};
 
 /// How an operator explains itself.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,0 +1,193 @@
+//! The simulation contract: what a task domain gives the laboratory.
+//!
+//! A domain has a behavior space, declares the causes of failure an operator may have and
+//! the observations its robot perceives, and can run one command with a behavior in front
+//! of an operator, returning the command's [`Judgement`]: the [`Outcome`] the robot is
+//! told (with what it perceived) and, separately, the operator's true reason, which only
+//! evaluation reads. The experiment runner needs nothing else, so a new robot or task
+//! plugs in by implementing [`Domain`].
+//!
+//! The contract lives here, with the runner, and not in `trust`, the crate a robot
+//! embeds: `trust` does not depend on this crate, so nothing in it can name a
+//! [`Judgement`] or its truth. What `trust` sees of a domain is its [`Vocabulary`] (the
+//! causes, observations and hints a robot also knows), built by [`vocabulary`].
+
+use crate::feedback::FeedbackChannel;
+use cbr_core::{Behavior, BehaviorSpace};
+use rand::RngCore;
+use std::sync::Arc;
+use trust::{Cause, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, Vocabulary};
+
+/// A task domain: a behavior space and a way to run one command.
+pub trait Domain: Send + Sync {
+    /// The operator model that judges a run (e.g. preferences loaded from RON).
+    type Operator: Send + Sync;
+
+    /// The domain's name (e.g. `movement`).
+    fn name(&self) -> &str;
+
+    /// The behaviors the robot can adopt.
+    fn space(&self) -> &Arc<BehaviorSpace>;
+
+    /// The causes the truth of a [`Domain::run`] (and an operator's stated reason) may name
+    /// (the experiment runner refuses any other, naming the domain, the cause and these).
+    fn causes(&self) -> &[DeclaredCause];
+
+    /// What the robot perceives itself, by name (same spelling rules as causes): bit `i` of
+    /// an outcome's [`Observations`](trust::Observations) is `observations()[i]`. At most
+    /// [`Observations::CAPACITY`](trust::Observations::CAPACITY); none by default.
+    fn observations(&self) -> &[Cause] {
+        &[]
+    }
+
+    /// Which observations hint at which causes the robot cannot perceive itself (what a
+    /// robot's designer knows of its operators, the same for all of them), for the
+    /// explanations' inferences ([`trust::explain`]); none by default.
+    fn hints(&self) -> &[Hint] {
+        &[]
+    }
+
+    /// How `operator` explains itself; the paper's silent operator by default. An
+    /// experiment may override it for all its operators.
+    fn feedback(&self, _operator: &Self::Operator) -> FeedbackChannel {
+        FeedbackChannel::SILENT
+    }
+
+    /// Runs one command with `behavior` under `operator`, drawing all randomness from
+    /// `rng`, and returns how it ended: what the robot is told and perceives (nothing
+    /// stated: the runner applies the operator's feedback channel on a stream of its own)
+    /// and the operator's true reason.
+    fn run(
+        &self,
+        behavior: &Behavior,
+        operator: &Self::Operator,
+        rng: &mut dyn RngCore,
+    ) -> Judgement;
+
+    /// [`Domain::run`] under an operator whose `attention`, in `[0, 1]`, is the chance it
+    /// notices a problem it would react to when attentive (1: the paper's operator, who
+    /// notices everything it minds). A problem it overlooks lets the run go on, and is
+    /// named in the judgement's [`Judgement::overlooked`] for evaluation. A domain whose
+    /// operators never lose attention keeps this default, which ignores `attention`; one
+    /// that overrides it must return exactly [`Domain::run`]'s judgement at attention 1.
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &Self::Operator,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        let _ = attention;
+        self.run(behavior, operator, rng)
+    }
+}
+
+/// The names an adaptation explains itself in: `domain`'s declared causes, its
+/// observations (in bit order) and its hints.
+pub fn vocabulary<D: Domain + ?Sized>(domain: &D) -> Vocabulary {
+    Vocabulary {
+        causes: domain.causes().iter().map(|d| d.name).collect(),
+        observations: domain.observations().to_vec(),
+        hints: domain.hints().to_vec(),
+    }
+}
+
+/// One simulated command as a domain's run yields it: the [`Outcome`] the robot is told
+/// (what it perceived, nothing stated yet: the operator's feedback channel adds a stated
+/// reason, see [`FeedbackChannel`](crate::feedback::FeedbackChannel)) and the *truth*, the
+/// operator's real reason for a failure or interruption, which only evaluation reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Judgement {
+    /// What the robot knows of the command.
+    pub outcome: Outcome,
+    /// Why the operator really reacted: one of the domain's declared causes; `None` for a
+    /// completion.
+    pub truth: Option<Cause>,
+    /// A problem an attentive operator would have reacted to but this one overlooked (its
+    /// attention was low: [`Domain::run_attending`]); the run went on past it.
+    /// `None` for an attentive operator. For evaluation only, as the truth.
+    pub overlooked: Option<Cause>,
+}
+
+impl Judgement {
+    /// A completion: nothing to explain.
+    pub fn completed(weight: f64, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::completed(weight, duration_s),
+            truth: None,
+            overlooked: None,
+        }
+    }
+
+    /// A failure whose real reason is `truth`.
+    pub fn failed(weight: f64, truth: Cause, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::failed(weight, duration_s),
+            truth: Some(truth),
+            overlooked: None,
+        }
+    }
+
+    /// An interruption whose real reason is `truth`.
+    pub fn interrupted(weight: f64, truth: Cause, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::interrupted(weight, duration_s),
+            truth: Some(truth),
+            overlooked: None,
+        }
+    }
+
+    /// A judgement of any kind (`truth` `None` for completions), for callers that know the
+    /// kind only at run time.
+    pub fn new(kind: OutcomeKind, weight: f64, truth: Option<Cause>, duration_s: f64) -> Self {
+        Self {
+            outcome: Outcome::new(kind, weight, duration_s),
+            truth,
+            overlooked: None,
+        }
+    }
+
+    /// The same judgement with what the robot perceived.
+    #[must_use]
+    pub fn observing(self, observed: Observations) -> Self {
+        Self {
+            outcome: self.outcome.observing(observed),
+            ..self
+        }
+    }
+
+    /// The same judgement with the robot's own confidence in the command.
+    #[must_use]
+    pub fn assessing(self, confidence: Option<f64>) -> Self {
+        Self {
+            outcome: self.outcome.assessing(confidence),
+            ..self
+        }
+    }
+
+    /// The same judgement with a problem the operator overlooked.
+    #[must_use]
+    pub fn overlooking(self, overlooked: Option<Cause>) -> Self {
+        Self { overlooked, ..self }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TOO_SLOW: Cause = Cause::from_static("too-slow");
+
+    #[test]
+    fn a_judgement_keeps_the_truth_beside_the_outcome() {
+        let j = Judgement::interrupted(0.5, TOO_SLOW, 3.0).observing(Observations::NONE.with(1));
+        assert_eq!(j.truth, Some(TOO_SLOW));
+        assert_eq!(
+            j.outcome.stated, None,
+            "nothing is stated until a channel says so"
+        );
+        assert!(j.outcome.observed.contains(1));
+        assert!(j.outcome.is_untrustworthy());
+        assert_eq!(Judgement::completed(1.0, 1.0).truth, None);
+    }
+}
