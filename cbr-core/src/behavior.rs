@@ -520,6 +520,7 @@ impl fmt::Display for BehaviorDisplay<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::{SpaceShape, behavior_spaces};
     use proptest::prelude::*;
     use rand::SeedableRng;
     use std::collections::HashSet;
@@ -661,22 +662,9 @@ mod tests {
     }
 
     fn small_space() -> impl Strategy<Value = BehaviorSpace> {
-        prop::collection::vec((1u16..5, any::<bool>()), 1..4).prop_map(|specs| {
-            let components = specs
-                .iter()
-                .enumerate()
-                .map(|(k, &(n, numeric))| {
-                    let name = format!("c{k}");
-                    if numeric {
-                        NamedComponent::numeric(&name, "", 0.0, 0.5, n).unwrap()
-                    } else {
-                        let labels: Vec<String> = (0..n).map(|i| format!("v{i}")).collect();
-                        let refs: Vec<&str> = labels.iter().map(String::as_str).collect();
-                        NamedComponent::categorical(&name, &refs).unwrap()
-                    }
-                })
-                .collect();
-            BehaviorSpace::new(components).unwrap()
+        behavior_spaces(SpaceShape {
+            values: 1..=4,
+            ..SpaceShape::small()
         })
     }
 

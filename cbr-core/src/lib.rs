@@ -19,6 +19,8 @@ pub mod retrieve;
 pub mod search;
 pub mod similarity;
 pub mod space_diff;
+#[cfg(any(test, feature = "testing"))]
+pub mod testing;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
 pub use case::{Case, CaseBase, CaseId};

@@ -102,6 +102,7 @@ impl Walk<'_> {
 #[cfg(test)]
 mod tests {
     use crate::component::{Categorical, NamedComponent, Values};
+    use crate::testing::{SpaceShape, behavior_spaces};
     use crate::{Behavior, BehaviorSpace};
     use proptest::prelude::*;
     use rand::SeedableRng;
@@ -152,62 +153,10 @@ mod tests {
     }
 
     fn mixed_space() -> impl Strategy<Value = BehaviorSpace> {
-        let component = (1u16..7, 0u8..3, prop::collection::vec(0.0f64..=1.0, 36));
-        (
-            prop::collection::vec(component, 1..4),
-            prop::collection::vec(0u8..4, 3),
-        )
-            .prop_map(|(specs, weights)| {
-                let components: Vec<NamedComponent> = specs
-                    .iter()
-                    .enumerate()
-                    .map(|(k, (n, kind, table))| {
-                        let name = format!("c{k}");
-                        let labels: Vec<String> = (0..*n).map(|i| format!("v{i}")).collect();
-                        let n = usize::from(*n);
-                        match kind {
-                            0 => NamedComponent::numeric(&name, "", 0.0, 0.5, n as u16).unwrap(),
-                            1 => NamedComponent {
-                                name,
-                                unit: String::new(),
-                                values: Values::Categorical(Categorical::new(labels)),
-                            },
-                            _ => {
-                                // A symmetric table with 1 on the diagonal.
-                                let t: Vec<Vec<f64>> = (0..n)
-                                    .map(|i| {
-                                        (0..n)
-                                            .map(|j| {
-                                                if i == j {
-                                                    1.0
-                                                } else {
-                                                    table[i.min(j) * 6 + i.max(j)]
-                                                }
-                                            })
-                                            .collect()
-                                    })
-                                    .collect();
-                                NamedComponent {
-                                    name,
-                                    unit: String::new(),
-                                    values: Values::Categorical(Categorical {
-                                        labels,
-                                        similarity: Some(t),
-                                    }),
-                                }
-                            }
-                        }
-                    })
-                    .collect();
-                let mut w: Vec<f64> = weights[..components.len()]
-                    .iter()
-                    .map(|&w| f64::from(w))
-                    .collect();
-                if w.iter().all(|&x| x == 0.0) {
-                    w[0] = 1.0;
-                }
-                BehaviorSpace::with_weights(components, Some(w)).unwrap()
-            })
+        behavior_spaces(SpaceShape {
+            values: 1..=6,
+            ..SpaceShape::mixed()
+        })
     }
 
     proptest! {

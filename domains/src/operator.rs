@@ -232,7 +232,7 @@ impl OperatorModel {
                 file: origin.to_owned(),
                 operator: self.name.clone(),
                 cause,
-                allowed: list_causes(&PERCEIVED),
+                allowed: trust::cause::list_causes(&PERCEIVED),
             });
         }
         let on = [
@@ -248,7 +248,7 @@ impl OperatorModel {
                     operator: self.name.clone(),
                     field,
                     cause,
-                    declared: list_causes(&declared),
+                    declared: trust::cause::list_causes(&declared),
                 });
             }
         }
@@ -424,15 +424,6 @@ impl OperatorModel {
         // robot never started.
         interrupt(STUCK, 0.0)
     }
-}
-
-/// `a, b, c`.
-fn list_causes(causes: &[Cause]) -> String {
-    causes
-        .iter()
-        .map(Cause::to_string)
-        .collect::<Vec<_>>()
-        .join(", ")
 }
 
 /// The paper's operators for `scenario` (docs/model.md#the-operators), from the RON files

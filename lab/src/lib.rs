@@ -30,6 +30,8 @@ pub mod report;
 pub mod runner;
 pub mod seeds;
 pub mod stats;
+#[cfg(feature = "testing")]
+pub mod testing;
 pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};

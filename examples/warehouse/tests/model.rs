@@ -348,3 +348,14 @@ proptest! {
 fn the_kits_reach_a_plug_in_through_the_tool() {
     trustcbr::trust::testing::check_searcher(|| trustcbr::trust::SearchKind::CauseAware.build());
 }
+
+/// The warehouse keeps the simulation contract (the lab's domain kit) with every shipped
+/// operator.
+#[test]
+fn the_warehouse_keeps_the_simulation_contract() {
+    let operators: Vec<_> = warehouse::operator::builtin_operators()
+        .into_iter()
+        .map(|op| (op.name.clone(), op))
+        .collect();
+    trustcbr::lab::testing::check_domain(&WarehouseDomain::new(), &operators);
+}

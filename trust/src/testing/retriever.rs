@@ -11,9 +11,8 @@ use crate::{
     AdapterConfig, Cause, Decision, Evaluated, Outcome, TrustAdapter, TrustCase, TrustCaseBase,
     TrustMemory, TrustRetriever,
 };
-use cbr_core::{
-    Behavior, BehaviorSpace, Case, CaseId, Categorical, LinearRetriever, NamedComponent, Values,
-};
+use cbr_core::testing::{SpaceShape, behavior_spaces};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, LinearRetriever, NamedComponent};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestRunner};
 use rand::{Rng, SeedableRng};
@@ -106,60 +105,11 @@ fn answer(
 
 /// Numeric grids, plain and tabled categorical components, unequal and zero weights.
 fn space() -> impl Strategy<Value = Arc<BehaviorSpace>> {
-    let component = (0u8..4, 1u16..26, prop::collection::vec(0.0f64..=1.0, 16));
-    (
-        prop::collection::vec(component, 1..4),
-        prop::collection::vec(prop_oneof![Just(1.0), Just(0.0), 0.1f64..3.0], 3),
-    )
-        .prop_map(|(specs, weights)| {
-            let components: Vec<NamedComponent> = specs
-                .into_iter()
-                .enumerate()
-                .map(|(k, (kind, n, table))| {
-                    let name = format!("c{k}");
-                    let labels = |n: usize| (0..n).map(|i| format!("v{i}")).collect::<Vec<_>>();
-                    match kind {
-                        0 | 1 => NamedComponent::numeric(&name, "", 0.0, 0.5, n).unwrap(),
-                        2 => NamedComponent {
-                            name,
-                            unit: String::new(),
-                            values: Values::Categorical(Categorical::new(labels(usize::from(
-                                n % 4 + 1,
-                            )))),
-                        },
-                        _ => {
-                            let n = usize::from(n % 4 + 1);
-                            let t = (0..n)
-                                .map(|i| {
-                                    (0..n)
-                                        .map(|j| {
-                                            if i == j {
-                                                1.0
-                                            } else {
-                                                table[i.min(j) * 4 + i.max(j)]
-                                            }
-                                        })
-                                        .collect()
-                                })
-                                .collect();
-                            NamedComponent {
-                                name,
-                                unit: String::new(),
-                                values: Values::Categorical(Categorical {
-                                    labels: labels(n),
-                                    similarity: Some(t),
-                                }),
-                            }
-                        }
-                    }
-                })
-                .collect();
-            let mut w = weights[..components.len()].to_vec();
-            if w.iter().all(|&x| x == 0.0) {
-                w[0] = 1.0;
-            }
-            Arc::new(BehaviorSpace::with_weights(components, Some(w)).unwrap())
-        })
+    behavior_spaces(SpaceShape {
+        values: 1..=25,
+        ..SpaceShape::mixed()
+    })
+    .prop_map(Arc::new)
 }
 
 /// Times drawn from a few values (equal times, zero times: ties) or at random.

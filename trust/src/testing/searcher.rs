@@ -3,34 +3,13 @@
 
 use crate::search::TrustSearcher;
 use crate::{Cause, Evaluated, Observations, Outcome};
+use cbr_core::testing::{SpaceShape, behavior_spaces};
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Rationale};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::HashSet;
-
-/// A small random space: one to three numeric or categorical components of one to five
-/// values.
-fn space_strategy() -> impl Strategy<Value = BehaviorSpace> {
-    prop::collection::vec((1u16..=5, any::<bool>()), 1..=3).prop_map(|shape| {
-        let components = shape
-            .iter()
-            .enumerate()
-            .map(|(k, &(n, numeric))| {
-                let name = format!("c{k}");
-                if numeric {
-                    NamedComponent::numeric(&name, "", 0.0, 1.0, n).expect("a valid grid")
-                } else {
-                    let labels: Vec<String> = (0..n).map(|v| format!("v{v}")).collect();
-                    let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
-                    NamedComponent::categorical(&name, &labels).expect("valid labels")
-                }
-            })
-            .collect();
-        BehaviorSpace::new(components).expect("a valid space")
-    })
-}
 
 /// Drives `searcher` through one episode on `space` with outcomes drawn from `rng`: each
 /// proposed behavior gets a few commands, is evaluated, and the searcher is asked again,
@@ -137,7 +116,7 @@ pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
         failure_persistence: None,
         ..Config::default()
     });
-    let result = runner.run(&(space_strategy(), any::<u64>()), |(space, seed)| {
+    let result = runner.run(&(behavior_spaces(SpaceShape::small()), any::<u64>()), |(space, seed)| {
         let mut first = build();
         let a = drive(first.as_mut(), &space, &mut ChaCha8Rng::seed_from_u64(seed))?;
         // A second episode on the same searcher.
