@@ -1,6 +1,11 @@
-//! The domain conformance kit (feature `testing`): [`check_domain`] states the rules of
-//! the simulation contract ([`Domain`]) that a test can check, and checks them on a
-//! domain and its operators.
+//! Testing a domain and testing with one (feature `testing`).
+//!
+//! - [`check_domain`], the domain conformance kit: it states the rules of the simulation
+//!   contract ([`Domain`]) that a test can check, and checks them on a domain and its
+//!   operators.
+//! - [`ToyDomain`]: a small domain whose runs follow a rule the test writes (a grid of
+//!   numeric components, declared causes and observations), for tests of the machinery
+//!   that runs domains: one type instead of a domain written out in every test file.
 //!
 //! A domain author calls `lab::testing::check_domain(&domain, &operators)` from a test of
 //! the domain's crate, with the lab's `testing` feature (a plug-in gets it through
@@ -8,10 +13,11 @@
 //! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::domain::{Domain, Judgement};
-use cbr_core::Behavior;
-use rand::SeedableRng;
+use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use trust::{Cause, Observations, OutcomeKind};
+use std::sync::Arc;
+use trust::{Cause, DeclaredCause, Hint, Observations, OutcomeKind};
 
 /// Behaviors drawn per operator.
 pub const BEHAVIORS: u64 = 48;
@@ -216,4 +222,237 @@ fn describe(
         "operator `{operator}`, behavior {}, seed {seed}",
         space.display(behavior)
     )
+}
+
+/// How a [`ToyDomain`] runs one command: the behavior, the operator, its attention (1 for
+/// [`Domain::run`]) and the run's random stream.
+pub type ToyRule<O> = dyn Fn(&Behavior, &O, f64, &mut dyn RngCore) -> Judgement + Send + Sync;
+
+/// A small domain for tests: a grid of numeric components `c0, c1, ...` (values `0, 1, ...`),
+/// the causes and observations it declares, and a rule the test writes for one command
+/// under an operator of type `O`. [`Domain::run`] is the rule at attention 1 and
+/// [`Domain::run_attending`] the rule at the attention given, so a rule that reads its
+/// attention models an operator who may overlook problems, and one that ignores it keeps
+/// the contract by construction.
+pub struct ToyDomain<O> {
+    name: String,
+    space: Arc<BehaviorSpace>,
+    causes: Vec<DeclaredCause>,
+    observations: Vec<Cause>,
+    hints: Vec<Hint>,
+    rule: Box<ToyRule<O>>,
+}
+
+impl<O> ToyDomain<O> {
+    /// A domain named `name` over a grid of `sizes[k]` values per component, declaring
+    /// `causes`, whose commands follow `rule`.
+    pub fn grid(
+        name: &str,
+        sizes: &[u16],
+        causes: &[Cause],
+        rule: impl Fn(&Behavior, &O, f64, &mut dyn RngCore) -> Judgement + Send + Sync + 'static,
+    ) -> Self {
+        let components = sizes
+            .iter()
+            .enumerate()
+            .map(|(k, &n)| {
+                NamedComponent::numeric(&format!("c{k}"), "", 0.0, 1.0, n).expect("a valid grid")
+            })
+            .collect();
+        Self {
+            name: name.to_owned(),
+            space: Arc::new(BehaviorSpace::new(components).expect("a valid space")),
+            causes: causes.iter().copied().map(DeclaredCause::new).collect(),
+            observations: Vec::new(),
+            hints: Vec::new(),
+            rule: Box::new(rule),
+        }
+    }
+
+    /// The same domain declaring `observations` (in bit order) and `hints`.
+    #[must_use]
+    pub fn perceiving(mut self, observations: &[Cause], hints: &[Hint]) -> Self {
+        self.observations = observations.to_vec();
+        self.hints = hints.to_vec();
+        self
+    }
+}
+
+impl<O: Send + Sync> Domain for ToyDomain<O> {
+    type Operator = O;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        &self.space
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        &self.causes
+    }
+
+    fn observations(&self) -> &[Cause] {
+        &self.observations
+    }
+
+    fn hints(&self) -> &[Hint] {
+        &self.hints
+    }
+
+    fn run(&self, behavior: &Behavior, operator: &O, rng: &mut dyn RngCore) -> Judgement {
+        (self.rule)(behavior, operator, 1.0, rng)
+    }
+
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &O,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        (self.rule)(behavior, operator, attention, rng)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::Rng;
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    const SLOW: Cause = Cause::from_static("slow");
+    const BUMP: Cause = Cause::from_static("bump");
+
+    /// The operator wants behavior `(k, k)`; others are interrupted as slow.
+    fn fair() -> ToyDomain<u16> {
+        ToyDomain::grid("fair", &[4, 4], &[SLOW], |b, &k, _, rng| {
+            if *b == Behavior::new(&[k, k]) || rng.random_bool(0.1) {
+                Judgement::completed(1.0, 1.0)
+            } else {
+                Judgement::interrupted(1.0, SLOW, 1.0)
+            }
+        })
+    }
+
+    fn operators() -> Vec<(String, u16)> {
+        vec![("one".to_owned(), 1), ("three".to_owned(), 3)]
+    }
+
+    fn rule_broken(domain: &ToyDomain<u16>) -> String {
+        try_check_domain(domain, &operators()).unwrap_err().rule
+    }
+
+    #[test]
+    fn a_domain_that_keeps_the_contract_passes() {
+        check_domain(&fair(), &operators());
+        let perceiving = fair().perceiving(
+            &[BUMP],
+            &[Hint {
+                observation: BUMP,
+                suggests: SLOW,
+            }],
+        );
+        check_domain(&perceiving, &operators());
+    }
+
+    #[test]
+    fn each_broken_rule_is_named() {
+        let twice = ToyDomain::grid("twice", &[2], &[SLOW, SLOW], |_, _: &u16, _, _| {
+            Judgement::completed(1.0, 1.0)
+        });
+        assert_eq!(rule_broken(&twice), "cause `slow` is declared twice");
+        let hint = fair().perceiving(
+            &[BUMP],
+            &[Hint {
+                observation: BUMP,
+                suggests: Cause::from_static("glare"),
+            }],
+        );
+        assert_eq!(
+            rule_broken(&hint),
+            "a hint suggests cause `glare`, which is not declared"
+        );
+        // A run that draws from a generator of its own.
+        let draws = AtomicU64::new(0);
+        let restless = ToyDomain::grid("restless", &[2], &[SLOW], move |_, _: &u16, _, _| {
+            let n = draws.fetch_add(1, Ordering::Relaxed);
+            Judgement::completed(1.0, 1.0 + n as f64)
+        });
+        assert!(rule_broken(&restless).starts_with("two runs on the same random stream differ"));
+        let told = ToyDomain::grid("told", &[2], &[SLOW], |_, _: &u16, _, _| {
+            let j = Judgement::interrupted(1.0, SLOW, 1.0);
+            Judgement {
+                outcome: j.outcome.stating(Some(SLOW)),
+                ..j
+            }
+        });
+        assert!(rule_broken(&told).starts_with("a run stated a reason"));
+        let lucky = ToyDomain::grid("lucky", &[2], &[SLOW], |_, _: &u16, _, _| Judgement {
+            truth: Some(SLOW),
+            ..Judgement::completed(1.0, 1.0)
+        });
+        assert!(rule_broken(&lucky).starts_with("a completed run has a true reason"));
+        let secret = ToyDomain::grid("secret", &[2], &[SLOW], |_, _: &u16, _, _| {
+            Judgement::failed(1.0, BUMP, 1.0)
+        });
+        assert_eq!(
+            rule_broken(&secret),
+            "a run's true reason `bump` is not a declared cause"
+        );
+        let felt = ToyDomain::grid("felt", &[2], &[SLOW], |_, _: &u16, _, _| {
+            Judgement::completed(1.0, 1.0).observing(Observations::NONE.with(0))
+        });
+        assert!(rule_broken(&felt).starts_with("a run perceived observation bits 0b1"));
+        let negative = ToyDomain::grid("negative", &[2], &[SLOW], |_, _: &u16, _, _| {
+            Judgement::completed(-1.0, 1.0)
+        });
+        assert!(rule_broken(&negative).starts_with("a run returned an invalid outcome"));
+        let careless = ToyDomain::grid("careless", &[2], &[SLOW], |_, _: &u16, _, _| {
+            Judgement::completed(1.0, 1.0).overlooking(Some(SLOW))
+        });
+        assert_eq!(
+            rule_broken(&careless),
+            "an attentive run (`run`) overlooked a problem"
+        );
+        let case = try_check_domain(&careless, &operators()).unwrap_err().case;
+        assert_eq!(
+            case.as_deref(),
+            Some("operator `one`, behavior c0=1, seed 0")
+        );
+    }
+
+    /// A domain whose attending hook at attention 1 is not its plain run.
+    struct Inconsistent(ToyDomain<u16>);
+
+    impl Domain for Inconsistent {
+        type Operator = u16;
+        fn name(&self) -> &str {
+            "inconsistent"
+        }
+        fn space(&self) -> &Arc<BehaviorSpace> {
+            self.0.space()
+        }
+        fn causes(&self) -> &[DeclaredCause] {
+            self.0.causes()
+        }
+        fn run(&self, b: &Behavior, k: &u16, rng: &mut dyn RngCore) -> Judgement {
+            self.0.run(b, k, rng)
+        }
+        fn run_attending(&self, _: &Behavior, _: &u16, _: f64, _: &mut dyn RngCore) -> Judgement {
+            Judgement::completed(1.0, 1.0)
+        }
+    }
+
+    #[test]
+    fn an_attending_hook_that_is_not_the_run_at_full_attention_is_named() {
+        let rule = try_check_domain(&Inconsistent(fair()), &operators())
+            .unwrap_err()
+            .rule;
+        assert!(
+            rule.starts_with("`run_attending` at attention 1 differs"),
+            "{rule}"
+        );
+    }
 }

@@ -1,12 +1,13 @@
 //! The experiment machinery on a toy domain: pairing, determinism across thread counts,
 //! statistics and the report files.
 
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use cbr_core::{Behavior, BehaviorSpace};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
 use lab::report::{
     Provenance, ReportEntry, arms_table, table, trials_jsonl, versus_reference, write_report,
 };
+use lab::testing::ToyDomain;
 use lab::{
     Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
     run_experiments,
@@ -15,57 +16,40 @@ use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
 use trust::search::{draw_untried, propose_untried};
-use trust::{
-    Cause, DeclaredCause, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds,
-    TrustRetriever,
-};
+use trust::{Cause, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds, TrustRetriever};
 
 /// The toy domain's one cause.
 const TOO_SLOW: Cause = Cause::from_static("too-slow");
 
 /// A 6 x 6 grid; an operator completes commands of behaviors near its favourite one, and
 /// interrupts the others as too slow.
-struct Toy {
-    space: Arc<BehaviorSpace>,
-    causes: Vec<DeclaredCause>,
-}
+type Toy = ToyDomain<Favourite>;
 
 struct Favourite(Behavior);
 
-impl Toy {
-    fn new() -> Self {
-        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 6).unwrap();
-        Self {
-            space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
-            causes: vec![DeclaredCause::new(TOO_SLOW)],
-        }
-    }
+/// The toy domain declaring `causes` (its runs name `too-slow` all the same).
+fn toy_declaring(causes: &[Cause]) -> Toy {
+    ToyDomain::grid(
+        "toy",
+        &[6, 6],
+        causes,
+        |behavior, operator: &Favourite, _, rng| {
+            // The grid's behaviors are one change per step of one value.
+            let distance: u32 = (0..2)
+                .map(|k| u32::from(behavior.get(k).abs_diff(operator.0.get(k))))
+                .sum();
+            let duration = 1.0 + f64::from(distance);
+            if distance == 0 || rng.random_bool(0.05) {
+                Judgement::completed(1.0, duration)
+            } else {
+                Judgement::interrupted(1.0, TOO_SLOW, duration)
+            }
+        },
+    )
 }
 
-impl Domain for Toy {
-    type Operator = Favourite;
-
-    fn name(&self) -> &str {
-        "toy"
-    }
-
-    fn space(&self) -> &Arc<BehaviorSpace> {
-        &self.space
-    }
-
-    fn causes(&self) -> &[DeclaredCause] {
-        &self.causes
-    }
-
-    fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
-        let distance = self.space.changes(behavior, &operator.0);
-        let duration = 1.0 + f64::from(distance);
-        if distance == 0 || rng.random_bool(0.05) {
-            Judgement::completed(1.0, duration)
-        } else {
-            Judgement::interrupted(1.0, TOO_SLOW, duration)
-        }
-    }
+fn toy() -> Toy {
+    toy_declaring(&[TOO_SLOW])
 }
 
 fn operators() -> Vec<(String, Favourite)> {
@@ -161,7 +145,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
             result,
             scenario: "toy",
             operator,
-            space: &toy.space,
+            space: toy.space(),
             landscapes: &[],
             limit: None,
             reference: "case-based",
@@ -171,7 +155,7 @@ fn entries<'a>(results: &'a [ExperimentResult], toy: &'a Toy) -> Vec<ReportEntry
 }
 
 fn run_with_threads(threads: usize, trials: u32, seed: u64) -> String {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let plans = plans(&toy, &ops, trials);
     let pool = rayon::ThreadPoolBuilder::new()
@@ -195,7 +179,7 @@ fn same_seed_same_trials_for_any_thread_count() {
 
 #[test]
 fn arms_are_paired_and_cases_help() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let results = run_experiments(&plans(&toy, &ops, 60), 5, &|_| {}).unwrap();
     for result in &results {
@@ -231,7 +215,7 @@ fn arms_are_paired_and_cases_help() {
             result,
             scenario: "toy",
             operator: "low",
-            space: &toy.space,
+            space: toy.space(),
             landscapes: &[],
             limit: None,
             reference,
@@ -270,7 +254,7 @@ fn arms_are_paired_and_cases_help() {
 
 #[test]
 fn the_report_folder_holds_every_file() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let results = run_experiments(&plans(&toy, &ops, 10), 3, &|_| {}).unwrap();
     let mut entries = entries(&results, &toy);
@@ -349,7 +333,7 @@ fn the_report_folder_holds_every_file() {
     let line: serde_json::Value = serde_json::from_str(lines.lines().next().unwrap()).unwrap();
     assert_eq!(line["experiment"], "toy/low");
     assert_eq!(line["arm"], "random-walk");
-    assert!(line["final"]["a"].is_f64());
+    assert!(line["final"]["c0"].is_f64());
     let svg = std::fs::read_to_string(out.join("curves-toy-low.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("case-based+smallest-of-four"));
     // The page holds the same figures as the files, inline (the learning curves without
@@ -369,7 +353,7 @@ fn the_report_folder_holds_every_file() {
 
 #[test]
 fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let mut plans = plans(&toy, &ops, 8);
     for plan in &mut plans {
@@ -385,7 +369,7 @@ fn trials_cut_off_are_counted_in_the_table_not_shown_clean() {
 
 #[test]
 fn the_found_trustworthy_column_appears_only_when_some_trial_falls_short() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     // Every toy trial ends on the operator's favourite: a column of 100% says nothing.
     let results = run_experiments(&plans(&toy, &ops, 6), 2, &|_| {}).unwrap();
@@ -405,10 +389,7 @@ fn the_found_trustworthy_column_appears_only_when_some_trial_falls_short() {
 
 #[test]
 fn an_outcome_with_an_undeclared_cause_stops_the_run_with_the_declared_ones() {
-    let toy = Toy {
-        causes: vec![DeclaredCause::new(Cause::from_static("dropped-item"))],
-        ..Toy::new()
-    };
+    let toy = toy_declaring(&[Cause::from_static("dropped-item")]);
     let ops = operators();
     // Both the chains run in order (case reuse) and those run in parallel report it.
     for arm in [0, 1] {
@@ -426,7 +407,7 @@ fn an_outcome_with_an_undeclared_cause_stops_the_run_with_the_declared_ones() {
 
 #[test]
 fn plot_names_never_collide() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let plans: Vec<ExperimentPlan<'_, Toy>> = ["toy/low", "toy low", "toy-low"]
         .into_iter()
@@ -445,7 +426,7 @@ fn plot_names_never_collide() {
             result,
             scenario: "toy",
             operator: "low",
-            space: &toy.space,
+            space: toy.space(),
             landscapes: &[],
             limit: None,
             reference: "case-based",
@@ -463,7 +444,7 @@ fn plot_names_never_collide() {
 
 #[test]
 fn a_learned_start_begins_from_the_memory_once_it_holds_a_case() {
-    let toy = Toy::new();
+    let toy = toy();
     let ops = operators();
     let learned = |name: &str| Arm::builtin(name, RetrieverKind::Linear).unwrap();
     let mut plans = plans(&toy, &ops, 30);

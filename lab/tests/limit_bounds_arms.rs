@@ -2,45 +2,31 @@
 //! distributions are known exactly, no arm's mean (behaviors, commands, untrustworthy
 //! commands) falls below the limit by more than its noise.
 
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use lab::Judgement;
 use lab::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
+use lab::testing::ToyDomain;
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
-use lab::{Domain, Judgement};
 use proptest::prelude::*;
-use rand::{Rng, RngCore};
-use std::sync::Arc;
-use trust::{Cause, DeclaredCause, RetrieverKind, Thresholds};
+use rand::Rng;
+use trust::{Cause, RetrieverKind, Thresholds};
 
 const DULL: Cause = Cause::from_static("dull");
 
-/// One component of `p.len()` values; behavior `i` completes with probability `p[i]`.
-struct Table {
-    space: Arc<BehaviorSpace>,
-    causes: [DeclaredCause; 1],
-}
-
-impl Domain for Table {
-    type Operator = Vec<f64>;
-
-    fn name(&self) -> &str {
-        "table"
-    }
-
-    fn space(&self) -> &Arc<BehaviorSpace> {
-        &self.space
-    }
-
-    fn causes(&self) -> &[DeclaredCause] {
-        &self.causes
-    }
-
-    fn run(&self, behavior: &Behavior, p: &Vec<f64>, rng: &mut dyn RngCore) -> Judgement {
-        if rng.random::<f64>() < p[usize::from(behavior.get(0))] {
-            Judgement::completed(1.0, 1.0)
-        } else {
-            Judgement::interrupted(1.0, DULL, 1.0)
-        }
-    }
+/// One component of `values` values; behavior `i` completes with probability `p[i]`, the
+/// operator.
+fn table(values: u16) -> ToyDomain<Vec<f64>> {
+    ToyDomain::grid(
+        "table",
+        &[values],
+        &[DULL],
+        |behavior, p: &Vec<f64>, _, rng| {
+            if rng.random::<f64>() < p[usize::from(behavior.get(0))] {
+                Judgement::completed(1.0, 1.0)
+            } else {
+                Judgement::interrupted(1.0, DULL, 1.0)
+            }
+        },
+    )
 }
 
 /// The exact limit of an operator with completion probabilities `p` (weights 1).
@@ -75,13 +61,7 @@ proptest! {
             .prop_filter("some behavior can be trusted", |p| p.iter().any(|&q| q > 0.0)),
     ) {
         let values = u16::try_from(p.len()).unwrap();
-        let table = Table {
-            space: Arc::new(
-                BehaviorSpace::new(vec![NamedComponent::numeric("x", "", 0.0, 1.0, values).unwrap()])
-                    .unwrap(),
-            ),
-            causes: [DeclaredCause::new(DULL)],
-        };
+        let table = table(values);
         let operators = [("p".to_owned(), p.clone())];
         let plan = ExperimentPlan {
             name: "table".into(),

@@ -1,14 +1,15 @@
 //! A searcher is told what the robot perceives and what the operator says, never the
 //! truth: a domain whose true reasons and observations differ, watched by a spy searcher.
 
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent, Proposal, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
+use lab::testing::ToyDomain;
 use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments, trace_trial};
-use lab::{Domain, FeedbackChannel, Judgement};
+use lab::{FeedbackChannel, Judgement};
 use proptest::prelude::*;
 use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
 use trust::search::Uniform;
-use trust::{Cause, DeclaredCause, Evaluated, Explanation, Observations, Outcome, RetrieverKind};
+use trust::{Cause, Evaluated, Explanation, Observations, Outcome, RetrieverKind};
 
 /// The operator's real reason: never perceived by the robot.
 const HIDDEN: Cause = Cause::from_static("hidden-reason");
@@ -19,57 +20,28 @@ const BEEP: Cause = Cause::from_static("beep");
 
 /// A 4 x 4 grid whose operator accepts only behavior (3, 3); every other command fails
 /// for the hidden reason while the robot hears a beep.
-struct Secretive {
-    space: Arc<BehaviorSpace>,
-    causes: [DeclaredCause; 2],
-    observations: [Cause; 1],
-    truth: Cause,
+type Secretive = ToyDomain<()>;
+
+fn secretive() -> Secretive {
+    secretive_with_truth(HIDDEN)
 }
 
-impl Secretive {
-    fn new() -> Self {
-        Self::with_truth(HIDDEN)
-    }
-
-    /// The same domain whose operator's real reason is `truth`.
-    fn with_truth(truth: Cause) -> Self {
-        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 4).unwrap();
-        Self {
-            space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
-            causes: [DeclaredCause::new(HIDDEN), DeclaredCause::new(OTHER)],
-            observations: [BEEP],
-            truth,
-        }
-    }
-}
-
-impl Domain for Secretive {
-    type Operator = ();
-
-    fn name(&self) -> &str {
-        "secretive"
-    }
-
-    fn space(&self) -> &Arc<BehaviorSpace> {
-        &self.space
-    }
-
-    fn causes(&self) -> &[DeclaredCause] {
-        &self.causes
-    }
-
-    fn observations(&self) -> &[Cause] {
-        &self.observations
-    }
-
-    fn run(&self, behavior: &Behavior, _operator: &(), rng: &mut dyn RngCore) -> Judgement {
-        let duration = rng.random_range(1.0..2.0);
-        if *behavior == Behavior::new(&[3, 3]) {
-            Judgement::completed(1.0, duration)
-        } else {
-            Judgement::failed(1.0, self.truth, duration).observing(Observations::NONE.with(0))
-        }
-    }
+/// The same domain whose operator's real reason is `truth`.
+fn secretive_with_truth(truth: Cause) -> Secretive {
+    ToyDomain::grid(
+        "secretive",
+        &[4, 4],
+        &[HIDDEN, OTHER],
+        move |behavior, _: &(), _, rng| {
+            let duration = rng.random_range(1.0..2.0);
+            if *behavior == Behavior::new(&[3, 3]) {
+                Judgement::completed(1.0, duration)
+            } else {
+                Judgement::failed(1.0, truth, duration).observing(Observations::NONE.with(0))
+            }
+        },
+    )
+    .perceiving(&[BEEP], &[])
 }
 
 /// Uniform search that writes down every outcome it is told.
@@ -108,7 +80,7 @@ fn told(feedback: Option<FeedbackChannel>) -> Vec<Outcome> {
 
 /// [`told`] with the experiment's master seed.
 fn told_with_seed(feedback: Option<FeedbackChannel>, seed: u64) -> Vec<Outcome> {
-    let domain = Secretive::new();
+    let domain = secretive();
     let operators = [("only".to_owned(), ())];
     let seen = Arc::new(Mutex::new(Vec::new()));
     let spy_log = seen.clone();
@@ -193,7 +165,7 @@ fn feedback_changes_what_is_said_not_what_happens() {
 /// operator's real reason is `truth`, with the share of given-up behaviors the
 /// explanations got right.
 fn explanations(truth: Cause, feedback: Option<FeedbackChannel>) -> (Vec<Explanation>, u32) {
-    let domain = Secretive::with_truth(truth);
+    let domain = secretive_with_truth(truth);
     let operators = [("only".to_owned(), ())];
     let results = run_experiments(&[two_arms(&domain, &operators, feedback)], 9, &|_| {}).unwrap();
     let mut all = Vec::new();
@@ -238,7 +210,7 @@ fn two_arms<'a>(
 
 #[test]
 fn a_traced_trial_is_the_trial_the_experiment_ran() {
-    let domain = Secretive::new();
+    let domain = secretive();
     let operators = [("only".to_owned(), ())];
     let feedback = Some(FeedbackChannel::new(0.3, 0.1).unwrap());
     let results = run_experiments(&[two_arms(&domain, &operators, feedback)], 9, &|_| {}).unwrap();
