@@ -166,7 +166,7 @@ pub fn arms_table(entries: &[ReportEntry<'_>]) -> String {
 }
 
 /// Every arm's effect size against its experiment's reference arm, from
-/// [`all_effect_sizes`].
+/// [`all_effect_sizes`](super::all_effect_sizes).
 pub fn effects_table(entries: &[ReportEntry<'_>], effects: &[Vec<Option<RatioCi>>]) -> String {
     let mut out = String::from(
         "| Experiment | Arm | Behaviors evaluated ÷ reference's | 95% CI (paired bootstrap) |\n",
