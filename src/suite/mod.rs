@@ -37,33 +37,23 @@ pub use validate::{
 };
 
 use crate::catalog::CatalogError;
-use cbr_core::{CaseBaseError, FileError, RonError};
+use crate::config_file::{ConfigFileError, from_config_file_errors};
+use cbr_core::CaseBaseError;
 use lab::PlanError;
 use lab::report::ReportError;
 use service::StoreError;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use trust::ConfigError;
 
 /// Why a suite cannot be run.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SuiteError {
-    /// The config file could not be read.
+    /// A file cannot be read or written (the config, an operator file copied into the
+    /// report, a folder of saved case bases), the config does not parse, or a value of it
+    /// is out of range.
     #[error(transparent)]
-    Io(#[from] FileError),
-    /// The config is not valid RON for a suite.
-    #[error(transparent)]
-    Parse(#[from] RonError),
-    /// A value is out of range.
-    #[error("{path}: {field}: {message}")]
-    Invalid {
-        /// The file.
-        path: PathBuf,
-        /// The field, e.g. `experiments[2].operator`.
-        field: String,
-        /// What is wrong and what is allowed.
-        message: String,
-    },
+    File(#[from] ConfigFileError),
     /// An operator file is invalid.
     #[error(transparent)]
     Operator(#[from] CatalogError),
@@ -84,6 +74,8 @@ pub enum SuiteError {
     Report(#[from] ReportError),
 }
 
+from_config_file_errors!(SuiteError);
+
 // Boxed: a store's error is large, and every result of a suite carries this type.
 impl From<StoreError> for SuiteError {
     fn from(error: StoreError) -> Self {
@@ -99,13 +91,9 @@ impl From<ConfigError> for SuiteError {
     }
 }
 
-/// A [`SuiteError::Invalid`] of `field` in the file `origin`.
+/// A [`ConfigFileError::Invalid`] of `field` in the file `origin`, as a [`SuiteError`].
 pub(crate) fn invalid(origin: &Path, field: String, message: String) -> SuiteError {
-    SuiteError::Invalid {
-        path: origin.to_owned(),
-        field,
-        message,
-    }
+    ConfigFileError::invalid(origin, field, message).into()
 }
 
 #[cfg(test)]

@@ -3,6 +3,7 @@
 
 use super::{Design, Parameter, SuiteSource, SweepConfig, SweepError};
 use crate::catalog::{Catalog, resolve_readings};
+use crate::config_file::ConfigFileError;
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig};
 use cbr_core::{parse_ron, read_text};
 use lab::report::file_stems;
@@ -62,10 +63,8 @@ impl Sweep {
         config: SweepConfig,
         path: &Path,
     ) -> Result<Self, SweepError> {
-        let invalid = |field: &str, message: String| SweepError::Invalid {
-            path: path.to_owned(),
-            field: field.to_owned(),
-            message,
+        let invalid = |field: &str, message: String| {
+            SweepError::from(ConfigFileError::invalid(path, field.to_owned(), message))
         };
         if config.seeds.is_empty() {
             return Err(invalid("seeds", "at least one seed is needed".into()));

@@ -89,7 +89,7 @@ pub(super) fn remove_earlier_report(dir: &Path) -> Result<(), SweepError> {
 
 fn remove(path: &Path) -> Result<(), SweepError> {
     std::fs::remove_file(path).map_err(|reason| {
-        SweepError::Io(FileError {
+        SweepError::from(FileError {
             path: path.to_owned(),
             reason,
         })

@@ -34,31 +34,19 @@ pub use merge::merge;
 pub use report::write_report;
 pub use runs::{ArmMeans, RunSummary, write_run};
 
+use crate::config_file::{ConfigFileError, from_config_file_errors};
 use crate::suite::SuiteError;
 use cbr_core::output::OutputError;
-use cbr_core::{FileError, RonError};
 use std::path::PathBuf;
 
 /// Why a sweep cannot be run or merged.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum SweepError {
-    /// A file could not be read or written.
+    /// The sweep file cannot be read or parsed, a value of it is out of range, or a file
+    /// of the sweep's folder cannot be read or written.
     #[error(transparent)]
-    Io(#[from] FileError),
-    /// A RON file does not parse.
-    #[error(transparent)]
-    Parse(#[from] RonError),
-    /// A value is out of range.
-    #[error("{path}: {field}: {message}")]
-    Invalid {
-        /// The file.
-        path: PathBuf,
-        /// The field.
-        field: String,
-        /// What is wrong and what is allowed.
-        message: String,
-    },
+    File(#[from] ConfigFileError),
     /// A cell's suite is invalid or could not run.
     #[error("cell {cell}: {reason}")]
     Suite {
@@ -113,3 +101,5 @@ pub enum SweepError {
         message: String,
     },
 }
+
+from_config_file_errors!(SweepError);
