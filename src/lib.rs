@@ -9,6 +9,7 @@
 //! (`docs/plugin-guide.md`).
 //!
 //! - [`catalog`]: the [`Catalog`] trait and what it names (scenarios, operators, readings);
+//! - [`config_file`]: what goes wrong with a config file, shared by suites and sweeps;
 //! - [`suite`]: suite configs (RON) and their runs and reports;
 //! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
 //! - [`missions`]: mission suites (long missions, operator changes, complacency) and
@@ -22,6 +23,7 @@
 
 pub mod catalog;
 pub mod cli;
+pub mod config_file;
 pub mod missions;
 pub mod progress;
 pub mod run;
@@ -37,6 +39,7 @@ pub use catalog::{
     AddedArm, Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings,
     ToolInfo, UnknownScenario, WithArms,
 };
+pub use config_file::ConfigFileError;
 pub use suite::{SuiteError, TraceError};
 pub use sweep::SweepError;
 pub use ugv::UgvCatalog;

@@ -30,6 +30,40 @@ pub const REPORT_FILES: &[&str] = &[
 /// The extensions of a report's plots: removed with an earlier report.
 pub const REPORT_PLOT_EXTENSIONS: &[&str] = &["svg", "html"];
 
+/// What makes a folder hold one kind of report, and which of its files are that report's:
+/// the one rule every kind of report folder follows (experiments and missions
+/// ([`REPORT`]), sweeps).
+#[derive(Clone, Copy, Debug)]
+pub struct FolderRule {
+    /// What the folder holds, as messages name it: `report`, `sweep`.
+    pub holds: &'static str,
+    /// The file that marks a folder as holding one.
+    pub marker: &'static str,
+    /// Whether a file, by name, is part of one (removed with an earlier one).
+    pub owns: fn(&str) -> bool,
+    /// Whether an unmarked folder may hold a file of this name and still be written in
+    /// (besides the temporary files an interrupted write leaves).
+    pub unmarked_may_hold: fn(&str) -> bool,
+}
+
+/// Experiment and mission reports: marked by their `summary.json`; an unmarked folder must
+/// be empty.
+pub const REPORT: FolderRule = FolderRule {
+    holds: "report",
+    marker: REPORT_MARKER,
+    owns: is_report_file,
+    unmarked_may_hold: |_| false,
+};
+
+/// Whether `name` is one of [`REPORT_FILES`] or a plot ([`REPORT_PLOT_EXTENSIONS`]).
+fn is_report_file(name: &str) -> bool {
+    let is_plot = Path::new(name)
+        .extension()
+        .and_then(OsStr::to_str)
+        .is_some_and(|ext| REPORT_PLOT_EXTENSIONS.contains(&ext));
+    REPORT_FILES.contains(&name) || is_plot
+}
+
 /// Why a report folder cannot be used.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -39,7 +73,7 @@ pub enum ReportFolderError {
     Folder(#[from] FolderError),
     /// The folder holds files that are not part of a report.
     #[error(
-        "{}: the folder holds `{entry}`, which is not part of a trustcbr report; give an empty or new folder, or one holding an earlier report (with its {REPORT_MARKER})",
+        "{}: the folder holds `{entry}`, which is not part of a trustcbr {holds}; give an empty or new folder, or one holding an earlier {holds} (with its {marker})",
         path.display()
     )]
     Foreign {
@@ -47,70 +81,88 @@ pub enum ReportFolderError {
         path: PathBuf,
         /// One entry that is not part of a report.
         entry: String,
+        /// What the folder was to hold ([`FolderRule::holds`]).
+        holds: &'static str,
+        /// Its marker file ([`FolderRule::marker`]).
+        marker: &'static str,
     },
     /// A file of an earlier report could not be removed.
     #[error(transparent)]
     Remove(#[from] FileError),
 }
 
-/// Checks, before any work starts, that a report can be written in `dir`: as
-/// [`ensure_writable_dir`], and refuses a folder that holds anything but an earlier
-/// report. Writes nothing but the folder.
-pub fn prepare_output_dir(dir: &Path) -> Result<(), ReportFolderError> {
-    ensure_writable_dir(dir)?;
-    let unwritable = |reason| FolderError::Unwritable {
-        path: dir.to_owned(),
-        action: "list this folder",
-        reason,
-    };
-    let entries: Vec<String> = fs::read_dir(dir)
-        .map_err(unwritable)?
-        .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
-        .collect::<io::Result<_>>()
-        .map_err(unwritable)?;
-    if entries.iter().any(|name| name == REPORT_MARKER) {
-        return Ok(());
-    }
-    match entries.into_iter().find(|name| !is_temporary_name(name)) {
-        Some(entry) => Err(ReportFolderError::Foreign {
+impl FolderRule {
+    /// Checks, before any work starts, that `dir` can take this kind of report: as
+    /// [`ensure_writable_dir`], and refuses a folder that holds anything but an earlier one
+    /// (marked by [`FolderRule::marker`]) or what an unmarked folder may hold. Writes
+    /// nothing but the folder.
+    pub fn prepare(&self, dir: &Path) -> Result<(), ReportFolderError> {
+        ensure_writable_dir(dir)?;
+        let unwritable = |reason| FolderError::Unwritable {
             path: dir.to_owned(),
-            entry,
-        }),
-        None => Ok(()),
+            action: "list this folder",
+            reason,
+        };
+        let entries: Vec<String> = fs::read_dir(dir)
+            .map_err(unwritable)?
+            .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect::<io::Result<_>>()
+            .map_err(unwritable)?;
+        if entries.iter().any(|name| name == self.marker) {
+            return Ok(());
+        }
+        let allowed = |name: &str| is_temporary_name(name) || (self.unmarked_may_hold)(name);
+        match entries.into_iter().find(|name| !allowed(name)) {
+            Some(entry) => Err(ReportFolderError::Foreign {
+                path: dir.to_owned(),
+                entry,
+                holds: self.holds,
+                marker: self.marker,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Removes the files this kind of report owns ([`FolderRule::owns`]) from `dir`;
+    /// other files and folders stay. Returns the files removed, in order.
+    pub fn remove_files(&self, dir: &Path) -> Result<Vec<PathBuf>, ReportFolderError> {
+        let listing = fs::read_dir(dir).map_err(|reason| FolderError::Unwritable {
+            path: dir.to_owned(),
+            action: "list this folder",
+            reason,
+        })?;
+        let mut removed = Vec::new();
+        for entry in listing.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+            if is_file && (self.owns)(&name) {
+                let path = entry.path();
+                fs::remove_file(&path).map_err(|reason| FileError {
+                    path: path.clone(),
+                    reason,
+                })?;
+                removed.push(path);
+            }
+        }
+        removed.sort();
+        Ok(removed)
     }
 }
 
-/// Removes the files of an earlier report from `dir` (only if it holds one, marked by its
+/// Checks, before any work starts, that a report can be written in `dir`
+/// ([`FolderRule::prepare`] of [`REPORT`]).
+pub fn prepare_output_dir(dir: &Path) -> Result<(), ReportFolderError> {
+    REPORT.prepare(dir)
+}
+
+/// Removes the files of an earlier report from `dir`, only if it holds one (marked by its
 /// [`REPORT_MARKER`]): [`REPORT_FILES`] and the plots ([`REPORT_PLOT_EXTENSIONS`]). Other
 /// files stay. Returns the files removed.
 pub fn remove_previous_report(dir: &Path) -> Result<Vec<PathBuf>, ReportFolderError> {
     if !dir.join(REPORT_MARKER).is_file() {
         return Ok(Vec::new());
     }
-    let listing = fs::read_dir(dir).map_err(|reason| FolderError::Unwritable {
-        path: dir.to_owned(),
-        action: "list this folder",
-        reason,
-    })?;
-    let mut removed = Vec::new();
-    for entry in listing.flatten() {
-        let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let is_plot = path
-            .extension()
-            .and_then(OsStr::to_str)
-            .is_some_and(|ext| REPORT_PLOT_EXTENSIONS.contains(&ext));
-        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
-        if is_file && (REPORT_FILES.contains(&name.as_str()) || is_plot) {
-            fs::remove_file(&path).map_err(|reason| FileError {
-                path: path.clone(),
-                reason,
-            })?;
-            removed.push(path);
-        }
-    }
-    removed.sort();
-    Ok(removed)
+    REPORT.remove_files(dir)
 }
 
 #[cfg(test)]

@@ -1,0 +1,289 @@
+//! The report's SVG figures: every experiment and arm at once (`every_arm`), per-trial
+//! lines over the trials of every experiment (`over_trials`), the learning curves of an
+//! experiment (`curves`) and where its final behaviors land (`finals`); what they share
+//! (the legend, moving averages, thinning a long curve); and [`write_figures`], which draws
+//! them all, writes each as a file and hands the page the same text with a caption.
+
+mod curves;
+mod every_arm;
+mod finals;
+mod over_trials;
+
+pub use finals::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
+
+use super::effects::BOOTSTRAP_RESAMPLES;
+use super::page::{Figure, escape};
+use super::{ReportEntry, ReportError, file_stems};
+use crate::plot::{Area, ArmStyle, DrawResult, Overlay, PlotError, svg, svg_with};
+use crate::stats::RatioCi;
+use crate::timeline::{Timeline, timeline_figure};
+use cbr_core::BehaviorSpace;
+use curves::learning_curves;
+use every_arm::{SUMMARY_METRICS, effects_figure, every_arm_figure, summary_figure};
+use finals::{FinalsLayout, final_behaviors, finals_caption, finals_subtitle};
+use over_trials::{over_trials_figures, small_multiples};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Trials averaged by the moving average of the learning-curve plots.
+const MOVING_AVERAGE_WINDOW: usize = 25;
+
+/// Draws every figure of the report from `entries` and their `effects`, writes each as its
+/// own SVG file in `dir` through `write`, and returns them for the page, in the page's
+/// order.
+pub(super) fn write_figures(
+    dir: &Path,
+    entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
+    write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
+) -> Result<Vec<Figure>, ReportError> {
+    // Every figure is written as its own SVG file and the same text goes into the page.
+    let mut figures: Vec<Figure> = Vec::new();
+    for metric in SUMMARY_METRICS {
+        let name = format!("{}.svg", metric.stem);
+        let summary_svg = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
+            every_arm_figure(area, overlay, entries, &summary_figure(entries, metric))
+        })?;
+        write(&name, &summary_svg)?;
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            summary_svg,
+            format!(
+                "{}: the mean per trial of each arm (its marker, offset within its \
+                 experiment; key at the right) with its 95% confidence interval (the vertical \
+                 line), one column per experiment, on a log axis (lower is better). The black \
+                 bar is the known-operator limit: an agent that knows the operator's outcome \
+                 distribution of every behavior, starting from a random behavior as the arms do.",
+                metric.what
+            ),
+        ));
+    }
+    let reference = entries.first().map_or("", |e| e.reference);
+    let name = "effect-sizes.svg";
+    let drawn = svg_with(&dir.join(name), (1200, 560), |area, overlay| {
+        every_arm_figure(area, overlay, entries, &effects_figure(entries, effects))
+    })?;
+    write(name, &drawn)?;
+    figures.push(Figure::new(
+        "Every experiment and arm",
+        drawn,
+        format!(
+            "Effect sizes: each arm's mean behaviors evaluated per trial divided by the \
+             reference arm's ({}; the black bar at 1), with the 95% interval of a paired \
+             bootstrap ({BOOTSTRAP_RESAMPLES} resamples of the trials, the same trials for both \
+             arms), on a log axis. Below 1 the arm needs fewer behaviors than the reference; \
+             an interval that crosses 1 is no evidence of a difference.",
+            escape(reference)
+        ),
+    ));
+    // A figure with no line at all (no arm reuses cases) is left out.
+    for (name, panels, caption) in over_trials_figures(entries) {
+        if panels.series.iter().flatten().all(Option::is_none) {
+            continue;
+        }
+        let drawn = svg_with(&dir.join(name), panels.size(), |area, overlay| {
+            small_multiples(area, overlay, entries, &panels)
+        })?;
+        write(name, &drawn)?;
+        figures.push(Figure::new(
+            "Every experiment and arm",
+            drawn,
+            caption.to_owned(),
+        ));
+    }
+    for (e, stem) in entries
+        .iter()
+        .zip(file_stems(entries.iter().map(|e| &e.result.name)))
+    {
+        let name = format!("curves-{stem}.svg");
+        let curves = |dots: bool| {
+            svg_with(&dir.join(&name), (1250, 520), |area, overlay| {
+                learning_curves(area, overlay, e, dots)
+            })
+        };
+        write(&name, &curves(true)?)?;
+        figures.push(Figure::new(
+            &e.result.name,
+            curves(false)?,
+            format!(
+                "Behaviors evaluated in each trial, trials in order: the moving average over \
+                 {MOVING_AVERAGE_WINDOW} trials (the line, with the arm's marker at eight places) \
+                 and its 95% band, on a log axis (lower is better). An arm that learns across \
+                 trials (a growing case base, a searcher's memory) falls as trials go on; one \
+                 that does not stays level. Each trial's count is a dot in \
+                 <code>{name}</code> and a line of <code>trials.jsonl</code>."
+            ),
+        ));
+        if let Some(timeline) = e.timeline {
+            let name = format!("timeline-{stem}.svg");
+            let switches = timeline
+                .commands
+                .iter()
+                .filter(|c| c.explanation.is_some())
+                .count() as u32;
+            let drawn = svg(&dir.join(&name), (1250, 480 + 22 * switches), |area| {
+                timeline_figure(area, timeline)
+            })?;
+            write(&name, &drawn)?;
+            figures.push(Figure::new(
+                &e.result.name,
+                drawn,
+                timeline_caption(timeline, e.space),
+            ));
+        }
+        // One figure per pair of components: the first two, then the next two, ...
+        let components = e.space.components();
+        for (k, (x, y)) in component_pairs(e.space).into_iter().enumerate() {
+            let name = if k == 0 {
+                format!("finals-{stem}.svg")
+            } else {
+                format!(
+                    "finals-{stem}-{}-{}.svg",
+                    components[x].name, components[y].name
+                )
+            };
+            // The id of the heatmap every arm's panel shares, unique in the page.
+            let id = format!("cells-{}", name.trim_end_matches(".svg"));
+            let grid = e
+                .landscapes
+                .iter()
+                .find(|l| l.fixed == [x, y])
+                .map(|l| l.grid(e.space, x, y))
+                .transpose()
+                .map_err(|reason| PlotError {
+                    path: dir.join(&name),
+                    message: reason.to_string(),
+                })?;
+            let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
+            let finals = svg_with(&dir.join(&name), layout.size(), |area, overlay| {
+                final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
+            })?;
+            write(&name, &finals)?;
+            figures.push(Figure::new(
+                &e.result.name,
+                finals,
+                finals_caption(e, (x, y), grid.as_ref()),
+            ));
+        }
+    }
+    Ok(figures)
+}
+
+/// The caption of a timeline: how to read it, and every explanation of the trial in full.
+fn timeline_caption(timeline: &Timeline, space: &BehaviorSpace) -> String {
+    let mut caption = format!(
+        "The trust estimate of the behavior in use after every command of trial {} of the {} arm \
+         (operator {}): completions (dots) raise it, failures and interruptions (crosses) lower \
+         it; a behavior is given up when its estimate reaches the untrustworthy threshold and \
+         kept when it reaches the trustworthy one. The numbered lines are the adapter's decisions, \
+         explained as it explained them (only from what it was told and perceived):<ol>",
+        timeline.record.trial,
+        escape(&timeline.arm),
+        escape(&timeline.record.operator)
+    );
+    for c in &timeline.commands {
+        if let Some(x) = &c.explanation {
+            let _ = write!(caption, "<li>{}</li>", escape(&x.sentence(space)));
+        }
+    }
+    caption.push_str("</ol>");
+    caption
+}
+
+fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(values.len());
+    let mut sum = 0.0;
+    for (i, v) in values.iter().enumerate() {
+        sum += v;
+        if i >= window {
+            sum -= values[i - window];
+        }
+        out.push(sum / (i + 1).min(window) as f64);
+    }
+    out
+}
+
+/// Width of the legend strip right of a chart, in pixels.
+const LEGEND_WIDTH: u32 = 250;
+
+/// What a legend entry draws before its label.
+enum Key {
+    /// A line (a series drawn as a line).
+    Line(RGBColor),
+    /// The arm's marker (a series drawn as markers).
+    Marker(ArmStyle),
+    /// A line with the arm's marker on it.
+    LineMarker(ArmStyle),
+}
+
+/// Draws a legend of `entries` (label, key) in `area`, top to bottom; markers go into
+/// `overlay`.
+fn legend(area: &Area<'_>, overlay: &mut Overlay, entries: &[(String, Key)]) -> DrawResult {
+    let (left, top) = area.get_base_pixel();
+    for (k, (label, key)) in entries.iter().enumerate() {
+        let y = 60 + 22 * k as i32;
+        let (line, marker) = match key {
+            Key::Line(color) => (Some(*color), None),
+            Key::Marker(style) => (None, Some(style)),
+            Key::LineMarker(style) => (Some(style.color), Some(style)),
+        };
+        if let Some(color) = line {
+            area.draw(&PathElement::new(
+                vec![(8, y), (32, y)],
+                color.stroke_width(3),
+            ))?;
+        }
+        if let Some(style) = marker {
+            let at = (f64::from(left + 20), f64::from(top + y));
+            overlay.markers(
+                style.shape,
+                Some((style.color, 1.0)),
+                Some((WHITE, 1.0)),
+                [(at, 5.0)],
+            );
+        }
+        area.draw(&Text::new(
+            label.clone(),
+            (40, y - 7),
+            ("sans-serif", 13).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
+/// Points a curve of `n` trials is drawn through: at most `points` (and the last),
+/// evenly spaced, the first and the last always (a moving average of
+/// [`MOVING_AVERAGE_WINDOW`] changes little from one trial to the next).
+fn thinned(n: usize, points: usize) -> impl Iterator<Item = usize> {
+    let step = n.div_ceil(points).max(1);
+    (0..n)
+        .step_by(step)
+        .chain((n > 0 && !(n - 1).is_multiple_of(step)).then(|| n - 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moving_average_by_hand() {
+        // Window 2 over 1, 3, 5, 7: 1, (1+3)/2, (3+5)/2, (5+7)/2.
+        assert_eq!(
+            moving_average(&[1.0, 3.0, 5.0, 7.0], 2),
+            vec![1.0, 2.0, 4.0, 6.0]
+        );
+    }
+
+    #[test]
+    fn curves_are_thinned_to_about_200_points() {
+        assert_eq!(thinned(3, 200).collect::<Vec<_>>(), [0, 1, 2]);
+        assert_eq!(thinned(10, 4).collect::<Vec<_>>(), [0, 3, 6, 9]);
+        let points: Vec<usize> = thinned(500, 200).collect();
+        assert_eq!(
+            (points.len(), points[1], points.last()),
+            (168, 3, Some(&499))
+        );
+        assert_eq!(thinned(0, 200).count(), 0);
+    }
+}

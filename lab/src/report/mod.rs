@@ -1,0 +1,151 @@
+//! The report of a set of experiments: the printed tables (the paper's two arms, then
+//! every arm with what it costs the operator), `table.md`, `summary.json` (with the
+//! report's provenance), `trials.jsonl`, the config used, SVG plots (learning curves,
+//! and where the final behaviors land in the behavior space, over the operator's
+//! landscape) and `report.html`, the page that holds them all. Every file is written
+//! atomically.
+//!
+//! This module is what a report is made of ([`ReportEntry`]) and the folder it writes
+//! ([`write_report`]); one submodule each for:
+//! - `effects`: every arm against its experiment's reference arm (effect sizes, paired
+//!   tests);
+//! - `tables`: the Markdown tables and `table.md`;
+//! - `summary_json` and `trials_jsonl`: the two machine-readable files;
+//! - `page`: `report.html`;
+//! - `figures`: the SVG figures, one submodule per kind.
+
+mod effects;
+mod figures;
+mod page;
+mod summary_json;
+mod tables;
+mod trials_jsonl;
+
+pub use crate::plot::category_label;
+pub use effects::{all_effect_sizes, effect_sizes, versus_reference};
+pub use figures::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
+pub use summary_json::summary;
+pub use tables::{
+    arms_table, best_arms, effects_table, explanations_table, free_first_table, limit_table,
+    population_table, sample_explanations, table,
+};
+pub use trials_jsonl::trials_jsonl;
+
+use crate::known_operator::ExperimentLimit;
+use crate::landscape::Landscape;
+use crate::plot::PlotError;
+use crate::runner::ExperimentResult;
+use crate::timeline::Timeline;
+use cbr_core::BehaviorSpace;
+use files::{FileError, write_file_in};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// One experiment's results with what the report needs to describe them.
+pub struct ReportEntry<'a> {
+    /// The results.
+    pub result: &'a ExperimentResult,
+    /// The scenario (domain) name, e.g. `movement`.
+    pub scenario: &'a str,
+    /// The configured operator: a name, `random`, or the name of a population.
+    pub operator: &'a str,
+    /// The behavior space, to show behaviors in real units.
+    pub space: &'a BehaviorSpace,
+    /// The operator's landscapes the final behaviors are drawn over, one per pair of
+    /// [`component_pairs`] ([`finals_landscapes`]); empty to draw them on white.
+    pub landscapes: &'a [Landscape],
+    /// The known-operator limit of the experiment ([`crate::known_operator`]), when
+    /// computed.
+    pub limit: Option<&'a ExperimentLimit>,
+    /// A sample trial traced command by command ([`crate::timeline`]), when traced.
+    pub timeline: Option<&'a Timeline>,
+    /// The arm every other arm is tested against (p-values) and measured against (effect
+    /// sizes); when it is not among the arms, no arm is.
+    pub reference: &'a str,
+    /// The master seed of the experiments, from which the effect sizes' bootstrap
+    /// streams derive ([`crate::seeds::Purpose::Bootstrap`]).
+    pub seed: u64,
+}
+
+/// Why the report could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReportError {
+    /// A file or folder could not be written.
+    #[error(transparent)]
+    Io(#[from] FileError),
+    /// A plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// Where the report came from: the tool, its version and commit, and the command line.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Provenance {
+    /// The program that wrote the report.
+    pub tool: String,
+    /// Its version.
+    pub version: String,
+    /// The source commit it was built from, when known.
+    pub git_commit: Option<String>,
+    /// The command line, program first.
+    pub command_line: Vec<String>,
+}
+
+/// A file-name stem per name (experiment names): every character outside
+/// `[A-Za-z0-9_-]` replaced by `-`, and `-2`, `-3`, ... added where two would collide.
+pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<String> {
+    let mut stems: Vec<String> = Vec::new();
+    for name in names {
+        let base: String = name
+            .as_ref()
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                    c
+                } else {
+                    '-'
+                }
+            })
+            .collect();
+        let mut stem = base.clone();
+        let mut k = 2;
+        while stems.contains(&stem) {
+            stem = format!("{base}-{k}");
+            k += 1;
+        }
+        stems.push(stem);
+    }
+    stems
+}
+
+/// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
+/// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
+pub fn write_report(
+    dir: &Path,
+    entries: &[ReportEntry<'_>],
+    config_ron: &str,
+    elapsed_s: f64,
+    provenance: &Provenance,
+) -> Result<Vec<PathBuf>, ReportError> {
+    let mut written = Vec::new();
+    let mut write = |name: &str, text: &str| -> Result<(), ReportError> {
+        written.push(write_file_in(dir, name, text)?);
+        Ok(())
+    };
+    let effects = all_effect_sizes(entries);
+    write("table.md", &tables::table_md(entries, &effects))?;
+    let summary = serde_json::to_string_pretty(&summary_json::summary_of(
+        entries, &effects, elapsed_s, provenance,
+    ))
+    .expect("plain data serializes");
+    write("summary.json", &(summary + "\n"))?;
+    write("trials.jsonl", &trials_jsonl(entries))?;
+    write("config.ron", config_ron)?;
+    let figures = figures::write_figures(dir, entries, &effects, &mut write)?;
+    write(
+        "report.html",
+        &page::html_page(entries, &effects, config_ron, provenance, &figures),
+    )?;
+    Ok(written)
+}

@@ -1,0 +1,141 @@
+//! `summary.json`: per experiment, each arm's means with their intervals, its tests and
+//! effect size against the reference arm, its ratios to the known-operator limit and its
+//! explanations' accuracy; the limit and the population's measures; the provenance.
+
+use super::effects::{all_effect_sizes, versus_reference};
+use super::tables::ratios;
+use super::{Provenance, ReportEntry};
+use crate::arm::Initial;
+use crate::limit::Costs;
+use crate::runner::{ArmResult, ExplanationCheck};
+use crate::stats::RatioCi;
+use serde_json::{Map, Value, json};
+
+/// The `summary.json` document.
+pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
+    summary_of(entries, &all_effect_sizes(entries), elapsed_s, provenance)
+}
+
+/// The `summary.json` document, with the effect sizes already estimated.
+pub(super) fn summary_of(
+    entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
+    elapsed_s: f64,
+    provenance: &Provenance,
+) -> Value {
+    let experiments: Vec<Value> = entries
+        .iter()
+        .zip(effects)
+        .map(|(e, effects)| {
+            let mut strategies = Map::new();
+            for ((arm, tests), effect) in e
+                .result
+                .arms
+                .iter()
+                .zip(versus_reference(e))
+                .zip(effects.iter().copied())
+            {
+                let mut summary = arm_summary(arm);
+                summary["behaviors_ratio_to_reference"] = effect.map_or(Value::Null, |r| {
+                    json!({ "ratio": r.ratio, "ci95_low": r.low, "ci95_high": r.high })
+                });
+                summary["t_test_p_vs_reference"] = json!(tests.map(|t| t.t_test_p));
+                summary["wilcoxon_p_vs_reference"] = json!(tests.map(|t| t.wilcoxon_p));
+                let ratio_json = |[b, c, u]: [f64; 3]| {
+                    json!({
+                        "behaviors": finite_or_null(b),
+                        "commands": finite_or_null(c),
+                        "untrustworthy": finite_or_null(u),
+                    })
+                };
+                if let Some(limit) = e.limit {
+                    summary["ratio_to_limit"] = ratio_json(ratios(arm, &limit.limit.paper));
+                }
+                // Only where an arm starts from the memory's guess, so that other reports
+                // stay as they were.
+                if arm.initial == Initial::Learned {
+                    summary["initial"] = json!(arm.initial);
+                    if let Some(limit) = e.limit {
+                        summary["ratio_to_free_first_limit"] =
+                            ratio_json(ratios(arm, &limit.limit.free_first));
+                    }
+                }
+                strategies.insert(arm.name.clone(), summary);
+            }
+            let limit = e.limit.map(|l| {
+                let costs = |c: &Costs| {
+                    json!({
+                        "behaviors": c.behaviors,
+                        "commands": c.commands,
+                        "untrustworthy": c.untrustworthy,
+                    })
+                };
+                let conflict = &l.conflict;
+                json!({
+                    "paper_protocol": costs(&l.limit.paper),
+                    "free_first_choice": costs(&l.limit.free_first),
+                    "operators": l.operators,
+                    "lower_bound": l.is_lower_bound(),
+                    "population": {
+                        "behaviors": conflict.behaviors,
+                        "trusted_by_each": conflict.trusted_by_each,
+                        "trusted_by_all": conflict.trusted_by_all,
+                        "trusted_by_all_share": conflict.shared_share(),
+                        "one_behavior_pleases_all": conflict.trusted_by_all > 0,
+                        "pairwise_jaccard": conflict.jaccard,
+                    },
+                })
+            });
+            json!({
+                "name": e.result.name,
+                "scenario": e.scenario,
+                "operator": e.operator,
+                "trials": e.result.trials(),
+                "arms": e.result.arms.iter().map(|a| a.name.as_str()).collect::<Vec<_>>(),
+                "reference": e.reference,
+                "p_value": e.result.arms.get(1).and_then(|a| a.versus_first).map_or(1.0, |t| t.t_test_p),
+                "strategies": strategies,
+                "limit": limit,
+            })
+        })
+        .collect();
+    json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments })
+}
+
+/// A number for JSON, `null` when it is not finite.
+fn finite_or_null(x: f64) -> Value {
+    if x.is_finite() { json!(x) } else { Value::Null }
+}
+
+fn arm_summary(arm: &ArmResult) -> Value {
+    json!({
+        "mean": arm.behaviors.mean,
+        "ci95": arm.behaviors.ci95,
+        "commands_mean": arm.commands.mean,
+        "commands_ci95": arm.commands.ci95,
+        "untrustworthy_mean": arm.untrustworthy.mean,
+        "untrustworthy_ci95": arm.untrustworthy.ci95,
+        "found_share": arm.found_share.mean,
+        "found_share_ci95": arm.found_share.ci95,
+        "cases_acquired": arm.cases_acquired,
+        "reuses_cases": arm.reuses_cases,
+        "started_from_cases": arm.starting_cases,
+        "truncated": arm.truncated(),
+        "t_test_p_vs_first": arm.versus_first.map(|t| t.t_test_p),
+        "wilcoxon_p_vs_first": arm.versus_first.map(|t| t.wilcoxon_p),
+        "explanations": explanation_summary(&arm.explained),
+    })
+}
+
+/// How an arm's explanations compare with the truth, for `summary.json`: behaviors given
+/// up and the share whose first attributed reason was right, overall, for perceivable
+/// reasons and for the rest (`null` where none was counted).
+fn explanation_summary(x: &ExplanationCheck) -> Value {
+    let [all, perceivable, rest] = x.shares();
+    json!({
+        "given_up": x.given_up,
+        "first_reason_right": all,
+        "perceivable": { "given_up": x.perceivable, "first_reason_right": perceivable },
+        "other": { "given_up": x.given_up - x.perceivable, "first_reason_right": rest },
+    })
+}

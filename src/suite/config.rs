@@ -1,0 +1,484 @@
+//! A suite config as written (RON, or JSON from Python): its fields and their defaults,
+//! how arms and scenarios are read, reading and parsing a file, and what an experiment
+//! names (its report name, its operators).
+
+use super::{SuiteError, invalid};
+use crate::catalog::{Catalog, Family, OperatorOf, Readings};
+use files::{parse_ron, read_text};
+use lab::FeedbackChannel;
+use lab::known_operator::LimitSettings;
+use lab::report::FINALS_LANDSCAPE_RUNS;
+use lab::{BUILTIN_ARMS, Initial, LEARNED_START, TrialSettings};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::num::NonZeroU32;
+use std::path::{Path, PathBuf};
+use trust::{Retention, RetrieverKind, Thresholds, TimeUnit};
+
+/// The operator name that draws an operator per trial.
+pub const RANDOM_OPERATOR: &str = "random";
+
+/// How errors name the catalog's embedded suite.
+pub const EMBEDDED_ORIGIN: &str = "<embedded suite>";
+
+/// A set of experiments to run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuiteConfig {
+    /// Master seed of every random stream.
+    pub seed: u64,
+    /// Trials per experiment and arm.
+    pub trials: NonZeroU32,
+    /// Commands after which a trial is abandoned (a guard against endless trials).
+    #[serde(default = "default_max_commands")]
+    pub max_commands: u64,
+    /// The adapter parameters every arm shares.
+    #[serde(default)]
+    pub adapter: SuiteAdapter,
+    /// The domain's readings, by name ([`Catalog::readings`]; each left out keeps its
+    /// default), e.g. `{"patrol_weights": "three_and_one"}`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub readings: BTreeMap<String, String>,
+    /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
+    /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
+    /// episode from the case memory's guess); default: every built-in arm. A config may
+    /// also write an arm as `(name: "case-based", initial: learned)` (`initial`: `random`,
+    /// the default, or `learned`), which is read as the name `case-based+learned-start`.
+    #[serde(default = "default_arms", deserialize_with = "arm_names")]
+    pub arms: Vec<String>,
+    /// The arm the report tests every other arm against (p-values), one of `arms`;
+    /// default ([`SuiteConfig::reference`]): `case-based` when it runs, else the first arm.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "plain_name",
+        deserialize_with = "some_name"
+    )]
+    pub reference: Option<String>,
+    /// The experiments, in report order.
+    pub experiments: Vec<ExperimentSpec>,
+    /// Runs per cell of the operator landscapes the report draws the final behaviors over
+    /// (0: no landscape).
+    #[serde(default = "default_landscape_runs")]
+    pub landscape_runs: u32,
+    /// How the report estimates each experiment's known-operator limit (`runs: 0`: none).
+    #[serde(default)]
+    pub limit: LimitSettings,
+}
+
+/// An optional name written as a plain string (`reference: "case-based"`, not
+/// `Some("case-based")`).
+fn plain_name<S: serde::Serializer>(name: &Option<String>, s: S) -> Result<S::Ok, S::Error> {
+    name.as_deref().unwrap_or_default().serialize(s)
+}
+
+/// Reads what [`plain_name`] writes.
+fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    String::deserialize(d).map(Some)
+}
+
+/// Reads the arms of a suite: each a name, or `(name: NAME, initial: random | learned)`
+/// read as the name of the arm it stands for ([`Initial::of_name`]).
+fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
+    struct ArmName(String);
+    impl<'de> Deserialize<'de> for ArmName {
+        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            d.deserialize_any(ArmVisitor).map(ArmName)
+        }
+    }
+    struct ArmVisitor;
+    impl<'de> serde::de::Visitor<'de> for ArmVisitor {
+        type Value = String;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("an arm's name as a string, or `(name: \"case-based\", initial: learned)`")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
+            Ok(name.to_owned())
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<String, A::Error> {
+            use serde::de::Error;
+            /// The fields of an arm's options (read as identifiers, as RON writes them).
+            #[derive(Deserialize)]
+            #[serde(field_identifier, rename_all = "snake_case")]
+            enum Field {
+                Name,
+                Initial,
+            }
+            let (mut name, mut initial) = (None::<String>, None::<Initial>);
+            while let Some(key) = map.next_key::<Field>()? {
+                match key {
+                    Field::Name if name.is_none() => name = Some(map.next_value()?),
+                    Field::Initial if initial.is_none() => {
+                        // The parser's message lists the allowed values.
+                        initial = Some(
+                            map.next_value()
+                                .map_err(|e| A::Error::custom(format!("field `initial`: {e}")))?,
+                        );
+                    }
+                    Field::Name => return Err(A::Error::duplicate_field("name")),
+                    Field::Initial => return Err(A::Error::duplicate_field("initial")),
+                }
+            }
+            let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
+            if Initial::of_name(&name).1 == Initial::Learned {
+                return Err(A::Error::custom(format!(
+                    "field `name`: `{name}` already names how its episodes start; write the arm `{}` and set `initial`",
+                    Initial::of_name(&name).0
+                )));
+            }
+            Ok(match initial.unwrap_or_default() {
+                Initial::Random => name,
+                Initial::Learned => name + LEARNED_START,
+            })
+        }
+    }
+    Vec::<ArmName>::deserialize(d).map(|arms| arms.into_iter().map(|a| a.0).collect())
+}
+
+fn default_landscape_runs() -> u32 {
+    FINALS_LANDSCAPE_RUNS
+}
+
+fn default_max_commands() -> u64 {
+    1_000_000
+}
+
+fn default_arms() -> Vec<String> {
+    BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
+}
+
+/// The adapter parameters of a suite. Whether cases are reused and which search runs are
+/// the arms' business, so they are not here.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SuiteAdapter {
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
+    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
+    pub lambda: f64,
+    /// The retriever of the arms that reuse cases (every kind gives the same answers).
+    pub retriever: RetrieverKind,
+    /// Which episodes are retained as cases (docs/model.md#cases-and-retention):
+    /// `any_search` (default) or `final_from_search`.
+    pub retention: Retention,
+    /// The unit of an evaluated pair's time (docs/model.md#the-trust-estimate):
+    /// `task_seconds` (default) or `commands`.
+    pub time_unit: TimeUnit,
+}
+
+impl Default for SuiteAdapter {
+    fn default() -> Self {
+        let paper = trust::AdapterConfig::default();
+        Self {
+            thresholds: paper.thresholds,
+            lambda: paper.lambda,
+            retriever: paper.retriever,
+            retention: paper.retention,
+            time_unit: paper.time_unit,
+        }
+    }
+}
+
+impl SuiteAdapter {
+    /// The parameters every arm shares.
+    pub fn settings(&self) -> TrialSettings {
+        TrialSettings {
+            thresholds: self.thresholds,
+            lambda: self.lambda,
+            retention: self.retention,
+            time_unit: self.time_unit,
+        }
+    }
+}
+
+/// One experiment: a scenario and who operates the robot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentSpec {
+    /// The scenario, by the catalog's name for it (a RON string: `"movement"`).
+    #[serde(deserialize_with = "deserialize_scenario")]
+    pub scenario: String,
+    /// An operator's name, or `random` to draw one per trial.
+    pub operator: String,
+    /// Extra operator files (RON), relative to the config file; they join the scenario's
+    /// built-in operators.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operator_files: Vec<PathBuf>,
+    /// The experiment's operators are a population instead of the scenario's: its
+    /// `operator_files` alone, listed by hand, or members drawn from the catalog's
+    /// parametric family ([`Catalog::family`]); `operator` must then be `random` (a member
+    /// judges each trial).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub population: Option<Population>,
+    /// How every operator of the experiment explains itself (`(explains: 0.3, wrong:
+    /// 0.1)`), overriding each operator's own channel; absent: the operators' own (the
+    /// paper's silent operator unless an operator file says otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub feedback: Option<FeedbackChannel>,
+}
+
+/// A population of operators an experiment draws from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Population {
+    /// Its name in reports: the experiment is called `SCENARIO/NAME`.
+    pub name: String,
+    /// Members drawn from the catalog's family (`operator_files` must then be empty);
+    /// absent: the members are the experiment's `operator_files`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub family: Option<Family>,
+}
+
+/// A scenario name: a string. A bare identifier (`scenario: movement`, as configs spelled
+/// it before scenarios were the catalog's) is refused with the spelling to use.
+fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    struct Name;
+    impl serde::de::Visitor<'_> for Name {
+        type Value = String;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a scenario name as a string, e.g. `scenario: \"movement\"`")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
+            Ok(name.to_owned())
+        }
+        fn visit_unit<E: serde::de::Error>(self) -> Result<String, E> {
+            Err(E::custom(
+                "a scenario name is a string: write `scenario: \"movement\"`, not `scenario: movement`",
+            ))
+        }
+    }
+    d.deserialize_any(Name)
+}
+
+impl SuiteConfig {
+    /// The arm the report tests the others against: the configured `reference`, else
+    /// `case-based` when it runs, else the first arm.
+    pub fn reference(&self) -> &str {
+        self.reference
+            .as_deref()
+            .or_else(|| {
+                self.arms
+                    .iter()
+                    .find(|a| *a == "case-based")
+                    .map(String::as_str)
+            })
+            .or_else(|| self.arms.first().map(String::as_str))
+            .unwrap_or_default()
+    }
+
+    /// The suite the catalog embeds ([`Catalog::default_suite`], what `reproduce` runs).
+    pub fn embedded<C: Catalog>(catalog: &C) -> Result<Self, SuiteError> {
+        Self::from_ron(catalog, catalog.default_suite(), Path::new(EMBEDDED_ORIGIN))
+    }
+
+    /// Reads and checks a suite config file against `catalog`.
+    pub fn load<C: Catalog>(catalog: &C, path: &Path) -> Result<Self, SuiteError> {
+        let text = read_text(path)?;
+        Self::from_ron(catalog, &text, path)
+    }
+
+    /// Parses and checks a suite config; `origin` names the source in errors.
+    pub fn from_ron<C: Catalog>(
+        catalog: &C,
+        text: &str,
+        origin: &Path,
+    ) -> Result<Self, SuiteError> {
+        let config: Self = parse_ron(text, origin)?;
+        config.validate(catalog, origin)?;
+        Ok(config)
+    }
+
+    /// Parses and checks a suite config given as JSON (the same fields as the RON file: a
+    /// Python dict); `origin` names the source in errors and anchors operator files.
+    pub fn from_json<C: Catalog>(
+        catalog: &C,
+        text: &str,
+        origin: &Path,
+    ) -> Result<Self, SuiteError> {
+        let config: Self = serde_json::from_str(text)
+            .map_err(|e| invalid(origin, "config".into(), e.to_string()))?;
+        config.validate(catalog, origin)?;
+        Ok(config)
+    }
+
+    /// The config as RON, as written to a report's `config.ron`.
+    pub fn to_ron(&self) -> String {
+        ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
+            .expect("plain data serializes")
+    }
+}
+
+impl ExperimentSpec {
+    /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
+    /// with a feedback channel of its own, `movement/rung-2` for a population).
+    pub fn name(&self) -> String {
+        match (&self.population, self.feedback) {
+            (Some(population), _) => format!("{}/{}", self.scenario, population.name),
+            (None, None) => format!("{}/{}", self.scenario, self.operator),
+            // The same operator may be run with several channels: each is its own
+            // experiment, named by its channel (`/f0.3w0.1`: explains 30%, 10% wrongly).
+            (None, Some(channel)) if channel.wrong > 0.0 => format!(
+                "{}/{}/f{}w{}",
+                self.scenario, self.operator, channel.explains, channel.wrong
+            ),
+            (None, Some(channel)) => {
+                format!("{}/{}/f{}", self.scenario, self.operator, channel.explains)
+            }
+        }
+    }
+
+    /// The operators among `operators` that judge this experiment's trials: the one it
+    /// names, or all of them for `random`.
+    pub fn judges<'a, O>(
+        &'a self,
+        operators: &'a [(String, O)],
+    ) -> impl Iterator<Item = &'a (String, O)> + 'a {
+        operators
+            .iter()
+            .filter(|(name, _)| self.operator == RANDOM_OPERATOR || *name == self.operator)
+    }
+
+    /// The experiment's operators, as `readings` read them: the catalog's built-in ones of
+    /// the scenario, then those of `operator_files` (relative to the directory of
+    /// `origin`); for a population, its members alone.
+    pub fn operators<C: Catalog>(
+        &self,
+        catalog: &C,
+        origin: &Path,
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
+        let base = origin.parent().unwrap_or(Path::new("."));
+        let mut operators = match &self.population {
+            None => catalog.operators(&self.scenario, readings),
+            Some(Population {
+                family: Some(family),
+                ..
+            }) => catalog.family(&self.scenario, family, readings)?,
+            Some(_) => Vec::new(),
+        };
+        for file in &self.operator_files {
+            operators.push(catalog.load_operator(&self.scenario, &base.join(file), readings)?);
+        }
+        Ok(operators)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::UgvCatalog;
+    use crate::catalog::resolve_readings;
+    use crate::ugv::{PATROL_WEIGHTS, THREE_AND_ONE};
+
+    #[test]
+    fn the_paper_config_has_the_seven_experiments() {
+        let config = SuiteConfig::embedded(&UgvCatalog).unwrap();
+        assert_eq!(config.trials.get(), 500);
+        let names: Vec<String> = config
+            .experiments
+            .iter()
+            .map(ExperimentSpec::name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "movement/speed-focused",
+                "movement/safety-focused",
+                "movement/balanced",
+                "movement/random",
+                "patrol/speed-focused",
+                "patrol/detection-focused",
+                "patrol/random",
+            ]
+        );
+        assert_eq!(
+            config.adapter,
+            SuiteAdapter {
+                retriever: RetrieverKind::InvertedIndex,
+                ..SuiteAdapter::default()
+            }
+        );
+        assert_eq!(config.arms, BUILTIN_ARMS);
+    }
+
+    #[test]
+    fn the_patrol_weight_reading_is_a_config_value() {
+        let spec = ExperimentSpec {
+            scenario: "patrol".into(),
+            operator: RANDOM_OPERATOR.into(),
+            operator_files: Vec::new(),
+            population: None,
+            feedback: None,
+        };
+        let origin = Path::new("x.ron");
+        let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();
+        let chosen = BTreeMap::from([(PATROL_WEIGHTS.to_owned(), THREE_AND_ONE.to_owned())]);
+        let three = resolve_readings(&UgvCatalog, &chosen).unwrap();
+        let w = &spec.operators(&UgvCatalog, origin, &as_written).unwrap()[0]
+            .1
+            .weights;
+        let t = &spec.operators(&UgvCatalog, origin, &three).unwrap()[0]
+            .1
+            .weights;
+        assert!((w.completed - 1.0 / 3.0).abs() < 1e-15);
+        assert!((t.completed - 1.0).abs() < 1e-15);
+        assert!((t.of(domains::causes::COLLISION) - 1.0).abs() < 1e-15);
+        assert!((t.of(domains::causes::DETONATION) - 3.0).abs() < 1e-15);
+        // Movement operators are not patrol operators: unchanged.
+        let movement = ExperimentSpec {
+            scenario: "movement".into(),
+            ..spec
+        };
+        let m = movement.operators(&UgvCatalog, origin, &three).unwrap();
+        assert_eq!(m[0].1.weights.completed, 1.0);
+        let config = SuiteConfig::from_ron(
+            &UgvCatalog,
+            "(seed: 1, trials: 5, readings: {\"patrol_weights\": \"three_and_one\"}, adapter: (retention: final_from_search, time_unit: commands), experiments: [(scenario: \"patrol\", operator: \"random\")])",
+            origin,
+        )
+        .unwrap();
+        assert_eq!(config.readings, chosen);
+        assert_eq!(config.adapter.retention, Retention::FinalFromSearch);
+        assert_eq!(config.adapter.time_unit, TimeUnit::Commands);
+        // A reading or value the catalog does not declare is named with what is allowed.
+        for (readings, wanted) in [
+            (
+                "{\"weights\": \"x\"}",
+                "unknown reading `weights` (known: patrol_weights)",
+            ),
+            (
+                "{\"patrol_weights\": \"double\"}",
+                "has no value `double` (allowed: as_written, three_and_one)",
+            ),
+        ] {
+            let err = SuiteConfig::from_ron(
+                &UgvCatalog,
+                &format!("(seed: 1, trials: 5, readings: {readings}, experiments: [(scenario: \"patrol\", operator: \"random\")])"),
+                origin,
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(err.contains("readings") && err.contains(wanted), "{err}");
+        }
+    }
+
+    #[test]
+    fn the_config_round_trips() {
+        let config = SuiteConfig::embedded(&UgvCatalog).unwrap();
+        let back =
+            SuiteConfig::from_ron(&UgvCatalog, &config.to_ron(), Path::new("x.ron")).unwrap();
+        assert_eq!(back, config);
+    }
+
+    #[test]
+    fn the_learned_start_suite_pairs_each_arm_with_its_learned_start() {
+        let file =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/experiments/learned-start.ron");
+        let suite = SuiteConfig::load(&UgvCatalog, &file).unwrap();
+        assert_eq!(suite.experiments.len(), 7 + 2 * 5);
+        for pair in suite.arms.chunks(2) {
+            assert_eq!(pair[1], format!("{}+learned-start", pair[0]));
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! What a suite's report estimates from the config alone, beside the experiments: the
+//! landscapes behind each experiment's final behaviors and its known-operator limit (once
+//! per scenario and operator).
+
+use super::plan::Parts;
+use super::{SuiteConfig, SuiteError, invalid};
+use crate::catalog::{Catalog, OperatorOf};
+use lab::known_operator::{ExperimentLimit, KnownLimitError, KnownOperator, known_operator};
+use lab::landscape::Landscape;
+use lab::report::finals_landscapes;
+use lab::seeds::{Purpose, stream_seed};
+use std::path::Path;
+
+/// The known-operator limit of each operator a suite's experiments draw from, computed
+/// once per scenario and operator (an operator of a `random` experiment is usually also
+/// an experiment's own). Operator number `i` in order of first use draws from the seed
+/// `stream_seed(seed, 0, i, Limit)`.
+#[derive(Default)]
+struct OperatorLimits {
+    known: Vec<((String, String), KnownOperator)>,
+}
+
+impl OperatorLimits {
+    /// The limit of operator `name` (`operator`) in experiment `k`'s scenario.
+    fn of<C: Catalog>(
+        &mut self,
+        parts: &Parts<C>,
+        config: &SuiteConfig,
+        k: usize,
+        name: &str,
+        operator: &OperatorOf<C>,
+    ) -> Result<usize, KnownLimitError> {
+        let key = (config.experiments[k].scenario.clone(), name.to_owned());
+        if let Some(i) = self.known.iter().position(|(known, _)| *known == key) {
+            return Ok(i);
+        }
+        let seed = stream_seed(config.seed, 0, self.known.len() as u64, Purpose::Limit);
+        let known = known_operator(
+            parts.domain(k),
+            operator,
+            config.adapter.thresholds,
+            config.limit,
+            seed,
+        )?;
+        self.known.push((key, known));
+        Ok(self.known.len() - 1)
+    }
+}
+
+/// What a suite's report estimates beside the experiments' results, from the config alone:
+/// the landscapes behind each experiment's final behaviors and its known-operator limit
+/// ([`run_suite_with_report`](super::run_suite_with_report)). Independent of the results, so it is computed while the
+/// experiments run.
+pub struct ReportEstimates {
+    /// Per experiment, its landscapes (empty when `landscape_runs` is 0).
+    pub(super) landscapes: Vec<Vec<Landscape>>,
+    /// Per experiment, its limit (none when the limit's `runs` is 0).
+    pub(super) limits: Vec<Option<ExperimentLimit>>,
+}
+
+/// Estimates, on the current rayon pool, the landscape of each experiment's operators
+/// behind its final behaviors and each experiment's known-operator limit (once per scenario
+/// and operator), over `parts`.
+pub(super) fn estimate_parts<C: Catalog>(
+    parts: &Parts<C>,
+    config: &SuiteConfig,
+    origin: &Path,
+) -> Result<ReportEstimates, SuiteError> {
+    let mut landscapes = Vec::with_capacity(config.experiments.len());
+    let mut limits = Vec::with_capacity(config.experiments.len());
+    let mut operator_limits = OperatorLimits::default();
+    for (k, spec) in config.experiments.iter().enumerate() {
+        let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
+        let judges: Vec<&(String, OperatorOf<C>)> = spec.judges(&parts.operators[k]).collect();
+        if config.landscape_runs > 0 {
+            let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| op).collect();
+            landscapes.push(
+                finals_landscapes(
+                    parts.domain(k),
+                    &operators,
+                    k as u64,
+                    config.seed,
+                    config.landscape_runs,
+                    &|| {},
+                )
+                .map_err(|e| fail(e.to_string()))?,
+            );
+        }
+        if config.limit.runs > 0 {
+            let of_each = judges
+                .iter()
+                .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
+                .collect::<Result<Vec<usize>, _>>()
+                .map_err(|e| fail(e.to_string()))?;
+            let known: Vec<&KnownOperator> = of_each
+                .iter()
+                .map(|&i| &operator_limits.known[i].1)
+                .collect();
+            limits.push(Some(
+                ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,
+            ));
+        }
+    }
+    Ok(ReportEstimates { landscapes, limits })
+}
