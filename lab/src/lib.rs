@@ -7,15 +7,19 @@
 //! a thread pool, statistics or plotting is here.
 //!
 //! A *trial* is one adaptation episode driven through the same
-//! [`TrustAdapter`](trust::TrustAdapter) a robot embeds. An *experiment* runs a number of trials with one operator (or one drawn
-//! at random per trial) once per [`Arm`] (a search strategy, with or without case reuse,
-//! starting each episode at random or from the memory's guess),
-//! pairing trial `i` of every arm. Arms, statistics and report files live in submodules.
+//! [`TrustAdapter`](trust::TrustAdapter) a robot embeds; a *mission* ([`mission`]) is a
+//! long run of commands through its mission wrapper ([`trust::MissionAdapter`]), driven
+//! alike (the first behavior and each command come from one place, the private `drive`
+//! module). An *experiment* runs a number of trials with one operator (or one drawn at
+//! random per trial) once per [`Arm`] (a search strategy, with or without case reuse,
+//! starting each episode at random or from the memory's guess), pairing trial `i` of every
+//! arm. Arms, statistics and report files live in submodules.
 
 #![deny(missing_docs)]
 
 pub mod arm;
 pub mod domain;
+mod drive;
 pub mod feedback;
 pub mod folder;
 pub mod heatmap;
