@@ -1,6 +1,6 @@
 //! The trust laboratory: the experiment machinery of the paper's experiments (trials,
 //! arms, statistics), landscapes, reports and plots, generic over any
-//! [`Domain`](crate::Domain).
+//! [`Domain`].
 //!
 //! This crate is what a researcher runs and a robot does not embed: the adapter, the
 //! estimate and the search strategies are the lean `trust` crate's; everything that needs

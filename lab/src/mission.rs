@@ -3,13 +3,13 @@
 //!
 //! A *mission* is `commands` commands from one population. It starts with a member drawn
 //! at random and the arm's first behavior (the paper's random one, or the case memory's
-//! guess for an arm that starts from it: [`crate::drive::first_behavior`]); at random
+//! guess for an arm that starts from it, drawn as a trial's first behavior is); at random
 //! times (exponential gaps of mean [`Changes::every`] commands) the operator changes:
 //! another operator *takes over* (a new person, who starts without trust in the robot) or
 //! the same operator's preferences *shift* to another member's (the context changed; its
 //! trust in the robot carries over). The robot runs in mission mode
 //! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
-//! trial's are ([`crate::drive`]).
+//! trial's are (the private `drive` module: the first behavior and each command).
 //!
 //! With a [`Complacency`] model the operator's attention falls as its own trust in the
 //! robot builds: each arm then runs twice on the same streams, once ignoring the robot's

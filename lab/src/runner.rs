@@ -10,7 +10,7 @@
 //! are paired trial by trial and results do not depend on the number of threads; an arm
 //! that starts from the case memory's guess draws the random behavior all the same. A
 //! trial's first behavior and its commands are driven as a mission's are
-//! ([`crate::drive`]).
+//! (the private `drive` module).
 
 use crate::arm::{Arm, Initial};
 use crate::drive::{Command, Drive, first_behavior};
