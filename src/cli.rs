@@ -282,8 +282,8 @@ struct ServeArgs {
     arm: Option<String>,
     /// Mission mode: after an episode settles, keep answering outcomes for the settled
     /// behavior, adapt again when its trust falls, and alert when the operator trusts it
-    /// while the robot's own record says it should not (a domain file may also set
-    /// `adapter: (mode: mission)`). The default is the paper's episode mode.
+    /// while the robot's own record says it should not (a domain file's deprecated
+    /// `adapter: (mode: mission)` does the same). The default is the paper's episode mode.
     #[arg(long)]
     mission: bool,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of

@@ -31,7 +31,7 @@
 
 pub mod retrieval;
 
-use cbr_core::{Behavior, BehaviorSpace, Case, Proposal};
+use cbr_core::{Behavior, BehaviorSpace, Case};
 use rand::seq::SliceRandom;
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -199,13 +199,13 @@ impl<'a> Episodes<'a> {
                 time,
             });
             match select_behavior(&e_past, None, &mut walk, self.space, &mut self.rng) {
-                Selection::Search(Proposal::Next(next)) if e_past.len() == len => {
+                Selection::Next { behavior: next, .. } if e_past.len() == len => {
                     return Case {
                         problem: e_past,
                         solution: next,
                     };
                 }
-                Selection::Search(Proposal::Next(next)) => current = next,
+                Selection::Next { behavior: next, .. } => current = next,
                 other => panic!(
                     "a walk of {len} steps over {} behaviors ended early: {other:?}",
                     self.space.size()

@@ -10,7 +10,10 @@ use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 
-/// What a searcher proposes.
+/// What a searcher proposes: its answer to one step. This is not a record of where a
+/// behavior came from (a caller that also reuses cases keeps that itself, naming the
+/// search as one origin among others): a proposal may instead say that nothing is left,
+/// which is no behavior's origin but the end of the search.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Proposal {
     /// Try this behavior next.

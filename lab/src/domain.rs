@@ -34,7 +34,7 @@ pub trait Domain: Send + Sync {
     fn causes(&self) -> &[DeclaredCause];
 
     /// What the robot perceives itself, by name (same spelling rules as causes): bit `i` of
-    /// an outcome's [`Observations`](trust::Observations) is `observations()[i]`. At most
+    /// an outcome's [`Observations`] is `observations()[i]`. At most
     /// [`Observations::CAPACITY`](trust::Observations::CAPACITY); none by default.
     fn observations(&self) -> &[Cause] {
         &[]
@@ -94,7 +94,7 @@ pub fn vocabulary<D: Domain + ?Sized>(domain: &D) -> Vocabulary {
 
 /// One simulated command as a domain's run yields it: the [`Outcome`] the robot is told
 /// (what it perceived, nothing stated yet: the operator's feedback channel adds a stated
-/// reason, see [`FeedbackChannel`](crate::feedback::FeedbackChannel)) and the *truth*, the
+/// reason, see [`FeedbackChannel`]) and the *truth*, the
 /// operator's real reason for a failure or interruption, which only evaluation reads.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Judgement {

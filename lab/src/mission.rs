@@ -2,12 +2,14 @@
 //! told, and operators may grow complacent (docs/missions.md).
 //!
 //! A *mission* is `commands` commands from one population. It starts with a member drawn
-//! at random and the paper's random initial behavior; at random times (exponential gaps
-//! of mean [`Changes::every`] commands) the operator changes: another operator *takes
-//! over* (a new person, who starts without trust in the robot) or the same operator's
-//! preferences *shift* to another member's (the context changed; its trust in the robot
-//! carries over). The robot runs in mission mode ([`trust::Mode::Mission`]) and is told
-//! only outcomes.
+//! at random and the arm's first behavior (the paper's random one, or the case memory's
+//! guess for an arm that starts from it, drawn as a trial's first behavior is); at random
+//! times (exponential gaps of mean [`Changes::every`] commands) the operator changes:
+//! another operator *takes over* (a new person, who starts without trust in the robot) or
+//! the same operator's preferences *shift* to another member's (the context changed; its
+//! trust in the robot carries over). The robot runs in mission mode
+//! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
+//! trial's are (the private `drive` module: the first behavior and each command).
 //!
 //! With a [`Complacency`] model the operator's attention falls as its own trust in the
 //! robot builds: each arm then runs twice on the same streams, once ignoring the robot's
@@ -20,14 +22,15 @@
 //! mission, purpose), the same for every arm.
 
 use crate::arm::Arm;
+use crate::drive::{Command, Drive, first_behavior};
 use crate::runner::{PlanError, TrialSettings, fresh_adapter};
-use crate::seeds::{Purpose, stream, stream_seed};
+use crate::seeds::{Purpose, stream};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
 use rand::{Rng, RngCore};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use trust::{Decision, Mode, OutcomeKind, OwnRecord, TrustAdapter};
+use trust::{Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord};
 
 /// When the operator changes during a mission.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -182,6 +185,10 @@ pub struct OnsetRecord {
 pub struct MissionRecord {
     /// The mission's number.
     pub mission: u32,
+    /// The case memory's guess the mission started from (an arm that starts from it,
+    /// once its memory holds a case); `None`: the mission's random behavior.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub learned_start: Option<Behavior>,
     /// Every change, in order.
     pub changes: Vec<ChangeRecord>,
     /// Times the robot gave up a behavior it had settled on.
@@ -309,26 +316,29 @@ fn run_chain<D: Domain>(
     progress: &(dyn Fn() + Sync),
 ) -> Result<MissionArmResult, PlanError> {
     let arm = &plan.arms[arm_index];
-    let mut adapter =
-        fresh_adapter(plan.domain, &plan.settings, arm, Mode::Mission).map_err(|reason| {
-            PlanError::Config {
-                plan: plan.name.clone(),
-                reason,
-            }
+    let adapter =
+        fresh_adapter(plan.domain, &plan.settings, arm).map_err(|reason| PlanError::Config {
+            plan: plan.name.clone(),
+            reason,
         })?;
+    let mut adapter = MissionAdapter::new(adapter);
     let mut missions = Vec::with_capacity(plan.missions as usize);
     let mut traced = Vec::new();
     for mission in 0..plan.missions {
         let trace = (mission == 0).then_some(&mut traced);
+        let named = StreamName {
+            seed,
+            plan: index,
+            mission,
+        };
         missions.push(run_mission(
             plan,
+            arm,
             &mut adapter,
-            index,
-            mission,
+            named,
             answers_alerts,
-            seed,
             trace,
-        ));
+        )?);
         progress();
     }
     Ok(MissionArmResult {
@@ -346,14 +356,13 @@ struct Scheduled {
     operator: usize,
 }
 
-/// The mission's first operator, initial behavior and changes, the same for every arm.
+/// The mission's changes after its `first` operator, the same for every arm.
 fn schedule<D: Domain>(
     plan: &MissionPlan<'_, D>,
+    first: usize,
     setup: &mut dyn RngCore,
-) -> (usize, Behavior, Vec<Scheduled>) {
+) -> Vec<Scheduled> {
     let n = plan.operators.len();
-    let first = setup.random_range(0..n);
-    let initial = plan.domain.space().draw(setup);
     let mut changes = Vec::new();
     let (mut at, mut operator) = (0.0f64, first);
     loop {
@@ -379,7 +388,7 @@ fn schedule<D: Domain>(
             operator,
         });
     }
-    (first, initial, changes)
+    changes
 }
 
 /// Whether `behavior` is trustworthy for `operator`: its mean weighted outcome over the
@@ -410,27 +419,48 @@ struct OperatorState {
     onset: Option<usize>,
 }
 
+/// What names a mission's random streams: the master seed, its plan's place in the suite
+/// and its number.
+#[derive(Clone, Copy)]
+struct StreamName {
+    seed: u64,
+    plan: u64,
+    mission: u32,
+}
+
 fn run_mission<D: Domain>(
     plan: &MissionPlan<'_, D>,
-    adapter: &mut TrustAdapter,
-    index: u64,
-    mission: u32,
+    arm: &Arm,
+    adapter: &mut MissionAdapter,
+    named: StreamName,
     answers_alerts: bool,
-    seed: u64,
     mut trace: Option<&mut Vec<MissionStep>>,
-) -> MissionRecord {
+) -> Result<MissionRecord, PlanError> {
+    let StreamName {
+        seed,
+        plan: index,
+        mission,
+    } = named;
     let m = u64::from(mission);
     let mut setup = stream(seed, index, m, Purpose::Setup);
-    let (first, initial, scheduled) = schedule(plan, &mut setup);
-    adapter.reseed(stream_seed(seed, index, m, Purpose::Search));
-    let mut runs = stream(seed, index, m, Purpose::Runs);
-    let mut feedback = stream(seed, index, m, Purpose::Feedback);
-    let causes = plan.domain.causes();
+    let first = setup.random_range(0..plan.operators.len());
+    let start = first_behavior(arm.initial(), adapter.adapter(), &mut setup);
+    let scheduled = schedule(plan, first, &mut setup);
+    let mut drive = Drive::new(
+        &plan.name,
+        plan.domain,
+        plan.feedback,
+        seed,
+        index,
+        m,
+        adapter,
+    );
     adapter
-        .begin_episode(initial)
+        .begin_episode(start.behavior)
         .expect("no episode is under way and the behavior is drawn from the space");
     let mut record = MissionRecord {
         mission,
+        learned_start: start.learned.then_some(start.behavior),
         changes: Vec::new(),
         readaptations: 0,
         false_alarms: 0,
@@ -445,7 +475,7 @@ fn run_mission<D: Domain>(
         felt: 0.0,
         onset: None,
     };
-    let mut behavior = initial;
+    let mut behavior = start.behavior;
     let mut upcoming = scheduled.iter().peekable();
     // The last change, while the robot has not settled since, and whether any change
     // happened since the behavior in use settled.
@@ -494,12 +524,12 @@ fn run_mission<D: Domain>(
             state.onset = None;
         }
         let judge = &plan.operators[operator].1;
-        let judgement = plan
-            .domain
-            .run_attending(&behavior, judge, attention, &mut runs);
-        let channel = plan.feedback.unwrap_or_else(|| plan.domain.feedback(judge));
-        let stated = channel.state(judgement.truth, causes, &mut feedback);
-        let outcome = judgement.outcome.stating(stated);
+        let was_watching = adapter.watching().is_some();
+        let Command {
+            judgement,
+            outcome,
+            decision,
+        } = drive.command(adapter, &behavior, judge, attention)?;
         record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
         record.overlooked += u32::from(judgement.overlooked.is_some());
         if let Some(k) = state.onset {
@@ -521,13 +551,9 @@ fn run_mission<D: Domain>(
             let went_well = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
             state.felt += (went_well - state.felt) / model.memory;
         }
-        let was_watching = adapter.watching().is_some();
-        let decision = adapter
-            .record(&outcome)
-            .expect("domains report valid outcomes");
         match decision {
-            Decision::Keep => {}
-            Decision::Alert(_) => {
+            MissionDecision::Episode(Decision::Keep) => {}
+            MissionDecision::Alert(_) => {
                 record.alerts.push(c);
                 marks.push(Mark::Alert);
                 if let Some(k) = state.onset {
@@ -542,7 +568,7 @@ fn run_mission<D: Domain>(
                     };
                 }
             }
-            Decision::Switch { to, .. } => {
+            MissionDecision::Episode(Decision::Switch { to, .. }) => {
                 if was_watching {
                     record.readaptations += 1;
                     record.false_alarms += u32::from(!changed_since_settled);
@@ -552,7 +578,7 @@ fn run_mission<D: Domain>(
                 }
                 behavior = to;
             }
-            Decision::Settled(report) => {
+            MissionDecision::Episode(Decision::Settled(report)) => {
                 behavior = report.settled;
                 changed_since_settled = false;
                 if report.found_trustworthy
@@ -574,5 +600,5 @@ fn run_mission<D: Domain>(
         }
     }
     adapter.abandon_episode();
-    record
+    Ok(record)
 }

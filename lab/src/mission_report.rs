@@ -342,6 +342,7 @@ mod tests {
     fn mission(changes: Vec<ChangeRecord>, onsets: Vec<OnsetRecord>, harm: u32) -> MissionRecord {
         MissionRecord {
             mission: 0,
+            learned_start: None,
             changes,
             readaptations: 1,
             false_alarms: 1,

@@ -8,10 +8,13 @@
 //! stream named by (seed, experiment, trial, purpose), and trial `i` of every arm gets the
 //! same streams (operator and random initial behavior, simulated runs, search), so arms
 //! are paired trial by trial and results do not depend on the number of threads; an arm
-//! that starts from the case memory's guess draws the random behavior all the same.
+//! that starts from the case memory's guess draws the random behavior all the same. A
+//! trial's first behavior and its commands are driven as a mission's are
+//! (the private `drive` module).
 
 use crate::arm::{Arm, Initial};
-use crate::seeds::{Purpose, stream, stream_seed};
+use crate::drive::{Command, Drive, first_behavior};
+use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
@@ -22,9 +25,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use trust::evaluated::validate_lambda;
 use trust::{
-    AdapterConfig, Cause, ConfigError, Decision, EpisodeReport, Explanation, Mode, Outcome,
-    Retention, Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory,
-    UndeclaredCause, find_declared,
+    Cause, ConfigError, Decision, EpisodeReport, Explanation, Outcome, Parameters, Retention,
+    Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause,
 };
 
 /// Which operator judges each trial.
@@ -79,12 +81,25 @@ pub struct TrialSettings {
 
 impl Default for TrialSettings {
     fn default() -> Self {
-        let paper = AdapterConfig::default();
+        let paper = Parameters::default();
         Self {
             thresholds: paper.thresholds,
             lambda: paper.lambda,
             retention: paper.retention,
             time_unit: paper.time_unit,
+        }
+    }
+}
+
+impl TrialSettings {
+    /// The adapter's parameters for an arm that reuses cases or not.
+    pub fn parameters(&self, reuse_cases: bool) -> Parameters {
+        Parameters {
+            thresholds: self.thresholds,
+            lambda: self.lambda,
+            reuse_cases,
+            retention: self.retention,
+            time_unit: self.time_unit,
         }
     }
 }
@@ -448,43 +463,31 @@ impl<D: Domain> ExperimentPlan<'_, D> {
 
     /// A fresh adapter for `arm`, from its starting cases.
     fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
-        fresh_adapter(self.domain, &self.settings, arm, Mode::Episode).map_err(|reason| {
-            PlanError::Config {
-                plan: self.name.clone(),
-                reason,
-            }
+        fresh_adapter(self.domain, &self.settings, arm).map_err(|reason| PlanError::Config {
+            plan: self.name.clone(),
+            reason,
         })
     }
 }
 
-/// A fresh adapter in `mode` for `arm` over `domain`'s space, from the arm's starting
-/// cases, explaining itself in the domain's terms. Its search stream is reseeded before
-/// every episode.
+/// A fresh adapter for `arm` over `domain`'s space, from the arm's starting cases,
+/// explaining itself in the domain's terms. Its search stream is reseeded before every
+/// episode.
 pub(crate) fn fresh_adapter<D: Domain>(
     domain: &D,
     settings: &TrialSettings,
     arm: &Arm,
-    mode: Mode,
 ) -> Result<TrustAdapter, ConfigError> {
     let space = domain.space();
-    let config = AdapterConfig {
-        thresholds: settings.thresholds,
-        lambda: settings.lambda,
-        reuse_cases: arm.reuses_cases(),
-        retention: settings.retention,
-        time_unit: settings.time_unit,
-        mode,
-        ..AdapterConfig::default()
-    };
     let retriever = arm.build_retriever(space, settings.lambda)?;
     let cases = arm.starting_cases().cloned().unwrap_or_default();
     Ok(TrustAdapter::with_parts(
         space.clone(),
-        config,
+        settings.parameters(arm.reuses_cases()),
         TrustMemory::new(cases, retriever),
         arm.build_searcher(space),
         ChaCha8Rng::seed_from_u64(0),
-    )
+    )?
     .with_vocabulary(crate::vocabulary(domain)))
 }
 
@@ -689,12 +692,10 @@ pub fn trace_trial<D: Domain>(
     Ok((record, commands))
 }
 
-/// One trial: an episode from its initial behavior until the adapter settles. The
-/// trial's random behavior is always drawn, so every arm's streams stay paired; an arm
-/// with [`Initial::Learned`] starts instead from the case memory's guess when it has one.
-/// Every judgement's true reason must be one the domain declares; the adapter is told
-/// only the outcome, with the reason the operator's feedback channel states (drawn on the
-/// trial's feedback stream).
+/// One trial: an episode from its initial behavior ([`first_behavior`]) until the adapter
+/// settles, command after command ([`Drive::command`], the operator attentive). Every
+/// judgement's true reason must be one the domain declares; the adapter is told only the
+/// outcome, with the reason the operator's feedback channel states.
 fn run_trial<D: Domain>(
     plan: &ExperimentPlan<'_, D>,
     adapter: &mut TrustAdapter,
@@ -704,34 +705,26 @@ fn run_trial<D: Domain>(
     seed: u64,
     observe: &mut dyn FnMut(Step<'_>),
 ) -> Result<(TrialRecord, Vec<Explanation>), PlanError> {
-    let space = plan.domain.space();
     let mut setup = stream(seed, experiment, u64::from(trial), Purpose::Setup);
     let operator_index = match plan.choice {
         OperatorChoice::Fixed(i) => i,
         OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
     };
     let (operator_name, operator) = &plan.operators[operator_index];
-    let drawn = space.draw(&mut setup);
-    let guess = match arm.initial() {
-        Initial::Random => None,
-        Initial::Learned => adapter.first_guess(),
-    };
-    let initial = guess.map_or(drawn, |g| g.behavior);
-    adapter.reseed(stream_seed(
+    let start = first_behavior(arm.initial(), adapter, &mut setup);
+    let mut drive = Drive::new(
+        &plan.name,
+        plan.domain,
+        plan.feedback,
         seed,
         experiment,
         u64::from(trial),
-        Purpose::Search,
-    ));
-    let mut runs_rng = stream(seed, experiment, u64::from(trial), Purpose::Runs);
-    let mut feedback_rng = stream(seed, experiment, u64::from(trial), Purpose::Feedback);
-    let channel = plan
-        .feedback
-        .unwrap_or_else(|| plan.domain.feedback(operator));
+        adapter,
+    );
     adapter
-        .begin_episode(initial)
+        .begin_episode(start.behavior)
         .expect("no episode is under way and the behavior is drawn from the space");
-    let mut behavior = initial;
+    let mut behavior = start.behavior;
     let mut runs = 0u64;
     let mut true_causes = BTreeMap::new();
     let mut behavior_truth: BTreeMap<Cause, u32> = BTreeMap::new();
@@ -740,30 +733,19 @@ fn run_trial<D: Domain>(
     let mut estimate = 0.0;
     let perceived = plan.domain.observations();
     let (report, truncated) = loop {
-        let judgement = plan.domain.run(&behavior, operator, &mut runs_rng);
-        if let Some(cause) = judgement.truth {
-            find_declared(plan.domain.causes(), cause).map_err(|reason| {
-                PlanError::UndeclaredCause {
-                    plan: plan.name.clone(),
-                    domain: plan.domain.name().to_owned(),
-                    reason: Box::new(reason),
-                }
-            })?;
-        }
+        let Command {
+            judgement,
+            outcome,
+            decision,
+        } = drive.command(adapter, &behavior, operator, 1.0)?;
         if let Some(cause) = judgement.truth {
             *true_causes.entry(cause).or_insert(0) += 1;
             *behavior_truth.entry(cause).or_insert(0) += 1;
         }
-        let stated = channel.state(judgement.truth, plan.domain.causes(), &mut feedback_rng);
-        let outcome = judgement.outcome.stating(stated);
         runs += 1;
         estimate += outcome.contribution();
-        let decision = adapter
-            .record(&outcome)
-            .expect("domains report valid outcomes");
         let explanation = match &decision {
-            // Alerts come only in mission mode (crate::mission).
-            Decision::Keep | Decision::Alert(_) => None,
+            Decision::Keep => None,
             Decision::Switch { explanation, .. } => Some(&**explanation),
             Decision::Settled(report) => report.explanations.last(),
         };
@@ -774,20 +756,19 @@ fn run_trial<D: Domain>(
             estimate,
             explanation,
         });
-        if let Some(account) = explanation.and_then(|x| x.given_up.as_ref()) {
+        if let Some(explanation) = explanation
+            && let Some(account) = &explanation.given_up
+        {
             let scored = explained.score(&account.leading_reasons(), &behavior_truth, perceived);
             given_up.push(GivenUpRecord {
                 reason: account.decided_reason(),
-                next: match &decision {
-                    Decision::Switch { source, .. } => Some(*source),
-                    _ => None,
-                },
+                next: explanation.next.source(),
                 truth: scored.map(|(truth, _)| truth),
                 right: scored.is_some_and(|(_, right)| right),
             });
         }
         match decision {
-            Decision::Keep | Decision::Alert(_) => {}
+            Decision::Keep => {}
             Decision::Switch { to, .. } => {
                 behavior = to;
                 behavior_truth.clear();
@@ -810,8 +791,8 @@ fn run_trial<D: Domain>(
             trial,
             arm: arm.name().to_owned(),
             operator: operator_name.clone(),
-            initial,
-            learned_start: guess.is_some(),
+            initial: start.behavior,
+            learned_start: start.learned,
             report,
             truncated,
             true_causes,

@@ -8,7 +8,7 @@ use crate::runner::{ExperimentResult, TracedCommand, TrialRecord};
 use cbr_core::BehaviorSpace;
 use plotters::prelude::*;
 use std::fmt::Write as _;
-use trust::{Explanation, Next, OutcomeKind, Thresholds};
+use trust::{Explanation, Next, OutcomeKind, Source, Thresholds};
 
 /// One traced trial and what it needs to be told.
 #[derive(Clone, Debug)]
@@ -144,8 +144,14 @@ pub fn switch_label(explanation: &Explanation) -> String {
         .and_then(|g| g.decided_reason())
         .map_or("undecided".to_owned(), |c| c.to_string());
     let next = match &explanation.next {
-        Next::Case { case, .. } => format!("case {}", case.0),
-        Next::Search { .. } => "search".to_owned(),
+        Next::Switch {
+            source: Source::Case { case, .. },
+            ..
+        } => format!("case {}", case.0),
+        Next::Switch {
+            source: Source::Search,
+            ..
+        } => "search".to_owned(),
         Next::Kept {
             trustworthy: false, ..
         } => "kept (all tried)".to_owned(),

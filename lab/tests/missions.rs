@@ -1,82 +1,48 @@
 //! Missions on a toy domain whose operators may overlook what they mind: pairing across
-//! arms, determinism across thread counts, and what the records count.
+//! arms, determinism across thread counts, what the records count, and arms that start
+//! from the case memory's guess.
 
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
-use lab::mission::{ChangeKind, Changes, Complacency, MissionPlan, MissionResult, run_missions};
+use cbr_core::{Behavior, Case};
+use lab::mission::{
+    ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
+};
 use lab::mission_report::{MissionSummary, harm_comparisons};
+use lab::testing::ToyDomain;
 use lab::{Arm, TrialSettings};
 use lab::{Domain, Judgement};
-use rand::{Rng, RngCore};
-use std::sync::Arc;
-use trust::{Cause, DeclaredCause, Observations, RetrieverKind};
+use rand::Rng;
+use trust::{Cause, Evaluated, Observations, RetrieverKind, TrustCaseBase, first_guess};
 
 const BUMPED: Cause = Cause::from_static("bumped");
 
 /// A 6 x 6 grid; an operator minds every behavior but its favourite, where the robot
 /// bumps into things (and feels it) four times in five; it stops the robot for a bump it
 /// notices.
-struct Toy {
-    space: Arc<BehaviorSpace>,
-    causes: Vec<DeclaredCause>,
-    observations: Vec<Cause>,
-}
+type Toy = ToyDomain<Favourite>;
 
 struct Favourite(Behavior);
 
-impl Toy {
-    fn new() -> Self {
-        let c = |name: &str| NamedComponent::numeric(name, "", 0.0, 1.0, 6).unwrap();
-        Self {
-            space: Arc::new(BehaviorSpace::new(vec![c("a"), c("b")]).unwrap()),
-            causes: vec![DeclaredCause::new(BUMPED)],
-            observations: vec![BUMPED],
-        }
-    }
-}
-
-impl Domain for Toy {
-    type Operator = Favourite;
-
-    fn name(&self) -> &str {
-        "toy"
-    }
-
-    fn space(&self) -> &Arc<BehaviorSpace> {
-        &self.space
-    }
-
-    fn causes(&self) -> &[DeclaredCause] {
-        &self.causes
-    }
-
-    fn observations(&self) -> &[Cause] {
-        &self.observations
-    }
-
-    fn run(&self, behavior: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
-        self.run_attending(behavior, operator, 1.0, rng)
-    }
-
-    fn run_attending(
-        &self,
-        behavior: &Behavior,
-        operator: &Favourite,
-        attention: f64,
-        rng: &mut dyn RngCore,
-    ) -> Judgement {
-        let bumps = if *behavior == operator.0 { 0.05 } else { 0.8 };
-        if !rng.random_bool(bumps) {
-            return Judgement::completed(1.0, 1.0);
-        }
-        let felt = Observations::NONE.with(0);
-        if rng.random::<f64>() < attention {
-            Judgement::interrupted(1.0, BUMPED, 1.0).observing(felt)
-        } else {
-            Judgement::completed(1.0, 1.0)
-                .observing(felt)
-                .overlooking(Some(BUMPED))
-        }
-    }
+fn toy() -> Toy {
+    ToyDomain::grid(
+        "toy",
+        &[6, 6],
+        &[BUMPED],
+        |behavior, operator: &Favourite, attention, rng| {
+            let bumps = if *behavior == operator.0 { 0.05 } else { 0.8 };
+            if !rng.random_bool(bumps) {
+                return Judgement::completed(1.0, 1.0);
+            }
+            let felt = Observations::NONE.with(0);
+            if rng.random::<f64>() < attention {
+                Judgement::interrupted(1.0, BUMPED, 1.0).observing(felt)
+            } else {
+                Judgement::completed(1.0, 1.0)
+                    .observing(felt)
+                    .overlooking(Some(BUMPED))
+            }
+        },
+    )
+    .perceiving(&[BUMPED], &[])
 }
 
 fn operators() -> Vec<(String, Favourite)> {
@@ -99,6 +65,16 @@ fn run(
     complacency: Option<Complacency>,
     threads: usize,
 ) -> Vec<MissionResult> {
+    run_arms(domain, operators, complacency, threads, arms())
+}
+
+fn run_arms(
+    domain: &Toy,
+    operators: &[(String, Favourite)],
+    complacency: Option<Complacency>,
+    threads: usize,
+    arms: Vec<Arm>,
+) -> Vec<MissionResult> {
     let plan = MissionPlan {
         name: "toy".into(),
         domain,
@@ -111,7 +87,7 @@ fn run(
         },
         complacency,
         settings: TrialSettings::default(),
-        arms: arms(),
+        arms,
         feedback: None,
         truth_runs: 50,
     };
@@ -125,7 +101,7 @@ fn run(
 
 #[test]
 fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
-    let (domain, operators) = (Toy::new(), operators());
+    let (domain, operators) = (toy(), operators());
     let one = run(&domain, &operators, None, 1);
     assert_eq!(one, run(&domain, &operators, None, 2));
     let [result] = one.as_slice() else {
@@ -163,7 +139,7 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
 
 #[test]
 fn complacent_operators_overlook_bumps_and_answered_alerts_are_paired() {
-    let (domain, operators) = (Toy::new(), operators());
+    let (domain, operators) = (toy(), operators());
     let complacency = Complacency {
         memory: 20.0,
         floor: 0.3,
@@ -197,4 +173,77 @@ fn complacent_operators_overlook_bumps_and_answered_alerts_are_paired() {
         result.arms[1].missions[0].changes.first().map(|c| c.at)
     );
     assert_eq!(harm_comparisons(result).len(), 2);
+}
+
+/// A mission's record without saying how it started: what the robot went through.
+fn course(m: &MissionRecord) -> MissionRecord {
+    MissionRecord {
+        learned_start: None,
+        ..m.clone()
+    }
+}
+
+#[test]
+fn a_learned_start_arm_starts_its_missions_from_the_memory_s_guess() {
+    let (domain, operators) = (toy(), operators());
+    let arm = |name: &str| Arm::builtin(name, RetrieverKind::Linear).unwrap();
+    // From an empty memory: the first mission starts from its random behavior, and once
+    // the memory holds a case every mission starts from its guess.
+    let results = run_arms(
+        &domain,
+        &operators,
+        None,
+        2,
+        vec![arm("case-based"), arm("case-based+learned-start")],
+    );
+    let [random, learned] = results[0].arms.as_slice() else {
+        panic!("two arms")
+    };
+    assert!(random.missions.iter().all(|m| m.learned_start.is_none()));
+    assert_eq!(learned.missions[0].learned_start, None);
+    let first_guessed = learned
+        .missions
+        .iter()
+        .position(|m| m.learned_start.is_some())
+        .expect("the memory retains a case during the missions");
+    assert!(
+        learned.missions[first_guessed..]
+            .iter()
+            .all(|m| m.learned_start.is_some()),
+        "a memory never forgets its cases"
+    );
+    // The first mission is the same (the same random behavior, the same streams); the
+    // later ones, started elsewhere, are not.
+    assert_eq!(course(&random.missions[0]), course(&learned.missions[0]));
+    let courses = |missions: &[MissionRecord]| missions.iter().map(course).collect::<Vec<_>>();
+    assert_ne!(courses(&random.missions), courses(&learned.missions));
+
+    // From a memory of one case, trusting the low operator's favourite after rejecting
+    // (3, 3): every mission of the learned arm starts from the memory's guess, the first
+    // from that case's behavior.
+    let mut cases = TrustCaseBase::new();
+    cases.push(Case {
+        problem: vec![Evaluated {
+            behavior: Behavior::new(&[3, 3]),
+            time: 5.0,
+        }],
+        solution: Behavior::new(&[1, 1]),
+    });
+    let guess = first_guess(&cases, domain.space(), 0.95).unwrap().behavior;
+    assert_eq!(guess, Behavior::new(&[1, 1]));
+    let from = |name: &str| arm(name).with_starting_cases(cases.clone());
+    let results = run_arms(
+        &domain,
+        &operators,
+        None,
+        2,
+        vec![from("case-based"), from("case-based+learned-start")],
+    );
+    let [random, learned] = results[0].arms.as_slice() else {
+        panic!("two arms")
+    };
+    assert!(random.missions.iter().all(|m| m.learned_start.is_none()));
+    assert_eq!(learned.missions[0].learned_start, Some(guess));
+    assert!(learned.missions.iter().all(|m| m.learned_start.is_some()));
+    assert_ne!(courses(&random.missions), courses(&learned.missions));
 }

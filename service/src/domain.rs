@@ -50,10 +50,11 @@ use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
 use trust::evaluated::LambdaError;
+use trust::search::SearchKind;
 use trust::search::TrustSearcher;
 use trust::{
-    AdapterConfig, Cause, ConfigError, DeclaredCause, Hint, Observations, TrustCaseBase,
-    TrustMemory, TrustRetriever, find_declared,
+    AdapterConfig, Cause, ConfigError, DeclaredCause, Hint, Observations, Retention, RetrieverKind,
+    Thresholds, TimeUnit, TrustCaseBase, TrustMemory, TrustRetriever, find_declared,
 };
 use trust::{RetrieverFactory, SearcherFactory};
 
@@ -73,6 +74,9 @@ pub struct DomainDefinition {
     pub hints: Vec<Hint>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
+    /// Whether sessions keep listening after an episode settles (mission mode:
+    /// [`DomainDefinition::in_mission_mode`]).
+    mission: bool,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
     searcher: Option<SearcherFactory>,
     /// A user's retriever; `None`: the kind `adapter.retriever` names.
@@ -88,6 +92,7 @@ impl fmt::Debug for DomainDefinition {
             .field("observations", &self.observations)
             .field("hints", &self.hints)
             .field("adapter", &self.adapter)
+            .field("mission", &self.mission)
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
             .finish()
@@ -106,7 +111,85 @@ struct DomainFile {
     #[serde(default)]
     hints: Vec<Hint>,
     #[serde(default)]
-    adapter: AdapterConfig,
+    adapter: AdapterSection,
+}
+
+/// A domain file's `adapter`: the fields of an [`AdapterConfig`], and `mode`, which is
+/// deprecated: `mode: mission` serves the domain in mission mode, as `serve --mission`
+/// does (docs/protocol.md#mission-mode); `episode` is the default.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct AdapterSection {
+    thresholds: Thresholds,
+    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
+    lambda: f64,
+    reuse_cases: bool,
+    retriever: RetrieverKind,
+    search: SearchKind,
+    retention: Retention,
+    time_unit: TimeUnit,
+    mode: Mode,
+}
+
+/// The deprecated `mode` of a domain file's `adapter`.
+#[derive(Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Mode {
+    /// The paper's episodes.
+    #[default]
+    Episode,
+    /// Mission mode.
+    Mission,
+}
+
+impl Default for AdapterSection {
+    fn default() -> Self {
+        let AdapterConfig {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retriever,
+            search,
+            retention,
+            time_unit,
+        } = AdapterConfig::default();
+        Self {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retriever,
+            search,
+            retention,
+            time_unit,
+            mode: Mode::Episode,
+        }
+    }
+}
+
+impl AdapterSection {
+    /// The adapter config, and whether the file asks for mission mode.
+    fn split(self) -> (AdapterConfig, bool) {
+        let Self {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retriever,
+            search,
+            retention,
+            time_unit,
+            mode,
+        } = self;
+        let config = AdapterConfig {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retriever,
+            search,
+            retention,
+            time_unit,
+        };
+        (config, mode == Mode::Mission)
+    }
 }
 
 /// The declared observations, each once, at most [`Observations::CAPACITY`].
@@ -186,6 +269,7 @@ impl DomainDefinition {
             observations: Vec::new(),
             hints: Vec::new(),
             adapter,
+            mission: false,
             searcher: None,
             retriever: None,
         }
@@ -201,12 +285,17 @@ impl DomainDefinition {
         }
     }
 
-    /// The same domain served in mission mode ([`trust::Mode::Mission`]): outcomes keep
-    /// coming after an episode settles (`serve --mission`, docs/protocol.md#mission-mode).
+    /// The same domain served in mission mode ([`trust::mission`]): outcomes keep coming
+    /// after an episode settles (`serve --mission`, docs/protocol.md#mission-mode).
     #[must_use]
     pub fn in_mission_mode(mut self) -> Self {
-        self.adapter.mode = trust::Mode::Mission;
+        self.mission = true;
         self
+    }
+
+    /// Whether the domain is served in mission mode.
+    pub fn mission(&self) -> bool {
+        self.mission
     }
 
     /// The same domain whose explanations read `hints` (each names a declared observation
@@ -306,20 +395,27 @@ impl DomainDefinition {
     /// Parses a domain from RON text; `origin` names the source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, DomainError> {
         let file: DomainFile = parse_ron(text, origin)?;
-        Self::new(
+        let (adapter, mission) = file.adapter.split();
+        let domain = Self::new(
             origin.display().to_string(),
             Arc::new(file.space),
             file.causes,
-            file.adapter,
-        )
-        .with_observations(file.observations)
-        .with_hints(file.hints)
-        .map_err(|e| match e {
-            DomainError::Hint(reason) => {
-                DomainError::Hint(format!("{}: field `hints`: {reason}", origin.display()))
-            }
-            other => other,
-        })
+            adapter,
+        );
+        let domain = if mission {
+            domain.in_mission_mode()
+        } else {
+            domain
+        };
+        domain
+            .with_observations(file.observations)
+            .with_hints(file.hints)
+            .map_err(|e| match e {
+                DomainError::Hint(reason) => {
+                    DomainError::Hint(format!("{}: field `hints`: {reason}", origin.display()))
+                }
+                other => other,
+            })
     }
 }
 

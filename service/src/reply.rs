@@ -14,7 +14,9 @@ use serde_json::{Map, Value, json};
 use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
-use trust::{Alert, Cause, EpisodeReport, Evaluated, Explanation, GivenUp, Next, Outcome};
+use trust::{
+    Account, Alert, Cause, EpisodeReport, Evaluated, Explanation, Grounds, Next, Outcome, Source,
+};
 
 /// How many cases a listing copies from the shared memory at a time.
 const LISTING_CHUNK: usize = 256;
@@ -186,7 +188,7 @@ pub fn evaluated(space: &BehaviorSpace, pairs: &[Evaluated]) -> Value {
 
 /// The account of a behavior (given up, or in use): its commands, its trust estimate and
 /// the reasons attributed to its untrustworthy commands, each with its evidence.
-pub fn account(space: &BehaviorSpace, account: &GivenUp) -> Value {
+pub fn account(space: &BehaviorSpace, account: &Account) -> Value {
     json!({
         "behavior": behavior(space, &account.behavior),
         "commands": account.commands,
@@ -212,30 +214,37 @@ pub fn explanation(
     case_id: &dyn Fn(CaseId) -> Option<StoreId>,
 ) -> Value {
     let next = match &explanation.next {
-        Next::Case {
+        Next::Switch {
             behavior: b,
-            case,
-            similarity,
-            matched,
-            given_up,
-        } => json!({
-            "source": "case",
-            "behavior": behavior(space, b),
-            "case": case_id(*case),
-            "similarity": similarity,
-            "matched": matched,
-            "given_up": given_up,
-        }),
-        Next::Search {
-            behavior: b,
-            strategy,
-            rationale,
-        } => json!({
-            "source": "search",
-            "behavior": behavior(space, b),
-            "strategy": strategy,
-            "rationale": rationale,
-        }),
+            source,
+            grounds,
+        } => {
+            let mut next = json!({
+                "source": match source {
+                    Source::Case { .. } => "case",
+                    Source::Search => "search",
+                },
+                "behavior": behavior(space, b),
+            });
+            if let Source::Case { case, similarity } = source {
+                next["case"] = json!(case_id(*case));
+                next["similarity"] = json!(similarity);
+            }
+            match grounds {
+                Grounds::Matches { matched, given_up } => {
+                    next["matched"] = json!(matched);
+                    next["given_up"] = json!(given_up);
+                }
+                Grounds::Rationale {
+                    strategy,
+                    rationale,
+                } => {
+                    next["strategy"] = json!(strategy);
+                    next["rationale"] = json!(rationale);
+                }
+            }
+            next
+        }
         Next::Kept {
             behavior: b,
             trustworthy,

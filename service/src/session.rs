@@ -12,11 +12,13 @@
 //! reports [`SessionError::Save`] and the server must stop, so that no reply ever
 //! acknowledges a case that is not stored.
 //!
-//! In mission mode (the adapter config's [`Mode::Mission`]) outcomes keep coming after an
-//! episode settles: they are answered for the settled behavior under watch (its estimate
-//! capped at the trustworthy threshold, [`trust::watch`]), a fall of that estimate starts a
-//! new episode with a switch, and an alert asks the operator to supervise
-//! ([`trust::overtrust`]); `state` and `explain` report the watch.
+//! In mission mode ([`DomainDefinition::in_mission_mode`]) the session's adaptation is
+//! wrapped in a [`MissionAdaptation`]: outcomes keep coming after an episode settles; they
+//! are answered for the settled behavior under watch (its estimate capped at the
+//! trustworthy threshold, [`trust::watch`]), a fall of that estimate starts a new episode
+//! with a switch, and an alert asks the operator to supervise ([`trust::overtrust`]);
+//! `state` and `explain` report the watch, and `config` shows `"mode": "mission"` in
+//! `adapter`.
 
 use crate::domain::DomainDefinition;
 use crate::reply::{self, Answer, CaseListing, Reply};
@@ -29,7 +31,8 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::sync::Arc;
 use trust::{
-    Adaptation, Cause, ConfigError, Decision, DeclaredCause, Mode, Outcome, Source, TrustEstimate,
+    Account, Adaptation, AdapterConfig, AdapterError, Cause, ConfigError, Decision, DeclaredCause,
+    EpisodeReport, MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory,
 };
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
@@ -40,9 +43,83 @@ pub struct Session {
     domain: String,
     causes: Vec<DeclaredCause>,
     observations: Vec<Cause>,
-    adaptation: Adaptation,
+    /// The adapter config served (what `config` shows).
+    config: AdapterConfig,
+    adapting: Adapting,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
+}
+
+/// One controller's adapter: the paper's episodes, or mission mode around them.
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per session, never moved in a loop: its size does not matter"
+)]
+enum Adapting {
+    Episodes(Adaptation),
+    Mission(MissionAdaptation),
+}
+
+impl Adapting {
+    /// The episode machine.
+    fn episodes(&self) -> &Adaptation {
+        match self {
+            Self::Episodes(adaptation) => adaptation,
+            Self::Mission(mission) => mission.adaptation(),
+        }
+    }
+
+    /// The mission wrapper, in mission mode.
+    fn mission(&self) -> Option<&MissionAdaptation> {
+        match self {
+            Self::Episodes(_) => None,
+            Self::Mission(mission) => Some(mission),
+        }
+    }
+
+    fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.begin_episode(initial),
+            Self::Mission(mission) => mission.begin_episode(initial),
+        }
+    }
+
+    /// Records an outcome; the paper's episodes decide no alert.
+    fn record(
+        &mut self,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> Result<MissionDecision, AdapterError> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.record(outcome, memory).map(Into::into),
+            Self::Mission(mission) => mission.record(outcome, memory),
+        }
+    }
+
+    fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.abandon_episode(),
+            Self::Mission(mission) => mission.abandon_episode(),
+        }
+    }
+
+    /// The behavior in use and its estimate: the episode's, or in mission mode the
+    /// watched behavior's between episodes.
+    fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.episode().map(|e| (e.current, e.estimate)),
+            Self::Mission(mission) => mission.in_use(),
+        }
+    }
+
+    /// The account of the behavior in use: the episode's, or in mission mode the watched
+    /// behavior's between episodes.
+    fn standing(&self) -> Option<Account> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.standing(),
+            Self::Mission(mission) => mission.standing(),
+        }
+    }
 }
 
 /// Why a session could not start or must stop.
@@ -75,23 +152,26 @@ impl Session {
         cases: Arc<SharedCases>,
         seed: u64,
     ) -> Result<Self, SessionError> {
-        domain.adapter.validate()?;
-        let searcher = domain.build_searcher();
-        let vocabulary = domain.vocabulary();
         let adaptation = Adaptation::with_parts(
-            domain.space,
-            domain.adapter,
-            searcher,
+            domain.space.clone(),
+            domain.adapter.parameters(),
+            domain.build_searcher(),
             ChaCha8Rng::seed_from_u64(seed),
-        )
-        .with_vocabulary(vocabulary);
+        )?
+        .with_vocabulary(domain.vocabulary());
+        let adapting = if domain.mission() {
+            Adapting::Mission(MissionAdaptation::new(adaptation))
+        } else {
+            Adapting::Episodes(adaptation)
+        };
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
         Ok(Self {
             domain: domain.name,
             causes: domain.causes,
             observations: domain.observations,
-            adaptation,
+            config: domain.adapter,
+            adapting,
             cases,
             draws,
         })
@@ -125,18 +205,18 @@ impl Session {
         }))
     }
 
-    /// This controller's adaptation (its episode, the space, the configuration).
+    /// This controller's episode machine (its episode, the space, the parameters).
     pub fn adaptation(&self) -> &Adaptation {
-        &self.adaptation
+        self.adapting.episodes()
     }
 
     fn begin(&mut self, spec: Option<&BehaviorSpec>) -> Value {
-        if self.adaptation.episode().is_some() {
+        if self.adaptation().episode().is_some() {
             return reply::error(
                 "an episode is already under way: report its outcomes, or end it with {\"request\": \"abandon\"}",
             );
         }
-        let space = self.adaptation.space().clone();
+        let space = self.adaptation().space().clone();
         let (initial, chosen_by) = match spec {
             None => (space.draw(&mut self.draws), "server"),
             Some(spec) => {
@@ -151,7 +231,7 @@ impl Session {
                 }
             }
         };
-        match self.adaptation.begin_episode(initial) {
+        match self.adapting.begin_episode(initial) {
             Ok(()) => json!({
                 "ok": "begun",
                 "behavior": reply::behavior(&space, &initial),
@@ -161,14 +241,8 @@ impl Session {
         }
     }
 
-    /// The behavior in use and its estimate: the episode's, or in mission mode the watched
-    /// behavior's between episodes.
-    fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        self.adaptation.in_use()
-    }
-
     fn outcome(&mut self, outcome: &Outcome) -> Result<Value, SessionError> {
-        let Some((_, estimate)) = self.in_use() else {
+        let Some((_, estimate)) = self.adapting.in_use() else {
             return Ok(reply::error(
                 "no episode is under way: start one with {\"request\": \"begin\"}",
             ));
@@ -181,15 +255,15 @@ impl Session {
                 outcome.duration_s
             )));
         }
-        let adaptation = &mut self.adaptation;
+        let adapting = &mut self.adapting;
         let recorded = self.cases.current(|memory, ids| {
-            adaptation.record(outcome, memory).map(|decision| {
+            adapting.record(outcome, memory).map(|decision| {
                 // A reused case is shown by its store id.
                 let reused = match &decision {
-                    Decision::Switch {
+                    MissionDecision::Episode(Decision::Switch {
                         source: Source::Case { case, .. },
                         ..
-                    } => Some(ids[case.index()]),
+                    }) => Some(ids[case.index()]),
                     _ => None,
                 };
                 (decision, reused, ids.len())
@@ -200,28 +274,28 @@ impl Session {
             Ok(Err(e)) => return Ok(reply::error(e)),
             Err(e) => return Ok(store_unavailable(&e)),
         };
-        let space = self.adaptation.space().clone();
+        let space = self.adaptation().space().clone();
         Ok(match decision {
-            Decision::Keep => {
-                let in_use = self.in_use();
+            MissionDecision::Episode(Decision::Keep) => {
+                let in_use = self.adapting.in_use();
                 json!({
                     "ok": "keep",
                     "behavior": in_use.map(|(b, _)| reply::behavior(&space, &b)),
                     "trust": in_use.map(|(_, e)| e.value),
                 })
             }
-            Decision::Switch {
+            MissionDecision::Episode(Decision::Switch {
                 to,
                 source,
                 explanation,
-            } => {
+            }) => {
                 let mut reply = switch(&space, &to, source, reused);
                 reply["explanation"] = reply::explanation(&space, &explanation, &|_| reused);
                 reply
             }
-            Decision::Alert(alert) => reply::alert(&space, &alert),
-            Decision::Settled(report) => {
-                let (retained, held) = match self.adaptation.case_to_retain(&report) {
+            MissionDecision::Alert(alert) => reply::alert(&space, &alert),
+            MissionDecision::Episode(Decision::Settled(report)) => {
+                let (retained, held) = match self.adaptation().case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {
                         let (id, held) = self.cases.retain(case).map_err(SessionError::Save)?;
                         (Some(id), held)
@@ -242,8 +316,8 @@ impl Session {
             Ok(held) => held,
             Err(e) => return store_unavailable(&e),
         };
-        let space = self.adaptation.space();
-        let episode = self.adaptation.episode().map(|e| {
+        let space = self.adaptation().space();
+        let episode = self.adaptation().episode().map(|e| {
             json!({
                 "behavior": reply::behavior(space, &e.current),
                 "trust": e.estimate.value,
@@ -258,28 +332,23 @@ impl Session {
             "domain": self.domain,
             "episode": episode,
         });
-        if self.mission() {
-            reply["watching"] = json!(self.adaptation.watching().map(|w| json!({
+        if let Some(mission) = self.adapting.mission() {
+            reply["watching"] = json!(mission.watching().map(|w| json!({
                 "behavior": reply::behavior(space, &w.behavior),
                 "trust": w.estimate.value,
                 "commands": w.commands,
-                "own_record": self.adaptation.own_record().value(),
+                "own_record": mission.own_record().value(),
             })));
         }
         reply["cases"] = json!(held);
         reply
     }
 
-    /// Whether the adapter keeps watching a settled behavior ([`Mode::Mission`]).
-    fn mission(&self) -> bool {
-        self.adaptation.config().mode == Mode::Mission
-    }
-
     fn cases(&self) -> Reply {
         match self.cases.current(|memory, _| memory.base().len()) {
             Ok(count) => Reply::Cases(CaseListing {
                 cases: self.cases.clone(),
-                space: self.adaptation.space().clone(),
+                space: self.adaptation().space().clone(),
                 count,
             }),
             Err(e) => Reply::Json(store_unavailable(&e)),
@@ -291,22 +360,20 @@ impl Session {
             Ok(held) => held,
             Err(e) => return store_unavailable(&e),
         };
-        if self.adaptation.episode().is_none()
-            && let Some(watch) = self.adaptation.watching().copied()
-        {
+        if let Some(watch) = self.adapting.mission().and_then(|m| m.watching().copied()) {
             // Mission mode: the operator left while a settled behavior was watched.
-            self.adaptation.abandon_episode();
+            self.adapting.abandon_episode();
             return json!({
                 "ok": "abandoned",
-                "behavior": reply::behavior(self.adaptation.space(), &watch.behavior),
+                "behavior": reply::behavior(self.adaptation().space(), &watch.behavior),
                 "commands": watch.commands,
                 "cases": held,
             });
         }
-        match self.adaptation.abandon_episode() {
+        match self.adapting.abandon_episode() {
             Some(report) => reply::episode_end(
                 "abandoned",
-                self.adaptation.space(),
+                self.adaptation().space(),
                 &report,
                 None,
                 held,
@@ -320,9 +387,9 @@ impl Session {
     /// explanation of every switch, reused cases named by their store ids; in mission mode
     /// also the account of the behavior watched between episodes.
     fn explain(&self) -> Value {
-        let space = self.adaptation.space();
-        let standing = self.adaptation.standing();
-        let episode = match (self.adaptation.episode(), &standing) {
+        let space = self.adaptation().space();
+        let standing = self.adapting.standing();
+        let episode = match (self.adaptation().episode(), &standing) {
             (Some(episode), Some(standing)) => {
                 let switches = self.cases.current(|_, ids| {
                     episode
@@ -346,28 +413,32 @@ impl Session {
             _ => Value::Null,
         };
         let mut reply = json!({ "ok": "explanation", "episode": episode });
-        if self.mission() {
+        if let Some(mission) = self.adapting.mission() {
             // The account `standing` gives is the watched behavior's between episodes.
-            let watching = self.adaptation.watching().zip(standing);
+            let watching = mission.watching().zip(standing);
             reply["watching"] = json!(watching.map(|(w, standing)| json!({
                 "current": reply::account(space, &standing),
                 "commands": w.commands,
-                "own_record": self.adaptation.own_record().value(),
+                "own_record": mission.own_record().value(),
             })));
         }
         reply
     }
 
     fn config(&self) -> Value {
+        let mut adapter = json!(self.config);
+        if self.adapting.mission().is_some() {
+            adapter["mode"] = json!("mission");
+        }
         json!({
             "ok": "config",
             "domain": self.domain,
             "causes": self.causes,
             "observations": self.observations,
-            "space": self.adaptation.space().as_ref(),
-            "behaviors": self.adaptation.space().size(),
-            "adapter": self.adaptation.config(),
-            "strategy": self.adaptation.strategy(),
+            "space": self.adaptation().space().as_ref(),
+            "behaviors": self.adaptation().space().size(),
+            "adapter": adapter,
+            "strategy": self.adaptation().strategy(),
         })
     }
 }

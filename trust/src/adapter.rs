@@ -1,37 +1,38 @@
-//! `TrustAdapter`: the online state machine a robot embeds (and the experiment runner drives).
+//! `TrustAdapter`: the online state machine a robot embeds (and the experiment runner drives):
+//! the paper's episodes.
 //!
 //! Report every command's outcome with [`TrustAdapter::record`]; the answer says whether to
 //! keep the current behavior, switch to another, or that the episode is over (a trustworthy
-//! behavior was found, or every behavior was tried). In mission mode ([`Mode::Mission`],
-//! docs/missions.md) outcomes keep coming after the episode is over: the settled behavior
-//! stays under watch ([`crate::watch`]), a fall of its estimate to the untrustworthy
-//! threshold starts a new episode with a switch, and an [`Alert`] asks the operator to
-//! supervise when its trust is high while the robot's own record is not
-//! ([`crate::overtrust`]). An [`Adaptation`] holds one robot's
+//! behavior was found, or every behavior was tried). An [`Adaptation`] holds one robot's
 //! episode (the evaluated pairs `E_past`) and search strategy and selects from a case memory
 //! it is handed; the [`TrustAdapter`] pairs one with the memory it owns and retains a case at
 //! the end of an episode (docs/model.md#cases-and-retention). Robots sharing one case
 //! memory each drive their own `Adaptation`.
+//!
+//! This module knows nothing of missions: a robot that keeps listening after an episode
+//! ends wraps an `Adaptation` or a `TrustAdapter` in [`crate::mission`], which drives them
+//! through the few episode-level calls made for it ([`Adaptation::account_kept`],
+//! [`Adaptation::restart_account`], [`Adaptation::give_up_kept`]).
 
 use crate::estimate::{
     Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate, Verdict,
 };
 use crate::evaluated::{LambdaError, validate_lambda};
-use crate::explain::{Attribution, Explanation, GivenUp, Next, Vocabulary};
-use crate::overtrust::{Alert, OwnRecord};
+use crate::explain::{Account, Attribution, Explanation, Grounds, Next, Vocabulary};
 use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
-use crate::select::{Selection, select_behavior};
+use crate::select::{Selection, Source, select_behavior};
 use crate::start::{FirstGuess, first_guess};
-use crate::watch::{Mode, Watch};
 use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Proposal};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// The adapter's parameters; the defaults are the paper's.
+/// The adapter's configuration, as a file or a request names it: its [`Parameters`] and
+/// the kinds of its parts (the retriever and the search strategy); the defaults are the
+/// paper's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AdapterConfig {
@@ -51,10 +52,41 @@ pub struct AdapterConfig {
     pub retention: Retention,
     /// The unit of an evaluated pair's time `t` (docs/model.md#open-readings).
     pub time_unit: TimeUnit,
-    /// Whether the adapter stops at the first trustworthy behavior (`episode`, the paper's)
-    /// or keeps watching it (`mission`, docs/missions.md).
-    #[serde(skip_serializing_if = "Mode::is_episode")]
-    pub mode: Mode,
+}
+
+/// What the episode machine itself follows: every field of an [`AdapterConfig`] but the
+/// kinds of its parts. An adapter built from ready-made parts ([`Adaptation::with_parts`],
+/// [`TrustAdapter::with_parts`]) takes these, so no field it would not read is handed to
+/// it. The defaults are the paper's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parameters {
+    /// The trust thresholds (paper: +5 / -5).
+    pub thresholds: Thresholds,
+    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`: what
+    /// counts as the same behavior when a reused case is explained and a first behavior
+    /// is guessed (the memory's retriever is built with its own).
+    pub lambda: f64,
+    /// Reuse cases (Algorithm 1) before searching; `false` is the search strategy alone.
+    pub reuse_cases: bool,
+    /// Which episodes are retained as cases (docs/model.md#open-readings).
+    pub retention: Retention,
+    /// The unit of an evaluated pair's time `t` (docs/model.md#open-readings).
+    pub time_unit: TimeUnit,
+}
+
+impl Default for Parameters {
+    fn default() -> Self {
+        AdapterConfig::default().parameters()
+    }
+}
+
+impl Parameters {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.thresholds.validate()?;
+        validate_lambda(self.lambda)?;
+        Ok(())
+    }
 }
 
 /// Which successful episodes are retained as cases. The paper glosses its own
@@ -94,7 +126,6 @@ impl Default for AdapterConfig {
             search: SearchKind::default(),
             retention: Retention::default(),
             time_unit: TimeUnit::default(),
-            mode: Mode::default(),
         }
     }
 }
@@ -127,9 +158,28 @@ impl From<LambdaError> for ConfigError {
 impl AdapterConfig {
     /// Checks every field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        self.thresholds.validate()?;
-        validate_lambda(self.lambda)?;
-        Ok(())
+        self.parameters().validate()
+    }
+
+    /// What the episode machine follows of this config: every field but the kinds of its
+    /// parts.
+    pub fn parameters(&self) -> Parameters {
+        let Self {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retriever: _,
+            search: _,
+            retention,
+            time_unit,
+        } = *self;
+        Parameters {
+            thresholds,
+            lambda,
+            reuse_cases,
+            retention,
+            time_unit,
+        }
     }
 
     /// The case memory this config's retriever keeps over `cases` in `space`.
@@ -141,21 +191,6 @@ impl AdapterConfig {
         let retriever = self.retriever.build(space, self.lambda)?;
         Ok(TrustMemory::new(cases, retriever))
     }
-}
-
-/// Where a new behavior came from.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", tag = "source")]
-pub enum Source {
-    /// Reused from a case (Algorithm 1).
-    Case {
-        /// The case reused.
-        case: CaseId,
-        /// Its similarity to the episode.
-        similarity: f64,
-    },
-    /// Proposed by the search strategy.
-    Search,
 }
 
 /// How an episode ended.
@@ -201,23 +236,18 @@ pub enum Decision {
         /// to the commands kept).
         explanation: Box<Explanation>,
     },
-    /// The episode is over. In mission mode the settled behavior stays under watch and
-    /// outcomes keep coming.
+    /// The episode is over.
     Settled(EpisodeReport),
-    /// Mission mode: keep the behavior, and ask the operator to supervise it: its trust is
-    /// high while the robot's own record says the behavior is not earning it.
-    Alert(Alert),
 }
 
 /// Why an adapter call was refused. The adapter's state is unchanged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum AdapterError {
-    /// `record` was called with no episode under way (and, in mission mode, no settled
-    /// behavior under watch).
+    /// `record` was called with no episode under way.
     #[error("no episode is under way: begin one first")]
     NoEpisode,
-    /// `begin_episode` was called while one is under way.
+    /// `begin_episode` (or [`Adaptation::give_up_kept`]) was called while one is under way.
     #[error("an episode is already under way")]
     EpisodeUnderWay,
     /// The outcome's numbers are unusable (shown in the message, so not chained as a
@@ -227,6 +257,13 @@ pub enum AdapterError {
     /// The behavior does not belong to the adapter's space.
     #[error("the behavior does not belong to this behavior space")]
     ForeignBehavior,
+    /// [`Adaptation::give_up_kept`] was handed an estimate above the untrustworthy
+    /// threshold.
+    #[error("the kept behavior's estimate {estimate} is above the untrustworthy threshold")]
+    NotUntrustworthy {
+        /// The estimate handed.
+        estimate: f64,
+    },
 }
 
 impl From<OutcomeError> for AdapterError {
@@ -291,53 +328,56 @@ fn matched_by_case(
 /// randomness. The case memory it selects from is passed to [`Adaptation::record`], so
 /// several adaptations (several robots) can share one memory; the caller retains the case
 /// [`Adaptation::case_to_retain`] names, in its memory, after the episode ends.
+///
+/// After an episode ends the robot keeps the behavior it settled on. A caller that goes on
+/// judging that *kept* behavior (a robot on a long mission, [`crate::mission`]) tells its
+/// commands to [`Adaptation::account_kept`], and when the behavior has fallen to the
+/// untrustworthy threshold begins the next episode from it with
+/// [`Adaptation::give_up_kept`]; the paper's adapter never does either.
 pub struct Adaptation {
     space: Arc<BehaviorSpace>,
-    config: AdapterConfig,
+    parameters: Parameters,
     searcher: Box<TrustSearcher>,
     rng: ChaCha8Rng,
     episode: Option<Episode>,
+    /// The account of the behavior in use (or kept after the last episode): the reasons
+    /// of its untrustworthy commands, and what stated reasons taught across episodes.
     attribution: Attribution,
-    /// Mission mode: the settled behavior under watch, between episodes.
-    watch: Option<Watch>,
-    /// Mission mode: the robot's own record of the watched behavior.
-    own_record: OwnRecord,
 }
 
 impl Adaptation {
-    /// An adaptation over `space` with `config`; its search randomness comes from `seed`.
+    /// An adaptation over `space` with `config` (its search strategy the kind the config
+    /// names); its search randomness comes from `seed`.
     pub fn new(
         space: Arc<BehaviorSpace>,
         config: AdapterConfig,
         seed: u64,
     ) -> Result<Self, ConfigError> {
-        config.validate()?;
-        let searcher = config.search.build();
-        Ok(Self::with_parts(
+        Self::with_parts(
             space,
-            config,
-            searcher,
+            config.parameters(),
+            config.search.build(),
             ChaCha8Rng::seed_from_u64(seed),
-        ))
+        )
     }
 
-    /// An adaptation from a ready-made search strategy.
+    /// An adaptation following `parameters` with a ready-made search strategy and
+    /// randomness.
     pub fn with_parts(
         space: Arc<BehaviorSpace>,
-        config: AdapterConfig,
+        parameters: Parameters,
         searcher: Box<TrustSearcher>,
         rng: ChaCha8Rng,
-    ) -> Self {
-        Self {
+    ) -> Result<Self, ConfigError> {
+        parameters.validate()?;
+        Ok(Self {
             space,
-            config,
+            parameters,
             searcher,
             rng,
             episode: None,
             attribution: Attribution::default(),
-            watch: None,
-            own_record: OwnRecord::default(),
-        }
+        })
     }
 
     /// The same adaptation, explaining itself in `vocabulary`'s terms (the domain's
@@ -354,20 +394,22 @@ impl Adaptation {
         self.rng = ChaCha8Rng::seed_from_u64(seed);
     }
 
-    /// Starts an episode (a new operator, a new mission) with `initial` in use; in mission
-    /// mode this ends the watch of a settled behavior, and what the robot learned of how
-    /// its operator reacts is forgotten.
+    /// Starts an episode (a new operator) with `initial` in use.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        self.check_beginning(&initial)?;
+        self.attribution.next_behavior();
+        self.start_episode(initial, TrustEstimate::default(), 0);
+        Ok(())
+    }
+
+    /// Refuses to begin an episode while one is under way, or from a foreign behavior.
+    fn check_beginning(&self, initial: &Behavior) -> Result<(), AdapterError> {
         if self.episode.is_some() {
             return Err(AdapterError::EpisodeUnderWay);
         }
-        if !self.space.contains(&initial) {
+        if !self.space.contains(initial) {
             return Err(AdapterError::ForeignBehavior);
         }
-        self.watch = None;
-        self.own_record.forget_operator();
-        self.attribution.next_behavior();
-        self.start_episode(initial, TrustEstimate::default(), 0);
         Ok(())
     }
 
@@ -397,13 +439,7 @@ impl Adaptation {
         memory: &TrustMemory,
     ) -> Result<Decision, AdapterError> {
         outcome.validate()?;
-        if self.episode.is_none() && self.watch.is_some() {
-            return Ok(self.watched(outcome, memory));
-        }
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
-        if self.config.mode == Mode::Mission {
-            self.own_record.learn(outcome);
-        }
         episode.estimate.record(outcome);
         episode.commands += 1;
         if outcome.kind != OutcomeKind::Completed {
@@ -412,7 +448,7 @@ impl Adaptation {
         }
         self.attribution.record(outcome);
         self.searcher.observe(&episode.current, outcome);
-        match episode.estimate.verdict(&self.config.thresholds) {
+        match episode.estimate.verdict(&self.parameters.thresholds) {
             Verdict::Undecided => Ok(Decision::Keep),
             Verdict::Trustworthy => {
                 episode.explanations.push(Explanation {
@@ -424,37 +460,49 @@ impl Adaptation {
                         estimate: episode.estimate.value,
                     },
                 });
-                Ok(self.settle(true))
+                Ok(Decision::Settled(self.finish(true)))
             }
             Verdict::Untrustworthy => Ok(self.give_up(memory)),
         }
     }
 
-    /// Mission mode: one command of the settled behavior under watch. Its estimate falling
-    /// to the untrustworthy threshold starts a new episode from it and gives it up; the
-    /// robot's own record falling there while the estimate is above 0 raises an alert.
-    fn watched(&mut self, outcome: &Outcome, memory: &TrustMemory) -> Decision {
-        let thresholds = self.config.thresholds;
-        let watch = self.watch.as_mut().expect("a behavior is under watch");
+    /// Adds a command of the behavior kept after the last episode ended (no episode is
+    /// under way; the robot still uses the behavior it settled on) to that behavior's
+    /// account: the reasons an episode begun from it by [`Adaptation::give_up_kept`]
+    /// gives for giving it up. `outcome` is assumed valid.
+    pub fn account_kept(&mut self, outcome: &Outcome) {
         self.attribution.record(outcome);
-        if watch.record(outcome, &thresholds) {
-            // Back at the cap: the account of its untrustworthy commands starts again.
-            self.attribution.next_behavior();
+    }
+
+    /// Starts the account of the behavior in use (or kept) afresh: its untrustworthy
+    /// commands so far are no longer reasons to give it up; what stated reasons taught
+    /// across episodes stays.
+    pub fn restart_account(&mut self) {
+        self.attribution.next_behavior();
+    }
+
+    /// Begins an episode from `kept`, the behavior kept after the last episode ended,
+    /// whose estimate has fallen to the untrustworthy threshold over the commands it
+    /// counts (`untrustworthy` of them failed or were interrupted; its account is what
+    /// [`Adaptation::account_kept`] recorded since [`Adaptation::restart_account`]), and
+    /// gives it up at once as an episode gives up its behavior: its evaluated pair, then
+    /// the next behavior from `memory` (a switch), or the end when every behavior has been
+    /// tried.
+    pub fn give_up_kept(
+        &mut self,
+        kept: Behavior,
+        estimate: TrustEstimate,
+        untrustworthy: u64,
+        memory: &TrustMemory,
+    ) -> Result<Decision, AdapterError> {
+        self.check_beginning(&kept)?;
+        if estimate.verdict(&self.parameters.thresholds) != Verdict::Untrustworthy {
+            return Err(AdapterError::NotUntrustworthy {
+                estimate: estimate.value,
+            });
         }
-        self.own_record.record(outcome);
-        let watch = *watch;
-        if watch.fallen(&thresholds) {
-            self.watch = None;
-            self.start_episode(watch.behavior, watch.estimate, watch.untrustworthy);
-            return self.give_up(memory);
-        }
-        match self.own_record.alert(watch.behavior, watch.estimate.value) {
-            Some(alert) => {
-                self.own_record.restart();
-                Decision::Alert(alert)
-            }
-            None => Decision::Keep,
-        }
+        self.start_episode(kept, estimate, untrustworthy);
+        Ok(self.give_up(memory))
     }
 
     /// The episode's behavior in use is untrustworthy: records its evaluated pair and
@@ -462,7 +510,7 @@ impl Adaptation {
     /// has been tried).
     fn give_up(&mut self, memory: &TrustMemory) -> Decision {
         let episode = self.episode.as_mut().expect("an episode is under way");
-        let given_up = GivenUp {
+        let given_up = Account {
             behavior: episode.current,
             commands: u64::from(episode.estimate.commands),
             untrustworthy: episode.current_untrustworthy,
@@ -473,12 +521,12 @@ impl Adaptation {
         episode.current_untrustworthy = 0;
         episode.evaluated.push(Evaluated {
             behavior: episode.current,
-            time: match self.config.time_unit {
+            time: match self.parameters.time_unit {
                 TimeUnit::TaskSeconds => episode.estimate.elapsed_s,
                 TimeUnit::Commands => f64::from(episode.estimate.commands),
             },
         });
-        let memory = self.config.reuse_cases.then_some(memory);
+        let memory = self.parameters.reuse_cases.then_some(memory);
         let selection = select_behavior(
             &episode.evaluated,
             memory,
@@ -486,39 +534,9 @@ impl Adaptation {
             &self.space,
             &mut self.rng,
         );
-        let (to, source, next) = match selection {
-            Selection::Reuse {
-                case,
-                similarity,
-                behavior,
-            } => {
-                episode.reused += 1;
-                episode.current_from_search = false;
-                let next = Next::Case {
-                    behavior,
-                    case,
-                    similarity,
-                    matched: matched_by_case(
-                        &self.space,
-                        self.config.lambda,
-                        &episode.evaluated,
-                        memory.and_then(|m| m.base().get(case)),
-                    ),
-                    given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
-                };
-                (behavior, Source::Case { case, similarity }, next)
-            }
-            Selection::Search(Proposal::Next(behavior)) => {
-                episode.searched += 1;
-                episode.current_from_search = true;
-                let next = Next::Search {
-                    behavior,
-                    strategy: self.searcher.name().to_owned(),
-                    rationale: self.searcher.rationale(&behavior),
-                };
-                (behavior, Source::Search, next)
-            }
-            Selection::Search(Proposal::Exhausted { keep }) => {
+        let (to, source) = match selection {
+            Selection::Next { behavior, source } => (behavior, source),
+            Selection::Exhausted { keep } => {
                 episode.current = keep;
                 episode.explanations.push(Explanation {
                     given_up: Some(given_up),
@@ -529,14 +547,41 @@ impl Adaptation {
                         estimate: episode.estimate.value,
                     },
                 });
-                return self.settle(false);
+                return Decision::Settled(self.finish(false));
+            }
+        };
+        let grounds = match source {
+            Source::Case { case, .. } => {
+                episode.reused += 1;
+                episode.current_from_search = false;
+                Grounds::Matches {
+                    matched: matched_by_case(
+                        &self.space,
+                        self.parameters.lambda,
+                        &episode.evaluated,
+                        memory.and_then(|m| m.base().get(case)),
+                    ),
+                    given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
+                }
+            }
+            Source::Search => {
+                episode.searched += 1;
+                episode.current_from_search = true;
+                Grounds::Rationale {
+                    strategy: self.searcher.name().to_owned(),
+                    rationale: self.searcher.rationale(&to),
+                }
             }
         };
         episode.current = to;
         episode.estimate = TrustEstimate::default();
         let explanation = Explanation {
             given_up: Some(given_up),
-            next,
+            next: Next::Switch {
+                behavior: to,
+                source,
+                grounds,
+            },
         };
         episode.explanations.push(explanation.clone());
         Decision::Switch {
@@ -546,29 +591,11 @@ impl Adaptation {
         }
     }
 
-    /// Ends the episode under way (`found`: with a trustworthy behavior); in mission mode
-    /// the behavior settled on goes under watch.
-    fn settle(&mut self, found: bool) -> Decision {
-        let value = self.episode.as_ref().map_or(0.0, |e| e.estimate.value);
-        let report = self.finish(found);
-        if self.config.mode == Mode::Mission {
-            self.watch = Some(Watch::new(
-                report.settled,
-                value,
-                found,
-                &self.config.thresholds,
-            ));
-            self.own_record.restart();
-            self.attribution.next_behavior();
-        }
-        Decision::Settled(report)
-    }
-
     /// The case a finished episode retains (docs/model.md#cases-and-retention): its
     /// evaluated pairs and the behavior found, when a trustworthy behavior was found and
     /// the search strategy found it, in the configured reading of "found" ([`Retention`]).
     pub fn case_to_retain(&self, report: &EpisodeReport) -> Option<TrustCase> {
-        let search_found_it = match self.config.retention {
+        let search_found_it = match self.parameters.retention {
             Retention::AnySearch => report.searched > 0,
             Retention::FinalFromSearch => report.settled_from_search,
         };
@@ -579,16 +606,18 @@ impl Adaptation {
     }
 
     /// Ends the episode under way without a trustworthy behavior and without retaining a
-    /// case (the operator left), and in mission mode the watch of a settled behavior.
-    /// Returns the episode's report, or `None` if none was under way.
+    /// case (the operator left). Returns the episode's report, or `None` if none was under
+    /// way.
     pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
-        self.watch = None;
         self.episode.as_ref()?;
         Some(self.finish(false))
     }
 
+    /// Ends the episode under way; the account of the behavior it ends on starts afresh
+    /// (for the commands it may be kept for).
     fn finish(&mut self, found_trustworthy: bool) -> EpisodeReport {
         let mut episode = self.episode.take().expect("an episode is under way");
+        self.attribution.next_behavior();
         // Reports may be kept by the thousand (an experiment's trials): no spare capacity.
         episode.explanations.shrink_to_fit();
         let settled = if found_trustworthy {
@@ -639,45 +668,30 @@ impl Adaptation {
         })
     }
 
-    /// The account of the behavior in use so far: its commands, its estimate and the
-    /// reasons its untrustworthy commands are attributed to (`None` with no episode under
-    /// way).
-    pub fn standing(&self) -> Option<GivenUp> {
-        let (behavior, estimate, untrustworthy) = self.current()?;
-        Some(GivenUp {
+    /// The account of the episode's behavior in use so far: its commands, its estimate and
+    /// the reasons its untrustworthy commands are attributed to (`None` with no episode
+    /// under way).
+    pub fn standing(&self) -> Option<Account> {
+        let e = self.episode.as_ref()?;
+        Some(self.account(e.current, e.estimate, e.current_untrustworthy))
+    }
+
+    /// The account of `behavior`, in use (or kept) with `estimate` over the commands it
+    /// counts, `untrustworthy` of them failed or interrupted: those numbers and the
+    /// reasons the account of the behavior in use attributes its untrustworthy commands to.
+    pub fn account(
+        &self,
+        behavior: Behavior,
+        estimate: TrustEstimate,
+        untrustworthy: u64,
+    ) -> Account {
+        Account {
             behavior,
             commands: u64::from(estimate.commands),
             untrustworthy,
             estimate: estimate.value,
             reasons: self.attribution.reasons(),
-        })
-    }
-
-    /// The behavior in use, its estimate and its untrustworthy commands: the episode's,
-    /// or in mission mode the watched behavior's between episodes.
-    fn current(&self) -> Option<(Behavior, TrustEstimate, u64)> {
-        match (&self.episode, &self.watch) {
-            (Some(e), _) => Some((e.current, e.estimate, e.current_untrustworthy)),
-            (None, Some(w)) => Some((w.behavior, w.estimate, w.untrustworthy)),
-            (None, None) => None,
         }
-    }
-
-    /// The behavior in use and its estimate: the episode's, or in mission mode the
-    /// watched behavior's between episodes (`None` when neither).
-    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        self.current()
-            .map(|(behavior, estimate, _)| (behavior, estimate))
-    }
-
-    /// Mission mode: the settled behavior under watch between episodes, if any.
-    pub fn watching(&self) -> Option<&Watch> {
-        self.watch.as_ref()
-    }
-
-    /// Mission mode: the robot's own record of the watched behavior ([`crate::overtrust`]).
-    pub fn own_record(&self) -> &OwnRecord {
-        &self.own_record
     }
 
     /// The behavior space.
@@ -685,21 +699,22 @@ impl Adaptation {
         &self.space
     }
 
-    /// The configuration.
-    pub fn config(&self) -> &AdapterConfig {
-        &self.config
+    /// The parameters it follows.
+    pub fn parameters(&self) -> &Parameters {
+        &self.parameters
     }
 }
 
 /// The online trust-guided adapter: one [`Adaptation`] and the case memory it owns.
 pub struct TrustAdapter {
-    adaptation: Adaptation,
-    memory: TrustMemory,
+    pub(crate) adaptation: Adaptation,
+    pub(crate) memory: TrustMemory,
 }
 
 impl TrustAdapter {
-    /// An adapter over `space` with `config`, starting from the case base `cases`; its
-    /// search randomness comes from `seed`.
+    /// An adapter over `space` with `config` (its retriever and search strategy the kinds
+    /// the config names), starting from the case base `cases`; its search randomness
+    /// comes from `seed`.
     pub fn new(
         space: Arc<BehaviorSpace>,
         config: AdapterConfig,
@@ -711,19 +726,19 @@ impl TrustAdapter {
         Ok(Self { adaptation, memory })
     }
 
-    /// An adapter from ready-made parts (a custom retriever or search strategy). The
-    /// config's `retriever` and `search` fields are then informational only.
+    /// An adapter following `parameters` from ready-made parts: a case memory (with a
+    /// custom retriever), a search strategy and its randomness.
     pub fn with_parts(
         space: Arc<BehaviorSpace>,
-        config: AdapterConfig,
+        parameters: Parameters,
         memory: TrustMemory,
         searcher: Box<TrustSearcher>,
         rng: ChaCha8Rng,
-    ) -> Self {
-        Self {
-            adaptation: Adaptation::with_parts(space, config, searcher, rng),
+    ) -> Result<Self, ConfigError> {
+        Ok(Self {
+            adaptation: Adaptation::with_parts(space, parameters, searcher, rng)?,
             memory,
-        }
+        })
     }
 
     /// Restarts the search randomness from `seed` (the experiment runner gives every
@@ -740,7 +755,7 @@ impl TrustAdapter {
         self
     }
 
-    /// Starts an episode (a new operator, a new mission) with `initial` in use.
+    /// Starts an episode (a new operator) with `initial` in use.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.adaptation.begin_episode(initial)
     }
@@ -749,14 +764,20 @@ impl TrustAdapter {
     /// a settled episode retains its case (docs/model.md#cases-and-retention) before the
     /// report is returned.
     pub fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
-        let mut decision = self.adaptation.record(outcome, &self.memory)?;
+        let decision = self.adaptation.record(outcome, &self.memory)?;
+        Ok(self.retaining(decision))
+    }
+
+    /// `decision`, with the case a settled episode retains stored in the memory and named
+    /// in its report.
+    pub(crate) fn retaining(&mut self, mut decision: Decision) -> Decision {
         if let Decision::Settled(report) = &mut decision {
             report.retained = self
                 .adaptation
                 .case_to_retain(report)
                 .map(|case| self.memory.retain(case));
         }
-        Ok(decision)
+        decision
     }
 
     /// Ends the episode under way without a trustworthy behavior and without retaining a
@@ -775,24 +796,9 @@ impl TrustAdapter {
         self.adaptation.episode()
     }
 
-    /// The account of the behavior in use so far (see [`Adaptation::standing`]).
-    pub fn standing(&self) -> Option<GivenUp> {
+    /// The account of the episode's behavior in use so far (see [`Adaptation::standing`]).
+    pub fn standing(&self) -> Option<Account> {
         self.adaptation.standing()
-    }
-
-    /// The behavior in use and its estimate (see [`Adaptation::in_use`]).
-    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        self.adaptation.in_use()
-    }
-
-    /// Mission mode: the settled behavior under watch between episodes, if any.
-    pub fn watching(&self) -> Option<&Watch> {
-        self.adaptation.watching()
-    }
-
-    /// Mission mode: the robot's own record of the watched behavior.
-    pub fn own_record(&self) -> &OwnRecord {
-        self.adaptation.own_record()
     }
 
     /// The behavior space.
@@ -800,9 +806,9 @@ impl TrustAdapter {
         self.adaptation.space()
     }
 
-    /// The configuration.
-    pub fn config(&self) -> &AdapterConfig {
-        self.adaptation.config()
+    /// The parameters it follows.
+    pub fn parameters(&self) -> &Parameters {
+        self.adaptation.parameters()
     }
 
     /// The case base (every retained case, in order).
@@ -812,8 +818,8 @@ impl TrustAdapter {
 
     /// The memory's best guess of a first behavior for an operator it does not yet know
     /// ([`crate::start`]), `None` while the case base is empty; behaviors more similar
-    /// than the config's `lambda` count as the same.
+    /// than the parameters' `lambda` count as the same.
     pub fn first_guess(&self) -> Option<FirstGuess> {
-        first_guess(self.memory.base(), self.space(), self.config().lambda)
+        first_guess(self.memory.base(), self.space(), self.parameters().lambda)
     }
 }

@@ -30,7 +30,7 @@
 //!
 //! The operator's true reason is never read here: the adapter is handed outcomes only.
 
-use crate::{Cause, Observations, Outcome};
+use crate::{Cause, Observations, Outcome, Source};
 use cbr_core::{Behavior, BehaviorSpace, CaseId, Rationale};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write;
@@ -106,23 +106,26 @@ impl AttributedReason {
     }
 }
 
-/// Why a behavior was given up.
+/// The account of a behavior: its commands, its estimate and the reasons its
+/// untrustworthy commands are attributed to. An explanation gives the account of the
+/// behavior it gave up ([`Explanation::given_up`]); the adapter gives the account of the
+/// behavior in use so far ([`crate::Adaptation::standing`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GivenUp {
-    /// The behavior given up.
+pub struct Account {
+    /// The behavior.
     pub behavior: Behavior,
-    /// Commands it was used for.
+    /// Commands it was used for (since its account last started).
     pub commands: u64,
     /// Those that failed or were interrupted.
     pub untrustworthy: u64,
-    /// Its trust estimate when it was given up.
+    /// Its trust estimate (when it was given up, for a behavior given up).
     pub estimate: f64,
     /// The reasons attributed, the most likely first (at most [`MAX_REASONS`]; none when
     /// the domain declares no cause and the operator stated none).
     pub reasons: Vec<AttributedReason>,
 }
 
-impl GivenUp {
+impl Account {
     /// The reason the robot settles on: the most likely one when it is more likely than
     /// every other (`None` when nothing is attributed or the first reasons tie, so the
     /// order among them is only the order of their names).
@@ -152,30 +155,17 @@ const TIE: f64 = 1e-9;
 
 /// Why the behavior now in use was chosen, or why the episode ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", tag = "source")]
+#[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Next {
-    /// A case's behavior was reused (Algorithm 1).
-    Case {
+    /// The episode switched to `behavior`.
+    Switch {
         /// The behavior now in use.
         behavior: Behavior,
-        /// The case reused.
-        case: CaseId,
-        /// Its Algorithm 2 similarity to the episode.
-        similarity: f64,
-        /// Behaviors given up in the episode that the case matched (a behavior of the case
-        /// more similar than lambda).
-        matched: u32,
-        /// Behaviors given up in the episode.
-        given_up: u32,
-    },
-    /// The search strategy proposed it.
-    Search {
-        /// The behavior now in use.
-        behavior: Behavior,
-        /// The strategy's name.
-        strategy: String,
-        /// What the strategy expects of it, or how it explored.
-        rationale: Rationale,
+        /// Where it came from.
+        source: Source,
+        /// Why its source chose it: how well a reused case matched (with a case), the
+        /// strategy's rationale (with the search).
+        grounds: Grounds,
     },
     /// The episode ended on this behavior.
     Kept {
@@ -193,13 +183,41 @@ pub enum Next {
     },
 }
 
+/// Why the source of a switch ([`Next::Switch`]) chose its behavior: for a reused case,
+/// how well it matched the episode; for the search, the strategy's rationale.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Grounds {
+    /// The reused case matched `matched` of the `given_up` behaviors given up in the
+    /// episode (a behavior of its problem more similar to one than lambda).
+    Matches {
+        /// Behaviors given up in the episode that the case matched.
+        matched: u32,
+        /// Behaviors given up in the episode.
+        given_up: u32,
+    },
+    /// The search strategy's name, and what it expects of the behavior or how it explored.
+    Rationale {
+        /// The strategy's name.
+        strategy: String,
+        /// What the strategy expects of it, or how it explored.
+        rationale: Rationale,
+    },
+}
+
 impl Next {
     /// The behavior now in use, or kept.
     pub fn behavior(&self) -> Behavior {
         match self {
-            Next::Case { behavior, .. }
-            | Next::Search { behavior, .. }
-            | Next::Kept { behavior, .. } => *behavior,
+            Next::Switch { behavior, .. } | Next::Kept { behavior, .. } => *behavior,
+        }
+    }
+
+    /// Where the behavior switched to came from (`None`: the episode ended).
+    pub fn source(&self) -> Option<Source> {
+        match self {
+            Next::Switch { source, .. } => Some(*source),
+            Next::Kept { .. } => None,
         }
     }
 }
@@ -208,9 +226,10 @@ impl Next {
 /// chosen), or the end of an episode.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Explanation {
-    /// Why a behavior was given up (`None` when the episode ended on a trustworthy one).
+    /// The account of the behavior given up (`None` when the episode ended on a
+    /// trustworthy one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub given_up: Option<GivenUp>,
+    pub given_up: Option<Account>,
     /// Why the behavior now in use was chosen, or why the episode ended.
     pub next: Next,
 }
@@ -258,34 +277,44 @@ impl Explanation {
             }
         }
         match &self.next {
-            Next::Case {
+            Next::Switch {
                 behavior,
-                case,
-                similarity,
-                matched,
-                given_up,
+                source,
+                grounds,
             } => {
                 let _ = write!(
                     text,
-                    "Now {}{}: reused case {} (similarity {similarity:.2}, it matches {matched} of the {} given up).",
+                    "Now {}{}: ",
                     space.display(behavior),
                     changes(space, self.given_up.as_ref().map(|g| g.behavior), behavior),
-                    case_name(*case),
-                    plural(u64::from(*given_up), "behavior")
                 );
-            }
-            Next::Search {
-                behavior,
-                strategy,
-                rationale,
-            } => {
-                let _ = write!(
-                    text,
-                    "Now {}{}: {strategy} search, {}.",
-                    space.display(behavior),
-                    changes(space, self.given_up.as_ref().map(|g| g.behavior), behavior),
-                    rationale.phrase()
-                );
+                match (source, grounds) {
+                    (Source::Case { case, similarity }, Grounds::Matches { matched, given_up }) => {
+                        let _ = write!(
+                            text,
+                            "reused case {} (similarity {similarity:.2}, it matches {matched} of the {} given up).",
+                            case_name(*case),
+                            plural(u64::from(*given_up), "behavior")
+                        );
+                    }
+                    (Source::Case { case, similarity }, Grounds::Rationale { .. }) => {
+                        let _ = write!(
+                            text,
+                            "reused case {} (similarity {similarity:.2}).",
+                            case_name(*case)
+                        );
+                    }
+                    (
+                        Source::Search,
+                        Grounds::Rationale {
+                            strategy,
+                            rationale,
+                        },
+                    ) => {
+                        let _ = write!(text, "{strategy} search, {}.", rationale.phrase());
+                    }
+                    (Source::Search, Grounds::Matches { .. }) => text.push_str("search."),
+                }
             }
             Next::Kept {
                 behavior,
@@ -624,7 +653,7 @@ mod tests {
         assert_eq!((reasons[0].cause, reasons[0].inferred), (DEADLINE, 0.5));
         assert_eq!((reasons[1].cause, reasons[1].inferred), (TOO_CLOSE, 0.5));
         // Even odds: the robot settles on no reason, and says so.
-        let given_up = GivenUp {
+        let given_up = Account {
             behavior: Behavior::new(&[0]),
             commands: 1,
             untrustworthy: 1,
@@ -651,7 +680,7 @@ mod tests {
              has been tried and it resisted longest."
         );
         assert_eq!(
-            GivenUp {
+            Account {
                 reasons: a.reasons(),
                 ..explanation.given_up.unwrap()
             }
@@ -704,7 +733,7 @@ mod tests {
             NamedComponent::numeric("padding", "m", 0.1, 0.1, 4).unwrap(),
         ])
         .unwrap();
-        let given_up = GivenUp {
+        let given_up = Account {
             behavior: Behavior::new(&[3, 0]),
             commands: 4,
             untrustworthy: 3,
@@ -728,12 +757,16 @@ mod tests {
         };
         let reused = Explanation {
             given_up: Some(given_up.clone()),
-            next: Next::Case {
+            next: Next::Switch {
                 behavior: Behavior::new(&[1, 0]),
-                case: CaseId(12),
-                similarity: 0.97,
-                matched: 1,
-                given_up: 1,
+                source: Source::Case {
+                    case: CaseId(12),
+                    similarity: 0.97,
+                },
+                grounds: Grounds::Matches {
+                    matched: 1,
+                    given_up: 1,
+                },
             },
         };
         assert_eq!(
@@ -745,17 +778,63 @@ mod tests {
         );
         let searched = Explanation {
             given_up: Some(given_up),
-            next: Next::Search {
+            next: Next::Switch {
                 behavior: Behavior::new(&[3, 2]),
-                strategy: "random-walk".into(),
-                rationale: Rationale::Explores {
-                    how: "one random step".into(),
+                source: Source::Search,
+                grounds: Grounds::Rationale {
+                    strategy: "random-walk".into(),
+                    rationale: Rationale::Explores {
+                        how: "one random step".into(),
+                    },
                 },
             },
         };
         assert!(searched.sentence(&space).ends_with(
             "Now speed=2 m/s, padding=0.3 m (padding 0.1 -> 0.3): random-walk search, exploring: one random step."
         ));
+        // A switch names its source; grounds of the other source (only a hand-made
+        // explanation has them) leave the source alone in the sentence.
+        let swap = |x: &Explanation, source: Source| {
+            let Next::Switch {
+                behavior, grounds, ..
+            } = &x.next
+            else {
+                panic!("a switch");
+            };
+            Explanation {
+                given_up: None,
+                next: Next::Switch {
+                    behavior: *behavior,
+                    source,
+                    grounds: grounds.clone(),
+                },
+            }
+        };
+        assert_eq!(
+            swap(
+                &searched,
+                Source::Case {
+                    case: CaseId(3),
+                    similarity: 0.5
+                }
+            )
+            .sentence(&space),
+            "Now speed=2 m/s, padding=0.3 m: reused case 3 (similarity 0.50)."
+        );
+        assert_eq!(
+            swap(&reused, Source::Search).sentence(&space),
+            "Now speed=1 m/s, padding=0.1 m: search."
+        );
+        let json = serde_json::to_string(&reused.next).unwrap();
+        assert_eq!(
+            json,
+            r#"{"kind":"switch","behavior":[1,0],"source":{"source":"case","case":12,"similarity":0.97},"grounds":{"matches":{"matched":1,"given_up":1}}}"#
+        );
+        assert_eq!(
+            serde_json::from_str::<Explanation>(&serde_json::to_string(&searched).unwrap())
+                .unwrap(),
+            searched
+        );
         let kept = Explanation {
             given_up: None,
             next: Next::Kept {
@@ -772,7 +851,7 @@ mod tests {
         let json = serde_json::to_string(&kept).unwrap();
         assert_eq!(
             json,
-            r#"{"next":{"source":"kept","behavior":[0,0],"trustworthy":true,"commands":5,"estimate":5.0}}"#
+            r#"{"next":{"kind":"kept","behavior":[0,0],"trustworthy":true,"commands":5,"estimate":5.0}}"#
         );
         assert_eq!(serde_json::from_str::<Explanation>(&json).unwrap(), kept);
     }

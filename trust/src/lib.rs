@@ -13,9 +13,12 @@
 //! - [`retrieval`]: the retrievers a config can name.
 //! - [`start`]: a learned first behavior, the case memory's best guess for an operator
 //!   the robot does not yet know.
-//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds, made of an
-//!   [`Adaptation`] (one robot's episode and search) and the case memory it owns.
-//! - [`watch`]: mission mode, the settled behavior kept under watch.
+//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds (the paper's
+//!   episodes), made of an [`Adaptation`] (one robot's episode and search) and the case
+//!   memory it owns.
+//! - [`mission`]: mission mode, the episode machine wrapped to keep listening after an
+//!   episode settles ([`MissionAdaptation`], [`MissionAdapter`]).
+//! - [`watch`]: the settled behavior kept under watch on a mission.
 //! - [`overtrust`]: the robot's own record of a settled behavior, and the alert it raises
 //!   when its operator trusts it more than that record says it should.
 //! - [`named`]: behaviors as JSON objects in real units.
@@ -44,6 +47,7 @@ pub mod cause;
 pub mod estimate;
 pub mod evaluated;
 pub mod explain;
+pub mod mission;
 pub mod named;
 pub mod overtrust;
 pub mod retrieval;
@@ -57,7 +61,7 @@ pub mod weights;
 
 pub use adapter::{
     Adaptation, AdapterConfig, AdapterError, ConfigError, Decision, EpisodeReport, EpisodeView,
-    Retention, Source, TimeUnit, TrustAdapter,
+    Parameters, Retention, TimeUnit, TrustAdapter,
 };
 pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
@@ -68,13 +72,16 @@ pub use estimate::{
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
-pub use explain::{AttributedReason, Attribution, Explanation, GivenUp, Hint, Next, Vocabulary};
+pub use explain::{
+    Account, AttributedReason, Attribution, Explanation, Grounds, Hint, Next, Vocabulary,
+};
+pub use mission::{MissionAdaptation, MissionAdapter, MissionDecision};
 pub use overtrust::{Alert, OwnRecord};
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};
-pub use select::{Selection, select_behavior};
+pub use select::{Selection, Source, select_behavior};
 pub use start::{FirstGuess, first_guess};
-pub use watch::{Mode, Watch};
+pub use watch::Watch;
 pub use weights::{OutcomeWeights, WeightsError};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};

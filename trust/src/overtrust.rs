@@ -3,10 +3,10 @@
 //! An operator who has come to trust a robot watches it less: problems it would have
 //! stopped the robot for go unnoticed, its reactions keep the robot's trust estimate high,
 //! and the adapter, which listens only to the operator, sees nothing wrong. So in mission
-//! mode the robot also keeps its **own record** of the behavior it has settled on, from
-//! what it perceives itself and from the self-assessment its domain may give
-//! ([`Outcome::confidence`]), and raises an [`Alert`] when the operator's trust is high
-//! while its own record says it is not earning it.
+//! mode ([`crate::mission`]) the robot also keeps its **own record** of the behavior it has
+//! settled on, from what it perceives itself and from the self-assessment its domain may
+//! give ([`Outcome::confidence`]), and raises an [`Alert`] when the operator's trust is
+//! high while its own record says it is not earning it.
 //!
 //! **Signals.** A command carries a signal for every observation the robot perceived (a
 //! bump, running behind its plan, passing a person fast) and one more, *doubt*, when its
@@ -41,8 +41,8 @@
 //!
 //! **The alert.** When the evidence reaches [`ALERT_EVIDENCE`] (a lapse a hundred times
 //! likelier than attention) while the operator's estimate of the behavior is above 0 (its
-//! reactions, on balance, still approve of it), the adapter decides
-//! [`crate::Decision::Alert`]: the robot keeps its behavior and asks its operator to
+//! reactions, on balance, still approve of it), the mission decides
+//! [`crate::MissionDecision::Alert`]: the robot keeps its behavior and asks its operator to
 //! supervise it. The evidence then starts again from 0.
 
 use crate::{Observations, Outcome};

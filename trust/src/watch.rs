@@ -1,10 +1,12 @@
-//! Mission mode: the robot keeps listening after it settles.
+//! The watch of a settled behavior: how a robot on a mission ([`crate::mission`]) keeps
+//! estimating the trust of the behavior an episode settled on.
 //!
-//! The paper's adapter stops at the first trustworthy behavior (an *episode*: [`Mode::Episode`],
-//! the default). In [`Mode::Mission`] the adapter keeps estimating the trust of the
-//! behavior it settled on, command after command, and adapts again when that estimate
-//! falls to the untrustworthy threshold: the operator's preferences changed, another
-//! operator took over, or the behavior was trusted by luck.
+//! The paper's adapter stops at the first trustworthy behavior (the end of an *episode*).
+//! On a mission the robot keeps estimating the trust of the behavior it settled on,
+//! command after command, and adapts again when that estimate falls to the untrustworthy
+//! threshold: the operator's preferences changed, another operator took over, or the
+//! behavior was trusted by luck. This module is the estimate kept meanwhile ([`Watch`]);
+//! what the robot does with it is [`crate::mission`]'s.
 //!
 //! **How the estimate is kept.** The paper's sum of weighted outcomes would bank every
 //! completion: after a hundred good commands it would take a hundred failures to notice a
@@ -22,29 +24,8 @@
 
 use crate::{Outcome, Thresholds, TrustEstimate};
 use cbr_core::Behavior;
-use serde::{Deserialize, Serialize};
 
-/// What the adapter does once it has settled.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Mode {
-    /// The paper's: the episode ends at the first trustworthy behavior and the adapter
-    /// waits for the next one (the default, and what the paper's experiments run).
-    #[default]
-    Episode,
-    /// Keep estimating the settled behavior's trust and adapt again when it falls to the
-    /// untrustworthy threshold.
-    Mission,
-}
-
-impl Mode {
-    /// Whether this is the paper's episode mode (configs leave it out then).
-    pub fn is_episode(&self) -> bool {
-        *self == Mode::Episode
-    }
-}
-
-/// A settled behavior under watch in mission mode.
+/// A settled behavior under watch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Watch {
     /// The behavior settled on.
@@ -59,11 +40,12 @@ pub struct Watch {
 }
 
 impl Watch {
-    /// A watch over `behavior`, which settled with estimate `value` (a trustworthy one at or
-    /// above the trustworthy threshold, which caps it; otherwise it is watched from 0).
-    pub fn new(behavior: Behavior, value: f64, trustworthy: bool, thresholds: &Thresholds) -> Self {
+    /// A watch over `behavior`, which an episode settled on: a trustworthy one is watched
+    /// from the trustworthy threshold (its estimate reached it, and the cap keeps it
+    /// there), one kept because every behavior had been tried from 0.
+    pub fn settled(behavior: Behavior, trustworthy: bool, thresholds: &Thresholds) -> Self {
         let start = if trustworthy {
-            value.min(thresholds.trustworthy)
+            thresholds.trustworthy
         } else {
             0.0
         };
@@ -114,7 +96,7 @@ mod tests {
     #[test]
     fn completions_never_bank_trust_above_the_cap_and_ten_failures_give_the_behavior_up() {
         let t = Thresholds::default();
-        let mut watch = Watch::new(behavior(), 6.0, true, &t);
+        let mut watch = Watch::settled(behavior(), true, &t);
         assert_eq!(watch.estimate.value, 5.0);
         for _ in 0..100 {
             assert!(watch.record(&Outcome::completed(1.0, 2.0), &t));
@@ -137,7 +119,7 @@ mod tests {
     #[test]
     fn a_completion_back_to_the_cap_restarts_the_counts() {
         let t = Thresholds::default();
-        let mut watch = Watch::new(behavior(), 5.0, true, &t);
+        let mut watch = Watch::settled(behavior(), true, &t);
         watch.record(&Outcome::failed(0.5, 1.0), &t);
         assert_eq!(watch.estimate.value, 4.5);
         assert_eq!(watch.untrustworthy, 1);
@@ -149,7 +131,7 @@ mod tests {
     #[test]
     fn a_behavior_kept_without_trust_is_watched_from_zero() {
         let t = Thresholds::default();
-        let watch = Watch::new(behavior(), -5.0, false, &t);
+        let watch = Watch::settled(behavior(), false, &t);
         assert_eq!(watch.estimate.value, 0.0);
     }
 }

@@ -9,9 +9,9 @@ use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 use trust::search::RandomWalk;
 use trust::{
-    AdapterConfig, AdapterError, AttributedReason, Cause, Decision, Evaluated, Explanation,
-    GivenUp, Hint, Next, Observations, Outcome, Selection, SetSimilarity, Source, TrustAdapter,
-    TrustCaseBase, Vocabulary, select_behavior,
+    Account, AdapterConfig, AdapterError, AttributedReason, Cause, Decision, Evaluated,
+    Explanation, Grounds, Hint, Next, Observations, Outcome, Parameters, Selection, SetSimilarity,
+    Source, TrustAdapter, TrustCaseBase, Vocabulary, select_behavior,
 };
 
 /// Causes of a made-up domain.
@@ -97,7 +97,7 @@ fn an_episode_by_hand() {
     // -5), each with the stated reason dropped-item; case 0 matches the one behavior
     // given up (b0 itself, similarity 1).
     let explanation = Explanation {
-        given_up: Some(GivenUp {
+        given_up: Some(Account {
             behavior: b0,
             commands: 5,
             untrustworthy: 5,
@@ -110,12 +110,16 @@ fn an_episode_by_hand() {
                 inferred: 0.0,
             }],
         }),
-        next: Next::Case {
+        next: Next::Switch {
             behavior: b1,
-            case: CaseId(0),
-            similarity: 1.0,
-            matched: 1,
-            given_up: 1,
+            source: Source::Case {
+                case: CaseId(0),
+                similarity: 1.0,
+            },
+            grounds: Grounds::Matches {
+                matched: 1,
+                given_up: 1,
+            },
         },
     };
     assert_eq!(
@@ -242,6 +246,29 @@ fn bad_configs_are_rejected() {
         ..AdapterConfig::default()
     };
     assert!(TrustAdapter::new(space.clone(), bad_lambda, TrustCaseBase::new(), 0).is_err());
+    // Ready-made parts follow parameters checked as well; the kinds of parts a config
+    // names are no parameters.
+    let bad = Parameters {
+        lambda: 0.0,
+        ..Parameters::default()
+    };
+    let memory = AdapterConfig::default()
+        .memory(space.clone(), TrustCaseBase::new())
+        .unwrap();
+    let parts = TrustAdapter::with_parts(
+        space.clone(),
+        bad,
+        memory,
+        Box::new(RandomWalk::new()),
+        ChaCha8Rng::seed_from_u64(0),
+    );
+    assert!(matches!(parts, Err(trust::ConfigError::Lambda(_))));
+    let uniform = AdapterConfig {
+        search: trust::SearchKind::Uniform,
+        retriever: trust::RetrieverKind::InvertedIndex,
+        ..AdapterConfig::default()
+    };
+    assert_eq!(uniform.parameters(), Parameters::default());
     let mut reversed = AdapterConfig::default();
     reversed.thresholds.trustworthy = -5.0;
     reversed.thresholds.untrustworthy = 5.0;
@@ -310,12 +337,12 @@ proptest! {
         let memory = CaseMemory::new(base, Box::new(LinearRetriever::new(measure)));
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let chosen = match select_behavior(&e_past, Some(&memory), &mut RandomWalk::new(), &space, &mut rng) {
-            Selection::Reuse { behavior, similarity, .. } => {
+            Selection::Next { behavior, source: Source::Case { similarity, .. } } => {
                 prop_assert!(similarity > 0.0);
                 behavior
             }
-            Selection::Search(cbr_core::Proposal::Next(b)) => b,
-            Selection::Search(other) => return Err(TestCaseError::fail(format!("stopped early: {other:?}"))),
+            Selection::Next { behavior, source: Source::Search } => behavior,
+            other @ Selection::Exhausted { .. } => return Err(TestCaseError::fail(format!("stopped early: {other:?}"))),
         };
         prop_assert!(e_past.iter().all(|e| e.behavior != chosen));
     }
@@ -430,19 +457,20 @@ fn both_readings_of_retention_and_both_units_of_time() {
             }],
             solution,
         });
-        let config = AdapterConfig {
+        let parameters = Parameters {
             retention,
             time_unit,
-            ..AdapterConfig::default()
+            ..Parameters::default()
         };
-        let measure = SetSimilarity::new(space.clone(), config.lambda).unwrap();
+        let measure = SetSimilarity::new(space.clone(), parameters.lambda).unwrap();
         let mut a = TrustAdapter::with_parts(
             space.clone(),
-            config,
+            parameters,
             CaseMemory::new(base, Box::new(LinearRetriever::new(measure))),
             Box::new(Always(searched)),
             ChaCha8Rng::seed_from_u64(1),
-        );
+        )
+        .unwrap();
         a.begin_episode(start).unwrap();
         for _ in 0..4 {
             a.record(&interrupt(2.0)).unwrap();
@@ -558,7 +586,12 @@ fn a_hand_built_episode_explains_its_switch() {
     assert!((given_up.reasons[1].inferred - 2.5 / 3.0).abs() < 1e-12);
     assert_eq!(given_up.reasons[2].stated, 1);
     assert!((given_up.reasons[2].weight - 4.0 / 3.0).abs() < 1e-12);
-    let Next::Search { strategy, .. } = &explanation.next else {
+    let Next::Switch {
+        source: Source::Search,
+        grounds: Grounds::Rationale { strategy, .. },
+        ..
+    } = &explanation.next
+    else {
         panic!("an empty case base: the search proposes");
     };
     assert_eq!(strategy, "random-walk");
@@ -575,7 +608,7 @@ fn a_hand_built_episode_explains_its_switch() {
     assert!(matches!(
         a.episode().unwrap().explanations,
         [Explanation {
-            given_up: Some(GivenUp { .. }),
+            given_up: Some(Account { .. }),
             ..
         }]
     ));

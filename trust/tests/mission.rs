@@ -1,11 +1,12 @@
-//! Mission mode and the overtrust alert: hand-computed missions through the adapter.
+//! Mission mode and the overtrust alert: hand-computed missions through the mission
+//! wrapper of the adapter.
 
 use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use proptest::prelude::*;
 use std::sync::Arc;
 use trust::{
-    AdapterConfig, AdapterError, Decision, Evaluated, Mode, Observations, Outcome, Source,
-    TrustAdapter, TrustCaseBase,
+    AdapterConfig, AdapterError, Decision, Evaluated, MissionAdapter, MissionDecision,
+    Observations, Outcome, Source, TrustAdapter, TrustCaseBase, TrustEstimate,
 };
 
 fn grid() -> Arc<BehaviorSpace> {
@@ -18,13 +19,15 @@ fn grid() -> Arc<BehaviorSpace> {
     )
 }
 
-fn mission_adapter() -> TrustAdapter {
-    let config = AdapterConfig {
-        mode: Mode::Mission,
-        ..AdapterConfig::default()
-    };
-    TrustAdapter::new(grid(), config, TrustCaseBase::new(), 3).unwrap()
+fn episode_adapter() -> TrustAdapter {
+    TrustAdapter::new(grid(), AdapterConfig::default(), TrustCaseBase::new(), 3).unwrap()
 }
+
+fn mission_adapter() -> MissionAdapter {
+    MissionAdapter::new(episode_adapter())
+}
+
+const KEEP: MissionDecision = MissionDecision::Episode(Decision::Keep);
 
 const DONE: Outcome = Outcome::completed(1.0, 2.0);
 const STOPPED: Outcome = Outcome::interrupted(1.0, 2.0);
@@ -43,22 +46,83 @@ fn episode_pairs(b: Behavior) -> Vec<Evaluated> {
 }
 
 /// Five completions settle the behavior in use.
-fn settle(a: &mut TrustAdapter) {
+fn settle(a: &mut MissionAdapter) {
     for _ in 0..4 {
-        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&DONE).unwrap(), KEEP);
     }
-    assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(r) if r.found_trustworthy));
+    assert!(matches!(
+        a.record(&DONE).unwrap(),
+        MissionDecision::Episode(Decision::Settled(r)) if r.found_trustworthy
+    ));
 }
 
 #[test]
-fn the_paper_s_episode_mode_stays_the_default_and_stops_listening() {
-    assert_eq!(AdapterConfig::default().mode, Mode::Episode);
-    let mut a =
-        TrustAdapter::new(grid(), AdapterConfig::default(), TrustCaseBase::new(), 3).unwrap();
+fn the_paper_s_episode_machine_stops_listening() {
+    let mut a = episode_adapter();
     a.begin_episode(Behavior::new(&[1, 1])).unwrap();
-    settle(&mut a);
+    for _ in 0..4 {
+        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+    }
+    assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(_)));
     assert_eq!(a.record(&DONE), Err(AdapterError::NoEpisode));
-    assert!(a.watching().is_none());
+    assert!(a.standing().is_none());
+}
+
+#[test]
+fn a_kept_behavior_is_given_up_only_once_it_has_fallen() {
+    let b0 = Behavior::new(&[1, 1]);
+    let fallen = TrustEstimate {
+        value: -5.0,
+        elapsed_s: 20.0,
+        commands: 10,
+    };
+    let memory = trust::TrustMemory::new(
+        TrustCaseBase::new(),
+        trust::RetrieverKind::Linear.build(grid(), 0.95).unwrap(),
+    );
+    let mut adaptation = trust::Adaptation::new(grid(), AdapterConfig::default(), 3).unwrap();
+    let above = TrustEstimate {
+        value: -4.5,
+        ..fallen
+    };
+    assert_eq!(
+        adaptation.give_up_kept(b0, above, 9, &memory),
+        Err(AdapterError::NotUntrustworthy { estimate: -4.5 })
+    );
+    assert_eq!(
+        adaptation.give_up_kept(Behavior::new(&[9, 9]), fallen, 10, &memory),
+        Err(AdapterError::ForeignBehavior)
+    );
+    assert!(adaptation.episode().is_none(), "refused: nothing began");
+    // Ten interruptions of 2 s counted, the last five with a stated reason told to the
+    // account: given up at once with that account and its evaluated pair.
+    for _ in 0..5 {
+        adaptation.account_kept(&STOPPED.stating(Some(trust::Cause::from_static("late"))));
+    }
+    let Decision::Switch {
+        source,
+        explanation,
+        ..
+    } = adaptation.give_up_kept(b0, fallen, 10, &memory).unwrap()
+    else {
+        panic!("expected a switch");
+    };
+    assert_eq!(source, Source::Search);
+    let given_up = explanation.given_up.unwrap();
+    assert_eq!(
+        (given_up.commands, given_up.untrustworthy, given_up.estimate),
+        (10, 10, -5.0)
+    );
+    assert_eq!(given_up.reasons[0].stated, 5);
+    let episode = adaptation.episode().unwrap();
+    assert_eq!(
+        (episode.commands, episode.evaluated),
+        (10, &episode_pairs(b0)[..])
+    );
+    assert_eq!(
+        adaptation.give_up_kept(b0, fallen, 10, &memory),
+        Err(AdapterError::EpisodeUnderWay)
+    );
 }
 
 #[test]
@@ -69,7 +133,7 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
     settle(&mut a);
     // Fifty more completions: capped at +5, nothing banked.
     for _ in 0..50 {
-        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&DONE).unwrap(), KEEP);
     }
     let watch = a.watching().unwrap();
     assert_eq!(
@@ -79,14 +143,14 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
     assert_eq!(a.standing().unwrap().estimate, 5.0);
     // Nine interruptions: +5 - 9 = -4, kept.
     for _ in 0..9 {
-        assert_eq!(a.record(&STOPPED).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&STOPPED).unwrap(), KEEP);
     }
     // The tenth: -5, the behavior is given up and a new episode starts.
-    let Decision::Switch {
+    let MissionDecision::Episode(Decision::Switch {
         to,
         source,
         explanation,
-    } = a.record(&STOPPED).unwrap()
+    }) = a.record(&STOPPED).unwrap()
     else {
         panic!("expected a re-adaptation");
     };
@@ -98,7 +162,7 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
         (b0, 10, 10)
     );
     assert!(a.watching().is_none());
-    let episode = a.episode().unwrap();
+    let episode = a.adapter().episode().unwrap();
     assert_eq!(episode.current, to);
     // The evaluated pair: the ten commands (20 s) it took to fall from trusted.
     assert_eq!(episode.evaluated, episode_pairs(b0));
@@ -111,8 +175,8 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
     // The re-adaptation settles as any episode does, and its case is retained (the first
     // episode's was not: no search found it).
     settle(&mut a);
-    assert_eq!(a.cases().len(), 1);
-    assert_eq!(a.cases().cases()[0].problem, episode_pairs(b0));
+    assert_eq!(a.adapter().cases().len(), 1);
+    assert_eq!(a.adapter().cases().cases()[0].problem, episode_pairs(b0));
 }
 
 #[test]
@@ -137,28 +201,31 @@ fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
     // without a signal pass (base: fleet 1/10, operator 0.2 / 10 = 0.02): a bump's own
     // rate is 0.9 / 0.98 = 45/49.
     for _ in 0..3 {
-        assert_eq!(a.record(&bumped(STOPPED)).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&bumped(STOPPED)).unwrap(), KEEP);
     }
     // Eight completions: -3 + 8 = +5, settled.
     for _ in 0..7 {
-        assert_eq!(a.record(&DONE).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&DONE).unwrap(), KEEP);
     }
-    assert!(matches!(a.record(&DONE).unwrap(), Decision::Settled(_)));
+    assert!(matches!(
+        a.record(&DONE).unwrap(),
+        MissionDecision::Episode(Decision::Settled(_))
+    ));
     // Bumps the operator lets pass: the estimate stays at +5, and each adds
     // ln((1 - 22.5/49) / (4/49)) = ln 6.625 to the evidence of a lapse; the third passes
     // ln 100.
     let step = 6.625f64.ln();
     for _ in 0..2 {
-        assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
+        assert_eq!(a.record(&bumped(DONE)).unwrap(), KEEP);
     }
-    let Decision::Alert(alert) = a.record(&bumped(DONE)).unwrap() else {
+    let MissionDecision::Alert(alert) = a.record(&bumped(DONE)).unwrap() else {
         panic!("expected an alert");
     };
     assert_eq!(alert.estimate, 5.0);
     assert!((alert.own_record - 3.0 * step).abs() < 1e-9);
     assert_eq!((alert.commands, alert.unacknowledged), (3, 3));
     // The evidence starts again: the next bump alone raises nothing.
-    assert_eq!(a.record(&bumped(DONE)).unwrap(), Decision::Keep);
+    assert_eq!(a.record(&bumped(DONE)).unwrap(), KEEP);
     assert!((a.own_record().value() - step).abs() < 1e-9);
 }
 
@@ -180,7 +247,7 @@ proptest! {
             };
             let outcome = if bump { bumped(outcome) } else { outcome };
             a.record(&outcome).unwrap();
-            prop_assert!(a.episode().is_some() != a.watching().is_some());
+            prop_assert!(a.adapter().episode().is_some() != a.watching().is_some());
             if let Some(w) = a.watching() {
                 prop_assert!(w.estimate.value <= 5.0 && w.estimate.value > -5.0);
             }

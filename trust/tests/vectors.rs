@@ -9,7 +9,7 @@ use serde::Deserialize;
 use std::collections::HashSet;
 use std::sync::Arc;
 use trust::search::{RandomWalk, longest_resisting};
-use trust::{Evaluated, RetrieverKind, Selection, SetSimilarity, select_behavior};
+use trust::{Evaluated, RetrieverKind, Selection, SetSimilarity, Source, select_behavior};
 
 #[derive(Deserialize)]
 struct Vectors {
@@ -162,11 +162,24 @@ fn algorithm_1_matches_every_vector() {
             let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
             let selection = select_behavior(&e_past, Some(&memory), &mut walk, &space, &mut rng);
             match (selection, v.selected_case) {
-                (Selection::Reuse { case, behavior, .. }, Some(expected)) => {
+                (
+                    Selection::Next {
+                        behavior,
+                        source: Source::Case { case, .. },
+                    },
+                    Some(expected),
+                ) => {
                     assert_eq!(case.index(), expected, "select_behavior[{i}] {kind:?}");
                     assert_eq!(behavior, memory.base().cases()[expected].solution);
                 }
-                (Selection::Search(_), None) => {}
+                (
+                    Selection::Next {
+                        source: Source::Search,
+                        ..
+                    }
+                    | Selection::Exhausted { .. },
+                    None,
+                ) => {}
                 (got, expected) => {
                     panic!("select_behavior[{i}] {kind:?}: got {got:?}, expected case {expected:?}")
                 }

@@ -290,11 +290,12 @@ fn scripted_run(build: &Build<'_>) -> Vec<String> {
     );
     let mut adapter = TrustAdapter::with_parts(
         space.clone(),
-        config.clone(),
+        config.parameters(),
         memory,
         config.search.build(),
         ChaCha8Rng::seed_from_u64(5),
-    );
+    )
+    .expect("the paper's parameters");
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     let mut decisions = Vec::new();
     for _ in 0..150 {

@@ -1,0 +1,180 @@
+//! Driving an adapter through simulated commands: the steps a trial
+//! ([`crate::runner`]) and a mission ([`crate::mission`]) share.
+//!
+//! Both start from a first behavior and then run command after command. The *first
+//! behavior* is the random one drawn on the setup stream, or, for an arm that starts from
+//! the case memory's guess ([`Initial::Learned`]) once the memory holds a case, that guess;
+//! the random behavior is drawn either way, so arms stay paired ([`first_behavior`]). A
+//! *command* ([`Drive::command`]) is run by the domain in front of the operator at its
+//! attention (1: the paper's attentive operator), its truth is checked to be a cause the
+//! domain declares, the operator's feedback channel states a reason (the plan's channel,
+//! or the operator's own), and the adapter records the outcome. The streams of the runs and
+//! of the stated reasons, and the adapter's search stream, are the trial's or mission's
+//! ([`Drive::new`]).
+
+use crate::arm::Initial;
+use crate::runner::PlanError;
+use crate::seeds::{Purpose, stream, stream_seed};
+use crate::{Domain, FeedbackChannel, Judgement};
+use cbr_core::Behavior;
+use rand::RngCore;
+use rand_chacha::ChaCha8Rng;
+use trust::{
+    AdapterError, Decision, MissionAdapter, MissionDecision, Outcome, TrustAdapter, find_declared,
+};
+
+/// An adapter a drive records outcomes with: the paper's episodes, or a mission around them.
+pub(crate) trait Records {
+    /// What it decides after an outcome.
+    type Decision;
+
+    /// Records one command's outcome.
+    fn record(&mut self, outcome: &Outcome) -> Result<Self::Decision, AdapterError>;
+
+    /// Restarts the search randomness from `seed`.
+    fn reseed(&mut self, seed: u64);
+}
+
+impl Records for TrustAdapter {
+    type Decision = Decision;
+
+    fn record(&mut self, outcome: &Outcome) -> Result<Decision, AdapterError> {
+        TrustAdapter::record(self, outcome)
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        TrustAdapter::reseed(self, seed);
+    }
+}
+
+impl Records for MissionAdapter {
+    type Decision = MissionDecision;
+
+    fn record(&mut self, outcome: &Outcome) -> Result<MissionDecision, AdapterError> {
+        MissionAdapter::record(self, outcome)
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        MissionAdapter::reseed(self, seed);
+    }
+}
+
+/// The behavior an episode starts with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Start {
+    /// The behavior.
+    pub(crate) behavior: Behavior,
+    /// Whether it is the case memory's guess rather than the random draw.
+    pub(crate) learned: bool,
+}
+
+/// The first behavior of an episode of an arm that starts as `initial` says: the behavior
+/// drawn from `setup` (always drawn), or with [`Initial::Learned`] the guess of `adapter`'s
+/// memory when it holds a case.
+pub(crate) fn first_behavior(
+    initial: Initial,
+    adapter: &TrustAdapter,
+    setup: &mut dyn RngCore,
+) -> Start {
+    let drawn = adapter.space().draw(setup);
+    let guess = match initial {
+        Initial::Random => None,
+        Initial::Learned => adapter.first_guess(),
+    };
+    match guess {
+        Some(guess) => Start {
+            behavior: guess.behavior,
+            learned: true,
+        },
+        None => Start {
+            behavior: drawn,
+            learned: false,
+        },
+    }
+}
+
+/// One command as it went: the domain's judgement, what the adapter was told, and what
+/// it decided.
+pub(crate) struct Command<T> {
+    /// The judgement (the outcome before any reason was stated, and the truth).
+    pub(crate) judgement: Judgement,
+    /// The outcome the adapter recorded, with the reason the operator stated.
+    pub(crate) outcome: Outcome,
+    /// The adapter's decision.
+    pub(crate) decision: T,
+}
+
+/// The commands of one trial or mission: its streams, and the plan's feedback channel.
+pub(crate) struct Drive<'a, D: Domain> {
+    /// The plan's name, for errors.
+    plan: &'a str,
+    domain: &'a D,
+    /// The channel every operator of the plan explains itself through (`None`: each its
+    /// own).
+    feedback: Option<FeedbackChannel>,
+    /// The simulated runs.
+    runs: ChaCha8Rng,
+    /// The operators' stated reasons.
+    stated: ChaCha8Rng,
+}
+
+impl<'a, D: Domain> Drive<'a, D> {
+    /// The commands of unit `unit` (a trial, a mission) of the plan named `plan`, at
+    /// `index` in its suite, over `domain`, under the master `seed`; `adapter`'s search
+    /// restarts from the unit's search stream.
+    pub(crate) fn new(
+        plan: &'a str,
+        domain: &'a D,
+        feedback: Option<FeedbackChannel>,
+        seed: u64,
+        index: u64,
+        unit: u64,
+        adapter: &mut impl Records,
+    ) -> Self {
+        adapter.reseed(stream_seed(seed, index, unit, Purpose::Search));
+        Self {
+            plan,
+            domain,
+            feedback,
+            runs: stream(seed, index, unit, Purpose::Runs),
+            stated: stream(seed, index, unit, Purpose::Feedback),
+        }
+    }
+
+    /// Runs one command with `behavior` in front of `operator` at `attention` and records
+    /// it with `adapter`. A truth the domain does not declare stops the plan.
+    pub(crate) fn command<A: Records>(
+        &mut self,
+        adapter: &mut A,
+        behavior: &Behavior,
+        operator: &D::Operator,
+        attention: f64,
+    ) -> Result<Command<A::Decision>, PlanError> {
+        let judgement = self
+            .domain
+            .run_attending(behavior, operator, attention, &mut self.runs);
+        let causes = self.domain.causes();
+        if let Some(cause) = judgement.truth {
+            find_declared(causes, cause).map_err(|reason| PlanError::UndeclaredCause {
+                plan: self.plan.to_owned(),
+                domain: self.domain.name().to_owned(),
+                reason: Box::new(reason),
+            })?;
+        }
+        let channel = self
+            .feedback
+            .unwrap_or_else(|| self.domain.feedback(operator));
+        let outcome =
+            judgement
+                .outcome
+                .stating(channel.state(judgement.truth, causes, &mut self.stated));
+        let decision = adapter
+            .record(&outcome)
+            .expect("domains report valid outcomes");
+        Ok(Command {
+            judgement,
+            outcome,
+            decision,
+        })
+    }
+}

@@ -1,0 +1,302 @@
+//! Mission mode: a robot that keeps listening after an episode settles (docs/missions.md).
+//!
+//! The paper's adapter ([`crate::adapter`]) stops at the first trustworthy behavior: the
+//! episode is over, and the next one begins when the robot is told of a new operator. On a
+//! long mission the operator's preferences may change, another operator may take over
+//! unannounced, or the behavior may have been trusted by luck. A mission wraps the episode
+//! machine and adds, between its episodes:
+//!
+//! - **the watch** of the behavior an episode settled on ([`crate::watch`]): every outcome
+//!   is still answered, the estimate is capped at the trustworthy threshold, and its fall
+//!   to the untrustworthy threshold begins a new episode from it, given up at once
+//!   ([`Adaptation::give_up_kept`]), which goes on as any episode does (cases reused, a
+//!   case retained when it settles) and whose end is watched in turn;
+//! - **the robot's own record** ([`crate::overtrust`]): learned from every command of an
+//!   episode, weighed over the commands of the watched behavior, and an [`Alert`] when the
+//!   operator's trust is high while that record says the behavior is not earning it.
+//!
+//! Telling the robot of a new operator ([`MissionAdaptation::begin_episode`]) ends the
+//! watch and forgets what it learned of how its operator reacts. The episode machine knows
+//! nothing of this: a mission drives it through its episode-level calls (an episode's
+//! outcomes, the account of the behavior kept after it, the episode begun from a kept
+//! behavior that fell).
+//!
+//! Two wrappers share this logic: [`MissionAdaptation`] around an [`Adaptation`] (the case
+//! memory handed in, as `serve` shares one among its sessions) and [`MissionAdapter`]
+//! around a [`TrustAdapter`] (the memory owned, as an experiment's chain does). Their
+//! answers are [`MissionDecision`]s: the episode machine's decision, or an alert.
+
+use crate::adapter::{Adaptation, AdapterError, Decision, EpisodeReport, TrustAdapter};
+use crate::explain::Account;
+use crate::overtrust::{Alert, OwnRecord};
+use crate::watch::Watch;
+use crate::{Outcome, TrustEstimate, TrustMemory};
+use cbr_core::Behavior;
+
+/// What the robot should do after an outcome recorded on a mission.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MissionDecision {
+    /// The episode machine's decision: keep the behavior (in an episode, or the watched
+    /// one), switch (in an episode, or from a watched behavior that fell: a new episode
+    /// began), or an episode settled (its behavior is now watched).
+    Episode(Decision),
+    /// Keep the watched behavior, and ask the operator to supervise it: its trust is high
+    /// while the robot's own record says the behavior is not earning it.
+    Alert(Alert),
+}
+
+impl From<Decision> for MissionDecision {
+    fn from(decision: Decision) -> Self {
+        Self::Episode(decision)
+    }
+}
+
+/// What a mission adds to an episode machine, between and across its episodes.
+#[derive(Clone, Debug, Default)]
+struct Mission {
+    /// The behavior the last episode settled on, under watch until a new episode begins.
+    watch: Option<Watch>,
+    /// The robot's own record of the watched behavior.
+    own_record: OwnRecord,
+}
+
+impl Mission {
+    /// A new operator: an episode from `initial`, ending the watch.
+    fn begin_episode(
+        &mut self,
+        adaptation: &mut Adaptation,
+        initial: Behavior,
+    ) -> Result<(), AdapterError> {
+        adaptation.begin_episode(initial)?;
+        self.watch = None;
+        self.own_record.forget_operator();
+        Ok(())
+    }
+
+    /// One command: of the episode under way, or of the watched behavior.
+    fn record(
+        &mut self,
+        adaptation: &mut Adaptation,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> Result<MissionDecision, AdapterError> {
+        outcome.validate()?;
+        if self.watch.is_some() {
+            return Ok(self.watched(adaptation, outcome, memory));
+        }
+        if adaptation.episode().is_none() {
+            return Err(AdapterError::NoEpisode);
+        }
+        // During an episode the operator is taken to be attentive: the record learns how
+        // it reacts.
+        self.own_record.learn(outcome);
+        let decision = adaptation.record(outcome, memory)?;
+        self.after(adaptation, &decision);
+        Ok(decision.into())
+    }
+
+    /// One command of the watched behavior. Its estimate falling to the untrustworthy
+    /// threshold begins a new episode from it and gives it up; the robot's own record
+    /// reaching the alert while the estimate is above 0 raises an alert.
+    fn watched(
+        &mut self,
+        adaptation: &mut Adaptation,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> MissionDecision {
+        let thresholds = adaptation.parameters().thresholds;
+        let watch = self.watch.as_mut().expect("a behavior is under watch");
+        adaptation.account_kept(outcome);
+        if watch.record(outcome, &thresholds) {
+            // Back at the cap: the account of its untrustworthy commands starts again.
+            adaptation.restart_account();
+        }
+        self.own_record.record(outcome);
+        let watch = *watch;
+        if watch.fallen(&thresholds) {
+            self.watch = None;
+            let decision = adaptation
+                .give_up_kept(watch.behavior, watch.estimate, watch.untrustworthy, memory)
+                .expect("no episode runs while a behavior of the space is watched, and it fell");
+            self.after(adaptation, &decision);
+            return decision.into();
+        }
+        match self.own_record.alert(watch.behavior, watch.estimate.value) {
+            Some(alert) => {
+                self.own_record.restart();
+                MissionDecision::Alert(alert)
+            }
+            None => Decision::Keep.into(),
+        }
+    }
+
+    /// An episode that settled puts its behavior under watch, with a new own record.
+    fn after(&mut self, adaptation: &Adaptation, decision: &Decision) {
+        if let Decision::Settled(report) = decision {
+            self.watch = Some(Watch::settled(
+                report.settled,
+                report.found_trustworthy,
+                &adaptation.parameters().thresholds,
+            ));
+            self.own_record.restart();
+        }
+    }
+
+    /// The operator left: ends the episode under way (its report) or the watch.
+    fn abandon(&mut self, adaptation: &mut Adaptation) -> Option<EpisodeReport> {
+        self.watch = None;
+        adaptation.abandon_episode()
+    }
+
+    /// The behavior in use and its estimate: the episode's, or the watched behavior's.
+    fn in_use(&self, adaptation: &Adaptation) -> Option<(Behavior, TrustEstimate)> {
+        match (adaptation.episode(), &self.watch) {
+            (Some(e), _) => Some((e.current, e.estimate)),
+            (None, Some(w)) => Some((w.behavior, w.estimate)),
+            (None, None) => None,
+        }
+    }
+
+    /// The account of the behavior in use: the episode's, or the watched behavior's since
+    /// its estimate last stood at the cap.
+    fn standing(&self, adaptation: &Adaptation) -> Option<Account> {
+        match &self.watch {
+            Some(w) => Some(adaptation.account(w.behavior, w.estimate, w.untrustworthy)),
+            None => adaptation.standing(),
+        }
+    }
+}
+
+/// Mission mode around an [`Adaptation`]: one robot's episodes and watch over a case
+/// memory it is handed (`serve --mission`, where sessions share one memory). The caller
+/// retains the case [`Adaptation::case_to_retain`] names when an episode settles.
+pub struct MissionAdaptation {
+    adaptation: Adaptation,
+    mission: Mission,
+}
+
+impl MissionAdaptation {
+    /// `adaptation` on a mission, watching nothing yet.
+    pub fn new(adaptation: Adaptation) -> Self {
+        Self {
+            adaptation,
+            mission: Mission::default(),
+        }
+    }
+
+    /// The episode machine (its episode, space, parameters and strategy).
+    pub fn adaptation(&self) -> &Adaptation {
+        &self.adaptation
+    }
+
+    /// A new operator: begins an episode with `initial` in use, ending the watch of a
+    /// settled behavior; what the robot learned of how its operator reacts is forgotten.
+    pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        self.mission.begin_episode(&mut self.adaptation, initial)
+    }
+
+    /// Records one command's outcome (of the episode under way, or of the watched
+    /// behavior) and decides what to do next, selecting from `memory` when a behavior is
+    /// given up. Refused only with neither an episode nor a watch, or an unusable outcome.
+    pub fn record(
+        &mut self,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> Result<MissionDecision, AdapterError> {
+        self.mission.record(&mut self.adaptation, outcome, memory)
+    }
+
+    /// Ends the episode under way (returning its report) or the watch (returning `None`).
+    pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        self.mission.abandon(&mut self.adaptation)
+    }
+
+    /// The behavior in use and its estimate: the episode's, or the watched behavior's.
+    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        self.mission.in_use(&self.adaptation)
+    }
+
+    /// The account of the behavior in use: the episode's, or the watched behavior's since
+    /// its estimate last stood at the cap.
+    pub fn standing(&self) -> Option<Account> {
+        self.mission.standing(&self.adaptation)
+    }
+
+    /// The settled behavior under watch between episodes, if any.
+    pub fn watching(&self) -> Option<&Watch> {
+        self.mission.watch.as_ref()
+    }
+
+    /// The robot's own record of the watched behavior.
+    pub fn own_record(&self) -> &OwnRecord {
+        &self.mission.own_record
+    }
+}
+
+/// Mission mode around a [`TrustAdapter`]: its episodes and watch over the memory it owns,
+/// retaining a case when an episode settles (an experiment's missions).
+pub struct MissionAdapter {
+    adapter: TrustAdapter,
+    mission: Mission,
+}
+
+impl MissionAdapter {
+    /// `adapter` on a mission, watching nothing yet.
+    pub fn new(adapter: TrustAdapter) -> Self {
+        Self {
+            adapter,
+            mission: Mission::default(),
+        }
+    }
+
+    /// The episode machine and its memory (its episode, cases and first guess).
+    pub fn adapter(&self) -> &TrustAdapter {
+        &self.adapter
+    }
+
+    /// Restarts the search randomness from `seed`.
+    pub fn reseed(&mut self, seed: u64) {
+        self.adapter.reseed(seed);
+    }
+
+    /// A new operator (see [`MissionAdaptation::begin_episode`]).
+    pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        self.mission
+            .begin_episode(&mut self.adapter.adaptation, initial)
+    }
+
+    /// Records one command's outcome (see [`MissionAdaptation::record`]); a settled
+    /// episode retains its case before the report is returned.
+    pub fn record(&mut self, outcome: &Outcome) -> Result<MissionDecision, AdapterError> {
+        let TrustAdapter { adaptation, memory } = &mut self.adapter;
+        Ok(match self.mission.record(adaptation, outcome, memory)? {
+            MissionDecision::Episode(decision) => self.adapter.retaining(decision).into(),
+            alert @ MissionDecision::Alert(_) => alert,
+        })
+    }
+
+    /// Ends the episode under way (returning its report) or the watch (returning `None`).
+    pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
+        self.mission.abandon(&mut self.adapter.adaptation)
+    }
+
+    /// The behavior in use and its estimate: the episode's, or the watched behavior's.
+    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
+        self.mission.in_use(&self.adapter.adaptation)
+    }
+
+    /// The account of the behavior in use (see [`MissionAdaptation::standing`]).
+    pub fn standing(&self) -> Option<Account> {
+        self.mission.standing(&self.adapter.adaptation)
+    }
+
+    /// The settled behavior under watch between episodes, if any.
+    pub fn watching(&self) -> Option<&Watch> {
+        self.mission.watch.as_ref()
+    }
+
+    /// The robot's own record of the watched behavior.
+    pub fn own_record(&self) -> &OwnRecord {
+        &self.mission.own_record
+    }
+}
