@@ -10,7 +10,7 @@
 //! the config.
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
-use crate::suite::{ExperimentSpec, RANDOM_OPERATOR, SuiteAdapter, SuiteError, arm_named, invalid};
+use crate::suite::{ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, invalid};
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Arm;
@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
+use trust::AdapterConfig;
 
 /// The most commands a mission suite may simulate in all (plans x arms x missions x
 /// commands, doubled for complacency plans): about 20 minutes of the machine of
@@ -41,8 +42,8 @@ pub struct MissionSuiteConfig {
     /// Master seed of every random stream.
     pub seed: u64,
     /// The adapter parameters every arm shares (the mode is always mission).
-    #[serde(default)]
-    pub adapter: SuiteAdapter,
+    #[serde(default, serialize_with = "crate::suite::config::write_suite_adapter")]
+    pub adapter: AdapterConfig,
     /// The domain's readings, by name.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub readings: BTreeMap<String, String>,
@@ -99,6 +100,8 @@ impl MissionSuiteConfig {
                 "at least one mission plan is needed".into(),
             ));
         }
+        self.adapter.validate()?;
+        crate::suite::config::check_arms_choose(&self.adapter, origin)?;
         if self.arms.is_empty() {
             return Err(invalid("arms".into(), "at least one arm is needed".into()));
         }
@@ -199,7 +202,7 @@ pub fn run_mission_suite<C: Catalog>(
             commands: spec.commands.get(),
             changes: spec.changes,
             complacency: spec.complacency,
-            settings: config.adapter.settings(),
+            adapter: config.adapter.clone(),
             arms: arms.clone(),
             feedback: spec.operators.feedback,
             truth_runs: TRUTH_RUNS,

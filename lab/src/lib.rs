@@ -50,6 +50,6 @@ pub use report::ReportError;
 pub use runner::{
     ArmResult, ExperimentPlan, ExperimentResult, ExplanationCheck, ExplanationSample,
     GivenUpRecord, OperatorChoice, PairedTests, PlanError, SAMPLE_EXPLANATIONS, Step,
-    TracedCommand, TrialRecord, TrialSettings, run_experiments, trace_trial,
+    TracedCommand, TrialRecord, run_experiments, trace_trial,
 };
 pub use trust::{RetrieverFactory, SearcherFactory};

@@ -23,14 +23,14 @@
 
 use crate::arm::Arm;
 use crate::drive::{Command, Drive, first_behavior};
-use crate::runner::{PlanError, TrialSettings, fresh_adapter};
+use crate::runner::{PlanError, fresh_adapter};
 use crate::seeds::{Purpose, stream};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
 use rand::{Rng, RngCore};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use trust::{Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord};
+use trust::{AdapterConfig, Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord};
 
 /// When the operator changes during a mission.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -127,8 +127,8 @@ pub struct MissionPlan<'a, D: Domain> {
     pub changes: Changes,
     /// How operators grow complacent (`None`: they stay attentive, the paper's).
     pub complacency: Option<Complacency>,
-    /// The adapter parameters every arm shares.
-    pub settings: TrialSettings,
+    /// The adapter every arm starts from (see [`crate::ExperimentPlan::adapter`]).
+    pub adapter: AdapterConfig,
     /// The arms.
     pub arms: Vec<Arm>,
     /// How every operator explains itself, overriding its own channel.
@@ -317,7 +317,7 @@ fn run_chain<D: Domain>(
 ) -> Result<MissionArmResult, PlanError> {
     let arm = &plan.arms[arm_index];
     let adapter =
-        fresh_adapter(plan.domain, &plan.settings, arm).map_err(|reason| PlanError::Config {
+        fresh_adapter(plan.domain, &plan.adapter, arm).map_err(|reason| PlanError::Config {
             plan: plan.name.clone(),
             reason,
         })?;

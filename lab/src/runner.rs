@@ -23,10 +23,9 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use trust::evaluated::validate_lambda;
 use trust::{
-    Cause, ConfigError, Decision, EpisodeReport, Explanation, Outcome, Parameters, Retention,
-    Source, Thresholds, TimeUnit, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause,
+    AdapterConfig, Cause, ConfigError, Decision, EpisodeReport, Explanation, Outcome, Source,
+    TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause,
 };
 
 /// Which operator judges each trial.
@@ -50,8 +49,10 @@ pub struct ExperimentPlan<'a, D: Domain> {
     pub choice: OperatorChoice,
     /// Number of trials per arm.
     pub trials: u32,
-    /// The adapter parameters every arm shares.
-    pub settings: TrialSettings,
+    /// The adapter every arm starts from: its thresholds, `lambda`, retention and unit of
+    /// time are every arm's; whether cases are reused, the search strategy and the
+    /// retriever are each arm's own, and replace the config's.
+    pub adapter: AdapterConfig,
     /// The arms compared, paired trial by trial; every other arm is tested against the
     /// first.
     pub arms: Vec<Arm>,
@@ -61,47 +62,6 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// How every operator of the plan explains itself, overriding each operator's own
     /// channel ([`Domain::feedback`]); `None` keeps the operators' own.
     pub feedback: Option<FeedbackChannel>,
-}
-
-/// The adapter parameters every arm of an experiment shares; whether cases are reused,
-/// the retriever and the search are each arm's. The defaults are the paper's.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct TrialSettings {
-    /// The trust thresholds (paper: +5 / -5).
-    pub thresholds: Thresholds,
-    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
-    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
-    pub lambda: f64,
-    /// Which episodes are retained (docs/model.md#cases-and-retention).
-    pub retention: Retention,
-    /// The unit of `t` (docs/model.md#the-trust-estimate).
-    pub time_unit: TimeUnit,
-}
-
-impl Default for TrialSettings {
-    fn default() -> Self {
-        let paper = Parameters::default();
-        Self {
-            thresholds: paper.thresholds,
-            lambda: paper.lambda,
-            retention: paper.retention,
-            time_unit: paper.time_unit,
-        }
-    }
-}
-
-impl TrialSettings {
-    /// The adapter's parameters for an arm that reuses cases or not.
-    pub fn parameters(&self, reuse_cases: bool) -> Parameters {
-        Parameters {
-            thresholds: self.thresholds,
-            lambda: self.lambda,
-            reuse_cases,
-            retention: self.retention,
-            time_unit: self.time_unit,
-        }
-    }
 }
 
 /// Why experiments cannot be run.
@@ -428,11 +388,7 @@ impl<D: Domain> ExperimentPlan<'_, D> {
             plan: self.name.clone(),
             reason,
         };
-        self.settings
-            .thresholds
-            .validate()
-            .map_err(|e| config(ConfigError::from(e)))?;
-        validate_lambda(self.settings.lambda).map_err(|e| config(ConfigError::from(e)))?;
+        self.adapter.validate().map_err(config)?;
         if self.arms.is_empty() {
             return Err(PlanError::NoArms {
                 plan: self.name.clone(),
@@ -463,27 +419,32 @@ impl<D: Domain> ExperimentPlan<'_, D> {
 
     /// A fresh adapter for `arm`, from its starting cases.
     fn adapter(&self, arm: &Arm) -> Result<TrustAdapter, PlanError> {
-        fresh_adapter(self.domain, &self.settings, arm).map_err(|reason| PlanError::Config {
+        fresh_adapter(self.domain, &self.adapter, arm).map_err(|reason| PlanError::Config {
             plan: self.name.clone(),
             reason,
         })
     }
 }
 
-/// A fresh adapter for `arm` over `domain`'s space, from the arm's starting cases,
-/// explaining itself in the domain's terms. Its search stream is reseeded before every
-/// episode.
+/// A fresh adapter for `arm` over `domain`'s space, from the arm's starting cases, its
+/// own case reuse, retriever and searcher and the rest of `adapter`, explaining itself in
+/// the domain's terms. Its search stream is reseeded before every episode.
 pub(crate) fn fresh_adapter<D: Domain>(
     domain: &D,
-    settings: &TrialSettings,
+    adapter: &AdapterConfig,
     arm: &Arm,
 ) -> Result<TrustAdapter, ConfigError> {
     let space = domain.space();
-    let retriever = arm.build_retriever(space, settings.lambda)?;
+    let retriever = arm.build_retriever(space, adapter.lambda)?;
     let cases = arm.starting_cases().cloned().unwrap_or_default();
+    let parameters = AdapterConfig {
+        reuse_cases: arm.reuses_cases(),
+        ..*adapter
+    }
+    .parameters();
     Ok(TrustAdapter::with_parts(
         space.clone(),
-        settings.parameters(arm.reuses_cases()),
+        parameters,
         TrustMemory::new(cases, retriever),
         arm.build_searcher(space),
         ChaCha8Rng::seed_from_u64(0),

@@ -8,13 +8,11 @@ use lab::report::{
     Provenance, ReportEntry, arms_table, table, trials_jsonl, versus_reference, write_report,
 };
 use lab::testing::ToyDomain;
-use lab::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, TrialSettings,
-    run_experiments,
-};
+use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
 use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
+use trust::AdapterConfig;
 use trust::search::{draw_untried, propose_untried};
 use trust::{Cause, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds, TrustRetriever};
 
@@ -124,7 +122,7 @@ fn plans<'a>(
         operators: ops,
         choice,
         trials,
-        settings: TrialSettings::default(),
+        adapter: AdapterConfig::default(),
         arms: arms(),
         max_commands: 100_000,
         feedback: None,

@@ -5,9 +5,10 @@
 use lab::Judgement;
 use lab::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
 use lab::testing::ToyDomain;
-use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments};
+use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, run_experiments};
 use proptest::prelude::*;
 use rand::Rng;
+use trust::AdapterConfig;
 use trust::{Cause, RetrieverKind, Thresholds};
 
 const DULL: Cause = Cause::from_static("dull");
@@ -69,7 +70,7 @@ proptest! {
             operators: &operators,
             choice: OperatorChoice::Fixed(0),
             trials: 200,
-            settings: TrialSettings::default(),
+            adapter: AdapterConfig::default(),
             arms: BUILTIN_ARMS
                 .iter()
                 .map(|name| Arm::builtin(name, RetrieverKind::Linear).unwrap())

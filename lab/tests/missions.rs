@@ -3,14 +3,15 @@
 //! from the case memory's guess.
 
 use cbr_core::{Behavior, Case};
+use lab::Arm;
 use lab::mission::{
     ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
 };
 use lab::mission_report::{MissionSummary, harm_comparisons};
 use lab::testing::ToyDomain;
-use lab::{Arm, TrialSettings};
 use lab::{Domain, Judgement};
 use rand::Rng;
+use trust::AdapterConfig;
 use trust::{Cause, Evaluated, Observations, RetrieverKind, TrustCaseBase, first_guess};
 
 const BUMPED: Cause = Cause::from_static("bumped");
@@ -86,7 +87,7 @@ fn run_arms(
             takeover: 0.5,
         },
         complacency,
-        settings: TrialSettings::default(),
+        adapter: AdapterConfig::default(),
         arms,
         feedback: None,
         truth_runs: 50,

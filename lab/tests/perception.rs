@@ -3,11 +3,12 @@
 
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Searcher};
 use lab::testing::ToyDomain;
-use lab::{Arm, ExperimentPlan, OperatorChoice, TrialSettings, run_experiments, trace_trial};
+use lab::{Arm, ExperimentPlan, OperatorChoice, run_experiments, trace_trial};
 use lab::{FeedbackChannel, Judgement};
 use proptest::prelude::*;
 use rand::{Rng, RngCore};
 use std::sync::{Arc, Mutex};
+use trust::AdapterConfig;
 use trust::search::Uniform;
 use trust::{Cause, Evaluated, Explanation, Observations, Outcome, RetrieverKind};
 
@@ -90,7 +91,7 @@ fn told_with_seed(feedback: Option<FeedbackChannel>, seed: u64) -> Vec<Outcome> 
         operators: &operators,
         choice: OperatorChoice::Fixed(0),
         trials: 20,
-        settings: TrialSettings::default(),
+        adapter: AdapterConfig::default(),
         arms: vec![Arm::search_only("spy", move |_| {
             Box::new(Spy {
                 seen: spy_log.clone(),
@@ -194,7 +195,7 @@ fn two_arms<'a>(
         operators,
         choice: OperatorChoice::Fixed(0),
         trials: 20,
-        settings: TrialSettings::default(),
+        adapter: AdapterConfig::default(),
         arms: vec![
             Arm::search_only("uniform", |_| Box::new(Uniform::new())),
             Arm::case_based(

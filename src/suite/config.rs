@@ -8,12 +8,12 @@ use files::{parse_ron, read_text};
 use lab::FeedbackChannel;
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
-use lab::{BUILTIN_ARMS, Initial, LEARNED_START, TrialSettings};
+use lab::{BUILTIN_ARMS, Initial, LEARNED_START};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::{Retention, RetrieverKind, Thresholds, TimeUnit};
+use trust::{AdapterConfig, SearchKind};
 
 /// The operator name that draws an operator per trial.
 pub const RANDOM_OPERATOR: &str = "random";
@@ -32,9 +32,11 @@ pub struct SuiteConfig {
     /// Commands after which a trial is abandoned (a guard against endless trials).
     #[serde(default = "default_max_commands")]
     pub max_commands: u64,
-    /// The adapter parameters every arm shares.
-    #[serde(default)]
-    pub adapter: SuiteAdapter,
+    /// The adapter every arm starts from: thresholds, `lambda`, the retriever of the arms
+    /// that reuse cases, retention and unit of time; case reuse and the search strategy
+    /// are each arm's (a suite that sets them is refused).
+    #[serde(default, serialize_with = "write_suite_adapter")]
+    pub adapter: AdapterConfig,
     /// The domain's readings, by name ([`Catalog::readings`]; each left out keeps its
     /// default), e.g. `{"patrol_weights": "three_and_one"}`.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -147,49 +149,49 @@ fn default_arms() -> Vec<String> {
     BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
 }
 
-/// The adapter parameters of a suite. Whether cases are reused and which search runs are
-/// the arms' business, so they are not here.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct SuiteAdapter {
-    /// The trust thresholds (paper: +5 / -5).
-    pub thresholds: Thresholds,
-    /// Algorithm 2's behavior-similarity threshold (paper: 0.95), in `(0, 1]`.
-    #[serde(deserialize_with = "trust::evaluated::deserialize_lambda")]
-    pub lambda: f64,
-    /// The retriever of the arms that reuse cases (every kind gives the same answers).
-    pub retriever: RetrieverKind,
-    /// Which episodes are retained as cases (docs/model.md#cases-and-retention):
-    /// `any_search` (default) or `final_from_search`.
-    pub retention: Retention,
-    /// The unit of an evaluated pair's time (docs/model.md#the-trust-estimate):
-    /// `task_seconds` (default) or `commands`.
-    pub time_unit: TimeUnit,
+/// Writes a suite's `adapter` without `reuse_cases` and `search`, which the arms choose
+/// ([`check_arms_choose`] refuses them in a suite).
+pub(crate) fn write_suite_adapter<S: serde::Serializer>(
+    adapter: &AdapterConfig,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let AdapterConfig {
+        thresholds,
+        lambda,
+        reuse_cases: _,
+        retriever,
+        search: _,
+        retention,
+        time_unit,
+    } = *adapter;
+    let mut out = serializer.serialize_struct("AdapterConfig", 5)?;
+    out.serialize_field("thresholds", &thresholds)?;
+    out.serialize_field("lambda", &lambda)?;
+    out.serialize_field("retriever", &retriever)?;
+    out.serialize_field("retention", &retention)?;
+    out.serialize_field("time_unit", &time_unit)?;
+    out.end()
 }
 
-impl Default for SuiteAdapter {
-    fn default() -> Self {
-        let paper = trust::AdapterConfig::default();
-        Self {
-            thresholds: paper.thresholds,
-            lambda: paper.lambda,
-            retriever: paper.retriever,
-            retention: paper.retention,
-            time_unit: paper.time_unit,
-        }
+/// Refuses a suite `adapter` that chooses what each arm chooses: whether cases are reused
+/// and the search strategy.
+pub(crate) fn check_arms_choose(adapter: &AdapterConfig, origin: &Path) -> Result<(), SuiteError> {
+    if !adapter.reuse_cases {
+        return Err(invalid(
+            origin,
+            "adapter.reuse_cases".into(),
+            "whether cases are reused is each arm's choice (`case-based` reuses them, `random-walk` does not): remove it and list the arms in `arms`".into(),
+        ));
     }
-}
-
-impl SuiteAdapter {
-    /// The parameters every arm shares.
-    pub fn settings(&self) -> TrialSettings {
-        TrialSettings {
-            thresholds: self.thresholds,
-            lambda: self.lambda,
-            retention: self.retention,
-            time_unit: self.time_unit,
-        }
+    if adapter.search != SearchKind::default() {
+        return Err(invalid(
+            origin,
+            "adapter.search".into(),
+            "the search strategy is each arm's choice (`uniform`, `cause-aware`, ...): remove it and list the arms in `arms`".into(),
+        ));
     }
+    Ok(())
 }
 
 /// One experiment: a scenario and who operates the robot.
@@ -370,6 +372,7 @@ mod tests {
     use crate::UgvCatalog;
     use crate::catalog::resolve_readings;
     use crate::ugv::{PATROL_WEIGHTS, THREE_AND_ONE};
+    use trust::{Retention, RetrieverKind, TimeUnit};
 
     #[test]
     fn the_paper_config_has_the_seven_experiments() {
@@ -394,9 +397,9 @@ mod tests {
         );
         assert_eq!(
             config.adapter,
-            SuiteAdapter {
+            AdapterConfig {
                 retriever: RetrieverKind::InvertedIndex,
-                ..SuiteAdapter::default()
+                ..AdapterConfig::default()
             }
         );
         assert_eq!(config.arms, BUILTIN_ARMS);

@@ -13,7 +13,7 @@
 //! replaying one trial (`trace`); the report's estimates beside the run (`estimates`) and
 //! the report itself (`report`); case bases saved and read back (`saved_cases`).
 
-mod config;
+pub(crate) mod config;
 mod estimates;
 mod plan;
 mod report;
@@ -22,9 +22,7 @@ mod saved_cases;
 mod trace;
 mod validate;
 
-pub use config::{
-    EMBEDDED_ORIGIN, ExperimentSpec, Population, RANDOM_OPERATOR, SuiteAdapter, SuiteConfig,
-};
+pub use config::{EMBEDDED_ORIGIN, ExperimentSpec, Population, RANDOM_OPERATOR, SuiteConfig};
 pub use estimates::ReportEstimates;
 pub use plan::arm_named;
 pub use report::{report_entries, suite_best_arms, suite_table, write_suite_report};

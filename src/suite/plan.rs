@@ -144,7 +144,7 @@ pub(super) fn plans<'p, C: Catalog>(
             operators,
             choice,
             trials: config.trials.get(),
-            settings: config.adapter.settings(),
+            adapter: config.adapter.clone(),
             arms: plan_arms,
             max_commands: config.max_commands,
             feedback: spec.feedback,

@@ -5,7 +5,6 @@
 use super::{RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named, invalid};
 use crate::catalog::{Catalog, domain_of, resolve_readings};
 use std::path::Path;
-use trust::ConfigError;
 
 /// The most members a population drawn from a family may have (each needs its own
 /// landscape for the report's limit).
@@ -112,11 +111,8 @@ impl SuiteConfig {
                 ));
             }
         }
-        self.adapter
-            .thresholds
-            .validate()
-            .map_err(ConfigError::from)?;
-        trust::evaluated::validate_lambda(self.adapter.lambda).map_err(ConfigError::from)?;
+        self.adapter.validate()?;
+        super::config::check_arms_choose(&self.adapter, origin)?;
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {
