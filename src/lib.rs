@@ -34,8 +34,8 @@ pub mod ugv;
 pub mod plugin_guide {}
 
 pub use catalog::{
-    AddedArm, Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings,
-    ToolInfo, UnknownScenario, WithArms,
+    AddedArm, Catalog, CatalogError, Family, FindOperatorError, OperatorFile, Reading,
+    ReadingError, Readings, ToolInfo, UnknownScenario, WithArms,
 };
 pub use suite::{SuiteError, TraceError};
 pub use sweep::SweepError;

@@ -16,6 +16,7 @@
 
 pub mod arm;
 pub mod heatmap;
+pub mod instance;
 pub mod known_operator;
 pub mod landscape;
 pub mod limit;
@@ -31,6 +32,7 @@ pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};
 pub use heatmap::LandscapeSvgError;
+pub use instance::{Instance, InstanceError, Split};
 pub use known_operator::KnownLimitError;
 pub use landscape::LandscapeError;
 pub use limit::LimitError;
