@@ -21,11 +21,13 @@
 //!
 //! **The screen.** A member whose standards no behavior meets leaves every trial of its
 //! episode running to the command limit: such an instance says nothing about a strategy.
-//! A drawn member is kept only when the landscape estimate ([`lab::landscape::estimate`],
-//! [`screen_runs`] runs per behavior, seeded with the instance's seed) finds at least one
-//! behavior in its trustworthy region (a positive mean weighted outcome per command);
-//! otherwise the member's stream draws again. The screen reads how the world answers the
-//! operator, never how a strategy does.
+//! A drawn member is kept only when one of its behaviors is in its trustworthy region (a
+//! positive mean weighted outcome per command) twice over: in the landscape estimate
+//! ([`lab::landscape::estimate`], [`screen_runs`] runs per behavior, seeded with the
+//! instance's seed), and again in [`CONFIRM_RUNS`] runs of its own (the candidates tried
+//! best first), so that one of thousands of near misses that looked trustworthy by chance
+//! does not pass; otherwise the member's stream draws again. The screen reads how the
+//! world answers the operator, never how a strategy does.
 
 use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
@@ -211,6 +213,10 @@ pub fn screen_runs(scenario: Scenario) -> u32 {
     }
 }
 
+/// Runs of a behavior the landscape found trustworthy, on streams of their own, that must
+/// find it trustworthy again for the screen to pass.
+pub const CONFIRM_RUNS: u32 = 400;
+
 /// Every draw of a member's stream up to this many failed the screen: a guard against a
 /// prior no operator of which can be satisfied, never reached by this one.
 pub const MAX_DRAWS: u32 = 1_000;
@@ -334,11 +340,12 @@ pub fn member_name(instance: &Instance, i: usize) -> String {
     format!("{instance}-{i}")
 }
 
-/// Whether `operator` passes the screen: the landscape estimate of its every behavior
-/// ([`screen_runs`] runs each, seeded with `seed`) finds one in its trustworthy region.
-pub fn passes_screen(domain: &UgvDomain, operator: &OperatorModel, seed: u64) -> bool {
+/// The behaviors, by rank, that the screen's landscape of `operator` (every behavior,
+/// [`screen_runs`] runs each, seeded with `seed`) finds in its trustworthy region, the
+/// highest estimated drift first (ties: the lower rank).
+pub fn candidates(domain: &UgvDomain, operator: &OperatorModel, seed: u64) -> Vec<u64> {
     let every_component: Vec<usize> = (0..domain.space().components().len()).collect();
-    landscape::estimate(
+    let estimate = landscape::estimate(
         domain,
         &[operator],
         &every_component,
@@ -346,10 +353,35 @@ pub fn passes_screen(domain: &UgvDomain, operator: &OperatorModel, seed: u64) ->
         seed,
         &|| {},
     )
-    .expect("one operator, every component, runs > 0")
-    .cells
-    .iter()
-    .any(Tally::trusted_on_average)
+    .expect("one operator, every component, runs > 0");
+    let mut found: Vec<(f64, u64)> = (0..)
+        .zip(&estimate.cells)
+        .filter(|(_, tally)| tally.trusted_on_average())
+        .map(|(rank, tally)| (tally.drift(), rank))
+        .collect();
+    found.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    found.into_iter().map(|(_, rank)| rank).collect()
+}
+
+/// Whether the behavior of rank `rank` is trustworthy for `operator` in [`CONFIRM_RUNS`]
+/// runs on stream `2^32 + rank` of `seed` (the landscape's streams are the ranks, below
+/// `2^32`: the runs are new).
+fn confirmed(domain: &UgvDomain, operator: &OperatorModel, rank: u64, seed: u64) -> bool {
+    let behavior = domain.space().unrank(rank);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream((1 << 32) | rank);
+    let mut tally = Tally::default();
+    for _ in 0..CONFIRM_RUNS {
+        tally.record(&domain.run(&behavior, operator, &mut rng));
+    }
+    tally.trusted_on_average()
+}
+
+/// Whether `operator` passes the screen: one of its [`candidates`] is [`confirmed`].
+pub fn passes_screen(domain: &UgvDomain, operator: &OperatorModel, seed: u64) -> bool {
+    candidates(domain, operator, seed)
+        .into_iter()
+        .any(|rank| confirmed(domain, operator, rank, seed))
 }
 
 /// The population of `instance` for `domain`'s scenario: [`size`] members, member `i`
@@ -395,16 +427,14 @@ pub fn operator_file(
 ) -> String {
     let screen = if !screened {
         "Unscreened: its stream's first draw, not checked for a trustworthy behavior.".to_owned()
-    } else if member.draw == 1 {
-        format!(
-            "Screened: its stream's first draw, which has a trustworthy behavior (landscape,\n// {} runs per behavior).",
-            screen_runs(scenario)
-        )
     } else {
+        let earlier = match member.draw {
+            1 => "its stream's first draw".to_owned(),
+            2 => "its stream's draw 2 (the first was refused)".to_owned(),
+            n => format!("its stream's draw {n} (the {} before were refused)", n - 1),
+        };
         format!(
-            "Screened: its stream's draw {}; the {} before had no trustworthy behavior\n// (landscape, {} runs per behavior).",
-            member.draw,
-            member.draw - 1,
+            "Screened: {earlier}; it has a trustworthy behavior\n// (a landscape of {} runs per behavior, then {CONFIRM_RUNS} runs of the behavior found).",
             screen_runs(scenario)
         )
     };
@@ -536,6 +566,25 @@ mod tests {
                 assert!(passes_screen(&domain, &paper, 0), "{}", paper.name);
             }
         }
+    }
+
+    #[test]
+    fn near_misses_that_look_trustworthy_by_chance_are_confirmed_away() {
+        // Patrol dev-1's member 1 as the landscape alone once admitted it: a hurried
+        // operator (66.2 s, minded) who minds false alarms, with a detonation weighing
+        // three times the rest. Its 20-run landscape shows two behaviors above zero; 400
+        // runs of each show neither is.
+        let text = "(name: \"dev-1-1\", t_complete: 66.2, p_deadline: 0.89, p_collision: 0.07,
+            p_missed_object: 0.04, p_false_alarm: 0.91, give_up_factor: 2.1,
+            weights: (completed: 0.3333333333333333, default: 0.3333333333333333,
+                      by_cause: {\"detonation\": 1.0}),
+            comfort: Some((distance: 3.3, speed: 1.5, p: 0.85, expected_too: false)),
+            clearance: Some((gap: 0.4, p: 0.9)))";
+        let op =
+            OperatorModel::from_ron(text, Path::new("x.ron"), Scenario::Patrol.causes()).unwrap();
+        let domain = UgvDomain::new(Scenario::Patrol);
+        assert_eq!(candidates(&domain, &op, 1).len(), 2);
+        assert!(!passes_screen(&domain, &op, 1));
     }
 
     #[test]
