@@ -3,7 +3,8 @@
 //! report.
 //!
 //! A [`Catalog`] names its scenarios, builds the [`Domain`] of each, finds operators by
-//! name or loads them from a file, declares the domain's *readings* (choices the domain
+//! name or loads them from a file, may draw populations of operators (from a family, or
+//! from a prior as operator files), declares the domain's *readings* (choices the domain
 //! leaves open, which a suite config may set and a sweep may vary) and embeds the suite
 //! `reproduce` runs. The shipped tool is [`crate::cli::main`] over the UGV catalog
 //! ([`crate::UgvCatalog`]); a user's crate gets the same tool for its own domains with
@@ -77,8 +78,7 @@
 //! ```
 
 use cbr_core::Behavior;
-use lab::Arm;
-use lab::Domain;
+use lab::{Arm, Domain, Instance};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -156,6 +156,18 @@ pub struct Family {
     pub seed: u64,
 }
 
+/// A member of a population drawn from a catalog's prior over operators
+/// ([`Catalog::prior`]), as the operator file a reader opens and [`Catalog::load_operator`]
+/// reads back.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OperatorFile {
+    /// The member's name, a plain file name without its extension: the file is
+    /// `NAME.ron`.
+    pub name: String,
+    /// The file's text, saying in a comment which prior, instance and seed it comes from.
+    pub text: String,
+}
+
 /// The domains a tool offers, by scenario name. See the [module documentation](self).
 pub trait Catalog: Send + Sync {
     /// The domain type every scenario builds (an enum when scenarios differ in type).
@@ -200,6 +212,25 @@ pub trait Catalog: Send + Sync {
         Err(CatalogError {
             path: None,
             reason: format!("scenario `{scenario}` has no family of operators to draw from").into(),
+        })
+    }
+
+    /// The members of `instance` of the domain's prior over operators for `scenario`, as
+    /// operator files (their weights as written, before any reading): operators no one
+    /// designed, for `population` to write. `screened`: only members the domain's screen
+    /// admits (whatever rule it has against members no behavior satisfies); false, the
+    /// draws before any screen, to see what it removes. Default: the domain has no prior.
+    fn prior(
+        &self,
+        scenario: &str,
+        instance: &Instance,
+        screened: bool,
+    ) -> Result<Vec<OperatorFile>, CatalogError> {
+        let _ = (instance, screened);
+        Err(CatalogError {
+            path: None,
+            reason: format!("scenario `{scenario}` has no prior over operators to draw from")
+                .into(),
         })
     }
 
@@ -291,6 +322,15 @@ impl<C: Catalog> Catalog for WithArms<C> {
         readings: &Readings,
     ) -> Result<Vec<(String, OperatorOf<Self>)>, CatalogError> {
         self.inner.family(scenario, family, readings)
+    }
+
+    fn prior(
+        &self,
+        scenario: &str,
+        instance: &Instance,
+        screened: bool,
+    ) -> Result<Vec<OperatorFile>, CatalogError> {
+        self.inner.prior(scenario, instance, screened)
     }
 
     fn readings(&self) -> Vec<Reading> {

@@ -2,7 +2,7 @@
 //! done by the suite, the sweep and the `trust` and `service` libraries.
 //!
 //! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
-//! `landscape`, `serve`, `cases` and `explain`, for the catalog's scenarios. The shipped `trustcbr`
+//! `landscape`, `population`, `serve`, `cases` and `explain`, for the catalog's scenarios. The shipped `trustcbr`
 //! binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own domains
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
@@ -20,8 +20,7 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use lab::Domain;
-use lab::{heatmap, landscape};
+use lab::{Domain, Instance, heatmap, landscape};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
@@ -56,6 +55,10 @@ enum Command {
     /// Estimate, for every behavior, how often an operator lets a run complete; write
     /// `landscape.svg` (heatmap) and `landscape.csv`.
     Landscape(LandscapeArgs),
+    /// Draw an instance of the scenario's prior over operators and write its members as
+    /// operator files, `OUT/MEMBER.ron`, which `landscape --operator` and a suite's
+    /// `operator_files` read.
+    Population(PopulationArgs),
     /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
     Serve(ServeArgs),
     /// Run a suite over several seeds and parameter values and aggregate across seeds
@@ -210,6 +213,25 @@ struct LandscapeArgs {
     out: PathBuf,
 }
 
+#[derive(Args)]
+struct PopulationArgs {
+    /// The scenario, by the tool's name for it (an unknown name is refused with the list).
+    #[arg(long)]
+    scenario: String,
+    /// The instance: `dev-K` to develop on (seed K), `eval-K` to evaluate on (seed
+    /// 1000000000 + K); K from 0 to 999999.
+    #[arg(long)]
+    instance: Instance,
+    /// Output folder: created if missing; it may hold only this population's files (the
+    /// same command again rewrites them).
+    #[arg(long, default_value = "population")]
+    out: PathBuf,
+    /// Write each member's first draw, without the screen against members no behavior
+    /// satisfies (to see what the screen removes).
+    #[arg(long)]
+    unscreened: bool,
+}
+
 /// One name of `--arms`: an empty one is a stray comma, refused as the option's fault.
 fn arm_name(name: &str) -> Result<String, &'static str> {
     if name.is_empty() {
@@ -334,6 +356,7 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
         }
         Command::Render(args) => render(&catalog, &args),
         Command::Landscape(args) => landscape(&catalog, &args),
+        Command::Population(args) => population(&catalog, &args),
         Command::Serve(args) => serve(&catalog, &args),
         Command::Sweep(args) => sweep(&catalog, &args),
         Command::Cases(command) => cases(&catalog, &command),
@@ -760,5 +783,46 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
             .with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     }
+    Ok(())
+}
+
+/// Writes the members of an instance of the catalog's prior as operator files.
+fn population<C: Catalog>(catalog: &C, args: &PopulationArgs) -> Result<()> {
+    domain_of(catalog, &args.scenario)?;
+    files::output::ensure_writable_dir(&args.out)?;
+    let members = catalog.prior(&args.scenario, &args.instance, !args.unscreened)?;
+    let files: Vec<String> = members.iter().map(|m| format!("{}.ron", m.name)).collect();
+    for (member, file) in members.iter().zip(&files) {
+        anyhow::ensure!(
+            Path::new(file).file_name() == Some(file.as_ref())
+                && !member.name.is_empty()
+                && !member.name.starts_with('.'),
+            "the prior named a member `{}`, which is not a plain file name",
+            member.name
+        );
+    }
+    // A folder holding other files (another instance's members) would mix populations.
+    if let Some(name) =
+        lab::folder::foreign_entry(&args.out, None, |name| files.iter().any(|f| f == name))?
+    {
+        anyhow::bail!(
+            "{}: the folder holds `{name}`, which is not a member of {} ({}); give an empty or new folder",
+            args.out.display(),
+            args.instance,
+            args.scenario
+        );
+    }
+    for (member, file) in members.iter().zip(&files) {
+        let path = files::write_file_in(&args.out, file, &member.text)?;
+        println!("wrote {}", path.display());
+    }
+    println!(
+        "{} members of instance {} (seed {}), {}{}",
+        members.len(),
+        args.instance,
+        args.instance.seed(),
+        args.scenario,
+        if args.unscreened { ", unscreened" } else { "" }
+    );
     Ok(())
 }

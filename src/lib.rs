@@ -36,8 +36,8 @@ pub mod ugv;
 pub mod plugin_guide {}
 
 pub use catalog::{
-    AddedArm, Catalog, CatalogError, Family, FindOperatorError, Reading, ReadingError, Readings,
-    ToolInfo, UnknownScenario, WithArms,
+    AddedArm, Catalog, CatalogError, Family, FindOperatorError, OperatorFile, Reading,
+    ReadingError, Readings, ToolInfo, UnknownScenario, WithArms,
 };
 pub use config_file::ConfigFileError;
 pub use suite::{SuiteError, TraceError};

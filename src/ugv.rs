@@ -1,11 +1,13 @@
 //! The built-in catalog: the paper's movement and patrol scenarios over the UGV world
-//! (`domains`), with the paper's operators, the patrol weight reading and the paper's seven
+//! (`domains`), with the paper's operators, the operator family and prior, the patrol
+//! weight reading and the paper's seven
 //! experiments as the embedded suite. The shipped `trustcbr` binary is
 //! [`crate::cli::main`] over this catalog.
 
-use crate::catalog::{Catalog, CatalogError, Family, Reading, Readings, ToolInfo};
+use crate::catalog::{Catalog, CatalogError, Family, OperatorFile, Reading, Readings, ToolInfo};
 use cbr_core::Behavior;
-use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
+use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators, prior};
+use lab::Instance;
 use std::path::Path;
 
 /// The name of the reading of the patrol operators' weights (docs/model.md#open-readings).
@@ -99,6 +101,28 @@ impl Catalog for UgvCatalog {
                 .map(|o| (o.name.clone(), Self::read(scenario, o, readings)))
                 .collect(),
         )
+    }
+
+    fn prior(
+        &self,
+        scenario: &str,
+        instance: &Instance,
+        screened: bool,
+    ) -> Result<Vec<OperatorFile>, CatalogError> {
+        let failed = |e: Box<dyn std::error::Error + Send + Sync>| CatalogError {
+            path: None,
+            reason: e,
+        };
+        let scenario: Scenario = scenario.parse().map_err(|e| failed(Box::new(e)))?;
+        let members = prior::population(&UgvDomain::new(scenario), instance, screened)
+            .map_err(|e| failed(Box::new(e)))?;
+        Ok(members
+            .iter()
+            .map(|member| OperatorFile {
+                name: member.operator.name.clone(),
+                text: prior::operator_file(scenario, instance, members.len(), member, screened),
+            })
+            .collect())
     }
 
     fn readings(&self) -> Vec<Reading> {

@@ -30,16 +30,12 @@ WEIGHTS = {  # completed, default, by cause
 COMPONENTS = {"movement": 2, "patrol": 4}
 
 
-def trusted(scenario, path):
-    out = OUT / scenario / path.parent.name / path.stem
-    if not (out / "landscape.csv").exists():
-        subprocess.run(
-            [BIN, "landscape", "--scenario", scenario, "--operator", str(path),
-             "--runs", str(RUNS[scenario]), "--out", str(out)],
-            check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+def region(scenario, csv_path):
+    """The trustworthy region of the landscape in `csv_path` (every component fixed): the
+    behaviors whose mean weighted outcome per command is positive, as tuples of values."""
     completed_w, default_w, by_cause = WEIGHTS[scenario]
-    region = set()
-    with open(out / "landscape.csv") as f:
+    found = set()
+    with open(csv_path) as f:
         rows = csv.reader(f)
         header = next(rows)
         k = COMPONENTS[scenario]
@@ -52,8 +48,18 @@ def trusted(scenario, path):
             # Exact arithmetic: a drift of exactly 0 (as many completions as other
             # outcomes at equal weights) is not trustworthy, whatever the rounding.
             if drift > 0:
-                region.add(tuple(row[:k]))
-    return region
+                found.add(tuple(row[:k]))
+    return found
+
+
+def trusted(scenario, path):
+    out = OUT / scenario / path.parent.name / path.stem
+    if not (out / "landscape.csv").exists():
+        subprocess.run(
+            [BIN, "landscape", "--scenario", scenario, "--operator", str(path),
+             "--runs", str(RUNS[scenario]), "--out", str(out)],
+            check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return region(scenario, out / "landscape.csv")
 
 
 def main():

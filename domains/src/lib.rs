@@ -18,6 +18,7 @@ pub mod patrol;
 pub mod perception;
 pub mod planner;
 pub mod population;
+pub mod prior;
 pub mod profile;
 pub mod render;
 pub mod scenario;

@@ -78,7 +78,7 @@ fn poles(scenario: Scenario) -> (Pole, Pole, Pole) {
 
 /// The paper's weights for the scenario: all 1 in movement; in patrol 1/3 for every
 /// outcome and 1 for a detonation.
-fn weights(scenario: Scenario) -> OutcomeWeights {
+pub(crate) fn paper_weights(scenario: Scenario) -> OutcomeWeights {
     match scenario {
         Scenario::Movement => OutcomeWeights::default(),
         Scenario::Patrol => {
@@ -114,7 +114,7 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
         p_missed_object: 1.0,
         p_false_alarm: 1.0,
         give_up_factor: 2.0,
-        weights: weights(scenario),
+        weights: paper_weights(scenario),
         comfort: on.then_some(Comfort {
             distance: SOCIAL_DISTANCE,
             speed: WALKING_PACE,

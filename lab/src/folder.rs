@@ -98,21 +98,7 @@ impl FolderRule {
     /// nothing but the folder.
     pub fn prepare(&self, dir: &Path) -> Result<(), ReportFolderError> {
         ensure_writable_dir(dir)?;
-        let unwritable = |reason| FolderError::Unwritable {
-            path: dir.to_owned(),
-            action: "list this folder",
-            reason,
-        };
-        let entries: Vec<String> = fs::read_dir(dir)
-            .map_err(unwritable)?
-            .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
-            .collect::<io::Result<_>>()
-            .map_err(unwritable)?;
-        if entries.iter().any(|name| name == self.marker) {
-            return Ok(());
-        }
-        let allowed = |name: &str| is_temporary_name(name) || (self.unmarked_may_hold)(name);
-        match entries.into_iter().find(|name| !allowed(name)) {
+        match foreign_entry(dir, Some(self.marker), self.unmarked_may_hold)? {
             Some(entry) => Err(ReportFolderError::Foreign {
                 path: dir.to_owned(),
                 entry,
@@ -147,6 +133,32 @@ impl FolderRule {
         removed.sort();
         Ok(removed)
     }
+}
+
+/// The first entry of the folder `dir` that may not be there: none when the folder holds
+/// `marker` (it holds what it is meant to); otherwise the first that is neither a
+/// temporary file of an interrupted write nor one `may_hold` accepts.
+pub fn foreign_entry(
+    dir: &Path,
+    marker: Option<&str>,
+    may_hold: impl Fn(&str) -> bool,
+) -> Result<Option<String>, FolderError> {
+    let unwritable = |reason| FolderError::Unwritable {
+        path: dir.to_owned(),
+        action: "list this folder",
+        reason,
+    };
+    let entries: Vec<String> = fs::read_dir(dir)
+        .map_err(unwritable)?
+        .map(|entry| entry.map(|e| e.file_name().to_string_lossy().into_owned()))
+        .collect::<io::Result<_>>()
+        .map_err(unwritable)?;
+    if marker.is_some_and(|m| entries.iter().any(|name| name == m)) {
+        return Ok(None);
+    }
+    Ok(entries
+        .into_iter()
+        .find(|name| !is_temporary_name(name) && !may_hold(name)))
 }
 
 /// Checks, before any work starts, that a report can be written in `dir`
