@@ -15,8 +15,8 @@
 //! reachable from `0` by adding contributions while staying strictly between the thresholds
 //! is a transient state; crossing a threshold absorbs. [`solve_walk`] enumerates these
 //! states by breadth-first search (sums closer than [`SUM_TOLERANCE`] are one state, so
-//! floating-point noise such as `3 * (1/3) - 1 != 0` merges; a sum within
-//! [`SUM_TOLERANCE`] of a threshold counts as having reached it), sorts them, and solves
+//! floating-point noise such as `3 * (1/3) - 1 != 0` merges; a sum has reached a threshold
+//! by the adapter's own rule, [`Thresholds::verdict`]), sorts them, and solves
 //! `(I - Q) x = b` for three right-hand sides, `Q` being the transient-to-transient
 //! transition matrix:
 //!
@@ -56,11 +56,12 @@
 
 use std::collections::HashMap;
 use thiserror::Error;
-use trust::Thresholds;
+use trust::{Thresholds, Verdict};
 
-/// Two sums closer than this are the same state of the walk; a sum within this distance of a
-/// threshold has reached it.
-pub const SUM_TOLERANCE: f64 = 1e-9;
+/// Two sums closer than this are the same state of the walk (the adapter's tolerance at the
+/// thresholds, [`trust::THRESHOLD_TOLERANCE`], which decides absorption through
+/// [`Thresholds::verdict`]).
+pub const SUM_TOLERANCE: f64 = trust::THRESHOLD_TOLERANCE;
 
 /// The default cap on the number of transient states of one walk.
 pub const DEFAULT_MAX_STATES: usize = 20_000;
@@ -290,12 +291,10 @@ pub fn solve_walk(
         let from = sums[next];
         for s in &live {
             let to = from + s.delta;
-            let target = if to >= hi - SUM_TOLERANCE {
-                Target::Accept
-            } else if to <= lo + SUM_TOLERANCE {
-                Target::Reject
-            } else {
-                match find_state(&index, &sums, to) {
+            let target = match thresholds.verdict(to) {
+                Verdict::Trustworthy => Target::Accept,
+                Verdict::Untrustworthy => Target::Reject,
+                Verdict::Undecided => match find_state(&index, &sums, to) {
                     (_, Some(i)) => Target::State(i),
                     (key, None) => {
                         if sums.len() >= max_states {
@@ -308,7 +307,7 @@ pub fn solve_walk(
                         index.insert(key, sums.len() - 1);
                         Target::State(sums.len() - 1)
                     }
-                }
+                },
             };
             targets.push(target);
         }

@@ -208,6 +208,20 @@ impl Outcome {
     }
 }
 
+/// How far short of a threshold a sum may fall and still have reached it.
+///
+/// The paper's arithmetic is exact: with weights of 1/3, fifteen commands of one kind
+/// reach a threshold of 5. A weight is a binary float, so fifteen `0.3333333333333333`s
+/// sum to `4.999999999999999`: without a tolerance the verdict would come one command
+/// late. Every comparison of an estimate with a threshold (the adapter's, mission mode's
+/// watch, `serve`'s, the Python package's, the known-operator limit's and every report's)
+/// goes through [`Thresholds::verdict`], which counts a sum within this distance of a
+/// threshold as having reached it (docs/model.md, "The trust estimate"). It is far above
+/// the rounding of any sum an estimate makes (each of its additions errs by at most half
+/// an ulp of 5, about 4.4e-16, and an estimate starts again from 0 with every behavior)
+/// and far below any weight an operator writes.
+pub const THRESHOLD_TOLERANCE: f64 = 1e-9;
+
 /// The two thresholds of the estimate. Deserialization checks them ([`Thresholds::validate`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "ThresholdsDefinition")]
@@ -230,7 +244,7 @@ impl Default for Thresholds {
 /// Thresholds that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error(
-    "thresholds must be finite with untrustworthy < 0 < trustworthy (every behavior's estimate starts at 0, so a verdict needs evidence), got untrustworthy = {untrustworthy}, trustworthy = {trustworthy}"
+    "thresholds must be finite with untrustworthy < 0 < trustworthy, each more than 1e-9 from 0 (every behavior's estimate starts at 0, so a verdict needs evidence), got untrustworthy = {untrustworthy}, trustworthy = {trustworthy}"
 )]
 pub struct ThresholdError {
     /// The trustworthy threshold given.
@@ -261,12 +275,25 @@ impl TryFrom<ThresholdsDefinition> for Thresholds {
 }
 
 impl Thresholds {
+    /// The verdict on an estimate of `value`: trustworthy at or above the trustworthy
+    /// threshold, untrustworthy at or below the untrustworthy one, each within
+    /// [`THRESHOLD_TOLERANCE`], and undecided between.
+    pub fn verdict(&self, value: f64) -> Verdict {
+        if value >= self.trustworthy - THRESHOLD_TOLERANCE {
+            Verdict::Trustworthy
+        } else if value <= self.untrustworthy + THRESHOLD_TOLERANCE {
+            Verdict::Untrustworthy
+        } else {
+            Verdict::Undecided
+        }
+    }
+
     /// Checks that both are finite and ordered.
     pub fn validate(&self) -> Result<(), ThresholdError> {
         if self.trustworthy.is_finite()
             && self.untrustworthy.is_finite()
-            && self.untrustworthy < 0.0
-            && 0.0 < self.trustworthy
+            && self.untrustworthy < -THRESHOLD_TOLERANCE
+            && THRESHOLD_TOLERANCE < self.trustworthy
         {
             Ok(())
         } else {
@@ -309,15 +336,9 @@ impl TrustEstimate {
         self.commands += 1;
     }
 
-    /// The verdict under `thresholds`.
+    /// The verdict under `thresholds` ([`Thresholds::verdict`]).
     pub fn verdict(&self, thresholds: &Thresholds) -> Verdict {
-        if self.value >= thresholds.trustworthy {
-            Verdict::Trustworthy
-        } else if self.value <= thresholds.untrustworthy {
-            Verdict::Untrustworthy
-        } else {
-            Verdict::Undecided
-        }
+        thresholds.verdict(self.value)
     }
 }
 
@@ -376,6 +397,86 @@ mod tests {
             r#"{"kind":"failed","weight":1.0,"duration_s":2.0,"observed":9,"stated":"dropped-item"}"#
         );
         assert_eq!(serde_json::from_str::<Outcome>(&text).unwrap(), told);
+    }
+
+    /// The commands after which an estimate fed `outcomes` in turn first reaches a verdict.
+    fn verdict_after(outcomes: impl IntoIterator<Item = Outcome>) -> Option<(usize, Verdict)> {
+        let thresholds = Thresholds::default();
+        let mut estimate = TrustEstimate::default();
+        outcomes.into_iter().enumerate().find_map(|(i, o)| {
+            estimate.record(&o);
+            let verdict = estimate.verdict(&thresholds);
+            (verdict != Verdict::Undecided).then_some((i + 1, verdict))
+        })
+    }
+
+    #[test]
+    fn fifteen_weights_of_a_third_reach_a_threshold_as_in_the_paper() {
+        // As written in the operator files: the float nearest 1/3.
+        let third: f64 = "0.3333333333333333".parse().unwrap();
+        let mut sum = 0.0;
+        for _ in 0..15 {
+            sum -= third;
+        }
+        // The float sum falls short of -5 by one ulp; the verdict does not.
+        assert!(sum > -5.0);
+        assert_eq!(Thresholds::default().verdict(sum), Verdict::Untrustworthy);
+        let interrupted = Outcome::interrupted(third, 1.0);
+        assert_eq!(
+            verdict_after(std::iter::repeat_n(interrupted, 20)),
+            Some((15, Verdict::Untrustworthy))
+        );
+        let completed = Outcome::completed(third, 1.0);
+        assert_eq!(
+            verdict_after(std::iter::repeat_n(completed, 20)),
+            Some((15, Verdict::Trustworthy))
+        );
+        // Fourteen are not enough: 14/3 is 1/3 short.
+        assert_eq!(verdict_after(std::iter::repeat_n(interrupted, 14)), None);
+    }
+
+    #[test]
+    fn mixed_weights_reach_a_threshold_when_their_exact_sum_does() {
+        let third = 1.0 / 3.0;
+        // A detonation (1) and twelve interruptions (1/3 each): exactly -5 at the 13th.
+        let detonation = Outcome::failed(1.0, 1.0);
+        let interrupted = Outcome::interrupted(third, 1.0);
+        let outcomes = std::iter::once(detonation).chain(std::iter::repeat_n(interrupted, 20));
+        assert_eq!(verdict_after(outcomes), Some((13, Verdict::Untrustworthy)));
+        // Completions and interruptions in turn, then fifteen completions: the pairs cancel
+        // exactly in the paper's arithmetic, so +5 comes with the fifteenth completion.
+        let completed = Outcome::completed(third, 1.0);
+        let outcomes = [completed, interrupted]
+            .repeat(40)
+            .into_iter()
+            .chain(std::iter::repeat_n(completed, 15));
+        assert_eq!(verdict_after(outcomes), Some((95, Verdict::Trustworthy)));
+        // 4.9 is short of 5 by far more than the tolerance.
+        assert_eq!(Thresholds::default().verdict(4.9), Verdict::Undecided);
+        assert_eq!(
+            Thresholds::default().verdict(5.0 - 2.0 * THRESHOLD_TOLERANCE),
+            Verdict::Undecided
+        );
+    }
+
+    #[test]
+    fn weights_read_from_ron_text_reach_a_threshold_after_fifteen_commands() {
+        // The patrol operators' weights, as their files write them.
+        let weights: crate::OutcomeWeights = ron::from_str(
+            r#"(completed: 0.3333333333333333, default: 0.3333333333333333, by_cause: { "detonation": 1.0 })"#,
+        )
+        .unwrap();
+        let slow = Cause::from_static("deadline");
+        let interrupted = Outcome::interrupted(weights.of(slow), 120.0);
+        assert_eq!(
+            verdict_after(std::iter::repeat_n(interrupted, 20)),
+            Some((15, Verdict::Untrustworthy))
+        );
+        let completed = Outcome::completed(weights.completed, 100.0);
+        assert_eq!(
+            verdict_after(std::iter::repeat_n(completed, 20)),
+            Some((15, Verdict::Trustworthy))
+        );
     }
 
     #[test]

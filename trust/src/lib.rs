@@ -67,8 +67,8 @@ pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
 };
 pub use estimate::{
-    Observations, Outcome, OutcomeError, OutcomeKind, ThresholdError, Thresholds, TrustEstimate,
-    Verdict,
+    Observations, Outcome, OutcomeError, OutcomeKind, THRESHOLD_TOLERANCE, ThresholdError,
+    Thresholds, TrustEstimate, Verdict,
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
