@@ -675,3 +675,39 @@ fn a_domain_file_declares_hints_by_name_and_is_refused_with_an_unknown_one() {
         "d.ron: field `hints`: hint of `slow-progress`: cause `early` is not declared (declared: late)"
     );
 }
+
+/// The paper's arithmetic over the protocol: with the default thresholds (+5 / -5), fifteen
+/// outcomes of weight 1/3 (as a controller sends it, `0.3333333333333333`) reach a
+/// threshold on the fifteenth, not the sixteenth.
+#[test]
+fn fifteen_weights_of_a_third_reach_a_threshold_over_the_protocol() {
+    let dir = tempfile::tempdir().unwrap();
+    let paper = DomainDefinition::new(
+        "movement",
+        domains::Scenario::Movement.space(),
+        domains::Scenario::Movement.causes().to_vec(),
+        trust::AdapterConfig::default(),
+    );
+    let cases = Arc::new(
+        SharedCases::open(&paper, &Location::Sqlite(dir.path().join("cases.db"))).unwrap(),
+    );
+    let mut s = Session::new(paper, cases, 7).unwrap();
+    let third = |kind: &str| {
+        format!(r#"{{"outcome": "{kind}", "weight": 0.3333333333333333, "duration_s": 10.0}}"#)
+    };
+    ok(
+        &mut s,
+        r#"{"request":"begin","behavior":{"speed":3.5,"padding":0.4}}"#,
+    );
+    for _ in 0..14 {
+        assert_eq!(ok(&mut s, &third("interrupted"))["ok"], "keep");
+    }
+    let switched = ok(&mut s, &third("interrupted"));
+    assert_eq!(switched["ok"], "switch", "{switched}");
+    for _ in 0..14 {
+        assert_eq!(ok(&mut s, &third("completed"))["ok"], "keep");
+    }
+    let settled = ok(&mut s, &third("completed"));
+    assert_eq!(settled["ok"], "settled", "{settled}");
+    assert_eq!(settled["trustworthy"], true);
+}

@@ -197,11 +197,15 @@ impl SuiteConfig {
             // A trial ends when a behavior reaches the trustworthy threshold; if no
             // operator of the experiment lets one reach it within `max_commands`, every
             // trial would be cut off and report a count that means nothing.
-            let trustworthy = self.adapter.thresholds.trustworthy;
+            let thresholds = self.adapter.thresholds;
+            let trustworthy = thresholds.trustworthy;
             if let Some((name, completed)) = spec.judges(&operators).find_map(|(name, op)| {
                 catalog
                     .completion_weight(op)
-                    .filter(|w| w * (self.max_commands as f64) < trustworthy)
+                    .filter(|w| {
+                        thresholds.verdict(w * (self.max_commands as f64))
+                            != trust::Verdict::Trustworthy
+                    })
                     .map(|w| (name, w))
             }) {
                 return Err(invalid(

@@ -22,7 +22,7 @@
 //! behavior kept because every behavior had been tried (no trustworthy one) is watched
 //! from an estimate of 0.
 
-use crate::{Outcome, Thresholds, TrustEstimate};
+use crate::{Outcome, Thresholds, TrustEstimate, Verdict};
 use cbr_core::Behavior;
 
 /// A settled behavior under watch.
@@ -68,7 +68,7 @@ impl Watch {
         if outcome.is_untrustworthy() {
             self.untrustworthy += 1;
         }
-        let capped = self.estimate.value >= thresholds.trustworthy;
+        let capped = thresholds.verdict(self.estimate.value) == Verdict::Trustworthy;
         if capped {
             self.estimate = TrustEstimate {
                 value: thresholds.trustworthy,
@@ -79,9 +79,10 @@ impl Watch {
         capped
     }
 
-    /// Whether the estimate has fallen to the untrustworthy threshold.
+    /// Whether the estimate has fallen to the untrustworthy threshold (by the thresholds'
+    /// one rule, [`Thresholds::verdict`]).
     pub fn fallen(&self, thresholds: &Thresholds) -> bool {
-        self.estimate.value <= thresholds.untrustworthy
+        thresholds.verdict(self.estimate.value) == Verdict::Untrustworthy
     }
 }
 
