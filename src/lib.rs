@@ -35,6 +35,11 @@ pub mod ugv;
 #[doc = include_str!("../docs/plugin-guide.md")]
 pub mod plugin_guide {}
 
+/// The top-level README's Rust examples (the tool as a library), run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
+
 pub use catalog::{
     AddedArm, Catalog, CatalogError, Family, FindOperatorError, OperatorFile, Reading,
     ReadingError, Readings, ToolInfo, UnknownScenario, WithArms,

@@ -1,13 +1,4 @@
-//! Generic case-based reasoning vocabulary.
-//!
-//! This crate names the concepts every CBR application here shares and nothing more:
-//! [`Component`]s (numeric grids, categorical labels or a user's own [`ComponentKind`]) and
-//! the [`BehaviorSpace`] they span, [`SimilarityMeasure`]s, [`Case`]s in
-//! an append-only [`CaseBase`], similarity neighbourhoods of a behavior, the first difference between two spaces, [`Retriever`]s
-//! (with [`LinearRetriever`] as the reference) kept in step with the base by
-//! [`CaseMemory`], and [`Searcher`]s. It knows nothing of trust, robots or experiments;
-//! those live in the `trust` and `domains` crates.
-
+#![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
 pub mod behavior;

@@ -1,11 +1,4 @@
-//! Built-in domain plug-ins for the trust machinery: the paper's movement and patrol
-//! scenarios over a 2-D UGV world, with operator models as data.
-//!
-//! A run is simulated into a time-ordered [`Trace`] (collisions, objects missed or
-//! labelled, detonations, arrival or a stuck robot); an [`OperatorModel`], loaded from
-//! RON, reads the trace and decides the [`trust::Outcome`]. The world and the robot are
-//! documented, with the reasons for every number, in `docs/simulation.md`.
-
+#![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
 pub mod causes;

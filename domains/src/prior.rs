@@ -377,7 +377,8 @@ fn confirmed(domain: &UgvDomain, operator: &OperatorModel, rank: u64, seed: u64)
     tally.trusted_on_average()
 }
 
-/// Whether `operator` passes the screen: one of its [`candidates`] is [`confirmed`].
+/// Whether `operator` passes the screen: one of its [`candidates`] is trustworthy again in
+/// [`CONFIRM_RUNS`] runs of its own.
 pub fn passes_screen(domain: &UgvDomain, operator: &OperatorModel, seed: u64) -> bool {
     candidates(domain, operator, seed)
         .into_iter()

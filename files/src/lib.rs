@@ -1,14 +1,4 @@
-//! Reading and writing the workspace's files safely.
-//!
-//! - [`input`]: bounded reads of regular files only ([`read_text`]), and [`FileError`].
-//! - [`ron_text`]: RON text parsed with errors that point at file, line:column and the
-//!   offending line ([`parse_ron`]).
-//! - [`output`]: atomic writes ([`write_atomically`], [`write_file_in`]) and a check that a
-//!   folder can take files ([`output::ensure_writable_dir`]).
-//!
-//! The libraries a robot embeds (`cbr-core`, `trust`) read and write no file; every crate
-//! that does (the lab, the domains, the service, the tool) goes through this one.
-
+#![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
 pub mod input;

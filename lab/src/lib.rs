@@ -1,20 +1,4 @@
-//! The trust laboratory: the experiment machinery of the paper's experiments (trials,
-//! arms, statistics), landscapes, reports and plots, generic over any
-//! [`Domain`].
-//!
-//! This crate is what a researcher runs and a robot does not embed: the adapter, the
-//! estimate and the search strategies are the lean `trust` crate's; everything that needs
-//! a thread pool, statistics or plotting is here.
-//!
-//! A *trial* is one adaptation episode driven through the same
-//! [`TrustAdapter`](trust::TrustAdapter) a robot embeds; a *mission* ([`mission`]) is a
-//! long run of commands through its mission wrapper ([`trust::MissionAdapter`]), driven
-//! alike (the first behavior and each command come from one place, the private `drive`
-//! module). An *experiment* runs a number of trials with one operator (or one drawn at
-//! random per trial) once per [`Arm`] (a search strategy, with or without case reuse,
-//! starting each episode at random or from the memory's guess), pairing trial `i` of every
-//! arm. Arms, statistics and report files live in submodules.
-
+#![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
 pub mod arm;

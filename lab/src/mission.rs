@@ -127,7 +127,7 @@ pub struct MissionPlan<'a, D: Domain> {
     pub changes: Changes,
     /// How operators grow complacent (`None`: they stay attentive, the paper's).
     pub complacency: Option<Complacency>,
-    /// The adapter every arm starts from (see [`crate::ExperimentPlan::adapter`]).
+    /// The adapter every arm starts from (see [`ExperimentPlan`](crate::ExperimentPlan)'s `adapter`).
     pub adapter: AdapterConfig,
     /// The arms.
     pub arms: Vec<Arm>,

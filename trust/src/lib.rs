@@ -1,45 +1,4 @@
-//! Trust-guided behavior adaptation (Floyd, Drinkwater & Aha, ICCBR 2014), generic over
-//! any domain.
-//!
-//! - [`cause`]: causes of failure as names a domain declares.
-//! - [`estimate`]: outcomes (what the robot is told and perceives), the inverse trust
-//!   estimate, thresholds and verdicts.
-//! - [`explain`]: explanations of every decision (why a behavior was given up, why the
-//!   next one, why the episode ended), from what the robot was told and perceived.
-//! - [`evaluated`]: evaluated pairs and Algorithm 2 (set similarity).
-//! - [`select`]: Algorithm 1 (`selectBehavior`) over any retriever and searcher.
-//! - [`search`]: search strategies: the paper's random walk, uniform sampling, cause-aware
-//!   and model-based search.
-//! - [`retrieval`]: the retrievers a config can name.
-//! - [`start`]: a learned first behavior, the case memory's best guess for an operator
-//!   the robot does not yet know.
-//! - [`adapter`]: [`TrustAdapter`], the online state machine a robot embeds (the paper's
-//!   episodes), made of an [`Adaptation`] (one robot's episode and search) and the case
-//!   memory it owns.
-//! - [`mission`]: mission mode, the episode machine wrapped to keep listening after an
-//!   episode settles ([`MissionAdaptation`], [`MissionAdapter`]).
-//! - [`watch`]: the settled behavior kept under watch on a mission.
-//! - [`overtrust`]: the robot's own record of a settled behavior, and the alert it raises
-//!   when its operator trusts it more than that record says it should.
-//! - [`named`]: behaviors as JSON objects in real units.
-//! - `testing` (feature `testing`): conformance kits for users' own parts.
-//!
-//! This crate knows nothing of any particular robot or simulator, and nothing in it can
-//! read the truth of a simulated command: the simulation contract (`Domain`, `Judgement`,
-//! `FeedbackChannel`) is the `lab` crate's, which depends on this one and not the other
-//! way round. What a domain tells the adapter is its [`Vocabulary`] (causes, observations,
-//! hints), the names a robot also knows:
-//!
-//! ```compile_fail
-//! // The truth of a run is not a type of this crate.
-//! use trust::Judgement;
-//! ```
-//!
-//! It is lean: what a
-//! robot embeds, with no plotting, statistics or thread pool (the parallel scan's thread
-//! pool is the opt-in `parallel` feature). Experiments, statistics, landscapes, reports
-//! and plots are the `lab` crate's.
-
+#![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
 pub mod adapter;
