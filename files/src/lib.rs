@@ -1,6 +1,9 @@
 //! Reading and writing the workspace's files safely.
 //!
 //! - [`input`]: bounded reads of regular files only ([`read_text`]), and [`FileError`].
+//! - [`name`]: names a user gives that end up in file names, checked
+//!   ([`name::check_file_name`], [`name::file_in`]) or made into file names
+//!   ([`name::file_stems`]), so none escapes its folder.
 //! - [`ron_text`]: RON text parsed with errors that point at file, line:column and the
 //!   offending line ([`parse_ron`]).
 //! - [`output`]: atomic writes ([`write_atomically`], [`write_file_in`]) and a check that a
@@ -12,6 +15,7 @@
 #![deny(missing_docs)]
 
 pub mod input;
+pub mod name;
 pub mod output;
 pub mod ron_text;
 
