@@ -7,6 +7,7 @@
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
+use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, THREADS, TRIALS};
 use crate::missions::{
     MissionSuiteConfig, is_mission_suite, run_mission_suite, write_mission_report,
 };
@@ -14,8 +15,8 @@ use crate::progress::Progress;
 use crate::run::{RunSettings, run_with_report, worker_pool};
 use crate::served::{served_domain, serving_arm};
 use crate::suite::{
-    EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig, suite_best_arms,
-    suite_table, trace_suite_trial,
+    EMBEDDED_ORIGIN, StartingCases, SuiteConfig, check_replay, suite_best_arms, suite_table,
+    trace_suite_trial,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -132,7 +133,7 @@ struct SweepArgs {
     #[arg(long, value_name = "I/N", value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
     /// Worker threads, 1 to 256 (default: one per core).
-    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(THREADS.max))]
     threads: Option<NonZeroUsize>,
 }
 
@@ -200,7 +201,7 @@ struct LandscapeArgs {
     #[arg(long)]
     operator: String,
     /// Runs per behavior, 1 to 10000.
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LANDSCAPE_RUNS)))]
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(RUNS_PER_BEHAVIOR.min as i64..=RUNS_PER_BEHAVIOR.max as i64))]
     runs: u32,
     /// The two components of the heatmap, across then up (default: the first two).
     #[arg(long)]
@@ -248,7 +249,7 @@ struct RunOptions {
     #[arg(long, default_value = "results")]
     out: PathBuf,
     /// Trials per experiment and arm, 1 to 100000 (overrides the config).
-    #[arg(long, value_parser = at_most::<NonZeroU32>(u64::from(MAX_TRIALS)))]
+    #[arg(long, value_parser = at_most::<NonZeroU32>(TRIALS.max))]
     trials: Option<NonZeroU32>,
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
@@ -266,15 +267,12 @@ struct RunOptions {
     seed: Option<u64>,
     /// Runs per cell of the operator landscapes behind the final behaviors, 0 (none) to
     /// 10000 (overrides the config).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(..=i64::from(MAX_LANDSCAPE_RUNS)))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(LANDSCAPE_RUNS.min as i64..=LANDSCAPE_RUNS.max as i64))]
     landscape_runs: Option<u32>,
     /// Worker threads, 1 to 256 (default: one per core).
-    #[arg(long, value_parser = at_most::<NonZeroUsize>(MAX_THREADS))]
+    #[arg(long, value_parser = at_most::<NonZeroUsize>(THREADS.max))]
     threads: Option<NonZeroUsize>,
 }
-
-/// The most worker threads `--threads` accepts.
-const MAX_THREADS: u64 = 256;
 
 /// A parser of a count from 1 to `max`.
 fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
@@ -371,7 +369,8 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
     }
 }
 
-/// Prints the story of one trial of a report folder, replayed from its `config.ron`.
+/// Prints the story of one trial of a report folder, replayed from its `config.ron` once
+/// the report shows that the replay is the trial that ran ([`check_replay`]).
 fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
     let config_path = args.report.join("config.ron");
     anyhow::ensure!(
@@ -379,7 +378,8 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
         "{}: not a report folder (it has no config.ron)",
         args.report.display()
     );
-    let config = SuiteConfig::load(catalog, &config_path)?;
+    let text = files::read_text(&config_path)?;
+    let config = SuiteConfig::from_ron(catalog, &text, &config_path)?;
     if let Some(dir) = &args.cases {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
@@ -387,6 +387,17 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
         .cases
         .as_ref()
         .map(|dir| StartingCases { dir: dir.clone() });
+    for warning in check_replay(
+        catalog,
+        &args.report,
+        &config,
+        &text,
+        starting.as_ref(),
+        &args.experiment,
+        &args.arm,
+    )? {
+        eprintln!("warning: {warning}");
+    }
     let (timeline, space) = trace_suite_trial(
         catalog,
         &config,

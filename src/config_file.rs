@@ -40,6 +40,17 @@ impl ConfigFileError {
     }
 }
 
+/// A content hash of `bytes` (64-bit FNV-1a, as 16 hex digits): what a sweep's run files
+/// and a report's `summary.json` record of the config (and case bases) they ran, so that a
+/// merge or `explain` notices one edited since. It tells versions apart, it does not
+/// defend against forgery.
+pub fn content_hash(bytes: &[u8]) -> String {
+    let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
 /// `From<FileError>` and `From<RonError>` for an error enum with a
 /// `File(ConfigFileError)` variant, so that `?` takes a read or a parse as it comes.
 macro_rules! from_config_file_errors {

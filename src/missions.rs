@@ -10,7 +10,12 @@
 //! the config.
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
-use crate::suite::{ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, invalid};
+use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
+use crate::suite::{
+    ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
+    check_distinct, invalid, over,
+};
+use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Arm;
@@ -25,16 +30,6 @@ use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use trust::AdapterConfig;
 
-/// The most commands a mission suite may simulate in all (plans x arms x missions x
-/// commands, doubled for complacency plans): about 20 minutes of the machine of
-/// docs/results.md.
-pub const MAX_MISSION_COMMANDS: u64 = 100_000_000;
-
-/// Runs per (behavior, operator) of the truth of a change (whether the behavior in use
-/// is trustworthy for the new operator): a mean weighted outcome of 0.2 is told from 0
-/// with a standard error of about 0.07 at 200 runs.
-pub const TRUTH_RUNS: u32 = 200;
-
 /// A mission suite.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -47,7 +42,9 @@ pub struct MissionSuiteConfig {
     /// The domain's readings, by name.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub readings: BTreeMap<String, String>,
-    /// The arms, by name.
+    /// The arms, by name, written as an experiment suite writes them (a name, or
+    /// `(name: NAME, initial: learned)`).
+    #[serde(deserialize_with = "arm_names")]
     pub arms: Vec<String>,
     /// The mission plans, in report order.
     pub missions: Vec<MissionSpec>,
@@ -91,25 +88,28 @@ impl MissionSuiteConfig {
         Ok(config)
     }
 
-    /// Checks every field against `catalog`.
+    /// Checks every field against `catalog`, with the rules experiment suites follow
+    /// for what both have (arms, adapter parameters, populations and operators, names
+    /// given once), and bounds the suite's cost before it runs: its plans, its missions
+    /// (each record is kept for the report) and its commands, counting the runs that tell
+    /// whether each expected change needed an adaptation ([`TRUTH_RUNS`] each).
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
         let invalid = |field: String, message: String| invalid(origin, field, message);
-        if self.missions.is_empty() {
-            return Err(invalid(
-                "missions".into(),
-                "at least one mission plan is needed".into(),
-            ));
+        let over = |error| over(origin, error);
+        EXPERIMENTS
+            .check("missions", self.missions.len() as u64)
+            .map_err(over)?;
+        check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
+        check_adapter(&self.adapter, origin)?;
+        for (k, spec) in self.missions.iter().enumerate() {
+            check_label("plan", &spec.name)
+                .map_err(|e| invalid(format!("missions[{k}].name"), e.to_string()))?;
         }
-        self.adapter.validate()?;
-        crate::suite::config::check_arms_choose(&self.adapter, origin)?;
-        if self.arms.is_empty() {
-            return Err(invalid("arms".into(), "at least one arm is needed".into()));
-        }
-        for (i, name) in self.arms.iter().enumerate() {
-            arm_named(catalog, name, self.adapter.retriever)
-                .map_err(|e| invalid(format!("arms[{i}]"), e))?;
-        }
-        let mut commands: u64 = 0;
+        let names: Vec<String> = self.missions.iter().map(|m| m.name.clone()).collect();
+        check_distinct("missions", "plan", &names, origin)?;
+        let readings = resolve_readings(catalog, &self.readings)
+            .map_err(|e| invalid("readings".into(), e.to_string()))?;
+        let (mut commands, mut missions) = (0u64, 0u64);
         for (k, spec) in self.missions.iter().enumerate() {
             let field = |name: &str| format!("missions[{k}].{name}");
             if spec.operators.operator != RANDOM_OPERATOR {
@@ -129,36 +129,61 @@ impl MissionSuiteConfig {
                     .validate()
                     .map_err(|e| invalid(field("complacency"), e))?;
             }
-            let doubled = if spec.complacency.is_some() { 2 } else { 1 };
+            let operators =
+                spec.operators
+                    .check(catalog, &field("operators"), origin, &readings)?;
+            spec.operators.check_reachable(
+                catalog,
+                &operators,
+                &format!("missions[{k}]"),
+                origin,
+                &self.adapter,
+                (
+                    u64::from(spec.commands.get()),
+                    "commands",
+                    "no episode of a mission could settle",
+                ),
+            )?;
+            let chains = self.arms.len() as u64 * if spec.complacency.is_some() { 2 } else { 1 };
+            let plan_missions = chains * u64::from(spec.count.get());
+            missions = missions.saturating_add(plan_missions);
             commands = commands.saturating_add(
-                self.arms.len() as u64
-                    * doubled
-                    * u64::from(spec.count.get())
-                    * u64::from(spec.commands.get()),
+                plan_missions.saturating_mul(spec.commands_with_truth_runs(operators.len())),
             );
         }
-        if commands > MAX_MISSION_COMMANDS {
-            return Err(invalid(
-                "missions".into(),
+        MISSIONS
+            .check_total(
+                "missions",
+                missions,
+                " in all (arms x missions, twice for complacency plans)".into(),
+            )
+            .map_err(over)?;
+        MISSION_COMMANDS
+            .check_total(
+                "missions",
+                commands,
                 format!(
-                    "{commands} commands in all (arms x missions x commands, twice for complacency plans); at most {MAX_MISSION_COMMANDS}"
+                    " in all (arms x missions x (commands + {TRUTH_RUNS} truth runs per expected change), twice for complacency plans)"
                 ),
-            ));
-        }
-        let readings = resolve_readings(catalog, &self.readings)
-            .map_err(|e| invalid("readings".into(), e.to_string()))?;
-        for (k, spec) in self.missions.iter().enumerate() {
-            domain_of(catalog, &spec.operators.scenario)
-                .map_err(|e| invalid(format!("missions[{k}].operators.scenario"), e.to_string()))?;
-            let operators = spec.operators.operators(catalog, origin, &readings)?;
-            if operators.is_empty() {
-                return Err(invalid(
-                    format!("missions[{k}].operators"),
-                    "the population has no operator".into(),
-                ));
-            }
-        }
+            )
+            .map_err(over)?;
         Ok(())
+    }
+}
+
+impl MissionSpec {
+    /// The commands one mission of the plan simulates, over a population of `members`:
+    /// its own, and [`TRUTH_RUNS`] for each change expected (one every `changes.every`
+    /// commands on average, none with one member).
+    fn commands_with_truth_runs(&self, members: usize) -> u64 {
+        let commands = u64::from(self.commands.get());
+        let changes = if members < 2 {
+            0
+        } else {
+            // At least one command apart, as the schedule draws them.
+            ((commands as f64 / self.changes.every).ceil() as u64).min(commands)
+        };
+        commands.saturating_add(changes.saturating_mul(u64::from(TRUTH_RUNS)))
     }
 }
 

@@ -8,8 +8,8 @@
 
 use crate::catalog::Catalog;
 use crate::suite::{
-    ReportEstimates, StartingCases, SuiteConfig, SuiteResults, report_entries,
-    run_suite_with_report, save_case_bases, write_suite_report,
+    ReportEstimates, StartingCases, SuiteConfig, SuiteResults, check_save_targets, report_entries,
+    report_replay, run_suite_with_report, save_case_bases, write_suite_report,
 };
 use anyhow::{Context, Result};
 use lab::report::Provenance;
@@ -72,7 +72,8 @@ impl Ran {
 }
 
 /// Runs `config` (operator files relative to `origin`) as `trustcbr run` does: the config
-/// checked, the folders prepared before any work (a refused run creates none), the
+/// checked, and the files the saved case bases will replace (each absent or a case base
+/// saved earlier), the folders prepared before any work (a refused run creates none), the
 /// experiments and the report's estimates on a pool of `settings.threads` workers,
 /// `progress(experiment)` after every trial, then the report and the saved case bases.
 pub fn run_with_report<C: Catalog>(
@@ -101,12 +102,23 @@ pub fn run_with_report_checked<C: Catalog>(
     if let Some(dir) = settings.starting.as_ref().map(|s| &s.dir) {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
+    if let Some(dir) = &settings.save_cases {
+        check_save_targets(catalog, dir, &config)?;
+    }
     if let Some(out) = &settings.out {
         lab::folder::prepare_output_dir(out)?;
     }
     if let Some(dir) = &settings.save_cases {
         files::output::ensure_writable_dir(dir)?;
     }
+    // What `explain` checks of this report, taken before the run: the cases read then.
+    let replay = report_replay(
+        catalog,
+        &config,
+        origin,
+        &config.report_ron(origin),
+        settings.starting.as_ref(),
+    )?;
     let (pool, threads) = worker_pool(settings.threads)?;
     let (results, elapsed_s, estimates) = pool.install(|| {
         run_suite_with_report(
@@ -124,6 +136,7 @@ pub fn run_with_report_checked<C: Catalog>(
         version: tool.version,
         git_commit: tool.git_commit,
         command_line: settings.command_line.clone(),
+        replay: Some(replay),
     };
     let written = match &settings.out {
         Some(out) => {

@@ -56,6 +56,29 @@ impl Rationale {
         }
     }
 
+    /// The same rationale with every control character of its text (an escape sequence, a
+    /// line break) replaced by U+FFFD: what an explanation keeps of a strategy's text, so
+    /// a report, a page or a terminal shows it as one plain line.
+    pub fn plain(self) -> Self {
+        fn plain(text: Cow<'static, str>) -> Cow<'static, str> {
+            if text.chars().any(char::is_control) {
+                text.chars()
+                    .map(|c| if c.is_control() { '\u{FFFD}' } else { c })
+                    .collect::<String>()
+                    .into()
+            } else {
+                text
+            }
+        }
+        match self {
+            Self::Explores { how } => Self::Explores { how: plain(how) },
+            Self::Expects { what, confidence } => Self::Expects {
+                what: plain(what),
+                confidence,
+            },
+        }
+    }
+
     /// The phrase an explanation shows: what is expected (with its confidence) or how the
     /// strategy explored.
     pub fn phrase(&self) -> String {

@@ -2,6 +2,7 @@
 #![deny(missing_docs)]
 
 pub mod input;
+pub mod name;
 pub mod output;
 pub mod ron_text;
 

@@ -11,6 +11,12 @@
 //! or the operator's own), and the adapter records the outcome. The streams of the runs and
 //! of the stated reasons, and the adapter's search stream, are the trial's or mission's
 //! ([`Drive::new`]).
+//!
+//! A command also holds the arm's searcher to its contract (what
+//! `trust::testing::check_searcher` checks): the behavior a decision puts in use must be of
+//! the space, and one the search proposes must not have been evaluated in the episode
+//! already (it would be judged again, and the episode could run to its last command). A
+//! breach stops the plan with [`PlanError::Searcher`], naming the arm and the behavior.
 
 use crate::arm::Initial;
 use crate::runner::PlanError;
@@ -20,7 +26,8 @@ use cbr_core::Behavior;
 use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 use trust::{
-    AdapterError, Decision, MissionAdapter, MissionDecision, Outcome, TrustAdapter, find_declared,
+    AdapterError, Decision, EpisodeView, MissionAdapter, MissionDecision, Outcome, Source,
+    TrustAdapter, find_declared,
 };
 
 /// An adapter a drive records outcomes with: the paper's episodes, or a mission around them.
@@ -33,6 +40,12 @@ pub(crate) trait Records {
 
     /// Restarts the search randomness from `seed`.
     fn reseed(&mut self, seed: u64);
+
+    /// The episode under way, if any.
+    fn episode(&self) -> Option<EpisodeView<'_>>;
+
+    /// The episode machine's decision inside `decision`, if it is one.
+    fn episode_decision(decision: &Self::Decision) -> Option<&Decision>;
 }
 
 impl Records for TrustAdapter {
@@ -45,6 +58,14 @@ impl Records for TrustAdapter {
     fn reseed(&mut self, seed: u64) {
         TrustAdapter::reseed(self, seed);
     }
+
+    fn episode(&self) -> Option<EpisodeView<'_>> {
+        TrustAdapter::episode(self)
+    }
+
+    fn episode_decision(decision: &Decision) -> Option<&Decision> {
+        Some(decision)
+    }
 }
 
 impl Records for MissionAdapter {
@@ -56,6 +77,17 @@ impl Records for MissionAdapter {
 
     fn reseed(&mut self, seed: u64) {
         MissionAdapter::reseed(self, seed);
+    }
+
+    fn episode(&self) -> Option<EpisodeView<'_>> {
+        self.adapter().episode()
+    }
+
+    fn episode_decision(decision: &MissionDecision) -> Option<&Decision> {
+        match decision {
+            MissionDecision::Episode(decision) => Some(decision),
+            MissionDecision::Alert(_) => None,
+        }
     }
 }
 
@@ -108,6 +140,8 @@ pub(crate) struct Command<T> {
 pub(crate) struct Drive<'a, D: Domain> {
     /// The plan's name, for errors.
     plan: &'a str,
+    /// The arm's name, for errors.
+    arm: &'a str,
     domain: &'a D,
     /// The channel every operator of the plan explains itself through (`None`: each its
     /// own).
@@ -119,11 +153,13 @@ pub(crate) struct Drive<'a, D: Domain> {
 }
 
 impl<'a, D: Domain> Drive<'a, D> {
-    /// The commands of unit `unit` (a trial, a mission) of the plan named `plan`, at
-    /// `index` in its suite, over `domain`, under the master `seed`; `adapter`'s search
-    /// restarts from the unit's search stream.
+    /// The commands of unit `unit` (a trial, a mission) of the arm named `arm` in the plan
+    /// named `plan`, at `index` in its suite, over `domain`, under the master `seed`;
+    /// `adapter`'s search restarts from the unit's search stream.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         plan: &'a str,
+        arm: &'a str,
         domain: &'a D,
         feedback: Option<FeedbackChannel>,
         seed: u64,
@@ -134,6 +170,7 @@ impl<'a, D: Domain> Drive<'a, D> {
         adapter.reseed(stream_seed(seed, index, unit, Purpose::Search));
         Self {
             plan,
+            arm,
             domain,
             feedback,
             runs: stream(seed, index, unit, Purpose::Runs),
@@ -142,7 +179,8 @@ impl<'a, D: Domain> Drive<'a, D> {
     }
 
     /// Runs one command with `behavior` in front of `operator` at `attention` and records
-    /// it with `adapter`. A truth the domain does not declare stops the plan.
+    /// it with `adapter`. A truth the domain does not declare stops the plan, and so does a
+    /// decision that breaks the searcher's contract ([`Drive::check_contract`]).
     pub(crate) fn command<A: Records>(
         &mut self,
         adapter: &mut A,
@@ -171,10 +209,49 @@ impl<'a, D: Domain> Drive<'a, D> {
         let decision = adapter
             .record(&outcome)
             .expect("domains report valid outcomes");
+        self.check_contract(adapter, &decision)?;
         Ok(Command {
             judgement,
             outcome,
             decision,
         })
+    }
+
+    /// Refuses a decision that puts in use a behavior outside the space, or switches to
+    /// one the search proposed that the episode has already evaluated.
+    fn check_contract<A: Records>(
+        &self,
+        adapter: &A,
+        decision: &A::Decision,
+    ) -> Result<(), PlanError> {
+        let (behavior, searched) = match A::episode_decision(decision) {
+            Some(Decision::Switch { to, source, .. }) => (*to, *source == Source::Search),
+            Some(Decision::Settled(report)) => (report.settled, false),
+            Some(Decision::Keep) | None => return Ok(()),
+        };
+        let space = self.domain.space();
+        let breach = |problem: &'static str, shown: String| PlanError::Searcher {
+            plan: self.plan.to_owned(),
+            arm: self.arm.to_owned(),
+            behavior: shown,
+            problem,
+        };
+        if !space.contains(&behavior) {
+            return Err(breach(
+                "is outside the behavior space",
+                format!("the value indices {:?}", behavior.indices()),
+            ));
+        }
+        let repeated = searched
+            && adapter
+                .episode()
+                .is_some_and(|e| e.evaluated.iter().any(|x| x.behavior == behavior));
+        if repeated {
+            return Err(breach(
+                "the episode has already evaluated",
+                space.display(&behavior).to_string(),
+            ));
+        }
+        Ok(())
     }
 }

@@ -232,18 +232,74 @@ pub enum Mark {
     Onset,
 }
 
-/// One command of a traced mission: the estimate of the behavior in use after it, the
-/// robot's own record, and what happened.
+/// One step of a traced mission: one command, or in a long mission a run of commands
+/// summarised ([`MissionTrace`]): the estimate of the behavior in use after it, its lowest
+/// and highest estimate, the robot's own record, and what happened.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MissionStep {
-    /// The estimate after the command.
+    /// The estimate after the step's last command.
     pub estimate: f64,
-    /// The robot's own record of a settled behavior (`None` during an episode).
+    /// The lowest estimate after any of its commands.
+    pub low: f64,
+    /// The highest estimate after any of its commands.
+    pub high: f64,
+    /// The robot's own record of a settled behavior after its last command (`None` during
+    /// an episode).
     pub own_record: Option<f64>,
-    /// Whether the command was untrustworthy.
+    /// Whether a command of it was untrustworthy.
     pub untrustworthy: bool,
-    /// What happened at it.
+    /// What happened during it, each mark once.
     pub marks: Vec<Mark>,
+}
+
+/// The most steps a traced mission keeps: a mission of more commands is summarised, each
+/// step standing for the same number of commands, so a trace's memory and its figure are
+/// bounded whatever a mission's length (`trustcbr::limits::FIGURE_POINTS`).
+pub const MAX_TRACE_STEPS: u32 = 2_000;
+
+/// A mission traced step by step for its figure: every command, or for a mission of more
+/// than [`MAX_TRACE_STEPS`] commands, runs of `every` commands summarised as one step
+/// (the estimate after the run's last command, the lowest and highest after any, the own
+/// record after the last, whether any was untrustworthy, each kind of mark once).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MissionTrace {
+    /// Commands per step: 1 for a mission of at most [`MAX_TRACE_STEPS`] commands.
+    pub every: u32,
+    /// The mission's commands.
+    pub commands: u32,
+    /// The steps, in order (the last may stand for fewer commands).
+    pub steps: Vec<MissionStep>,
+}
+
+impl MissionTrace {
+    /// An empty trace of a mission of `commands` commands.
+    fn of(commands: u32) -> Self {
+        let every = commands.div_ceil(MAX_TRACE_STEPS).max(1);
+        Self {
+            every,
+            commands,
+            steps: Vec::with_capacity(commands.div_ceil(every) as usize),
+        }
+    }
+
+    /// Adds command `c` (from 0), as a step of its own, to the step it belongs to.
+    fn record(&mut self, c: u32, command: MissionStep) {
+        match self.steps.last_mut() {
+            Some(step) if !c.is_multiple_of(self.every) => {
+                step.estimate = command.estimate;
+                step.low = step.low.min(command.low);
+                step.high = step.high.max(command.high);
+                step.own_record = command.own_record;
+                step.untrustworthy |= command.untrustworthy;
+                for mark in command.marks {
+                    if !step.marks.contains(&mark) {
+                        step.marks.push(mark);
+                    }
+                }
+            }
+            _ => self.steps.push(command),
+        }
+    }
 }
 
 /// One arm's missions.
@@ -255,8 +311,8 @@ pub struct MissionArmResult {
     pub answers_alerts: bool,
     /// Every mission, in order.
     pub missions: Vec<MissionRecord>,
-    /// The first mission, command by command.
-    pub traced: Vec<MissionStep>,
+    /// The first mission, step by step.
+    pub traced: MissionTrace,
 }
 
 /// A mission plan's results.
@@ -323,7 +379,7 @@ fn run_chain<D: Domain>(
         })?;
     let mut adapter = MissionAdapter::new(adapter);
     let mut missions = Vec::with_capacity(plan.missions as usize);
-    let mut traced = Vec::new();
+    let mut traced = MissionTrace::of(plan.commands);
     for mission in 0..plan.missions {
         let trace = (mission == 0).then_some(&mut traced);
         let named = StreamName {
@@ -434,7 +490,7 @@ fn run_mission<D: Domain>(
     adapter: &mut MissionAdapter,
     named: StreamName,
     answers_alerts: bool,
-    mut trace: Option<&mut Vec<MissionStep>>,
+    mut trace: Option<&mut MissionTrace>,
 ) -> Result<MissionRecord, PlanError> {
     let StreamName {
         seed,
@@ -448,6 +504,7 @@ fn run_mission<D: Domain>(
     let scheduled = schedule(plan, first, &mut setup);
     let mut drive = Drive::new(
         &plan.name,
+        arm.name(),
         plan.domain,
         plan.feedback,
         seed,
@@ -589,16 +646,82 @@ fn run_mission<D: Domain>(
                 marks.push(Mark::Settled);
             }
         }
-        if let Some(steps) = trace.as_deref_mut() {
+        if let Some(trace) = trace.as_deref_mut() {
             let estimate = adapter.in_use().map_or(0.0, |(_, e)| e.value);
-            steps.push(MissionStep {
-                estimate,
-                own_record: adapter.watching().map(|_| adapter.own_record().value()),
-                untrustworthy: outcome.is_untrustworthy(),
-                marks,
-            });
+            trace.record(
+                c,
+                MissionStep {
+                    estimate,
+                    low: estimate,
+                    high: estimate,
+                    own_record: adapter.watching().map(|_| adapter.own_record().value()),
+                    untrustworthy: outcome.is_untrustworthy(),
+                    marks,
+                },
+            );
         }
     }
     adapter.abandon_episode();
     Ok(record)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn command(estimate: f64, untrustworthy: bool, marks: Vec<Mark>) -> MissionStep {
+        MissionStep {
+            estimate,
+            low: estimate,
+            high: estimate,
+            own_record: None,
+            untrustworthy,
+            marks,
+        }
+    }
+
+    #[test]
+    fn a_short_mission_is_traced_command_by_command() {
+        let mut trace = MissionTrace::of(3);
+        for (c, e) in [1.0, -1.0, 0.0].into_iter().enumerate() {
+            trace.record(c as u32, command(e, e < 0.0, vec![]));
+        }
+        assert_eq!(trace.every, 1);
+        assert_eq!(trace.steps.len(), 3);
+        assert_eq!(trace.steps[1], command(-1.0, true, vec![]));
+    }
+
+    #[test]
+    fn a_long_mission_is_summarised_in_equal_runs_of_commands() {
+        // 5,000 commands in at most 2,000 steps: 3 commands a step, 1,667 steps.
+        let mut trace = MissionTrace::of(5_000);
+        assert_eq!(trace.every, 3);
+        let change = Mark::Change(ChangeKind::Takeover);
+        for c in 0..5_000u32 {
+            let marks = match c {
+                0 | 1 => vec![change, Mark::Switch],
+                4 => vec![Mark::Alert],
+                _ => vec![],
+            };
+            trace.record(c, command(f64::from(c % 7) - 3.0, c == 2, marks));
+        }
+        assert_eq!(trace.steps.len(), 1_667);
+        // Commands 0, 1, 2: estimates -3, -2, -1.
+        assert_eq!(
+            trace.steps[0],
+            MissionStep {
+                estimate: -1.0,
+                low: -3.0,
+                high: -1.0,
+                own_record: None,
+                untrustworthy: true,
+                marks: vec![change, Mark::Switch],
+            }
+        );
+        // Commands 3, 4, 5: estimates 0, 1, 2; the alert at 4.
+        assert_eq!((trace.steps[1].low, trace.steps[1].high), (0.0, 2.0));
+        assert_eq!(trace.steps[1].marks, [Mark::Alert]);
+        // The last step stands for command 4,998 and 4,999 alone.
+        assert_eq!(trace.steps[1_666].estimate, f64::from(4_999 % 7) - 3.0);
+    }
 }

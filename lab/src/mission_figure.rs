@@ -1,7 +1,9 @@
 //! The mission timeline figure: the trust estimate of the behavior in use over a whole
 //! mission, the robot's own record of a settled behavior, both thresholds, the changes of
 //! operator (which the robot is not told of), re-adaptations, alerts and complacency
-//! onsets.
+//! onsets. A mission traced command by command is drawn point by point; a long one,
+//! summarised ([`crate::mission::MissionTrace`]), is drawn a step at a time, with the band
+//! of estimates each step's commands reached.
 
 use crate::mission::{ChangeKind, Mark, MissionArmResult};
 use crate::plot::{Area, DrawResult, arm_style};
@@ -22,8 +24,14 @@ pub fn mission_figure(
     arm: &MissionArmResult,
     thresholds: &Thresholds,
 ) -> DrawResult {
-    let steps = &arm.traced;
-    let n = steps.len().max(1) as f64;
+    let steps = &arm.traced.steps;
+    let every = f64::from(arm.traced.every.max(1));
+    // Where step `i` starts and ends, in commands.
+    let start = |i: usize| i as f64 * every;
+    let end = |i: usize| ((i + 1) as f64 * every).min(f64::from(arm.traced.commands));
+    let n = (steps.len() as f64 * every)
+        .min(f64::from(arm.traced.commands))
+        .max(1.0);
     let (low, high) = (thresholds.untrustworthy - 1.5, thresholds.trustworthy + 2.5);
     let clamp = |v: f64| v.clamp(low, high);
     let (plot, key) = area.split_vertically(area.dim_in_pixel().1.saturating_sub(30));
@@ -41,12 +49,22 @@ pub fn mission_figure(
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(0.0..n, low..high)?;
-    chart
-        .configure_mesh()
-        .light_line_style(TRANSPARENT)
+    // A summarised mission is long: its commands in thousands keep the labels short.
+    let thousands = |x: &f64| {
+        if x.abs() >= 1000.0 {
+            format!("{}k", x / 1000.0)
+        } else {
+            format!("{x:.0}")
+        }
+    };
+    let mut mesh = chart.configure_mesh();
+    mesh.light_line_style(TRANSPARENT)
         .x_desc("command of the mission")
-        .y_desc("trust estimate of the behavior in use")
-        .draw()?;
+        .y_desc("trust estimate of the behavior in use");
+    if arm.traced.every > 1 {
+        mesh.x_label_formatter(&thousands);
+    }
+    mesh.draw()?;
     for value in [thresholds.trustworthy, thresholds.untrustworthy] {
         chart.draw_series(DashedLineSeries::new(
             [(0.0, value), (n, value)],
@@ -59,7 +77,7 @@ pub fn mission_figure(
     for (i, step) in steps.iter().enumerate() {
         for mark in &step.marks {
             if let Mark::Change(kind) = mark {
-                let x = i as f64;
+                let x = start(i);
                 chart.draw_series(LineSeries::new(
                     [(x, low), (x, high)],
                     CHANGE.stroke_width(2),
@@ -77,18 +95,37 @@ pub fn mission_figure(
         }
     }
     let color = arm_style(&arm.arm, arm_index).color;
+    if arm.traced.every > 1 {
+        // The band of estimates each step's commands reached, under the line.
+        let band: Vec<(f64, f64)> = steps
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (end(i), clamp(s.high)))
+            .chain(
+                steps
+                    .iter()
+                    .enumerate()
+                    .rev()
+                    .map(|(i, s)| (end(i), clamp(s.low))),
+            )
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            color.mix(0.25).filled(),
+        )))?;
+    }
     chart.draw_series(LineSeries::new(
         steps
             .iter()
             .enumerate()
-            .map(|(i, s)| ((i + 1) as f64, clamp(s.estimate))),
+            .map(|(i, s)| (end(i), clamp(s.estimate))),
         color.stroke_width(1),
     ))?;
     // The own record where a behavior is settled, one segment per watch.
     let mut segment: Vec<(f64, f64)> = Vec::new();
     for (i, step) in steps.iter().enumerate() {
         match step.own_record {
-            Some(v) => segment.push(((i + 1) as f64, clamp(v))),
+            Some(v) => segment.push((end(i), clamp(v))),
             None if !segment.is_empty() => {
                 chart.draw_series(DashedLineSeries::new(
                     std::mem::take(&mut segment),
@@ -105,7 +142,7 @@ pub fn mission_figure(
     }
     let top = high - 1.0;
     for (i, step) in steps.iter().enumerate() {
-        let x = (i + 1) as f64;
+        let x = end(i);
         for mark in &step.marks {
             match mark {
                 Mark::Readaptation => {
@@ -134,8 +171,13 @@ pub fn mission_figure(
         }
     }
     let mut x = 72;
+    let estimate = if arm.traced.every > 1 {
+        format!("estimate (range per {})", arm.traced.every)
+    } else {
+        "estimate".to_owned()
+    };
     for (label, colour) in [
-        ("estimate", color),
+        (estimate.as_str(), color),
         ("own record (dashed)", OWN),
         ("operator change", CHANGE),
         ("re-adaptation (triangle)", READAPTATION),

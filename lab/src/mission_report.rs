@@ -337,7 +337,7 @@ pub fn missions_jsonl(results: &[MissionResult]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mission::{ChangeKind, ChangeRecord, OnsetRecord};
+    use crate::mission::{ChangeKind, ChangeRecord, MissionTrace, OnsetRecord};
 
     fn mission(changes: Vec<ChangeRecord>, onsets: Vec<OnsetRecord>, harm: u32) -> MissionRecord {
         MissionRecord {
@@ -396,7 +396,7 @@ mod tests {
                     4,
                 ),
             ],
-            traced: Vec::new(),
+            traced: MissionTrace::default(),
         };
         let s = MissionSummary::of(&arm);
         assert_eq!((s.changes, s.needed, s.adapted), (4, 3, 2));

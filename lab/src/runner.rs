@@ -101,6 +101,21 @@ pub enum PlanError {
         /// The name.
         arm: String,
     },
+    /// An arm's searcher broke its contract: it proposed a behavior outside the space, or
+    /// one the episode had already evaluated.
+    #[error(
+        "{plan}: the search of arm `{arm}` proposed {behavior}, which {problem}; a searcher proposes behaviors of the space that the episode has not evaluated (trust::testing::check_searcher checks a searcher for this)"
+    )]
+    Searcher {
+        /// The plan's name.
+        plan: String,
+        /// The arm's name.
+        arm: String,
+        /// The behavior, in real units (as value indices when outside the space).
+        behavior: String,
+        /// What is wrong with it.
+        problem: &'static str,
+    },
 }
 
 /// The outcome of one trial.
@@ -172,6 +187,12 @@ pub const SAMPLE_EXPLANATIONS: usize = 2;
 /// Trials of an experiment's [`sample_arm`] traced command by command as they run
 /// ([`ArmResult::traced`]).
 pub const TRACED_TRIALS: u32 = 25;
+
+/// The most commands of a traced trial kept ([`ArmResult::traced`]): a longer trial's
+/// trace is dropped (empty), so the traces of an experiment hold at most
+/// [`TRACED_TRIALS`] times this many commands whatever `max_commands` allows
+/// (`trustcbr::limits::TRACED_COMMANDS`).
+pub const MAX_TRACED_COMMANDS: u64 = 100_000;
 
 /// The arm whose first trials an experiment traces: the paper's case-based arm when it
 /// runs, else the second arm, else the first.
@@ -299,7 +320,8 @@ pub struct ArmResult {
     /// Its first explanations of switches, kept whole (at most [`SAMPLE_EXPLANATIONS`]).
     pub samples: Vec<ExplanationSample>,
     /// Its first [`TRACED_TRIALS`] trials command by command, as they ran, when it is the
-    /// experiment's [`sample_arm`] (empty otherwise): what a report's timeline draws.
+    /// experiment's [`sample_arm`] (empty otherwise): what a report's timeline draws. A
+    /// trial of more than [`MAX_TRACED_COMMANDS`] commands is kept empty.
     pub traced: Vec<Vec<TracedCommand>>,
     /// Every trial, in order.
     pub trials: Vec<TrialRecord>,
@@ -479,10 +501,13 @@ fn run_chain<D: Domain>(
         let tracing = traces && trial < TRACED_TRIALS;
         let (record, explanations) =
             run_trial(plan, adapter, experiment, trial, arm, seed, &mut |step| {
-                if tracing {
+                if tracing && (commands.len() as u64) < MAX_TRACED_COMMANDS {
                     commands.push(TracedCommand::of(&step));
                 }
             })?;
+        if record.report.commands > MAX_TRACED_COMMANDS {
+            commands = Vec::new();
+        }
         let samples = explanations
             .into_iter()
             .filter(|x| x.given_up.is_some())
@@ -675,6 +700,7 @@ fn run_trial<D: Domain>(
     let start = first_behavior(arm.initial(), adapter, &mut setup);
     let mut drive = Drive::new(
         &plan.name,
+        arm.name(),
         plan.domain,
         plan.feedback,
         seed,

@@ -36,8 +36,8 @@ const SAMPLE_SWITCHES: std::ops::RangeInclusive<u64> = 2..=6;
 /// The trial a report draws for an experiment: among the trials its
 /// [`sample_arm`](crate::runner::sample_arm)
 /// traced as they ran ([`ArmResult::traced`](crate::runner::ArmResult::traced), the
-/// first ones), the first whose number of switches is in 2 to 6, else the first nearest
-/// that range. Returns the arm's index and the trial.
+/// first ones, but those too long to keep), the first whose number of switches is in 2 to
+/// 6, else the first nearest that range. Returns the arm's index and the trial.
 pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
     let arm = result.arms.iter().position(|a| !a.traced.is_empty())?;
     let off_range = |t: &TrialRecord| {
@@ -47,10 +47,13 @@ pub fn sample_trial(result: &ExperimentResult) -> Option<(usize, u32)> {
             .saturating_sub(switches)
             .max(switches.saturating_sub(*SAMPLE_SWITCHES.end()))
     };
-    let chosen = result.arms[arm]
+    let ran = &result.arms[arm];
+    let chosen = ran
         .trials
         .iter()
-        .take(result.arms[arm].traced.len())
+        .zip(&ran.traced)
+        .filter(|(_, traced)| !traced.is_empty())
+        .map(|(t, _)| t)
         .min_by_key(|t| (off_range(t), t.trial))?;
     Some((arm, chosen.trial))
 }

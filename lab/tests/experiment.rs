@@ -278,6 +278,7 @@ fn the_report_folder_holds_every_file() {
         version: "1.0".into(),
         git_commit: None,
         command_line: vec!["toy".into(), "run".into()],
+        replay: None,
     };
     write_report(&out, &entries, "(trials: 10)", 1.5, &provenance).unwrap();
     for name in [

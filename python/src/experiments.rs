@@ -13,7 +13,8 @@ use trustcbr::catalog::{Catalog, domain_of};
 use trustcbr::lab::BUILTIN_ARMS;
 use trustcbr::lab::Domain;
 use trustcbr::run::{RunSettings, run_with_report_checked};
-use trustcbr::suite::{EMBEDDED_ORIGIN, MAX_TRIALS, StartingCases, SuiteConfig, suite_table};
+use trustcbr::limits::TRIALS;
+use trustcbr::suite::{EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_table};
 use trustcbr::{AddedArm, UgvCatalog, WithArms};
 
 /// The embedded suite (the paper's seven experiments) as RON text, as `trustcbr config`
@@ -112,13 +113,8 @@ pub fn run_suite(
     };
     let mut config = load_suite(&catalog, kind, text, &origin)?;
     if let Some(trials) = trials {
-        config.trials = NonZeroU32::new(trials)
-            .filter(|n| n.get() <= MAX_TRIALS)
-            .ok_or_else(|| {
-                error(format_args!(
-                    "trials: a number of trials from 1 to {MAX_TRIALS}, got {trials}"
-                ))
-            })?;
+        TRIALS.check("trials", u64::from(trials)).map_err(error)?;
+        config.trials = NonZeroU32::new(trials).expect("checked to be at least 1");
     }
     if let Some(seed) = seed {
         config.seed = seed;

@@ -330,9 +330,13 @@ pub fn check_file(path: &Path) -> Result<bool, StoreError> {
                 kind,
             })
         }
-        Err(_) if std::fs::symlink_metadata(path).is_ok() => Err(StoreError::NotAFile {
+        Err(e) if std::fs::symlink_metadata(path).is_ok() => Err(StoreError::NotAFile {
             path: path.to_owned(),
-            kind: "a symlink to nothing",
+            kind: if e.kind() == std::io::ErrorKind::NotFound {
+                "a symlink to nothing"
+            } else {
+                "a symlink that cannot be followed: a loop of symlinks, or through a folder that cannot be entered"
+            },
         }),
         Err(_) => {
             let dir = match path.parent() {

@@ -80,61 +80,87 @@ fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D
 }
 
 /// Reads the arms of a suite: each a name, or `(name: NAME, initial: random | learned)`
-/// read as the name of the arm it stands for ([`Initial::of_name`]).
-fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
-    struct ArmName(String);
-    impl<'de> Deserialize<'de> for ArmName {
-        fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-            d.deserialize_any(ArmVisitor).map(ArmName)
-        }
-    }
-    struct ArmVisitor;
-    impl<'de> serde::de::Visitor<'de> for ArmVisitor {
-        type Value = String;
-        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            f.write_str("an arm's name as a string, or `(name: \"case-based\", initial: learned)`")
-        }
-        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
-            Ok(name.to_owned())
-        }
-        fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<String, A::Error> {
-            use serde::de::Error;
-            /// The fields of an arm's options (read as identifiers, as RON writes them).
-            #[derive(Deserialize)]
-            #[serde(field_identifier, rename_all = "snake_case")]
-            enum Field {
-                Name,
-                Initial,
-            }
-            let (mut name, mut initial) = (None::<String>, None::<Initial>);
-            while let Some(key) = map.next_key::<Field>()? {
-                match key {
-                    Field::Name if name.is_none() => name = Some(map.next_value()?),
-                    Field::Initial if initial.is_none() => {
-                        // The parser's message lists the allowed values.
-                        initial = Some(
-                            map.next_value()
-                                .map_err(|e| A::Error::custom(format!("field `initial`: {e}")))?,
-                        );
-                    }
-                    Field::Name => return Err(A::Error::duplicate_field("name")),
-                    Field::Initial => return Err(A::Error::duplicate_field("initial")),
-                }
-            }
-            let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
-            if Initial::of_name(&name).1 == Initial::Learned {
-                return Err(A::Error::custom(format!(
-                    "field `name`: `{name}` already names how its episodes start; write the arm `{}` and set `initial`",
-                    Initial::of_name(&name).0
-                )));
-            }
-            Ok(match initial.unwrap_or_default() {
-                Initial::Random => name,
-                Initial::Learned => name + LEARNED_START,
-            })
-        }
-    }
+/// read as the name of the arm it stands for ([`Initial::of_name`]). Mission suites and
+/// sweeps read their arms with it too.
+pub(crate) fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
     Vec::<ArmName>::deserialize(d).map(|arms| arms.into_iter().map(|a| a.0).collect())
+}
+
+/// [`arm_names`] of an optional list (a sweep's `arms`).
+pub(crate) fn some_arm_names<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<Vec<String>>, D::Error> {
+    Option::<Vec<ArmName>>::deserialize(d)
+        .map(|arms| arms.map(|arms| arms.into_iter().map(|a| a.0).collect()))
+}
+
+/// [`arm_names`] of each list of a list (a sweep's `arms([...])` parameter).
+pub(crate) fn arm_name_lists<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<Vec<String>>, D::Error> {
+    Vec::<Vec<ArmName>>::deserialize(d).map(|lists| {
+        lists
+            .into_iter()
+            .map(|arms| arms.into_iter().map(|a| a.0).collect())
+            .collect()
+    })
+}
+
+/// One arm as a suite writes it, read as its name.
+struct ArmName(String);
+
+impl<'de> Deserialize<'de> for ArmName {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(ArmVisitor).map(ArmName)
+    }
+}
+
+struct ArmVisitor;
+
+impl<'de> serde::de::Visitor<'de> for ArmVisitor {
+    type Value = String;
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("an arm's name as a string, or `(name: \"case-based\", initial: learned)`")
+    }
+    fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
+        Ok(name.to_owned())
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<String, A::Error> {
+        use serde::de::Error;
+        /// The fields of an arm's options (read as identifiers, as RON writes them).
+        #[derive(Deserialize)]
+        #[serde(field_identifier, rename_all = "snake_case")]
+        enum Field {
+            Name,
+            Initial,
+        }
+        let (mut name, mut initial) = (None::<String>, None::<Initial>);
+        while let Some(key) = map.next_key::<Field>()? {
+            match key {
+                Field::Name if name.is_none() => name = Some(map.next_value()?),
+                Field::Initial if initial.is_none() => {
+                    // The parser's message lists the allowed values.
+                    initial = Some(
+                        map.next_value()
+                            .map_err(|e| A::Error::custom(format!("field `initial`: {e}")))?,
+                    );
+                }
+                Field::Name => return Err(A::Error::duplicate_field("name")),
+                Field::Initial => return Err(A::Error::duplicate_field("initial")),
+            }
+        }
+        let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
+        if Initial::of_name(&name).1 == Initial::Learned {
+            return Err(A::Error::custom(format!(
+                "field `name`: `{name}` already names how its episodes start; write the arm `{}` and set `initial`",
+                Initial::of_name(&name).0
+            )));
+        }
+        Ok(match initial.unwrap_or_default() {
+            Initial::Random => name,
+            Initial::Learned => name + LEARNED_START,
+        })
+    }
 }
 
 fn default_landscape_runs() -> u32 {
@@ -286,6 +312,9 @@ impl SuiteConfig {
         text: &str,
         origin: &Path,
     ) -> Result<Self, SuiteError> {
+        if crate::missions::is_mission_suite(text) {
+            return Err(mission_suite_here(origin));
+        }
         let config: Self = parse_ron(text, origin)?;
         config.validate(catalog, origin)?;
         Ok(config)
@@ -298,6 +327,11 @@ impl SuiteConfig {
         text: &str,
         origin: &Path,
     ) -> Result<Self, SuiteError> {
+        if let Ok(serde_json::Value::Object(fields)) = serde_json::from_str(text)
+            && fields.contains_key("missions")
+        {
+            return Err(mission_suite_here(origin));
+        }
         let config: Self = serde_json::from_str(text)
             .map_err(|e| invalid(origin, "config".into(), e.to_string()))?;
         config.validate(catalog, origin)?;
@@ -309,6 +343,15 @@ impl SuiteConfig {
         ron::ser::to_string_pretty(self, ron::ser::PrettyConfig::default())
             .expect("plain data serializes")
     }
+}
+
+/// A mission suite given where an experiment suite is needed.
+fn mission_suite_here(origin: &Path) -> SuiteError {
+    invalid(
+        origin,
+        "missions".into(),
+        "this is a mission suite (it lists `missions`), not an experiment suite: `trustcbr run` runs it and writes its report; `explain`, `sweep` and the options of experiments (trials, landscapes, case bases) apply to experiment suites".into(),
+    )
 }
 
 impl ExperimentSpec {

@@ -10,12 +10,14 @@
 //!
 //! One idea per file: the config as written (`config`) and its checks (`validate`); the
 //! plans a config makes over the catalog's domains (`plan`); running them (`run`);
-//! replaying one trial (`trace`); the report's estimates beside the run (`estimates`) and
-//! the report itself (`report`); case bases saved and read back (`saved_cases`).
+//! replaying one trial (`trace`) and what a report records so `explain` replays it
+//! faithfully (`replay`); the report's estimates beside the run (`estimates`) and the
+//! report itself (`report`); case bases saved and read back (`saved_cases`).
 
 pub(crate) mod config;
 mod estimates;
 mod plan;
+mod replay;
 mod report;
 mod run;
 mod saved_cases;
@@ -23,16 +25,16 @@ mod trace;
 mod validate;
 
 pub use config::{EMBEDDED_ORIGIN, ExperimentSpec, Population, RANDOM_OPERATOR, SuiteConfig};
+pub(crate) use config::{arm_name_lists, arm_names, some_arm_names};
 pub use estimates::ReportEstimates;
 pub use plan::arm_named;
+pub(crate) use replay::report_replay;
+pub use replay::{ReplayError, check_replay};
 pub use report::{report_entries, suite_best_arms, suite_table, write_suite_report};
 pub use run::{SuiteResults, run_suite, run_suite_with_report};
-pub use saved_cases::{StartingCases, save_case_bases};
+pub use saved_cases::{StartingCases, check_save_targets, save_case_bases};
 pub use trace::{TraceError, trace_suite_trial};
-pub use validate::{
-    MAX_EXPERIMENTS, MAX_FAMILY_SIZE, MAX_LANDSCAPE_RUNS, MAX_LIMIT_RUNS, MAX_SUITE_TRIALS,
-    MAX_TRIALS,
-};
+pub(crate) use validate::{check_adapter, check_arms, check_distinct, over};
 
 use crate::catalog::CatalogError;
 use crate::config_file::{ConfigFileError, from_config_file_errors};
@@ -40,7 +42,7 @@ use lab::PlanError;
 use lab::report::ReportError;
 use service::StoreError;
 use service::store::ron_file::CaseBaseError;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use trust::ConfigError;
 
 /// Why a suite cannot be run.
@@ -70,6 +72,20 @@ pub enum SuiteError {
     /// The report could not be written.
     #[error(transparent)]
     Report(#[from] ReportError),
+    /// A name cannot become the file name it would be (an arm's saved case base).
+    #[error(transparent)]
+    Name(#[from] files::name::NameError),
+    /// `--save-cases` would write over a file that is not a case base saved earlier.
+    #[error(
+        "{}: exists and is not a case base saved earlier ({reason}); --save-cases writes over nothing else: give another folder, or move the file",
+        path.display()
+    )]
+    SaveOver {
+        /// The file.
+        path: PathBuf,
+        /// What it is.
+        reason: String,
+    },
 }
 
 from_config_file_errors!(SuiteError);

@@ -4,6 +4,7 @@
 
 use super::{RANDOM_OPERATOR, StartingCases, SuiteConfig, SuiteError, invalid};
 use crate::catalog::{Catalog, OperatorOf, UnknownScenario, domain_of, resolve_readings};
+use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, Initial, LEARNED_START, OperatorChoice};
@@ -11,8 +12,10 @@ use std::path::Path;
 use trust::RetrieverKind;
 
 /// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
-/// followed by [`LEARNED_START`] ([`Arm::learned_start`]); the error lists every name
-/// known.
+/// followed once by [`LEARNED_START`] ([`Arm::learned_start`]); the error lists every name
+/// known. An arm's name is a file name (its saved case base is `EXPERIMENT/ARM.ron`), so a
+/// name that is not one ([`check_file_name`]) is refused here, for every suite kind, sweep
+/// and `serve --arm`, and so is an arm whose name would differ from the one asked for.
 pub fn arm_named<C: Catalog>(
     catalog: &C,
     name: &str,
@@ -20,6 +23,11 @@ pub fn arm_named<C: Catalog>(
 ) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
     let (base, initial) = Initial::of_name(name);
+    if Initial::of_name(base).1 == Initial::Learned {
+        return Err(format!(
+            "`{name}` says {LEARNED_START} twice; an arm starts from the memory's guess or not: write `{base}`"
+        ));
+    }
     let arm = match own.iter().find(|a| a.name() == base) {
         Some(arm) => arm.clone(),
         None => Arm::builtin(base, retriever).map_err(|_| {
@@ -34,10 +42,18 @@ pub fn arm_named<C: Catalog>(
             )
         })?,
     };
-    Ok(match initial {
+    let arm = match initial {
         Initial::Random => arm,
         Initial::Learned => arm.learned_start(),
-    })
+    };
+    check_file_name("arm", arm.name()).map_err(|e| e.to_string())?;
+    if arm.name() != name {
+        return Err(format!(
+            "the arm `{name}` calls itself `{}`; an arm must keep the name it is given",
+            arm.name()
+        ));
+    }
+    Ok(arm)
 }
 
 /// What a suite's experiments need from the catalog: one domain per scenario (built once,

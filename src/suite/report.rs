@@ -72,7 +72,7 @@ pub fn write_suite_report(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
-    let (portable, copies) = config.with_operator_files_in("operators", origin);
+    let (portable, copies) = config.with_operator_files_in(REPORT_OPERATORS, origin);
     let mut written = write_report(
         dir,
         &entries(config, results, &estimates.landscapes, &estimates.limits),
@@ -86,7 +86,18 @@ pub fn write_suite_report(
     Ok(written)
 }
 
+/// The folder of a report that holds copies of the operator files its config names.
+const REPORT_OPERATORS: &str = "operators";
+
 impl SuiteConfig {
+    /// The `config.ron` a report of this config (read from `origin`) holds: the config
+    /// with its operator files' copies in the report named instead.
+    pub fn report_ron(&self, origin: &Path) -> String {
+        self.with_operator_files_in(REPORT_OPERATORS, origin)
+            .0
+            .to_ron()
+    }
+
     /// This config with every operator file moved into `folder` (relative names, one
     /// copy per distinct file), and the (source, copy) pairs to copy: sources resolved
     /// against `origin`'s directory.

@@ -1,9 +1,13 @@
 //! Case bases saved at the end of a run (`--save-cases`) and read back as an arm's
-//! starting cases (`--cases`), one RON file per experiment and arm.
+//! starting cases (`--cases`), one RON file per experiment and arm, `DIR/EXPERIMENT/ARM.ron`:
+//! the experiment's name made a file name ([`file_stems`]) and the arm's name checked as
+//! one ([`file_in`]), by the writer and the reader alike, so no name leads outside `DIR`.
 
-use super::{SuiteConfig, SuiteError, SuiteResults};
+use super::{SuiteConfig, SuiteError, SuiteResults, arm_named};
+use crate::catalog::Catalog;
 use cbr_core::BehaviorSpace;
 use files::FileError;
+use files::name::file_in;
 use lab::report::file_stems;
 use service::store::{self, Identity, Location, ron_file};
 use std::path::{Path, PathBuf};
@@ -19,10 +23,17 @@ pub struct StartingCases {
     pub dir: PathBuf,
 }
 
+/// The file of `arm`'s case base in the experiment `stem` under `dir`.
+pub(crate) fn saved_file(dir: &Path, stem: &str, arm: &str) -> Result<PathBuf, SuiteError> {
+    Ok(file_in(&dir.join(stem), "arm", arm, "ron")?)
+}
+
 impl StartingCases {
     /// The saved case base of `arm` in the experiment `stem` of `scenario`, if there is
-    /// one: refused when it records another behavior space or a case does not fit `space`.
-    /// A file that records no space (saved by an earlier version) is read as `space`'s.
+    /// one: refused when its path is there but is no regular file (a folder, a FIFO, a
+    /// symlink to nothing or a loop of them), when it records another behavior space, or
+    /// a case does not fit `space`. A file that records no space (saved by an earlier
+    /// version) is read as `space`'s.
     pub(super) fn load(
         &self,
         stem: &str,
@@ -30,8 +41,8 @@ impl StartingCases {
         scenario: &str,
         space: &BehaviorSpace,
     ) -> Result<Option<TrustCaseBase>, SuiteError> {
-        let path = self.dir.join(stem).join(format!("{arm}.ron"));
-        if !path.exists() {
+        let path = saved_file(&self.dir, stem, arm)?;
+        if !store::check_file(&path)? {
             return Ok(None);
         }
         let identity = Identity {
@@ -50,11 +61,64 @@ impl StartingCases {
     }
 }
 
+/// The files [`save_case_bases`] will write for `config` in `dir`: one per experiment and
+/// arm that reads cases.
+fn save_targets<C: Catalog>(
+    catalog: &C,
+    dir: &Path,
+    config: &SuiteConfig,
+) -> Result<Vec<PathBuf>, SuiteError> {
+    let stems = file_stems(config.experiments.iter().map(|s| s.name()));
+    let mut targets = Vec::new();
+    for name in &config.arms {
+        let arm = arm_named(catalog, name, config.adapter.retriever)
+            .map_err(|e| super::invalid(dir, "arms".into(), e))?;
+        if arm.reads_cases() {
+            for stem in &stems {
+                targets.push(saved_file(dir, stem, name)?);
+            }
+        }
+    }
+    Ok(targets)
+}
+
+/// Checks, before a run, that [`save_case_bases`] may write every file it will in `dir`:
+/// each is absent, or a case base saved earlier (a RON case file recording its behavior
+/// space, as `--save-cases` and `trustcbr cases export` write them), never any other file
+/// (a text, an SQLite case base), which is left as it is.
+pub fn check_save_targets<C: Catalog>(
+    catalog: &C,
+    dir: &Path,
+    config: &SuiteConfig,
+) -> Result<(), SuiteError> {
+    for path in save_targets(catalog, dir, config)? {
+        check_save_target(&path)?;
+    }
+    Ok(())
+}
+
+/// Refuses `path` as a place to save a case base unless it is absent (its folder may be
+/// missing too) or an earlier one.
+fn check_save_target(path: &Path) -> Result<(), SuiteError> {
+    if std::fs::symlink_metadata(path).is_err() {
+        return Ok(());
+    }
+    if store::check_file(path)? {
+        ron_file::check_earlier_export(path).map_err(|reason| SuiteError::SaveOver {
+            path: path.to_owned(),
+            reason,
+        })?;
+    }
+    Ok(())
+}
+
 /// Saves the case base each case-reading arm ([`lab::Arm::reads_cases`]) ended every
 /// experiment with, as
 /// `DIR/EXPERIMENT/ARM.ron` (what [`StartingCases`] reads), each file naming its scenario
 /// and behavior space as `trustcbr cases export` writes them, so that `cases info`,
-/// `cases import` and `serve` read it as it is. Returns the files written.
+/// `cases import` and `serve` read it as it is. A file there already is replaced only if
+/// it is a case base saved earlier ([`check_save_targets`], checked again as it is
+/// written). Returns the files written.
 pub fn save_case_bases(
     dir: &Path,
     config: &SuiteConfig,
@@ -64,7 +128,6 @@ pub fn save_case_bases(
     let mut written = Vec::new();
     let experiments = results.results.iter().zip(&results.spaces);
     for (((result, space), stem), spec) in experiments.zip(&stems).zip(&config.experiments) {
-        let folder = dir.join(stem);
         let identity = Identity {
             domain: spec.scenario.clone(),
             space: (**space).clone(),
@@ -73,11 +136,13 @@ pub fn save_case_bases(
             let Some(cases) = &arm.final_cases else {
                 continue;
             };
-            std::fs::create_dir_all(&folder).map_err(|reason| FileError {
-                path: folder.clone(),
+            let path = saved_file(dir, stem, &arm.name)?;
+            let folder = path.parent().expect("a saved case base is in a folder");
+            std::fs::create_dir_all(folder).map_err(|reason| FileError {
+                path: folder.to_owned(),
                 reason,
             })?;
-            let path = folder.join(format!("{}.ron", arm.name));
+            check_save_target(&path)?;
             ron_file::save(&path, &identity, cases.cases())?;
             written.push(path);
         }

@@ -1,118 +1,77 @@
 //! What a suite may ask for, checked before any work: the sizes that bound its time and
-//! memory, the adapter's parameters, the arms and the reference arm, the readings, and each
-//! experiment's scenario, population and operators against the catalog.
+//! memory ([`crate::limits`]), the adapter's parameters, the arms and the reference arm,
+//! the readings, and each experiment's scenario, population and operators against the
+//! catalog.
+//!
+//! The checks every suite kind shares (experiment suites, mission suites and, through
+//! their cells' suites, sweeps) are functions here, one implementation each:
+//! [`check_adapter`] (thresholds, lambda), [`check_arms`] (names, duplicates),
+//! [`check_distinct`] (experiment and plan names) and [`ExperimentSpec::check`] (scenario,
+//! population, operators, whether the thresholds can be reached).
 
-use super::{RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named, invalid};
-use crate::catalog::{Catalog, domain_of, resolve_readings};
+use super::{ExperimentSpec, RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named, invalid};
+use crate::catalog::{Catalog, OperatorOf, Readings, domain_of, resolve_readings};
+use crate::limits::{
+    self, EXPERIMENTS, FAMILY_SIZE, LANDSCAPE_RUNS, LIMIT_RUNS, LimitError, MAX_COMMANDS,
+    SUITE_TRIALS, TRIALS, shown,
+};
+use files::name::check_file_name;
 use std::path::Path;
+use trust::{AdapterConfig, RetrieverKind, Verdict};
 
-/// The most members a population drawn from a family may have (each needs its own
-/// landscape for the report's limit).
-pub const MAX_FAMILY_SIZE: usize = 64;
-
-/// The most trials per experiment and arm a config may ask for; all of a suite's trials
-/// together are held to [`MAX_SUITE_TRIALS`].
-pub const MAX_TRIALS: u32 = 100_000;
-
-/// The most experiments a config may list.
-pub const MAX_EXPERIMENTS: usize = 1_000;
-
-/// The most trials a suite may run in all (experiments x arms x trials). Every trial's
-/// record is kept until the report is written: about 24 KB each (measured: `reproduce
-/// --arms random-walk,case-based` peaks at 207 MB with 7,000 trials and 869 MB with
-/// 35,000), so this is about 6 GB, and some 3 minutes of the two cores of the machine of
-/// `docs/results.md` for the paper's arms.
-pub const MAX_SUITE_TRIALS: u64 = 250_000;
-
-/// The most runs per behavior of a landscape (`landscape_runs`, `landscape --runs`): the
-/// default, 200, costs about 2.5 s of the two cores for `reproduce`'s landscapes, so this
-/// about 2 minutes.
-pub const MAX_LANDSCAPE_RUNS: u32 = 10_000;
-
-/// The most simulated runs the known-operator limit's estimate may ask for, first
-/// (`limit.budget`) and second (`limit.candidates` x `limit.candidate_runs`) estimate each:
-/// 50 times the defaults' 160,000 and 12,800, which with the landscapes take about 2.5 s of
-/// the two cores for `reproduce`.
-pub const MAX_LIMIT_RUNS: u64 = 8_000_000;
+/// A [`LimitError`] of the file `origin`, as a [`SuiteError`].
+pub(crate) fn over(origin: &Path, error: LimitError) -> SuiteError {
+    invalid(origin, error.field().to_owned(), error.problem())
+}
 
 impl SuiteConfig {
     /// Checks every field against `catalog`; `origin` names the file in errors and anchors
     /// operator files.
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
+        let over = |error| over(origin, error);
         let invalid = |field: String, message: String| invalid(origin, field, message);
-        if self.experiments.is_empty() {
-            return Err(invalid(
-                "experiments".into(),
-                "at least one experiment is needed".into(),
-            ));
-        }
-        if self.max_commands == 0 {
-            return Err(invalid("max_commands".into(), "must be at least 1".into()));
-        }
-        if self.trials.get() > MAX_TRIALS {
-            return Err(invalid(
-                "trials".into(),
+        let experiments = self.experiments.len() as u64;
+        EXPERIMENTS
+            .check("experiments", experiments)
+            .map_err(over)?;
+        MAX_COMMANDS
+            .check("max_commands", self.max_commands)
+            .map_err(over)?;
+        TRIALS
+            .check("trials", u64::from(self.trials.get()))
+            .map_err(over)?;
+        let trials = experiments * self.arms.len() as u64 * u64::from(self.trials.get());
+        SUITE_TRIALS
+            .check_total(
+                "trials",
+                trials,
                 format!(
-                    "must be 1 to {MAX_TRIALS}, got {}: every trial's record is kept for the report",
-                    self.trials
-                ),
-            ));
-        }
-        if self.experiments.len() > MAX_EXPERIMENTS {
-            return Err(invalid(
-                "experiments".into(),
-                format!(
-                    "at most {MAX_EXPERIMENTS} experiments, got {}",
-                    self.experiments.len()
-                ),
-            ));
-        }
-        let trials =
-            self.experiments.len() as u64 * self.arms.len() as u64 * u64::from(self.trials.get());
-        if trials > MAX_SUITE_TRIALS {
-            return Err(invalid(
-                "trials".into(),
-                format!(
-                    "{trials} trials in all ({} experiments x {} arms x {} trials); at most {MAX_SUITE_TRIALS}: every trial's record is kept for the report",
+                    " in all ({} experiments x {} arms x {} trials)",
                     self.experiments.len(),
                     self.arms.len(),
                     self.trials
                 ),
-            ));
-        }
-        if self.landscape_runs > MAX_LANDSCAPE_RUNS {
-            return Err(invalid(
-                "landscape_runs".into(),
-                format!(
-                    "must be 0 to {MAX_LANDSCAPE_RUNS}, got {}",
-                    self.landscape_runs
-                ),
-            ));
-        }
+            )
+            .map_err(over)?;
+        LANDSCAPE_RUNS
+            .check("landscape_runs", u64::from(self.landscape_runs))
+            .map_err(over)?;
         let second = self.limit.candidates as u64 * u64::from(self.limit.candidate_runs);
-        let limit_sizes = [
-            (
-                "limit.runs",
-                u64::from(self.limit.runs),
-                u64::from(MAX_LANDSCAPE_RUNS),
-            ),
-            ("limit.budget", self.limit.budget, MAX_LIMIT_RUNS),
-            (
+        LANDSCAPE_RUNS
+            .check_total("limit.runs", u64::from(self.limit.runs), String::new())
+            .map_err(over)?;
+        LIMIT_RUNS
+            .check_total("limit.budget", self.limit.budget, String::new())
+            .map_err(over)?;
+        LIMIT_RUNS
+            .check_total(
                 "limit.candidates x limit.candidate_runs",
                 second,
-                MAX_LIMIT_RUNS,
-            ),
-        ];
-        for (field, size, most) in limit_sizes {
-            if size > most {
-                return Err(invalid(
-                    field.into(),
-                    format!("{size} runs; at most {most}"),
-                ));
-            }
-        }
-        self.adapter.validate()?;
-        super::config::check_arms_choose(&self.adapter, origin)?;
+                String::new(),
+            )
+            .map_err(over)?;
+        check_adapter(&self.adapter, origin)?;
+        check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {
@@ -124,68 +83,17 @@ impl SuiteConfig {
                 ),
             ));
         }
-        if self.arms.is_empty() {
-            return Err(invalid("arms".into(), "at least one arm is needed".into()));
-        }
-        for (i, name) in self.arms.iter().enumerate() {
-            if let Err(e) = arm_named(catalog, name, self.adapter.retriever) {
-                return Err(invalid(format!("arms[{i}]"), e));
-            }
-            if self.arms[..i].contains(name) {
-                return Err(invalid(
-                    format!("arms[{i}]"),
-                    format!("`{name}` is listed twice"),
-                ));
-            }
-        }
         let readings = resolve_readings(catalog, &self.readings)
             .map_err(|e| invalid("readings".into(), e.to_string()))?;
         for (i, spec) in self.experiments.iter().enumerate() {
-            if let Err(unknown) = domain_of(catalog, &spec.scenario) {
-                return Err(invalid(
-                    format!("experiments[{i}].scenario"),
-                    unknown.to_string(),
-                ));
-            }
-            if let Some(population) = &spec.population {
-                let problem = if spec.operator != RANDOM_OPERATOR {
-                    Some(format!(
-                        "a population's members are drawn per trial: `operator` must be `{RANDOM_OPERATOR}`"
-                    ))
-                } else if population.family.is_some() && !spec.operator_files.is_empty() {
-                    Some("a population is drawn from the family or listed in `operator_files`, not both".to_owned())
-                } else if population.family.is_none() && spec.operator_files.is_empty() {
-                    Some(
-                        "a population needs its members: `operator_files` or a `family`".to_owned(),
-                    )
-                } else if let Some(family) = &population.family
-                    && !(0.0..=1.0).contains(&family.conflict)
-                {
-                    Some(format!(
-                        "`family.conflict` must be in [0, 1], got {}",
-                        family.conflict
-                    ))
-                } else if let Some(family) = &population.family
-                    && !(1..=MAX_FAMILY_SIZE).contains(&family.size)
-                {
-                    Some(format!(
-                        "`family.size` must be 1 to {MAX_FAMILY_SIZE}, got {}",
-                        family.size
-                    ))
-                } else {
-                    None
-                };
-                if let Some(problem) = problem {
-                    return Err(invalid(format!("experiments[{i}].population"), problem));
-                }
-            }
-            let operators = spec.operators(catalog, origin, &readings)?;
+            let field = format!("experiments[{i}]");
+            let operators = spec.check(catalog, &field, origin, &readings)?;
             if spec.operator != RANDOM_OPERATOR
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
             {
                 let known: Vec<&str> = operators.iter().map(|(n, _)| n.as_str()).collect();
                 return Err(invalid(
-                    format!("experiments[{i}].operator"),
+                    format!("{field}.operator"),
                     format!(
                         "unknown operator `{}` for {} (known: {}, or `{RANDOM_OPERATOR}`)",
                         spec.operator,
@@ -194,36 +102,187 @@ impl SuiteConfig {
                     ),
                 ));
             }
-            // A trial ends when a behavior reaches the trustworthy threshold; if no
-            // operator of the experiment lets one reach it within `max_commands`, every
-            // trial would be cut off and report a count that means nothing.
-            let thresholds = self.adapter.thresholds;
-            let trustworthy = thresholds.trustworthy;
-            if let Some((name, completed)) = spec.judges(&operators).find_map(|(name, op)| {
-                catalog
-                    .completion_weight(op)
-                    .filter(|w| {
-                        thresholds.verdict(w * (self.max_commands as f64))
-                            != trust::Verdict::Trustworthy
-                    })
-                    .map(|w| (name, w))
-            }) {
+            spec.check_reachable(
+                catalog,
+                &operators,
+                &field,
+                origin,
+                &self.adapter,
+                (
+                    self.max_commands,
+                    "max_commands",
+                    "every trial would be cut off",
+                ),
+            )?;
+        }
+        let names: Vec<String> = self.experiments.iter().map(ExperimentSpec::name).collect();
+        check_distinct("experiments", "experiment", &names, origin)?;
+        Ok(())
+    }
+}
+
+/// Checks the adapter parameters every suite kind shares: the adapter's own rules
+/// ([`AdapterConfig::validate`]: thresholds that bracket 0, lambda in `(0, 1]`),
+/// thresholds at most [`limits::MAX_THRESHOLD`] from 0, and nothing set that is each
+/// arm's choice (case reuse, search).
+pub(crate) fn check_adapter(adapter: &AdapterConfig, origin: &Path) -> Result<(), SuiteError> {
+    adapter.validate()?;
+    limits::check_thresholds("adapter.thresholds", &adapter.thresholds)
+        .map_err(|e| over(origin, e))?;
+    super::config::check_arms_choose(adapter, origin)
+}
+
+/// Checks a suite's arms, whatever its kind: at least one, each known to `catalog` (or
+/// built in), a file name, and listed once.
+pub(crate) fn check_arms<C: Catalog>(
+    catalog: &C,
+    arms: &[String],
+    retriever: RetrieverKind,
+    origin: &Path,
+) -> Result<(), SuiteError> {
+    if arms.is_empty() {
+        return Err(invalid(
+            origin,
+            "arms".into(),
+            "at least one arm is needed".into(),
+        ));
+    }
+    for (i, name) in arms.iter().enumerate() {
+        if let Err(e) = arm_named(catalog, name, retriever) {
+            return Err(invalid(origin, format!("arms[{i}]"), e));
+        }
+        if arms[..i].contains(name) {
+            return Err(invalid(
+                origin,
+                format!("arms[{i}]"),
+                format!("`{name}` is listed twice"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses two of `names` (of the `field`'s entries, each a `what`) that are equal: a
+/// report, `explain` and saved case bases find each by its name.
+pub(crate) fn check_distinct(
+    field: &str,
+    what: &str,
+    names: &[String],
+    origin: &Path,
+) -> Result<(), SuiteError> {
+    for (i, name) in names.iter().enumerate() {
+        if let Some(first) = names[..i].iter().position(|n| n == name) {
+            return Err(invalid(
+                origin,
+                format!("{field}[{i}]"),
+                format!(
+                    "the {what} `{name}` is already {field}[{first}]; each {what} needs its own name (the report and `explain` find it by name)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl ExperimentSpec {
+    /// Checks who operates an experiment or a mission plan (at `field`), whatever the
+    /// suite's kind: its scenario, its population (a family's conflict and size, its
+    /// members listed or drawn, not both), and its operators, loaded as `readings` read
+    /// them (file names as names, none named twice or `random`). Returns the operators.
+    pub(crate) fn check<C: Catalog>(
+        &self,
+        catalog: &C,
+        field: &str,
+        origin: &Path,
+        readings: &Readings,
+    ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
+        let invalid = |field: String, message: String| invalid(origin, field, message);
+        if let Err(unknown) = domain_of(catalog, &self.scenario) {
+            return Err(invalid(format!("{field}.scenario"), unknown.to_string()));
+        }
+        if let Some(population) = &self.population {
+            let problem = if self.operator != RANDOM_OPERATOR {
+                Some(format!(
+                    "a population's members are drawn per trial: `operator` must be `{RANDOM_OPERATOR}`"
+                ))
+            } else if population.family.is_some() && !self.operator_files.is_empty() {
+                Some(
+                    "a population is drawn from the family or listed in `operator_files`, not both"
+                        .to_owned(),
+                )
+            } else if population.family.is_none() && self.operator_files.is_empty() {
+                Some("a population needs its members: `operator_files` or a `family`".to_owned())
+            } else if let Some(family) = &population.family
+                && !(0.0..=1.0).contains(&family.conflict)
+            {
+                Some(format!(
+                    "`family.conflict` must be in [0, 1], got {}",
+                    shown(family.conflict)
+                ))
+            } else if let Some(family) = &population.family
+                && let Err(e) = FAMILY_SIZE.check("family.size", family.size as u64)
+            {
+                Some(format!("`{}` {}", e.field(), e.problem()))
+            } else {
+                check_file_name("population", &population.name)
+                    .err()
+                    .map(|e| e.to_string())
+            };
+            if let Some(problem) = problem {
+                return Err(invalid(format!("{field}.population"), problem));
+            }
+        }
+        let operators = self.operators(catalog, origin, readings)?;
+        if operators.is_empty() {
+            return Err(invalid(
+                field.to_owned(),
+                "the experiment has no operator".into(),
+            ));
+        }
+        for (k, (name, _)) in operators.iter().enumerate() {
+            if let Err(e) = check_file_name("operator", name) {
+                return Err(invalid(format!("{field}.operator_files"), e.to_string()));
+            }
+            if operators[..k].iter().any(|(n, _)| n == name) || name == RANDOM_OPERATOR {
                 return Err(invalid(
-                    format!("experiments[{i}]"),
-                    format!(
-                        "operator `{name}` weighs a completion {completed}, so {} commands (max_commands) can never reach the trustworthy threshold {trustworthy}: every trial would be cut off",
-                        self.max_commands
-                    ),
+                    format!("{field}.operator_files"),
+                    format!("operator name `{name}` is taken"),
                 ));
             }
-            for (k, (name, _)) in operators.iter().enumerate() {
-                if operators[..k].iter().any(|(n, _)| n == name) || name == RANDOM_OPERATOR {
-                    return Err(invalid(
-                        format!("experiments[{i}].operator_files"),
-                        format!("operator name `{name}` is taken"),
-                    ));
-                }
-            }
+        }
+        Ok(operators)
+    }
+
+    /// Refuses an experiment or mission plan (at `field`) of which an operator that may
+    /// judge cannot reach the trustworthy threshold within `commands` (its count, the
+    /// field naming it, and what would follow): a trial or an episode ends when a
+    /// behavior reaches it, so every one would be cut off.
+    pub(crate) fn check_reachable<C: Catalog>(
+        &self,
+        catalog: &C,
+        operators: &[(String, OperatorOf<C>)],
+        field: &str,
+        origin: &Path,
+        adapter: &AdapterConfig,
+        (commands, commands_field, otherwise): (u64, &str, &str),
+    ) -> Result<(), SuiteError> {
+        let thresholds = adapter.thresholds;
+        let trustworthy = thresholds.trustworthy;
+        if let Some((name, completed)) = self.judges(operators).find_map(|(name, op)| {
+            catalog
+                .completion_weight(op)
+                .filter(|w| thresholds.verdict(w * (commands as f64)) != Verdict::Trustworthy)
+                .map(|w| (name, w))
+        }) {
+            return Err(invalid(
+                origin,
+                field.to_owned(),
+                format!(
+                    "operator `{name}` weighs a completion {}, so {commands} commands ({commands_field}) can never reach the trustworthy threshold {}: {otherwise}",
+                    shown(completed),
+                    shown(trustworthy)
+                ),
+            ));
         }
         Ok(())
     }

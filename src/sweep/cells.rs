@@ -1,22 +1,15 @@
 //! A checked sweep: its base suite, its cells (one parameter at a time or a grid), each
-//! checked as a suite, its runs (a cell and a seed) and their shards, within the limits.
+//! checked as a suite, its runs (a cell and a seed) and their shards, within the limits
+//! ([`crate::limits::SWEEP_RUNS`], [`crate::limits::SWEEP_TRIALS`]).
 
 use super::{Design, Parameter, SuiteSource, SweepConfig, SweepError};
 use crate::catalog::{Catalog, resolve_readings};
 use crate::config_file::ConfigFileError;
+use crate::limits::{SWEEP_RUNS, SWEEP_TRIALS};
 use crate::suite::{EMBEDDED_ORIGIN, SuiteConfig};
 use files::{parse_ron, read_text};
 use lab::report::file_stems;
 use std::path::{Path, PathBuf};
-
-/// The most runs (cells times seeds) a sweep may ask for.
-pub const MAX_RUNS: usize = 10_000;
-
-/// The most trials a sweep may run in all, over its runs (each run's experiments x arms x
-/// trials; a run itself is held to [`crate::suite::MAX_SUITE_TRIALS`]): runs go one after
-/// the other, so this bounds time, not memory; at the 1,600 trials a second of
-/// `reproduce` on the two cores of the machine of `docs/results.md`, about 2 hours.
-pub const MAX_SWEEP_TRIALS: u64 = 10_000_000;
 
 /// One cell: a label and its suite.
 #[derive(Clone, Debug)]
@@ -130,19 +123,17 @@ impl Sweep {
                 .fold(1usize, |n, p| n.saturating_mul(p.len())),
         };
         let runs = cells.saturating_mul(config.seeds.len());
-        if runs > MAX_RUNS {
-            let design = match config.design {
-                Design::OneAtATime => "the base and each value it does not have",
-                Design::Grid => "every combination of the values",
-            };
-            return Err(invalid(
+        let design = match config.design {
+            Design::OneAtATime => "the base and each value it does not have",
+            Design::Grid => "every combination of the values",
+        };
+        SWEEP_RUNS
+            .check_total(
                 "parameters",
-                format!(
-                    "{runs} runs ({cells} cells, {design}, x {} seeds); at most {MAX_RUNS}",
-                    config.seeds.len()
-                ),
-            ));
-        }
+                runs as u64,
+                format!(" ({cells} cells, {design}, x {} seeds)", config.seeds.len()),
+            )
+            .map_err(|e| invalid(e.field(), e.problem()))?;
         let cells = match config.design {
             Design::OneAtATime => one_at_a_time(&base, &config.parameters),
             Design::Grid => grid(&base, &config.parameters),
@@ -156,15 +147,16 @@ impl Sweep {
                     * config.seeds.len() as u64,
             )
         });
-        if trials > MAX_SWEEP_TRIALS {
-            return Err(invalid(
+        SWEEP_TRIALS
+            .check_total(
                 "parameters",
+                trials,
                 format!(
-                    "{trials} trials in all (per cell: experiments x arms x trials, x {} seeds); at most {MAX_SWEEP_TRIALS}",
+                    " in all (per cell: experiments x arms x trials, x {} seeds)",
                     config.seeds.len()
                 ),
-            ));
-        }
+            )
+            .map_err(|e| invalid(e.field(), e.problem()))?;
         for cell in &cells {
             cell.suite
                 .validate(catalog, &origin)

@@ -1,7 +1,7 @@
 //! A sweep as written in RON: its base suite, seeds, parameters (and how each reads,
 //! labels and sets its values) and design.
 
-use crate::suite::SuiteConfig;
+use crate::suite::{SuiteConfig, arm_name_lists, some_arm_names};
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -17,8 +17,8 @@ pub struct SweepConfig {
     /// Trials per experiment and arm (overrides the suite's).
     #[serde(default)]
     pub trials: Option<NonZeroU32>,
-    /// The arms (overrides the suite's).
-    #[serde(default)]
+    /// The arms (overrides the suite's), written as a suite writes them.
+    #[serde(default, deserialize_with = "some_arm_names")]
     pub arms: Option<Vec<String>>,
     /// The master seeds; every cell runs once per seed.
     pub seeds: Vec<u64>,
@@ -70,8 +70,8 @@ pub enum Parameter {
     /// A reading the catalog's domain declares, by name, and its values, e.g.
     /// `reading("patrol_weights", ["as_written", "three_and_one"])`.
     Reading(String, Vec<String>),
-    /// The arms compared.
-    Arms(Vec<Vec<String>>),
+    /// The arms compared, each list written as a suite writes its arms.
+    Arms(#[serde(deserialize_with = "arm_name_lists")] Vec<Vec<String>>),
 }
 
 impl Parameter {

@@ -27,7 +27,7 @@ mod plot;
 mod report;
 mod runs;
 
-pub use cells::{Cell, MAX_RUNS, MAX_SWEEP_TRIALS, RunId, Sweep};
+pub use cells::{Cell, RunId, Sweep};
 pub use config::{Design, Parameter, SuiteSource, SweepConfig};
 pub use folder::{prepare_dir, remove_earlier_sweep, write_config};
 pub use merge::merge;

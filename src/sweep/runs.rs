@@ -3,6 +3,7 @@
 
 use super::{RunId, Sweep, SweepError};
 use crate::catalog::Catalog;
+use crate::config_file::content_hash;
 use crate::suite::{SuiteConfig, SuiteResults, run_suite};
 use files::write_file_in;
 use serde::{Deserialize, Serialize};
@@ -42,11 +43,11 @@ impl Sweep {
 /// A content hash of the suite a run runs (FNV-1a over its RON text), recorded in the run
 /// file so that a merge takes no run of another suite.
 pub(super) fn suite_hash(suite: &SuiteConfig) -> String {
-    let text = ron::to_string(suite).expect("plain data serializes");
-    let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    });
-    format!("{hash:016x}")
+    content_hash(
+        ron::to_string(suite)
+            .expect("plain data serializes")
+            .as_bytes(),
+    )
 }
 
 /// What one run contributes to the report: per experiment and arm, the run's means.

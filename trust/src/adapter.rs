@@ -569,7 +569,7 @@ impl Adaptation {
                 episode.current_from_search = true;
                 Grounds::Rationale {
                     strategy: self.searcher.name().to_owned(),
-                    rationale: self.searcher.rationale(&to),
+                    rationale: self.searcher.rationale(&to).plain(),
                 }
             }
         };

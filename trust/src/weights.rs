@@ -21,9 +21,37 @@ pub struct OutcomeWeights {
     #[serde(default = "one")]
     pub default: f64,
     /// Weights of failures and interruptions by cause (causes the domain declares; quoted
-    /// in RON: `by_cause: {"dropped-item": 1.0}`).
-    #[serde(default)]
+    /// in RON: `by_cause: {"dropped-item": 1.0}`), each cause once.
+    #[serde(default, deserialize_with = "each_cause_once")]
     pub by_cause: BTreeMap<Cause, f64>,
+}
+
+/// Reads `by_cause`, refusing a cause given twice (a map would keep the last silently).
+fn each_cause_once<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<BTreeMap<Cause, f64>, D::Error> {
+    struct Weights;
+    impl<'de> serde::de::Visitor<'de> for Weights {
+        type Value = BTreeMap<Cause, f64>;
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("a map of cause names to weights")
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Self::Value, A::Error> {
+            let mut weights = BTreeMap::new();
+            while let Some((cause, weight)) = map.next_entry::<Cause, f64>()? {
+                if weights.insert(cause, weight).is_some() {
+                    return Err(serde::de::Error::custom(format!(
+                        "`weights.by_cause` gives the cause `{cause}` twice; give each cause once"
+                    )));
+                }
+            }
+            Ok(weights)
+        }
+    }
+    d.deserialize_map(Weights)
 }
 
 fn one() -> f64 {

@@ -24,6 +24,7 @@ mod trials_jsonl;
 pub use crate::plot::category_label;
 pub use effects::{all_effect_sizes, effect_sizes, versus_reference};
 pub use figures::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
+pub use files::name::file_stems;
 pub use summary_json::summary;
 pub use tables::{
     arms_table, best_arms, effects_table, explanations_table, free_first_table, limit_table,
@@ -38,7 +39,8 @@ use crate::runner::ExperimentResult;
 use crate::timeline::Timeline;
 use cbr_core::BehaviorSpace;
 use files::{FileError, write_file_in};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// One experiment's results with what the report needs to describe them.
@@ -79,7 +81,8 @@ pub enum ReportError {
     Plot(#[from] PlotError),
 }
 
-/// Where the report came from: the tool, its version and commit, and the command line.
+/// Where the report came from: the tool, its version and commit, the command line, and
+/// what a replay of its trials must find unchanged.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Provenance {
     /// The program that wrote the report.
@@ -90,33 +93,22 @@ pub struct Provenance {
     pub git_commit: Option<String>,
     /// The command line, program first.
     pub command_line: Vec<String>,
+    /// What `explain` checks before it replays a trial of the report (absent in reports
+    /// of earlier versions).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replay: Option<Replay>,
 }
 
-/// A file-name stem per name (experiment names): every character outside
-/// `[A-Za-z0-9_-]` replaced by `-`, and `-2`, `-3`, ... added where two would collide.
-pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<String> {
-    let mut stems: Vec<String> = Vec::new();
-    for name in names {
-        let base: String = name
-            .as_ref()
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                    c
-                } else {
-                    '-'
-                }
-            })
-            .collect();
-        let mut stem = base.clone();
-        let mut k = 2;
-        while stems.contains(&stem) {
-            stem = format!("{base}-{k}");
-            k += 1;
-        }
-        stems.push(stem);
-    }
-    stems
+/// What a faithful replay of a report's trials needs unchanged, besides the tool and its
+/// version: the config it ran, and the cases each arm started from, by content hash.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Replay {
+    /// The content hash of the report's `config.ron`, as written.
+    pub config: String,
+    /// The content hash of the cases each arm started from (a run given saved case bases),
+    /// by experiment, then arm; an arm that started from none is not listed.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub starting_cases: BTreeMap<String, BTreeMap<String, String>>,
 }
 
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,

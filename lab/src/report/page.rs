@@ -28,8 +28,19 @@ impl Figure {
     }
 }
 
-/// Escapes text for HTML.
+/// Escapes text for HTML; a control character but a line break or a tab (an escape
+/// sequence a user's text may hold) is shown as U+FFFD, never written raw.
 pub(super) fn escape(text: &str) -> String {
+    let text: String = text
+        .chars()
+        .map(|c| {
+            if c.is_control() && !matches!(c, '\n' | '\t') {
+                '\u{FFFD}'
+            } else {
+                c
+            }
+        })
+        .collect();
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
