@@ -7,15 +7,15 @@
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
-use crate::missions::{
-    MissionSuiteConfig, is_mission_suite, run_mission_suite, write_mission_report,
-};
+use crate::missions::{MissionSuiteConfig, is_mission_suite};
 use crate::progress::Progress;
-use crate::run::{RunSettings, run_with_report, worker_pool};
+use crate::run::{
+    RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
+};
 use crate::served::{served_domain, serving_arm};
 use crate::suite::{
     EMBEDDED_ORIGIN, MAX_LANDSCAPE_RUNS, MAX_TRIALS, StartingCases, SuiteConfig, suite_best_arms,
-    suite_table, trace_suite_trial,
+    suite_table, trace_report_trial,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -252,7 +252,7 @@ struct RunOptions {
 }
 
 /// The most worker threads `--threads` accepts.
-const MAX_THREADS: u64 = 256;
+const MAX_THREADS: u64 = crate::limits::THREADS.max;
 
 /// A parser of a count from 1 to `max`.
 fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
@@ -350,13 +350,6 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
 
 /// Prints the story of one trial of a report folder, replayed from its `config.ron`.
 fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
-    let config_path = args.report.join("config.ron");
-    anyhow::ensure!(
-        config_path.is_file(),
-        "{}: not a report folder (it has no config.ron)",
-        args.report.display()
-    );
-    let config = SuiteConfig::load(catalog, &config_path)?;
     if let Some(dir) = &args.cases {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
@@ -364,10 +357,9 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
         .cases
         .as_ref()
         .map(|dir| StartingCases { dir: dir.clone() });
-    let (timeline, space) = trace_suite_trial(
+    let (timeline, space) = trace_report_trial(
         catalog,
-        &config,
-        &config_path,
+        &args.report,
         starting.as_ref(),
         &args.experiment,
         &args.arm,
@@ -413,27 +405,20 @@ fn run_mission_file<C: Catalog>(
     }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
-        config.validate(catalog, origin)?;
     }
-    lab::folder::prepare_output_dir(&options.out)?;
-    let parts: Vec<(String, u64)> = config
-        .missions
-        .iter()
-        .map(|spec| {
-            let doubled = if spec.complacency.is_some() { 2 } else { 1 };
-            let chains = config.arms.len() as u64 * doubled;
-            (spec.name.clone(), chains * u64::from(spec.count.get()))
-        })
-        .collect();
-    let progress = Progress::new("mission", &parts);
-    let (pool, threads) = crate::run::worker_pool(options.threads)?;
-    let started = std::time::Instant::now();
-    let results =
-        pool.install(|| run_mission_suite(catalog, &config, origin, &|i| progress.tick(i)))?;
-    let elapsed = started.elapsed().as_secs_f64();
-    lab::folder::remove_previous_report(&options.out)?;
-    let written = write_mission_report(&options.out, &config, &results)?;
-    print!("{}", lab::mission_report::missions_markdown(&results));
+    let progress = Progress::new("mission", &missions_per_plan(&config));
+    let ran = run_missions_with_report(
+        catalog,
+        config,
+        origin,
+        Some(&options.out),
+        options.threads,
+        &|i| progress.tick(i),
+        &|| Ok(()),
+    )?;
+    let (config, written) = (&ran.config, &ran.written);
+    let (threads, elapsed) = (ran.threads, ran.elapsed_s);
+    print!("{}", ran.table_md());
     println!(
         "{} mission plans x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.missions.len(),

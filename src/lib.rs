@@ -10,6 +10,7 @@
 //!
 //! - [`catalog`]: the [`Catalog`] trait and what it names (scenarios, operators, readings);
 //! - [`config_file`]: what goes wrong with a config file, shared by suites and sweeps;
+//! - [`limits`]: the caps on counts the tool is asked for, with their checks;
 //! - [`suite`]: suite configs (RON) and their runs and reports;
 //! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
 //! - [`missions`]: mission suites (long missions, operator changes, complacency) and
@@ -24,6 +25,7 @@
 pub mod catalog;
 pub mod cli;
 pub mod config_file;
+pub mod limits;
 pub mod missions;
 pub mod progress;
 pub mod run;

@@ -30,7 +30,7 @@ pub use plan::arm_named;
 pub use report::{report_entries, suite_best_arms, suite_table, write_suite_report};
 pub use run::{SuiteResults, run_suite, run_suite_with_report};
 pub use saved_cases::{StartingCases, save_case_bases};
-pub use trace::{TraceError, trace_suite_trial};
+pub use trace::{Replayable, TraceError, replayable_config, trace_report_trial, trace_suite_trial};
 pub use validate::{
     MAX_EXPERIMENTS, MAX_FAMILY_SIZE, MAX_LANDSCAPE_RUNS, MAX_LIMIT_RUNS, MAX_SUITE_TRIALS,
     MAX_TRIALS,

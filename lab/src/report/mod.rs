@@ -119,6 +119,12 @@ pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<Strin
     stems
 }
 
+/// `table.md`: every arm of every experiment, with what it costs the operator, its effect
+/// against the reference arm and the known-operator limit (what [`write_report`] writes).
+pub fn table_md(entries: &[ReportEntry<'_>]) -> String {
+    tables::table_md(entries, &all_effect_sizes(entries))
+}
+
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
 /// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
 pub fn write_report(
