@@ -203,7 +203,17 @@ pub fn rasterize<'py>(
     svg: &str,
 ) -> PyResult<(u32, u32, Bound<'py, pyo3::types::PyBytes>)> {
     let mut options = resvg::usvg::Options::default();
-    options.fontdb_mut().load_system_fonts();
+    let fonts = options.fontdb_mut();
+    fonts.load_system_fonts();
+    // The drawings ask for `sans-serif`: the first sans face found stands for it.
+    let sans = fonts
+        .faces()
+        .flat_map(|face| face.families.iter().map(|(name, _)| name.clone()))
+        .find(|name| name.contains("Sans") && !name.contains("Mono"));
+    if let Some(family) = sans {
+        fonts.set_sans_serif_family(family.clone());
+        options.font_family = family;
+    }
     let tree = resvg::usvg::Tree::from_str(svg, &options).map_err(error)?;
     let size = tree.size().to_int_size();
     let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())

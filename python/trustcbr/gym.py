@@ -41,6 +41,11 @@ MAX_EPISODE_STEPS = 100
 ``max_episode_steps``, and ``TrustEnv``'s ``max_behaviors`` by default)."""
 
 
+TRUST_BOUND = 1e6
+"""The trust estimate in the observation is clipped to plus or minus this (a step ends
+within one command of a threshold, +5 or -5, so only an extreme weight comes near it)."""
+
+
 def _svg_to_rgb(svg: str) -> "np.ndarray[Any, np.dtype[np.uint8]]":
     rendered: Any = trustcbr._native.rasterize(svg)
     width, height, pixels = rendered
@@ -108,11 +113,11 @@ class TrustEnv(gymnasium.Env[Any, Any]):
         sizes = [len(c["values"]) for c in self.components]
         self.action_space = spaces.MultiDiscrete(sizes)
         counts = 1 + len(KINDS) + len(self.observations)
-        low = np.concatenate(
-            [np.zeros(counts), -np.ones(len(sizes)), [-np.inf]]
-        ).astype(np.float32)
+        low = np.concatenate([np.zeros(counts), -np.ones(len(sizes)), [-TRUST_BOUND]]).astype(
+            np.float32
+        )
         high = np.concatenate(
-            [np.full(counts, float(max_commands)), np.array(sizes) - 1, [np.inf]]
+            [np.full(counts, float(max_commands)), np.array(sizes) - 1, [TRUST_BOUND]]
         ).astype(np.float32)
         self.observation_space = spaces.Box(low=low, high=high, dtype=np.float32)
         self._shape = low.shape
@@ -179,7 +184,7 @@ class TrustEnv(gymnasium.Env[Any, Any]):
         observation[1:4] = result["kinds"]
         observation[4 : self._counts] = result["observed"]
         observation[self._counts : self._counts + len(indices)] = indices
-        observation[-1] = result["trust"]
+        observation[-1] = min(TRUST_BOUND, max(-TRUST_BOUND, result["trust"]))
         self._steps += 1
         self._last = indices
         end = result["end"]
@@ -207,13 +212,17 @@ class TrustEnv(gymnasium.Env[Any, Any]):
 
     def render(self) -> Any:
         """With ``render_mode="rgb_array"``: one run of the last behavior under the
-        episode's operator, as an RGB array (``None`` before the first step)."""
-        if self.render_mode != "rgb_array" or self._last is None:
+        episode's operator, as an RGB array (a white frame before the first step)."""
+        if self.render_mode != "rgb_array":
             return None
-        svg = self._episodes.render(self._last, self._render_seed)
+        action = self._last if self._last is not None else [0] * len(self.components)
+        svg = self._episodes.render(action, self._render_seed)
         if svg is None:
             raise TrustcbrError(f"scenario `{self.scenario}` has no drawing of its runs")
-        return _svg_to_rgb(svg)
+        frame = _svg_to_rgb(svg)
+        if self._last is None:
+            frame[:] = 255
+        return frame
 
     def close(self) -> None:
         """Nothing to release (the episodes live in memory)."""
