@@ -8,15 +8,14 @@
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, THREADS, TRIALS};
-use crate::missions::{
-    MissionSuiteConfig, is_mission_suite, run_mission_suite, write_mission_report,
-};
+use crate::missions::{MissionSuiteConfig, is_mission_suite};
 use crate::progress::Progress;
-use crate::run::{RunSettings, run_with_report, worker_pool};
+use crate::run::{
+    RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
+};
 use crate::served::{served_domain, serving_arm};
 use crate::suite::{
-    EMBEDDED_ORIGIN, StartingCases, SuiteConfig, check_replay, suite_best_arms, suite_table,
-    trace_suite_trial,
+    EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_best_arms, suite_table, trace_report_trial,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
@@ -372,14 +371,6 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
 /// Prints the story of one trial of a report folder, replayed from its `config.ron` once
 /// the report shows that the replay is the trial that ran ([`check_replay`]).
 fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
-    let config_path = args.report.join("config.ron");
-    anyhow::ensure!(
-        config_path.is_file(),
-        "{}: not a report folder (it has no config.ron)",
-        args.report.display()
-    );
-    let text = files::read_text(&config_path)?;
-    let config = SuiteConfig::from_ron(catalog, &text, &config_path)?;
     if let Some(dir) = &args.cases {
         anyhow::ensure!(dir.is_dir(), "--cases {}: no such folder", dir.display());
     }
@@ -387,27 +378,21 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
         .cases
         .as_ref()
         .map(|dir| StartingCases { dir: dir.clone() });
-    for warning in check_replay(
+    let replayed = trace_report_trial(
         catalog,
         &args.report,
-        &config,
-        &text,
-        starting.as_ref(),
-        &args.experiment,
-        &args.arm,
-    )? {
-        eprintln!("warning: {warning}");
-    }
-    let (timeline, space) = trace_suite_trial(
-        catalog,
-        &config,
-        &config_path,
         starting.as_ref(),
         &args.experiment,
         &args.arm,
         args.trial,
     )?;
-    print!("{}", lab::timeline::story(&timeline, &space));
+    for warning in &replayed.warnings {
+        eprintln!("warning: {warning}");
+    }
+    print!(
+        "{}",
+        lab::timeline::story(&replayed.timeline, &replayed.space)
+    );
     Ok(())
 }
 
@@ -447,27 +432,20 @@ fn run_mission_file<C: Catalog>(
     }
     if let Some(arms) = &options.arms {
         config.arms = arms.clone();
-        config.validate(catalog, origin)?;
     }
-    lab::folder::prepare_output_dir(&options.out)?;
-    let parts: Vec<(String, u64)> = config
-        .missions
-        .iter()
-        .map(|spec| {
-            let doubled = if spec.complacency.is_some() { 2 } else { 1 };
-            let chains = config.arms.len() as u64 * doubled;
-            (spec.name.clone(), chains * u64::from(spec.count.get()))
-        })
-        .collect();
-    let progress = Progress::new("mission", &parts);
-    let (pool, threads) = crate::run::worker_pool(options.threads)?;
-    let started = std::time::Instant::now();
-    let results =
-        pool.install(|| run_mission_suite(catalog, &config, origin, &|i| progress.tick(i)))?;
-    let elapsed = started.elapsed().as_secs_f64();
-    lab::folder::remove_previous_report(&options.out)?;
-    let written = write_mission_report(&options.out, &config, &results)?;
-    print!("{}", lab::mission_report::missions_markdown(&results));
+    let progress = Progress::new("mission", &missions_per_plan(&config));
+    let ran = run_missions_with_report(
+        catalog,
+        config,
+        origin,
+        Some(&options.out),
+        options.threads,
+        &|i| progress.tick(i),
+        &|| Ok(()),
+    )?;
+    let (config, written) = (&ran.config, &ran.written);
+    let (threads, elapsed) = (ran.threads, ran.elapsed_s);
+    print!("{}", ran.table_md());
     println!(
         "{} mission plans x {} arms on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         config.missions.len(),

@@ -4,9 +4,11 @@
 //! [`run_with_report`] checks the config, prepares the folders, runs the experiments with
 //! the report's estimates on a worker pool and writes the report; [`Ran`] holds what the
 //! caller prints or hands back ([`Ran::trials_jsonl`], [`Ran::summary`]: the report's
-//! `trials.jsonl` and `summary.json`, also without a folder).
+//! `trials.jsonl` and `summary.json`, also without a folder). [`run_missions_with_report`]
+//! does the same for a mission suite.
 
 use crate::catalog::Catalog;
+use crate::missions::{MissionSuiteConfig, run_mission_suite, write_mission_report};
 use crate::suite::{
     ReportEstimates, StartingCases, SuiteConfig, SuiteResults, check_save_targets, report_entries,
     report_replay, run_suite_with_report, save_case_bases, write_suite_report,
@@ -55,6 +57,15 @@ impl Ran {
     /// The report's `trials.jsonl`: one JSON object per trial.
     pub fn trials_jsonl(&self) -> String {
         lab::report::trials_jsonl(&report_entries(
+            &self.config,
+            &self.results,
+            &self.estimates,
+        ))
+    }
+
+    /// The report's `table.md`: every arm, with what it costs the operator.
+    pub fn table_md(&self) -> String {
+        lab::report::table_md(&report_entries(
             &self.config,
             &self.results,
             &self.estimates,
@@ -167,6 +178,90 @@ pub fn run_with_report_checked<C: Catalog>(
         written,
         saved,
     })
+}
+
+/// A finished mission suite run.
+pub struct MissionsRan {
+    /// The config that ran.
+    pub config: MissionSuiteConfig,
+    /// Every plan's results, in config order.
+    pub results: Vec<lab::mission::MissionResult>,
+    /// The missions' run time (s).
+    pub elapsed_s: f64,
+    /// The worker threads used.
+    pub threads: usize,
+    /// The report's files, when a folder was asked for.
+    pub written: Vec<PathBuf>,
+}
+
+impl MissionsRan {
+    /// The report's `missions.jsonl`: one JSON object per mission.
+    pub fn missions_jsonl(&self) -> String {
+        lab::mission_report::missions_jsonl(&self.results)
+    }
+
+    /// The report's `summary.json` document.
+    pub fn summary(&self) -> serde_json::Value {
+        lab::mission_report::missions_json(&self.results)
+    }
+
+    /// The report's `missions.md`.
+    pub fn table_md(&self) -> String {
+        lab::mission_report::missions_markdown(&self.results)
+    }
+}
+
+/// Runs a mission suite (operator files relative to `origin`) as `trustcbr run` does: the
+/// report folder `out` prepared before any work, the missions on a pool of `threads`
+/// workers, `progress(plan)` after every mission, then the report (when `out` is given).
+/// `before_writing` is asked once the missions have run, as [`run_with_report_checked`]
+/// asks it.
+pub fn run_missions_with_report<C: Catalog>(
+    catalog: &C,
+    config: MissionSuiteConfig,
+    origin: &Path,
+    out: Option<&Path>,
+    threads: Option<NonZeroUsize>,
+    progress: &(dyn Fn(usize) + Sync),
+    before_writing: &dyn Fn() -> Result<()>,
+) -> Result<MissionsRan> {
+    config.validate(catalog, origin)?;
+    if let Some(out) = out {
+        lab::folder::prepare_output_dir(out)?;
+    }
+    let (pool, threads) = worker_pool(threads)?;
+    let started = std::time::Instant::now();
+    let results = pool.install(|| run_mission_suite(catalog, &config, origin, progress))?;
+    let elapsed_s = started.elapsed().as_secs_f64();
+    before_writing()?;
+    let written = match out {
+        Some(out) => {
+            lab::folder::remove_previous_report(out)?;
+            write_mission_report(out, &config, &results)?
+        }
+        None => Vec::new(),
+    };
+    Ok(MissionsRan {
+        config,
+        results,
+        elapsed_s,
+        threads,
+        written,
+    })
+}
+
+/// The missions of each plan of `config`, for a progress display: (plan name, missions
+/// in all arms).
+pub fn missions_per_plan(config: &MissionSuiteConfig) -> Vec<(String, u64)> {
+    config
+        .missions
+        .iter()
+        .map(|spec| {
+            let doubled = if spec.complacency.is_some() { 2 } else { 1 };
+            let chains = config.arms.len() as u64 * doubled;
+            (spec.name.clone(), chains * u64::from(spec.count.get()))
+        })
+        .collect()
 }
 
 /// A rayon pool of `threads` workers (default: one per core), and its size.

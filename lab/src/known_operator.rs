@@ -238,6 +238,7 @@ pub fn known_operator<D: Domain>(
         let fresh: Vec<Tally> = ranks
             .par_iter()
             .map(|&rank| {
+                crate::interrupt::check()?;
                 let behavior = space.unrank(rank as u64);
                 let mut rng = ChaCha8Rng::seed_from_u64(again);
                 rng.set_stream(rank as u64);
@@ -245,9 +246,10 @@ pub fn known_operator<D: Domain>(
                 for _ in 0..settings.candidate_runs {
                     tally.record(&domain.run(&behavior, operator, &mut rng));
                 }
-                tally
+                Ok(tally)
             })
-            .collect();
+            .collect::<Result<_, crate::Interrupted>>()
+            .map_err(LandscapeError::from)?;
         let fresh_walks = solve_all(&fresh, thresholds)?;
         for ((&rank, tally), walk) in ranks.iter().zip(fresh).zip(fresh_walks) {
             tallies[rank] = tally;

@@ -175,6 +175,9 @@ pub enum LandscapeError {
     /// A heatmap asks for a component the landscape does not fix.
     #[error("the landscape does not fix component `{0}`: it averaged over it")]
     NotFixed(String),
+    /// A stop was requested ([`crate::interrupt`]) before every cell was estimated.
+    #[error(transparent)]
+    Interrupted(#[from] crate::Interrupted),
 }
 
 /// Runs every cell of `domain` that fixes the components `fixed` (indices, increasing;
@@ -209,6 +212,7 @@ pub fn estimate<D: Domain>(
     let cells = (0..count)
         .into_par_iter()
         .map(|cell| {
+            crate::interrupt::check()?;
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             rng.set_stream(cell as u64);
             let mut tally = Tally::default();
@@ -230,9 +234,9 @@ pub fn estimate<D: Domain>(
                 tally.record(&domain.run(&behavior, operator, &mut rng));
             }
             progress();
-            tally
+            Ok(tally)
         })
-        .collect();
+        .collect::<Result<_, crate::Interrupted>>()?;
     Ok(Landscape {
         fixed: fixed.to_vec(),
         lengths,

@@ -363,6 +363,9 @@ pub fn run_missions<D: Domain>(
         .collect())
 }
 
+/// How many commands of a mission run between two looks at [`crate::interrupt`].
+const INTERRUPT_EVERY: u32 = 4096;
+
 fn run_chain<D: Domain>(
     plan: &MissionPlan<'_, D>,
     index: u64,
@@ -381,6 +384,7 @@ fn run_chain<D: Domain>(
     let mut missions = Vec::with_capacity(plan.missions as usize);
     let mut traced = MissionTrace::of(plan.commands);
     for mission in 0..plan.missions {
+        crate::interrupt::check()?;
         let trace = (mission == 0).then_some(&mut traced);
         let named = StreamName {
             seed,
@@ -539,6 +543,10 @@ fn run_mission<D: Domain>(
     let mut waiting: Option<usize> = None;
     let mut changed_since_settled = false;
     for c in 0..plan.commands {
+        // A long mission stops within a few milliseconds of a request, not at its end.
+        if c % INTERRUPT_EVERY == 0 {
+            crate::interrupt::check()?;
+        }
         let mut marks = Vec::new();
         if let Some(change) = upcoming.next_if(|s| s.at == c) {
             operator = change.operator;

@@ -116,6 +116,9 @@ pub enum PlanError {
         /// What is wrong with it.
         problem: &'static str,
     },
+    /// A stop was requested ([`crate::interrupt`]) before every trial had run.
+    #[error(transparent)]
+    Interrupted(#[from] crate::Interrupted),
 }
 
 /// The outcome of one trial.
@@ -497,6 +500,7 @@ fn run_chain<D: Domain>(
     // One trial, with the explanations of its given-up behaviors (at most as many as the
     // samples need) and, for the first traced trials of the sample arm, every command.
     let one = |adapter: &mut TrustAdapter, trial: u32| -> Result<ChainTrial, PlanError> {
+        crate::interrupt::check()?;
         let mut commands = Vec::new();
         let tracing = traces && trial < TRACED_TRIALS;
         let (record, explanations) =

@@ -1,43 +1,87 @@
-//! The ask/tell adapter: `serve`'s [`Session`] over the same domain names, case stores and
-//! arms as `trustcbr serve --domain D --cases C [--arm A] [--seed N] [--mission]`, driven
-//! one request at a time. A request is a protocol line (`docs/protocol.md`) and its reply a JSON object;
-//! an error reply becomes a `TrustcbrError` with the reply's message, and leaves the
-//! episode, the case base and the random stream unchanged, as in the protocol.
+//! The ask/tell adapter: `serve`'s [`Session`](ServedSession) over the same domain names,
+//! case stores and arms as `trustcbr serve --domain D --cases C [--arm A] [--seed N]
+//! [--mission]`, driven one request at a time, or serving a strategy written in Python
+//! (the factory `trustcbr.run` takes). A request is a protocol line (`docs/protocol.md`)
+//! and its reply a JSON object; an error reply becomes a `TrustcbrError` with the reply's
+//! message, and leaves the episode, the case base and the random stream unchanged, as in
+//! the protocol.
+//!
+//! An adapter belongs to the thread that made it: a call from another thread raises
+//! `TrustcbrError` saying so, and the adapter may be dropped on any thread.
 
+use crate::arms::{FirstError, python_arm};
+use crate::calls::Caller;
 use crate::{anyhow_error, error};
 use pyo3::prelude::*;
-use std::sync::Arc;
-use trustcbr::UgvCatalog;
+use std::sync::{Arc, Mutex};
+use std::thread::{self, ThreadId};
+use trustcbr::Catalog;
+use trustcbr::WithArms;
 use trustcbr::served::{served_domain, serving_arm};
 use trustcbr::service::{Location, Session as ServedSession, SharedCases};
 
 /// One controller's adapter over a case base (`trustcbr serve` for one controller).
-#[pyclass(module = "trustcbr._native", unsendable)]
+#[pyclass(module = "trustcbr._native")]
 pub struct Session {
-    session: ServedSession,
+    session: Mutex<ServedSession>,
+    owner: ThreadId,
     location: String,
     writable: bool,
+    /// The first exception of a Python strategy, raised by the request it happened in.
+    errors: FirstError,
 }
 
-#[pymethods]
 impl Session {
     /// Opens the case base `cases` (an SQLite file, created when absent; a `postgres://`
-    /// URL; or a read-only `.ron` file) for `domain` (a built-in scenario or a RON domain
-    /// file), searching as the domain's config says or as the arm `arm` does; with
-    /// `mission`, outcomes keep coming after an episode settles (`serve --mission`).
-    #[new]
-    #[pyo3(signature = (domain, cases, seed = 0, arm = None, mission = false))]
-    fn new(
+    /// URL; or a read-only `.ron` file) for `domain` (a scenario of `catalog` or a RON
+    /// domain file), searching as the domain's config says, as the arm `arm` does, or as
+    /// the Python `strategy` (`(name, factory, reuses_cases)`) does; with `mission`,
+    /// outcomes keep coming after an episode settles (`serve --mission`).
+    pub fn open<C: Catalog + Clone>(
+        catalog: &C,
         domain: &str,
         cases: &str,
         seed: u64,
         arm: Option<&str>,
+        strategy: Option<(String, Py<PyAny>, bool)>,
         mission: bool,
     ) -> PyResult<Self> {
-        let catalog = UgvCatalog;
-        let mut definition = served_domain(&catalog, domain).map_err(error)?;
-        if let Some(name) = arm {
-            definition = serving_arm(&catalog, definition, name).map_err(|e| anyhow_error(&e))?;
+        let mut definition = served_domain(catalog, domain).map_err(error)?;
+        let errors = FirstError::default();
+        match (arm, strategy) {
+            (Some(_), Some(_)) => {
+                return Err(error("serve a built-in arm or a Python strategy, not both"));
+            }
+            (Some(name), None) => {
+                definition =
+                    serving_arm(catalog, definition, name).map_err(|e| anyhow_error(&e))?;
+            }
+            (None, Some((name, factory, reuses))) => {
+                let served = name.clone();
+                let observations = Arc::new(vec![(
+                    definition.space.clone(),
+                    definition.observations.clone(),
+                )]);
+                let factory = Arc::new(factory);
+                let (caller, kept) = (Caller::Here, errors.clone());
+                let with = WithArms {
+                    inner: catalog.clone(),
+                    arms: vec![Arc::new(move |retriever| {
+                        python_arm(
+                            name.clone(),
+                            factory.clone(),
+                            reuses,
+                            observations.clone(),
+                            retriever,
+                            kept.clone(),
+                            caller.clone(),
+                        )
+                    })],
+                };
+                definition =
+                    serving_arm(&with, definition, &served).map_err(|e| anyhow_error(&e))?;
+            }
+            (None, None) => {}
         }
         if mission {
             definition = definition.in_mission_mode();
@@ -45,17 +89,42 @@ impl Session {
         let shared = SharedCases::open(&definition, &Location::parse(cases)).map_err(error)?;
         let (location, writable) = (shared.location().to_owned(), shared.writable());
         let session = ServedSession::new(definition, Arc::new(shared), seed).map_err(error)?;
+        if let Some(e) = errors.take() {
+            return Err(e);
+        }
         Ok(Self {
-            session,
+            session: Mutex::new(session),
+            owner: thread::current().id(),
             location,
             writable,
+            errors,
         })
     }
 
+    /// Refuses a call from a thread other than the one that made the adapter.
+    fn on_its_thread(&self) -> PyResult<()> {
+        if thread::current().id() == self.owner {
+            Ok(())
+        } else {
+            Err(error(
+                "this Adapter belongs to the thread that made it and was used from another: make one adapter per thread (they may share a SQLite or PostgreSQL case base)",
+            ))
+        }
+    }
+}
+
+#[pymethods]
+impl Session {
     /// Handles one protocol request (a JSON object as text) and returns the reply's JSON
-    /// text; an error reply raises `TrustcbrError` with its message.
-    fn request(&mut self, line: &str) -> PyResult<String> {
-        let reply = self.session.handle_line(line.as_bytes()).map_err(error)?;
+    /// text; an error reply raises `TrustcbrError` with its message, and an exception of
+    /// a Python strategy is raised as it is.
+    fn request(&self, line: &str) -> PyResult<String> {
+        self.on_its_thread()?;
+        let mut session = self.session.lock().unwrap_or_else(|p| p.into_inner());
+        let reply = session.handle_line(line.as_bytes()).map_err(error)?;
+        if let Some(e) = self.errors.take() {
+            return Err(e);
+        }
         let value = reply.into_value();
         if let Some(message) = value.get("error").and_then(|m| m.as_str()) {
             return Err(error(message));
@@ -65,13 +134,15 @@ impl Session {
 
     /// Where the cases are kept, as the server shows it.
     #[getter]
-    fn location(&self) -> &str {
-        &self.location
+    fn location(&self) -> PyResult<&str> {
+        self.on_its_thread()?;
+        Ok(&self.location)
     }
 
     /// Whether retained cases are stored (a `.ron` case file is read-only).
     #[getter]
-    fn writable(&self) -> bool {
-        self.writable
+    fn writable(&self) -> PyResult<bool> {
+        self.on_its_thread()?;
+        Ok(self.writable)
     }
 }

@@ -12,18 +12,21 @@
 //! trial when the runner runs an arm's trials independently, as it does for built-in arms):
 //! `factory(space)`, with the space as `trustcbr.space` gives it.
 //!
-//! Calling Python takes the interpreter lock, so a run with Python arms runs on one worker
-//! thread. A searcher cannot fail in the middle of an experiment, so the first exception a
-//! Python searcher raises (or a proposal that is not a behavior of the space) is kept,
-//! every later proposal of every Python searcher of the run ends the episode at once
-//! without calling Python, and the caller raises the kept exception when the run returns.
+//! Every call into Python goes through a [`Caller`]: during a run, to the Python thread
+//! that waits for it (so Ctrl-C interrupts a searcher as it would any Python code), and
+//! a run with Python arms runs on one worker thread. A searcher cannot fail in the middle
+//! of an experiment, so the first exception a Python searcher raises (or a proposal that
+//! is not a behavior of the space) is kept, every later proposal of every Python searcher
+//! of the run ends the episode at once without calling Python, and the caller raises the
+//! kept exception when the run returns.
 
-use crate::convert::{behavior_from_py, behavior_to_py, to_py};
+use crate::calls::Caller;
+use crate::convert::{behavior_from_py, to_py};
 use crate::error;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use rand::RngCore;
-use serde_json::json;
+use serde_json::{Value, json};
 use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
 use trustcbr::cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
@@ -60,28 +63,31 @@ impl FirstError {
 /// A Python object driven as a search strategy, built by its factory for the space it
 /// searches: at once when the space is known, else when its first episode begins.
 pub struct PySearcher {
-    factory: Py<PyAny>,
-    object: Option<Py<PyAny>>,
+    factory: Arc<Py<PyAny>>,
+    object: Option<Arc<Py<PyAny>>>,
     name: String,
     learns: bool,
     space: Option<Arc<BehaviorSpace>>,
     observations: Vec<Cause>,
     errors: FirstError,
+    caller: Caller,
 }
 
 /// The space as a Python searcher's factory is given it.
-pub fn space_value(space: &BehaviorSpace) -> serde_json::Value {
+pub fn space_value(space: &BehaviorSpace) -> Value {
     json!({ "components": named_space(space), "behaviors": space.size() })
 }
 
 impl PySearcher {
-    /// A searcher the arm `name` builds with `factory(space)`, for `space` when known.
+    /// A searcher the arm `name` builds with `factory(space)`, for `space` when known,
+    /// calling Python through `caller`.
     pub fn new(
-        factory: Py<PyAny>,
+        factory: Arc<Py<PyAny>>,
         name: &str,
         space: Option<&Arc<BehaviorSpace>>,
         observations: Vec<Cause>,
         errors: FirstError,
+        caller: Caller,
     ) -> Self {
         let mut searcher = Self {
             factory,
@@ -91,6 +97,7 @@ impl PySearcher {
             space: None,
             observations,
             errors,
+            caller,
         };
         if let Some(space) = space {
             searcher.build(space);
@@ -104,44 +111,45 @@ impl PySearcher {
         if self.errors.failed() {
             return;
         }
-        Python::attach(|py| {
-            let built = to_py(py, &space_value(space))
-                .and_then(|s| self.factory.bind(py).call1((s,)))
-                .and_then(|object| {
-                    let learns = match object.getattr_opt("learns_across_episodes")? {
-                        Some(l) if !l.is_none() => l.extract::<bool>()?,
-                        _ => false,
-                    };
-                    Ok((object.unbind(), learns))
-                });
-            match built {
-                Ok((object, learns)) => {
-                    self.object = Some(object);
-                    self.learns = learns;
-                }
-                Err(e) => self.errors.keep(e),
-            }
+        let (factory, described) = (self.factory.clone(), space_value(space));
+        let built = self.caller.call(move |py| {
+            let object = factory.bind(py).call1((to_py(py, &described)?,))?;
+            let learns = match object.getattr_opt("learns_across_episodes")? {
+                Some(l) if !l.is_none() => l.extract::<bool>()?,
+                _ => false,
+            };
+            Ok((Arc::new(object.unbind()), learns))
         });
+        match built {
+            Ok((object, learns)) => {
+                self.object = Some(object);
+                self.learns = learns;
+            }
+            Err(e) => self.errors.keep(e),
+        }
     }
 
-    /// Calls the optional method `method` with `args` when the object has it.
-    fn call_optional<'py>(
-        &self,
-        py: Python<'py>,
-        method: &str,
-        args: impl FnOnce(Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>>,
-    ) {
-        let Some(object) = self.object.as_ref().filter(|_| !self.errors.failed()) else {
+    /// The Python object, unless a searcher of the run has failed.
+    fn live(&self) -> Option<Arc<Py<PyAny>>> {
+        self.object.clone().filter(|_| !self.errors.failed())
+    }
+
+    /// Calls the optional method `method` with the JSON `args` when the object has it.
+    fn call_optional(&self, method: &'static str, args: Vec<Value>) {
+        let Some(object) = self.live() else {
             return;
         };
-        let result = (|| {
+        let called = self.caller.call(move |py| {
             if let Some(f) = object.bind(py).getattr_opt(method)? {
-                let args = pyo3::types::PyTuple::new(py, args(py)?)?;
-                f.call1(args)?;
+                let args = args
+                    .iter()
+                    .map(|a| to_py(py, a))
+                    .collect::<PyResult<Vec<_>>>()?;
+                f.call1(PyTuple::new(py, args)?)?;
             }
             Ok(())
-        })();
-        if let Err(e) = result {
+        });
+        if let Err(e) = called {
             self.errors.keep(e);
         }
     }
@@ -170,11 +178,7 @@ impl Searcher for PySearcher {
         if self.object.is_none() {
             self.build(&Arc::new(space.clone()));
         }
-        Python::attach(|py| {
-            self.call_optional(py, "begin_episode", |py| {
-                Ok(vec![behavior_to_py(py, space, initial)?])
-            });
-        });
+        self.call_optional("begin_episode", vec![reply::behavior(space, initial)]);
     }
 
     fn propose(
@@ -183,23 +187,22 @@ impl Searcher for PySearcher {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        let Some(object) = self.object.as_ref().filter(|_| !self.errors.failed()) else {
+        let Some(object) = self.live() else {
             return Self::give_up(space, evaluated, rng);
         };
         let seed = rng.next_u64();
-        let proposed = Python::attach(|py| -> PyResult<Option<Behavior>> {
+        let (list, name) = (reply::evaluated(space, evaluated), self.name.clone());
+        let searched = Arc::new(space.clone());
+        let proposed = self.caller.call(move |py| -> PyResult<Option<Behavior>> {
             let random = py.import("random")?.getattr("Random")?.call1((seed,))?;
-            let list = to_py(py, &reply::evaluated(space, evaluated))?;
-            let answer = object.bind(py).call_method1("propose", (list, random))?;
+            let answer = object
+                .bind(py)
+                .call_method1("propose", (to_py(py, &list)?, random))?;
             if answer.is_none() {
                 return Ok(None);
             }
-            let behavior = behavior_from_py(space, &answer).map_err(|e| {
-                error(format_args!(
-                    "{}: propose returned {answer}: {e}",
-                    self.name
-                ))
-            })?;
+            let behavior = behavior_from_py(&searched, &answer)
+                .map_err(|e| error(format_args!("{name}: propose returned {answer}: {e}")))?;
             Ok(Some(behavior))
         });
         match proposed {
@@ -213,63 +216,48 @@ impl Searcher for PySearcher {
     }
 
     fn rationale(&self, proposed: &Behavior) -> Rationale {
-        let (Some(object), Some(space)) = (self.object.as_ref(), self.space.as_deref()) else {
+        let (Some(object), Some(space)) = (self.live(), self.space.as_deref()) else {
             return Rationale::unstated();
         };
-        if self.errors.failed() {
-            return Rationale::unstated();
-        }
-        Python::attach(|py| {
-            let said = (|| -> PyResult<Option<Rationale>> {
-                match object.bind(py).getattr_opt("rationale")? {
-                    Some(f) => {
-                        let b = behavior_to_py(py, space, proposed)?;
-                        rationale_from_py(&f.call1((b,))?).map(Some)
-                    }
-                    None => Ok(None),
-                }
-            })();
-            match said {
-                Ok(Some(rationale)) => rationale,
-                Ok(None) => Rationale::unstated(),
-                Err(e) => {
-                    self.errors.keep(e);
-                    Rationale::unstated()
-                }
+        let behavior = reply::behavior(space, proposed);
+        let said = self.caller.call(move |py| -> PyResult<Option<Rationale>> {
+            match object.bind(py).getattr_opt("rationale")? {
+                Some(f) => rationale_from_py(&f.call1((to_py(py, &behavior)?,))?).map(Some),
+                None => Ok(None),
             }
-        })
+        });
+        match said {
+            Ok(Some(rationale)) => rationale,
+            Ok(None) => Rationale::unstated(),
+            Err(e) => {
+                self.errors.keep(e);
+                Rationale::unstated()
+            }
+        }
     }
 
     fn observe(&mut self, behavior: &Behavior, feedback: &Outcome) {
         let Some(space) = self.space.clone() else {
             return;
         };
-        Python::attach(|py| {
-            self.call_optional(py, "observe", |py| {
-                Ok(vec![
-                    behavior_to_py(py, &space, behavior)?,
-                    to_py(py, &reply::outcome(feedback, &self.observations))?,
-                ])
-            });
-        });
+        self.call_optional(
+            "observe",
+            vec![
+                reply::behavior(&space, behavior),
+                reply::outcome(feedback, &self.observations),
+            ],
+        );
     }
 
     fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
         let Some(space) = self.space.clone() else {
             return;
         };
-        Python::attach(|py| {
-            self.call_optional(py, "end_episode", |py| {
-                let settled = match settled {
-                    Some(b) => behavior_to_py(py, &space, b)?,
-                    None => py.None().into_bound(py),
-                };
-                Ok(vec![
-                    to_py(py, &reply::evaluated(&space, evaluated))?,
-                    settled,
-                ])
-            });
-        });
+        let settled = settled.map_or(Value::Null, |b| reply::behavior(&space, b));
+        self.call_optional(
+            "end_episode",
+            vec![reply::evaluated(&space, evaluated), settled],
+        );
     }
 }
 
@@ -285,6 +273,7 @@ pub fn python_arm(
     observations: Arc<Vec<(Arc<BehaviorSpace>, Vec<Cause>)>>,
     retriever: trustcbr::trust::RetrieverKind,
     errors: FirstError,
+    caller: Caller,
 ) -> Arm {
     let arm = name.clone();
     let searcher = move |space: &Arc<BehaviorSpace>| -> Box<TrustSearcher> {
@@ -294,11 +283,12 @@ pub fn python_arm(
             .map(|(_, names)| names.clone())
             .unwrap_or_default();
         Box::new(PySearcher::new(
-            Python::attach(|py| factory.as_ref().clone_ref(py)),
+            factory.clone(),
             &arm,
             Some(space),
             named,
             errors.clone(),
+            caller.clone(),
         ))
     };
     if reuses_cases {
@@ -307,43 +297,6 @@ pub fn python_arm(
         })
     } else {
         Arm::search_only(name, searcher)
-    }
-}
-
-/// Runs the searcher conformance kit (`trust::testing::check_searcher`: proposals in the
-/// space, never an evaluated behavior while one is untried, exhaustion only when every
-/// behavior was tried, the same proposals for the same seed) over searchers built by
-/// `factory(space)`, on random small spaces. Raises `TrustcbrError` naming the property a
-/// searcher breaks, or the searcher's own exception.
-#[pyfunction]
-pub fn check_searcher(py: Python<'_>, factory: Py<PyAny>) -> PyResult<()> {
-    let errors = FirstError::default();
-    let outcome = py.detach(|| {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            trustcbr::trust::testing::check_searcher(|| -> Box<TrustSearcher> {
-                Box::new(PySearcher::new(
-                    Python::attach(|py| factory.clone_ref(py)),
-                    "python",
-                    None,
-                    Vec::new(),
-                    errors.clone(),
-                ))
-            })
-        }))
-    });
-    if let Some(e) = errors.take() {
-        return Err(e);
-    }
-    match outcome {
-        Ok(()) => Ok(()),
-        Err(panic) => {
-            let message = panic
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-                .unwrap_or_else(|| "the searcher breaks a conformance property".to_owned());
-            Err(error(message))
-        }
     }
 }
 

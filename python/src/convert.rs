@@ -36,15 +36,6 @@ pub fn to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>>
     })
 }
 
-/// A behavior in real units as a Python dict.
-pub fn behavior_to_py<'py>(
-    py: Python<'py>,
-    space: &BehaviorSpace,
-    behavior: &Behavior,
-) -> PyResult<Bound<'py, PyAny>> {
-    to_py(py, &trustcbr::service::reply::behavior(space, behavior))
-}
-
 /// A component's value given in Python, as the text the space parses: a label, or a
 /// number in the shortest form that reads back.
 fn value_text(name: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {

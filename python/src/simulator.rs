@@ -1,41 +1,37 @@
-//! The simulator: one command of a built-in domain run with a behavior, an operator (a
+//! The simulator: one command of a catalog's domain run with a behavior, an operator (a
 //! built-in name or a file, as `trustcbr landscape --operator` takes it) and a seed; and
-//! operator landscapes, estimated as `trustcbr landscape` does.
+//! operator landscapes, estimated as `trustcbr landscape` does (its limit on runs, its
+//! progress, stopped by Ctrl-C).
 
+use crate::calls::{Counts, Watch, run_watched};
 use crate::convert::{behavior_from_py, to_py};
 use crate::error;
+use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::json;
+use trustcbr::Readings;
 use trustcbr::catalog::{Catalog, domain_of, find_operator, resolve_readings};
-use trustcbr::lab::Domain;
 use trustcbr::lab::landscape as estimates;
+use trustcbr::lab::{Domain, LandscapeError};
+use trustcbr::limits::RUNS_PER_BEHAVIOR;
 use trustcbr::service::reply;
 use trustcbr::trust::named::named_space;
-use trustcbr::{Readings, UgvCatalog};
 
 /// The stream of a command's seed that draws the operator's stated reason (the run draws
 /// from stream 0).
 const FEEDBACK_STREAM: u64 = 1;
 
 /// The readings every call here uses: the catalog's defaults.
-fn default_readings(catalog: &UgvCatalog) -> PyResult<Readings> {
+fn default_readings<C: Catalog>(catalog: &C) -> PyResult<Readings> {
     resolve_readings(catalog, &Default::default()).map_err(error)
 }
 
-/// The built-in scenarios.
-#[pyfunction]
-pub fn scenarios() -> Vec<String> {
-    UgvCatalog.scenarios()
-}
-
 /// The built-in operators of `scenario`.
-#[pyfunction]
-pub fn operators(scenario: &str) -> PyResult<Vec<String>> {
-    let catalog = UgvCatalog;
-    domain_of(&catalog, scenario).map_err(error)?;
-    let readings = default_readings(&catalog)?;
+pub fn operators<C: Catalog>(catalog: &C, scenario: &str) -> PyResult<Vec<String>> {
+    domain_of(catalog, scenario).map_err(error)?;
+    let readings = default_readings(catalog)?;
     Ok(catalog
         .operators(scenario, &readings)
         .into_iter()
@@ -43,11 +39,14 @@ pub fn operators(scenario: &str) -> PyResult<Vec<String>> {
         .collect())
 }
 
-/// The behavior space of a built-in scenario (every component with its values in real
-/// units), its declared causes and observations, as a dict.
-#[pyfunction]
-pub fn space<'py>(py: Python<'py>, scenario: &str) -> PyResult<Bound<'py, PyAny>> {
-    let domain = domain_of(&UgvCatalog, scenario).map_err(error)?;
+/// The behavior space of a scenario (every component with its values in real units), its
+/// declared causes and observations, as a dict.
+pub fn space<'py, C: Catalog>(
+    py: Python<'py>,
+    catalog: &C,
+    scenario: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let domain = domain_of(catalog, scenario).map_err(error)?;
     let value = json!({
         "scenario": scenario,
         "components": named_space(domain.space()),
@@ -63,31 +62,25 @@ pub fn space<'py>(py: Python<'py>, scenario: &str) -> PyResult<Bound<'py, PyAny>
 /// outcome as the protocol's outcome report spells it (with the reason the operator's
 /// feedback channel states, if any) and the operator's true reason as `truth`, which a
 /// robot is never told.
-#[pyfunction]
-#[pyo3(signature = (scenario, behavior, operator, seed = 0))]
-pub fn simulate<'py>(
+pub fn simulate<'py, C: Catalog>(
     py: Python<'py>,
+    catalog: &C,
     scenario: &str,
     behavior: &Bound<'py, PyAny>,
     operator: &str,
     seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let catalog = UgvCatalog;
-    let domain = domain_of(&catalog, scenario).map_err(error)?;
-    let readings = default_readings(&catalog)?;
-    let (_, operator) = find_operator(&catalog, scenario, operator, &readings).map_err(error)?;
+    let domain = domain_of(catalog, scenario).map_err(error)?;
+    let readings = default_readings(catalog)?;
+    let (_, operator) = find_operator(catalog, scenario, operator, &readings).map_err(error)?;
     let behavior = behavior_from_py(domain.space(), behavior)?;
-    let (judgement, stated) = py.detach(|| {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let judgement = domain.run(&behavior, &operator, &mut rng);
-        let mut feedback = ChaCha8Rng::seed_from_u64(seed);
-        feedback.set_stream(FEEDBACK_STREAM);
-        let stated =
-            domain
-                .feedback(&operator)
-                .state(judgement.truth, domain.causes(), &mut feedback);
-        (judgement, stated)
-    });
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let judgement = domain.run(&behavior, &operator, &mut rng);
+    let mut feedback = ChaCha8Rng::seed_from_u64(seed);
+    feedback.set_stream(FEEDBACK_STREAM);
+    let stated = domain
+        .feedback(&operator)
+        .state(judgement.truth, domain.causes(), &mut feedback);
     let outcome = judgement.outcome.stating(stated);
     let mut value = reply::outcome(&outcome, domain.observations());
     value["truth"] = json!(judgement.truth);
@@ -95,26 +88,39 @@ pub fn simulate<'py>(
 }
 
 /// Estimates, for every behavior of `scenario`, the share of `runs` commands `operator`
-/// lets complete (`trustcbr landscape`'s estimate, with every component fixed). Returns the
-/// shares in the space's rank order (the last component fastest), the number of values of
-/// each component and the components' names.
-#[pyfunction]
-#[pyo3(signature = (scenario, operator, runs = 100, seed = 0))]
-pub fn landscape(
+/// lets complete (`trustcbr landscape`'s estimate, with every component fixed, and its
+/// limit on runs), reporting progress to `progress(done, total, elapsed_s, then)`.
+/// Returns the shares in the space's rank order (the last component fastest), the number
+/// of values of each component and the components' names.
+pub fn landscape<C: Catalog>(
     py: Python<'_>,
+    catalog: &C,
     scenario: &str,
     operator: &str,
-    runs: u32,
+    runs: u64,
     seed: u64,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<(Vec<f64>, Vec<usize>, Vec<String>)> {
-    let catalog = UgvCatalog;
-    let domain = domain_of(&catalog, scenario).map_err(error)?;
-    let readings = default_readings(&catalog)?;
-    let (_, operator) = find_operator(&catalog, scenario, operator, &readings).map_err(error)?;
+    RUNS_PER_BEHAVIOR.check("runs", runs).map_err(error)?;
+    let runs = u32::try_from(runs).expect("checked to fit");
+    let domain = domain_of(catalog, scenario).map_err(error)?;
+    let readings = default_readings(catalog)?;
+    let (_, operator) = find_operator(catalog, scenario, operator, &readings).map_err(error)?;
     let every: Vec<usize> = (0..domain.space().components().len()).collect();
-    let estimate = py
-        .detach(|| estimates::estimate(&domain, &[&operator], &every, runs, seed, &|| {}))
-        .map_err(error)?;
+    let watch = Watch {
+        callback: progress,
+        counts: Counts::of(domain.space().size()),
+    };
+    let counts = watch.counts.clone();
+    let estimate = run_watched(py, &watch, |_| {
+        estimates::estimate(&domain, &[&operator], &every, runs, seed, &|| counts.tick())
+    })?
+    .map_err(|e| match e {
+        LandscapeError::Interrupted(_) => {
+            PyKeyboardInterrupt::new_err("stopped: the landscape was not finished")
+        }
+        e => error(e),
+    })?;
     let shares = estimate.cells.iter().map(|t| t.p_complete()).collect();
     let names = domain
         .space()

@@ -3,7 +3,10 @@ reproducible, conformant, and failing loudly."""
 
 from __future__ import annotations
 
+import os
 import random
+import shutil
+import subprocess
 from pathlib import Path
 from typing import Any, List, Optional
 
@@ -12,6 +15,8 @@ import pytest
 import trustcbr
 
 from conftest import UniformSearcher, small_suite
+
+BIN = os.environ.get("TRUSTCBR_BIN") or shutil.which("trustcbr")
 
 
 def run_with_python(**kwargs: Any) -> trustcbr.Results:
@@ -83,7 +88,7 @@ def test_the_conformance_kit_names_the_property_a_searcher_breaks() -> None:
                 return evaluated[0]["behavior"]
             return super().propose(evaluated, rng)
 
-    with pytest.raises(trustcbr.TrustcbrError, match="was already evaluated"):
+    with pytest.raises(trustcbr.SearcherCheckError, match="was already evaluated"):
         trustcbr.check_searcher(Repeating)
 
 
@@ -109,8 +114,9 @@ def test_a_failed_run_writes_no_report(tmp_path: Path) -> None:
             out=out,
             save_cases=tmp_path / "cases",
         )
-    assert not (out / "trials.jsonl").exists()
-    assert not any((tmp_path / "cases").iterdir())
+    # Nothing written, not even the folders the run would have written into.
+    assert not out.exists()
+    assert not (tmp_path / "cases").exists()
 
 
 def test_a_proposal_outside_the_space_is_refused() -> None:
@@ -144,3 +150,151 @@ def test_a_rationale_of_another_type_is_refused() -> None:
 
     with pytest.raises(TypeError, match="must return a str"):
         trustcbr.run(small_suite(arms=["random-walk", "vague"]), python_arms={"vague": Vague})
+
+
+def test_a_python_arm_named_like_a_built_in_one_is_refused() -> None:
+    with pytest.raises(
+        trustcbr.TrustcbrError, match="python_arms: `uniform` is the name of a built-in arm"
+    ):
+        trustcbr.run(
+            small_suite(arms=["random-walk", "uniform"]), python_arms={"uniform": UniformSearcher}
+        )
+
+
+def test_a_python_arm_not_run_is_refused() -> None:
+    with pytest.raises(
+        trustcbr.TrustcbrError,
+        match=r"python_arms: `mine` is not among the arms run \(random-walk, case-based\)",
+    ):
+        trustcbr.run(small_suite(), python_arms={"mine": UniformSearcher})
+
+
+class GlobalRandom(UniformSearcher):
+    """Draws from the module `random`, not from the generator it is given."""
+
+    def propose(
+        self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+    ) -> Optional[trustcbr.Behavior]:
+        return super().propose(evaluated, random.Random(random.getrandbits(64)))
+
+
+class Remembering(UniformSearcher):
+    """Carries what it saw from one episode to the next without saying so."""
+
+    def __init__(self, space: trustcbr.Space) -> None:
+        super().__init__(space)
+        self.episodes = 0
+
+    def propose(
+        self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+    ) -> Optional[trustcbr.Behavior]:
+        for _ in range(self.episodes):
+            rng.random()
+        return super().propose(evaluated, rng)
+
+    def end_episode(self, evaluated: Any, settled: Any) -> None:
+        self.episodes += 1
+
+
+@pytest.mark.parametrize(
+    "searcher, rule, advice",
+    [
+        (GlobalRandom, "deterministic", "draw every random number from the `rng`"),
+        (Remembering, "forgets-unless-it-learns", "set `learns_across_episodes = True`"),
+    ],
+)
+def test_the_kit_raises_one_exception_with_the_rule_the_case_and_the_right_advice(
+    searcher: Any, rule: str, advice: str
+) -> None:
+    with pytest.raises(trustcbr.SearcherCheckError) as raised:
+        trustcbr.check_searcher(searcher)
+    error = raised.value
+    assert isinstance(error, trustcbr.TrustcbrError)
+    assert error.rule == rule
+    message = str(error)
+    assert message.startswith(f"the searcher breaks the rule `{rule}`")
+    assert advice in message
+    # In Python terms: the space's components by name, no Rust in sight.
+    assert "on a space of" in message and "Behavior(" not in message and "Proposal" not in message
+
+
+def test_the_kit_names_the_repeated_behavior_as_a_dict() -> None:
+    class Repeating(UniformSearcher):
+        def propose(
+            self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+        ) -> Optional[trustcbr.Behavior]:
+            if evaluated:
+                return evaluated[0]["behavior"]
+            return super().propose(evaluated, rng)
+
+    with pytest.raises(trustcbr.SearcherCheckError) as raised:
+        trustcbr.check_searcher(Repeating)
+    assert raised.value.rule == "untried"
+    assert raised.value.proposal is not None
+    assert raised.value.proposal["returned"] == raised.value.evaluated[0]["behavior"]
+    assert "return a behavior not in `evaluated`" in str(raised.value)
+
+
+def test_a_strategy_for_a_named_domain_is_checked_on_its_space() -> None:
+    class SlowFirst(UniformSearcher):
+        """Reads the patrol space's own components by name."""
+
+        def propose(
+            self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+        ) -> Optional[trustcbr.Behavior]:
+            speeds = [c for c in self.components if c[0] == "speed"][0][1]
+            assert speeds
+            return super().propose(evaluated, rng)
+
+    with pytest.raises(IndexError):
+        trustcbr.check_searcher(SlowFirst)  # random spaces have components c0, c1, ...
+    trustcbr.check_searcher(SlowFirst, scenario="movement")
+
+
+def test_explain_replays_a_reports_built_in_arms_and_names_the_python_ones(tmp_path: Path) -> None:
+    out = tmp_path / "report"
+    results = trustcbr.run(
+        small_suite(arms=["random-walk", "py-uniform"]),
+        python_arms={"py-uniform": UniformSearcher},
+        out=out,
+    )
+    told = trustcbr.explain(out, experiment="movement/balanced", arm="random-walk", trial=3)
+    assert told.story.startswith("movement/balanced, arm random-walk, trial 3")
+    ran = [t for t in results.trials if t["arm"] == "random-walk" and t["trial"] == 3][0]
+    assert told.record["report"]["behaviors_evaluated"] == ran["behaviors_evaluated"]
+    with pytest.raises(
+        trustcbr.TrustcbrError,
+        match=r"arm `py-uniform` cannot be replayed.*the report's replayable arms: random-walk",
+    ):
+        trustcbr.explain(out, experiment="movement/balanced", arm="py-uniform", trial=3)
+    # Given its factory, the Python arm is replayed too.
+    again = trustcbr.explain(
+        out,
+        experiment="movement/balanced",
+        arm="py-uniform",
+        trial=3,
+        python_arms={"py-uniform": UniformSearcher},
+    )
+    py = [t for t in results.trials if t["arm"] == "py-uniform" and t["trial"] == 3][0]
+    assert again.record["report"]["behaviors_evaluated"] == py["behaviors_evaluated"]
+
+
+@pytest.mark.skipif(BIN is None, reason="set TRUSTCBR_BIN to the trustcbr binary")
+def test_the_command_lines_explain_reads_a_report_with_python_arms(tmp_path: Path) -> None:
+    assert BIN is not None
+    out = tmp_path / "report"
+    trustcbr.run(
+        small_suite(arms=["random-walk", "py-uniform"]),
+        python_arms={"py-uniform": UniformSearcher},
+        out=out,
+    )
+    args = [BIN, "explain", str(out), "--experiment", "movement/balanced", "--trial", "2"]
+    told = subprocess.run([*args, "--arm", "random-walk"], capture_output=True, text=True)
+    assert told.returncode == 0, told.stderr
+    assert told.stdout == str(
+        trustcbr.explain(out, experiment="movement/balanced", arm="random-walk", trial=2)
+    )
+    refused = subprocess.run([*args, "--arm", "py-uniform"], capture_output=True, text=True)
+    assert refused.returncode != 0
+    assert "arm `py-uniform` cannot be replayed" in refused.stderr
+    assert "replayable arms: random-walk" in refused.stderr

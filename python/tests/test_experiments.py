@@ -6,8 +6,11 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import signal
 import subprocess
+import threading
 from pathlib import Path
+from typing import Any, List
 
 import pytest
 
@@ -128,3 +131,153 @@ def test_the_report_is_the_binarys_byte_for_byte(tmp_path: Path) -> None:
     assert cli.returncode == 0, cli.stderr
     for name in ["trials.jsonl", "table.md", "config.ron"]:
         assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+
+
+def test_a_str_of_arms_is_refused_as_not_a_list() -> None:
+    with pytest.raises(
+        trustcbr.TrustcbrError,
+        match=r"arms: a list of names, not a str \(write arms=\['uniform'\]\)",
+    ):
+        trustcbr.run(small_suite(), arms="uniform")
+
+
+def test_a_nan_nested_in_a_dict_is_named_by_its_path() -> None:
+    suite = small_suite(
+        experiments=[
+            {"scenario": "movement", "operator": "balanced", "feedback": {"explains": float("nan")}}
+        ]
+    )
+    with pytest.raises(
+        trustcbr.TrustcbrError, match=r"field `experiments\[0\]\.feedback\.explains`: a finite"
+    ):
+        trustcbr.run(suite)
+
+
+def test_the_command_lines_limits_apply() -> None:
+    with pytest.raises(trustcbr.TrustcbrError, match="threads: must be 1 to 256, got 100000"):
+        trustcbr.run(small_suite(), threads=100000)
+    with pytest.raises(trustcbr.TrustcbrError, match="threads: must be 1 to 256, got 0"):
+        trustcbr.run(small_suite(), threads=0)
+    with pytest.raises(trustcbr.TrustcbrError, match="runs: must be 1 to 10000, got 4294967295"):
+        trustcbr.landscape("movement", "balanced", runs=4294967295)
+    with pytest.raises(trustcbr.TrustcbrError, match="landscape_runs: must be 0 to 10000"):
+        trustcbr.run(small_suite(), landscape_runs=10001)
+
+
+def test_results_have_a_short_repr_every_arm_and_tidy_frames() -> None:
+    pytest.importorskip("pandas")
+    results = trustcbr.run(small_suite(arms=["random-walk", "case-based", "uniform"]))
+    assert repr(results) == (
+        "Results(36 trials; experiments: movement/balanced; arms: random-walk, case-based, uniform)"
+    )
+    # The full table names every arm; the paper's names its two.
+    assert "uniform" in results.table and "uniform" not in results.paper_table
+    frame = results.to_pandas()
+    assert len(frame) == 36
+    for column in ["final.speed", "initial.padding", "given_up", "given_up_right"]:
+        assert column in frame.columns
+    assert not any(frame[c].map(lambda v: isinstance(v, (dict, list))).any() for c in frame)
+    given_up = results.given_up_frame()
+    assert list(given_up.columns) == [
+        "experiment",
+        "arm",
+        "trial",
+        "index",
+        "reason",
+        "truth",
+        "right",
+    ]
+    assert len(given_up) == int(frame["given_up"].sum())
+    summary = results.summary_frame()
+    assert list(summary["arm"]) == ["random-walk", "case-based", "uniform"]
+    assert "explanations.first_reason_right" in summary.columns
+
+
+def test_a_report_folder_loads_back(tmp_path: Path) -> None:
+    out = tmp_path / "report"
+    results = trustcbr.run(small_suite(), out=out)
+    loaded = trustcbr.load(out)
+    assert loaded.trials == results.trials
+    assert loaded.summary["experiments"] == results.summary["experiments"]
+    assert loaded.table == results.table
+    assert loaded.config == results.config
+    with pytest.raises(trustcbr.TrustcbrError, match="not a report folder"):
+        trustcbr.load(tmp_path)
+
+
+@pytest.mark.skipif(BIN is None, reason="set TRUSTCBR_BIN to the trustcbr binary")
+def test_a_report_folder_the_command_line_wrote_loads(tmp_path: Path) -> None:
+    assert BIN is not None
+    suite = tmp_path / "suite.ron"
+    suite.write_text(
+        """(seed: 3, trials: 10, arms: ["random-walk", "cause-aware"], landscape_runs: 0,
+        limit: (runs: 0), experiments: [(scenario: "patrol", operator: "random")])"""
+    )
+    cli = subprocess.run(
+        [BIN, "run", str(suite), "--out", str(tmp_path / "cli")], capture_output=True, text=True
+    )
+    assert cli.returncode == 0, cli.stderr
+    loaded = trustcbr.load(tmp_path / "cli")
+    assert loaded.trials == trustcbr.run(suite).trials
+    assert loaded.config["arms"] == ["random-walk", "cause-aware"]
+
+
+def test_a_mission_suite_runs_and_loads(tmp_path: Path) -> None:
+    suite = {
+        "seed": 1,
+        "arms": ["case-based"],
+        "missions": [
+            {
+                "name": "short",
+                "operators": {"scenario": "movement", "operator": "random"},
+                "count": 3,
+                "commands": 200,
+                "changes": {"every": 100.0, "takeover": 0.5},
+            }
+        ],
+    }
+    out = tmp_path / "missions"
+    results = trustcbr.run(suite, out=out)
+    assert isinstance(results, trustcbr.MissionResults)
+    assert len(results.missions) == 3
+    assert repr(results).startswith("MissionResults(3 missions; plans: short; arms: case-based")
+    loaded = trustcbr.load(out)
+    assert loaded.missions == results.missions
+    with pytest.raises(trustcbr.TrustcbrError, match="trials applies to experiment suites"):
+        trustcbr.run(suite, trials=5)
+
+
+def test_progress_reaches_a_callback_and_can_be_silenced(capfd: Any) -> None:
+    seen: List[trustcbr.Progress] = []
+    trustcbr.run(small_suite(), progress=seen.append)
+    assert seen[0].done == 0 and seen[-1].done == seen[-1].total == 24
+    assert all(p.unit == "trial" for p in seen)
+    assert [p.done for p in seen] == sorted(p.done for p in seen)
+    trustcbr.run(small_suite(), progress=False)
+    # Not on a terminal (pytest captures stderr), the default draws no bar either.
+    trustcbr.run(small_suite())
+    assert capfd.readouterr().err == ""
+    with pytest.raises(TypeError, match="progress"):
+        trustcbr.run(small_suite(), progress="yes")  # type: ignore[arg-type]
+
+
+def interrupt_soon() -> threading.Timer:
+    """Ctrl-C, as a terminal sends it, half a second from now."""
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+def test_ctrl_c_stops_a_long_run_and_writes_nothing(tmp_path: Path) -> None:
+    out = tmp_path / "report"
+    interrupt_soon()
+    # Without the stop this run takes many minutes.
+    with pytest.raises(KeyboardInterrupt):
+        trustcbr.run(trials=30000, arms=["random-walk"], out=out, save_cases=tmp_path / "cases")
+    assert not out.exists() and not (tmp_path / "cases").exists()
+
+
+def test_ctrl_c_stops_a_landscape() -> None:
+    interrupt_soon()
+    with pytest.raises(KeyboardInterrupt):
+        trustcbr.landscape("patrol", "detection-focused", runs=10000)

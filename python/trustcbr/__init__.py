@@ -13,7 +13,13 @@ extension module, with:
   summary, ``to_pandas()`` and the report folder;
 - strategies written in Python as arms of those experiments (``python_arms=``), checked
   with :func:`check_searcher`;
-- :mod:`trustcbr.gym`: a Gymnasium environment (with the ``gym`` extra).
+- :func:`explain` and :func:`load`: one trial of a report replayed, and a report folder
+  (the command line's or Python's) read back as :class:`Results`;
+- :mod:`trustcbr.gym`: Gymnasium environments (with the ``gym`` extra).
+
+Every call that takes a ``catalog=`` serves another catalog's domains: a plug-in's own
+extension module (``catalog_module!`` of the Rust crate ``trustcbr-python``), as
+``examples/warehouse/python`` builds the warehouse's.
 
 Behaviors are plain dicts of component name to value in real units, e.g.
 ``{"speed": 3.5, "padding": 0.4}``. Every error is a :class:`TrustcbrError` carrying the
@@ -22,17 +28,20 @@ message the command-line tool prints.
 
 from __future__ import annotations
 
-import importlib
 import json
 import math
 import os
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass
+from types import ModuleType
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from trustcbr import _native
-from trustcbr._native import TrustcbrError
+from trustcbr._errors import SearcherCheckError, TrustcbrError
+from trustcbr._progress import Progress, ProgressCallback, ProgressOption, Reporter
+from trustcbr._results import MissionResults, Results, load_report
 from trustcbr._types import (
     Behavior,
     Decision,
@@ -51,11 +60,16 @@ __all__ = [
     "Behavior",
     "Decision",
     "Evaluated",
+    "Explained",
     "Landscape",
+    "MissionResults",
     "Outcome",
+    "Progress",
+    "ProgressCallback",
     "PythonArm",
     "Results",
     "Searcher",
+    "SearcherCheckError",
     "SearcherFactory",
     "SimulatedOutcome",
     "Space",
@@ -63,7 +77,9 @@ __all__ = [
     "builtin_arms",
     "check_searcher",
     "default_suite",
+    "explain",
     "landscape",
+    "load",
     "operators",
     "run",
     "scenarios",
@@ -71,44 +87,123 @@ __all__ = [
     "space",
 ]
 
+Catalog = Optional[ModuleType]
+"""A catalog's extension module (``None``: the built-in UGV catalog, ``trustcbr._native``)."""
+
+
+def _module(catalog: Catalog) -> Any:
+    return _native if catalog is None else catalog
+
+
+def _non_finite_path(value: Any, path: str) -> Optional[str]:
+    """The path of the first NaN or infinity inside ``value`` (``weight``,
+    ``experiments[0].feedback.explains``), or ``None``."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return path or "value"
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            found = _non_finite_path(v, f"{path}.{k}" if path else str(k))
+            if found is not None:
+                return found
+    if isinstance(value, (list, tuple)):
+        for i, v in enumerate(value):
+            found = _non_finite_path(v, f"{path}[{i}]")
+            if found is not None:
+                return found
+    return None
+
 
 def _dumps(value: Mapping[str, Any]) -> str:
-    """JSON text of a request; JSON has no NaN or infinity, so they are refused."""
+    """JSON text of a request or a suite; JSON has no NaN or infinity, so they are refused
+    naming where they are."""
     try:
         return json.dumps(value, allow_nan=False)
     except ValueError:
-        bad = [k for k, v in value.items() if isinstance(v, float) and not math.isfinite(v)]
-        raise TrustcbrError(
-            f"field `{bad[0] if bad else '?'}`: a finite number is required"
-        ) from None
+        bad = _non_finite_path(value, "")
+        raise TrustcbrError(f"field `{bad}`: a finite number is required") from None
+
+
+def _names(option: str, names: Optional[Sequence[str]]) -> Optional[List[str]]:
+    """A list of names given as one; a str alone is refused (it is not a list of its
+    letters)."""
+    if names is None:
+        return None
+    if isinstance(names, str):
+        raise TrustcbrError(f"{option}: a list of names, not a str (write {option}=[{names!r}])")
+    return [str(n) for n in names]
+
+
+@dataclass(frozen=True)
+class PythonArm:
+    """An arm whose search strategy is written in Python.
+
+    ``factory(space)`` builds one searcher per chain of trials (an experiment's trials for
+    this arm, in order), or one per trial when the trials are independent (no case reuse,
+    ``learns_across_episodes`` false, no operator states a reason); see :class:`Searcher`
+    for its methods. With ``reuses_cases`` the arm reuses cases first (Algorithm 1, the
+    suite's retriever) and falls back on the searcher, as ``case-based+NAME`` arms do.
+    """
+
+    factory: SearcherFactory
+    reuses_cases: bool = False
+
+
+def _python_arms(
+    python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]],
+) -> List[Any]:
+    if python_arms is None:
+        return []
+    if not isinstance(python_arms, Mapping):
+        raise TrustcbrError("python_arms: a dict of arm name to factory (or PythonArm)")
+    added = []
+    for name, arm in python_arms.items():
+        if not isinstance(arm, PythonArm):
+            arm = PythonArm(arm)
+        added.append((str(name), arm.factory, arm.reuses_cases))
+    return added
 
 
 class Adapter:
     """The online trust adapter for one robot, ask/tell (``trustcbr serve`` in-process).
 
-    ``domain`` is a built-in scenario (``"movement"``, ``"patrol"``) or a RON domain file;
+    ``domain`` is a scenario (``"movement"``, ``"patrol"``) or a RON domain file;
     ``cases`` is the case base: an SQLite file (created when absent), a ``postgres://`` URL,
     or a ``.ron`` file (read-only). ``seed`` drives the search and the behaviors the
-    adapter draws; ``arm`` serves a built-in arm's strategy instead of the domain's.
+    adapter draws. ``arm`` serves a built-in arm's strategy instead of the domain's;
+    ``strategy`` serves a strategy written in Python instead: the factory
+    :func:`run` takes for ``python_arms`` (or a :class:`PythonArm`, to reuse cases first),
+    so what is evaluated offline is deployed through the same API.
     With ``mission`` (``trustcbr serve --mission``) outcomes keep coming after an episode
     settles: the settled behavior is watched, a fall of its trust starts a new episode
     with a ``switch``, and an ``alert`` asks the operator to supervise.
-    Several adapters (processes, robots) may share one SQLite or PostgreSQL case base.
+    Several adapters (processes, robots) may share one SQLite or PostgreSQL case base; an
+    adapter belongs to the thread that made it (another thread's call raises
+    :class:`TrustcbrError`).
 
     Every method sends one request of the protocol (docs/protocol.md) and returns its
-    reply as a dict; a refused request raises :class:`TrustcbrError` and changes nothing.
+    reply; a refused request raises :class:`TrustcbrError` and changes nothing.
     """
 
     def __init__(
         self,
         domain: str,
-        cases: Union[str, os.PathLike[str]],
+        cases: Union[str, "os.PathLike[str]"],
         *,
         seed: int = 0,
         arm: Optional[str] = None,
+        strategy: Union[None, PythonArm, SearcherFactory] = None,
         mission: bool = False,
+        catalog: Catalog = None,
     ) -> None:
-        self._session = _native.Session(str(domain), os.fspath(cases), seed, arm, mission)
+        served = None
+        if strategy is not None:
+            if not isinstance(strategy, PythonArm):
+                strategy = PythonArm(strategy)
+            name = getattr(strategy.factory, "__name__", "python")
+            served = (str(name), strategy.factory, strategy.reuses_cases)
+        self._session = _module(catalog).session(
+            str(domain), os.fspath(cases), seed, arm, served, mission
+        )
 
     def _request(self, request: Mapping[str, Any]) -> Dict[str, Any]:
         reply: Dict[str, Any] = json.loads(self._session.request(_dumps(request)))
@@ -117,12 +212,12 @@ class Adapter:
     @property
     def location(self) -> str:
         """Where the cases are kept."""
-        return self._session.location
+        return str(self._session.location)
 
     @property
     def writable(self) -> bool:
         """Whether retained cases are stored (a ``.ron`` case file is read-only)."""
-        return self._session.writable
+        return bool(self._session.writable)
 
     def begin(self, behavior: Optional[Behavior] = None) -> Behavior:
         """Starts an episode with ``behavior``, or one drawn uniformly at random; returns it."""
@@ -151,6 +246,7 @@ class Adapter:
         it assesses itself. The decision is ``keep``, ``switch`` (use ``behavior`` from now
         on), ``settled`` (the episode is over), with the explanation of a switch or an end,
         or in mission mode ``alert`` (keep the behavior and ask the operator to supervise).
+        Call :meth:`begin` first.
         """
         if isinstance(observed, str):
             raise TrustcbrError("field `observed`: a list of observation names, not a str")
@@ -164,13 +260,24 @@ class Adapter:
             request["stated"] = stated
         if confidence is not None:
             request["confidence"] = confidence
-        return Decision(self._request(request))
+        return Decision(self._tell(request))
+
+    def _tell(self, request: Mapping[str, Any]) -> Dict[str, Any]:
+        try:
+            return self._request(request)
+        except TrustcbrError as e:
+            if "no episode is under way" in str(e):
+                raise TrustcbrError(
+                    "no episode is under way: call begin() first (and again after an "
+                    "episode settles, unless the adapter is in mission mode)"
+                ) from None
+            raise
 
     def tell_outcome(self, outcome: Mapping[str, Any]) -> Decision:
         """Reports an outcome given as a dict, such as :func:`simulate` returns (its
         ``truth`` is left out: a robot is never told it)."""
         request = {k: v for k, v in outcome.items() if k != "truth"}
-        return Decision(self._request(request))
+        return Decision(self._tell(request))
 
     def abandon(self) -> Dict[str, Any]:
         """Ends the episode under way without retaining a case (in mission mode, or the
@@ -196,20 +303,20 @@ class Adapter:
         return listed
 
 
-def scenarios() -> List[str]:
-    """The built-in scenarios (``movement``, ``patrol``)."""
-    return list(_native.scenarios())
+def scenarios(*, catalog: Catalog = None) -> List[str]:
+    """The catalog's scenarios (built in: ``movement``, ``patrol``)."""
+    return list(_module(catalog).scenarios())
 
 
-def operators(scenario: str) -> List[str]:
+def operators(scenario: str, *, catalog: Catalog = None) -> List[str]:
     """The built-in operators of ``scenario``."""
-    return list(_native.operators(scenario))
+    return list(_module(catalog).operators(scenario))
 
 
-def space(scenario: str) -> Space:
-    """The behavior space of a built-in scenario: components (name, unit, values in real
-    units), the number of behaviors, the declared causes and observations."""
-    described: Dict[str, Any] = _native.space(scenario)
+def space(scenario: str, *, catalog: Catalog = None) -> Space:
+    """The behavior space of a scenario: components (name, unit, values in real units),
+    the number of behaviors, the declared causes and observations."""
+    described: Dict[str, Any] = _module(catalog).space(scenario)
     return Space(
         components=described["components"],
         behaviors=int(described["behaviors"]),
@@ -218,16 +325,18 @@ def space(scenario: str) -> Space:
     )
 
 
-def simulate(scenario: str, behavior: Behavior, operator: str, seed: int = 0) -> SimulatedOutcome:
-    """Runs one command of a built-in scenario with ``behavior`` in front of ``operator``
-    (a built-in name or an operator file), every random draw from ``seed``.
+def simulate(
+    scenario: str, behavior: Behavior, operator: str, seed: int = 0, *, catalog: Catalog = None
+) -> SimulatedOutcome:
+    """Runs one command of a scenario with ``behavior`` in front of ``operator`` (a
+    built-in name or an operator file), every random draw from ``seed``.
 
     Returns the outcome as the adapter is told it (``outcome``, ``weight``, ``duration_s``,
     ``observed``: what the robot perceived, ``stated``: the reason the operator gave, if
     any, and ``confidence`` when the robot assesses itself) and ``truth``, the operator's
     true reason, for evaluation only.
     """
-    result: SimulatedOutcome = _native.simulate(scenario, dict(behavior), operator, seed)
+    result: SimulatedOutcome = _module(catalog).simulate(scenario, dict(behavior), operator, seed)
     return result
 
 
@@ -249,135 +358,236 @@ class Landscape:
         return {name: self.values[k][i] for k, (name, i) in enumerate(zip(self.components, index))}
 
 
-def landscape(scenario: str, operator: str, runs: int = 100, seed: int = 0) -> Landscape:
+def landscape(
+    scenario: str,
+    operator: str,
+    runs: int = 100,
+    seed: int = 0,
+    *,
+    progress: ProgressOption = True,
+    catalog: Catalog = None,
+) -> Landscape:
     """Estimates every behavior's completion rate under ``operator`` from ``runs`` commands
-    each (``trustcbr landscape``'s estimate), on every core."""
-    shares, lengths, names = _native.landscape(scenario, operator, runs, seed)
-    values = [c["values"] for c in space(scenario)["components"]]
+    each (``trustcbr landscape``'s estimate and its limit: 1 to 10,000 runs), on every
+    core, showing progress (see :func:`run`); Ctrl-C stops it."""
+    if isinstance(runs, bool) or not isinstance(runs, int) or runs < 0:
+        raise TrustcbrError(f"runs: a number of runs from 1 to 10000, got {runs!r}")
+    reporter = Reporter(progress, f"landscape of {operator}", "behavior")
+    try:
+        shares, lengths, names = _module(catalog).landscape(
+            scenario, operator, runs, seed, reporter.native()
+        )
+    finally:
+        reporter.close()
+    values = [c["values"] for c in space(scenario, catalog=catalog)["components"]]
     array = np.asarray(shares, dtype=np.float64).reshape(tuple(lengths))
     return Landscape(p_complete=array, components=list(names), values=values, runs=runs)
 
 
-def default_suite() -> str:
+def default_suite(*, catalog: Catalog = None) -> str:
     """The embedded suite (the paper's seven experiments) as RON, as ``trustcbr config``."""
-    return str(_native.default_suite())
+    return str(_module(catalog).default_suite())
 
 
-def builtin_arms() -> List[str]:
-    """The built-in arms, in report order."""
-    return list(_native.builtin_arms())
+def builtin_arms(*, catalog: Catalog = None) -> List[str]:
+    """The built-in arms and the catalog's own, in report order."""
+    return list(_module(catalog).builtin_arms())
 
 
-@dataclass(frozen=True)
-class PythonArm:
-    """An arm whose search strategy is written in Python.
-
-    ``factory(space)`` builds one searcher per chain of trials (an experiment's trials for
-    this arm, in order), or one per trial when the trials are independent (no case reuse,
-    ``learns_across_episodes`` false, no operator states a reason); see :class:`Searcher`
-    for its methods. With ``reuses_cases`` the
-    arm reuses cases first (Algorithm 1, the suite's retriever) and falls back on the
-    searcher, as ``case-based+NAME`` arms do.
-    """
-
-    factory: SearcherFactory
-    reuses_cases: bool = False
-
-
-@dataclass
-class Results:
-    """What a suite run returns: one record per trial (``trials.jsonl``), the summary
-    (``summary.json``), the results table (Markdown) and the config that ran."""
-
-    trials: List[Dict[str, Any]]
-    summary: Dict[str, Any]
-    table: str
-    config: Dict[str, Any]
-    out: Optional[str] = field(default=None)
-
-    def to_pandas(self) -> Any:
-        """The per-trial records as a ``pandas.DataFrame``, one row per trial (needs pandas)."""
-        try:
-            pd = importlib.import_module("pandas")
-        except ImportError as e:  # pragma: no cover - depends on the environment
-            raise ImportError("to_pandas() needs pandas: pip install pandas") from e
-        return pd.DataFrame.from_records(self.trials)
-
-    def arms(self, experiment: int = 0) -> Dict[str, Dict[str, Any]]:
-        """The summary of every arm of an experiment, by arm name."""
-        strategies: Dict[str, Dict[str, Any]] = self.summary["experiments"][experiment][
-            "strategies"
-        ]
-        return strategies
+def _suite_form(
+    suite: Union[None, str, "os.PathLike[str]", Mapping[str, Any]], text: Optional[str]
+) -> Any:
+    if text is not None:
+        if suite is not None:
+            raise TrustcbrError("give a suite or its text, not both")
+        return "ron", text, "<text>"
+    if suite is None:
+        return "embedded", "", ""
+    if isinstance(suite, Mapping):
+        return "json", _dumps(suite), "<dict>"
+    if isinstance(suite, (str, os.PathLike)):
+        return "file", "", os.fspath(suite)
+    raise TrustcbrError(f"suite: a RON file's path, a dict or None, got {type(suite).__name__}")
 
 
 def run(
-    suite: Union[None, str, os.PathLike[str], Mapping[str, Any]] = None,
+    suite: Union[None, str, "os.PathLike[str]", Mapping[str, Any]] = None,
     *,
     text: Optional[str] = None,
-    out: Union[None, str, os.PathLike[str]] = None,
+    out: Union[None, str, "os.PathLike[str]"] = None,
     trials: Optional[int] = None,
     seed: Optional[int] = None,
     arms: Optional[Sequence[str]] = None,
     landscape_runs: Optional[int] = None,
     threads: Optional[int] = None,
     python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]] = None,
-    save_cases: Union[None, str, os.PathLike[str]] = None,
-    cases: Union[None, str, os.PathLike[str]] = None,
-) -> Results:
-    """Runs a suite of experiments as ``trustcbr run`` does.
+    save_cases: Union[None, str, "os.PathLike[str]"] = None,
+    cases: Union[None, str, "os.PathLike[str]"] = None,
+    progress: ProgressOption = True,
+    catalog: Catalog = None,
+) -> Any:
+    """Runs a suite as ``trustcbr run`` does: an experiment suite (returns
+    :class:`Results`) or a mission suite, one with a ``missions`` field (returns
+    :class:`MissionResults`).
 
     ``suite`` is a RON file's path, a dict with the file's fields, or ``None`` for the
     embedded suite; ``text`` gives RON text instead. ``trials``, ``seed``, ``arms``,
-    ``landscape_runs``, ``threads``, ``save_cases`` and ``cases`` are ``run``'s options.
+    ``landscape_runs``, ``threads``, ``save_cases`` and ``cases`` are ``run``'s options,
+    with its limits (a mission suite takes ``seed``, ``arms`` and ``threads``).
     ``python_arms`` maps arm names to :class:`PythonArm` (or a bare factory); name them in
-    ``arms`` (or the suite's) to run them, paired trial by trial with the built-in arms.
-    With Python arms the run is single-threaded (Python runs one thread at a time).
-    ``out`` writes the report folder (``report.html``, ``table.md``, ``summary.json``,
-    ``trials.jsonl``, ...) as ``trustcbr run --out`` does.
+    ``arms`` (or the suite's) to run them, paired trial by trial with the built-in arms;
+    a name of a built-in arm, or one not run, is refused. With Python arms the run is
+    single-threaded (Python runs one thread at a time). ``out`` writes the report folder
+    (``report.html``, ``table.md``, ``summary.json``, ``trials.jsonl``, ...) as ``trustcbr
+    run --out`` does.
+
+    ``progress``: ``True`` shows a bar on stderr when it is a terminal, ``False`` shows
+    nothing, a callable is called with a :class:`Progress` about ten times a second.
+    Ctrl-C stops the run within a second (a Python arm included) and writes nothing.
     """
-    if text is not None:
-        if suite is not None:
-            raise TrustcbrError("give a suite or its text, not both")
-        kind, body, origin = "ron", text, "<text>"
-    elif suite is None:
-        kind, body, origin = "embedded", "", ""
-    elif isinstance(suite, Mapping):
-        kind, body, origin = "json", _dumps(suite), "<dict>"
-    else:
-        kind, body, origin = "file", "", os.fspath(suite)
-    added = []
-    for name, arm in (python_arms or {}).items():
-        if not isinstance(arm, PythonArm):
-            arm = PythonArm(arm)
-        added.append((name, arm.factory, arm.reuses_cases))
-    trials_jsonl, summary, table, config = _native.run_suite(
-        kind,
-        body,
-        origin,
-        out=None if out is None else os.fspath(out),
-        trials=trials,
-        seed=seed,
-        landscape_runs=landscape_runs,
-        arms=None if arms is None else list(arms),
-        threads=threads,
-        python_arms=added,
-        save_cases=None if save_cases is None else os.fspath(save_cases),
-        cases=None if cases is None else os.fspath(cases),
-    )
+    kind, body, origin = _suite_form(suite, text)
+    reporter = Reporter(progress, "run", "trial")
+    request = {
+        "kind": kind,
+        "text": body,
+        "origin": origin,
+        "out": None if out is None else os.fspath(out),
+        "trials": trials,
+        "seed": seed,
+        "landscape_runs": landscape_runs,
+        "arms": _names("arms", arms),
+        "threads": threads,
+        "python_arms": _python_arms(python_arms),
+        "save_cases": None if save_cases is None else os.fspath(save_cases),
+        "cases": None if cases is None else os.fspath(cases),
+        "progress": reporter.native(),
+    }
+    try:
+        ran = _module(catalog).run_suite(request)
+    finally:
+        reporter.close()
+    where = None if out is None else os.fspath(out)
+    records = [json.loads(line) for line in ran["records"].splitlines() if line]
+    if ran["kind"] == "missions":
+        return MissionResults(
+            missions=records,
+            summary=json.loads(ran["summary"]),
+            table=ran["table"],
+            config=json.loads(ran["config"]),
+            out=where,
+        )
     return Results(
-        trials=[json.loads(line) for line in trials_jsonl.splitlines() if line],
-        summary=json.loads(summary),
-        table=table,
-        config=json.loads(config),
-        out=None if out is None else os.fspath(out),
+        trials=records,
+        summary=json.loads(ran["summary"]),
+        table=ran["table"],
+        paper_table=ran["paper_table"],
+        config=json.loads(ran["config"]),
+        out=where,
     )
 
 
-def check_searcher(factory: SearcherFactory) -> None:
-    """Runs the searcher conformance kit over searchers built by ``factory(space)`` on
-    random small spaces: proposals in the space, never an evaluated behavior while one is
-    untried, ``None`` only when every behavior was tried, the same proposals for the same
-    seed, and no change after an episode unless ``learns_across_episodes``. Raises
-    :class:`TrustcbrError` naming the property broken, or the searcher's own exception."""
-    _native.check_searcher(factory)
+def load(report_dir: Union[str, "os.PathLike[str]"], *, catalog: Catalog = None) -> Any:
+    """The results in a report folder, written by ``trustcbr run``/``reproduce`` or by
+    :func:`run` with ``out``: :class:`Results` for an experiment suite (its
+    ``paper_table`` is empty: the folder keeps ``table.md``, every arm), or
+    :class:`MissionResults` for a mission suite."""
+    return load_report(report_dir, _module(catalog).read_config)
+
+
+@dataclass(frozen=True)
+class Explained:
+    """One trial told (``trustcbr explain``): ``story``, the text the command line
+    prints, and ``record``, the trial's record as in ``trials.jsonl``'s terms."""
+
+    story: str
+    record: Dict[str, Any]
+
+    def __str__(self) -> str:
+        return self.story
+
+
+def explain(
+    report: Union[str, "os.PathLike[str]"],
+    *,
+    experiment: str,
+    arm: str,
+    trial: int,
+    cases: Union[None, str, "os.PathLike[str]"] = None,
+    python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]] = None,
+    catalog: Catalog = None,
+) -> Explained:
+    """Replays one trial of a report folder as ``trustcbr explain REPORT --experiment E
+    --arm A --trial N [--cases DIR]`` does: every behavior, its commands, the trust
+    estimate after each and the explanation of every switch. A report with Python arms is
+    read too: its built-in arms are replayed, and a Python arm when its factory is given
+    in ``python_arms`` (otherwise the error says which arms can be replayed). A report
+    whose config, case bases or tool version differ from what ran is refused; one that
+    records nothing to check them by (an earlier version's) is replayed with a
+    ``UserWarning`` saying so."""
+    story, record, replay_warnings = _module(catalog).explain(
+        os.fspath(report),
+        experiment,
+        arm,
+        trial,
+        None if cases is None else os.fspath(cases),
+        _python_arms(python_arms),
+    )
+    for warning in replay_warnings:
+        warnings.warn(warning, UserWarning, stacklevel=2)
+    return Explained(story=story, record=json.loads(record))
+
+
+# What to change, per rule of the conformance kit, in a Python strategy's terms.
+_ADVICE = {
+    "in-space": "return a dict with every component of the space and one of its values",
+    "untried": "return a behavior not in `evaluated` while any is untried",
+    "exhausted-only-when-all-tried": "return None only when every behavior of the space "
+    "is in `evaluated`",
+    "keeps-an-evaluated": "return None only when every behavior was tried",
+    "one-proposal-per-behavior": "return None once every behavior was tried",
+    "rationale": "return from rationale() one plain line of at most 160 bytes, or "
+    '{"expects": ..., "confidence": p} with p in [0, 1]',
+    "deterministic": "draw every random number from the `rng` given to propose(), not from "
+    "the module `random`, numpy's global state or the clock",
+    "forgets-unless-it-learns": "set `learns_across_episodes = True` on the searcher: it "
+    "carries something from one episode to the next",
+}
+
+
+def check_searcher(
+    factory: SearcherFactory, *, scenario: Optional[str] = None, catalog: Catalog = None
+) -> None:
+    """Runs the searcher conformance kit over searchers built by ``factory(space)``, on
+    random small spaces (components named ``c0``, ``c1``, ...) or, with ``scenario``, on
+    that scenario's own space (for a strategy written for its components): proposals in
+    the space, never an evaluated behavior while one is untried, ``None`` only when every
+    behavior was tried, the same proposals for the same seed, one-line rationales, and no
+    change after an episode unless ``learns_across_episodes``.
+
+    Raises :class:`SearcherCheckError` with the rule broken, the failing case in Python
+    terms and what to change, or the searcher's own exception.
+    """
+    failure = _module(catalog).check_searcher(factory, scenario)
+    if failure is None:
+        return
+    rule = failure["rule"]
+    proposal = failure["proposal"]
+    evaluated = [e["behavior"] for e in failure["evaluated"]]
+    shown = "propose()" if proposal is None else f"propose() returned {proposal['returned']!r}"
+    case = (
+        f"on a space of {failure['space']['behaviors']} behaviors "
+        f"({', '.join(c['name'] for c in failure['space']['components'])}), "
+        f"after evaluating {evaluated!r}, {shown}"
+    )
+    message = (
+        f"the searcher breaks the rule `{rule}`: {failure['message']}; {case}. "
+        f"To fix it: {_ADVICE.get(rule, 'see docs/python.md')}."
+    )
+    raise SearcherCheckError(
+        message,
+        rule=rule,
+        space=failure["space"],
+        evaluated=failure["evaluated"],
+        proposal=proposal,
+        seed=failure["seed"],
+    )

@@ -65,8 +65,9 @@ class Decision:
     ``settled`` or, in mission mode, ``alert``; ``behavior`` is the behavior to use from now
     on (the one settled on, the one kept by an alert); ``explanation`` says why, for a
     switch and an end; ``sentence`` says it in one plain sentence (an alert's asks the
-    operator to supervise); ``reply`` is the whole reply (trust estimate, source of a
-    switch, counts at the end, an alert's own record)."""
+    operator to supervise); ``trust`` is the estimate it was made on; ``reply`` is the
+    whole reply (trust estimate, source of a switch, counts at the end, an alert's own
+    record)."""
 
     __slots__ = ("reply",)
 
@@ -98,8 +99,26 @@ class Decision:
         sentence = source.get("sentence")
         return None if sentence is None else str(sentence)
 
+    @property
+    def trust(self) -> float:
+        """The trust estimate the decision was made on: the behavior in use's after the
+        outcome (``keep``, ``alert``), the given-up behavior's last (``switch``: the new
+        behavior starts at 0), the settled behavior's (``settled``)."""
+        if "trust" in self.reply:
+            return float(self.reply["trust"])
+        explanation = self.explanation or {}
+        given_up = explanation.get("given_up")
+        if self.kind == "switch" and given_up is not None:
+            return float(given_up["trust"])
+        kept = explanation.get("next") or {}
+        if "trust" in kept:
+            return float(kept["trust"])
+        if given_up is not None:
+            return float(given_up["trust"])
+        return 0.0
+
     def __repr__(self) -> str:
-        return f"Decision(kind={self.kind!r}, behavior={self.behavior!r})"
+        return f"Decision(kind={self.kind!r}, behavior={self.behavior!r}, trust={self.trust:+.2f})"
 
 
 class Searcher(Protocol):

@@ -312,12 +312,18 @@ impl SuiteConfig {
         text: &str,
         origin: &Path,
     ) -> Result<Self, SuiteError> {
+        let config = Self::parse(text, origin)?;
+        config.validate(catalog, origin)?;
+        Ok(config)
+    }
+
+    /// Parses a suite config as written, unchecked (a mission suite refused by name, not
+    /// as a field `SuiteConfig` lacks); `origin` names the source in errors.
+    pub(super) fn parse(text: &str, origin: &Path) -> Result<Self, SuiteError> {
         if crate::missions::is_mission_suite(text) {
             return Err(mission_suite_here(origin));
         }
-        let config: Self = parse_ron(text, origin)?;
-        config.validate(catalog, origin)?;
-        Ok(config)
+        Ok(parse_ron(text, origin)?)
     }
 
     /// Parses and checks a suite config given as JSON (the same fields as the RON file: a

@@ -33,7 +33,9 @@ pub use replay::{ReplayError, check_replay};
 pub use report::{report_entries, suite_best_arms, suite_table, write_suite_report};
 pub use run::{SuiteResults, run_suite, run_suite_with_report};
 pub use saved_cases::{StartingCases, check_save_targets, save_case_bases};
-pub use trace::{TraceError, trace_suite_trial};
+pub use trace::{
+    Replayable, ReplayedTrial, TraceError, replayable_config, trace_report_trial, trace_suite_trial,
+};
 pub(crate) use validate::{check_adapter, check_arms, check_distinct, over};
 
 use crate::catalog::CatalogError;

@@ -111,6 +111,12 @@ pub struct Replay {
     pub starting_cases: BTreeMap<String, BTreeMap<String, String>>,
 }
 
+/// `table.md`: every arm of every experiment, with what it costs the operator, its effect
+/// against the reference arm and the known-operator limit (what [`write_report`] writes).
+pub fn table_md(entries: &[ReportEntry<'_>]) -> String {
+    tables::table_md(entries, &all_effect_sizes(entries))
+}
+
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
 /// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
 pub fn write_report(

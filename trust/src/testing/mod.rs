@@ -2,7 +2,9 @@
 //!
 //! - [`check_searcher`]: the properties every search strategy must have (never an
 //!   evaluated behavior while untried ones remain, `Exhausted` only when the space is,
-//!   deterministic for a seed, correct across episodes);
+//!   deterministic for a seed, correct across episodes); [`searcher_conformance`] checks
+//!   them on given spaces (a domain's own) and returns the [`SearcherRule`] broken with
+//!   its case instead of panicking;
 //! - [`check_retriever`]: every retriever returns the linear scan's answer bit for bit
 //!   (same case, same similarity, ties to the smallest id), told of cases incrementally,
 //!   under exclusions, and inside an adapter.
@@ -29,4 +31,4 @@ mod retriever;
 mod searcher;
 
 pub use retriever::check_retriever;
-pub use searcher::check_searcher;
+pub use searcher::{SearcherFailure, SearcherRule, check_searcher, searcher_conformance};

@@ -1,0 +1,256 @@
+#!/usr/bin/env python3
+"""Runs every code block of README.md and docs/*.md as written (CI: .ci/test-all).
+
+Usage: check-docs.py [FILE.md ...]   (default: README.md and docs/*.md)
+
+Environment: TRUSTCBR_BIN, the `trustcbr` binary the shell blocks call (CI: the debug
+build `cargo test` made); the Python running this script is the one whose environment has
+the package installed (CI: the virtual environment .ci/test-all builds).
+
+What runs, by the fence's language (its first word):
+- `python`: every block of a page, in order, in one interpreter session (a page is read
+  top to bottom: a later block may use what an earlier one defined), in an empty scratch
+  folder (the blocks must run from any working directory);
+- `sh`, `bash`, `console`: each block with `bash -e -o pipefail` (a `console` block's
+  commands are its lines starting with `$ `), in a scratch folder that mirrors the
+  repository's root (a symlink per entry), so paths the text gives from the root work and
+  what the commands write stays out of the checkout. `cargo run --release --` and
+  `target/release/trustcbr` are run as `trustcbr`, the binary CI built from the same
+  source (a release build would cost CI minutes for the same code), and a `cargo build
+  --release` line is skipped for that reason;
+- `rust`: compiled and run as doctests: the page must be included in src/lib.rs with
+  `#[doc = include_str!(...)]` (`cargo test` runs them); this script checks it is;
+- anything else (`json`, `text`, `ron`, `toml`, none) is data or output, not run.
+
+Attributes after the language word change that, each `key=value` (quote a value with
+spaces, shell-style), and are invisible when the Markdown is rendered:
+- `no-run="REASON"`: not run; the reason is printed. Kept for blocks that need what CI
+  does not have (a fleet's hosts, a Slurm cluster) or that CI runs elsewhere;
+- `replace="OLD => NEW"` (repeatable): run with OLD replaced by NEW, for a smaller size
+  of a long command (`--trials 500 => --trials 20`); OLD must occur in the block;
+- `cwd=repo`: a Python block runs in the mirrored repository root instead.
+
+Prints one line per block and `docs: N passed, N failed, N skipped`; exits 1 on a failure.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Optional
+
+REPO = Path(__file__).resolve().parent.parent
+RUN_LANGUAGES = {"python", "sh", "bash", "console", "rust"}
+TIMEOUT_S = 600
+# The release binary of the text is the binary CI built (see the module's doc).
+SHELL_REWRITES = [
+    (re.compile(r"cargo run --release -- "), "trustcbr "),
+    (re.compile(r"target/release/trustcbr\b"), "trustcbr"),
+    (re.compile(r"^cargo build --release\s*$", re.M), ": cargo build --release (the binary CI built)"),
+]
+
+
+@dataclass
+class Block:
+    path: Path
+    line: int
+    language: str
+    code: str
+    attributes: Dict[str, str] = field(default_factory=dict)
+    replacements: List[List[str]] = field(default_factory=list)
+
+    @property
+    def where(self) -> str:
+        return f"{self.path.relative_to(REPO)}:{self.line}"
+
+
+def blocks_of(path: Path) -> List[Block]:
+    found: List[Block] = []
+    lines = path.read_text(encoding="utf-8").splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.startswith("```"):
+            info = line[3:].strip()
+            words = shlex.split(info) if info else []
+            language = words[0].split(",")[0] if words else ""
+            block = Block(path, i + 1, language, "")
+            for word in words[1:]:
+                key, _, value = word.partition("=")
+                if key == "replace":
+                    old, sep, new = value.partition(" => ")
+                    if not sep:
+                        raise SystemExit(f"{block.where}: replace=\"OLD => NEW\", got {value!r}")
+                    block.replacements.append([old, new])
+                else:
+                    block.attributes[key] = value
+            body = []
+            i += 1
+            while i < len(lines) and not lines[i].startswith("```"):
+                body.append(lines[i])
+                i += 1
+            block.code = "\n".join(body) + "\n"
+            found.append(block)
+        i += 1
+    return found
+
+
+def prepared(block: Block) -> str:
+    code = block.code
+    for old, new in block.replacements:
+        if old not in code:
+            raise ValueError(f"replace: `{old}` does not occur in the block")
+        code = code.replace(old, new)
+    return code
+
+
+def mirror_of_repo(root: Path) -> None:
+    """Fills `root` with a symlink to each entry of the repository's root."""
+    for entry in REPO.iterdir():
+        if entry.name not in {"target", ".git"}:
+            (root / entry.name).symlink_to(entry)
+
+
+def environment() -> Dict[str, str]:
+    env = dict(os.environ)
+    paths = [str(Path(sys.executable).parent)]
+    binary = os.environ.get("TRUSTCBR_BIN")
+    if binary:
+        paths.insert(0, str(Path(binary).resolve().parent))
+    env["PATH"] = os.pathsep.join(paths + [env.get("PATH", "")])
+    env.setdefault("PYTHONUNBUFFERED", "1")
+    return env
+
+
+def run_shell(block: Block, cwd: Path) -> Optional[str]:
+    code = prepared(block)
+    if block.language == "console":
+        code = "\n".join(l[2:] for l in code.splitlines() if l.startswith("$ ")) + "\n"
+    for pattern, replacement in SHELL_REWRITES:
+        code = pattern.sub(replacement, code)
+    ran = subprocess.run(
+        ["bash", "-e", "-o", "pipefail", "-c", code],
+        cwd=cwd,
+        env=environment(),
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT_S,
+    )
+    if ran.returncode != 0:
+        return f"exit {ran.returncode}\n{ran.stdout[-2000:]}{ran.stderr[-3000:]}"
+    return None
+
+
+# Runs a page's Python blocks in one namespace; stops at the first failure, naming it.
+SESSION = r"""
+import json, sys, traceback
+blocks = json.load(open(sys.argv[1]))
+namespace = {"__name__": "__main__"}
+for where, code in blocks:
+    try:
+        exec(compile(code, where, "exec"), namespace)
+    except BaseException:
+        print(f"FAILED {where}", flush=True)
+        traceback.print_exc()
+        sys.exit(1)
+    print(f"ok {where}", flush=True)
+"""
+
+
+def run_python(blocks: List[Block], cwd: Path) -> Dict[str, Optional[str]]:
+    payload = [(b.where, prepared(b)) for b in blocks]
+    with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+        json.dump(payload, f)
+    ran = subprocess.run(
+        [sys.executable, "-c", SESSION, f.name],
+        cwd=cwd,
+        env=environment(),
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT_S,
+    )
+    os.unlink(f.name)
+    results: Dict[str, Optional[str]] = {}
+    for line in ran.stdout.splitlines():
+        if line.startswith("ok "):
+            results[line[3:]] = None
+        elif line.startswith("FAILED "):
+            results[line[7:]] = ran.stderr[-3000:]
+    for b in blocks:
+        results.setdefault(b.where, "not reached (an earlier block of the page failed)")
+    return results
+
+
+def main() -> int:
+    files = [Path(a).resolve() for a in sys.argv[1:]] or [REPO / "README.md"] + sorted(
+        (REPO / "docs").glob("*.md")
+    )
+    lib = (REPO / "src" / "lib.rs").read_text(encoding="utf-8")
+    passed = failed = skipped = 0
+
+    def report(block: Block, problem: Optional[str]) -> None:
+        nonlocal passed, failed
+        if problem is None:
+            passed += 1
+            print(f"ok      {block.where} ({block.language})")
+        else:
+            failed += 1
+            print(f"FAILED  {block.where} ({block.language}): {problem}")
+
+    for path in files:
+        blocks = [b for b in blocks_of(path) if b.language in RUN_LANGUAGES]
+        runnable = []
+        for block in blocks:
+            reason = block.attributes.get("no-run")
+            if reason is not None:
+                if not reason.strip():
+                    report(block, "no-run needs a reason")
+                    continue
+                skipped += 1
+                print(f"skipped {block.where} ({block.language}): {reason}")
+            else:
+                runnable.append(block)
+        rust = [b for b in runnable if b.language == "rust"]
+        if rust:
+            included = f'include_str!("../{path.relative_to(REPO)}")' in lib
+            for block in rust:
+                report(block, None if included else "the page is not a doctest: include it in src/lib.rs")
+        with tempfile.TemporaryDirectory(prefix="trustcbr-docs-") as scratch:
+            empty = Path(scratch) / "empty"
+            empty.mkdir()
+            mirror = Path(scratch) / "repo"
+            mirror.mkdir()
+            mirror_of_repo(mirror)
+            python = [b for b in runnable if b.language == "python"]
+            if python:
+                # One session per working directory a page asks for.
+                for cwd, group in (
+                    (empty, [b for b in python if b.attributes.get("cwd") != "repo"]),
+                    (mirror, [b for b in python if b.attributes.get("cwd") == "repo"]),
+                ):
+                    if group:
+                        try:
+                            results = run_python(group, cwd)
+                        except (ValueError, subprocess.TimeoutExpired) as e:
+                            results = {b.where: str(e) for b in group}
+                        for b in group:
+                            report(b, results[b.where])
+            for block in runnable:
+                if block.language in {"sh", "bash", "console"}:
+                    try:
+                        report(block, run_shell(block, mirror))
+                    except (ValueError, subprocess.TimeoutExpired) as e:
+                        report(block, str(e))
+    print(f"docs: {passed} passed, {failed} failed, {skipped} skipped")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
