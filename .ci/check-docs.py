@@ -28,7 +28,10 @@ spaces, shell-style), and are invisible when the Markdown is rendered:
   does not have (a fleet's hosts, a Slurm cluster) or that CI runs elsewhere;
 - `replace="OLD => NEW"` (repeatable): run with OLD replaced by NEW, for a smaller size
   of a long command (`--trials 500 => --trials 20`); OLD must occur in the block;
-- `cwd=repo`: a Python block runs in the mirrored repository root instead.
+- `cwd=repo`: a Python block runs in the mirrored repository root instead;
+- `before="COMMAND"`: a Python block whose text asks the reader to run a command first
+  (a report to read, say) has that command run, as a shell block would be, in the
+  block's working directory before the page's Python session starts.
 
 Prints one line per block and `docs: N passed, N failed, N skipped`; exits 1 on a failure.
 """
@@ -53,7 +56,7 @@ TIMEOUT_S = 600
 SHELL_REWRITES = [
     (re.compile(r"cargo run --release -- "), "trustcbr "),
     (re.compile(r"target/release/trustcbr\b"), "trustcbr"),
-    (re.compile(r"^cargo build --release\s*$", re.M), ": cargo build --release (the binary CI built)"),
+    (re.compile(r"^cargo build --release\s*$", re.M), ": cargo build --release, skipped: the binary CI built is used"),
 ]
 
 
@@ -165,6 +168,12 @@ for where, code in blocks:
 
 
 def run_python(blocks: List[Block], cwd: Path) -> Dict[str, Optional[str]]:
+    for block in blocks:
+        command = block.attributes.get("before")
+        if command:
+            problem = run_shell(Block(block.path, block.line, "sh", command + "\n"), cwd)
+            if problem is not None:
+                return {b.where: f"before: {problem}" for b in blocks}
     payload = [(b.where, prepared(b)) for b in blocks]
     with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
         json.dump(payload, f)
