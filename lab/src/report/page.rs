@@ -3,7 +3,7 @@
 //! benchmark among them), every figure with its caption, the config and the provenance.
 
 use super::tables::{
-    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, arms_table, benchmark_table,
+    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, NO_BENCHMARK, arms_table, benchmark_table,
     benchmark_title, effects_table, explanations_table, found_note, free_first_table, limit_table,
     population_table, sample_explanations, table,
 };
@@ -261,6 +261,9 @@ pub(super) fn html_page(
     );
     if let Some(benchmarks) = benchmark {
         let mut html = format!("<p>{}</p>\n", escape(BENCHMARK_NOTE));
+        if benchmarks.is_empty() {
+            let _ = writeln!(html, "<p>{}</p>", escape(NO_BENCHMARK));
+        }
         for benchmark in benchmarks {
             let _ = write!(
                 html,

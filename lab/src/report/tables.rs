@@ -513,12 +513,16 @@ pub(super) const BENCHMARK_TITLE: &str = "Benchmark: every arm over the populati
 /// What the benchmark's numbers are, in one paragraph (Markdown and the page).
 pub(super) const BENCHMARK_NOTE: &str = "Each ratio is an arm's mean per trial on a population divided by that population's known-operator limit (a random first behavior); the table gives their geometric mean over the populations with a 95% percentile bootstrap interval over populations. W/T/L counts the populations where the arm's untrustworthy commands were significantly fewer, not significantly different, or significantly more than the reference arm's (Wilcoxon signed-rank test, trial by trial, p < 0.05).";
 
+/// What the benchmark's section says when no population experiment had a limit.
+pub(super) const NO_BENCHMARK: &str =
+    "No population experiment has a known-operator limit to measure against.";
+
 /// The benchmark's section of `table.md`: the note, then a table per scenario; a sentence
 /// when no population had a limit.
 fn benchmark_section(benchmarks: &[ScenarioBenchmark]) -> String {
     let mut out = format!("\n## {BENCHMARK_TITLE}\n\n{BENCHMARK_NOTE}\n");
     if benchmarks.is_empty() {
-        out.push_str("\nNo population experiment has a known-operator limit to measure against.\n");
+        let _ = writeln!(out, "\n{NO_BENCHMARK}");
     }
     for benchmark in benchmarks {
         let _ = write!(
