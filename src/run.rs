@@ -10,8 +10,9 @@
 use crate::catalog::Catalog;
 use crate::missions::{MissionSuiteConfig, run_mission_suite, write_mission_report};
 use crate::suite::{
-    ReportEstimates, StartingCases, SuiteConfig, SuiteResults, check_save_targets, report_entries,
-    report_replay, run_suite_with_report, save_case_bases, write_suite_report,
+    ReportEstimates, StartingCases, SuiteConfig, SuiteResults, check_save_targets,
+    report_benchmark, report_entries, report_replay, run_suite_with_report, save_case_bases,
+    write_suite_report,
 };
 use anyhow::{Context, Result};
 use lab::report::Provenance;
@@ -63,19 +64,22 @@ impl Ran {
         ))
     }
 
-    /// The report's `table.md`: every arm, with what it costs the operator.
+    /// The report's `table.md`: every arm, with what it costs the operator (and the
+    /// benchmark of a benchmark suite).
     pub fn table_md(&self) -> String {
-        lab::report::table_md(&report_entries(
-            &self.config,
-            &self.results,
-            &self.estimates,
-        ))
+        let entries = report_entries(&self.config, &self.results, &self.estimates);
+        lab::report::table_md(
+            &entries,
+            report_benchmark(&self.config, &entries).as_deref(),
+        )
     }
 
     /// The report's `summary.json` document.
     pub fn summary(&self) -> serde_json::Value {
+        let entries = report_entries(&self.config, &self.results, &self.estimates);
         lab::report::summary(
-            &report_entries(&self.config, &self.results, &self.estimates),
+            &entries,
+            report_benchmark(&self.config, &entries).as_deref(),
             self.elapsed_s,
             &self.provenance,
         )

@@ -2,6 +2,7 @@
 #![deny(missing_docs)]
 
 pub mod arm;
+pub mod benchmark;
 pub mod domain;
 mod drive;
 pub mod feedback;

@@ -32,6 +32,10 @@ pub enum Purpose {
     /// A mission's truth: whether the behavior in use when the operator changed is
     /// trustworthy for the new one (here "trial" numbers the mission's change).
     Truth = 8,
+    /// The benchmark report's bootstrap over populations of an arm's ratio to the limit
+    /// (here "experiment" is the scenario's place among the benchmark's, "trial" the arm's
+    /// place times the metrics plus the metric's: [`crate::benchmark`]).
+    Benchmark = 9,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

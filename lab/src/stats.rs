@@ -1,6 +1,7 @@
 //! Summary statistics for experiment results: mean with a 95% confidence interval, the
-//! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts, and the
-//! ratio of their means with a paired bootstrap confidence interval.
+//! paired t-test and Wilcoxon signed-rank test between two arms' per-trial counts, the
+//! ratio of their means with a paired bootstrap confidence interval, and the percentile
+//! the bootstrap intervals take their ends at.
 
 use rand::Rng;
 use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
@@ -44,16 +45,18 @@ pub fn paired_bootstrap_ratio<R: Rng + ?Sized>(
         .filter(|r| r.is_finite())
         .collect();
     ratios.sort_by(f64::total_cmp);
-    let at = |q: f64| {
-        ratios
-            .get(((ratios.len() - 1) as f64 * q).round() as usize)
-            .copied()
-    };
     Some(RatioCi {
         ratio: sum(a) / sum(b),
-        low: at(0.025)?,
-        high: at(0.975)?,
+        low: percentile(&ratios, 0.025)?,
+        high: percentile(&ratios, 0.975)?,
     })
+}
+
+/// The `q` quantile of `sorted` (ascending) by the nearest rank, `sorted[round((n - 1) *
+/// q)]`, as the bootstrap intervals take their ends; `None` when it is empty.
+pub fn percentile(sorted: &[f64], q: f64) -> Option<f64> {
+    let last = sorted.len().checked_sub(1)?;
+    sorted.get((last as f64 * q).round() as usize).copied()
 }
 
 /// Mean and the half-width of its 95% confidence interval (Student's t).
@@ -133,9 +136,29 @@ pub fn paired_t_test(a: &[f64], b: &[f64]) -> Option<f64> {
 ///
 /// 1 when every difference is 0; `None` if the slices differ in length or are empty.
 pub fn wilcoxon_signed_rank(a: &[f64], b: &[f64]) -> Option<f64> {
+    signed_rank_test(a, b).map(|test| test.p)
+}
+
+/// The Wilcoxon signed-rank test of `a[i] - b[i]`: its standardized statistic and its
+/// two-sided p-value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SignedRank {
+    /// `(W+ - E[W+]) / sd(W+)`, `W+` the rank sum of the positive differences: above 0
+    /// when `a` tends to be the larger, below 0 when `b` does (0 when every difference is
+    /// 0).
+    pub z: f64,
+    /// The two-sided p-value ([`wilcoxon_signed_rank`]).
+    pub p: f64,
+}
+
+/// [`wilcoxon_signed_rank`] with the direction of the difference: which of `a` and `b`
+/// tends to be the larger, as its statistic says. `None` if the slices differ in length or
+/// are empty.
+pub fn signed_rank_test(a: &[f64], b: &[f64]) -> Option<SignedRank> {
     if a.len() != b.len() || a.is_empty() {
         return None;
     }
+    let no_difference = SignedRank { z: 0.0, p: 1.0 };
     let mut differences: Vec<f64> = a
         .iter()
         .zip(b)
@@ -143,7 +166,7 @@ pub fn wilcoxon_signed_rank(a: &[f64], b: &[f64]) -> Option<f64> {
         .filter(|d| *d != 0.0)
         .collect();
     if differences.is_empty() {
-        return Some(1.0);
+        return Some(no_difference);
     }
     differences.sort_by(|x, y| x.abs().total_cmp(&y.abs()));
     let n = differences.len() as f64;
@@ -167,11 +190,14 @@ pub fn wilcoxon_signed_rank(a: &[f64], b: &[f64]) -> Option<f64> {
     let mean = n * (n + 1.0) / 4.0;
     let variance = n * (n + 1.0) * (2.0 * n + 1.0) / 24.0 - tie_term / 48.0;
     if variance <= 0.0 {
-        return Some(1.0);
+        return Some(no_difference);
     }
     let z = (positive_ranks - mean) / variance.sqrt();
     let normal = Normal::new(0.0, 1.0).expect("a standard normal");
-    Some((2.0 * normal.cdf(-z.abs())).clamp(0.0, 1.0))
+    Some(SignedRank {
+        z,
+        p: (2.0 * normal.cdf(-z.abs())).clamp(0.0, 1.0),
+    })
 }
 
 #[cfg(test)]
@@ -233,5 +259,22 @@ mod tests {
         assert!((p - 0.193647).abs() < 1e-5, "{p}");
         assert_eq!(wilcoxon_signed_rank(&a, &a), Some(1.0));
         assert_eq!(wilcoxon_signed_rank(&[], &[]), None);
+        // The statistic's sign says which side is the larger: z = +2.0226 above, and its
+        // opposite with the sides swapped.
+        let z = signed_rank_test(&a, &b).unwrap().z;
+        assert!((z - 2.022600).abs() < 1e-5, "{z}");
+        assert!((signed_rank_test(&b, &a).unwrap().z + z).abs() < 1e-12);
+        assert_eq!(signed_rank_test(&a, &a).unwrap().z, 0.0);
+    }
+
+    #[test]
+    fn percentiles_by_nearest_rank() {
+        // Five values: q = 0.025 rounds (4 * 0.025 = 0.1) to rank 0, q = 0.975 (3.9) to 4,
+        // the median (2.0) to 2.
+        let sorted = [1.0, 2.0, 3.0, 4.0, 5.0];
+        assert_eq!(percentile(&sorted, 0.025), Some(1.0));
+        assert_eq!(percentile(&sorted, 0.975), Some(5.0));
+        assert_eq!(percentile(&sorted, 0.5), Some(3.0));
+        assert_eq!(percentile(&[], 0.5), None);
     }
 }

@@ -280,7 +280,7 @@ fn the_report_folder_holds_every_file() {
         command_line: vec!["toy".into(), "run".into()],
         replay: None,
     };
-    write_report(&out, &entries, "(trials: 10)", 1.5, &provenance).unwrap();
+    write_report(&out, &entries, None, "(trials: 10)", 1.5, &provenance).unwrap();
     for name in [
         "table.md",
         "summary.json",
@@ -433,7 +433,15 @@ fn plot_names_never_collide() {
         })
         .collect();
     let dir = tempfile::tempdir().unwrap();
-    let written = write_report(dir.path(), &entries, "()", 0.1, &Provenance::default()).unwrap();
+    let written = write_report(
+        dir.path(),
+        &entries,
+        None,
+        "()",
+        0.1,
+        &Provenance::default(),
+    )
+    .unwrap();
     let on_disk = std::fs::read_dir(dir.path()).unwrap().count();
     assert_eq!(written.len(), on_disk);
     // Three experiments, each with a curve and a heatmap, plus the four text files, the

@@ -66,6 +66,12 @@ pub struct SuiteConfig {
     /// How the report estimates each experiment's known-operator limit (`runs: 0`: none).
     #[serde(default)]
     pub limit: LimitSettings,
+    /// Whether the suite is a benchmark: its population experiments are instances of their
+    /// scenarios, and the report aggregates every arm over each scenario's populations
+    /// against their limits ([`lab::benchmark`]). Left out of a config that is not (every
+    /// other config and report reads and writes as before).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub benchmark: bool,
 }
 
 /// An optional name written as a plain string (`reference: "case-based"`, not
@@ -521,6 +527,19 @@ mod tests {
         let back =
             SuiteConfig::from_ron(&UgvCatalog, &config.to_ron(), Path::new("x.ron")).unwrap();
         assert_eq!(back, config);
+        // A suite that is not a benchmark writes no `benchmark` (its config.ron stays as
+        // it was); one that is writes it and reads it back.
+        assert!(!config.benchmark && !config.to_ron().contains("benchmark"));
+        let benchmark = SuiteConfig {
+            benchmark: true,
+            ..config
+        };
+        let ron = benchmark.to_ron();
+        assert!(ron.contains("benchmark: true"), "{ron}");
+        assert_eq!(
+            SuiteConfig::from_ron(&UgvCatalog, &ron, Path::new("x.ron")).unwrap(),
+            benchmark
+        );
     }
 
     #[test]

@@ -1,8 +1,10 @@
-//! A suite's report: its results and estimates as the report's entries, the printed
-//! tables, and the report folder, made to rerun by itself (operator files copied in).
+//! A suite's report: its results and estimates as the report's entries (and, for a
+//! benchmark suite, its benchmark), the printed tables, and the report folder, made to
+//! rerun by itself (operator files copied in).
 
 use super::{ReportEstimates, SuiteConfig, SuiteError, SuiteResults};
 use files::{read_text, write_file_in};
+use lab::benchmark::{BenchmarkPopulation, ScenarioBenchmark, benchmarks};
 use lab::known_operator::ExperimentLimit;
 use lab::landscape::Landscape;
 use lab::report::{Provenance, ReportEntry, file_stems, write_report};
@@ -49,6 +51,31 @@ pub fn report_entries<'a>(
     entries(config, results, &estimates.landscapes, &estimates.limits)
 }
 
+/// The benchmark of a benchmark suite (`benchmark: true`) from its report `entries`: every
+/// population experiment with a known-operator limit, by scenario; `None` for any other
+/// suite.
+pub fn report_benchmark(
+    config: &SuiteConfig,
+    entries: &[ReportEntry<'_>],
+) -> Option<Vec<ScenarioBenchmark>> {
+    config.benchmark.then(|| {
+        let populations: Vec<BenchmarkPopulation<'_>> = config
+            .experiments
+            .iter()
+            .zip(entries)
+            .filter(|(spec, _)| spec.population.is_some())
+            .filter_map(|(_, e)| {
+                e.limit.map(|limit| BenchmarkPopulation {
+                    scenario: e.scenario,
+                    result: e.result,
+                    limit: limit.limit.paper,
+                })
+            })
+            .collect();
+        benchmarks(&populations, config.seed)
+    })
+}
+
 /// The results table in Markdown.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
     lab::report::table(&entries(config, results, &[], &[]))
@@ -73,9 +100,11 @@ pub fn write_suite_report(
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let (portable, copies) = config.with_operator_files_in(REPORT_OPERATORS, origin);
+    let entries = entries(config, results, &estimates.landscapes, &estimates.limits);
     let mut written = write_report(
         dir,
-        &entries(config, results, &estimates.landscapes, &estimates.limits),
+        &entries,
+        report_benchmark(config, &entries).as_deref(),
         &portable.to_ron(),
         elapsed_s,
         provenance,

@@ -2,8 +2,9 @@
 //! every arm with what it costs the operator), `table.md`, `summary.json` (with the
 //! report's provenance), `trials.jsonl`, the config used, SVG plots (learning curves,
 //! and where the final behaviors land in the behavior space, over the operator's
-//! landscape) and `report.html`, the page that holds them all. Every file is written
-//! atomically.
+//! landscape) and `report.html`, the page that holds them all; for a benchmark suite,
+//! every arm over the populations of each scenario ([`crate::benchmark`]) in the three.
+//! Every file is written atomically.
 //!
 //! This module is what a report is made of ([`ReportEntry`]) and the folder it writes
 //! ([`write_report`]); one submodule each for:
@@ -27,11 +28,12 @@ pub use figures::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
 pub use files::name::file_stems;
 pub use summary_json::summary;
 pub use tables::{
-    arms_table, best_arms, effects_table, explanations_table, free_first_table, limit_table,
-    population_table, sample_explanations, table,
+    arms_table, benchmark_table, best_arms, effects_table, explanations_table, free_first_table,
+    limit_table, population_table, sample_explanations, table,
 };
 pub use trials_jsonl::trials_jsonl;
 
+use crate::benchmark::ScenarioBenchmark;
 use crate::known_operator::ExperimentLimit;
 use crate::landscape::Landscape;
 use crate::plot::PlotError;
@@ -112,16 +114,19 @@ pub struct Replay {
 }
 
 /// `table.md`: every arm of every experiment, with what it costs the operator, its effect
-/// against the reference arm and the known-operator limit (what [`write_report`] writes).
-pub fn table_md(entries: &[ReportEntry<'_>]) -> String {
-    tables::table_md(entries, &all_effect_sizes(entries))
+/// against the reference arm and the known-operator limit, and the benchmark of a
+/// benchmark suite (`None` for any other) (what [`write_report`] writes).
+pub fn table_md(entries: &[ReportEntry<'_>], benchmark: Option<&[ScenarioBenchmark]>) -> String {
+    tables::table_md(entries, &all_effect_sizes(entries), benchmark)
 }
 
 /// Writes the whole report into `dir` (created if needed): `table.md`, `summary.json`,
-/// `trials.jsonl`, `config.ron` (the text given) and the plots. Returns the files written.
+/// `trials.jsonl`, `config.ron` (the text given) and the plots, with the benchmark of a
+/// benchmark suite (`None` for any other). Returns the files written.
 pub fn write_report(
     dir: &Path,
     entries: &[ReportEntry<'_>],
+    benchmark: Option<&[ScenarioBenchmark]>,
     config_ron: &str,
     elapsed_s: f64,
     provenance: &Provenance,
@@ -132,18 +137,20 @@ pub fn write_report(
         Ok(())
     };
     let effects = all_effect_sizes(entries);
-    write("table.md", &tables::table_md(entries, &effects))?;
+    write("table.md", &tables::table_md(entries, &effects, benchmark))?;
     let summary = serde_json::to_string_pretty(&summary_json::summary_of(
-        entries, &effects, elapsed_s, provenance,
+        entries, &effects, benchmark, elapsed_s, provenance,
     ))
     .expect("plain data serializes");
     write("summary.json", &(summary + "\n"))?;
     write("trials.jsonl", &trials_jsonl(entries))?;
     write("config.ron", config_ron)?;
-    let figures = figures::write_figures(dir, entries, &effects, &mut write)?;
+    let figures = figures::write_figures(dir, entries, &effects, benchmark, &mut write)?;
     write(
         "report.html",
-        &page::html_page(entries, &effects, config_ron, provenance, &figures),
+        &page::html_page(
+            entries, &effects, benchmark, config_ron, provenance, &figures,
+        ),
     )?;
     Ok(written)
 }

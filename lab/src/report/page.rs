@@ -1,13 +1,15 @@
 //! `report.html`: one self-contained page (inline SVG and CSS, nothing fetched) holding
-//! a contents list, the glossary of arms and metrics, every table, every figure with its
-//! caption, the config and the provenance.
+//! a contents list, the glossary of arms and metrics, every table (a benchmark suite's
+//! benchmark among them), every figure with its caption, the config and the provenance.
 
 use super::tables::{
-    FREE_FIRST_TITLE, arms_table, effects_table, explanations_table, found_note, free_first_table,
-    limit_table, population_table, sample_explanations, table,
+    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, NO_BENCHMARK, arms_table, benchmark_table,
+    benchmark_title, effects_table, explanations_table, found_note, free_first_table, limit_table,
+    population_table, sample_explanations, table,
 };
 use super::{Provenance, ReportEntry, file_stems};
 use crate::arm::Initial;
+use crate::benchmark::ScenarioBenchmark;
 use crate::stats::RatioCi;
 use std::fmt::Write as _;
 
@@ -173,10 +175,11 @@ pre { background: #f6f6f6; padding: 1em; overflow-x: auto; }
 /// `report.html`: one self-contained page (inline SVG and CSS, nothing fetched): a
 /// contents list, the glossary, the tables, the figures (the same SVG text as the files,
 /// but the learning curves without their per-trial dots) each with a caption, the config
-/// and the provenance.
+/// and the provenance; the benchmark's tables after the explanations, for a benchmark suite.
 pub(super) fn html_page(
     entries: &[ReportEntry<'_>],
     effects: &[Vec<Option<RatioCi>>],
+    benchmark: Option<&[ScenarioBenchmark]>,
     config_ron: &str,
     provenance: &Provenance,
     figures: &[Figure],
@@ -256,6 +259,21 @@ pub(super) fn html_page(
         "Explanations against the truth",
         explanations,
     );
+    if let Some(benchmarks) = benchmark {
+        let mut html = format!("<p>{}</p>\n", escape(BENCHMARK_NOTE));
+        if benchmarks.is_empty() {
+            let _ = writeln!(html, "<p>{}</p>", escape(NO_BENCHMARK));
+        }
+        for benchmark in benchmarks {
+            let _ = write!(
+                html,
+                "<h3>{}</h3>\n{}",
+                escape(&benchmark_title(benchmark)),
+                html_table(&benchmark_table(benchmark))
+            );
+        }
+        section("benchmark", BENCHMARK_TITLE, html);
+    }
     let mut titles: Vec<&str> = Vec::new();
     for figure in figures {
         if !titles.contains(&figure.section.as_str()) {

@@ -1,25 +1,40 @@
 //! `summary.json`: per experiment, each arm's means with their intervals, its tests and
 //! effect size against the reference arm, its ratios to the known-operator limit and its
-//! explanations' accuracy; the limit and the population's measures; the provenance.
+//! explanations' accuracy; the limit and the population's measures; the provenance; and
+//! for a benchmark suite, the benchmark of each scenario ([`crate::benchmark`]).
 
 use super::effects::{all_effect_sizes, versus_reference};
 use super::tables::ratios;
 use super::{Provenance, ReportEntry};
 use crate::arm::Initial;
+use crate::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
 use crate::limit::Costs;
 use crate::runner::{ArmResult, ExplanationCheck};
 use crate::stats::RatioCi;
 use serde_json::{Map, Value, json};
 
-/// The `summary.json` document.
-pub fn summary(entries: &[ReportEntry<'_>], elapsed_s: f64, provenance: &Provenance) -> Value {
-    summary_of(entries, &all_effect_sizes(entries), elapsed_s, provenance)
+/// The `summary.json` document, with a `benchmark` key for a benchmark suite (`benchmark`
+/// given).
+pub fn summary(
+    entries: &[ReportEntry<'_>],
+    benchmark: Option<&[ScenarioBenchmark]>,
+    elapsed_s: f64,
+    provenance: &Provenance,
+) -> Value {
+    summary_of(
+        entries,
+        &all_effect_sizes(entries),
+        benchmark,
+        elapsed_s,
+        provenance,
+    )
 }
 
 /// The `summary.json` document, with the effect sizes already estimated.
 pub(super) fn summary_of(
     entries: &[ReportEntry<'_>],
     effects: &[Vec<Option<RatioCi>>],
+    benchmark: Option<&[ScenarioBenchmark]>,
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Value {
@@ -99,7 +114,99 @@ pub(super) fn summary_of(
             })
         })
         .collect();
-    json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments })
+    let mut document =
+        json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments });
+    if let Some(benchmark) = benchmark {
+        document["benchmark"] = benchmark.iter().map(benchmark_summary).collect();
+    }
+    document
+}
+
+/// One scenario's benchmark for `summary.json`: its populations, how its numbers were
+/// made, and per arm its ratios to the limit, wins, ties and losses, ECDF and windows.
+fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
+    let windows: Vec<[u32; 2]> = benchmark
+        .windows
+        .iter()
+        .map(|w| [w.first, w.last])
+        .collect();
+    let arms: Map<String, Value> = benchmark
+        .arms
+        .iter()
+        .map(|arm| {
+            (
+                arm.arm.clone(),
+                arm_benchmark_summary(arm, benchmark, &windows),
+            )
+        })
+        .collect();
+    json!({
+        "scenario": benchmark.scenario,
+        "populations": benchmark.populations,
+        "bootstrap_resamples": crate::benchmark::BOOTSTRAP_RESAMPLES,
+        "significance": crate::benchmark::SIGNIFICANCE,
+        "references": benchmark.references,
+        "limit_untrustworthy_mean": benchmark.limit_untrustworthy,
+        "windows": windows,
+        "arms": arms,
+    })
+}
+
+/// One arm of a scenario's benchmark for `summary.json`.
+fn arm_benchmark_summary(
+    arm: &ArmBenchmark,
+    benchmark: &ScenarioBenchmark,
+    windows: &[[u32; 2]],
+) -> Value {
+    let per_metric = |values: [Value; 3]| -> Value {
+        Metric::ALL
+            .iter()
+            .zip(values)
+            .map(|(metric, value)| (metric.key().to_owned(), value))
+            .collect::<Map<String, Value>>()
+            .into()
+    };
+    let to_limit = per_metric(arm.to_limit.map(|ratio| {
+        ratio.map_or(Value::Null, |LimitRatio { ratio, populations }| {
+            json!({
+                "geometric_mean": ratio.ratio,
+                "ci95_low": ratio.low,
+                "ci95_high": ratio.high,
+                "populations": populations,
+            })
+        })
+    }));
+    let versus: Map<String, Value> = benchmark
+        .references
+        .iter()
+        .zip(&arm.versus)
+        .filter_map(|(reference, tally)| {
+            tally.map(|t| {
+                (
+                    reference.clone(),
+                    json!({ "wins": t.wins, "ties": t.ties, "losses": t.losses }),
+                )
+            })
+        })
+        .collect();
+    let over_trials: Vec<Value> = windows
+        .iter()
+        .zip(&arm.windows)
+        .map(|(trials, ratios)| {
+            let mut window = per_metric(ratios.map(|r| r.map_or(Value::Null, finite_or_null)));
+            window["trials"] = json!(trials);
+            window
+        })
+        .collect();
+    json!({
+        "ratio_to_limit": to_limit,
+        "versus": versus,
+        "ecdf": {
+            "pairs": arm.ecdf.pairs,
+            "settled_within": arm.ecdf.steps(),
+        },
+        "ratio_to_limit_over_trials": over_trials,
+    })
 }
 
 /// A number for JSON, `null` when it is not finite.

@@ -2,11 +2,13 @@
 //! the paper's Table 1, every arm, the effect sizes, the explanations against the truth
 //! (with sample explanations), every arm against the known-operator limit (the paper's
 //! protocol, and free to choose the first behavior) and how much each population
-//! disagrees; and the one line per experiment printed after a run.
+//! disagrees; every arm over the populations of a scenario (a benchmark suite's); and the
+//! one line per experiment printed after a run.
 
 use super::ReportEntry;
 use super::effects::versus_reference;
 use crate::arm::Initial;
+use crate::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
 use crate::known_operator::ExperimentLimit;
 use crate::limit::Costs;
 use crate::runner::ArmResult;
@@ -429,11 +431,120 @@ fn format_p(p: f64) -> String {
     }
 }
 
+/// A geometric mean ratio to the limit with its interval, `1.59 [1.13, 2.25]`, and the
+/// populations it is over when some had no usable ratio; `—` when none had.
+fn limit_ratio_cell(ratio: Option<LimitRatio>, populations: usize) -> String {
+    let Some(LimitRatio {
+        ratio,
+        populations: counted,
+    }) = ratio
+    else {
+        return "—".to_owned();
+    };
+    let cell = format!("{:.2} [{:.2}, {:.2}]", ratio.ratio, ratio.low, ratio.high);
+    if counted < populations {
+        format!("{cell} ({counted} of {populations} populations)")
+    } else {
+        cell
+    }
+}
+
+/// Wins, ties and losses as `3/1/0`; `—` for a reference against itself.
+fn wins_ties_losses_cell(tally: Option<WinsTiesLosses>) -> String {
+    tally.map_or("—".to_owned(), |t| {
+        format!("{}/{}/{}", t.wins, t.ties, t.losses)
+    })
+}
+
+/// A scenario's benchmark ([`crate::benchmark`]), one row per arm: its geometric mean
+/// ratios to the limit over the populations with their bootstrap intervals, its wins,
+/// ties and losses against each reference arm that ran, and its untrustworthy commands'
+/// ratio to the limit over the windows of trials.
+pub fn benchmark_table(benchmark: &ScenarioBenchmark) -> String {
+    let mut out = String::from(
+        "| Arm | Behaviors × limit [95% CI] | Commands × limit [95% CI] | Untrustworthy × limit [95% CI] |",
+    );
+    for reference in &benchmark.references {
+        let _ = write!(out, " W/T/L vs {reference} |");
+    }
+    for window in &benchmark.windows {
+        let _ = write!(
+            out,
+            " Untrustworthy × limit, trials {}–{} |",
+            window.first, window.last
+        );
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---:|".repeat(3 + benchmark.references.len() + benchmark.windows.len()));
+    out.push('\n');
+    let populations = benchmark.populations.len();
+    for arm in &benchmark.arms {
+        let _ = write!(out, "| {} |", arm.arm);
+        for ratio in arm.to_limit {
+            let _ = write!(out, " {} |", limit_ratio_cell(ratio, populations));
+        }
+        for tally in &arm.versus {
+            let _ = write!(out, " {} |", wins_ties_losses_cell(*tally));
+        }
+        for [_, _, untrustworthy] in &arm.windows {
+            let _ = write!(
+                out,
+                " {} |",
+                untrustworthy.map_or("—".to_owned(), ratio_cell)
+            );
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The title of a scenario's benchmark table.
+pub(super) fn benchmark_title(benchmark: &ScenarioBenchmark) -> String {
+    format!(
+        "{}: {} populations",
+        benchmark.scenario,
+        benchmark.populations.len()
+    )
+}
+
+/// The title of the benchmark's section.
+pub(super) const BENCHMARK_TITLE: &str = "Benchmark: every arm over the populations of each scenario, against their known-operator limits";
+
+/// What the benchmark's numbers are, in one paragraph (Markdown and the page).
+pub(super) const BENCHMARK_NOTE: &str = "Each ratio is an arm's mean per trial on a population divided by that population's known-operator limit (a random first behavior); the table gives their geometric mean over the populations with a 95% percentile bootstrap interval over populations. W/T/L counts the populations where the arm's untrustworthy commands were significantly fewer, not significantly different, or significantly more than the reference arm's (Wilcoxon signed-rank test, trial by trial, p < 0.05).";
+
+/// What the benchmark's section says when no population experiment had a limit.
+pub(super) const NO_BENCHMARK: &str =
+    "No population experiment has a known-operator limit to measure against.";
+
+/// The benchmark's section of `table.md`: the note, then a table per scenario; a sentence
+/// when no population had a limit.
+fn benchmark_section(benchmarks: &[ScenarioBenchmark]) -> String {
+    let mut out = format!("\n## {BENCHMARK_TITLE}\n\n{BENCHMARK_NOTE}\n");
+    if benchmarks.is_empty() {
+        let _ = writeln!(out, "\n{NO_BENCHMARK}");
+    }
+    for benchmark in benchmarks {
+        let _ = write!(
+            out,
+            "\n### {}\n\n{}",
+            benchmark_title(benchmark),
+            benchmark_table(benchmark)
+        );
+    }
+    out
+}
+
 /// The title of [`free_first_table`]'s section.
 pub(super) const FREE_FIRST_TITLE: &str = "Arms that may start from the case memory's guess, against the known-operator limit free to choose its first behavior";
 
-/// `table.md`: the tables in order, each under its title.
-pub(super) fn table_md(entries: &[ReportEntry<'_>], effects: &[Vec<Option<RatioCi>>]) -> String {
+/// `table.md`: the tables in order, each under its title; the benchmark's last, when the
+/// suite is one.
+pub(super) fn table_md(
+    entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
+    benchmark: Option<&[ScenarioBenchmark]>,
+) -> String {
     let limits = limit_table(entries);
     let free_first = free_first_table(entries);
     let limits = if limits.is_empty() {
@@ -457,7 +568,7 @@ pub(super) fn table_md(entries: &[ReportEntry<'_>], effects: &[Vec<Option<RatioC
         found_note(entries),
         effects_table(entries, effects),
         explanations_table(entries)
-    )
+    ) + &benchmark.map_or(String::new(), benchmark_section)
 }
 
 #[cfg(test)]

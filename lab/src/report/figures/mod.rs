@@ -1,10 +1,12 @@
 //! The report's SVG figures: every experiment and arm at once (`every_arm`), per-trial
 //! lines over the trials of every experiment (`over_trials`), the learning curves of an
-//! experiment (`curves`) and where its final behaviors land (`finals`); what they share
+//! experiment (`curves`), where its final behaviors land (`finals`) and a benchmark
+//! scenario's untrustworthy commands to settle (`ecdf`); what they share
 //! (the legend, moving averages, thinning a long curve); and [`write_figures`], which draws
 //! them all, writes each as a file and hands the page the same text with a caption.
 
 mod curves;
+mod ecdf;
 mod every_arm;
 mod finals;
 mod over_trials;
@@ -14,11 +16,13 @@ pub use finals::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
 use super::effects::BOOTSTRAP_RESAMPLES;
 use super::page::{Figure, escape};
 use super::{ReportEntry, ReportError, file_stems};
+use crate::benchmark::ScenarioBenchmark;
 use crate::plot::{Area, ArmStyle, DrawResult, Overlay, PlotError, svg, svg_with};
 use crate::stats::RatioCi;
 use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::BehaviorSpace;
 use curves::learning_curves;
+use ecdf::ecdf_figure;
 use every_arm::{SUMMARY_METRICS, effects_figure, every_arm_figure, summary_figure};
 use finals::{FinalsLayout, final_behaviors, finals_caption, finals_subtitle};
 use over_trials::{over_trials_figures, small_multiples};
@@ -29,13 +33,14 @@ use std::path::Path;
 /// Trials averaged by the moving average of the learning-curve plots.
 const MOVING_AVERAGE_WINDOW: usize = 25;
 
-/// Draws every figure of the report from `entries` and their `effects`, writes each as its
-/// own SVG file in `dir` through `write`, and returns them for the page, in the page's
-/// order.
+/// Draws every figure of the report from `entries`, their `effects` and the `benchmark` of
+/// a benchmark suite, writes each as its own SVG file in `dir` through `write`, and returns
+/// them for the page, in the page's order.
 pub(super) fn write_figures(
     dir: &Path,
     entries: &[ReportEntry<'_>],
     effects: &[Vec<Option<RatioCi>>],
+    benchmark: Option<&[ScenarioBenchmark]>,
     write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
 ) -> Result<Vec<Figure>, ReportError> {
     // Every figure is written as its own SVG file and the same text goes into the page.
@@ -166,6 +171,25 @@ pub(super) fn write_figures(
                 finals_caption(e, (x, y), grid.as_ref()),
             ));
         }
+    }
+    let benchmarks = benchmark.unwrap_or_default();
+    for (b, stem) in benchmarks
+        .iter()
+        .zip(file_stems(benchmarks.iter().map(|b| &b.scenario)))
+    {
+        let name = format!("benchmark-{stem}-ecdf.svg");
+        let drawn = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
+            ecdf_figure(area, overlay, b)
+        })?;
+        write(&name, &drawn)?;
+        figures.push(Figure::new(
+            &format!("Benchmark: {}", b.scenario),
+            drawn,
+            format!(
+                "Untrustworthy commands to settle: for each arm, the share of its (population,                  trial) pairs over the scenario's {} populations that ended on a trustworthy                  behavior within N untrustworthy commands, as N grows (higher and further left                  is better; a pair that never settled is never counted). The dashed line is the                  known-operator limit's expected untrustworthy commands, averaged over the                  populations: the limit is known by its expectation only, so it is drawn as a                  line at its mean and not as a curve.",
+                b.populations.len()
+            ),
+        ));
     }
     Ok(figures)
 }

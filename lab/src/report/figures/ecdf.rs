@@ -1,0 +1,136 @@
+//! A scenario's benchmark as a distribution ([`crate::benchmark::Ecdf`]): for each arm, the
+//! share of its (population, trial) pairs that settled on a trustworthy behavior within
+//! `N` untrustworthy commands, as `N` grows; the known-operator limit as a vertical line
+//! at its mean expected untrustworthy commands.
+
+use super::{Key, LEGEND_WIDTH, legend};
+use crate::benchmark::{Ecdf, ScenarioBenchmark};
+use crate::plot::{Area, ArmStyle, DrawResult, Overlay, arm_style, drawing_order};
+use plotters::prelude::*;
+
+/// Places along each arm's curve its marker is drawn at.
+const MARKERS: u64 = 8;
+
+/// The curve of `ecdf` as a line from `(0, 0)` to the right edge `right`: level between
+/// the counts where pairs settled, up at each.
+fn staircase(ecdf: &Ecdf, right: u64) -> Vec<(f64, f64)> {
+    let mut points = vec![(0.0, 0.0)];
+    let mut share = 0.0;
+    for (n, next) in ecdf.steps() {
+        points.push((n as f64, share));
+        points.push((n as f64, next));
+        share = next;
+    }
+    points.push((right as f64, share));
+    points
+}
+
+/// The ECDF figure of a scenario's benchmark.
+pub(super) fn ecdf_figure(
+    area: &Area<'_>,
+    overlay: &mut Overlay,
+    benchmark: &ScenarioBenchmark,
+) -> DrawResult {
+    let most = benchmark
+        .arms
+        .iter()
+        .filter_map(|a| a.ecdf.settled.last().copied())
+        .max()
+        .unwrap_or(0);
+    // Room for the limit's line whatever the arms did.
+    let right = most
+        .max((benchmark.limit_untrustworthy * 1.2).ceil() as u64)
+        .max(1);
+    let (width, _) = area.dim_in_pixel();
+    let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
+    let mut chart = ChartBuilder::on(&plot)
+        .caption(
+            format!(
+                "{}: untrustworthy commands to settle, over {} populations",
+                benchmark.scenario,
+                benchmark.populations.len()
+            ),
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0f64..right as f64, 0f64..1.02)?;
+    chart
+        .configure_mesh()
+        .light_line_style(TRANSPARENT)
+        .x_desc("untrustworthy commands N")
+        .y_desc("share of (population, trial) pairs settled within N")
+        .draw()?;
+    chart.draw_series(DashedLineSeries::new(
+        [
+            (benchmark.limit_untrustworthy, 0.0),
+            (benchmark.limit_untrustworthy, 1.0),
+        ],
+        6,
+        4,
+        BLACK.stroke_width(2),
+    ))?;
+    let names: Vec<&str> = benchmark.arms.iter().map(|a| a.arm.as_str()).collect();
+    let styles: Vec<ArmStyle> = names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| arm_style(name, i))
+        .collect();
+    for index in drawing_order(&names) {
+        let (ecdf, style) = (&benchmark.arms[index].ecdf, styles[index]);
+        chart.draw_series(LineSeries::new(
+            staircase(ecdf, right),
+            style.color.stroke_width(2),
+        ))?;
+        // The arm's marker on its curve at evenly spaced counts, staggered by arm so that
+        // curves that run together do not hide each other's markers.
+        let stagger = right / (MARKERS * names.len().max(1) as u64);
+        overlay.markers(
+            style.shape,
+            Some((style.color, 1.0)),
+            Some((WHITE, 1.0)),
+            (0..MARKERS)
+                .map(|k| k * right / MARKERS + index as u64 * stagger)
+                .map(|n| {
+                    let (x, y) = chart.backend_coord(&(n as f64, ecdf.share_within(n)));
+                    ((f64::from(x), f64::from(y)), 4.5)
+                }),
+        );
+    }
+    let mut entries: Vec<(String, Key)> = names
+        .iter()
+        .zip(&styles)
+        .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
+        .collect();
+    entries.push((
+        "known-operator limit (mean expected, dashed)".to_owned(),
+        Key::Line(BLACK),
+    ));
+    legend(&side, overlay, &entries)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_staircase_by_hand() {
+        // Settled after 0, 3, 3 and 7 of five pairs: up to 0.2 at 0, 0.6 at 3 and 0.8 at
+        // 7, level to the right edge.
+        let ecdf = Ecdf::of([(true, 3), (false, 12), (true, 0), (true, 7), (true, 3)]);
+        assert_eq!(
+            staircase(&ecdf, 10),
+            vec![
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (0.0, 0.2),
+                (3.0, 0.2),
+                (3.0, 0.6),
+                (7.0, 0.6),
+                (7.0, 0.8),
+                (10.0, 0.8)
+            ]
+        );
+    }
+}
