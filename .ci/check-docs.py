@@ -23,7 +23,9 @@ What runs, by the fence's language (its first word):
 - anything else (`json`, `text`, `ron`, `toml`, none) is data or output, not run.
 
 Attributes after the language word change that, each `key=value` (quote a value with
-spaces, shell-style), and are invisible when the Markdown is rendered:
+spaces, shell-style), and are invisible when the Markdown is rendered; on a page rustdoc
+renders (docs/plugin-guide.md), whose fences may not hold `=`, they stand in a comment on
+the line before the fence instead: `<!-- check-docs: no-run="REASON" -->`:
 - `no-run="REASON"`: not run; the reason is printed. Kept for blocks that need what CI
   does not have (a fleet's hosts, a Slurm cluster) or that CI runs elsewhere;
 - `replace="OLD => NEW"` (repeatable): run with OLD replaced by NEW, for a smaller size
@@ -51,6 +53,7 @@ from typing import Dict, List, Optional
 
 REPO = Path(__file__).resolve().parent.parent
 RUN_LANGUAGES = {"python", "sh", "bash", "console", "rust"}
+COMMENT_START = "<!-- check-docs:"
 TIMEOUT_S = 600
 # The release binary of the text is the binary CI built (see the module's doc).
 SHELL_REWRITES = [
@@ -85,6 +88,12 @@ def blocks_of(path: Path) -> List[Block]:
             words = shlex.split(info) if info else []
             language = words[0].split(",")[0] if words else ""
             block = Block(path, i + 1, language, "")
+            # Attributes may also stand in an HTML comment on the line before the fence
+            # (`<!-- check-docs: no-run="..." -->`), for a page rustdoc renders: rustdoc
+            # refuses `key=value` words in a fence.
+            previous = lines[i - 1].strip() if i > 0 else ""
+            if previous.startswith(COMMENT_START) and previous.endswith("-->"):
+                words += shlex.split(previous[len(COMMENT_START) : -len("-->")])
             for word in words[1:]:
                 key, _, value = word.partition("=")
                 if key == "replace":
