@@ -225,6 +225,15 @@ pub struct ArmStyle {
     pub shape: Shape,
 }
 
+/// The styles of a figure's arms, in the order of `names` ([`arm_style`] of each).
+pub fn arm_styles(names: &[&str]) -> Vec<ArmStyle> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, name)| arm_style(name, i))
+        .collect()
+}
+
 /// The style of the arm named `name`, at `index` in its experiment: each built-in arm
 /// ([`crate::arm::BUILTIN_ARMS`]) has its own, the same in every figure of every report
 /// and sweep (the paper's two: vermillion discs and blue squares); a built-in arm that

@@ -2,9 +2,7 @@
 //! over the trials in order, with its 95% band.
 
 use super::{Key, LEGEND_WIDTH, MOVING_AVERAGE_WINDOW, legend, moving_average, thinned};
-use crate::plot::{
-    Area, ArmStyle, DrawResult, Overlay, arm_style, drawing_order, log_ticks, tick_label,
-};
+use crate::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order, log_ticks, tick_label};
 use crate::report::ReportEntry;
 use crate::stats::mean_ci95;
 use plotters::prelude::*;
@@ -66,11 +64,7 @@ pub(super) fn learning_curves(
         .y_label_formatter(&tick_label)
         .draw()?;
     let names: Vec<&str> = e.result.arms.iter().map(|a| a.name.as_str()).collect();
-    let styles: Vec<ArmStyle> = names
-        .iter()
-        .enumerate()
-        .map(|(i, name)| arm_style(name, i))
-        .collect();
+    let styles = arm_styles(&names);
     for index in drawing_order(&names) {
         let (s, style) = (&e.result.arms[index], styles[index]);
         let color = style.color;

@@ -5,7 +5,7 @@
 
 use super::{Key, LEGEND_WIDTH, legend};
 use crate::benchmark::{Ecdf, ScenarioBenchmark};
-use crate::plot::{Area, ArmStyle, DrawResult, Overlay, arm_style, drawing_order};
+use crate::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order};
 use plotters::prelude::*;
 
 /// Places along each arm's curve its marker is drawn at.
@@ -72,11 +72,7 @@ pub(super) fn ecdf_figure(
         BLACK.stroke_width(2),
     ))?;
     let names: Vec<&str> = benchmark.arms.iter().map(|a| a.arm.as_str()).collect();
-    let styles: Vec<ArmStyle> = names
-        .iter()
-        .enumerate()
-        .map(|(i, name)| arm_style(name, i))
-        .collect();
+    let styles = arm_styles(&names);
     for index in drawing_order(&names) {
         let (ecdf, style) = (&benchmark.arms[index].ecdf, styles[index]);
         chart.draw_series(LineSeries::new(
