@@ -46,6 +46,7 @@ import re
 import shlex
 import subprocess
 import sys
+import time
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -141,7 +142,13 @@ def environment() -> Dict[str, str]:
     return env
 
 
+# How long each block that passed took (s), printed beside it: CI's time budget is spent
+# here, and a slow example shows.
+SECONDS_TAKEN: Dict[str, float] = {}
+
+
 def run_shell(block: Block, cwd: Path) -> Optional[str]:
+    started = time.monotonic()
     code = prepared(block)
     if block.language == "console":
         code = "\n".join(l[2:] for l in code.splitlines() if l.startswith("$ ")) + "\n"
@@ -157,21 +164,24 @@ def run_shell(block: Block, cwd: Path) -> Optional[str]:
     )
     if ran.returncode != 0:
         return f"exit {ran.returncode}\n{ran.stdout[-2000:]}{ran.stderr[-3000:]}"
+    SECONDS_TAKEN[block.where] = time.monotonic() - started
     return None
 
 
 # Runs a page's Python blocks in one namespace; stops at the first failure, naming it.
 SESSION = r"""
-import json, sys, traceback
+import json, sys, time, traceback
 blocks = json.load(open(sys.argv[1]))
 namespace = {"__name__": "__main__"}
 for where, code in blocks:
+    started = time.monotonic()
     try:
         exec(compile(code, where, "exec"), namespace)
     except BaseException:
         print(f"FAILED {where}", flush=True)
         traceback.print_exc()
         sys.exit(1)
+    print(f"took {time.monotonic() - started:.1f} {where}", flush=True)
     print(f"ok {where}", flush=True)
 """
 
@@ -197,7 +207,10 @@ def run_python(blocks: List[Block], cwd: Path) -> Dict[str, Optional[str]]:
     os.unlink(f.name)
     results: Dict[str, Optional[str]] = {}
     for line in ran.stdout.splitlines():
-        if line.startswith("ok "):
+        if line.startswith("took "):
+            seconds, where = line[5:].split(" ", 1)
+            SECONDS_TAKEN[where] = float(seconds)
+        elif line.startswith("ok "):
             results[line[3:]] = None
         elif line.startswith("FAILED "):
             results[line[7:]] = ran.stderr[-3000:]
@@ -217,7 +230,9 @@ def main() -> int:
         nonlocal passed, failed
         if problem is None:
             passed += 1
-            print(f"ok      {block.where} ({block.language})")
+            taken = SECONDS_TAKEN.get(block.where)
+            timing = "" if taken is None else f", {taken:.1f} s"
+            print(f"ok      {block.where} ({block.language}{timing})")
         else:
             failed += 1
             print(f"FAILED  {block.where} ({block.language}): {problem}")
