@@ -2,6 +2,7 @@
 #![deny(missing_docs)]
 
 pub mod arm;
+pub mod attention;
 pub mod benchmark;
 pub mod domain;
 mod drive;
@@ -16,6 +17,7 @@ pub mod limit;
 pub mod mission;
 pub mod mission_figure;
 pub mod mission_report;
+pub mod operator_file;
 pub mod plot;
 pub mod report;
 pub mod runner;
@@ -34,6 +36,7 @@ pub use interrupt::Interrupted;
 pub use known_operator::KnownLimitError;
 pub use landscape::LandscapeError;
 pub use limit::LimitError;
+pub use operator_file::{OperatorFileError, UnperceivedWeight};
 pub use plot::PlotError;
 pub use report::ReportError;
 pub use runner::{
