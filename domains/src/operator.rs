@@ -250,9 +250,7 @@ impl OperatorModel {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        let mut attending = Attending::new(attention);
-        let judgement = self.watch(trace, &mut attending, rng);
-        attending.finish(judgement)
+        Attending::judge(attention, |attending| self.watch(trace, attending, rng))
     }
 
     /// How the run ends for an operator `attending` to it, before the judgement names what

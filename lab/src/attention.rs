@@ -7,8 +7,8 @@
 //! attention 1 judge exactly as the operator without attention, draw for draw: the
 //! contract [`Domain::run_attending`](crate::Domain::run_attending) states and
 //! [`check_domain`](crate::testing::check_domain) checks (feature `testing`). A domain's
-//! `judge_attending` makes one [`Attending`], asks it at each reaction, and finishes every
-//! judgement it returns with [`Attending::finish`]; its `judge` is `judge_attending` at
+//! `judge_attending` is [`Attending::judge`] over its way of watching a run, which asks the
+//! [`Attending`] it is handed at each reaction; its `judge` is `judge_attending` at
 //! attention 1.
 
 use crate::domain::Judgement;
@@ -40,6 +40,20 @@ use trust::Cause;
 /// let mut calm = Attending::new(0.0);
 /// assert!(!calm.react(&mut rng, 0.0, BUMP));
 /// assert_eq!(calm.overlooked(), None);
+///
+/// // A whole judgement: an operator who would always stop the robot at a bump, and
+/// // always at the deadline, watching a run with a bump at 2 s that ends at 8 s, past
+/// // its deadline; at attention 0 it overlooks both, and the judgement names the bump.
+/// let judged = Attending::judge(0.0, |attending| {
+///     if attending.react(&mut rng, 1.0, BUMP) {
+///         return Judgement::interrupted(1.0, BUMP, 2.0);
+///     }
+///     if attending.react(&mut rng, 1.0, LATE) {
+///         return Judgement::interrupted(1.0, LATE, 6.0);
+///     }
+///     Judgement::completed(1.0, 8.0)
+/// });
+/// assert_eq!(judged, Judgement::completed(1.0, 8.0).overlooking(Some(BUMP)));
 ///
 /// // Fully attentive, it reacts exactly when `draw < p`, on the same draws.
 /// let mut attentive = Attending::new(1.0);
@@ -79,6 +93,15 @@ impl Attending {
             self.overlooked = Some(cause);
         }
         false
+    }
+
+    /// The judgement `watch` returns for an operator at `attention`, naming the first
+    /// problem it overlooked: the whole of a domain's `judge_attending` (its `watch` asks
+    /// the [`Attending`] it is handed at each reaction).
+    pub fn judge(attention: f64, watch: impl FnOnce(&mut Attending) -> Judgement) -> Judgement {
+        let mut attending = Self::new(attention);
+        let judgement = watch(&mut attending);
+        attending.finish(judgement)
     }
 
     /// The first problem overlooked so far.

@@ -30,7 +30,7 @@
 //!
 //! /// A courier's operator: how long a delivery may take, and how often it interrupts
 //! /// a late one.
-//! #[derive(Deserialize)]
+//! #[derive(Debug, Deserialize)]
 //! struct Dispatcher {
 //!     name: String,
 //!     t_complete: f64,
