@@ -305,8 +305,9 @@ pub enum OperatorFileError<E = Infallible> {
         file: PathBuf,
         /// The operator's name.
         operator: String,
-        /// The domain's error.
-        reason: E,
+        /// The domain's error (boxed: a domain's error may be large, and every loader's
+        /// result carries this type).
+        reason: Box<E>,
     },
 }
 
@@ -357,7 +358,7 @@ pub fn from_ron<O: OperatorData>(
         .map_err(|reason| OperatorFileError::Rule {
             file: file(),
             operator: name(&operator),
-            reason,
+            reason: Box::new(reason),
         })?;
     Ok(operator)
 }
@@ -516,13 +517,9 @@ mod tests {
     #[test]
     fn the_domain_s_own_rules_come_last_with_its_own_error() {
         let err = read(&format!("{GOOD}, watch_glare: true")).unwrap_err();
-        assert!(matches!(
-            err,
-            OperatorFileError::Rule {
-                reason: GlareUndeclared,
-                ..
-            }
-        ));
+        assert!(
+            matches!(err, OperatorFileError::Rule { ref reason, .. } if **reason == GlareUndeclared)
+        );
         assert_eq!(
             err.to_string(),
             "ops/w.ron: operator `w`: `watch_glare` needs cause `glare` declared"
