@@ -54,12 +54,15 @@ pub use ugv::UgvCatalog;
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of
 // each (`trustcbr` alone; the `testing` feature turns on `trust::testing`): `rand` and
 // `rand_distr` for a domain's randomness (a `rand_distr` of another version does not
-// accept the `RngCore` the runner hands over), `serde` and `ron` for its files (derive
+// accept the `RngCore` the runner hands over), `rand_chacha` for the portable generator
+// the project seeds everything with (`ChaCha8Rng`: the same draws on every platform, for
+// a plug-in's own families, priors and tests), `serde` and `ron` for its files (derive
 // with `#[serde(crate = "trustcbr::serde")]`), `service` to serve it by hand.
 pub use cbr_core;
 pub use files;
 pub use lab;
 pub use rand;
+pub use rand_chacha;
 pub use rand_distr;
 pub use ron;
 pub use serde;

@@ -20,7 +20,7 @@ pub mod trace;
 pub mod ugv;
 pub mod world;
 
-pub use operator::{OperatorError, OperatorModel, builtin_operators};
+pub use operator::{OperatorError, OperatorModel, UndeclaredPreference, builtin_operators};
 pub use perception::perceive;
 pub use render::render_run;
 pub use scenario::{Scenario, UnknownScenario};

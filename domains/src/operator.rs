@@ -20,10 +20,12 @@
 //! - `scan_standard`: interrupts (probability `p`) when a scan was made from farther than
 //!   `max_distance` or lasted less than `min_time` (cause `poor-scan`; patrol).
 //!
-//! An operator is read against the causes its scenario declares ([`crate::causes`]):
-//! `weights.by_cause` may name only those (quoted, `by_cause: {"detonation": 1.0}`), and
-//! of those only the causes the robot perceives itself ([`crate::causes::PERCEIVED`]); a
-//! preference whose cause the scenario does not declare is refused.
+//! An operator is read against the causes its scenario declares ([`crate::causes`]) by
+//! the lab's loader ([`lab::operator_file`]): `weights.by_cause` may name only those
+//! (quoted, `by_cause: {"detonation": 1.0}`), and of those only the causes the robot
+//! perceives itself ([`crate::causes::PERCEIVED`]); the UGV's own rule refuses a
+//! preference whose cause the scenario does not declare ([`UndeclaredPreference`]). An
+//! operator's attention scales its reactions through [`lab::attention::Attending`].
 
 use crate::Scenario;
 use crate::causes::{
@@ -31,13 +33,13 @@ use crate::causes::{
     TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
 };
 use crate::trace::{EventKind, Trace};
-use files::{FileError, RonError, parse_ron, read_text};
+use lab::attention::Attending;
+use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use lab::{FeedbackChannel, Judgement};
-use rand::{Rng, RngCore};
+use rand::RngCore;
 use serde::{Deserialize, Serialize};
-use std::cell::Cell;
-use std::path::{Path, PathBuf};
-use trust::{Cause, DeclaredCause, OutcomeWeights, WeightsError};
+use std::path::Path;
+use trust::{Cause, DeclaredCause, OutcomeWeights};
 
 fn one() -> f64 {
     1.0
@@ -129,192 +131,104 @@ pub struct OperatorModel {
     pub feedback: FeedbackChannel,
 }
 
-/// Why an operator file cannot be used.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum OperatorError {
-    /// The file could not be read.
-    #[error(transparent)]
-    Io(#[from] FileError),
-    /// The file is not a valid operator in RON.
-    #[error(transparent)]
-    Syntax(#[from] RonError),
-    /// A weight is out of range, or `weights.by_cause` names a cause the scenario does not
-    /// declare.
-    #[error("{file}: operator `{operator}`: {reason}")]
-    Weights {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// What is wrong with the weights.
-        reason: WeightsError,
-    },
-    /// A value is out of its allowed range.
-    #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
-    Range {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// The field, e.g. `p_collision` or `weights.by_cause.detonation`.
-        field: String,
-        /// The allowed range.
-        allowed: &'static str,
-        /// The value given.
-        value: f64,
-    },
-    /// `weights.by_cause` names a cause the robot does not perceive itself.
-    #[error(
-        "{file}: operator `{operator}`: `weights.by_cause.{cause}`: weights may name only causes the robot perceives itself ({allowed})"
-    )]
-    Unperceived {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// The cause named.
-        cause: Cause,
-        /// The causes allowed.
-        allowed: String,
-    },
-    /// A preference is on whose cause the scenario does not declare.
-    #[error(
-        "{file}: operator `{operator}`: `{field}` needs cause `{cause}`, which this scenario does not declare (declared: {declared})"
-    )]
-    Preference {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// The preference, e.g. `scan_standard`.
-        field: &'static str,
-        /// Its cause.
-        cause: Cause,
-        /// The causes the scenario declares.
-        declared: String,
-    },
+/// Why an operator file cannot be used: the lab's operator-file errors, with the UGV's
+/// own rule ([`UndeclaredPreference`]).
+pub type OperatorError = OperatorFileError<UndeclaredPreference>;
+
+/// A preference is on whose cause the scenario does not declare.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "`{field}` needs cause `{cause}`, which this scenario does not declare (declared: {declared})"
+)]
+pub struct UndeclaredPreference {
+    /// The preference, e.g. `scan_standard`.
+    pub field: &'static str,
+    /// Its cause.
+    pub cause: Cause,
+    /// The causes the scenario declares.
+    pub declared: String,
 }
 
-impl OperatorModel {
-    /// Parses and validates an operator for a scenario that declares `causes` (its
-    /// `weights.by_cause` may name only those; their declared default weights fill the
-    /// causes it leaves out); `origin` names the source in errors.
-    pub fn from_ron(
-        text: &str,
-        origin: &Path,
-        causes: &[DeclaredCause],
-    ) -> Result<Self, OperatorError> {
-        let mut model: Self = parse_ron(text, origin)?;
-        model.validate(origin)?;
-        model
-            .weights
-            .check(causes)
-            .map_err(|reason| OperatorError::Weights {
-                file: origin.to_owned(),
-                operator: model.name.clone(),
-                reason,
-            })?;
-        model.check_causes(origin, causes)?;
-        Ok(model)
+impl OperatorData for OperatorModel {
+    type Invalid = UndeclaredPreference;
+    const PERCEIVED: Option<&'static [Cause]> = Some(&PERCEIVED);
+
+    fn name(&self) -> &str {
+        &self.name
     }
 
-    /// Weights name only perceived causes; every preference that is on has its cause
-    /// declared.
-    fn check_causes(&self, origin: &Path, causes: &[DeclaredCause]) -> Result<(), OperatorError> {
-        if let Some(&cause) = self
-            .weights
-            .by_cause
-            .keys()
-            .find(|c| !PERCEIVED.contains(c))
-        {
-            return Err(OperatorError::Unperceived {
-                file: origin.to_owned(),
-                operator: self.name.clone(),
-                cause,
-                allowed: trust::cause::list_causes(&PERCEIVED),
-            });
+    fn weights_mut(&mut self) -> &mut OutcomeWeights {
+        &mut self.weights
+    }
+
+    /// Every probability, then every amount, then the deadline and the patience.
+    fn validate(&self, check: &mut RangeCheck) {
+        check.probability("p_deadline", self.p_deadline);
+        check.probability("p_collision", self.p_collision);
+        check.probability("p_missed_object", self.p_missed_object);
+        check.probability("p_false_alarm", self.p_false_alarm);
+        if let Some(c) = self.comfort {
+            check.probability("comfort.p", c.p);
         }
+        if let Some(c) = self.clearance {
+            check.probability("clearance.p", c.p);
+        }
+        if let Some(c) = self.scan_standard {
+            check.probability("scan_standard.p", c.p);
+        }
+        if let Some(c) = self.comfort {
+            check.non_negative("comfort.distance", c.distance);
+            check.non_negative("comfort.speed", c.speed);
+        }
+        if let Some(c) = self.clearance {
+            check.non_negative("clearance.gap", c.gap);
+        }
+        if let Some(c) = self.scan_standard {
+            check.non_negative("scan_standard.max_distance", c.max_distance);
+            check.non_negative("scan_standard.min_time", c.min_time);
+        }
+        check.positive("t_complete", self.t_complete);
+        check.at_least("give_up_factor", self.give_up_factor, 1.0);
+    }
+
+    /// Every preference that is on has its cause declared.
+    fn check_rules(&self, declared: &[DeclaredCause]) -> Result<(), UndeclaredPreference> {
         let on = [
             ("comfort", self.comfort.is_some(), TOO_FAST_NEAR_PEOPLE),
             ("clearance", self.clearance.is_some(), TOO_CLOSE),
             ("scan_standard", self.scan_standard.is_some(), POOR_SCAN),
         ];
         for (field, is_on, cause) in on {
-            if is_on && !causes.iter().any(|d| d.name == cause) {
-                let declared: Vec<Cause> = causes.iter().map(|d| d.name).collect();
-                return Err(OperatorError::Preference {
-                    file: origin.to_owned(),
-                    operator: self.name.clone(),
+            if is_on && !declared.iter().any(|d| d.name == cause) {
+                let names: Vec<Cause> = declared.iter().map(|d| d.name).collect();
+                return Err(UndeclaredPreference {
                     field,
                     cause,
-                    declared: trust::cause::list_causes(&declared),
+                    declared: trust::cause::list_causes(&names),
                 });
             }
         }
         Ok(())
     }
+}
 
-    /// Reads, parses and validates an operator file for a scenario that declares `causes`.
-    pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
-        let text = read_text(path)?;
-        Self::from_ron(&text, path, causes)
+impl OperatorModel {
+    /// Parses and validates an operator for a scenario that declares `causes` (its
+    /// `weights.by_cause` may name only those, and of those only the causes the robot
+    /// perceives itself; their declared default weights fill the causes it leaves out);
+    /// `origin` names the source in errors ([`lab::operator_file::from_ron`]).
+    pub fn from_ron(
+        text: &str,
+        origin: &Path,
+        causes: &[DeclaredCause],
+    ) -> Result<Self, OperatorError> {
+        operator_file::from_ron(text, origin, causes)
     }
 
-    fn validate(&self, origin: &Path) -> Result<(), OperatorError> {
-        let fail = |field: String, allowed, value| OperatorError::Range {
-            file: origin.to_owned(),
-            operator: self.name.clone(),
-            field,
-            allowed,
-            value,
-        };
-        let mut probabilities = vec![
-            ("p_deadline", self.p_deadline),
-            ("p_collision", self.p_collision),
-            ("p_missed_object", self.p_missed_object),
-            ("p_false_alarm", self.p_false_alarm),
-        ];
-        let mut amounts = Vec::new();
-        if let Some(c) = self.comfort {
-            probabilities.push(("comfort.p", c.p));
-            amounts.push(("comfort.distance", c.distance));
-            amounts.push(("comfort.speed", c.speed));
-        }
-        if let Some(c) = self.clearance {
-            probabilities.push(("clearance.p", c.p));
-            amounts.push(("clearance.gap", c.gap));
-        }
-        if let Some(c) = self.scan_standard {
-            probabilities.push(("scan_standard.p", c.p));
-            amounts.push(("scan_standard.max_distance", c.max_distance));
-            amounts.push(("scan_standard.min_time", c.min_time));
-        }
-        for (field, value) in probabilities {
-            if !(0.0..=1.0).contains(&value) {
-                return Err(fail(field.into(), "a probability in [0, 1]", value));
-            }
-        }
-        for (field, value) in amounts {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(fail(field.into(), "a finite number >= 0", value));
-            }
-        }
-        if !(self.t_complete.is_finite() && self.t_complete > 0.0) {
-            return Err(fail(
-                "t_complete".into(),
-                "a finite number > 0",
-                self.t_complete,
-            ));
-        }
-        if !(self.give_up_factor.is_finite() && self.give_up_factor >= 1.0) {
-            return Err(fail(
-                "give_up_factor".into(),
-                "a finite number >= 1",
-                self.give_up_factor,
-            ));
-        }
-        Ok(())
+    /// Reads, parses and validates an operator file for a scenario that declares `causes`
+    /// ([`lab::operator_file::load`]).
+    pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
+        operator_file::load(path, causes)
     }
 
     /// Watches a run and decides how it ends, and why (the truth). Random reactions draw
@@ -336,48 +250,42 @@ impl OperatorModel {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Judgement {
+        Attending::judge(attention, |attending| self.watch(trace, attending, rng))
+    }
+
+    /// How the run ends for an operator `attending` to it, before the judgement names what
+    /// it overlooked.
+    fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
         let give_up = self.t_complete * self.give_up_factor;
-        // The first cause overlooked (shared by the reactions below and the endings).
-        let overlooked = Cell::new(None);
-        let interrupt = |cause, t| {
-            Judgement::interrupted(self.weights.of(cause), cause, t).overlooking(overlooked.get())
-        };
+        let interrupt = |cause, t| Judgement::interrupted(self.weights.of(cause), cause, t);
         let mut deadline_seen = false;
-        // Whether the operator reacts to `cause`, which it minds with probability `p`.
-        let mut react = |p: f64, cause: Cause| {
-            let draw = rng.random::<f64>();
-            if draw < p * attention {
-                return true;
-            }
-            if draw < p && overlooked.get().is_none() {
-                overlooked.set(Some(cause));
-            }
-            false
-        };
         for event in &trace.events {
             if !deadline_seen && event.t > self.t_complete {
                 deadline_seen = true;
-                if react(self.p_deadline, DEADLINE) {
+                if attending.react(rng, self.p_deadline, DEADLINE) {
                     return interrupt(DEADLINE, self.t_complete);
                 }
             }
             if event.t > give_up {
-                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up)
-                    .overlooking(overlooked.get());
+                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
             }
             match event.kind {
-                EventKind::Collision { .. } if react(self.p_collision, COLLISION) => {
+                EventKind::Collision { .. }
+                    if attending.react(rng, self.p_collision, COLLISION) =>
+                {
                     return interrupt(COLLISION, event.t);
                 }
                 EventKind::Stuck => return interrupt(STUCK, event.t),
-                EventKind::MissedObject { .. } if react(self.p_missed_object, MISSED_OBJECT) => {
+                EventKind::MissedObject { .. }
+                    if attending.react(rng, self.p_missed_object, MISSED_OBJECT) =>
+                {
                     return interrupt(MISSED_OBJECT, event.t);
                 }
                 EventKind::Labelled {
                     explosive: false,
                     labelled_explosive: true,
                     ..
-                } if react(self.p_false_alarm, FALSE_ALARM) => {
+                } if attending.react(rng, self.p_false_alarm, FALSE_ALARM) => {
                     return interrupt(FALSE_ALARM, event.t);
                 }
                 EventKind::PassedPerson {
@@ -389,7 +297,7 @@ impl OperatorModel {
                     (present || c.expected_too)
                         && gap < c.distance
                         && speed > c.speed
-                        && react(c.p, TOO_FAST_NEAR_PEOPLE)
+                        && attending.react(rng, c.p, TOO_FAST_NEAR_PEOPLE)
                 }) =>
                 {
                     return interrupt(TOO_FAST_NEAR_PEOPLE, event.t);
@@ -397,25 +305,24 @@ impl OperatorModel {
                 EventKind::ClosestPass { gap, .. }
                     if self
                         .clearance
-                        .is_some_and(|c| gap < c.gap && react(c.p, TOO_CLOSE)) =>
+                        .is_some_and(|c| gap < c.gap && attending.react(rng, c.p, TOO_CLOSE)) =>
                 {
                     return interrupt(TOO_CLOSE, event.t);
                 }
                 EventKind::Scanned {
                     distance, duration, ..
                 } if self.scan_standard.is_some_and(|c| {
-                    (distance > c.max_distance || duration < c.min_time) && react(c.p, POOR_SCAN)
+                    (distance > c.max_distance || duration < c.min_time)
+                        && attending.react(rng, c.p, POOR_SCAN)
                 }) =>
                 {
                     return interrupt(POOR_SCAN, event.t);
                 }
                 EventKind::Detonation { .. } => {
-                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t)
-                        .overlooking(overlooked.get());
+                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t);
                 }
                 EventKind::Arrived { .. } => {
-                    return Judgement::completed(self.weights.completed, event.t)
-                        .overlooking(overlooked.get());
+                    return Judgement::completed(self.weights.completed, event.t);
                 }
                 _ => {}
             }

@@ -19,10 +19,12 @@
 //!
 //! A member at position `x` in `[-1, 1]` is the base moved `|x|` of the way to the
 //! dispatcher (`x < 0`) or the supervisor (`x > 0`): the deadline geometrically, the
-//! reaction probabilities linearly, each supervisor preference on with probability
-//! `0.95 x`. The weights are the paper's for the scenario.
+//! reaction probabilities linearly ([`lab::population::geometric`] and
+//! [`lab::population::linear`]), each supervisor preference on with probability `0.95 x`.
+//! The weights are the paper's for the scenario.
 //!
-//! [`family`] draws `size` members: each draws a side and a spread `u` in `[0, 1)`, and
+//! [`family`] draws `size` members through [`lab::population::two_pole_family`], the
+//! supervisor on the positive side: each draws a side and a spread `u` in `[0, 1)`, and
 //! sits at `x = -+lambda` with `lambda = conflict (1 - (1 - conflict) u)`. At conflict 0
 //! every member is the base (one preference set); at conflict 1 every member is one of
 //! the two poles; in between, members spread over `[conflict^2, conflict]` of the way to
@@ -30,8 +32,7 @@
 
 use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use lab::population::{geometric, linear, two_pole_family};
 use trust::OutcomeWeights;
 
 /// An operator's deadline and reaction probabilities.
@@ -102,15 +103,14 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
     } else {
         (supervisor, x)
     };
-    // Exact at the ends: the base and the poles are the operators they are argued as.
-    let linear = |p: f64, q: f64| if f == 1.0 { q } else { p + (q - p) * f };
     let p = P_MIND * x.max(0.0);
     let on = p > 0.0;
+    // Exact at the ends: the base and the poles are the operators they are argued as.
     OperatorModel {
         name: name.to_owned(),
-        t_complete: base.t_complete.powf(1.0 - f) * to.t_complete.powf(f),
-        p_deadline: linear(base.p_deadline, to.p_deadline),
-        p_collision: linear(base.p_collision, to.p_collision),
+        t_complete: geometric(base.t_complete, to.t_complete, f),
+        p_deadline: linear(base.p_deadline, to.p_deadline, f),
+        p_collision: linear(base.p_collision, to.p_collision, f),
         p_missed_object: 1.0,
         p_false_alarm: 1.0,
         give_up_factor: 2.0,
@@ -147,19 +147,10 @@ pub fn rung_positions(conflict: f64) -> [f64; 2] {
 }
 
 /// `size` operators drawn from the family at `conflict` in `[0, 1]` with a seeded,
-/// portable generator (ChaCha8); named `family-c{conflict:.2}-{i}`.
+/// portable generator ([`lab::population::two_pole_family`]); named
+/// `family-c{conflict:.2}-{i}`.
 pub fn family(scenario: Scenario, conflict: f64, size: usize, seed: u64) -> Vec<OperatorModel> {
-    let c = conflict.clamp(0.0, 1.0);
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..size)
-        .map(|i| {
-            let supervisor = rng.random::<bool>();
-            let u = rng.random::<f64>();
-            let lambda = c * (1.0 - (1.0 - c) * u);
-            let x = if supervisor { lambda } else { -lambda };
-            member(scenario, x, &format!("family-c{c:.2}-{i}"))
-        })
-        .collect()
+    two_pole_family(conflict, size, seed, |x, name| member(scenario, x, name))
 }
 
 #[cfg(test)]
@@ -219,6 +210,23 @@ mod tests {
             assert!(members.iter().all(|m| *m == dispatcher || *m == supervisor));
             assert!(members.contains(&dispatcher) && members.contains(&supervisor));
         }
+    }
+
+    #[test]
+    fn halfway_members_by_hand() {
+        // Halfway to the supervisor: the deadline geometrically from 15 s to 60 s,
+        // sqrt(15 x 60) = 30 s; both probabilities are the same at base and pole; each
+        // preference on with 0.95 x 0.5.
+        let m = member(Scenario::Movement, 0.5, "m");
+        assert!((m.t_complete - 30.0).abs() < 1e-12);
+        assert_eq!((m.p_deadline, m.p_collision), (0.05, 0.95));
+        assert_eq!(m.comfort.map(|c| c.p), Some(0.475));
+        // Halfway to the dispatcher: the deadline stays 15 s, p_deadline from 0.05 to
+        // 0.95 and p_collision from 0.95 to 0.05 meet at 0.5; no preference.
+        let m = member(Scenario::Movement, -0.5, "m");
+        assert!((m.t_complete - 15.0).abs() < 1e-12);
+        assert!((m.p_deadline - 0.5).abs() < 1e-15 && (m.p_collision - 0.5).abs() < 1e-15);
+        assert_eq!((m.comfort, m.clearance), (None, None));
     }
 
     #[test]

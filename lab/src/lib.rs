@@ -2,6 +2,7 @@
 #![deny(missing_docs)]
 
 pub mod arm;
+pub mod attention;
 pub mod benchmark;
 pub mod domain;
 mod drive;
@@ -16,7 +17,9 @@ pub mod limit;
 pub mod mission;
 pub mod mission_figure;
 pub mod mission_report;
+pub mod operator_file;
 pub mod plot;
+pub mod population;
 pub mod report;
 pub mod runner;
 pub mod seeds;
@@ -34,6 +37,7 @@ pub use interrupt::Interrupted;
 pub use known_operator::KnownLimitError;
 pub use landscape::LandscapeError;
 pub use limit::LimitError;
+pub use operator_file::{OperatorFileError, UnperceivedWeight};
 pub use plot::PlotError;
 pub use report::ReportError;
 pub use runner::{

@@ -4,8 +4,9 @@
 //! A pick draws the item and how far its shelf is, drives out (people may cross), finds
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
-//! [`Trace`]; the operator turns it into a `Judgement`. Every draw comes from the
-//! generator passed in, in a fixed order, so a seed gives one pick.
+//! [`Trace`]; the operator turns it into a `Judgement`, at the attention a mission gives
+//! it (`run_attending`; `run` is attention 1). Every draw comes from the generator passed
+//! in, in a fixed order, so a seed gives one pick.
 
 use crate::gripper::{Grasp, Gripper};
 use crate::items::draw_item;
@@ -152,7 +153,17 @@ impl Domain for WarehouseDomain {
         operator: &WarehouseOperator,
         rng: &mut dyn RngCore,
     ) -> Judgement {
+        self.run_attending(behavior, operator, 1.0, rng)
+    }
+
+    fn run_attending(
+        &self,
+        behavior: &Behavior,
+        operator: &WarehouseOperator,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
         let trace = self.simulate(self.settings(behavior), rng);
-        operator.judge(&trace, rng)
+        operator.judge_attending(&trace, attention, rng)
     }
 }

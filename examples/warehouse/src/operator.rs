@@ -8,16 +8,17 @@
 //! pick. A delivered item completes it, unless it arrived crushed and the packer notices
 //! (probability `p_crushed`), which fails it.
 
-use crate::cause::WarehouseCause;
+use crate::cause::{DECLARED, WarehouseCause};
 use crate::trace::{Event, Trace};
-use rand::{Rng, RngCore};
-use std::fmt;
-use std::path::{Path, PathBuf};
-use trustcbr::files::{FileError, RonError, parse_ron, read_text};
+use rand::RngCore;
+use std::convert::Infallible;
+use std::path::Path;
 use trustcbr::lab::Judgement;
+use trustcbr::lab::attention::Attending;
+use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
-use trustcbr::trust::{OutcomeKind, OutcomeWeights, WeightsError};
+use trustcbr::trust::{OutcomeKind, OutcomeWeights};
 
 fn two() -> f64 {
     2.0
@@ -45,143 +46,68 @@ pub struct WarehouseOperator {
     pub weights: OutcomeWeights,
 }
 
-/// Why an operator file cannot be used.
-#[derive(Debug)]
-pub enum OperatorError {
-    /// The file could not be read.
-    Io(FileError),
-    /// The file is not a valid operator in RON (the error names line:column).
-    Syntax(RonError),
-    /// A weight is out of range, or `weights.by_cause` names a cause the warehouse does
-    /// not declare.
-    Weights {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// What is wrong with the weights.
-        reason: WeightsError,
-    },
-    /// A value is out of its allowed range.
-    Range {
-        /// The file.
-        file: PathBuf,
-        /// The operator's name.
-        operator: String,
-        /// The field, e.g. `p_collision`.
-        field: String,
-        /// The allowed range.
-        allowed: &'static str,
-        /// The value given.
-        value: f64,
-    },
-}
+/// Why an operator file cannot be used (the warehouse has no rules of its own beyond the
+/// lab's checks).
+pub type OperatorError = OperatorFileError;
 
-impl fmt::Display for OperatorError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Io(e) => e.fmt(f),
-            Self::Syntax(e) => e.fmt(f),
-            Self::Weights {
-                file,
-                operator,
-                reason,
-            } => write!(f, "{}: operator `{operator}`: {reason}", file.display()),
-            Self::Range {
-                file,
-                operator,
-                field,
-                allowed,
-                value,
-            } => write!(
-                f,
-                "{}: operator `{operator}`: `{field}` must be {allowed}, got {value}",
-                file.display()
-            ),
-        }
+impl OperatorData for WarehouseOperator {
+    type Invalid = Infallible;
+
+    fn name(&self) -> &str {
+        &self.name
     }
-}
 
-impl std::error::Error for OperatorError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            Self::Io(e) => e.source(),
-            Self::Syntax(e) => e.source(),
-            Self::Weights { .. } | Self::Range { .. } => None,
-        }
+    fn weights_mut(&mut self) -> &mut OutcomeWeights {
+        &mut self.weights
     }
-}
 
-impl From<FileError> for OperatorError {
-    fn from(e: FileError) -> Self {
-        Self::Io(e)
-    }
-}
-
-impl From<RonError> for OperatorError {
-    fn from(e: RonError) -> Self {
-        Self::Syntax(e)
+    fn validate(&self, check: &mut RangeCheck) {
+        check.probability("p_deadline", self.p_deadline);
+        check.probability("p_collision", self.p_collision);
+        check.probability("p_crushed", self.p_crushed);
+        check.positive("t_complete", self.t_complete);
+        check.at_least("give_up_factor", self.give_up_factor, 1.0);
     }
 }
 
 impl WarehouseOperator {
-    /// Parses and validates an operator; `origin` names the source in errors.
+    /// Parses and validates an operator against the warehouse's causes; `origin` names the
+    /// source in errors.
     pub fn from_ron(text: &str, origin: &Path) -> Result<Self, OperatorError> {
-        let mut operator: Self = parse_ron(text, origin)?;
-        operator.validate(origin)?;
-        operator
-            .weights
-            .check(&crate::cause::DECLARED)
-            .map_err(|reason| OperatorError::Weights {
-                file: origin.to_owned(),
-                operator: operator.name.clone(),
-                reason,
-            })?;
-        Ok(operator)
+        operator_file::from_ron(text, origin, &DECLARED)
     }
 
     /// Reads, parses and validates an operator file.
     pub fn load(path: &Path) -> Result<Self, OperatorError> {
-        Self::from_ron(&read_text(path)?, path)
-    }
-
-    fn validate(&self, origin: &Path) -> Result<(), OperatorError> {
-        let range = |field: String, allowed, value| OperatorError::Range {
-            file: origin.to_owned(),
-            operator: self.name.clone(),
-            field,
-            allowed,
-            value,
-        };
-        for (field, p) in [
-            ("p_deadline", self.p_deadline),
-            ("p_collision", self.p_collision),
-            ("p_crushed", self.p_crushed),
-        ] {
-            if !(0.0..=1.0).contains(&p) {
-                return Err(range(field.into(), "a probability in [0, 1]", p));
-            }
-        }
-        if !(self.t_complete.is_finite() && self.t_complete > 0.0) {
-            return Err(range(
-                "t_complete".into(),
-                "a finite number of seconds > 0",
-                self.t_complete,
-            ));
-        }
-        if !(self.give_up_factor.is_finite() && self.give_up_factor >= 1.0) {
-            return Err(range(
-                "give_up_factor".into(),
-                "a finite number >= 1",
-                self.give_up_factor,
-            ));
-        }
-        Ok(())
+        operator_file::load(path, &DECLARED)
     }
 
     /// Watches a pick and decides how it ends; random reactions draw from `rng`.
     pub fn judge(&self, trace: &Trace, rng: &mut dyn RngCore) -> Judgement {
+        self.judge_attending(trace, 1.0, rng)
+    }
+
+    /// [`WarehouseOperator::judge`] by an operator whose `attention`, in `[0, 1]`, is the
+    /// chance it notices what it would react to (`lab::attention`): interrupting at the
+    /// deadline or at a collision, and the packer's look at a crushed item, each happen
+    /// with probability `p * attention` on the same draw, so at attention 1 this is
+    /// exactly `judge`. What it overlooks lets the pick go on, and the first such cause is
+    /// the judgement's `overlooked`. A missing slot, a dropped item and a pick past the
+    /// operator's patience are noticed whatever the attention: the pick cannot go on.
+    pub fn judge_attending(
+        &self,
+        trace: &Trace,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        Attending::judge(attention, |attending| self.watch(trace, attending, rng))
+    }
+
+    /// How the pick ends for an operator `attending` to it, before the judgement names
+    /// what it overlooked.
+    fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
         let give_up = self.t_complete * self.give_up_factor;
+        let mut react = |p, cause: WarehouseCause| attending.react(rng, p, cause.to_trust());
         let mut deadline_seen = false;
         // A trace without an ending (never the simulation's) is a pick that never ends:
         // the operator waits for it past every deadline.
@@ -189,7 +115,7 @@ impl WarehouseOperator {
         for (t, event) in events.chain([(f64::INFINITY, None)]) {
             if !deadline_seen && t > self.t_complete {
                 deadline_seen = true;
-                if rng.random::<f64>() < self.p_deadline {
+                if react(self.p_deadline, WarehouseCause::TooSlow) {
                     return self.ending(
                         OutcomeKind::Interrupted,
                         WarehouseCause::TooSlow,
@@ -202,7 +128,7 @@ impl WarehouseOperator {
             }
             match event {
                 // The reaction is drawn at every collision, in trace order.
-                Some(Event::Collision) if rng.random::<f64>() < self.p_collision => {
+                Some(Event::Collision) if react(self.p_collision, WarehouseCause::Collision) => {
                     return self.ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t);
                 }
                 Some(Event::ItemNotFound) => {
@@ -212,7 +138,7 @@ impl WarehouseOperator {
                     return self.ending(OutcomeKind::Failed, WarehouseCause::DroppedItem, t);
                 }
                 Some(Event::Delivered { crushed }) => {
-                    if crushed && rng.random::<f64>() < self.p_crushed {
+                    if crushed && react(self.p_crushed, WarehouseCause::CrushedItem) {
                         return self.ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t);
                     }
                     return Judgement::completed(self.weights.completed, t);

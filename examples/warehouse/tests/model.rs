@@ -283,6 +283,42 @@ fn operators_judge_what_they_watch() {
 }
 
 #[test]
+fn an_inattentive_operator_overlooks_what_it_minds_and_the_pick_goes_on() {
+    let half = || Constant(1 << 63); // every reaction draw is 0.5
+    let care = operator("care-focused"); // p_collision 0.95, p_crushed 0.95
+    let delivered = trace(&[
+        (20.0, Event::Collision),
+        (50.0, Event::Delivered { crushed: true }),
+    ]);
+    // Attention 0.5: 0.5 is not below 0.95 x 0.5 = 0.475, but is below 0.95: both the
+    // collision and the crushed item are overlooked, the first is named.
+    let judged = care.judge_attending(&delivered, 0.5, &mut half());
+    assert_eq!(
+        judged,
+        Judgement::completed(0.5, 50.0).overlooking(Some(WarehouseCause::Collision.to_trust()))
+    );
+    // Attention 0.6: 0.5 is below 0.95 x 0.6 = 0.57, so it stops at the collision.
+    assert_eq!(
+        care.judge_attending(&delivered, 0.6, &mut half()),
+        Judgement::interrupted(0.5, WarehouseCause::Collision.to_trust(), 20.0)
+    );
+    // Noticing nothing, the throughput-focused operator lets a late pick finish, and the
+    // deadline it would have enforced is what it overlooked.
+    let throughput = operator("throughput-focused");
+    let late = trace(&[(70.0, Event::Delivered { crushed: false })]);
+    assert_eq!(
+        throughput.judge_attending(&late, 0.0, &mut Constant(0)),
+        Judgement::completed(1.0, 70.0).overlooking(Some(WarehouseCause::TooSlow.to_trust()))
+    );
+    // A drop ends the pick whatever the attention.
+    let dropped = trace(&[(30.0, Event::DroppedItem)]);
+    assert_eq!(
+        throughput.judge_attending(&dropped, 0.0, &mut Constant(0)),
+        Judgement::failed(1.0, WarehouseCause::DroppedItem.to_trust(), 30.0)
+    );
+}
+
+#[test]
 fn operator_files_are_checked_where_they_are_wrong() {
     let origin = Path::new("ops/x.ron");
     let err = WarehouseOperator::from_ron(
