@@ -18,12 +18,12 @@ use crate::suite::{
 use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
-use lab::Arm;
 use lab::mission::{Changes, Complacency, MissionPlan, MissionResult, run_missions};
 use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
 use lab::plot::svg;
 use lab::report::file_stems;
+use lab::{Arm, check_attention};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -90,9 +90,11 @@ impl MissionSuiteConfig {
 
     /// Checks every field against `catalog`, with the rules experiment suites follow
     /// for what both have (arms, adapter parameters, populations and operators, names
-    /// given once), and bounds the suite's cost before it runs: its plans, its missions
-    /// (each record is kept for the report) and its commands, counting the runs that tell
-    /// whether each expected change needed an adaptation ([`TRUTH_RUNS`] each).
+    /// given once), refuses a plan with `complacency` over a domain that does not model
+    /// attention ([`check_attention`]), and bounds the suite's cost before it runs: its
+    /// plans, its missions (each record is kept for the report) and its commands, counting
+    /// the runs that tell whether each expected change needed an adaptation
+    /// ([`TRUTH_RUNS`] each).
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
         let invalid = |field: String, message: String| invalid(origin, field, message);
         let over = |error| over(origin, error);
@@ -132,6 +134,12 @@ impl MissionSuiteConfig {
             let operators =
                 spec.operators
                     .check(catalog, &field("operators"), origin, &readings)?;
+            if spec.complacency.is_some() {
+                let domain = domain_of(catalog, &spec.operators.scenario)
+                    .map_err(|e| invalid(field("operators.scenario"), e.to_string()))?;
+                check_attention(&domain, &operators)
+                    .map_err(|e| invalid(field("complacency"), e.to_string()))?;
+            }
             spec.operators.check_reachable(
                 catalog,
                 &operators,
