@@ -5,15 +5,17 @@
 //! A mission suite names its seed, the adapter parameters and arms as an experiment suite
 //! does, and a list of mission plans. A plan's `operators` are an experiment's (a scenario
 //! and its operator files or population; `operator` must be `random`); `count` missions of
-//! `commands` commands each; `changes` and, optionally, `complacency`. The report folder
-//! holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a timeline figure per plan and
-//! the config.
+//! `commands` commands each; `changes` and, optionally, `complacency` (only over a domain
+//! that models its operators' attention, [`lab::Domain::run_attending`]). The report
+//! folder holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a
+//! timeline figure per plan, and the config with copies of its operator files, so it
+//! reruns by itself.
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, invalid, over,
+    check_distinct, copy_operator_files, invalid, over, relocate_operator_files,
 };
 use files::name::check_label;
 use files::write_file_in;
@@ -246,13 +248,21 @@ pub fn run_mission_suite<C: Catalog>(
 
 /// Writes the report of a mission suite into `dir`: the tables, the data, a timeline per
 /// plan (the first arm's first mission, alerts answered where operators grow
-/// complacent) and the config. Returns the files written.
+/// complacent) and the config. The report reruns by itself: every operator file the
+/// config names (relative to `origin`) is copied into `DIR/operators/`, and the
+/// `config.ron` written names those copies. Returns the files written.
 pub fn write_mission_report(
     dir: &Path,
     config: &MissionSuiteConfig,
+    origin: &Path,
     results: &[MissionResult],
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let report = |e: FileError| SuiteError::Report(e.into());
+    let mut portable = config.clone();
+    let copies = relocate_operator_files(
+        portable.missions.iter_mut().map(|spec| &mut spec.operators),
+        origin,
+    );
     let mut written = vec![
         write_file_in(dir, "missions.md", &missions_markdown(results)).map_err(report)?,
         write_file_in(
@@ -265,7 +275,7 @@ pub fn write_mission_report(
         write_file_in(
             dir,
             "config.ron",
-            &ron::ser::to_string_pretty(config, ron::ser::PrettyConfig::default())
+            &ron::ser::to_string_pretty(&portable, ron::ser::PrettyConfig::default())
                 .expect("a mission suite serializes"),
         )
         .map_err(report)?,
@@ -294,5 +304,6 @@ pub fn write_mission_report(
         .map_err(|e| SuiteError::Report(e.into()))?;
         written.push(write_file_in(dir, &name, &figure).map_err(report)?);
     }
+    written.extend(copy_operator_files(dir, &copies)?);
     Ok(written)
 }
