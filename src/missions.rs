@@ -5,25 +5,27 @@
 //! A mission suite names its seed, the adapter parameters and arms as an experiment suite
 //! does, and a list of mission plans. A plan's `operators` are an experiment's (a scenario
 //! and its operator files or population; `operator` must be `random`); `count` missions of
-//! `commands` commands each; `changes` and, optionally, `complacency`. The report folder
-//! holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a timeline figure per plan and
-//! the config.
+//! `commands` commands each; `changes` and, optionally, `complacency` (only over a domain
+//! that models its operators' attention, [`lab::Domain::run_attending`]). The report
+//! folder holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a
+//! timeline figure per plan, and the config with copies of its operator files, so it
+//! reruns by itself.
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, invalid, over,
+    check_distinct, copy_operator_files, invalid, over, relocate_operator_files,
 };
 use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
-use lab::Arm;
 use lab::mission::{Changes, Complacency, MissionPlan, MissionResult, run_missions};
 use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
 use lab::plot::svg;
 use lab::report::file_stems;
+use lab::{Arm, check_attention};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -90,9 +92,11 @@ impl MissionSuiteConfig {
 
     /// Checks every field against `catalog`, with the rules experiment suites follow
     /// for what both have (arms, adapter parameters, populations and operators, names
-    /// given once), and bounds the suite's cost before it runs: its plans, its missions
-    /// (each record is kept for the report) and its commands, counting the runs that tell
-    /// whether each expected change needed an adaptation ([`TRUTH_RUNS`] each).
+    /// given once), refuses a plan with `complacency` over a domain that does not model
+    /// attention ([`check_attention`]), and bounds the suite's cost before it runs: its
+    /// plans, its missions (each record is kept for the report) and its commands, counting
+    /// the runs that tell whether each expected change needed an adaptation
+    /// ([`TRUTH_RUNS`] each).
     pub fn validate<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
         let invalid = |field: String, message: String| invalid(origin, field, message);
         let over = |error| over(origin, error);
@@ -132,6 +136,12 @@ impl MissionSuiteConfig {
             let operators =
                 spec.operators
                     .check(catalog, &field("operators"), origin, &readings)?;
+            if spec.complacency.is_some() {
+                let domain = domain_of(catalog, &spec.operators.scenario)
+                    .map_err(|e| invalid(field("operators.scenario"), e.to_string()))?;
+                check_attention(&domain, &operators)
+                    .map_err(|e| invalid(field("complacency"), e.to_string()))?;
+            }
             spec.operators.check_reachable(
                 catalog,
                 &operators,
@@ -238,13 +248,21 @@ pub fn run_mission_suite<C: Catalog>(
 
 /// Writes the report of a mission suite into `dir`: the tables, the data, a timeline per
 /// plan (the first arm's first mission, alerts answered where operators grow
-/// complacent) and the config. Returns the files written.
+/// complacent) and the config. The report reruns by itself: every operator file the
+/// config names (relative to `origin`) is copied into `DIR/operators/`, and the
+/// `config.ron` written names those copies. Returns the files written.
 pub fn write_mission_report(
     dir: &Path,
     config: &MissionSuiteConfig,
+    origin: &Path,
     results: &[MissionResult],
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let report = |e: FileError| SuiteError::Report(e.into());
+    let mut portable = config.clone();
+    let copies = relocate_operator_files(
+        portable.missions.iter_mut().map(|spec| &mut spec.operators),
+        origin,
+    );
     let mut written = vec![
         write_file_in(dir, "missions.md", &missions_markdown(results)).map_err(report)?,
         write_file_in(
@@ -257,7 +275,7 @@ pub fn write_mission_report(
         write_file_in(
             dir,
             "config.ron",
-            &ron::ser::to_string_pretty(config, ron::ser::PrettyConfig::default())
+            &ron::ser::to_string_pretty(&portable, ron::ser::PrettyConfig::default())
                 .expect("a mission suite serializes"),
         )
         .map_err(report)?,
@@ -286,5 +304,6 @@ pub fn write_mission_report(
         .map_err(|e| SuiteError::Report(e.into()))?;
         written.push(write_file_in(dir, &name, &figure).map_err(report)?);
     }
+    written.extend(copy_operator_files(dir, &copies)?);
     Ok(written)
 }

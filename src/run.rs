@@ -241,7 +241,7 @@ pub fn run_missions_with_report<C: Catalog>(
     let written = match out {
         Some(out) => {
             lab::folder::remove_previous_report(out)?;
-            write_mission_report(out, &config, &results)?
+            write_mission_report(out, &config, origin, &results)?
         }
         None => Vec::new(),
     };

@@ -1,5 +1,6 @@
 //! `trustcbr run` on mission suites, as a real process: the report's files, a rerun into
-//! the same folder, and bad suites refused with the file and the field.
+//! the same folder, a rerun from the report alone (its config and copied operator files)
+//! somewhere else, and bad suites refused with the file and the field.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -32,6 +33,14 @@ fn trustcbr(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+fn succeeded(output: &Output) {
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
 }
 
 fn run(config: &Path, out: &Path, extra: &[&str]) -> Output {
@@ -135,4 +144,79 @@ fn bad_mission_suites_are_refused_with_the_file_and_the_field() {
         stderr.contains("--trials applies to experiment suites"),
         "{stderr}"
     );
+}
+
+#[test]
+fn a_mission_report_reruns_by_itself_from_another_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two operator files of the same file name, in folders of their own.
+    for (shift, t_complete) in [("day", 12.0), ("night", 20.0)] {
+        let folder = dir.path().join("ops").join(shift);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(
+            folder.join("shift.ron"),
+            format!(
+                "(name: \"{shift}-shift\", t_complete: {t_complete:.1}, p_deadline: 0.8, p_collision: 0.2)"
+            ),
+        )
+        .unwrap();
+    }
+    let operators = r#"operators: (scenario: "movement", operator: "random",
+                population: Some((name: "shifts")), builtin_operators: ["balanced"],
+                operator_files: ["ops/day/shift.ron", "ops/night/shift.ron"]),"#;
+    let suite = format!(
+        r#"(
+    seed: 11,
+    arms: ["case-based", "uniform"],
+    missions: [
+        (name: "movement/shifts", {operators} count: 2, commands: 100,
+         changes: (every: 30.0, takeover: 0.5)),
+        (name: "movement/shifts/complacent", {operators} count: 2, commands: 100,
+         changes: (every: 30.0, takeover: 0.5), complacency: Some((memory: 20.0, floor: 0.3))),
+    ],
+)"#
+    );
+    let config = dir.path().join("missions.ron");
+    std::fs::write(&config, suite).unwrap();
+    let first = dir.path().join("first");
+    succeeded(&run(&config, &first, &[]));
+    let copied = |name: &str| first.join("operators").join(name);
+    assert!(copied("shift.ron").is_file() && copied("shift-2.ron").is_file());
+    assert_eq!(
+        std::fs::read_to_string(copied("shift-2.ron")).unwrap(),
+        std::fs::read_to_string(dir.path().join("ops/night/shift.ron")).unwrap()
+    );
+    let written = std::fs::read_to_string(first.join("config.ron")).unwrap();
+    assert!(
+        written.contains("\"operators/shift.ron\"") && !written.contains("ops/"),
+        "{written}"
+    );
+    // The report alone, moved away from the suite and its operator files (removed), run
+    // from yet another working directory.
+    let moved = dir.path().join("elsewhere").join("report");
+    std::fs::create_dir(dir.path().join("elsewhere")).unwrap();
+    std::fs::rename(&first, &moved).unwrap();
+    std::fs::remove_dir_all(dir.path().join("ops")).unwrap();
+    let cwd = dir.path().join("cwd");
+    std::fs::create_dir(&cwd).unwrap();
+    let second = dir.path().join("second");
+    let again = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+        .current_dir(&cwd)
+        .args(["run", moved.join("config.ron").to_str().unwrap(), "--out"])
+        .arg(&second)
+        .output()
+        .unwrap();
+    succeeded(&again);
+    for file in [
+        "missions.jsonl",
+        "summary.json",
+        "missions.md",
+        "config.ron",
+    ] {
+        assert_eq!(
+            std::fs::read(moved.join(file)).unwrap(),
+            std::fs::read(second.join(file)).unwrap(),
+            "{file}"
+        );
+    }
 }

@@ -207,6 +207,29 @@ impl UgvDomain {
         }
     }
 
+    /// One command judged by an operator at `attention` (1: [`Domain::run`]): the run, the
+    /// operator's judgement of its trace ([`OperatorModel::judge_attending`]), then what
+    /// the robot perceived and its self-assessment up to the judgement's end.
+    fn run_at(
+        &self,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        let run = self.simulate(behavior, rng, false);
+        let judgement = operator.judge_attending(&run.trace, attention, rng);
+        let until = judgement.outcome.duration_s;
+        let observed = perception::perceive(&run.trace, until, self.observations());
+        judgement
+            .observing(observed)
+            .assessing(perception::self_assessment(
+                &run.trace,
+                until,
+                &self.detector,
+            ))
+    }
+
     /// Simulates one run of `behavior`, drawing all randomness from `rng`. With `record`,
     /// the driven path is kept for drawing.
     pub fn simulate(&self, behavior: &Behavior, rng: &mut dyn RngCore, record: bool) -> Run<'_> {
@@ -464,7 +487,7 @@ impl Domain for UgvDomain {
         operator: &OperatorModel,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        self.run_attending(behavior, operator, 1.0, rng)
+        self.run_at(behavior, operator, 1.0, rng)
     }
 
     fn run_attending(
@@ -473,17 +496,7 @@ impl Domain for UgvDomain {
         operator: &OperatorModel,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Judgement {
-        let run = self.simulate(behavior, rng, false);
-        let judgement = operator.judge_attending(&run.trace, attention, rng);
-        let until = judgement.outcome.duration_s;
-        let observed = perception::perceive(&run.trace, until, self.observations());
-        judgement
-            .observing(observed)
-            .assessing(perception::self_assessment(
-                &run.trace,
-                until,
-                &self.detector,
-            ))
+    ) -> Option<Judgement> {
+        Some(self.run_at(behavior, operator, attention, rng))
     }
 }

@@ -5,7 +5,9 @@
 //! of an operator, returning the command's [`Judgement`]: the [`Outcome`] the robot is
 //! told (with what it perceived) and, separately, the operator's true reason, which only
 //! evaluation reads. The experiment runner needs nothing else, so a new robot or task
-//! plugs in by implementing [`Domain`].
+//! plugs in by implementing [`Domain`]. Missions whose operators grow complacent need one
+//! more hook, [`Domain::run_attending`]: a domain that keeps its default does not model
+//! attention, and [`check_attention`] says so before such a mission runs.
 //!
 //! The contract lives here, with the runner, and not in `trust`, the crate a robot
 //! embeds: `trust` does not depend on this crate, so nothing in it can name a
@@ -14,7 +16,8 @@
 
 use crate::feedback::FeedbackChannel;
 use cbr_core::{Behavior, BehaviorSpace};
-use rand::RngCore;
+use rand::{RngCore, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 use trust::{Cause, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, Vocabulary};
 
@@ -67,18 +70,58 @@ pub trait Domain: Send + Sync {
     /// [`Domain::run`] under an operator whose `attention`, in `[0, 1]`, is the chance it
     /// notices a problem it would react to when attentive (1: the paper's operator, who
     /// notices everything it minds). A problem it overlooks lets the run go on, and is
-    /// named in the judgement's [`Judgement::overlooked`] for evaluation. A domain whose
-    /// operators never lose attention keeps this default, which ignores `attention`; one
-    /// that overrides it must return exactly [`Domain::run`]'s judgement at attention 1.
+    /// named in the judgement's [`Judgement::overlooked`] for evaluation.
+    ///
+    /// `None`, the default, says the domain does not model its operators' attention: only
+    /// the domain knows which of its reactions an operator can overlook and how the run
+    /// goes on past one, so no rule can stand in for it. A mission plan with operators who
+    /// grow complacent ([`crate::mission::Complacency`]) is refused on such a domain
+    /// before anything runs ([`check_attention`]). A domain that models attention
+    /// overrides this, answers `Some` for every behavior, operator and attention, and at
+    /// attention 1 returns exactly [`Domain::run`]'s judgement, draw for draw.
     fn run_attending(
         &self,
         behavior: &Behavior,
         operator: &Self::Operator,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Judgement {
-        let _ = attention;
-        self.run(behavior, operator, rng)
+    ) -> Option<Judgement> {
+        let _ = (behavior, operator, attention, rng);
+        None
+    }
+}
+
+/// A domain asked to run operators who may overlook problems, which keeps the default
+/// [`Domain::run_attending`]: its operators notice everything they mind, so a
+/// complacent operator could not be simulated.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "domain `{domain}` does not model its operators' attention: it keeps the default `Domain::run_attending`, so operators who grow complacent would still notice everything and alerts could change nothing; a plan with `complacency` needs a domain that overrides `Domain::run_attending` (docs/plugin-guide.md)"
+)]
+pub struct AttentionNotModelled {
+    /// The domain's name.
+    pub domain: String,
+}
+
+/// Whether `domain` models its operators' attention: [`Domain::run_attending`] is asked
+/// once per operator of `operators` (a behavior of the space at attention 1, on a stream
+/// of its own, so no stream of a run is touched), and must answer for each.
+pub fn check_attention<D: Domain + ?Sized>(
+    domain: &D,
+    operators: &[(String, D::Operator)],
+) -> Result<(), AttentionNotModelled> {
+    let behavior = domain.space().unrank(0);
+    let mut probe = ChaCha8Rng::seed_from_u64(0);
+    if operators.iter().all(|(_, operator)| {
+        domain
+            .run_attending(&behavior, operator, 1.0, &mut probe)
+            .is_some()
+    }) {
+        Ok(())
+    } else {
+        Err(AttentionNotModelled {
+            domain: domain.name().to_owned(),
+        })
     }
 }
 

@@ -5,10 +5,10 @@
 //! behavior* is the random one drawn on the setup stream, or, for an arm that starts from
 //! the case memory's guess ([`Initial::Learned`]) once the memory holds a case, that guess;
 //! the random behavior is drawn either way, so arms stay paired ([`first_behavior`]). A
-//! *command* ([`Drive::command`]) is run by the domain in front of the operator at its
-//! attention (1: the paper's attentive operator), its truth is checked to be a cause the
-//! domain declares, the operator's feedback channel states a reason (the plan's channel,
-//! or the operator's own), and the adapter records the outcome. The streams of the runs and
+//! *command* ([`Drive::command`]) is run by the domain in front of the operator (the
+//! paper's attentive one, or a complacent one at its attention), its truth is checked to
+//! be a cause the domain declares, the operator's feedback channel states a reason (the
+//! plan's channel, or the operator's own), and the adapter records the outcome. The streams of the runs and
 //! of the stated reasons, and the adapter's search stream, are the trial's or mission's
 //! ([`Drive::new`]).
 //!
@@ -19,6 +19,7 @@
 //! breach stops the plan with [`PlanError::Searcher`], naming the arm and the behavior.
 
 use crate::arm::Initial;
+use crate::domain::AttentionNotModelled;
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
 use crate::{Domain, FeedbackChannel, Judgement};
@@ -178,19 +179,30 @@ impl<'a, D: Domain> Drive<'a, D> {
         }
     }
 
-    /// Runs one command with `behavior` in front of `operator` at `attention` and records
-    /// it with `adapter`. A truth the domain does not declare stops the plan, and so does a
-    /// decision that breaks the searcher's contract ([`Drive::check_contract`]).
+    /// Runs one command with `behavior` in front of `operator` and records it with
+    /// `adapter`: an attentive operator's ([`Domain::run`]) when `attention` is `None`, else
+    /// one at that attention ([`Domain::run_attending`]; a domain that does not model
+    /// attention stops the plan). A truth the domain does not declare stops the plan, and
+    /// so does a decision that breaks the searcher's contract ([`Drive::check_contract`]).
     pub(crate) fn command<A: Records>(
         &mut self,
         adapter: &mut A,
         behavior: &Behavior,
         operator: &D::Operator,
-        attention: f64,
+        attention: Option<f64>,
     ) -> Result<Command<A::Decision>, PlanError> {
-        let judgement = self
-            .domain
-            .run_attending(behavior, operator, attention, &mut self.runs);
+        let judgement = match attention {
+            None => self.domain.run(behavior, operator, &mut self.runs),
+            Some(attention) => self
+                .domain
+                .run_attending(behavior, operator, attention, &mut self.runs)
+                .ok_or_else(|| PlanError::AttentionNotModelled {
+                    plan: self.plan.to_owned(),
+                    reason: AttentionNotModelled {
+                        domain: self.domain.name().to_owned(),
+                    },
+                })?,
+        };
         let causes = self.domain.causes();
         if let Some(cause) = judgement.truth {
             find_declared(causes, cause).map_err(|reason| PlanError::UndeclaredCause {

@@ -29,7 +29,7 @@ pub mod testing;
 pub mod timeline;
 
 pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};
-pub use domain::{Domain, Judgement, vocabulary};
+pub use domain::{AttentionNotModelled, Domain, Judgement, check_attention, vocabulary};
 pub use feedback::{FeedbackChannel, FeedbackError};
 pub use heatmap::LandscapeSvgError;
 pub use instance::{Instance, InstanceError, Split};

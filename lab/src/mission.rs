@@ -22,6 +22,7 @@
 //! mission, purpose), the same for every arm.
 
 use crate::arm::Arm;
+use crate::domain::check_attention;
 use crate::drive::{Command, Drive, first_behavior};
 use crate::runner::{PlanError, fresh_adapter};
 use crate::seeds::{Purpose, stream};
@@ -326,13 +327,33 @@ pub struct MissionResult {
     pub arms: Vec<MissionArmResult>,
 }
 
+impl<D: Domain> MissionPlan<'_, D> {
+    /// Refuses a plan whose operators grow complacent over a domain that does not model
+    /// attention ([`check_attention`]): it would run, and its alerts could change nothing.
+    pub fn validate(&self) -> Result<(), PlanError> {
+        if self.complacency.is_some() {
+            check_attention(self.domain, self.operators).map_err(|reason| {
+                PlanError::AttentionNotModelled {
+                    plan: self.name.clone(),
+                    reason,
+                }
+            })?;
+        }
+        Ok(())
+    }
+}
+
 /// Runs every plan: each (plan, arm, whether alerts are answered) is a chain of missions,
-/// chains in parallel on the current rayon pool.
+/// chains in parallel on the current rayon pool. Every plan is checked first
+/// ([`MissionPlan::validate`]): a refused plan stops the run before any mission.
 pub fn run_missions<D: Domain>(
     plans: &[MissionPlan<'_, D>],
     seed: u64,
     progress: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<MissionResult>, PlanError> {
+    for plan in plans {
+        plan.validate()?;
+    }
     let chains: Vec<(usize, usize, bool)> = plans
         .iter()
         .enumerate()
@@ -574,10 +595,10 @@ fn run_mission<D: Domain>(
             changed_since_settled = true;
             marks.push(Mark::Change(change.kind));
         }
-        let attention = plan
-            .complacency
-            .map_or(1.0, |model| model.attention(state.felt));
-        if attention < COMPLACENT_BELOW && state.onset.is_none() {
+        // `None`: the paper's attentive operator.
+        let attention = plan.complacency.map(|model| model.attention(state.felt));
+        let level = attention.unwrap_or(1.0);
+        if level < COMPLACENT_BELOW && state.onset.is_none() {
             state.onset = Some(record.onsets.len());
             record.onsets.push(OnsetRecord {
                 at: c,
@@ -585,7 +606,7 @@ fn run_mission<D: Domain>(
                 perceivable: 0,
             });
             marks.push(Mark::Onset);
-        } else if attention >= RECOVERED_AT {
+        } else if level >= RECOVERED_AT {
             state.onset = None;
         }
         let judge = &plan.operators[operator].1;

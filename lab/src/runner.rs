@@ -13,6 +13,7 @@
 //! (the private `drive` module).
 
 use crate::arm::{Arm, Initial};
+use crate::domain::AttentionNotModelled;
 use crate::drive::{Command, Drive, first_behavior};
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
@@ -115,6 +116,15 @@ pub enum PlanError {
         behavior: String,
         /// What is wrong with it.
         problem: &'static str,
+    },
+    /// A plan's operators grow complacent, but its domain does not model attention
+    /// ([`crate::domain::check_attention`]).
+    #[error("{plan}: {reason}")]
+    AttentionNotModelled {
+        /// The plan's name.
+        plan: String,
+        /// The domain that keeps the default [`Domain::run_attending`].
+        reason: AttentionNotModelled,
     },
     /// A stop was requested ([`crate::interrupt`]) before every trial had run.
     #[error(transparent)]
@@ -728,7 +738,7 @@ fn run_trial<D: Domain>(
             judgement,
             outcome,
             decision,
-        } = drive.command(adapter, &behavior, operator, 1.0)?;
+        } = drive.command(adapter, &behavior, operator, None)?;
         if let Some(cause) = judgement.truth {
             *true_causes.entry(cause).or_insert(0) += 1;
             *behavior_truth.entry(cause).or_insert(0) += 1;

@@ -47,8 +47,10 @@ pub struct Violation {
 ///   the feedback channel's);
 /// - a completion has no true reason, and every true reason is a declared cause;
 /// - an attentive run overlooks nothing;
-/// - [`Domain::run_attending`] at attention 1 is exactly [`Domain::run`], draw for draw,
-///   and whatever an inattentive run overlooks is a declared cause.
+/// - [`Domain::run_attending`] models attention for every operator and behavior or for
+///   none (`None` at every attention: the default); where it does, at attention 1 it is
+///   exactly [`Domain::run`], draw for draw, and whatever an inattentive run overlooks is
+///   a declared cause.
 ///
 /// # Panics
 /// With the rule broken and the case that shows it.
@@ -112,6 +114,8 @@ pub fn try_check_domain<D: Domain>(
     // Bits at and above the number of declared observations name none.
     let undeclared_bits = u32::MAX.checked_shl(observations.len() as u32).unwrap_or(0);
     let space = domain.space();
+    // Whether the domain models attention, as its first answer says.
+    let mut models_attention: Option<bool> = None;
     for (name, operator) in operators {
         let channel = domain.feedback(operator);
         if crate::FeedbackChannel::new(channel.explains, channel.wrong).is_err() {
@@ -124,15 +128,12 @@ pub fn try_check_domain<D: Domain>(
         for seed in 0..BEHAVIORS {
             let behavior = space.draw(&mut draws);
             let case = || Some(describe(name, space, &behavior, seed));
-            let run = |attention: Option<f64>| {
-                let mut rng = ChaCha8Rng::seed_from_u64(seed);
-                match attention {
-                    None => domain.run(&behavior, operator, &mut rng),
-                    Some(a) => domain.run_attending(&behavior, operator, a, &mut rng),
-                }
-            };
-            let judgement = run(None);
-            if run(None) != judgement {
+            let rng = || ChaCha8Rng::seed_from_u64(seed);
+            let run = || domain.run(&behavior, operator, &mut rng());
+            let attending =
+                |attention| domain.run_attending(&behavior, operator, attention, &mut rng());
+            let judgement = run();
+            if run() != judgement {
                 return Err(broken(
                     "two runs on the same random stream differ: every draw must come from the generator passed to `run`".to_owned(),
                     case(),
@@ -146,13 +147,26 @@ pub fn try_check_domain<D: Domain>(
                     case(),
                 ));
             }
-            if run(Some(1.0)) != judgement {
+            let (attentive, inattentive) = (attending(1.0), attending(0.0));
+            let modelled = attentive.is_some();
+            if inattentive.is_some() != modelled
+                || models_attention.is_some_and(|known| known != modelled)
+            {
+                return Err(broken(
+                    "`run_attending` answers for some runs and not others: a domain models its operators' attention for every behavior, operator and attention, or for none (`None`, the default)".to_owned(),
+                    case(),
+                ));
+            }
+            models_attention = Some(modelled);
+            let (Some(attentive), Some(inattentive)) = (attentive, inattentive) else {
+                continue;
+            };
+            if attentive != judgement {
                 return Err(broken(
                     "`run_attending` at attention 1 differs from `run` on the same stream: at full attention it must be exactly `run`".to_owned(),
                     case(),
                 ));
             }
-            let inattentive = run(Some(0.0));
             check_judgement(&inattentive, &causes, undeclared_bits)
                 .map_err(|rule| broken(rule, case()))?;
             if let Some(cause) = inattentive.overlooked.filter(|c| !causes.contains(c)) {
@@ -311,8 +325,8 @@ impl<O: Send + Sync> Domain for ToyDomain<O> {
         operator: &O,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Judgement {
-        (self.rule)(behavior, operator, attention, rng)
+    ) -> Option<Judgement> {
+        Some((self.rule)(behavior, operator, attention, rng))
     }
 }
 
@@ -423,13 +437,47 @@ mod tests {
         );
     }
 
-    /// A domain whose attending hook at attention 1 is not its plain run.
-    struct Inconsistent(ToyDomain<u16>);
+    /// An attending hook a test writes over the `fair` domain.
+    type Hook = fn(&ToyDomain<u16>, &Behavior, &u16, f64, &mut dyn RngCore) -> Option<Judgement>;
 
-    impl Domain for Inconsistent {
+    /// The `fair` domain with an attending hook of the test's.
+    struct Attending {
+        fair: ToyDomain<u16>,
+        hook: Hook,
+    }
+
+    impl Domain for Attending {
         type Operator = u16;
         fn name(&self) -> &str {
-            "inconsistent"
+            "attending"
+        }
+        fn space(&self) -> &Arc<BehaviorSpace> {
+            self.fair.space()
+        }
+        fn causes(&self) -> &[DeclaredCause] {
+            self.fair.causes()
+        }
+        fn run(&self, b: &Behavior, k: &u16, rng: &mut dyn RngCore) -> Judgement {
+            self.fair.run(b, k, rng)
+        }
+        fn run_attending(
+            &self,
+            b: &Behavior,
+            k: &u16,
+            attention: f64,
+            rng: &mut dyn RngCore,
+        ) -> Option<Judgement> {
+            (self.hook)(&self.fair, b, k, attention, rng)
+        }
+    }
+
+    /// A domain keeping the default attending hook.
+    struct Unmodelled<'a>(&'a ToyDomain<u16>);
+
+    impl Domain for Unmodelled<'_> {
+        type Operator = u16;
+        fn name(&self) -> &str {
+            "unmodelled"
         }
         fn space(&self) -> &Arc<BehaviorSpace> {
             self.0.space()
@@ -440,18 +488,43 @@ mod tests {
         fn run(&self, b: &Behavior, k: &u16, rng: &mut dyn RngCore) -> Judgement {
             self.0.run(b, k, rng)
         }
-        fn run_attending(&self, _: &Behavior, _: &u16, _: f64, _: &mut dyn RngCore) -> Judgement {
-            Judgement::completed(1.0, 1.0)
-        }
+    }
+
+    fn attending_rule_broken(hook: Hook) -> String {
+        let domain = Attending { fair: fair(), hook };
+        try_check_domain(&domain, &operators()).unwrap_err().rule
     }
 
     #[test]
-    fn an_attending_hook_that_is_not_the_run_at_full_attention_is_named() {
-        let rule = try_check_domain(&Inconsistent(fair()), &operators())
-            .unwrap_err()
-            .rule;
+    fn a_domain_that_does_not_model_attention_keeps_the_contract() {
+        let fair = fair();
+        check_domain(&Unmodelled(&fair), &operators());
+        assert!(crate::check_attention(&Unmodelled(&fair), &operators()).is_err());
+        assert!(crate::check_attention(&fair, &operators()).is_ok());
+    }
+
+    #[test]
+    fn an_attending_hook_that_breaks_the_contract_is_named() {
+        // At attention 1 it is not the plain run.
+        let rule = attending_rule_broken(|_, _, _, _, _| Some(Judgement::completed(1.0, 1.0)));
         assert!(
             rule.starts_with("`run_attending` at attention 1 differs"),
+            "{rule}"
+        );
+        // It answers at full attention only.
+        let rule = attending_rule_broken(|fair, b, k, attention, rng| {
+            (attention == 1.0).then(|| fair.run(b, k, rng))
+        });
+        assert!(
+            rule.starts_with("`run_attending` answers for some runs and not others"),
+            "{rule}"
+        );
+        // It answers for operator 3 only.
+        let rule = attending_rule_broken(|fair, b, &k, attention, rng| {
+            (k == 3).then(|| fair.run_attending(b, &k, attention, rng))?
+        });
+        assert!(
+            rule.starts_with("`run_attending` answers for some runs and not others"),
             "{rule}"
         );
     }

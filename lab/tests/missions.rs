@@ -1,6 +1,7 @@
 //! Missions on a toy domain whose operators may overlook what they mind: pairing across
-//! arms, determinism across thread counts, what the records count, and arms that start
-//! from the case memory's guess.
+//! arms, determinism across thread counts, what the records count, arms that start from
+//! the case memory's guess, and complacency refused on a domain that does not model
+//! attention.
 
 use cbr_core::{Behavior, Case};
 use lab::Arm;
@@ -9,9 +10,10 @@ use lab::mission::{
 };
 use lab::mission_report::{MissionSummary, harm_comparisons};
 use lab::testing::ToyDomain;
-use lab::{Domain, Judgement};
-use rand::Rng;
-use trust::AdapterConfig;
+use lab::{Domain, Judgement, PlanError};
+use rand::{Rng, RngCore};
+use std::sync::Arc;
+use trust::{AdapterConfig, DeclaredCause};
 use trust::{Cause, Evaluated, Observations, RetrieverKind, TrustCaseBase, first_guess};
 
 const BUMPED: Cause = Cause::from_static("bumped");
@@ -60,8 +62,8 @@ fn arms() -> Vec<Arm> {
         .collect()
 }
 
-fn run(
-    domain: &Toy,
+fn run<D: Domain<Operator = Favourite>>(
+    domain: &D,
     operators: &[(String, Favourite)],
     complacency: Option<Complacency>,
     threads: usize,
@@ -69,13 +71,23 @@ fn run(
     run_arms(domain, operators, complacency, threads, arms())
 }
 
-fn run_arms(
-    domain: &Toy,
+fn run_arms<D: Domain<Operator = Favourite>>(
+    domain: &D,
     operators: &[(String, Favourite)],
     complacency: Option<Complacency>,
     threads: usize,
     arms: Vec<Arm>,
 ) -> Vec<MissionResult> {
+    try_run_arms(domain, operators, complacency, threads, arms).unwrap()
+}
+
+fn try_run_arms<D: Domain<Operator = Favourite>>(
+    domain: &D,
+    operators: &[(String, Favourite)],
+    complacency: Option<Complacency>,
+    threads: usize,
+    arms: Vec<Arm>,
+) -> Result<Vec<MissionResult>, PlanError> {
     let plan = MissionPlan {
         name: "toy".into(),
         domain,
@@ -97,7 +109,6 @@ fn run_arms(
         .build()
         .unwrap()
         .install(|| run_missions(&[plan], 7, &|_| {}))
-        .unwrap()
 }
 
 #[test]
@@ -247,4 +258,43 @@ fn a_learned_start_arm_starts_its_missions_from_the_memory_s_guess() {
     assert_eq!(learned.missions[0].learned_start, Some(guess));
     assert!(learned.missions.iter().all(|m| m.learned_start.is_some()));
     assert_ne!(courses(&random.missions), courses(&learned.missions));
+}
+
+/// The toy domain without its attending hook: its operators' attention is not modelled.
+struct Unmodelled(Toy);
+
+impl Domain for Unmodelled {
+    type Operator = Favourite;
+    fn name(&self) -> &str {
+        "unmodelled"
+    }
+    fn space(&self) -> &Arc<cbr_core::BehaviorSpace> {
+        self.0.space()
+    }
+    fn causes(&self) -> &[DeclaredCause] {
+        self.0.causes()
+    }
+    fn run(&self, b: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
+        self.0.run(b, operator, rng)
+    }
+}
+
+#[test]
+fn complacency_is_refused_on_a_domain_that_does_not_model_attention() {
+    let (domain, operators) = (Unmodelled(toy()), operators());
+    let complacency = Complacency {
+        memory: 20.0,
+        floor: 0.3,
+    };
+    let err = try_run_arms(&domain, &operators, Some(complacency), 1, arms())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.starts_with("toy: domain `unmodelled` does not model its operators' attention")
+            && err.contains("overrides `Domain::run_attending`"),
+        "{err}"
+    );
+    // Attentive operators need no attention model: the same missions as the toy's.
+    let attentive = run(&domain, &operators, None, 1);
+    assert_eq!(attentive, run(&toy(), &operators, None, 1));
 }

@@ -239,10 +239,16 @@ pub struct ExperimentSpec {
     /// built-in operators.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub operator_files: Vec<PathBuf>,
-    /// The experiment's operators are a population instead of the scenario's: its
-    /// `operator_files` alone, listed by hand, or members drawn from the catalog's
-    /// parametric family ([`Catalog::family`]); `operator` must then be `random` (a member
-    /// judges each trial).
+    /// A population's members among the scenario's built-in operators
+    /// ([`Catalog::operators`]), by name, before those of `operator_files`: a population
+    /// a config needs no file for (a catalog's embedded suite). Only with a `population`
+    /// listed by hand.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub builtin_operators: Vec<String>,
+    /// The experiment's operators are a population instead of the scenario's: listed by
+    /// hand (`builtin_operators`, then `operator_files`), or members drawn from the
+    /// catalog's parametric family ([`Catalog::family`]); `operator` must then be `random`
+    /// (a member judges each trial).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub population: Option<Population>,
     /// How every operator of the experiment explains itself (`(explains: 0.3, wrong:
@@ -258,8 +264,9 @@ pub struct ExperimentSpec {
 pub struct Population {
     /// Its name in reports: the experiment is called `SCENARIO/NAME`.
     pub name: String,
-    /// Members drawn from the catalog's family (`operator_files` must then be empty);
-    /// absent: the members are the experiment's `operator_files`.
+    /// Members drawn from the catalog's family (`builtin_operators` and `operator_files`
+    /// must then be empty); absent: the members are the experiment's `builtin_operators`
+    /// and `operator_files`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub family: Option<Family>,
 }
@@ -398,7 +405,8 @@ impl ExperimentSpec {
 
     /// The experiment's operators, as `readings` read them: the catalog's built-in ones of
     /// the scenario, then those of `operator_files` (relative to the directory of
-    /// `origin`); for a population, its members alone.
+    /// `origin`); for a population, its members alone (drawn from the family, or the
+    /// built-in operators it names, then its operator files).
     pub fn operators<C: Catalog>(
         &self,
         catalog: &C,
@@ -406,18 +414,51 @@ impl ExperimentSpec {
         readings: &Readings,
     ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
         let base = origin.parent().unwrap_or(Path::new("."));
+        let builtins = catalog.operators(&self.scenario, readings);
         let mut operators = match &self.population {
-            None => catalog.operators(&self.scenario, readings),
+            None => builtins,
             Some(Population {
                 family: Some(family),
                 ..
             }) => catalog.family(&self.scenario, family, readings)?,
-            Some(_) => Vec::new(),
+            Some(_) => self.builtin_members(builtins).map_err(|(k, problem)| {
+                invalid(origin, format!("builtin_operators[{k}]"), problem)
+            })?,
         };
         for file in &self.operator_files {
             operators.push(catalog.load_operator(&self.scenario, &base.join(file), readings)?);
         }
         Ok(operators)
+    }
+
+    /// The scenario's built-in operators `builtin_operators` names, taken out of
+    /// `builtins` (all of them) in the order named; else the place of the first name that
+    /// is unknown or named twice, and why, with the known names.
+    pub(crate) fn builtin_members<O>(
+        &self,
+        mut builtins: Vec<(String, O)>,
+    ) -> Result<Vec<(String, O)>, (usize, String)> {
+        let known: Vec<String> = builtins.iter().map(|(name, _)| name.clone()).collect();
+        let mut members = Vec::with_capacity(self.builtin_operators.len());
+        for (k, name) in self.builtin_operators.iter().enumerate() {
+            match builtins.iter().position(|(n, _)| n == name) {
+                Some(i) => members.push(builtins.swap_remove(i)),
+                None if self.builtin_operators[..k].contains(name) => {
+                    return Err((k, format!("`{name}` is named twice")));
+                }
+                None => {
+                    return Err((
+                        k,
+                        format!(
+                            "unknown operator `{name}` for {} (known: {})",
+                            self.scenario,
+                            known.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(members)
     }
 }
 
@@ -466,6 +507,7 @@ mod tests {
             scenario: "patrol".into(),
             operator: RANDOM_OPERATOR.into(),
             operator_files: Vec::new(),
+            builtin_operators: Vec::new(),
             population: None,
             feedback: None,
         };

@@ -12,11 +12,14 @@
 //! plans a config makes over the catalog's domains (`plan`); running them (`run`);
 //! replaying one trial (`trace`) and what a report records so `explain` replays it
 //! faithfully (`replay`); the report's estimates beside the run (`estimates`) and the
-//! report itself (`report`); case bases saved and read back (`saved_cases`).
+//! report itself (`report`), which reruns by itself with copies of its operator files
+//! (`portable`, which mission reports share); case bases saved and read back
+//! (`saved_cases`).
 
 pub(crate) mod config;
 mod estimates;
 mod plan;
+mod portable;
 mod replay;
 mod report;
 mod run;
@@ -28,6 +31,7 @@ pub use config::{EMBEDDED_ORIGIN, ExperimentSpec, Population, RANDOM_OPERATOR, S
 pub(crate) use config::{arm_name_lists, arm_names, some_arm_names};
 pub use estimates::ReportEstimates;
 pub use plan::arm_named;
+pub(crate) use portable::{copy_operator_files, relocate_operator_files};
 pub(crate) use replay::report_replay;
 pub use replay::{ReplayError, check_replay};
 pub use report::{

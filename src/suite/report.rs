@@ -1,13 +1,13 @@
 //! A suite's report: its results and estimates as the report's entries (and, for a
 //! benchmark suite, its benchmark), the printed tables, and the report folder, made to
-//! rerun by itself (operator files copied in).
+//! rerun by itself (operator files copied in: `portable`).
 
+use super::portable::{OperatorCopy, copy_operator_files, relocate_operator_files};
 use super::{ReportEstimates, SuiteConfig, SuiteError, SuiteResults};
-use files::{read_text, write_file_in};
 use lab::benchmark::{BenchmarkPopulation, ScenarioBenchmark, benchmarks};
 use lab::known_operator::ExperimentLimit;
 use lab::landscape::Landscape;
-use lab::report::{Provenance, ReportEntry, file_stems, write_report};
+use lab::report::{Provenance, ReportEntry, write_report};
 use std::path::{Path, PathBuf};
 
 /// The report entries of a suite's results, with the landscapes of each experiment when
@@ -99,7 +99,7 @@ pub fn write_suite_report(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
-    let (portable, copies) = config.with_operator_files_in(REPORT_OPERATORS, origin);
+    let (portable, copies) = config.portable(origin);
     let entries = entries(config, results, &estimates.landscapes, &estimates.limits);
     let mut written = write_report(
         dir,
@@ -109,63 +109,22 @@ pub fn write_suite_report(
         elapsed_s,
         provenance,
     )?;
-    for (source, copy) in copies {
-        written.push(write_file_in(dir, copy, &read_text(&source)?)?);
-    }
+    written.extend(copy_operator_files(dir, &copies)?);
     Ok(written)
 }
-
-/// The folder of a report that holds copies of the operator files its config names.
-const REPORT_OPERATORS: &str = "operators";
 
 impl SuiteConfig {
     /// The `config.ron` a report of this config (read from `origin`) holds: the config
     /// with its operator files' copies in the report named instead.
     pub fn report_ron(&self, origin: &Path) -> String {
-        self.with_operator_files_in(REPORT_OPERATORS, origin)
-            .0
-            .to_ron()
+        self.portable(origin).0.to_ron()
     }
 
-    /// This config with every operator file moved into `folder` (relative names, one
-    /// copy per distinct file), and the (source, copy) pairs to copy: sources resolved
-    /// against `origin`'s directory.
-    fn with_operator_files_in(
-        &self,
-        folder: &str,
-        origin: &Path,
-    ) -> (Self, Vec<(PathBuf, PathBuf)>) {
-        let base = origin.parent().unwrap_or(Path::new("."));
-        let mut sources: Vec<PathBuf> = Vec::new();
-        for spec in &self.experiments {
-            for file in &spec.operator_files {
-                let source = base.join(file);
-                if !sources.contains(&source) {
-                    sources.push(source);
-                }
-            }
-        }
-        let stems = file_stems(sources.iter().map(|p| {
-            p.file_stem()
-                .map_or_else(String::new, |s| s.to_string_lossy().into_owned())
-        }));
-        let copies: Vec<(PathBuf, PathBuf)> = sources
-            .into_iter()
-            .zip(stems)
-            .map(|(source, stem)| (source, Path::new(folder).join(format!("{stem}.ron"))))
-            .collect();
+    /// This config as its report holds it, naming the copies of its operator files
+    /// (relative to `origin`), and the copies to make.
+    fn portable(&self, origin: &Path) -> (Self, Vec<OperatorCopy>) {
         let mut portable = self.clone();
-        for spec in &mut portable.experiments {
-            for file in &mut spec.operator_files {
-                let source = base.join(&*file);
-                *file = copies
-                    .iter()
-                    .find(|(s, _)| *s == source)
-                    .expect("every file was collected")
-                    .1
-                    .clone();
-            }
-        }
+        let copies = relocate_operator_files(&mut portable.experiments, origin);
         (portable, copies)
     }
 }

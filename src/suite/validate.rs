@@ -187,8 +187,9 @@ pub(crate) fn check_distinct(
 impl ExperimentSpec {
     /// Checks who operates an experiment or a mission plan (at `field`), whatever the
     /// suite's kind: its scenario, its population (a family's conflict and size, its
-    /// members listed or drawn, not both), and its operators, loaded as `readings` read
-    /// them (file names as names, none named twice or `random`). Returns the operators.
+    /// members listed or drawn, not both; built-in members named only in a population,
+    /// each known and named once), and its operators, loaded as `readings` read them
+    /// (file names as names, none named twice or `random`). Returns the operators.
     pub(crate) fn check<C: Catalog>(
         &self,
         catalog: &C,
@@ -210,8 +211,19 @@ impl ExperimentSpec {
                     "a population is drawn from the family or listed in `operator_files`, not both"
                         .to_owned(),
                 )
-            } else if population.family.is_none() && self.operator_files.is_empty() {
-                Some("a population needs its members: `operator_files` or a `family`".to_owned())
+            } else if population.family.is_some() && !self.builtin_operators.is_empty() {
+                Some(
+                    "a population is drawn from the family or listed in `builtin_operators`, not both"
+                        .to_owned(),
+                )
+            } else if population.family.is_none()
+                && self.operator_files.is_empty()
+                && self.builtin_operators.is_empty()
+            {
+                Some(
+                    "a population needs its members: `builtin_operators`, `operator_files` or a `family`"
+                        .to_owned(),
+                )
             } else if let Some(family) = &population.family
                 && !(0.0..=1.0).contains(&family.conflict)
             {
@@ -231,6 +243,20 @@ impl ExperimentSpec {
             if let Some(problem) = problem {
                 return Err(invalid(format!("{field}.population"), problem));
             }
+            if population.family.is_none()
+                && let Err((k, problem)) =
+                    self.builtin_members(catalog.operators(&self.scenario, readings))
+            {
+                return Err(invalid(format!("{field}.builtin_operators[{k}]"), problem));
+            }
+        } else if !self.builtin_operators.is_empty() {
+            return Err(invalid(
+                format!("{field}.builtin_operators"),
+                format!(
+                    "built-in operators are named as a population's members: add `population: Some((name: ...))`, or leave them out (without a population every built-in operator of {} takes part)",
+                    self.scenario
+                ),
+            ));
         }
         let operators = self.operators(catalog, origin, readings)?;
         if operators.is_empty() {
