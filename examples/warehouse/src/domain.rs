@@ -153,7 +153,8 @@ impl Domain for WarehouseDomain {
         operator: &WarehouseOperator,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        self.run_attending(behavior, operator, 1.0, rng)
+        let trace = self.simulate(self.settings(behavior), rng);
+        operator.judge(&trace, rng)
     }
 
     fn run_attending(
@@ -162,8 +163,8 @@ impl Domain for WarehouseDomain {
         operator: &WarehouseOperator,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Judgement {
+    ) -> Option<Judgement> {
         let trace = self.simulate(self.settings(behavior), rng);
-        operator.judge_attending(&trace, attention, rng)
+        Some(operator.judge_attending(&trace, attention, rng))
     }
 }
