@@ -59,7 +59,9 @@ enum Command {
     /// operator files, `OUT/MEMBER.ron`, which `landscape --operator` and a suite's
     /// `operator_files` read.
     Population(PopulationArgs),
-    /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
+    /// Serve the online adapter to a robot controller over JSON lines (the protocol:
+    /// `serve --help`).
+    #[command(after_long_help = PROTOCOL_IN_SHORT)]
     Serve(ServeArgs),
     /// Run a suite over several seeds and parameter values and aggregate across seeds
     /// (`sweep FILE.ron`), or merge the folders of its shards (`sweep merge FILE.ron DIR...`).
@@ -71,6 +73,24 @@ enum Command {
     /// each, and the explanation of every switch (replayed from the report's config).
     Explain(ExplainArgs),
 }
+
+/// The protocol `serve` speaks, in short, for `serve --help`: a plug-in's user has the tool,
+/// not trustcbr's source, so the help says where the whole text is for every tool built on
+/// this library.
+const PROTOCOL_IN_SHORT: &str = r#"The protocol, in short: one JSON object per line each way, one reply line per request line.
+  {"request": "begin"}    starts an episode (with "behavior": {"NAME": VALUE, ...} in real
+                          units, or the server draws one)
+  {"outcome": "completed" | "failed" | "interrupted", "weight": 1.0, "duration_s": 8.5,
+   "observed": [...], "stated": CAUSE}
+                          after every command; the reply's "ok" is "keep", "switch" (use its
+                          "behavior" from now on) or "settled" (and "alert" with --mission)
+  {"request": "config"}   the behavior space, the causes and the observations served
+  {"request": "state" | "explain" | "cases" | "abandon"}
+An error is answered {"error": "..."} and changes nothing.
+
+The protocol in full: the page `service::protocol` of the rustdoc of the `service` crate
+(`cargo doc -p service --open` where this tool is built), which is docs/protocol.md in the
+trustcbr source."#;
 
 #[derive(Args)]
 struct ExplainArgs {

@@ -242,3 +242,22 @@ fn landscape_sweep_serve_and_render() {
         "{err}"
     );
 }
+
+/// `serve --help` of a plug-in's tool sums up the protocol and points at a text its user
+/// can reach (the rustdoc of `service`, which a plug-in's build has), not at a file of
+/// trustcbr's source tree alone.
+#[test]
+fn serve_help_sums_up_the_protocol_and_says_where_it_is_in_full() {
+    let help = succeed(warehouse().args(["serve", "--help"]));
+    for told in [
+        r#"{"request": "begin"}"#,
+        r#""ok" is "keep", "switch""#,
+        "the page `service::protocol` of the rustdoc of the `service` crate",
+        "`cargo doc -p service --open`",
+    ] {
+        assert!(help.contains(told), "{told} missing from:\n{help}");
+    }
+    // The short help keeps to the options.
+    let short = succeed(warehouse().args(["serve", "-h"]));
+    assert!(!short.contains("service::protocol"), "{short}");
+}
