@@ -17,6 +17,7 @@
 //!   their reports;
 //! - [`run`]: a suite run with its report folder, as `run` does it;
 //! - [`served`]: the domain and strategy `serve` serves;
+//! - [`simulate`]: a simulated command as `simulate` prints it;
 //! - [`cli`]: the command line;
 //! - [`ugv`]: the built-in catalog (the `ugv` feature).
 //!
@@ -37,6 +38,7 @@ pub mod missions;
 pub mod progress;
 pub mod run;
 pub mod served;
+pub mod simulate;
 pub mod suite;
 pub mod sweep;
 #[cfg(feature = "ugv")]

@@ -261,3 +261,34 @@ fn serve_help_sums_up_the_protocol_and_says_where_it_is_in_full() {
     let short = succeed(warehouse().args(["serve", "-h"]));
     assert!(!short.contains("service::protocol"), "{short}");
 }
+
+/// `simulate` is the plug-in's too: the picking scenario's commands, one JSON line each,
+/// the same for the same seed.
+#[test]
+fn simulate_prints_picking_commands() {
+    let simulate = || {
+        succeed(warehouse().args([
+            "simulate",
+            "--scenario",
+            "picking",
+            "--operator",
+            "balanced",
+            "--behavior",
+            "gripper=suction,map=live,speed=1,grip_force=50",
+            "--count",
+            "20",
+            "--seed",
+            "2",
+        ]))
+    };
+    let stdout = simulate();
+    assert_eq!(stdout, simulate());
+    let commands: Vec<Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(commands.len(), 20);
+    for c in &commands {
+        assert_eq!(c["truth"].is_null(), c["outcome"] == "completed", "{c}");
+    }
+}
