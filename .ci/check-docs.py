@@ -24,8 +24,8 @@ What runs, by the fence's language (its first word):
 
 Attributes after the language word change that, each `key=value` (quote a value with
 spaces, shell-style), and are invisible when the Markdown is rendered; on a page rustdoc
-renders (docs/plugin-guide.md), whose fences may not hold `=`, they stand in a comment on
-the line before the fence instead: `<!-- check-docs: no-run="REASON" -->`:
+renders (docs/plugin-guide.md, docs/protocol.md), whose fences may not hold `=`, they
+stand in a comment on the line before the fence instead: `<!-- check-docs: no-run="REASON" -->`:
 - `no-run="REASON"`: not run; the reason is printed. Kept for blocks that need what CI
   does not have (a fleet's hosts, a Slurm cluster) or that CI runs elsewhere;
 - `replace="OLD => NEW"` (repeatable): run with OLD replaced by NEW, for a smaller size

@@ -2,25 +2,27 @@
 //! done by the suite, the sweep and the `trust` and `service` libraries.
 //!
 //! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
-//! `landscape`, `population`, `serve`, `cases` and `explain`, for the catalog's scenarios. The shipped `trustcbr`
+//! `simulate`, `landscape`, `population`, `serve`, `cases` and `explain`, for the catalog's
+//! scenarios. The shipped `trustcbr`
 //! binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own domains
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
-use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, THREADS, TRIALS};
+use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, SIMULATED_COMMANDS, THREADS, TRIALS};
 use crate::missions::{MissionSuiteConfig, is_mission_suite};
 use crate::progress::Progress;
 use crate::run::{
     RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
 };
 use crate::served::{served_domain, serving_arm};
+use crate::simulate::command_json;
 use crate::suite::{
     EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_best_arms, suite_table, trace_report_trial,
 };
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use lab::{Domain, Instance, heatmap, landscape};
+use lab::{Domain, Instance, Simulation, heatmap, landscape};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
@@ -52,6 +54,10 @@ enum Command {
     Config,
     /// Simulate one run and draw it as SVG.
     Render(RenderArgs),
+    /// Simulate commands of one behavior in front of one operator, with no adapter, and
+    /// print each as a JSON line: the outcome as a controller reports it (outcome, weight,
+    /// duration_s, observed, stated) and the operator's true reason (truth).
+    Simulate(SimulateArgs),
     /// Estimate, for every behavior, how often an operator lets a run complete; write
     /// `landscape.svg` (heatmap) and `landscape.csv`.
     Landscape(LandscapeArgs),
@@ -59,7 +65,9 @@ enum Command {
     /// operator files, `OUT/MEMBER.ron`, which `landscape --operator` and a suite's
     /// `operator_files` read.
     Population(PopulationArgs),
-    /// Serve the online adapter to a robot controller over JSON lines (docs/protocol.md).
+    /// Serve the online adapter to a robot controller over JSON lines (the protocol:
+    /// `serve --help`).
+    #[command(after_long_help = PROTOCOL_IN_SHORT)]
     Serve(ServeArgs),
     /// Run a suite over several seeds and parameter values and aggregate across seeds
     /// (`sweep FILE.ron`), or merge the folders of its shards (`sweep merge FILE.ron DIR...`).
@@ -71,6 +79,24 @@ enum Command {
     /// each, and the explanation of every switch (replayed from the report's config).
     Explain(ExplainArgs),
 }
+
+/// The protocol `serve` speaks, in short, for `serve --help`: a plug-in's user has the tool,
+/// not trustcbr's source, so the help says where the whole text is for every tool built on
+/// this library.
+const PROTOCOL_IN_SHORT: &str = r#"The protocol, in short: one JSON object per line each way, one reply line per request line.
+  {"request": "begin"}    starts an episode (with "behavior": {"NAME": VALUE, ...} in real
+                          units, or the server draws one)
+  {"outcome": "completed" | "failed" | "interrupted", "weight": 1.0, "duration_s": 8.5,
+   "observed": [...], "stated": CAUSE}
+                          after every command; the reply's "ok" is "keep", "switch" (use its
+                          "behavior" from now on) or "settled" (and "alert" with --mission)
+  {"request": "config"}   the behavior space, the causes and the observations served
+  {"request": "state" | "explain" | "cases" | "abandon"}
+An error is answered {"error": "..."} and changes nothing.
+
+The protocol in full: the page `service::protocol` of the rustdoc of the `service` crate
+(`cargo doc -p service --open` where this tool is built), which is docs/protocol.md in the
+trustcbr source."#;
 
 #[derive(Args)]
 struct ExplainArgs {
@@ -189,6 +215,32 @@ struct RenderArgs {
     /// Output SVG file.
     #[arg(short = 'o', long, default_value = "run.svg")]
     output: PathBuf,
+}
+
+#[derive(Args)]
+struct SimulateArgs {
+    /// The scenario, by the tool's name for it (an unknown name is refused with the list).
+    #[arg(long)]
+    scenario: String,
+    /// Operator judging the commands: a built-in name or an operator file.
+    #[arg(long)]
+    operator: String,
+    /// The behavior: every component of the scenario's space as NAME=VALUE, comma-separated
+    /// (`config` shows the components).
+    #[arg(long)]
+    behavior: String,
+    /// Seed: the commands are drawn one after the other from its stream (the first is
+    /// Python's `trustcbr.simulate(..., seed=N)`).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Commands to simulate, 1 to 1000000.
+    #[arg(long, default_value_t = NonZeroU64::MIN, value_parser = at_most::<NonZeroU64>(SIMULATED_COMMANDS.max))]
+    count: NonZeroU64,
+    /// The operator's attention, in [0, 1]: the chance it notices a problem it would react
+    /// to (1, the default: the paper's attentive operator; a problem it overlooks lets the
+    /// command go on, named as `overlooked`).
+    #[arg(long, default_value_t = 1.0)]
+    attention: f64,
 }
 
 #[derive(Args)]
@@ -352,6 +404,7 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
             Ok(())
         }
         Command::Render(args) => render(&catalog, &args),
+        Command::Simulate(args) => simulate(&catalog, &args),
         Command::Landscape(args) => landscape(&catalog, &args),
         Command::Population(args) => population(&catalog, &args),
         Command::Serve(args) => serve(&catalog, &args),
@@ -708,6 +761,22 @@ fn render<C: Catalog>(catalog: &C, args: &RenderArgs) -> Result<()> {
     files::write_atomically(&args.output, svg.as_bytes())
         .with_context(|| format!("writing {}", args.output.display()))?;
     println!("wrote {}", args.output.display());
+    Ok(())
+}
+
+/// Prints `--count` simulated commands of one behavior, one JSON line each.
+fn simulate<C: Catalog>(catalog: &C, args: &SimulateArgs) -> Result<()> {
+    let domain = domain_of(catalog, &args.scenario)?;
+    let readings = resolve_readings(catalog, &Default::default())?;
+    let (_, operator) = find_operator(catalog, &args.scenario, &args.operator, &readings)?;
+    let behavior = domain.space().parse(&args.behavior)?;
+    let simulation = Simulation::new(&domain, behavior, &operator, args.attention, args.seed)
+        .context("--attention")?;
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    for command in simulation.take(usize::try_from(args.count.get())?) {
+        writeln!(out, "{}", command_json(&domain, &command?))?;
+    }
+    out.flush()?;
     Ok(())
 }
 

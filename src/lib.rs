@@ -17,8 +17,16 @@
 //!   their reports;
 //! - [`run`]: a suite run with its report folder, as `run` does it;
 //! - [`served`]: the domain and strategy `serve` serves;
+//! - [`simulate`]: a simulated command as `simulate` prints it;
 //! - [`cli`]: the command line;
-//! - [`ugv`]: the built-in catalog.
+//! - [`ugv`]: the built-in catalog (the `ugv` feature).
+//!
+//! Cargo features, all on by default: `ugv` (the built-in catalog and the `trustcbr`
+//! binary, over the `domains` crate), `sqlite` and `postgres` (the case stores of
+//! `serve --cases` and `cases`, `service`'s features of the same names). A plug-in's tool
+//! depends on this crate with `default-features = false` and the stores it opens; a store
+//! left out is refused when a command names it ("this tool was built without the
+//! `postgres` feature"). `testing` (off by default) adds the conformance kits.
 
 #![deny(missing_docs)]
 
@@ -30,8 +38,10 @@ pub mod missions;
 pub mod progress;
 pub mod run;
 pub mod served;
+pub mod simulate;
 pub mod suite;
 pub mod sweep;
+#[cfg(feature = "ugv")]
 pub mod ugv;
 
 #[doc = include_str!("../docs/plugin-guide.md")]
@@ -49,6 +59,7 @@ pub use catalog::{
 pub use config_file::ConfigFileError;
 pub use suite::{SuiteError, TraceError};
 pub use sweep::SweepError;
+#[cfg(feature = "ugv")]
 pub use ugv::UgvCatalog;
 
 // The crates a plug-in's code names, re-exported so a plug-in depends on one version of

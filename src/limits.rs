@@ -246,6 +246,15 @@ pub const FAMILY_SIZE: Limit = Limit {
     why: "each member needs a landscape of its own",
 };
 
+/// Commands `simulate --count` prints, one JSON line each (about 150 bytes for the UGV
+/// scenarios, so some 150 MB at most; the two cores simulate them in seconds).
+pub const SIMULATED_COMMANDS: Limit = Limit {
+    counts: "commands",
+    min: 1,
+    max: 1_000_000,
+    why: "",
+};
+
 /// Worker threads (`--threads`, Python `threads=`).
 pub const THREADS: Limit = Limit {
     counts: "worker threads",
@@ -338,6 +347,7 @@ pub const TABLE: &[(&str, Limit)] = &[
     ("RUNS_PER_BEHAVIOR", RUNS_PER_BEHAVIOR),
     ("LIMIT_RUNS", LIMIT_RUNS),
     ("FAMILY_SIZE", FAMILY_SIZE),
+    ("SIMULATED_COMMANDS", SIMULATED_COMMANDS),
     ("THREADS", THREADS),
     ("SWEEP_RUNS", SWEEP_RUNS),
     ("SWEEP_TRIALS", SWEEP_TRIALS),

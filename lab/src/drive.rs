@@ -5,10 +5,10 @@
 //! behavior* is the random one drawn on the setup stream, or, for an arm that starts from
 //! the case memory's guess ([`Initial::Learned`]) once the memory holds a case, that guess;
 //! the random behavior is drawn either way, so arms stay paired ([`first_behavior`]). A
-//! *command* ([`Drive::command`]) is run by the domain in front of the operator (the
-//! paper's attentive one, or a complacent one at its attention), its truth is checked to
-//! be a cause the domain declares, the operator's feedback channel states a reason (the
-//! plan's channel, or the operator's own), and the adapter records the outcome. The streams of the runs and
+//! *command* ([`Drive::command`]) is the simulated command of [`crate::simulate`] (run by
+//! the domain in front of the operator at its attention, its truth checked to be a cause
+//! the domain declares, a reason stated through the plan's feedback channel or the
+//! operator's own), and the adapter records the outcome. The streams of the runs and
 //! of the stated reasons, and the adapter's search stream, are the trial's or mission's
 //! ([`Drive::new`]).
 //!
@@ -19,16 +19,16 @@
 //! breach stops the plan with [`PlanError::Searcher`], naming the arm and the behavior.
 
 use crate::arm::Initial;
-use crate::domain::AttentionNotModelled;
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
+use crate::simulate::{self, Refused, SimulatedCommand};
 use crate::{Domain, FeedbackChannel, Judgement};
 use cbr_core::Behavior;
 use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 use trust::{
     AdapterError, Decision, EpisodeView, MissionAdapter, MissionDecision, Outcome, Source,
-    TrustAdapter, find_declared,
+    TrustAdapter,
 };
 
 /// An adapter a drive records outcomes with: the paper's episodes, or a mission around them.
@@ -191,33 +191,29 @@ impl<'a, D: Domain> Drive<'a, D> {
         operator: &D::Operator,
         attention: Option<f64>,
     ) -> Result<Command<A::Decision>, PlanError> {
-        let judgement = match attention {
-            None => self.domain.run(behavior, operator, &mut self.runs),
-            Some(attention) => self
-                .domain
-                .run_attending(behavior, operator, attention, &mut self.runs)
-                .ok_or_else(|| PlanError::AttentionNotModelled {
-                    plan: self.plan.to_owned(),
-                    reason: AttentionNotModelled {
-                        domain: self.domain.name().to_owned(),
-                    },
-                })?,
-        };
-        let causes = self.domain.causes();
-        if let Some(cause) = judgement.truth {
-            find_declared(causes, cause).map_err(|reason| PlanError::UndeclaredCause {
-                plan: self.plan.to_owned(),
-                domain: self.domain.name().to_owned(),
-                reason: Box::new(reason),
-            })?;
-        }
         let channel = self
             .feedback
             .unwrap_or_else(|| self.domain.feedback(operator));
-        let outcome =
-            judgement
-                .outcome
-                .stating(channel.state(judgement.truth, causes, &mut self.stated));
+        let SimulatedCommand { judgement, outcome } = simulate::command(
+            self.domain,
+            behavior,
+            operator,
+            attention,
+            channel,
+            &mut self.runs,
+            &mut self.stated,
+        )
+        .map_err(|refused| match refused {
+            Refused::UndeclaredCause(reason) => PlanError::UndeclaredCause {
+                plan: self.plan.to_owned(),
+                domain: self.domain.name().to_owned(),
+                reason,
+            },
+            Refused::AttentionNotModelled(reason) => PlanError::AttentionNotModelled {
+                plan: self.plan.to_owned(),
+                reason,
+            },
+        })?;
         let decision = adapter
             .record(&outcome)
             .expect("domains report valid outcomes");

@@ -23,6 +23,7 @@ pub mod population;
 pub mod report;
 pub mod runner;
 pub mod seeds;
+pub mod simulate;
 pub mod stats;
 #[cfg(feature = "testing")]
 pub mod testing;
@@ -45,4 +46,5 @@ pub use runner::{
     GivenUpRecord, OperatorChoice, PairedTests, PlanError, SAMPLE_EXPLANATIONS, Step,
     TracedCommand, TrialRecord, run_experiments, trace_trial,
 };
+pub use simulate::{SimulatedCommand, Simulation, SimulationError};
 pub use trust::{RetrieverFactory, SearcherFactory};

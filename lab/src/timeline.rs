@@ -81,9 +81,58 @@ fn kind_name(kind: OutcomeKind) -> &'static str {
     }
 }
 
+/// The columns of the story's table of commands: each header, and whether its cells are
+/// right-aligned (numbers) or left-aligned (names).
+const COLUMNS: [(&str, Align); 7] = [
+    ("#", Align::Right),
+    ("outcome", Align::Left),
+    ("weight", Align::Right),
+    ("perceived", Align::Left),
+    ("stated", Align::Left),
+    ("true reason", Align::Left),
+    ("trust", Align::Right),
+];
+
+/// Where a cell's text stands in its column.
+#[derive(Clone, Copy)]
+enum Align {
+    Left,
+    Right,
+}
+
+/// The cells of command number `number` (from 1), one per column of [`COLUMNS`].
+fn command_cells(number: usize, timeline: &Timeline, c: &TracedCommand) -> [String; 7] {
+    let cause = |c: Option<trust::Cause>| c.map_or("-".to_owned(), |c| c.to_string());
+    [
+        number.to_string(),
+        kind_name(c.outcome.kind).to_owned(),
+        format!("{:.2}", c.outcome.weight),
+        perceived(timeline, c),
+        cause(c.outcome.stated),
+        cause(c.truth),
+        format!("{:+.2}", c.estimate),
+    ]
+}
+
+/// One line of the table: the cells padded to `widths`, two spaces apart, indented by two.
+fn table_line<S: AsRef<str>>(cells: &[S], widths: &[usize; 7]) -> String {
+    let padded: Vec<String> = cells
+        .iter()
+        .zip(widths)
+        .zip(COLUMNS)
+        .map(|((cell, &width), (_, align))| match align {
+            Align::Left => format!("{:<width$}", cell.as_ref()),
+            Align::Right => format!("{:>width$}", cell.as_ref()),
+        })
+        .collect();
+    format!("  {}", padded.join("  ")).trim_end().to_owned()
+}
+
 /// The trial as text: each behavior, its commands (how each ended, its weight, what the
 /// robot perceived, what the operator stated, the true reason, the estimate after it), and
-/// the explanation of each switch and of the end.
+/// the explanation of each switch and of the end. Every behavior's table has the same
+/// columns, each as wide as its widest cell in the whole trial (a long list of what was
+/// perceived widens its column, and the others stay in line).
 pub fn story(timeline: &Timeline, space: &BehaviorSpace) -> String {
     let r = &timeline.record;
     let mut text = format!(
@@ -98,9 +147,22 @@ pub fn story(timeline: &Timeline, space: &BehaviorSpace) -> String {
         timeline.thresholds.trustworthy,
         timeline.thresholds.untrustworthy,
     );
+    let rows: Vec<[String; 7]> = timeline
+        .commands
+        .iter()
+        .enumerate()
+        .map(|(i, c)| command_cells(i + 1, timeline, c))
+        .collect();
+    let mut widths = COLUMNS.map(|(header, _)| header.chars().count());
+    for row in &rows {
+        for (width, cell) in widths.iter_mut().zip(row) {
+            *width = (*width).max(cell.chars().count());
+        }
+    }
+    let header = table_line(&COLUMNS.map(|(header, _)| header), &widths);
     let mut behavior_number = 0;
     let mut starts = true;
-    for (i, c) in timeline.commands.iter().enumerate() {
+    for (c, row) in timeline.commands.iter().zip(&rows) {
         if starts {
             behavior_number += 1;
             let _ = writeln!(
@@ -108,25 +170,10 @@ pub fn story(timeline: &Timeline, space: &BehaviorSpace) -> String {
                 "\nbehavior {behavior_number}: {}",
                 space.display(&c.behavior)
             );
-            let _ = writeln!(
-                text,
-                "  {:>4}  {:<11}  {:>6}  {:<24}  {:<22}  {:<22}  {:>7}",
-                "#", "outcome", "weight", "perceived", "stated", "true reason", "trust"
-            );
+            let _ = writeln!(text, "{header}");
             starts = false;
         }
-        let cause = |c: Option<trust::Cause>| c.map_or("-".to_owned(), |c| c.to_string());
-        let _ = writeln!(
-            text,
-            "  {:>4}  {:<11}  {:>6.2}  {:<24}  {:<22}  {:<22}  {:>+7.2}",
-            i + 1,
-            kind_name(c.outcome.kind),
-            c.outcome.weight,
-            perceived(timeline, c),
-            cause(c.outcome.stated),
-            cause(c.truth),
-            c.estimate
-        );
+        let _ = writeln!(text, "{}", table_line(row, &widths));
         if let Some(explanation) = &c.explanation {
             let _ = writeln!(text, "  -> {}", explanation.sentence(space));
             starts = true;
@@ -265,4 +312,137 @@ pub fn timeline_figure(area: &Area<'_>, timeline: &Timeline) -> DrawResult {
         ))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cbr_core::{Behavior, NamedComponent};
+    use trust::{Cause, EpisodeReport, Grounds, Observations, Outcome};
+
+    /// Two behaviors: the first given up after one interruption on which the robot
+    /// perceived all five of its observations, the second kept after one completion.
+    fn timeline() -> (Timeline, BehaviorSpace) {
+        let space = BehaviorSpace::new(vec![
+            NamedComponent::categorical("gripper", &["suction", "fingers"]).unwrap(),
+        ])
+        .unwrap();
+        let (suction, fingers) = (Behavior::new(&[0]), Behavior::new(&[1]));
+        let everything = (0..5).fold(Observations::NONE, Observations::with);
+        let commands = vec![
+            TracedCommand {
+                behavior: suction,
+                outcome: Outcome::interrupted(1.0, 10.0).observing(everything),
+                truth: Some(Cause::from_static("collision")),
+                estimate: -1.0,
+                explanation: Some(Explanation {
+                    given_up: None,
+                    next: Next::Switch {
+                        behavior: fingers,
+                        source: Source::Search,
+                        grounds: Grounds::Matches {
+                            matched: 0,
+                            given_up: 0,
+                        },
+                    },
+                }),
+            },
+            TracedCommand {
+                behavior: fingers,
+                outcome: Outcome::completed(0.5, 8.0),
+                truth: None,
+                estimate: 0.5,
+                explanation: Some(Explanation {
+                    given_up: None,
+                    next: Next::Kept {
+                        behavior: fingers,
+                        trustworthy: true,
+                        commands: 1,
+                        estimate: 0.5,
+                    },
+                }),
+            },
+        ];
+        let record = TrialRecord {
+            trial: 3,
+            arm: "random-walk".into(),
+            operator: "balanced".into(),
+            initial: suction,
+            learned_start: false,
+            report: EpisodeReport {
+                settled: fingers,
+                found_trustworthy: true,
+                behaviors_evaluated: 2,
+                commands: 2,
+                untrustworthy: 1,
+                searched: 1,
+                reused: 0,
+                settled_from_search: true,
+                retained: None,
+                evaluated: Vec::new(),
+                explanations: Vec::new(),
+            },
+            truncated: false,
+            true_causes: Default::default(),
+            explained: Default::default(),
+            given_up: Vec::new(),
+        };
+        let observations = [
+            "collision",
+            "stuck",
+            "behind-plan",
+            "near-person-fast",
+            "close-pass",
+        ]
+        .map(Cause::from_static)
+        .to_vec();
+        let timeline = Timeline {
+            experiment: "picking".into(),
+            arm: "random-walk".into(),
+            arm_index: 0,
+            record,
+            commands,
+            thresholds: Thresholds {
+                trustworthy: 0.5,
+                untrustworthy: -1.0,
+            },
+            observations,
+        };
+        (timeline, space)
+    }
+
+    #[test]
+    fn a_long_list_of_what_was_perceived_widens_its_column_and_the_others_stay_in_line() {
+        let (timeline, space) = timeline();
+        // The perceived column is as wide as its widest cell, 55 characters
+        // (9 + 5 + 11 + 16 + 10 for the names, 4 commas); every other column as wide as its
+        // header or its widest cell: `#` 1, outcome 11 (`interrupted`), weight 6, stated 6,
+        // true reason 11, trust 5; two spaces between columns, two before the first.
+        let header = format!(
+            "  #  outcome      weight  perceived{}  stated  true reason  trust",
+            " ".repeat(55 - 9)
+        );
+        let expected = [
+            "picking, arm random-walk, trial 3 (operator balanced): 2 commands, 1 untrustworthy, 2 behaviors; thresholds +0.5 / -1".to_owned(),
+            String::new(),
+            "behavior 1: gripper=suction".to_owned(),
+            header.clone(),
+            "  1  interrupted    1.00  collision,stuck,behind-plan,near-person-fast,close-pass  -       collision    -1.00".to_owned(),
+            "  -> Now gripper=fingers: search.".to_owned(),
+            String::new(),
+            "behavior 2: gripper=fingers".to_owned(),
+            header,
+            format!("  2  completed      0.50  -{}-       -            +0.50", " ".repeat(54 + 2)),
+            "  -> Keeping gripper=fingers: trusted after 1 command (estimate +0.50).".to_owned(),
+        ];
+        let told = story(&timeline, &space);
+        assert_eq!(told.lines().collect::<Vec<_>>(), expected, "{told}");
+        // Every line of a table has its trust right-aligned at the same column.
+        let table: Vec<&str> = told
+            .lines()
+            .filter(|l| l.starts_with("  ") && !l.starts_with("  ->"))
+            .collect();
+        assert_eq!(table.len(), 4);
+        assert!(table.iter().all(|l| l.len() == table[0].len()), "{told}");
+    }
 }

@@ -8,20 +8,14 @@ use crate::convert::{behavior_from_py, to_py};
 use crate::error;
 use pyo3::exceptions::PyKeyboardInterrupt;
 use pyo3::prelude::*;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde_json::json;
 use trustcbr::Readings;
 use trustcbr::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use trustcbr::lab::landscape as estimates;
-use trustcbr::lab::{Domain, LandscapeError};
+use trustcbr::lab::{Domain, LandscapeError, Simulation};
 use trustcbr::limits::RUNS_PER_BEHAVIOR;
-use trustcbr::service::reply;
+use trustcbr::simulate::command_json;
 use trustcbr::trust::named::named_space;
-
-/// The stream of a command's seed that draws the operator's stated reason (the run draws
-/// from stream 0).
-const FEEDBACK_STREAM: u64 = 1;
 
 /// The readings every call here uses: the catalog's defaults.
 fn default_readings<C: Catalog>(catalog: &C) -> PyResult<Readings> {
@@ -58,10 +52,10 @@ pub fn space<'py, C: Catalog>(
 }
 
 /// Runs one command of `scenario` with `behavior` (a dict in real units) in front of
-/// `operator` (a built-in name or an operator file), every draw from `seed`. Returns the
-/// outcome as the protocol's outcome report spells it (with the reason the operator's
-/// feedback channel states, if any) and the operator's true reason as `truth`, which a
-/// robot is never told.
+/// `operator` (a built-in name or an operator file), every draw from `seed`: the first
+/// command of `trustcbr simulate --seed SEED`. Returns the outcome as the protocol's
+/// outcome report spells it (with the reason the operator's feedback channel states, if
+/// any) and the operator's true reason as `truth`, which a robot is never told.
 pub fn simulate<'py, C: Catalog>(
     py: Python<'py>,
     catalog: &C,
@@ -74,17 +68,12 @@ pub fn simulate<'py, C: Catalog>(
     let readings = default_readings(catalog)?;
     let (_, operator) = find_operator(catalog, scenario, operator, &readings).map_err(error)?;
     let behavior = behavior_from_py(domain.space(), behavior)?;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let judgement = domain.run(&behavior, &operator, &mut rng);
-    let mut feedback = ChaCha8Rng::seed_from_u64(seed);
-    feedback.set_stream(FEEDBACK_STREAM);
-    let stated = domain
-        .feedback(&operator)
-        .state(judgement.truth, domain.causes(), &mut feedback);
-    let outcome = judgement.outcome.stating(stated);
-    let mut value = reply::outcome(&outcome, domain.observations());
-    value["truth"] = json!(judgement.truth);
-    to_py(py, &value)
+    let command = Simulation::new(&domain, behavior, &operator, 1.0, seed)
+        .map_err(error)?
+        .next()
+        .expect("a simulation never ends")
+        .map_err(error)?;
+    to_py(py, &command_json(&domain, &command))
 }
 
 /// Estimates, for every behavior of `scenario`, the share of `runs` commands `operator`

@@ -15,10 +15,19 @@
 //!
 //! Which store a location names: `postgres://` or `postgresql://` URLs are PostgreSQL,
 //! paths ending in `.ron` are RON files, any other path is an SQLite database.
+//!
+//! The SQLite and PostgreSQL stores are the crate's `sqlite` and `postgres` features (both
+//! on by default; the RON store is always there). A build without one reads locations the
+//! same way, and opening a location of the store it left out fails with
+//! [`StoreError::NotBuilt`], naming the feature.
 
+#[cfg(feature = "postgres")]
 pub mod postgres;
+pub mod postgres_url;
 pub mod ron_file;
+#[cfg(feature = "sqlite")]
 pub mod sqlite;
+mod sqlite_file;
 
 use cbr_core::{Behavior, BehaviorSpace};
 use std::path::{Path, PathBuf};
@@ -73,7 +82,7 @@ impl Location {
     pub fn shown(&self) -> String {
         match self {
             Self::Sqlite(path) | Self::Ron(path) => path.display().to_string(),
-            Self::Postgres(url) => postgres::without_password(url),
+            Self::Postgres(url) => postgres_url::without_password(url),
         }
     }
 }
@@ -208,6 +217,18 @@ pub enum StoreError {
         /// The database's message.
         reason: String,
     },
+    /// The location names a store this build left out (its cargo feature was off).
+    #[error(
+        "{location}: this tool was built without the `{feature}` feature, so it opens no {store} case base (a `.ron` case file needs no feature)"
+    )]
+    NotBuilt {
+        /// The store.
+        location: String,
+        /// The kind of store, for people (`SQLite`, `PostgreSQL`).
+        store: &'static str,
+        /// The cargo feature of `service` (and of the `trustcbr` tool) that builds it.
+        feature: &'static str,
+    },
     /// A RON file could not be read, parsed or written.
     #[error(transparent)]
     Ron(#[from] ron_file::CaseBaseError),
@@ -250,8 +271,8 @@ pub trait CaseStore: Send {
 /// absent; refuses one learned in another space. Never rewrites anything that exists.
 pub fn open(location: &Location, identity: &Identity) -> Result<Box<dyn CaseStore>, StoreError> {
     let store: Box<dyn CaseStore> = match location {
-        Location::Sqlite(path) => Box::new(sqlite::SqliteStore::open(path, Some(identity))?),
-        Location::Postgres(url) => Box::new(postgres::PostgresStore::open(url, Some(identity))?),
+        Location::Sqlite(path) => open_sqlite(path, Some(identity))?,
+        Location::Postgres(url) => open_postgres(url, Some(identity))?,
         Location::Ron(path) => Box::new(ron_file::RonStore::open(path, Some(identity))?),
     };
     check_space(store.as_ref(), &identity.space)?;
@@ -263,9 +284,43 @@ pub fn open(location: &Location, identity: &Identity) -> Result<Box<dyn CaseStor
 /// info` and `cases export`).
 pub fn open_existing(location: &Location) -> Result<Box<dyn CaseStore>, StoreError> {
     Ok(match location {
-        Location::Sqlite(path) => Box::new(sqlite::SqliteStore::open(path, None)?),
-        Location::Postgres(url) => Box::new(postgres::PostgresStore::open(url, None)?),
+        Location::Sqlite(path) => open_sqlite(path, None)?,
+        Location::Postgres(url) => open_postgres(url, None)?,
         Location::Ron(path) => Box::new(ron_file::RonStore::open(path, None)?),
+    })
+}
+
+#[cfg(feature = "sqlite")]
+fn open_sqlite(path: &Path, identity: Option<&Identity>) -> Result<Box<dyn CaseStore>, StoreError> {
+    Ok(Box::new(sqlite::SqliteStore::open(path, identity)?))
+}
+
+#[cfg(not(feature = "sqlite"))]
+fn open_sqlite(
+    path: &Path,
+    _identity: Option<&Identity>,
+) -> Result<Box<dyn CaseStore>, StoreError> {
+    Err(StoreError::NotBuilt {
+        location: path.display().to_string(),
+        store: "SQLite",
+        feature: "sqlite",
+    })
+}
+
+#[cfg(feature = "postgres")]
+fn open_postgres(url: &str, identity: Option<&Identity>) -> Result<Box<dyn CaseStore>, StoreError> {
+    Ok(Box::new(postgres::PostgresStore::open(url, identity)?))
+}
+
+#[cfg(not(feature = "postgres"))]
+fn open_postgres(
+    url: &str,
+    _identity: Option<&Identity>,
+) -> Result<Box<dyn CaseStore>, StoreError> {
+    Err(StoreError::NotBuilt {
+        location: postgres_url::without_password(url),
+        store: "PostgreSQL",
+        feature: "postgres",
     })
 }
 
@@ -410,8 +465,11 @@ fn check_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Result<(), Stri
     Ok(())
 }
 
-/// A case as a database row holds it: the evaluated pairs and the solution, as JSON.
+/// A case as a database row holds it: the evaluated pairs and the solution, as JSON. An
+/// import compares cases by their rows in every build; reading rows back is the
+/// databases' alone (the `sqlite` and `postgres` features).
 pub(crate) mod row {
+    #[cfg(any(feature = "sqlite", feature = "postgres"))]
     use super::{StoreError, StoreId, StoredCase};
     use trust::TrustCase;
 
@@ -424,6 +482,7 @@ pub(crate) mod row {
     }
 
     /// A case from its row.
+    #[cfg(any(feature = "sqlite", feature = "postgres"))]
     pub fn decode(
         location: &str,
         id: StoreId,
@@ -444,11 +503,13 @@ pub(crate) mod row {
     }
 
     /// The identity as the JSON text stored beside the cases.
+    #[cfg(any(feature = "sqlite", feature = "postgres"))]
     pub fn encode_space(space: &cbr_core::BehaviorSpace) -> String {
         serde_json::to_string(space).expect("spaces serialize")
     }
 
     /// The stored space, checked as it is read.
+    #[cfg(any(feature = "sqlite", feature = "postgres"))]
     pub fn decode_space(location: &str, text: &str) -> Result<cbr_core::BehaviorSpace, StoreError> {
         serde_json::from_str(text).map_err(|e| StoreError::Corrupt {
             location: location.to_owned(),
@@ -509,6 +570,21 @@ mod tests {
             Location::parse("postgres://robot:pw@fleet/cases").shown(),
             "postgres://robot:***@fleet/cases"
         );
+    }
+
+    /// A build without the PostgreSQL store (`cargo test -p service --no-default-features
+    /// --features sqlite`, as `.ci/run` runs it) still reads the URL as PostgreSQL's, and
+    /// refuses it naming the feature, its password hidden.
+    #[cfg(not(feature = "postgres"))]
+    #[test]
+    fn a_postgres_url_is_refused_naming_the_feature_when_it_is_left_out() {
+        let location = Location::parse("postgres://robot:s3cret@fleet/cases");
+        for opened in [open(&location, &movement()), open_existing(&location)] {
+            assert_eq!(
+                refused(opened).to_string(),
+                "postgres://robot:***@fleet/cases: this tool was built without the `postgres` feature, so it opens no PostgreSQL case base (a `.ron` case file needs no feature)"
+            );
+        }
     }
 
     #[test]

@@ -242,3 +242,53 @@ fn landscape_sweep_serve_and_render() {
         "{err}"
     );
 }
+
+/// `serve --help` of a plug-in's tool sums up the protocol and points at a text its user
+/// can reach (the rustdoc of `service`, which a plug-in's build has), not at a file of
+/// trustcbr's source tree alone.
+#[test]
+fn serve_help_sums_up_the_protocol_and_says_where_it_is_in_full() {
+    let help = succeed(warehouse().args(["serve", "--help"]));
+    for told in [
+        r#"{"request": "begin"}"#,
+        r#""ok" is "keep", "switch""#,
+        "the page `service::protocol` of the rustdoc of the `service` crate",
+        "`cargo doc -p service --open`",
+    ] {
+        assert!(help.contains(told), "{told} missing from:\n{help}");
+    }
+    // The short help keeps to the options.
+    let short = succeed(warehouse().args(["serve", "-h"]));
+    assert!(!short.contains("service::protocol"), "{short}");
+}
+
+/// `simulate` is the plug-in's too: the picking scenario's commands, one JSON line each,
+/// the same for the same seed.
+#[test]
+fn simulate_prints_picking_commands() {
+    let simulate = || {
+        succeed(warehouse().args([
+            "simulate",
+            "--scenario",
+            "picking",
+            "--operator",
+            "balanced",
+            "--behavior",
+            "gripper=suction,map=live,speed=1,grip_force=50",
+            "--count",
+            "20",
+            "--seed",
+            "2",
+        ]))
+    };
+    let stdout = simulate();
+    assert_eq!(stdout, simulate());
+    let commands: Vec<Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(commands.len(), 20);
+    for c in &commands {
+        assert_eq!(c["truth"].is_null(), c["outcome"] == "completed", "{c}");
+    }
+}

@@ -142,7 +142,7 @@ impl CaseStore for RonStore {
 /// Checks that the existing file at `path` is one an export may write over: an earlier
 /// export, that is a RON case file recording its behavior space; otherwise says what it is.
 pub fn check_earlier_export(path: &Path) -> Result<(), String> {
-    if super::sqlite::is_database(path) {
+    if super::sqlite_file::is_database(path) {
         return Err("an SQLite database".to_owned());
     }
     let text = read_text_at_most(path, MAX_CASE_BASE_BYTES).map_err(|e| e.reason.to_string())?;

@@ -7,6 +7,7 @@
 //! commit order and never reused. Several processes may open one file: each append takes
 //! the write lock first (`BEGIN IMMEDIATE`) and waits for it up to [`BUSY_TIMEOUT`].
 
+use super::sqlite_file::{HEADER, header};
 use super::{CaseStore, Identity, StoreError, StoreId, StoredCase, check_file, row};
 use rusqlite::types::Value;
 use rusqlite::{Connection, OpenFlags, TransactionBehavior, params};
@@ -286,23 +287,6 @@ fn is_busy(e: &rusqlite::Error) -> bool {
 /// shorter than a page for an empty database and write over it.
 fn starts_like_a_database(path: &Path) -> bool {
     matches!(header(path), Some(start) if start.is_empty() || start == HEADER)
-}
-
-/// Whether the file begins with SQLite's header.
-pub(crate) fn is_database(path: &Path) -> bool {
-    header(path).is_some_and(|start| start == HEADER)
-}
-
-const HEADER: &[u8; 16] = b"SQLite format 3\0";
-
-/// The file's first bytes, as many as SQLite's header has.
-fn header(path: &Path) -> Option<Vec<u8>> {
-    use std::io::Read;
-    let mut start = Vec::with_capacity(HEADER.len());
-    std::fs::File::open(path)
-        .and_then(|f| f.take(HEADER.len() as u64).read_to_end(&mut start))
-        .ok()?;
-    Some(start)
 }
 
 fn database_error(location: &str, e: rusqlite::Error) -> StoreError {
