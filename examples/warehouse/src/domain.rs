@@ -4,24 +4,26 @@
 //! A pick draws the item and how far its shelf is, drives out (people may cross), finds
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
-//! [`Trace`]; the operator turns it into a `Judgement`. Every draw comes from the
-//! generator passed in, in a fixed order, so a seed gives one pick.
+//! [`Trace`]; the operator turns it into a `Judgement`, which carries what the robot
+//! perceived ([`perception`]). Every draw comes from the generator passed in, in a fixed
+//! order, so a seed gives one pick.
 
 use crate::gripper::{Grasp, Gripper};
-use crate::items::draw_item;
+use crate::items::{ITEM_MIX, draw_item};
 use crate::map::MapSource;
-use crate::motion::{NOMINAL_ACCEL, drive_leg};
+use crate::motion::{NOMINAL_ACCEL, drive_leg, leg_time};
 use crate::operator::WarehouseOperator;
+use crate::perception;
 use crate::space::{GRIP_FORCE, GRIPPER, MAP, SPEED, warehouse_space};
-use crate::trace::{Event, Trace};
+use crate::trace::{Event, Reading, Trace};
 use rand::{Rng, RngCore};
 use std::convert::Infallible;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
-use trustcbr::lab::{Domain, Judgement};
+use trustcbr::lab::{Domain, FeedbackChannel, Judgement};
 use trustcbr::rand;
-use trustcbr::trust::DeclaredCause;
+use trustcbr::trust::{Cause, DeclaredCause, Hint};
 
 /// The scenario's name.
 pub const PICKING: &str = "picking";
@@ -87,8 +89,17 @@ impl WarehouseDomain {
         let item = draw_item(rng);
         let (near, far) = SHELF_DISTANCE_M;
         let distance = near + (far - near) * rng.random::<f64>();
+        // Summed as the pick's time is below, so a pick without a stop ends on its plan.
+        let leg = leg_time(distance, speed);
+        trace.planned_s = leg
+            + LABEL_SCAN_S
+            + settings.gripper.grasp_time()
+            + (leg + settings.gripper.release_time());
         let mut t = 0.0;
         let ControlFlow::Continue(outbound) = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.decel > NOMINAL_ACCEL {
+                trace.record(t + at, Reading::SafetyStop);
+            }
             if stop.collided {
                 trace.push(t + at, Event::Collision);
             }
@@ -102,12 +113,22 @@ impl WarehouseDomain {
         }
         t += settings.gripper.grasp_time();
         let grasp = Grasp::new(settings.gripper, settings.grip_force, &item, rng);
+        trace.record(
+            t,
+            Reading::Grasped {
+                squeeze_n: grasp.squeeze_n,
+                rated_n: ITEM_MIX[item.class].rated_squeeze_n(),
+            },
+        );
         // Lifting off and pulling away at the nominal acceleration.
         if grasp.slips(NOMINAL_ACCEL) {
             trace.push(t, Event::DroppedItem);
             return trace;
         }
         let back = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.decel > NOMINAL_ACCEL {
+                trace.record(t + at, Reading::SafetyStop);
+            }
             if stop.collided {
                 trace.push(t + at, Event::Collision);
             }
@@ -146,6 +167,18 @@ impl Domain for WarehouseDomain {
         &crate::cause::DECLARED
     }
 
+    fn observations(&self) -> &[Cause] {
+        &perception::OBSERVATIONS
+    }
+
+    fn hints(&self) -> &[Hint] {
+        &perception::HINTS
+    }
+
+    fn feedback(&self, operator: &WarehouseOperator) -> FeedbackChannel {
+        operator.feedback
+    }
+
     fn run(
         &self,
         behavior: &Behavior,
@@ -153,6 +186,8 @@ impl Domain for WarehouseDomain {
         rng: &mut dyn RngCore,
     ) -> Judgement {
         let trace = self.simulate(self.settings(behavior), rng);
-        operator.judge(&trace, rng)
+        let judgement = operator.judge(&trace, rng);
+        let observed = perception::perceive(&trace, judgement.outcome.duration_s);
+        judgement.observing(observed)
     }
 }

@@ -14,7 +14,7 @@ use rand::{Rng, RngCore};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use trustcbr::files::{FileError, RonError, parse_ron, read_text};
-use trustcbr::lab::Judgement;
+use trustcbr::lab::{FeedbackChannel, Judgement};
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
 use trustcbr::trust::{OutcomeKind, OutcomeWeights, WeightsError};
@@ -43,6 +43,10 @@ pub struct WarehouseOperator {
     /// Outcome weights.
     #[serde(default)]
     pub weights: OutcomeWeights,
+    /// How the operator explains itself (`feedback: (explains: 0.3, wrong: 0.1)`); silent,
+    /// as the paper's operator, when absent. An experiment's `feedback` overrides it.
+    #[serde(default)]
+    pub feedback: FeedbackChannel,
 }
 
 /// Why an operator file cannot be used.
