@@ -12,14 +12,16 @@
 //!
 //! A member at position `x` in `[-1, 1]` is the base moved `|x|` of the way to the
 //! throughput pole (`x < 0`) or the care pole (`x > 0`): the time allowed geometrically
-//! (a time scales by factors), the reaction probabilities and the weights linearly, the
-//! give-up factor kept (2 for all three). Exact at the ends, so the base and the poles are
-//! the shipped operators.
+//! (a time scales by factors), the reaction probabilities linearly, the give-up factor
+//! kept (2 for all three). The weights are its side's pole's: what a pick's ending weighs
+//! is what the store ships (fragile goods, or not), a fact of the job rather than a
+//! degree; and weights moved by degrees would make the trust estimate's reachable sums
+//! dense, so the report's known-operator limit could not be solved. Exact at the ends, so
+//! the base and the poles are the shipped operators.
 
 use crate::operator::{WarehouseOperator, builtin_operators};
 use trustcbr::lab::seeds::{Purpose, stream};
 use trustcbr::rand::Rng;
-use trustcbr::trust::OutcomeWeights;
 
 /// The shipped operator of `name`.
 fn shipped(name: &str) -> WarehouseOperator {
@@ -46,20 +48,6 @@ pub fn member(x: f64, name: &str) -> WarehouseOperator {
         };
     }
     let linear = |p: f64, q: f64| if f == 1.0 { q } else { p + (q - p) * f };
-    let weight_of = |w: &OutcomeWeights, cause| *w.by_cause.get(&cause).unwrap_or(&w.default);
-    let causes = base
-        .weights
-        .by_cause
-        .keys()
-        .chain(to.weights.by_cause.keys());
-    let by_cause = causes
-        .map(|&c| {
-            (
-                c,
-                linear(weight_of(&base.weights, c), weight_of(&to.weights, c)),
-            )
-        })
-        .collect();
     WarehouseOperator {
         name: name.to_owned(),
         t_complete: if f == 1.0 {
@@ -71,11 +59,7 @@ pub fn member(x: f64, name: &str) -> WarehouseOperator {
         p_collision: linear(base.p_collision, to.p_collision),
         p_crushed: linear(base.p_crushed, to.p_crushed),
         give_up_factor: base.give_up_factor,
-        weights: OutcomeWeights {
-            completed: linear(base.weights.completed, to.weights.completed),
-            default: linear(base.weights.default, to.weights.default),
-            by_cause,
-        },
+        weights: to.weights,
         // How an operator explains itself is the experiment's to vary, not the family's.
         feedback: base.feedback,
     }

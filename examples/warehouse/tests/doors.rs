@@ -100,16 +100,15 @@ fn the_family_runs_from_throughput_through_the_balanced_operator_to_care() {
     ] {
         assert_eq!(unnamed(member(x, "")), unnamed(shipped(pole)), "{x}");
     }
-    // Halfway to care: sqrt(60 x 120) s; 0.95 -> 0.05 deadline, 0.5 -> 0.95 damage;
-    // completions and other causes 1 -> 0.5, damage 1.
+    // Halfway to care: sqrt(60 x 120) s; 0.95 -> 0.05 deadline, 0.5 -> 0.95 damage; the
+    // care pole's weights (damage 1, the rest 0.5).
     let half = member(0.5, "half");
     assert!((half.t_complete - 7200f64.sqrt()).abs() < 1e-9);
     assert!((half.p_deadline - 0.5).abs() < 1e-12);
     assert!((half.p_collision - 0.95).abs() < 1e-12);
     assert!((half.p_crushed - 0.725).abs() < 1e-12);
-    assert!((half.weights.completed - 0.75).abs() < 1e-12);
-    assert!((half.weights.of(WarehouseCause::TooSlow.to_trust()) - 0.75).abs() < 1e-12);
-    assert!((half.weights.of(WarehouseCause::DroppedItem.to_trust()) - 1.0).abs() < 1e-12);
+    assert_eq!(half.weights, shipped("care-focused").weights);
+    assert_eq!(member(-0.5, "").weights, shipped("balanced").weights);
     // Every member is a valid operator: it round-trips through an operator file.
     let text = trustcbr::ron::to_string(&member(-0.3, "m")).unwrap();
     assert_eq!(
