@@ -66,12 +66,18 @@ pub const HINTS: [Hint; 3] = [
     },
 ];
 
-/// The bit of `name` in [`OBSERVATIONS`].
-fn bit(name: Cause) -> usize {
-    OBSERVATIONS
-        .iter()
-        .position(|&o| o == name)
-        .expect("a declared observation")
+/// The bit of observation `name` in [`OBSERVATIONS`] (`None`: not one of them).
+pub fn bit(name: Cause) -> Option<usize> {
+    OBSERVATIONS.iter().position(|&o| o == name)
+}
+
+/// The observations `names` as an outcome carries them: bits in [`OBSERVATIONS`]' order
+/// (a name not declared is left out).
+pub fn observed(names: impl IntoIterator<Item = Cause>) -> Observations {
+    names
+        .into_iter()
+        .filter_map(bit)
+        .fold(Observations::NONE, Observations::with)
 }
 
 /// What the robot perceived of the pick in `trace` up to time `until` (s), the moment the
@@ -96,9 +102,5 @@ pub fn perceive(trace: &Trace, until: f64) -> Observations {
             Event::Collision | Event::Delivered { .. } => None,
         });
     let late = (until > trace.planned_s).then_some(BEHIND_PLAN);
-    readings
-        .chain(events)
-        .chain(late)
-        .map(bit)
-        .fold(Observations::NONE, Observations::with)
+    observed(readings.chain(events).chain(late))
 }

@@ -30,6 +30,39 @@ fn fail(command: &mut Command) -> String {
     String::from_utf8(output.stderr).unwrap()
 }
 
+/// Runs `warehouse serve --domain picking ARGS CASES`, sends `requests` (one JSON line
+/// each) and returns its replies once it has answered them all and exited.
+fn serve(args: &[&str], cases: &Path, requests: &[&str]) -> Vec<Value> {
+    let mut server = warehouse()
+        .args(["serve", "--domain", "picking"])
+        .args(args)
+        .arg(cases)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = requests.join("\n");
+    input.push('\n');
+    server
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let output = server.wait_with_output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
 fn json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -191,39 +224,14 @@ fn landscape_sweep_serve_and_render() {
     );
 
     // Serve the picking scenario over stdin/stdout: begin, then one interruption.
-    let mut server = warehouse()
-        .args(["serve", "--domain", "picking", "--cases"])
-        .arg(dir.path().join("cases.sqlite"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    server
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(
-            concat!(
-                r#"{"id": 1, "request": "begin"}"#,
-                "\n",
-                r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "stated": "collision", "duration_s": 12.0}"#,
-                "\n"
-            )
-            .as_bytes(),
-        )
-        .unwrap();
-    let output = server.wait_with_output().unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let replies = serve(
+        &["--cases"],
+        &dir.path().join("cases.sqlite"),
+        &[
+            r#"{"id": 1, "request": "begin"}"#,
+            r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "stated": "collision", "duration_s": 12.0}"#,
+        ],
     );
-    let replies: Vec<Value> = String::from_utf8(output.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
     assert_eq!(replies.len(), 2, "{replies:?}");
     assert_eq!(replies[0]["ok"], "begun", "{replies:?}");
     let behavior = replies[0]["behavior"].as_object().expect("a behavior");
@@ -350,50 +358,18 @@ fn the_mission_suite_runs_among_operators_who_change_unannounced() {
 #[test]
 fn serve_answers_with_the_warehouses_own_troubleshooter() {
     let dir = tempfile::tempdir().unwrap();
-    let mut server = warehouse()
-        .args([
-            "serve",
-            "--domain",
-            "picking",
-            "--arm",
-            "troubleshooter",
-            "--cases",
-        ])
-        .arg(dir.path().join("cases.sqlite"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
     // Five interruptions with a protective stop perceived bring the estimate to -5: the
     // troubleshooter reads stops and proposes the same behavior, only slower.
-    let mut requests = String::from(
-        r#"{"id": 1, "request": "begin", "behavior": "gripper=suction,map=as-built,speed=2,grip_force=50"}"#,
+    let stopped = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 20.0, "observed": ["safety-stop"]}"#;
+    let mut requests = vec![
+        r#"{"request": "begin", "behavior": "gripper=suction,map=as-built,speed=2,grip_force=50"}"#,
+    ];
+    requests.extend([stopped; 5]);
+    let replies = serve(
+        &["--arm", "troubleshooter", "--cases"],
+        &dir.path().join("cases.sqlite"),
+        &requests,
     );
-    for id in 2..=6 {
-        requests.push('\n');
-        requests.push_str(&format!(
-            r#"{{"id": {id}, "outcome": "interrupted", "weight": 1.0, "duration_s": 20.0, "observed": ["safety-stop"]}}"#
-        ));
-    }
-    requests.push('\n');
-    server
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(requests.as_bytes())
-        .unwrap();
-    let output = server.wait_with_output().unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let replies: Vec<Value> = String::from_utf8(output.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
     assert_eq!(replies.len(), 6, "{replies:?}");
     let switch = &replies[5];
     assert_eq!(switch["ok"], "switch", "{switch}");

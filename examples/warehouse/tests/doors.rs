@@ -9,9 +9,9 @@ use trustcbr::lab::{Domain, FeedbackChannel};
 use trustcbr::rand::SeedableRng;
 use trustcbr::rand::rngs::StdRng;
 use trustcbr::trust::testing::{check_searcher, searcher_conformance};
-use trustcbr::trust::{Cause, Evaluated, Observations, Outcome, RetrieverKind};
+use trustcbr::trust::{Cause, Evaluated, Outcome, RetrieverKind};
 use trustcbr::{Catalog, Family, Readings};
-use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, OBSERVATIONS, SAFETY_STOP};
+use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, observed};
 use warehouse::population::{family, member};
 use warehouse::searcher::Trouble;
 use warehouse::space::warehouse_space;
@@ -25,13 +25,6 @@ fn shipped(name: &str) -> WarehouseOperator {
         .into_iter()
         .find(|o| o.name == name)
         .unwrap()
-}
-
-fn seen(names: &[Cause]) -> Observations {
-    names
-        .iter()
-        .map(|n| OBSERVATIONS.iter().position(|o| o == n).unwrap())
-        .fold(Observations::NONE, Observations::with)
 }
 
 #[test]
@@ -151,12 +144,12 @@ fn conflict_sets_how_far_members_sit_from_the_base() {
     );
 }
 
-fn interrupted(observed: &[Cause]) -> Outcome {
-    Outcome::interrupted(1.0, 30.0).observing(seen(observed))
+fn interrupted(perceived: &[Cause]) -> Outcome {
+    Outcome::interrupted(1.0, 30.0).observing(observed(perceived.iter().copied()))
 }
 
-fn failed(observed: &[Cause]) -> Outcome {
-    Outcome::failed(1.0, 30.0).observing(seen(observed))
+fn failed(perceived: &[Cause]) -> Outcome {
+    Outcome::failed(1.0, 30.0).observing(observed(perceived.iter().copied()))
 }
 
 #[test]
