@@ -67,9 +67,10 @@ def test_the_warehouses_own_arm_serves_and_runs(tmp_path: Path) -> None:
     assert switch.behavior["map"] == "as-built" and switch.behavior["speed"] < 2.0
     # A simulated pick says what the robot perceived, by the names the domain declares.
     pick = {"gripper": "parallel-jaw", "map": "live", "speed": 1.0, "grip_force": 100.0}
-    perceived = set()
+    perceived: set[str] = set()
     for seed in range(20):
-        perceived |= set(trustcbr.simulate("picking", pick, "balanced", seed, catalog=warehouse)["observed"])
+        outcome = trustcbr.simulate("picking", pick, "balanced", seed, catalog=warehouse)
+        perceived |= set(outcome["observed"])
     assert perceived and perceived <= {
         "safety-stop",
         "item-not-found",
