@@ -15,7 +15,7 @@ use crate::motion::{NOMINAL_ACCEL, drive_leg, leg_time};
 use crate::operator::WarehouseOperator;
 use crate::perception;
 use crate::space::{GRIP_FORCE, GRIPPER, MAP, SPEED, warehouse_space};
-use crate::trace::{Event, Reading, Trace};
+use crate::trace::{Event, GraspReading, Trace};
 use rand::{Rng, RngCore};
 use std::convert::Infallible;
 use std::ops::ControlFlow;
@@ -98,7 +98,7 @@ impl WarehouseDomain {
         let mut t = 0.0;
         let ControlFlow::Continue(outbound) = drive_leg(distance, speed, rng, |at, stop| {
             if stop.decel > NOMINAL_ACCEL {
-                trace.record(t + at, Reading::SafetyStop);
+                trace.safety_stops.push(t + at);
             }
             if stop.collided {
                 trace.push(t + at, Event::Collision);
@@ -113,13 +113,11 @@ impl WarehouseDomain {
         }
         t += settings.gripper.grasp_time();
         let grasp = Grasp::new(settings.gripper, settings.grip_force, &item, rng);
-        trace.record(
+        trace.grasp = Some(GraspReading {
             t,
-            Reading::Grasped {
-                squeeze_n: grasp.squeeze_n,
-                rated_n: ITEM_MIX[item.class].rated_squeeze_n(),
-            },
-        );
+            squeeze_n: grasp.squeeze_n,
+            rated_n: ITEM_MIX[item.class].rated_squeeze_n(),
+        });
         // Lifting off and pulling away at the nominal acceleration.
         if grasp.slips(NOMINAL_ACCEL) {
             trace.push(t, Event::DroppedItem);
@@ -127,7 +125,7 @@ impl WarehouseDomain {
         }
         let back = drive_leg(distance, speed, rng, |at, stop| {
             if stop.decel > NOMINAL_ACCEL {
-                trace.record(t + at, Reading::SafetyStop);
+                trace.safety_stops.push(t + at);
             }
             if stop.collided {
                 trace.push(t + at, Event::Collision);

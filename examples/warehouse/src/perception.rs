@@ -22,7 +22,7 @@
 //! item was damaged (the packer sees that), or the operator's deadline.
 
 use crate::cause::WarehouseCause;
-use crate::trace::{Event, Reading, Trace};
+use crate::trace::{Event, Trace};
 use trustcbr::trust::{Cause, Hint, Observations};
 
 /// The safety controller made a protective stop for a crossing.
@@ -83,14 +83,15 @@ pub fn observed(names: impl IntoIterator<Item = Cause>) -> Observations {
 /// What the robot perceived of the pick in `trace` up to time `until` (s), the moment the
 /// command ended (the judgement's duration).
 pub fn perceive(trace: &Trace, until: f64) -> Observations {
-    let readings = trace
-        .readings
+    let stops = trace
+        .safety_stops
         .iter()
-        .take_while(|&&(t, _)| t <= until)
-        .filter_map(|&(_, reading)| match reading {
-            Reading::SafetyStop => Some(SAFETY_STOP),
-            Reading::Grasped { squeeze_n, rated_n } => (squeeze_n > rated_n).then_some(FIRM_GRIP),
-        });
+        .take_while(|&&t| t <= until)
+        .map(|_| SAFETY_STOP);
+    let firm = trace
+        .grasp
+        .filter(|g| g.t <= until && g.squeeze_n > g.rated_n)
+        .map(|_| FIRM_GRIP);
     let events = trace
         .events
         .iter()
@@ -102,5 +103,5 @@ pub fn perceive(trace: &Trace, until: f64) -> Observations {
             Event::Collision | Event::Delivered { .. } => None,
         });
     let late = (until > trace.planned_s).then_some(BEHIND_PLAN);
-    observed(readings.chain(events).chain(late))
+    observed(stops.chain(firm).chain(events).chain(late))
 }

@@ -1,6 +1,6 @@
 //! What happened in one pick, in time order: the events the operator watches, and what
-//! the robot's own sensors and clock record ([`Reading`], [`Trace::planned_s`]), which
-//! the operator does not watch and [`crate::perception`] reads.
+//! the robot's own sensors and clock record (its protective stops, its grasp, its plan),
+//! which the operator does not watch and [`crate::perception`] reads.
 
 /// One thing the operator can see happen.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -19,21 +19,17 @@ pub enum Event {
     },
 }
 
-/// One thing the robot's own sensors record.
+/// The grasp as the gripper's own force or vacuum reading saw it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Reading {
-    /// The safety controller braked harder than the nominal rate for a crossing (a
-    /// protective stop), whether or not the stop ended in contact.
-    SafetyStop,
-    /// The gripper closed on the item, squeezing it with `squeeze_n` N of two rigid pads'
-    /// equivalent (the applied force over the module's spread); the item's class is rated
-    /// to stand `rated_n` N (the order line names the item, the item data its class).
-    Grasped {
-        /// The squeeze (N).
-        squeeze_n: f64,
-        /// What the item's class is rated to stand (N; infinite when nothing crushes it).
-        rated_n: f64,
-    },
+pub struct GraspReading {
+    /// When the gripper closed (s since the command).
+    pub t: f64,
+    /// The squeeze (N) of two rigid pads' equivalent: the applied force over the module's
+    /// spread.
+    pub squeeze_n: f64,
+    /// What the item's class is rated to stand (N; infinite when nothing crushes it): the
+    /// order line names the item, the item data its class.
+    pub rated_n: f64,
 }
 
 /// The events of one pick with their times (s since the command), in time order; the
@@ -42,8 +38,11 @@ pub enum Reading {
 pub struct Trace {
     /// `(time, event)` pairs the operator watches.
     pub events: Vec<(f64, Event)>,
-    /// `(time, reading)` pairs of the robot's sensors, in time order.
-    pub readings: Vec<(f64, Reading)>,
+    /// Times (s) of the safety controller's protective stops for crossings (it braked
+    /// harder than the nominal rate), whether or not a stop ended in contact; in order.
+    pub safety_stops: Vec<f64>,
+    /// The grasp, when the robot got to grasp the item.
+    pub grasp: Option<GraspReading>,
     /// When the robot's own plan has the pick end (s): both legs driven without a stop,
     /// the label scan, the grasp and the release.
     pub planned_s: f64,
@@ -54,11 +53,5 @@ impl Trace {
     pub fn push(&mut self, t: f64, event: Event) {
         debug_assert!(self.events.last().is_none_or(|&(last, _)| last <= t));
         self.events.push((t, event));
-    }
-
-    /// Appends a reading of the robot's sensors; times never decrease.
-    pub fn record(&mut self, t: f64, reading: Reading) {
-        debug_assert!(self.readings.last().is_none_or(|&(last, _)| last <= t));
-        self.readings.push((t, reading));
     }
 }

@@ -15,7 +15,7 @@ use warehouse::map::MapSource;
 use warehouse::motion::{leg_time, stop_for, time_at};
 use warehouse::operator::{WarehouseOperator, builtin_operators};
 use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, observed, perceive};
-use warehouse::trace::{Event, Reading, Trace};
+use warehouse::trace::{Event, Trace};
 
 /// A generator that returns the same word forever: `0` makes every uniform draw 0.0, `!0`
 /// makes it the largest value below 1.
@@ -210,19 +210,12 @@ fn the_robot_perceives_its_stops_its_grip_and_its_plan() {
         &mut Constant(0),
     );
     assert!(close(trace.planned_s, 27.0));
-    let stops: Vec<f64> = trace
-        .readings
-        .iter()
-        .filter(|(_, r)| *r == Reading::SafetyStop)
-        .map(|&(t, _)| t)
-        .collect();
+    let stops = &trace.safety_stops;
     assert_eq!(stops.len(), 2);
     assert!(close(stops[0], 6.4) && close(stops[1], 29.15));
-    assert!(trace.readings.iter().any(|&(t, r)| close(t, 22.75)
-        && r == Reading::Grasped {
-            squeeze_n: 25.0,
-            rated_n: 96.0
-        }));
+    let grasp = trace.grasp.unwrap();
+    assert!(close(grasp.t, 22.75));
+    assert_eq!((grasp.squeeze_n, grasp.rated_n), (25.0, 96.0));
     // Up to the first stop, up to the plan, and past it (delivered at 43.5 s).
     assert_eq!(perceive(&trace, 6.0), Observations::NONE);
     assert_eq!(perceive(&trace, 6.4), observed([SAFETY_STOP]));
@@ -260,12 +253,7 @@ fn a_pick_without_a_stop_ends_on_its_plan_and_perceives_its_endings() {
         settings(Gripper::ParallelJaw, MapSource::AsBuilt, 2.0, 100.0),
         &mut Constant(!0),
     );
-    assert!(
-        dropped
-            .readings
-            .iter()
-            .all(|(_, r)| *r != Reading::SafetyStop)
-    );
+    assert!(dropped.safety_stops.is_empty());
     assert_eq!(
         perceive(&dropped, 28.0),
         observed([WarehouseCause::DroppedItem.to_trust()])
