@@ -50,6 +50,46 @@ def test_the_adapter_the_simulator_and_errors(tmp_path: Path) -> None:
         trustcbr.operators("movement", catalog=warehouse)
 
 
+def test_the_warehouses_own_arm_serves_and_runs(tmp_path: Path) -> None:
+    # The catalog's troubleshooter is an arm like the built-in ones, in the adapter and in
+    # a suite.
+    assert "troubleshooter" in trustcbr.builtin_arms(catalog=warehouse)
+    adapter = trustcbr.Adapter(
+        "picking", tmp_path / "picks.db", seed=1, arm="troubleshooter", catalog=warehouse
+    )
+    adapter.begin({"gripper": "suction", "map": "as-built", "speed": 2.0, "grip_force": 50.0})
+    decisions = [
+        adapter.tell("interrupted", duration_s=20.0, observed=["safety-stop"]) for _ in range(5)
+    ]
+    # Five protective stops bring the estimate to -5: the same behavior, only slower.
+    switch = decisions[-1]
+    assert switch.kind == "switch"
+    assert switch.behavior["map"] == "as-built" and switch.behavior["speed"] < 2.0
+    # A simulated pick says what the robot perceived, by the names the domain declares.
+    pick = {"gripper": "parallel-jaw", "map": "live", "speed": 1.0, "grip_force": 100.0}
+    perceived: set[str] = set()
+    for seed in range(20):
+        outcome = trustcbr.simulate("picking", pick, "balanced", seed, catalog=warehouse)
+        perceived |= set(outcome["observed"])
+    assert perceived and perceived <= {
+        "safety-stop",
+        "item-not-found",
+        "firm-grip",
+        "dropped-item",
+        "behind-plan",
+    }
+    suite = {
+        "seed": 3,
+        "trials": 4,
+        "arms": ["uniform", "troubleshooter", "case-based+troubleshooter"],
+        "landscape_runs": 0,
+        "limit": {"runs": 0},
+        "experiments": [{"scenario": "picking", "operator": "random"}],
+    }
+    results = trustcbr.run(suite, catalog=warehouse, out=tmp_path / "r")
+    assert {t["arm"] for t in results.trials} == set(suite["arms"])
+
+
 def test_the_gym_environment_over_the_warehouse() -> None:
     pytest.importorskip("gymnasium")
     from trustcbr.gym import TrustEnv

@@ -1,10 +1,17 @@
 //! `WarehouseCatalog`: the picking scenario offered to the command-line tool
-//! (`trustcbr::cli::main`), with its operators and the suite `reproduce` runs.
+//! (`trustcbr::cli::main`), with its operators, its family of operators, its own arms and
+//! the suite `reproduce` runs.
 
 use crate::domain::{PICKING, WarehouseDomain};
 use crate::operator::{WarehouseOperator, builtin_operators};
+use crate::population;
+use crate::searcher::{TROUBLESHOOTER, Troubleshooter};
 use std::path::Path;
-use trustcbr::{Catalog, CatalogError, Readings, ToolInfo};
+use std::sync::Arc;
+use trustcbr::cbr_core::BehaviorSpace;
+use trustcbr::lab::Arm;
+use trustcbr::trust::RetrieverKind;
+use trustcbr::{Catalog, CatalogError, Family, Readings, ToolInfo};
 
 /// The suite `reproduce` runs and `config` prints (`experiments/suite.ron`).
 pub const SUITE: &str = include_str!("../experiments/suite.ron");
@@ -48,6 +55,34 @@ impl Catalog for WarehouseCatalog {
             reason: Box::new(e),
         })?;
         Ok((operator.name.clone(), operator))
+    }
+
+    // Members of the throughput-against-care family (`population`).
+    fn family(
+        &self,
+        _: &str,
+        family: &Family,
+        _: &Readings,
+    ) -> Result<Vec<(String, WarehouseOperator)>, CatalogError> {
+        Ok(
+            population::family(family.conflict, family.size, family.seed)
+                .into_iter()
+                .map(|o| (o.name.clone(), o))
+                .collect(),
+        )
+    }
+
+    // The troubleshooter alone, and as the fallback of case reuse.
+    fn arms(&self, retriever: RetrieverKind) -> Vec<Arm> {
+        let troubleshooter = |_: &Arc<BehaviorSpace>| Box::new(Troubleshooter::new()) as _;
+        vec![
+            Arm::search_only(TROUBLESHOOTER, troubleshooter),
+            Arm::case_based(
+                format!("case-based+{TROUBLESHOOTER}"),
+                troubleshooter,
+                move |space: &Arc<BehaviorSpace>, lambda| retriever.build(space.clone(), lambda),
+            ),
+        ]
     }
 
     fn completion_weight(&self, operator: &WarehouseOperator) -> Option<f64> {

@@ -5,24 +5,26 @@
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
 //! [`Trace`]; the operator turns it into a `Judgement`, at the attention a mission gives
-//! it (`run_attending`; `run` is attention 1). Every draw comes from the generator passed
-//! in, in a fixed order, so a seed gives one pick.
+//! it (`run_attending`; `run` is attention 1), which carries what the robot perceived
+//! ([`perception`]). Every draw comes from the generator passed in, in a fixed order, so
+//! a seed gives one pick.
 
 use crate::gripper::{Grasp, Gripper};
-use crate::items::draw_item;
+use crate::items::{ITEM_MIX, draw_item};
 use crate::map::MapSource;
-use crate::motion::{NOMINAL_ACCEL, drive_leg};
+use crate::motion::{NOMINAL_ACCEL, drive_leg, leg_time};
 use crate::operator::WarehouseOperator;
+use crate::perception;
 use crate::space::{GRIP_FORCE, GRIPPER, MAP, SPEED, warehouse_space};
-use crate::trace::{Event, Trace};
+use crate::trace::{Event, GraspReading, Trace};
 use rand::{Rng, RngCore};
 use std::convert::Infallible;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
-use trustcbr::lab::{Domain, Judgement};
+use trustcbr::lab::{Domain, FeedbackChannel, Judgement};
 use trustcbr::rand;
-use trustcbr::trust::DeclaredCause;
+use trustcbr::trust::{Cause, DeclaredCause, Hint};
 
 /// The scenario's name.
 pub const PICKING: &str = "picking";
@@ -81,6 +83,21 @@ impl WarehouseDomain {
         }
     }
 
+    /// One pick judged by `operator` at `attention` (1: the paper's attentive operator,
+    /// [`WarehouseOperator::judge`]), with what the robot perceived until it ended.
+    fn pick(
+        &self,
+        behavior: &Behavior,
+        operator: &WarehouseOperator,
+        attention: f64,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        let trace = self.simulate(self.settings(behavior), rng);
+        let judgement = operator.judge_attending(&trace, attention, rng);
+        let observed = perception::perceive(&trace, judgement.outcome.duration_s);
+        judgement.observing(observed)
+    }
+
     /// Simulates one pick with `settings`, drawing all randomness from `rng`.
     pub fn simulate(&self, settings: Settings, rng: &mut dyn RngCore) -> Trace {
         let mut trace = Trace::default();
@@ -88,8 +105,17 @@ impl WarehouseDomain {
         let item = draw_item(rng);
         let (near, far) = SHELF_DISTANCE_M;
         let distance = near + (far - near) * rng.random::<f64>();
+        // Summed as the pick's time is below, so a pick without a stop ends on its plan.
+        let leg = leg_time(distance, speed);
+        trace.planned_s = leg
+            + LABEL_SCAN_S
+            + settings.gripper.grasp_time()
+            + (leg + settings.gripper.release_time());
         let mut t = 0.0;
         let ControlFlow::Continue(outbound) = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.decel > NOMINAL_ACCEL {
+                trace.safety_stops.push(t + at);
+            }
             if stop.collided {
                 trace.push(t + at, Event::Collision);
             }
@@ -103,12 +129,20 @@ impl WarehouseDomain {
         }
         t += settings.gripper.grasp_time();
         let grasp = Grasp::new(settings.gripper, settings.grip_force, &item, rng);
+        trace.grasp = Some(GraspReading {
+            t,
+            squeeze_n: grasp.squeeze_n,
+            rated_n: ITEM_MIX[item.class].rated_squeeze_n(),
+        });
         // Lifting off and pulling away at the nominal acceleration.
         if grasp.slips(NOMINAL_ACCEL) {
             trace.push(t, Event::DroppedItem);
             return trace;
         }
         let back = drive_leg(distance, speed, rng, |at, stop| {
+            if stop.decel > NOMINAL_ACCEL {
+                trace.safety_stops.push(t + at);
+            }
             if stop.collided {
                 trace.push(t + at, Event::Collision);
             }
@@ -147,14 +181,25 @@ impl Domain for WarehouseDomain {
         &crate::cause::DECLARED
     }
 
+    fn observations(&self) -> &[Cause] {
+        &perception::OBSERVATIONS
+    }
+
+    fn hints(&self) -> &[Hint] {
+        &perception::HINTS
+    }
+
+    fn feedback(&self, operator: &WarehouseOperator) -> FeedbackChannel {
+        operator.feedback
+    }
+
     fn run(
         &self,
         behavior: &Behavior,
         operator: &WarehouseOperator,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        let trace = self.simulate(self.settings(behavior), rng);
-        operator.judge(&trace, rng)
+        self.pick(behavior, operator, 1.0, rng)
     }
 
     fn run_attending(
@@ -164,7 +209,6 @@ impl Domain for WarehouseDomain {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Option<Judgement> {
-        let trace = self.simulate(self.settings(behavior), rng);
-        Some(operator.judge_attending(&trace, attention, rng))
+        Some(self.pick(behavior, operator, attention, rng))
     }
 }

@@ -138,6 +138,9 @@ pub struct Grasp {
     pub mass_kg: f64,
     /// The module's lever ([`Gripper::lever`]).
     pub lever: f64,
+    /// The squeeze (N) as two rigid pads would apply it: the applied force over the
+    /// module's spread, what the robot's own force reading tells it.
+    pub squeeze_n: f64,
     /// Whether the squeeze exceeded what the item stands.
     pub crushed: bool,
 }
@@ -152,6 +155,7 @@ impl Grasp {
             holding_n: gripper.grip_ratio(item.surface) * applied * landed,
             mass_kg: item.mass_kg,
             lever: gripper.lever(),
+            squeeze_n: applied / gripper.spread(),
             crushed: applied > item.crush_limit_n * gripper.spread(),
         }
     }

@@ -82,6 +82,16 @@ pub const ITEM_MIX: [ItemClass; 5] = [
 /// ripeness vary): a factor uniform in `1 ± CRUSH_SPREAD`.
 pub const CRUSH_SPREAD: f64 = 0.2;
 
+impl ItemClass {
+    /// The squeeze (N, two rigid pads) every item of the class stands: the low end of its
+    /// spread, what the warehouse's item data rates the class for (infinite when no
+    /// gripper damages it).
+    pub fn rated_squeeze_n(&self) -> f64 {
+        self.crush_limit_n
+            .map_or(f64::INFINITY, |limit| limit * (1.0 - CRUSH_SPREAD))
+    }
+}
+
 /// One item to fetch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Item {

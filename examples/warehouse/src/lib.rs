@@ -15,7 +15,10 @@
 //! - [`trace`]: what happened in a pick;
 //! - [`domain`]: [`WarehouseDomain`], one pick;
 //! - [`cause`]: the warehouse's causes;
+//! - [`perception`]: what the robot perceives of a pick, and what that hints at;
 //! - [`operator`]: the operators, as data;
+//! - [`population`]: a family of operators who disagree, throughput against care;
+//! - [`searcher`]: [`Troubleshooter`], the warehouse's own search strategy;
 //! - [`catalog`]: [`WarehouseCatalog`], what the command-line tool offers.
 
 pub mod catalog;
@@ -26,6 +29,9 @@ pub mod items;
 pub mod map;
 pub mod motion;
 pub mod operator;
+pub mod perception;
+pub mod population;
+pub mod searcher;
 pub mod space;
 pub mod trace;
 
@@ -33,3 +39,4 @@ pub use catalog::WarehouseCatalog;
 pub use cause::WarehouseCause;
 pub use domain::{PICKING, Settings, WarehouseDomain};
 pub use operator::{OperatorError, WarehouseOperator, builtin_operators};
+pub use searcher::Troubleshooter;

@@ -13,7 +13,7 @@ use crate::trace::{Event, Trace};
 use rand::RngCore;
 use std::convert::Infallible;
 use std::path::Path;
-use trustcbr::lab::Judgement;
+use trustcbr::lab::{FeedbackChannel, Judgement};
 use trustcbr::lab::attention::Attending;
 use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use trustcbr::rand;
@@ -44,6 +44,10 @@ pub struct WarehouseOperator {
     /// Outcome weights.
     #[serde(default)]
     pub weights: OutcomeWeights,
+    /// How the operator explains itself (`feedback: (explains: 0.3, wrong: 0.1)`); silent,
+    /// as the paper's operator, when absent. An experiment's `feedback` overrides it.
+    #[serde(default)]
+    pub feedback: FeedbackChannel,
 }
 
 /// Why an operator file cannot be used (the warehouse has no rules of its own beyond the

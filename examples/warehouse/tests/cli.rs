@@ -1,6 +1,7 @@
-//! The `warehouse` binary end to end, as a user runs it: the embedded suite (case reuse
-//! and the informed searches beat the random walk), and every other command of the tool
-//! over the warehouse catalog.
+//! The `warehouse` binary end to end, as a user runs it: the embedded suite (case reuse,
+//! the informed searches and the warehouse's own troubleshooter beat the random walk), the
+//! population and mission suites, `serve` with the warehouse's own arm, and every other
+//! command of the tool over the warehouse catalog.
 
 use serde_json::Value;
 use std::io::Write;
@@ -29,18 +30,53 @@ fn fail(command: &mut Command) -> String {
     String::from_utf8(output.stderr).unwrap()
 }
 
+/// Runs `warehouse serve --domain picking ARGS CASES`, sends `requests` (one JSON line
+/// each) and returns its replies once it has answered them all and exited.
+fn serve(args: &[&str], cases: &Path, requests: &[&str]) -> Vec<Value> {
+    let mut server = warehouse()
+        .args(["serve", "--domain", "picking"])
+        .args(args)
+        .arg(cases)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = requests.join("\n");
+    input.push('\n');
+    server
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let output = server.wait_with_output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
 fn json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 /// The arms that must need fewer behaviors than the paper's random walk: case reuse, and
-/// the informed searches with and without it.
-const BETTER_THAN_THE_WALK: [&str; 5] = [
+/// the informed searches (the warehouse's troubleshooter among them) with and without it.
+const BETTER_THAN_THE_WALK: [&str; 7] = [
     "case-based",
     "cause-aware",
     "model-based",
     "case-based+cause-aware",
     "case-based+model-based",
+    "troubleshooter",
+    "case-based+troubleshooter",
 ];
 
 #[test]
@@ -188,39 +224,14 @@ fn landscape_sweep_serve_and_render() {
     );
 
     // Serve the picking scenario over stdin/stdout: begin, then one interruption.
-    let mut server = warehouse()
-        .args(["serve", "--domain", "picking", "--cases"])
-        .arg(dir.path().join("cases.sqlite"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    server
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(
-            concat!(
-                r#"{"id": 1, "request": "begin"}"#,
-                "\n",
-                r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "stated": "collision", "duration_s": 12.0}"#,
-                "\n"
-            )
-            .as_bytes(),
-        )
-        .unwrap();
-    let output = server.wait_with_output().unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
+    let replies = serve(
+        &["--cases"],
+        &dir.path().join("cases.sqlite"),
+        &[
+            r#"{"id": 1, "request": "begin"}"#,
+            r#"{"id": 2, "outcome": "interrupted", "weight": 1.0, "stated": "collision", "duration_s": 12.0}"#,
+        ],
     );
-    let replies: Vec<Value> = String::from_utf8(output.stdout)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect();
     assert_eq!(replies.len(), 2, "{replies:?}");
     assert_eq!(replies[0]["ok"], "begun", "{replies:?}");
     let behavior = replies[0]["behavior"].as_object().expect("a behavior");
@@ -291,4 +302,136 @@ fn simulate_prints_picking_commands() {
     for c in &commands {
         assert_eq!(c["truth"].is_null(), c["outcome"] == "completed", "{c}");
     }
+}
+
+/// A shipped suite file of the crate, its counts made small by `replacements`, in `dir`.
+fn small_suite(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> std::path::PathBuf {
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("experiments")
+        .join(name);
+    let mut text = std::fs::read_to_string(shipped).unwrap();
+    for (from, to) in replacements {
+        assert!(text.contains(from), "{name} has no `{from}`");
+        text = text.replace(from, to);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn the_population_suite_draws_operators_who_disagree_from_the_family() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(
+        dir.path(),
+        "population.ron",
+        &[
+            // No landscapes nor limits: what is checked here is who judges the trials.
+            (
+                "trials: 200,",
+                "trials: 4, landscape_runs: 0, limit: (runs: 0),",
+            ),
+            ("size: 8", "size: 2"),
+        ],
+    );
+    let out = dir.path().join("report");
+    succeed(warehouse().arg("run").arg(&suite).arg("--out").arg(&out));
+    let summary = json(&out.join("summary.json"));
+    let names: Vec<&str> = summary["experiments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "picking/conflict-0",
+            "picking/conflict-0.5",
+            "picking/conflict-1",
+            "picking/conflict-1-explained"
+        ]
+    );
+    // Operators who explain put the robot's account of a rejection right far more often
+    // than silent ones, whose deadlines and collisions it can only infer.
+    let right = |k: usize| {
+        summary["experiments"][k]["strategies"]["random-walk"]["explanations"]["first_reason_right"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        right(3) > right(2) + 0.3,
+        "{} against {}",
+        right(3),
+        right(2)
+    );
+}
+
+#[test]
+fn the_mission_suite_runs_among_operators_who_change_unannounced() {
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(
+        dir.path(),
+        "missions.ron",
+        &[
+            ("count: 100", "count: 3"),
+            ("commands: 400", "commands: 120"),
+        ],
+    );
+    let out = dir.path().join("report");
+    succeed(warehouse().arg("run").arg(&suite).arg("--out").arg(&out));
+    let records: Vec<Value> = std::fs::read_to_string(out.join("missions.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    // Two attentive plans and one complacent plan (run ignoring and answering alerts),
+    // four arms each, three missions of each.
+    assert_eq!(records.len(), (2 + 2) * 4 * 3);
+    let troubleshot = records
+        .iter()
+        .filter(|r| r["arm"] == "case-based+troubleshooter")
+        .count();
+    assert_eq!(troubleshot, 4 * 3);
+    let changes: usize = records
+        .iter()
+        .map(|r| r["record"]["changes"].as_array().unwrap().len())
+        .sum();
+    assert!(changes > 0, "operators change during missions");
+    let markdown = std::fs::read_to_string(out.join("missions.md")).unwrap();
+    assert!(
+        markdown.contains("## picking/conflict-1/complacent"),
+        "{markdown}"
+    );
+}
+
+#[test]
+fn serve_answers_with_the_warehouses_own_troubleshooter() {
+    let dir = tempfile::tempdir().unwrap();
+    // Five interruptions with a protective stop perceived bring the estimate to -5: the
+    // troubleshooter reads stops and proposes the same behavior, only slower.
+    let stopped = r#"{"outcome": "interrupted", "weight": 1.0, "duration_s": 20.0, "observed": ["safety-stop"]}"#;
+    let mut requests = vec![
+        r#"{"request": "begin", "behavior": "gripper=suction,map=as-built,speed=2,grip_force=50"}"#,
+    ];
+    requests.extend([stopped; 5]);
+    let replies = serve(
+        &["--arm", "troubleshooter", "--cases"],
+        &dir.path().join("cases.sqlite"),
+        &requests,
+    );
+    assert_eq!(replies.len(), 6, "{replies:?}");
+    let switch = &replies[5];
+    assert_eq!(switch["ok"], "switch", "{switch}");
+    let next = &switch["explanation"]["next"];
+    assert_eq!(next["strategy"], "troubleshooter", "{switch}");
+    assert_eq!(next["rationale"]["kind"], "expects", "{switch}");
+    let behavior = switch["behavior"].as_object().unwrap();
+    assert_eq!(behavior["gripper"], "suction");
+    assert_eq!(behavior["map"], "as-built");
+    assert_eq!(behavior["grip_force"], 50.0);
+    assert!(behavior["speed"].as_f64().unwrap() < 2.0, "{switch}");
+    // The robot attributes the stops to what they hint at: collisions.
+    let reasons = &switch["explanation"]["given_up"]["reasons"];
+    assert_eq!(reasons[0]["cause"], "collision", "{switch}");
 }

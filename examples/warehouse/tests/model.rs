@@ -1,10 +1,12 @@
 //! The model's arithmetic, computed by hand: driving and stopping, grasping, the item mix,
-//! the maps, whole picks under fixed draws, and the operators' judgements.
+//! the maps, whole picks under fixed draws, what the robot perceives of them, and the
+//! operators' judgements.
 
 use proptest::prelude::*;
 use std::path::Path;
 use trustcbr::lab::{Domain, Judgement};
 use trustcbr::rand::{RngCore, SeedableRng};
+use trustcbr::trust::Observations;
 use warehouse::WarehouseCause;
 use warehouse::domain::{Settings, WarehouseDomain};
 use warehouse::gripper::{Grasp, Gripper};
@@ -12,6 +14,7 @@ use warehouse::items::{ITEM_MIX, draw_item};
 use warehouse::map::MapSource;
 use warehouse::motion::{leg_time, stop_for, time_at};
 use warehouse::operator::{WarehouseOperator, builtin_operators};
+use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, observed, perceive};
 use warehouse::trace::{Event, Trace};
 
 /// A generator that returns the same word forever: `0` makes every uniform draw 0.0, `!0`
@@ -193,6 +196,92 @@ fn a_pick_with_every_draw_at_its_largest() {
     assert_eq!(trace.events.len(), 1);
     assert!((trace.events[0].0 - 28.0).abs() < 1e-6);
     assert_eq!(trace.events[0].1, Event::DroppedItem);
+}
+
+#[test]
+fn the_robot_perceives_its_stops_its_grip_and_its_plan() {
+    // The pick of `a_pick_with_every_draw_zero`: both crossings are hit at 2 m/s^2, beyond
+    // the nominal 0.5, so both are protective stops (6.4 s, 29.15 s). The plan: legs of
+    // 12 s, the scan, the cup's 1.5 s and 0.5 s: 27 s. The cup's 50 N over its spread of 2
+    // squeeze 25 N, below the carton's rating (120 x 0.8 = 96 N): not firm.
+    let domain = WarehouseDomain::new();
+    let trace = domain.simulate(
+        settings(Gripper::Suction, MapSource::Live, 1.0, 50.0),
+        &mut Constant(0),
+    );
+    assert!(close(trace.planned_s, 27.0));
+    let stops = &trace.safety_stops;
+    assert_eq!(stops.len(), 2);
+    assert!(close(stops[0], 6.4) && close(stops[1], 29.15));
+    let grasp = trace.grasp.unwrap();
+    assert!(close(grasp.t, 22.75));
+    assert_eq!((grasp.squeeze_n, grasp.rated_n), (25.0, 96.0));
+    // Up to the first stop, up to the plan, and past it (delivered at 43.5 s).
+    assert_eq!(perceive(&trace, 6.0), Observations::NONE);
+    assert_eq!(perceive(&trace, 6.4), observed([SAFETY_STOP]));
+    assert_eq!(perceive(&trace, 27.0), observed([SAFETY_STOP]));
+    assert_eq!(perceive(&trace, 43.5), observed([SAFETY_STOP, BEHIND_PLAN]));
+    // Judged: the balanced operator stops the robot at the first collision (draw 0), and
+    // the judgement carries what the robot perceived until then; left to finish (draws
+    // near 1), the pick is delivered late against the plan.
+    let behavior = domain
+        .space()
+        .parse("gripper=suction,map=live,speed=1,grip_force=50")
+        .unwrap();
+    let stopped = domain.run(&behavior, &operator("balanced"), &mut Constant(0));
+    assert_eq!(stopped.truth, Some(WarehouseCause::Collision.to_trust()));
+    assert_eq!(stopped.outcome.observed, observed([SAFETY_STOP]));
+    // Jaws at 100 N squeeze the carton over its rating: a firm grip, and it is crushed.
+    let jaws = domain.simulate(
+        settings(Gripper::ParallelJaw, MapSource::Live, 1.0, 100.0),
+        &mut Constant(0),
+    );
+    let end = jaws.events.last().unwrap();
+    assert_eq!(end.1, Event::Delivered { crushed: true });
+    assert_eq!(
+        perceive(&jaws, end.0),
+        observed([SAFETY_STOP, FIRM_GRIP, BEHIND_PLAN])
+    );
+}
+
+#[test]
+fn a_pick_without_a_stop_ends_on_its_plan_and_perceives_its_endings() {
+    // Nobody crosses (draws near 1): the oily part is dropped as the robot pulls away at
+    // 28 s (`a_pick_with_every_draw_at_its_largest`), long before its plan's end.
+    let domain = WarehouseDomain::new();
+    let dropped = domain.simulate(
+        settings(Gripper::ParallelJaw, MapSource::AsBuilt, 2.0, 100.0),
+        &mut Constant(!0),
+    );
+    assert!(dropped.safety_stops.is_empty());
+    assert_eq!(
+        perceive(&dropped, 28.0),
+        observed([WarehouseCause::DroppedItem.to_trust()])
+    );
+    // A cup's seal on oily metal holds 0.9 x 100 x 1.3 = 117 N against 6 x (9.81 + 3 x
+    // 0.5) = 67.9 N: delivered after 24 + 1 + 1.5 + 24 + 0.5 = 51 s, exactly its plan; the
+    // part stands any squeeze, so no grip on it is firm.
+    let delivered = domain.simulate(
+        settings(Gripper::Suction, MapSource::AsBuilt, 2.0, 100.0),
+        &mut Constant(!0),
+    );
+    let &(end, event) = delivered.events.last().unwrap();
+    assert_eq!(event, Event::Delivered { crushed: false });
+    assert_eq!(end, delivered.planned_s);
+    assert!(close(end, 51.0));
+    assert_eq!(perceive(&delivered, end), Observations::NONE);
+    // A slot not found is perceived as what it is.
+    let missing = trace(&[(21.25, Event::ItemNotFound)]);
+    assert_eq!(
+        perceive(
+            &Trace {
+                planned_s: 40.0,
+                ..missing
+            },
+            21.25
+        ),
+        observed([WarehouseCause::ItemNotFound.to_trust()])
+    );
 }
 
 #[test]
