@@ -245,7 +245,7 @@ impl Change {
 #[derive(Clone, Debug, Default)]
 pub struct Troubleshooter {
     /// This episode's untrustworthy weight per behavior and trouble.
-    troubles: HashMap<Behavior, [f64; 5]>,
+    troubles: HashMap<Behavior, [f64; Trouble::ALL.len()]>,
     /// The trouble the last proposal repairs (`None`: it explored).
     repairing: Option<Trouble>,
 }
