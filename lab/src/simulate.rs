@@ -1,10 +1,10 @@
 //! Simulated commands, one at a time: the step every simulated command takes, and one
 //! behavior's commands in front of one operator with no adapter to tell.
 //!
-//! The step ([`command`]): the domain runs the command at the operator's attention (1: the
-//! paper's attentive operator), its truth is checked to be a cause the domain declares, and
-//! a feedback channel states a reason (or none) on a stream of its own. A trial and a
-//! mission take it for every command, then tell their adapter.
+//! The step (`command`, crate-private): the domain runs the command at the operator's
+//! attention (1: the paper's attentive operator), its truth is checked to be a cause the
+//! domain declares, and a feedback channel states a reason (or none) on a stream of its
+//! own. A trial and a mission take it for every command, then tell their adapter.
 //!
 //! A [`Simulation`] takes it again and again for one behavior and one operator (its own
 //! channel), drawing the runs from the stream of `seed` and the stated reasons from stream
