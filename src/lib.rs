@@ -1,8 +1,9 @@
 //! `trustcbr`: the command-line tool for trust-guided behavior adaptation, as a library.
 //!
-//! The tool runs experiments (`reproduce`, `run`, `sweep`), draws runs and landscapes
-//! (`render`, `landscape`), serves the online adapter to robot controllers (`serve`) and
-//! manages case bases (`cases`) for the scenarios of a [`Catalog`]. The shipped binary is
+//! The tool runs experiments (`reproduce`, `run`, `sweep`), simulates commands
+//! (`simulate`), draws runs and landscapes (`render`, `landscape`), serves the online
+//! adapter to robot controllers (`serve`) and manages case bases (`cases`) for the
+//! scenarios of a [`Catalog`]. The shipped binary is
 //! [`cli::main`] over [`UgvCatalog`] (the paper's movement and patrol scenarios); a task
 //! plug-in in its own crate implements [`lab::Domain`] and [`Catalog`] and gets the whole
 //! tool with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`
@@ -21,12 +22,13 @@
 //! - [`cli`]: the command line;
 //! - [`ugv`]: the built-in catalog (the `ugv` feature).
 //!
-//! Cargo features, all on by default: `ugv` (the built-in catalog and the `trustcbr`
-//! binary, over the `domains` crate), `sqlite` and `postgres` (the case stores of
-//! `serve --cases` and `cases`, `service`'s features of the same names). A plug-in's tool
-//! depends on this crate with `default-features = false` and the stores it opens; a store
-//! left out is refused when a command names it ("this tool was built without the
-//! `postgres` feature"). `testing` (off by default) adds the conformance kits.
+//! Cargo features, all but `testing` on by default: `ugv` (the built-in catalog and the
+//! `trustcbr` binary, over the `domains` crate), `sqlite` and `postgres` (the case stores
+//! of `serve --cases` and `cases`, `service`'s features of the same names), `testing` (the
+//! conformance kits). A plug-in's tool depends on this crate with `default-features =
+//! false` and the stores it opens; a store left out is refused when a command opens one
+//! ("this tool was built without the `postgres` feature"). The plug-in guide's *Building
+//! only what you need* has what each costs.
 
 #![deny(missing_docs)]
 

@@ -572,9 +572,10 @@ mod tests {
         );
     }
 
-    /// A build without the PostgreSQL store (`cargo test -p service --no-default-features
-    /// --features sqlite`, as `.ci/run` runs it) still reads the URL as PostgreSQL's, and
-    /// refuses it naming the feature, its password hidden.
+    /// A build without the PostgreSQL store still reads the URL as PostgreSQL's, and
+    /// refuses it naming the feature, its password hidden. Run it with `cargo test -p
+    /// service --no-default-features --features sqlite --lib` (a build of its own, so not
+    /// in `.ci/run`).
     #[cfg(not(feature = "postgres"))]
     #[test]
     fn a_postgres_url_is_refused_naming_the_feature_when_it_is_left_out() {
