@@ -7,7 +7,7 @@
 //! from a prior as operator files), declares the domain's *readings* (choices the domain
 //! leaves open, which a suite config may set and a sweep may vary) and embeds the suite
 //! `reproduce` runs. The shipped tool is [`crate::cli::main`] over the UGV catalog
-//! ([`crate::UgvCatalog`]); a user's crate gets the same tool for its own domains with
+//! (`UgvCatalog`, the `ugv` feature); a user's crate gets the same tool for its own domains with
 //!
 //! ```no_run
 //! use std::path::Path;

@@ -4,7 +4,7 @@
 //! (`simulate`), draws runs and landscapes (`render`, `landscape`), serves the online
 //! adapter to robot controllers (`serve`) and manages case bases (`cases`) for the
 //! scenarios of a [`Catalog`]. The shipped binary is
-//! [`cli::main`] over [`UgvCatalog`] (the paper's movement and patrol scenarios); a task
+//! [`cli::main`] over `UgvCatalog` (the paper's movement and patrol scenarios); a task
 //! plug-in in its own crate implements [`lab::Domain`] and [`Catalog`] and gets the whole
 //! tool with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`
 //! (`docs/plugin-guide.md`).
@@ -20,7 +20,8 @@
 //! - [`served`]: the domain and strategy `serve` serves;
 //! - [`simulate`]: a simulated command as `simulate` prints it;
 //! - [`cli`]: the command line;
-//! - [`ugv`]: the built-in catalog (the `ugv` feature).
+//! - `ugv`: the built-in catalog (the `ugv` feature; plain names here, not links, so the
+//!   docs of a build without it link nothing missing).
 //!
 //! Cargo features, all but `testing` on by default: `ugv` (the built-in catalog and the
 //! `trustcbr` binary, over the `domains` crate), `sqlite` and `postgres` (the case stores

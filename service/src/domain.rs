@@ -58,6 +58,16 @@ use trust::{
 };
 use trust::{RetrieverFactory, SearcherFactory};
 
+/// Whether a domain's searcher and retriever are a user's own (an arm's or a plug-in's)
+/// rather than the kinds its adapter config names.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct OwnParts {
+    /// The searcher is the user's.
+    pub(crate) searcher: bool,
+    /// The retriever is the user's.
+    pub(crate) retriever: bool,
+}
+
 /// A domain ready to serve.
 #[derive(Clone)]
 pub struct DomainDefinition {
@@ -363,6 +373,14 @@ impl DomainDefinition {
     ) -> Self {
         self.retriever = Some(Arc::new(retriever));
         self
+    }
+
+    /// Which of the adapter config's parts a user's own replace.
+    pub(crate) fn own_parts(&self) -> OwnParts {
+        OwnParts {
+            searcher: self.searcher.is_some(),
+            retriever: self.retriever.is_some(),
+        }
     }
 
     /// A fresh search strategy: the user's, or the kind the adapter config names.

@@ -20,7 +20,7 @@
 //! `state` and `explain` report the watch, and `config` shows `"mode": "mission"` in
 //! `adapter`.
 
-use crate::domain::DomainDefinition;
+use crate::domain::{DomainDefinition, OwnParts};
 use crate::reply::{self, Answer, CaseListing, Reply};
 use crate::request::{BehaviorSpec, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
@@ -45,6 +45,8 @@ pub struct Session {
     observations: Vec<Cause>,
     /// The adapter config served (what `config` shows).
     config: AdapterConfig,
+    /// Which parts of `config` a user's own replace.
+    own_parts: OwnParts,
     adapting: Adapting,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
@@ -166,11 +168,13 @@ impl Session {
         };
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
+        let own_parts = domain.own_parts();
         Ok(Self {
             domain: domain.name,
             causes: domain.causes,
             observations: domain.observations,
             config: domain.adapter,
+            own_parts,
             adapting,
             cases,
             draws,
@@ -427,6 +431,16 @@ impl Session {
 
     fn config(&self) -> Value {
         let mut adapter = json!(self.config);
+        // A user's searcher or retriever (an arm's, or a plug-in's) replaces what the
+        // config names: the config's kind would be a claim about something not in use.
+        if let Some(adapter) = adapter.as_object_mut() {
+            if self.own_parts.searcher {
+                adapter.remove("search");
+            }
+            if self.own_parts.retriever {
+                adapter.remove("retriever");
+            }
+        }
         if self.adapting.mission().is_some() {
             adapter["mode"] = json!("mission");
         }

@@ -150,6 +150,9 @@ fn an_episode_over_the_protocol() {
         ])
     );
     assert_eq!(config["adapter"]["thresholds"]["trustworthy"], 1.0);
+    // Nothing of the config's is replaced: it names the kinds in use.
+    assert_eq!(config["adapter"]["search"], "random_walk", "{config}");
+    assert_eq!(config["strategy"], "random-walk", "{config}");
     let abandoned = ok(&mut s, r#"{"request":"abandon"}"#);
     assert_eq!(abandoned["ok"], "abandoned");
     assert_eq!(abandoned["retained"], Value::Null);
@@ -203,6 +206,13 @@ fn a_users_searcher_and_retriever_serve_through_the_definition() {
     assert_eq!(reply["source"], "search", "{reply}");
     let space = s.adaptation().space().clone();
     assert_eq!(s.adaptation().episode().unwrap().current, space.unrank(0));
+    // The config reply names the strategy in use, and no longer the config's kinds the
+    // user's parts replaced.
+    let config = ok(&mut s, r#"{"request":"config"}"#);
+    assert_eq!(config["strategy"], "lowest", "{config}");
+    assert_eq!(config["adapter"].get("search"), None, "{config}");
+    assert_eq!(config["adapter"].get("retriever"), None, "{config}");
+    assert_eq!(config["adapter"]["lambda"], 0.95, "{config}");
 }
 
 #[test]
