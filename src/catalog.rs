@@ -143,6 +143,19 @@ pub struct CatalogError {
     pub reason: Box<dyn std::error::Error + Send + Sync>,
 }
 
+/// An operator file's error as a catalog's: the error names its file already.
+impl<E> From<lab::operator_file::OperatorFileError<E>> for CatalogError
+where
+    E: std::error::Error + Send + Sync + 'static,
+{
+    fn from(error: lab::operator_file::OperatorFileError<E>) -> Self {
+        Self {
+            path: None,
+            reason: Box::new(error),
+        }
+    }
+}
+
 /// How a population is drawn from a domain's family of operators ([`Catalog::family`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -362,13 +362,7 @@ pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
             ),
         ],
     };
-    sources
-        .iter()
-        .map(|(path, text)| {
-            OperatorModel::from_ron(text, Path::new(path), scenario.causes())
-                .expect("shipped operators are valid")
-        })
-        .collect()
+    operator_file::shipped(sources, scenario.causes()).expect("shipped operators are valid")
 }
 
 #[cfg(test)]

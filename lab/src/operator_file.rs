@@ -21,6 +21,9 @@
 //!
 //! Every error after parsing starts `FILE: operator `NAME`: `.
 //!
+//! [`shipped`] reads the operators a crate embeds in its binary the same way, and
+//! [`named`] pairs operators with their names, as a catalog lists them.
+//!
 //! ```
 //! use lab::operator_file::{self, OperatorData, RangeCheck};
 //! use serde::Deserialize;
@@ -75,6 +78,15 @@
 //!     err.to_string(),
 //!     "ops/night.ron: operator `night`: `p_deadline` must be a probability in [0, 1], got 1.2"
 //! );
+//!
+//! // The operators a crate ships in its binary (`include_str!` of its files), in order,
+//! // and paired with their names as a catalog lists them; a bad one names its file.
+//! let day = ("operators/day.ron", r#"(name: "day", t_complete: 300.0, p_deadline: 0.9)"#);
+//! let shipped: Vec<Dispatcher> = operator_file::shipped(&[day], &causes)?;
+//! assert_eq!(operator_file::named(shipped)[0].0, "day");
+//! let bad = ("operators/bad.ron", r#"(name: "bad", t_complete: -1.0, p_deadline: 0.9)"#);
+//! let err = operator_file::shipped::<Dispatcher>(&[day, bad], &causes).unwrap_err();
+//! assert!(err.to_string().starts_with("operators/bad.ron: operator `bad`: `t_complete`"));
 //! # Ok::<(), lab::operator_file::OperatorFileError>(())
 //! ```
 
@@ -370,6 +382,32 @@ pub fn load<O: OperatorData>(
     causes: &[DeclaredCause],
 ) -> Result<O, OperatorFileError<O::Invalid>> {
     from_ron(&read_text(path)?, path, causes)
+}
+
+/// Operators a crate ships inside its binary: each `(origin, text)` is an operator file's
+/// name and its text (`include_str!`), read and checked as [`from_ron`] reads a file
+/// (its errors name `origin`), in order.
+///
+/// # Errors
+///
+/// The first shipped file that is not a valid operator, with [`from_ron`]'s error: the
+/// crate's own data, so its tests should read them all.
+pub fn shipped<O: OperatorData>(
+    files: &[(&str, &str)],
+    causes: &[DeclaredCause],
+) -> Result<Vec<O>, OperatorFileError<O::Invalid>> {
+    files
+        .iter()
+        .map(|(origin, text)| from_ron(text, Path::new(origin), causes))
+        .collect()
+}
+
+/// Operators paired with their names ([`OperatorData::name`]), as a catalog lists them.
+pub fn named<O: OperatorData>(operators: impl IntoIterator<Item = O>) -> Vec<(String, O)> {
+    operators
+        .into_iter()
+        .map(|operator| (operator.name().to_owned(), operator))
+        .collect()
 }
 
 #[cfg(test)]

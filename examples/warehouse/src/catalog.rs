@@ -10,6 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use trustcbr::cbr_core::BehaviorSpace;
 use trustcbr::lab::Arm;
+use trustcbr::lab::operator_file::named;
 use trustcbr::trust::RetrieverKind;
 use trustcbr::{Catalog, CatalogError, Family, Readings, ToolInfo};
 
@@ -37,10 +38,7 @@ impl Catalog for WarehouseCatalog {
 
     // The tool asks for operators only of a scenario `domain` knows: `picking`.
     fn operators(&self, _: &str, _: &Readings) -> Vec<(String, WarehouseOperator)> {
-        builtin_operators()
-            .into_iter()
-            .map(|o| (o.name.clone(), o))
-            .collect()
+        named(builtin_operators())
     }
 
     fn load_operator(
@@ -50,10 +48,7 @@ impl Catalog for WarehouseCatalog {
         _: &Readings,
     ) -> Result<(String, WarehouseOperator), CatalogError> {
         // The operator's errors name the file already.
-        let operator = WarehouseOperator::load(path).map_err(|e| CatalogError {
-            path: None,
-            reason: Box::new(e),
-        })?;
+        let operator = WarehouseOperator::load(path)?;
         Ok((operator.name.clone(), operator))
     }
 
@@ -64,12 +59,11 @@ impl Catalog for WarehouseCatalog {
         family: &Family,
         _: &Readings,
     ) -> Result<Vec<(String, WarehouseOperator)>, CatalogError> {
-        Ok(
-            population::family(family.conflict, family.size, family.seed)
-                .into_iter()
-                .map(|o| (o.name.clone(), o))
-                .collect(),
-        )
+        Ok(named(population::family(
+            family.conflict,
+            family.size,
+            family.seed,
+        )))
     }
 
     // The troubleshooter alone, and as the fallback of case reuse.

@@ -166,7 +166,7 @@ impl WarehouseOperator {
 
 /// The operators shipped with the crate (`operators/*.ron`), in this order.
 pub fn builtin_operators() -> Vec<WarehouseOperator> {
-    [
+    let files = [
         (
             "operators/throughput-focused.ron",
             include_str!("../operators/throughput-focused.ron"),
@@ -179,10 +179,6 @@ pub fn builtin_operators() -> Vec<WarehouseOperator> {
             "operators/balanced.ron",
             include_str!("../operators/balanced.ron"),
         ),
-    ]
-    .into_iter()
-    .map(|(origin, text)| {
-        WarehouseOperator::from_ron(text, Path::new(origin)).expect("shipped operators are valid")
-    })
-    .collect()
+    ];
+    operator_file::shipped(&files, &DECLARED).expect("shipped operators are valid")
 }
