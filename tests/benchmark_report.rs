@@ -106,6 +106,26 @@ fn a_benchmark_suite_reports_every_arm_over_its_populations() {
         "{own:?} {mean}"
     );
     assert_eq!(random_walk["ecdf"]["pairs"], 12);
+    // The limit's curve: its points climb to at most 1, and its mean is the limit's (both
+    // populations ran 6 trials, so they weigh alike in both).
+    let limit = &movement["limit_ecdf"];
+    let points = limit["settled_within"].as_array().unwrap();
+    assert!(!points.is_empty(), "{limit}");
+    let shares: Vec<f64> = points.iter().map(|p| p[1].as_f64().unwrap()).collect();
+    assert!(shares.windows(2).all(|w| w[0] <= w[1]), "{shares:?}");
+    let never = limit["never_settled"].as_f64().unwrap();
+    assert!(
+        (shares.last().unwrap() + never - 1.0).abs() < 1e-9,
+        "{limit}"
+    );
+    let (mean, expected) = (
+        limit["untrustworthy_mean"].as_f64().unwrap(),
+        movement["limit_untrustworthy_mean"].as_f64().unwrap(),
+    );
+    assert!(
+        (mean - expected).abs() < 1e-9 * (1.0 + expected),
+        "{mean} {expected}"
+    );
 
     assert!(out.join("benchmark-movement-ecdf.svg").is_file());
     let page = read("report.html");

@@ -31,11 +31,11 @@
 //! - the **empirical distribution of the untrustworthy commands to settle** ([`Ecdf`]):
 //!   the share of every (population, trial) pair of the arm that ended on a trustworthy
 //!   behavior within `N` untrustworthy commands, as `N` grows (pairs that never settled
-//!   stay out of reach). The known-operator limit is known here only by its expectation
-//!   per population ([`crate::limit`] solves each walk for its means, not its law), so the
-//!   limit is drawn as a vertical line at the mean over populations of its expected
-//!   untrustworthy commands ([`ScenarioBenchmark::limit_untrustworthy`]), the mean of the
-//!   curve an agent with the limit's expectations would have, not its whole curve;
+//!   stay out of reach), and the same distribution of the known-operator limit's agent
+//!   ([`ScenarioBenchmark::limit_law`]): on each population, the exact law of the
+//!   untrustworthy commands after which that agent, under the paper's protocol, settles
+//!   ([`crate::limit_law`]), pooled over populations as the arms' pairs are, each
+//!   population weighing as many pairs as it has trials;
 //! - the **ratio to the limit over episodes** ([`TRIAL_WINDOWS`]): the geometric mean over
 //!   populations of the arm's mean over the trials of a window divided by the limit, for
 //!   trials 1–50, 51–200 and 201 to the end (a window with no trial is left out): how an
@@ -45,6 +45,7 @@
 //! ([`crate::report`]).
 
 use crate::limit::Costs;
+use crate::limit_law::UntrustworthyLaw;
 use crate::runner::{ArmResult, ExperimentResult, TrialRecord};
 use crate::seeds::{Purpose, stream};
 use crate::stats::{RatioCi, percentile, signed_rank_test};
@@ -118,6 +119,9 @@ pub struct BenchmarkPopulation<'a> {
     pub result: &'a ExperimentResult,
     /// Its limit (the paper's protocol: a random first behavior).
     pub limit: Costs,
+    /// The law of its limit agent's untrustworthy commands (the paper's protocol), whose
+    /// mean is `limit.untrustworthy`.
+    pub limit_law: &'a UntrustworthyLaw,
 }
 
 /// An arm's geometric mean ratio to the limit, with the populations it is over.
@@ -265,8 +269,12 @@ pub struct ScenarioBenchmark {
     /// The windows of trials the ratio to the limit is followed over.
     pub windows: Vec<TrialRange>,
     /// The mean over populations of the limit's expected untrustworthy commands (paper
-    /// protocol): where the ECDF figure draws the limit.
+    /// protocol).
     pub limit_untrustworthy: f64,
+    /// The law of the limit agent's untrustworthy commands (paper protocol), pooled over
+    /// populations as the arms' [`Ecdf`]s are: each population weighs its trials. The ECDF
+    /// figure draws its settled part as the limit's curve.
+    pub limit_law: UntrustworthyLaw,
     /// Every arm, in the experiments' order.
     pub arms: Vec<ArmBenchmark>,
 }
@@ -474,6 +482,11 @@ fn scenario_benchmark(
                 .collect::<Vec<_>>(),
         )
         .unwrap_or(0.0),
+        limit_law: UntrustworthyLaw::mixture(
+            populations
+                .iter()
+                .map(|p| (p.result.trials() as f64, p.limit_law)),
+        ),
         arms,
     }
 }
@@ -656,22 +669,37 @@ mod tests {
             commands: 5.0,
             untrustworthy,
         };
+        // Their laws: p's agent settles after 2 untrustworthy commands; q's after 0 or 4,
+        // even odds.
+        let settled_at = |counts: &[(u64, f64)]| {
+            let mut law = UntrustworthyLaw::default();
+            for &(u, mass) in counts {
+                law.settled.mass.resize(u as usize + 1, 0.0);
+                law.settled.mass[u as usize] = mass;
+            }
+            law
+        };
+        let (p_law, q_law) = (settled_at(&[(2, 1.0)]), settled_at(&[(0, 0.5), (4, 0.5)]));
         let populations = [
             BenchmarkPopulation {
                 scenario: "s",
                 result: &p,
                 limit: limit(2.0),
+                limit_law: &p_law,
             },
             BenchmarkPopulation {
                 scenario: "s",
                 result: &q,
                 limit: limit(4.0),
+                limit_law: &q_law,
             },
         ];
         let [s] = benchmarks(&populations, 1).try_into().unwrap();
         assert_eq!(s.populations, ["s/p", "s/q"]);
         assert_eq!(s.references, ["uniform"]);
         assert_eq!(s.limit_untrustworthy, 3.0);
+        // Six trials each: the populations weigh alike.
+        assert_eq!(s.limit_law.steps(), [(0, 0.25), (2, 0.75), (4, 1.0)]);
         assert_eq!(s.windows, vec![TrialRange { first: 1, last: 6 }]);
         let (uniform, other) = (&s.arms[0], &s.arms[1]);
         // `other`: untrustworthy means 4.5 and 4.5, over limits 2 and 4: ratios 2.25 and
@@ -703,6 +731,56 @@ mod tests {
         assert_eq!(other.ecdf.share_within(100), 11.0 / 12.0);
         // The bootstrap is the same every time.
         assert_eq!(benchmarks(&populations, 1), vec![s]);
+    }
+
+    #[test]
+    fn the_limits_curve_weighs_each_population_by_its_trials() {
+        // p: 2 trials, its agent settles at 0; q: 6 trials, at 3 or never, even odds. Pooled
+        // as 8 pairs: 2 at 0, 3 at 3, 3 never.
+        let result = |name: &str, trials: usize| ExperimentResult {
+            name: name.to_owned(),
+            arms: vec![arm("uniform", &vec![(true, 1); trials])],
+        };
+        let (p, q) = (result("s/p", 2), result("s/q", 6));
+        let at_zero = UntrustworthyLaw {
+            settled: crate::limit_law::CountLaw {
+                mass: vec![1.0],
+                ..Default::default()
+            },
+            unsettled: Default::default(),
+        };
+        let half_at_three = UntrustworthyLaw {
+            settled: crate::limit_law::CountLaw {
+                mass: vec![0.0, 0.0, 0.0, 0.5],
+                ..Default::default()
+            },
+            unsettled: crate::limit_law::CountLaw {
+                mass: vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.5],
+                ..Default::default()
+            },
+        };
+        let limit = Costs {
+            behaviors: 1.0,
+            commands: 5.0,
+            untrustworthy: 1.0,
+        };
+        let populations = [
+            BenchmarkPopulation {
+                scenario: "s",
+                result: &p,
+                limit,
+                limit_law: &at_zero,
+            },
+            BenchmarkPopulation {
+                scenario: "s",
+                result: &q,
+                limit,
+                limit_law: &half_at_three,
+            },
+        ];
+        let [s] = benchmarks(&populations, 1).try_into().unwrap();
+        assert_eq!(s.limit_law.steps(), [(0, 0.25), (3, 0.625)]);
+        assert_eq!(s.limit_law.unsettled.total(), 0.375);
     }
 
     #[test]

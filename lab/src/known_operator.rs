@@ -13,7 +13,9 @@
 //! optimal order are run again, [`LimitSettings::candidate_runs`] times on streams of their
 //! own, and their fresh estimates replace the first ones. Each behavior's walk is then
 //! solved exactly ([`limit::solve_walk`]; behaviors with identical counts share one
-//! solve) and the limit follows ([`Limit::from_outcomes`]).
+//! solve) and the limit follows ([`Limit::from_outcomes`]), with the law of its agent's
+//! untrustworthy commands under the paper's protocol ([`crate::limit_law`]; behaviors with
+//! identical counts share one walk's law too).
 //!
 //! **Populations.** An experiment whose operator is drawn per trial gets the mean of its
 //! operators' limits ([`Limit::mean_of`]): a lower bound for an agent that is not told
@@ -24,6 +26,7 @@
 use crate::Domain;
 use crate::landscape::{self, LandscapeError, Tally};
 use crate::limit::{self, DEFAULT_MAX_STATES, Limit, LimitError, Step, WalkOutcome};
+use crate::limit_law::{self, UntrustworthyLaw, WalkLaw};
 use crate::seeds::{Purpose, stream_seed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -77,6 +80,9 @@ pub enum KnownLimitError {
 pub struct KnownOperator {
     /// The operator's limit under both protocols.
     pub limit: Limit,
+    /// The law of the untrustworthy commands of the limit's agent under the paper's
+    /// protocol ([`limit_law::paper_protocol_law`]): its mean is `limit.paper.untrustworthy`.
+    pub law: UntrustworthyLaw,
     /// Per behavior (in rank order), whether it is in the operator's trustworthy region:
     /// its estimated mean contribution per command is positive, so the expected estimate
     /// climbs ([`Tally::trusted_on_average`]).
@@ -134,6 +140,10 @@ impl Conflict {
 pub struct ExperimentLimit {
     /// The limit under both protocols.
     pub limit: Limit,
+    /// The law of the untrustworthy commands of the limit's agent under the paper's
+    /// protocol: the mixture of its operators' laws, each weighing as much (as each
+    /// operator's limit does in the mean).
+    pub law: UntrustworthyLaw,
     /// How many operators it is the mean of.
     pub operators: usize,
     /// How much the operators disagree (for one operator: its region alone).
@@ -147,6 +157,7 @@ impl ExperimentLimit {
         let regions: Vec<&[bool]> = operators.iter().map(|o| o.trusted.as_slice()).collect();
         Ok(Self {
             limit: Limit::mean_of(&limits)?,
+            law: UntrustworthyLaw::mixture(operators.iter().map(|o| (1.0, &o.law))),
             operators: operators.len(),
             conflict: Conflict::of(&regions),
         })
@@ -172,29 +183,61 @@ fn steps(tally: &Tally) -> Vec<Step> {
         .collect()
 }
 
-/// Solves the walk of every tally; tallies with the same step counts share one solve.
-fn solve_all(
-    tallies: &[Tally],
-    thresholds: Thresholds,
-) -> Result<Vec<WalkOutcome>, KnownLimitError> {
+/// The distinct step laws of `tallies` (tallies with the same step counts have one), and
+/// which of them each tally has.
+fn distinct_steps(tallies: &[Tally]) -> (Vec<Vec<Step>>, Vec<usize>) {
     let key = |t: &Tally| -> Vec<(u64, bool, u32, u32)> {
         t.steps
             .iter()
             .map(|s| (s.contribution.to_bits(), s.untrustworthy, s.runs, t.runs))
             .collect()
     };
-    let mut solved: HashMap<Vec<(u64, bool, u32, u32)>, WalkOutcome> = HashMap::new();
-    tallies
+    let mut known: HashMap<Vec<(u64, bool, u32, u32)>, usize> = HashMap::new();
+    let mut distinct = Vec::new();
+    let which = tallies
         .iter()
-        .map(|t| match solved.entry(key(t)) {
-            Entry::Occupied(known) => Ok(*known.get()),
-            Entry::Vacant(new) => Ok(*new.insert(limit::solve_walk(
-                &steps(t),
-                thresholds,
-                DEFAULT_MAX_STATES,
-            )?)),
+        .map(|t| match known.entry(key(t)) {
+            Entry::Occupied(seen) => *seen.get(),
+            Entry::Vacant(new) => {
+                distinct.push(steps(t));
+                *new.insert(distinct.len() - 1)
+            }
         })
-        .collect()
+        .collect();
+    (distinct, which)
+}
+
+/// Solves the walk of every tally; tallies with the same step counts share one solve.
+fn solve_all(
+    tallies: &[Tally],
+    thresholds: Thresholds,
+) -> Result<Vec<WalkOutcome>, KnownLimitError> {
+    let (distinct, which) = distinct_steps(tallies);
+    let solved = distinct
+        .iter()
+        .map(|steps| limit::solve_walk(steps, thresholds, DEFAULT_MAX_STATES))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(which.iter().map(|&i| solved[i]).collect())
+}
+
+/// The law of the paper-protocol agent's untrustworthy commands over behaviors with these
+/// tallies and walks; tallies with the same step counts share one walk's law.
+fn paper_law(
+    tallies: &[Tally],
+    walks: &[WalkOutcome],
+    thresholds: Thresholds,
+) -> Result<UntrustworthyLaw, KnownLimitError> {
+    let (distinct, which) = distinct_steps(tallies);
+    let laws = distinct
+        .par_iter()
+        .map(|steps| limit_law::walk_law(steps, thresholds, DEFAULT_MAX_STATES))
+        .collect::<Result<Vec<WalkLaw>, _>>()?;
+    let walks: Vec<(WalkOutcome, &WalkLaw)> = walks
+        .iter()
+        .zip(&which)
+        .map(|(&walk, &i)| (walk, &laws[i]))
+        .collect();
+    Ok(limit_law::paper_protocol_law(&walks)?)
 }
 
 /// The behaviors (ranks) that lead the optimal order of any metric, `count` per metric.
@@ -258,6 +301,7 @@ pub fn known_operator<D: Domain>(
     }
     Ok(KnownOperator {
         limit: Limit::from_outcomes(&walks)?,
+        law: paper_law(&tallies, &walks, thresholds)?,
         trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
     })
 }

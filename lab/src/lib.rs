@@ -14,6 +14,7 @@ pub mod interrupt;
 pub mod known_operator;
 pub mod landscape;
 pub mod limit;
+pub mod limit_law;
 pub mod mission;
 pub mod mission_figure;
 pub mod mission_report;

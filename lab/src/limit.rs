@@ -53,6 +53,9 @@
 //!   `E = mean_{b0} [c_{b0} + (1 - p_{b0}) V(space without b0)]`.
 //!
 //! Sums stop once the survival product `prod (1 - p)` falls below [`SURVIVAL_CUTOFF`].
+//!
+//! These are means; the law of the untrustworthy commands (how often the paper-protocol
+//! agent settles within `N` of them) is [`crate::limit_law`]'s, on the same chain.
 
 use std::collections::HashMap;
 use thiserror::Error;
@@ -166,6 +169,18 @@ pub enum LimitError {
         /// Its expected untrustworthy commands.
         untrustworthy: f64,
     },
+    /// A walk's law ([`crate::limit_law::walk_law`]) still had more than
+    /// [`crate::limit_law::LAW_CUTOFF`] of its mass undecided after
+    /// [`crate::limit_law::MAX_WALK_COUNT`] untrustworthy commands.
+    #[error(
+        "the walk's law is too long: {undecided} of its mass is still undecided after {count} untrustworthy commands"
+    )]
+    LawTooLong {
+        /// The untrustworthy commands followed.
+        count: usize,
+        /// The mass still undecided.
+        undecided: f64,
+    },
 }
 
 /// One possible outcome of a command: its probability, its contribution to the trust
@@ -195,9 +210,12 @@ pub struct WalkOutcome {
 
 /// Where one step from a transient state leads.
 #[derive(Debug, Clone, Copy)]
-enum Target {
+pub(crate) enum Target {
+    /// The transient state of this rank (states sorted by sum).
     State(usize),
+    /// The trustworthy threshold: the behavior is accepted.
     Accept,
+    /// The untrustworthy threshold: the behavior is rejected.
     Reject,
 }
 
@@ -212,6 +230,253 @@ fn find_state(index: &HashMap<i64, usize>, sums: &[f64], sum: f64) -> (i64, Opti
         }
     }
     (key, None)
+}
+
+/// The absorbing chain of one behavior's walk: its transient states (the reachable sums,
+/// sorted, so that with few distinct steps a matrix over them is banded) and where each
+/// step leads from each. [`solve_walk`] solves it for its means, [`crate::limit_law`]
+/// for its law.
+#[derive(Debug, Clone)]
+pub(crate) struct WalkChain {
+    /// The steps of positive probability, contributions below [`SUM_TOLERANCE`] made 0.
+    pub(crate) steps: Vec<Step>,
+    /// Per state (by rank), per step of `steps`, where it leads.
+    targets: Vec<Target>,
+    /// The rank of the state at sum 0, where the walk starts.
+    pub(crate) start: usize,
+    /// How far below the diagonal a step reaches (in ranks).
+    pub(crate) lower: usize,
+    /// How far above the diagonal a step reaches (in ranks).
+    pub(crate) upper: usize,
+}
+
+impl WalkChain {
+    /// Checks the input and enumerates the chain (the errors of [`solve_walk`]).
+    pub(crate) fn build(
+        steps: &[Step],
+        thresholds: Thresholds,
+        max_states: usize,
+    ) -> Result<Self, LimitError> {
+        let Thresholds {
+            trustworthy: hi,
+            untrustworthy: lo,
+        } = thresholds;
+        if !(hi.is_finite()
+            && lo.is_finite()
+            && lo < -SUM_TOLERANCE
+            && hi > SUM_TOLERANCE
+            && hi <= MAX_ABS_THRESHOLD
+            && lo >= -MAX_ABS_THRESHOLD)
+        {
+            return Err(LimitError::InvalidThresholds {
+                trustworthy: hi,
+                untrustworthy: lo,
+            });
+        }
+        let mut sum = 0.0;
+        for (index, s) in steps.iter().enumerate() {
+            if !(s.prob.is_finite() && s.prob >= 0.0 && s.delta.is_finite()) {
+                return Err(LimitError::InvalidStep {
+                    index,
+                    prob: s.prob,
+                    delta: s.delta,
+                });
+            }
+            sum += s.prob;
+        }
+        if (sum - 1.0).abs() > PROBABILITY_SUM_TOLERANCE {
+            return Err(LimitError::ProbabilitySum { sum });
+        }
+        let live: Vec<Step> = steps
+            .iter()
+            .filter(|s| s.prob > 0.0)
+            .map(|s| Step {
+                delta: if s.delta.abs() < SUM_TOLERANCE {
+                    0.0
+                } else {
+                    s.delta
+                },
+                ..*s
+            })
+            .collect();
+        if live.iter().all(|s| s.delta == 0.0) {
+            return Err(LimitError::NeverAbsorbs);
+        }
+
+        // Breadth-first enumeration of the transient sums. Each state keeps the sum of the
+        // first (shortest) path that reached it, so float noise stays at a few ulps per step.
+        let mut sums: Vec<f64> = vec![0.0];
+        let mut index: HashMap<i64, usize> = HashMap::from([(0, 0)]);
+        let mut found: Vec<Target> = Vec::new(); // live.len() per state, in discovery order
+        let mut next = 0;
+        while next < sums.len() {
+            let from = sums[next];
+            for s in &live {
+                let to = from + s.delta;
+                let target = match thresholds.verdict(to) {
+                    Verdict::Trustworthy => Target::Accept,
+                    Verdict::Untrustworthy => Target::Reject,
+                    Verdict::Undecided => match find_state(&index, &sums, to) {
+                        (_, Some(i)) => Target::State(i),
+                        (key, None) => {
+                            if sums.len() >= max_states {
+                                return Err(LimitError::TooManyStates {
+                                    count: sums.len() + 1,
+                                    max: max_states,
+                                });
+                            }
+                            sums.push(to);
+                            index.insert(key, sums.len() - 1);
+                            Target::State(sums.len() - 1)
+                        }
+                    },
+                };
+                found.push(target);
+            }
+            next += 1;
+        }
+        let n = sums.len();
+
+        // Sort the states by sum: with few distinct steps, a matrix over them is banded.
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| sums[a].total_cmp(&sums[b]));
+        let mut rank = vec![0; n];
+        for (r, &i) in order.iter().enumerate() {
+            rank[i] = r;
+        }
+        let mut targets = vec![Target::Reject; found.len()];
+        let (mut lower, mut upper) = (0usize, 0usize);
+        for (i, row) in found.chunks(live.len()).enumerate() {
+            let ri = rank[i];
+            for (slot, t) in targets[ri * live.len()..].iter_mut().zip(row) {
+                *slot = match *t {
+                    Target::State(j) => {
+                        let rj = rank[j];
+                        lower = lower.max(ri.saturating_sub(rj));
+                        upper = upper.max(rj.saturating_sub(ri));
+                        Target::State(rj)
+                    }
+                    other => other,
+                };
+            }
+        }
+        if n.saturating_mul(lower + upper + 1) > MAX_BAND_ENTRIES {
+            return Err(LimitError::BandTooWide {
+                states: n,
+                lower,
+                upper,
+            });
+        }
+        Ok(Self {
+            steps: live,
+            targets,
+            start: rank[0],
+            lower,
+            upper,
+        })
+    }
+
+    /// The number of transient states.
+    pub(crate) fn states(&self) -> usize {
+        self.targets.len() / self.steps.len()
+    }
+
+    /// Per state (by rank), where each step of [`WalkChain::steps`] leads.
+    pub(crate) fn rows(&self) -> std::slice::ChunksExact<'_, Target> {
+        self.targets.chunks_exact(self.steps.len())
+    }
+}
+
+/// A square banded matrix (entry `(i, j)` kept when `j` is at most `lower` below and
+/// `upper` above `i`), factored in place into `L U` by Gaussian elimination without
+/// pivoting. Every matrix factored here is a nonsingular M-matrix (`I - Q` of an absorbing
+/// chain, or its transpose, or the same for a subset of the steps): elimination without
+/// pivoting keeps every Schur complement an M-matrix, its pivots stay positive, it is
+/// numerically stable, and it creates no fill-in outside the band.
+#[derive(Debug, Clone)]
+pub(crate) struct Banded {
+    size: usize,
+    lower: usize,
+    upper: usize,
+    /// Entry `(i, j)` at `i * (lower + upper + 1) + j + lower - i`.
+    entries: Vec<f64>,
+}
+
+impl Banded {
+    /// The zero matrix of `size` rows with these bandwidths.
+    pub(crate) fn zeros(size: usize, lower: usize, upper: usize) -> Self {
+        Self {
+            size,
+            lower,
+            upper,
+            entries: vec![0.0; size * (lower + upper + 1)],
+        }
+    }
+
+    fn at(&self, i: usize, j: usize) -> usize {
+        i * (self.lower + self.upper + 1) + j + self.lower - i
+    }
+
+    /// Adds `value` to entry `(i, j)`, which must lie within the band.
+    pub(crate) fn add(&mut self, i: usize, j: usize, value: f64) {
+        let at = self.at(i, j);
+        self.entries[at] += value;
+    }
+
+    /// Factors the matrix into `L U` in place (`L`'s multipliers below the diagonal).
+    /// Errors on a non-positive or non-finite pivot.
+    pub(crate) fn factor(&mut self) -> Result<(), LimitError> {
+        let n = self.size;
+        for k in 0..n {
+            let pivot = self.entries[self.at(k, k)];
+            if !(pivot.is_finite() && pivot > 0.0) {
+                return Err(LimitError::Numerical { state: k, pivot });
+            }
+            let last_col = (k + self.upper).min(n - 1);
+            for i in (k + 1)..=(k + self.lower).min(n - 1) {
+                let below = self.at(i, k);
+                let factor = self.entries[below] / pivot;
+                self.entries[below] = factor;
+                if factor == 0.0 {
+                    continue;
+                }
+                for j in (k + 1)..=last_col {
+                    let (to, from) = (self.at(i, j), self.at(k, j));
+                    self.entries[to] -= factor * self.entries[from];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves the factored system for `K` right-hand sides at once, in place.
+    pub(crate) fn solve<const K: usize>(&self, rhs: &mut [[f64; K]]) {
+        let n = self.size;
+        for i in 0..n {
+            for k in i.saturating_sub(self.lower)..i {
+                let factor = self.entries[self.at(i, k)];
+                if factor == 0.0 {
+                    continue;
+                }
+                let known = rhs[k];
+                for (x, p) in rhs[i].iter_mut().zip(known) {
+                    *x -= factor * p;
+                }
+            }
+        }
+        for i in (0..n).rev() {
+            let mut x = rhs[i];
+            let last = (i + self.upper).min(n - 1);
+            for (j, known) in rhs.iter().enumerate().take(last + 1).skip(i + 1) {
+                let a = self.entries[self.at(i, j)];
+                for (v, w) in x.iter_mut().zip(known) {
+                    *v -= a * w;
+                }
+            }
+            let pivot = self.entries[self.at(i, i)];
+            rhs[i] = x.map(|v| v / pivot);
+        }
+    }
 }
 
 /// Solves one behavior's walk exactly: `P(accept)`, `E[commands]` and `E[untrustworthy
@@ -229,173 +494,36 @@ pub fn solve_walk(
     thresholds: Thresholds,
     max_states: usize,
 ) -> Result<WalkOutcome, LimitError> {
-    let Thresholds {
-        trustworthy: hi,
-        untrustworthy: lo,
-    } = thresholds;
-    if !(hi.is_finite()
-        && lo.is_finite()
-        && lo < -SUM_TOLERANCE
-        && hi > SUM_TOLERANCE
-        && hi <= MAX_ABS_THRESHOLD
-        && lo >= -MAX_ABS_THRESHOLD)
-    {
-        return Err(LimitError::InvalidThresholds {
-            trustworthy: hi,
-            untrustworthy: lo,
-        });
-    }
-    let mut sum = 0.0;
-    for (index, s) in steps.iter().enumerate() {
-        if !(s.prob.is_finite() && s.prob >= 0.0 && s.delta.is_finite()) {
-            return Err(LimitError::InvalidStep {
-                index,
-                prob: s.prob,
-                delta: s.delta,
-            });
-        }
-        sum += s.prob;
-    }
-    if (sum - 1.0).abs() > PROBABILITY_SUM_TOLERANCE {
-        return Err(LimitError::ProbabilitySum { sum });
-    }
-    let live: Vec<Step> = steps
-        .iter()
-        .filter(|s| s.prob > 0.0)
-        .map(|s| Step {
-            delta: if s.delta.abs() < SUM_TOLERANCE {
-                0.0
-            } else {
-                s.delta
-            },
-            ..*s
-        })
-        .collect();
-    if live.iter().all(|s| s.delta == 0.0) {
-        return Err(LimitError::NeverAbsorbs);
-    }
+    let chain = WalkChain::build(steps, thresholds, max_states)?;
     // Untrustworthy mass of one command: the same from every state.
-    let bad: f64 = live
+    let bad: f64 = chain
+        .steps
         .iter()
         .filter(|s| s.untrustworthy)
         .map(|s| s.prob)
         .sum();
-
-    // Breadth-first enumeration of the transient sums. Each state keeps the sum of the first
-    // (shortest) path that reached it, so float noise stays at a few ulps per step.
-    let mut sums: Vec<f64> = vec![0.0];
-    let mut index: HashMap<i64, usize> = HashMap::from([(0, 0)]);
-    let mut targets: Vec<Target> = Vec::new(); // live.len() per state, in discovery order
-    let mut next = 0;
-    while next < sums.len() {
-        let from = sums[next];
-        for s in &live {
-            let to = from + s.delta;
-            let target = match thresholds.verdict(to) {
-                Verdict::Trustworthy => Target::Accept,
-                Verdict::Untrustworthy => Target::Reject,
-                Verdict::Undecided => match find_state(&index, &sums, to) {
-                    (_, Some(i)) => Target::State(i),
-                    (key, None) => {
-                        if sums.len() >= max_states {
-                            return Err(LimitError::TooManyStates {
-                                count: sums.len() + 1,
-                                max: max_states,
-                            });
-                        }
-                        sums.push(to);
-                        index.insert(key, sums.len() - 1);
-                        Target::State(sums.len() - 1)
-                    }
-                },
-            };
-            targets.push(target);
-        }
-        next += 1;
-    }
-    let n = sums.len();
-
-    // Sort the states by sum: with few distinct steps, `I - Q` is then banded.
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| sums[a].total_cmp(&sums[b]));
-    let mut rank = vec![0; n];
-    for (r, &i) in order.iter().enumerate() {
-        rank[i] = r;
-    }
-    let (mut kl, mut ku) = (0usize, 0usize);
-    for (i, row) in targets.chunks(live.len()).enumerate() {
-        for t in row {
-            if let Target::State(j) = *t {
-                let (ri, rj) = (rank[i], rank[j]);
-                kl = kl.max(ri.saturating_sub(rj));
-                ku = ku.max(rj.saturating_sub(ri));
-            }
-        }
-    }
-    let width = kl + ku + 1;
-    if n.saturating_mul(width) > MAX_BAND_ENTRIES {
-        return Err(LimitError::BandTooWide {
-            states: n,
-            lower: kl,
-            upper: ku,
-        });
-    }
-
-    // Band storage: entry (i, j), |i - j| within the band, at band[i * width + j + kl - i].
-    let mut band = vec![0.0; n * width];
-    let mut rhs = vec![[0.0; 3]; n]; // accept, commands, untrustworthy
-    for (i, row) in targets.chunks(live.len()).enumerate() {
-        let r = rank[i];
-        band[r * width + kl] += 1.0;
+    let n = chain.states();
+    // `I - Q`, and per state the right-hand sides accept, commands, untrustworthy.
+    let mut matrix = Banded::zeros(n, chain.lower, chain.upper);
+    let mut rhs = vec![[0.0; 3]; n];
+    for (r, row) in chain.rows().enumerate() {
+        matrix.add(r, r, 1.0);
         rhs[r][1] = 1.0;
         rhs[r][2] = bad;
-        for (t, s) in row.iter().zip(&live) {
+        for (t, s) in row.iter().zip(&chain.steps) {
             match *t {
-                Target::State(j) => band[r * width + rank[j] + kl - r] -= s.prob,
+                Target::State(j) => matrix.add(r, j, -s.prob),
                 Target::Accept => rhs[r][0] += s.prob,
                 Target::Reject => {}
             }
         }
     }
-
-    // Banded Gaussian elimination without pivoting. Every state is transient and can reach
-    // absorption (some step of positive probability moves the estimate monotonically
-    // towards a threshold), so `I - Q` is a nonsingular M-matrix: elimination without
-    // pivoting keeps every Schur complement an M-matrix, its pivots stay positive, it is
-    // numerically stable, and it creates no fill-in outside the band.
-    for k in 0..n {
-        let pivot = band[k * width + kl];
-        if !(pivot.is_finite() && pivot > 0.0) {
-            return Err(LimitError::Numerical { state: k, pivot });
-        }
-        let last_col = (k + ku).min(n - 1);
-        for i in (k + 1)..=(k + kl).min(n - 1) {
-            let factor = band[i * width + k + kl - i] / pivot;
-            if factor == 0.0 {
-                continue;
-            }
-            for j in k..=last_col {
-                band[i * width + j + kl - i] -= factor * band[k * width + j + kl - k];
-            }
-            let pivot_rhs = rhs[k];
-            for (x, p) in rhs[i].iter_mut().zip(pivot_rhs) {
-                *x -= factor * p;
-            }
-        }
-    }
-    for i in (0..n).rev() {
-        let mut x = rhs[i];
-        for j in (i + 1)..=(i + ku).min(n - 1) {
-            let a = band[i * width + j + kl - i];
-            let xj = rhs[j];
-            for (v, w) in x.iter_mut().zip(xj) {
-                *v -= a * w;
-            }
-        }
-        let pivot = band[i * width + kl];
-        rhs[i] = x.map(|v| v / pivot);
-    }
-    let [accept, commands, untrustworthy] = rhs[rank[0]];
+    // Every state is transient and can reach absorption (some step of positive probability
+    // moves the estimate monotonically towards a threshold): `I - Q` is a nonsingular
+    // M-matrix.
+    matrix.factor()?;
+    matrix.solve(&mut rhs);
+    let [accept, commands, untrustworthy] = rhs[chain.start];
     Ok(WalkOutcome {
         accept: accept.clamp(0.0, 1.0),
         commands: commands.max(1.0),
@@ -487,27 +615,7 @@ impl Limit {
     /// negative or non-finite cost. `O(N log N + K^2)`, `K` being the number of behaviors
     /// tried before the survival product falls below [`SURVIVAL_CUTOFF`].
     pub fn from_outcomes(outcomes: &[WalkOutcome]) -> Result<Self, LimitError> {
-        if outcomes.is_empty() {
-            return Err(LimitError::Empty);
-        }
-        let mut accept = Vec::with_capacity(outcomes.len());
-        for (index, o) in outcomes.iter().enumerate() {
-            let ok = o.accept.is_finite()
-                && (-1e-9..=1.0 + 1e-9).contains(&o.accept)
-                && o.commands.is_finite()
-                && o.commands >= 0.0
-                && o.untrustworthy.is_finite()
-                && o.untrustworthy >= 0.0;
-            if !ok {
-                return Err(LimitError::InvalidOutcome {
-                    index,
-                    accept: o.accept,
-                    commands: o.commands,
-                    untrustworthy: o.untrustworthy,
-                });
-            }
-            accept.push(o.accept.clamp(0.0, 1.0));
-        }
+        let accept = acceptance(outcomes)?;
         let ones = vec![1.0; outcomes.len()];
         let commands: Vec<f64> = outcomes.iter().map(|o| o.commands).collect();
         let untrustworthy: Vec<f64> = outcomes.iter().map(|o| o.untrustworthy).collect();
@@ -550,6 +658,37 @@ impl Limit {
             paper: mean(|l| l.paper),
         })
     }
+}
+
+/// The acceptance probabilities of `outcomes`, each clamped to `[0, 1]`. Errors on none,
+/// or on an outcome with `accept` outside `[0, 1]` (beyond `1e-9`) or a negative or
+/// non-finite cost.
+pub(crate) fn acceptance(outcomes: &[WalkOutcome]) -> Result<Vec<f64>, LimitError> {
+    if outcomes.is_empty() {
+        return Err(LimitError::Empty);
+    }
+    outcomes
+        .iter()
+        .enumerate()
+        .map(|(index, o)| {
+            let ok = o.accept.is_finite()
+                && (-1e-9..=1.0 + 1e-9).contains(&o.accept)
+                && o.commands.is_finite()
+                && o.commands >= 0.0
+                && o.untrustworthy.is_finite()
+                && o.untrustworthy >= 0.0;
+            if ok {
+                Ok(o.accept.clamp(0.0, 1.0))
+            } else {
+                Err(LimitError::InvalidOutcome {
+                    index,
+                    accept: o.accept,
+                    commands: o.commands,
+                    untrustworthy: o.untrustworthy,
+                })
+            }
+        })
+        .collect()
 }
 
 /// The optimal order of behaviors for per-behavior costs `cost` and acceptance

@@ -1,5 +1,6 @@
-//! Property tests of the limit module.
+//! Property tests of the limit module and of the limit's law.
 use lab::limit::*;
+use lab::limit_law::{WalkLaw, paper_protocol_law, walk_law};
 use proptest::prelude::*;
 use trust::Thresholds;
 
@@ -91,6 +92,48 @@ fn space() -> impl Strategy<Value = Vec<(f64, f64)>> {
     prop::collection::vec((p, 0.0f64..50.0), 1..7)
 }
 
+/// The plain convolution of two laws of counts.
+fn convolve(a: &[f64], b: &[f64]) -> Vec<f64> {
+    let mut sum = vec![0.0; (a.len() + b.len()).saturating_sub(1)];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            sum[i + j] += x * y;
+        }
+    }
+    sum
+}
+
+fn add(to: &mut Vec<f64>, law: &[f64], weight: f64) {
+    if to.len() < law.len() {
+        to.resize(law.len(), 0.0);
+    }
+    for (t, x) in to.iter_mut().zip(law) {
+        *t += weight * x;
+    }
+}
+
+/// The paper-protocol agent's law, settled and unsettled, by brute force: for every first
+/// behavior, the whole order of the rest followed to its end, one convolution at a time.
+fn brute_paper_law(walks: &[(WalkOutcome, WalkLaw)]) -> (Vec<f64>, Vec<f64>) {
+    let accept: Vec<f64> = walks.iter().map(|(o, _)| o.accept).collect();
+    let cost: Vec<f64> = walks.iter().map(|(o, _)| o.untrustworthy).collect();
+    let order = optimal_order(&accept, &cost);
+    let n = walks.len() as f64;
+    let (mut settled, mut unsettled) = (Vec::new(), Vec::new());
+    for first in 0..walks.len() {
+        let mut reach = vec![1.0];
+        let rest = order.iter().copied().filter(|&b| b != first);
+        for b in std::iter::once(first).chain(rest) {
+            let law = &walks[b].1;
+            assert_eq!(law.accepted.beyond + law.rejected.beyond, 0.0);
+            add(&mut settled, &convolve(&reach, &law.accepted.mass), 1.0 / n);
+            reach = convolve(&reach, &law.rejected.mass);
+        }
+        add(&mut unsettled, &reach, 1.0 / n);
+    }
+    (settled, unsettled)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
@@ -149,5 +192,45 @@ proptest! {
             cost[b0] + (1.0 - accept[b0]) * v
         }).sum::<f64>() / n as f64;
         prop_assert!(close(paper, brute_paper), "{paper} vs {brute_paper}");
+    }
+
+    /// The limit's law: each walk's law has the walk's acceptance and mean, and the
+    /// paper-protocol agent's law is the brute-force one and has the limit's mean.
+    #[test]
+    fn the_limits_law_has_the_limits_mean(
+        laws in prop::collection::vec(step_law(), 1..6),
+        tau12 in 12i32..=30,
+    ) {
+        let tau = f64::from(tau12) / 12.0;
+        let th = Thresholds { trustworthy: tau, untrustworthy: -tau };
+        let walks: Vec<(WalkOutcome, WalkLaw)> = laws
+            .iter()
+            .map(|law| {
+                let steps = to_steps(law);
+                (
+                    solve_walk(&steps, th, DEFAULT_MAX_STATES).unwrap(),
+                    walk_law(&steps, th, DEFAULT_MAX_STATES).unwrap(),
+                )
+            })
+            .collect();
+        let tight = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs().max(b.abs()));
+        for (outcome, law) in &walks {
+            let mean = law.accepted.moment() + law.rejected.moment();
+            prop_assert!(tight(law.accepted.total(), outcome.accept), "{outcome:?} {law:?}");
+            prop_assert!(tight(law.accepted.total() + law.rejected.total(), 1.0));
+            prop_assert!(tight(mean, outcome.untrustworthy), "{outcome:?} {mean}");
+        }
+        let outcomes: Vec<WalkOutcome> = walks.iter().map(|(o, _)| *o).collect();
+        let limit = Limit::from_outcomes(&outcomes).unwrap().paper.untrustworthy;
+        let pairs: Vec<(WalkOutcome, &WalkLaw)> = walks.iter().map(|(o, l)| (*o, l)).collect();
+        let agent = paper_protocol_law(&pairs).unwrap();
+        prop_assert!(tight(agent.mean(), limit), "{} vs {limit}", agent.mean());
+        let (settled, unsettled) = brute_paper_law(&walks);
+        for (u, brute) in settled.iter().enumerate() {
+            let exact = agent.settled.mass.get(u).copied().unwrap_or(0.0);
+            prop_assert!((exact - brute).abs() <= 1e-12, "settled at {u}: {exact} vs {brute}");
+        }
+        let never: f64 = unsettled.iter().sum();
+        prop_assert!((agent.unsettled.total() - never).abs() <= 1e-12);
     }
 }

@@ -69,6 +69,7 @@ pub fn report_benchmark(
                     scenario: e.scenario,
                     result: e.result,
                     limit: limit.limit.paper,
+                    limit_law: &limit.law,
                 })
             })
             .collect();

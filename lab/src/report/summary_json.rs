@@ -123,7 +123,9 @@ pub(super) fn summary_of(
 }
 
 /// One scenario's benchmark for `summary.json`: its populations, how its numbers were
-/// made, and per arm its ratios to the limit, wins, ties and losses, ECDF and windows.
+/// made, the limit's ECDF (each count where it steps up, with the probability of settling
+/// within it), and per arm its ratios to the limit, wins, ties and losses, ECDF and
+/// windows.
 fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
     let windows: Vec<[u32; 2]> = benchmark
         .windows
@@ -147,6 +149,11 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
         "significance": crate::benchmark::SIGNIFICANCE,
         "references": benchmark.references,
         "limit_untrustworthy_mean": benchmark.limit_untrustworthy,
+        "limit_ecdf": {
+            "settled_within": benchmark.limit_law.steps(),
+            "never_settled": benchmark.limit_law.unsettled.total(),
+            "untrustworthy_mean": benchmark.limit_law.mean(),
+        },
         "windows": windows,
         "arms": arms,
     })

@@ -1,28 +1,43 @@
 //! A scenario's benchmark as a distribution ([`crate::benchmark::Ecdf`]): for each arm, the
 //! share of its (population, trial) pairs that settled on a trustworthy behavior within
-//! `N` untrustworthy commands, as `N` grows; the known-operator limit as a vertical line
-//! at its mean expected untrustworthy commands.
+//! `N` untrustworthy commands, as `N` grows; and, dashed, the probability that the
+//! known-operator limit's agent settles within `N` ([`ScenarioBenchmark::limit_law`]).
 
 use super::{Key, LEGEND_WIDTH, legend};
-use crate::benchmark::{Ecdf, ScenarioBenchmark};
+use crate::benchmark::ScenarioBenchmark;
+use crate::limit_law::UntrustworthyLaw;
 use crate::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order};
 use plotters::prelude::*;
 
 /// Places along each arm's curve its marker is drawn at.
 const MARKERS: u64 = 8;
 
-/// The curve of `ecdf` as a line from `(0, 0)` to the right edge `right`: level between
-/// the counts where pairs settled, up at each.
-fn staircase(ecdf: &Ecdf, right: u64) -> Vec<(f64, f64)> {
+/// The share of what the limit's curve ever reaches that the figure shows at least.
+const LIMIT_SHOWN: f64 = 0.999;
+
+/// The curve through `steps` (each count where the curve steps up, with its level there,
+/// ascending) as a line from `(0, 0)` to the right edge `right`: level between the counts,
+/// up at each; steps past `right` are left out.
+fn staircase(steps: &[(u64, f64)], right: u64) -> Vec<(f64, f64)> {
     let mut points = vec![(0.0, 0.0)];
     let mut share = 0.0;
-    for (n, next) in ecdf.steps() {
+    for &(n, next) in steps.iter().take_while(|(n, _)| *n <= right) {
         points.push((n as f64, share));
         points.push((n as f64, next));
         share = next;
     }
     points.push((right as f64, share));
     points
+}
+
+/// The count by which the limit's curve has reached [`LIMIT_SHOWN`] of its final level.
+fn limit_reach(law: &UntrustworthyLaw) -> u64 {
+    let steps = law.steps();
+    let last = steps.last().map_or(0.0, |&(_, share)| share);
+    steps
+        .iter()
+        .find(|&&(_, share)| share >= LIMIT_SHOWN * last)
+        .map_or(0, |&(n, _)| n)
 }
 
 /// The ECDF figure of a scenario's benchmark.
@@ -37,10 +52,8 @@ pub(super) fn ecdf_figure(
         .filter_map(|a| a.ecdf.settled.last().copied())
         .max()
         .unwrap_or(0);
-    // Room for the limit's line whatever the arms did.
-    let right = most
-        .max((benchmark.limit_untrustworthy * 1.2).ceil() as u64)
-        .max(1);
+    // Room for the limit's curve whatever the arms did.
+    let right = most.max(limit_reach(&benchmark.limit_law)).max(1);
     let (width, _) = area.dim_in_pixel();
     let (plot, side) = area.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let mut chart = ChartBuilder::on(&plot)
@@ -63,10 +76,7 @@ pub(super) fn ecdf_figure(
         .y_desc("share of (population, trial) pairs settled within N")
         .draw()?;
     chart.draw_series(DashedLineSeries::new(
-        [
-            (benchmark.limit_untrustworthy, 0.0),
-            (benchmark.limit_untrustworthy, 1.0),
-        ],
+        staircase(&benchmark.limit_law.steps(), right),
         6,
         4,
         BLACK.stroke_width(2),
@@ -76,7 +86,7 @@ pub(super) fn ecdf_figure(
     for index in drawing_order(&names) {
         let (ecdf, style) = (&benchmark.arms[index].ecdf, styles[index]);
         chart.draw_series(LineSeries::new(
-            staircase(ecdf, right),
+            staircase(&ecdf.steps(), right),
             style.color.stroke_width(2),
         ))?;
         // The arm's marker on its curve at evenly spaced counts, staggered by arm so that
@@ -99,16 +109,15 @@ pub(super) fn ecdf_figure(
         .zip(&styles)
         .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
         .collect();
-    entries.push((
-        "known-operator limit (mean expected, dashed)".to_owned(),
-        Key::Line(BLACK),
-    ));
+    entries.push(("known-operator limit (dashed)".to_owned(), Key::Line(BLACK)));
     legend(&side, overlay, &entries)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::benchmark::Ecdf;
+    use crate::limit_law::CountLaw;
 
     #[test]
     fn the_staircase_by_hand() {
@@ -116,7 +125,7 @@ mod tests {
         // 7, level to the right edge.
         let ecdf = Ecdf::of([(true, 3), (false, 12), (true, 0), (true, 7), (true, 3)]);
         assert_eq!(
-            staircase(&ecdf, 10),
+            staircase(&ecdf.steps(), 10),
             vec![
                 (0.0, 0.0),
                 (0.0, 0.0),
@@ -128,5 +137,34 @@ mod tests {
                 (10.0, 0.8)
             ]
         );
+    }
+
+    #[test]
+    fn the_limits_curve_by_hand() {
+        // Settles at 0 with 1/2, at 2 with 1/2 - 1/1024, at 40 with 1/1024: 0.999 of it
+        // by 2.
+        let mut mass = vec![0.0; 41];
+        (mass[0], mass[2], mass[40]) = (0.5, 0.5 - 1.0 / 1024.0, 1.0 / 1024.0);
+        let law = UntrustworthyLaw {
+            settled: CountLaw {
+                mass,
+                ..Default::default()
+            },
+            unsettled: CountLaw::default(),
+        };
+        assert_eq!(limit_reach(&law), 2);
+        // Cut at the right edge: the step at 40 is past it.
+        assert_eq!(
+            staircase(&law.steps(), 5),
+            vec![
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (0.0, 0.5),
+                (2.0, 0.5),
+                (2.0, 1.0 - 1.0 / 1024.0),
+                (5.0, 1.0 - 1.0 / 1024.0)
+            ]
+        );
+        assert_eq!(limit_reach(&UntrustworthyLaw::default()), 0);
     }
 }

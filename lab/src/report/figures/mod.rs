@@ -186,7 +186,14 @@ pub(super) fn write_figures(
             &format!("Benchmark: {}", b.scenario),
             drawn,
             format!(
-                "Untrustworthy commands to settle: for each arm, the share of its (population,                  trial) pairs over the scenario's {} populations that ended on a trustworthy                  behavior within N untrustworthy commands, as N grows (higher and further left                  is better; a pair that never settled is never counted). The dashed line is the                  known-operator limit's expected untrustworthy commands, averaged over the                  populations: the limit is known by its expectation only, so it is drawn as a                  line at its mean and not as a curve.",
+                "Untrustworthy commands to settle: for each arm, the share of its (population, \
+                 trial) pairs over the scenario's {} populations that ended on a trustworthy \
+                 behavior within N untrustworthy commands, as N grows (higher and further left \
+                 is better; a pair that never settled is never counted). The dashed curve is \
+                 the known-operator limit: the probability that an agent that knows each \
+                 operator, under the paper's protocol (a random first behavior, then the best \
+                 order of the rest), settles within N, pooled over the populations as the \
+                 pairs are.",
                 b.populations.len()
             ),
         ));
