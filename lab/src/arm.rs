@@ -18,7 +18,7 @@ use trust::{LambdaError, RetrieverFactory, SearcherFactory};
 use trust::{TrustCaseBase, TrustRetriever};
 
 /// The built-in arms, in report order: the paper's two first.
-pub const BUILTIN_ARMS: [&str; 9] = [
+pub const BUILTIN_ARMS: [&str; 11] = [
     "random-walk",
     "case-based",
     "uniform",
@@ -28,6 +28,8 @@ pub const BUILTIN_ARMS: [&str; 9] = [
     "case-based+cause-aware",
     "case-based+model-based",
     "case-based+conditioned",
+    "hedged",
+    "case-based+hedged",
 ];
 
 /// What ends the name of an arm that starts each episode from the memory's guess
