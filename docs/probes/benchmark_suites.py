@@ -22,7 +22,8 @@ TRIALS = {"movement": 500, "patrol": 300}
 MAX_COMMANDS = 2000
 ARMS = [
     "random-walk", "case-based", "uniform", "cause-aware", "model-based", "conditioned",
-    "case-based+cause-aware", "case-based+model-based", "case-based+conditioned",
+    "case-based+cause-aware", "case-based+model-based", "case-based+conditioned", "hedged",
+    "case-based+hedged",
 ]
 
 
