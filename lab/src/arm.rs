@@ -96,6 +96,10 @@ fn describe_builtin(name: &str) -> Option<&'static str> {
         "case-based+cause-aware" => "case reuse first, the cause-aware search when no case fits",
         "case-based+model-based" => "case reuse first, the model-based search when no case fits",
         "case-based+conditioned" => "case reuse first, the conditioned search when no case fits",
+        "hedged" => {
+            "the conditioned search, whose own search when nothing remembered fits lets the cause-aware and model-based searches propose in turn"
+        }
+        "case-based+hedged" => "case reuse first, the hedged search when no case fits",
         _ => return None,
     })
 }
