@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Writes domains/experiments/benchmark-{movement,patrol}.ron: every arm on the evaluation
+"""Writes domains/experiments/benchmark-{movement,patrol}.ron, every arm on the evaluation
 instances eval-0 .. eval-(COUNT-1) of the prior (docs/simulation.md, "Operators no one
-designed"), whose members `trustcbr population` wrote to
-domains/operators/benchmark/SCENARIO/eval-K/ (run it first; docs/search-strategies.md,
-"The benchmark").
+designed"), and domains/experiments/benchmark-dev-{movement,patrol}.ron, the same settings on
+the development instances dev-0 .. dev-(COUNT-1). `trustcbr population` writes their members
+to domains/operators/benchmark/SCENARIO/eval-K/ and domains/operators/benchmark-dev/SCENARIO/dev-K/
+(run it first; docs/search-strategies.md, "The benchmark").
 
-usage: docs/probes/benchmark_suites.py [COUNT]   (default 20 instances; trials per scenario:
-TRIALS, chosen so that a suite runs within 10 minutes on the project's 2-core machine)
+usage: docs/probes/benchmark_suites.py [COUNT]   (default 20 instances of each split; trials
+per scenario: TRIALS, chosen so that a suite runs within 10 minutes on the project's 2-core
+machine)
 """
 import pathlib
 import sys
@@ -20,17 +22,30 @@ TRIALS = {"movement": 500, "patrol": 300}
 MAX_COMMANDS = 2000
 ARMS = [
     "random-walk", "case-based", "uniform", "cause-aware", "model-based", "conditioned",
-    "case-based+cause-aware", "case-based+model-based", "case-based+conditioned",
+    "case-based+cause-aware", "case-based+model-based", "case-based+conditioned", "hedged",
+    "case-based+hedged",
 ]
 
 
-def suite(scenario: str) -> str:
+# Per split (the prefix of its instances' names): the folder of their members under domains/operators,
+# the suite's file name and what its header says the split is for.
+SPLITS = {
+    "eval": ("benchmark", "benchmark-{scenario}.ron",
+             "the evaluation instances", "Nothing in any strategy was chosen on these instances."),
+    "dev": ("benchmark-dev", "benchmark-dev-{scenario}.ron",
+            "the development instances", "Strategies are developed on these instances, never judged."),
+}
+
+
+def suite(scenario: str, split: str) -> str:
+    folder_name, file_name, which, promise = SPLITS[split]
+    title = "benchmark" if split == "eval" else "development benchmark"
     lines = [
-        f"// The benchmark for {scenario} (docs/search-strategies.md, \"The benchmark\"): every arm",
-        f"// on the evaluation instances eval-0 .. eval-{COUNT - 1} of the prior ugv-1, silent operators,",
-        "// the paper's adapter. Nothing in any strategy was chosen on these instances. Written by",
+        f"// The {title} for {scenario} (docs/search-strategies.md, \"The benchmark\"): every arm",
+        f"// on {which} {split}-0 .. {split}-{COUNT - 1} of the prior ugv-1, silent operators,",
+        f"// the paper's adapter. {promise} Written by",
         "// docs/probes/benchmark_suites.py; run it with",
-        f"// `trustcbr run domains/experiments/benchmark-{scenario}.ron --out DIR`.",
+        f"// `trustcbr run domains/experiments/{file_name.format(scenario=scenario)} --out DIR`.",
         "(",
         "    seed: 2014,",
         f"    trials: {TRIALS[scenario]},",
@@ -50,17 +65,17 @@ def suite(scenario: str) -> str:
         "    experiments: [",
     ]
     for k in range(COUNT):
-        folder = REPO / "domains/operators/benchmark" / scenario / f"eval-{k}"
+        folder = REPO / "domains/operators" / folder_name / scenario / f"{split}-{k}"
         files = sorted(folder.glob("*.ron"))
         if not files:
             sys.exit(f"{folder}: no members (run `trustcbr population --scenario {scenario} "
-                     f"--instance eval-{k} --out {folder.relative_to(REPO)}` first)")
-        listed = ", ".join(f'"../operators/benchmark/{scenario}/eval-{k}/{f.name}"' for f in files)
+                     f"--instance {split}-{k} --out {folder.relative_to(REPO)}` first)")
+        listed = ", ".join(f'"../operators/{folder_name}/{scenario}/{split}-{k}/{f.name}"' for f in files)
         lines += [
             "        (",
             f"            scenario: \"{scenario}\",",
             "            operator: \"random\",",
-            f"            population: Some((name: \"eval-{k}\")),",
+            f"            population: Some((name: \"{split}-{k}\")),",
             f"            operator_files: [{listed}],",
             "        ),",
         ]
@@ -68,7 +83,8 @@ def suite(scenario: str) -> str:
     return "\n".join(lines)
 
 
-for scenario in ("movement", "patrol"):
-    path = REPO / "domains/experiments" / f"benchmark-{scenario}.ron"
-    path.write_text(suite(scenario))
-    print(f"wrote {path.relative_to(REPO)}")
+for split, (_, file_name, _, _) in SPLITS.items():
+    for scenario in ("movement", "patrol"):
+        path = REPO / "domains/experiments" / file_name.format(scenario=scenario)
+        path.write_text(suite(scenario, split))
+        print(f"wrote {path.relative_to(REPO)}")

@@ -18,7 +18,7 @@ use trust::{LambdaError, RetrieverFactory, SearcherFactory};
 use trust::{TrustCaseBase, TrustRetriever};
 
 /// The built-in arms, in report order: the paper's two first.
-pub const BUILTIN_ARMS: [&str; 9] = [
+pub const BUILTIN_ARMS: [&str; 11] = [
     "random-walk",
     "case-based",
     "uniform",
@@ -28,6 +28,8 @@ pub const BUILTIN_ARMS: [&str; 9] = [
     "case-based+cause-aware",
     "case-based+model-based",
     "case-based+conditioned",
+    "hedged",
+    "case-based+hedged",
 ];
 
 /// What ends the name of an arm that starts each episode from the memory's guess
@@ -94,6 +96,10 @@ fn describe_builtin(name: &str) -> Option<&'static str> {
         "case-based+cause-aware" => "case reuse first, the cause-aware search when no case fits",
         "case-based+model-based" => "case reuse first, the model-based search when no case fits",
         "case-based+conditioned" => "case reuse first, the conditioned search when no case fits",
+        "hedged" => {
+            "the conditioned search, whose own search when nothing remembered fits lets the cause-aware and model-based searches propose in turn"
+        }
+        "case-based+hedged" => "case reuse first, the hedged search when no case fits",
         _ => return None,
     })
 }

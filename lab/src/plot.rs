@@ -590,8 +590,13 @@ mod tests {
             .enumerate()
             .map(|(i, a)| arm_style(a, i))
             .collect();
+        // Shapes are told apart first; beyond the shapes there are, colour and shape
+        // together.
         for (i, a) in builtin.iter().enumerate() {
-            assert!(builtin[..i].iter().all(|b| b.shape != a.shape));
+            if i < SHAPES.len() {
+                assert!(builtin[..i].iter().all(|b| b.shape != a.shape));
+            }
+            assert!(builtin[..i].iter().all(|b| b != a));
             assert!(i < 2 || builtin[..2].iter().all(|b| b.color != a.color));
         }
         // A learned start keeps its base arm's shape in a colour of its own.

@@ -31,11 +31,16 @@
 //! *reliability*, the share of commands it completed while trusted (Laplace's rule): of two
 //! behaviors the same operators trusted, the one trusted after fewer failures costs the
 //! next operator fewer untrustworthy commands. Otherwise, and before any episode has
-//! ended, the proposal is the cause-aware search's, which this searcher feeds every
-//! outcome ([`CauseAware`]).
+//! ended, the proposal is the *fallback* search's, which this searcher feeds every
+//! outcome: the cause-aware search ([`CauseAware`]) for `conditioned`, and for `hedged`
+//! the cause-aware and the model-based searches taking turns
+//! ([`super::Alternating`]: which of the two fits an operator met for the first time
+//! cannot be known in advance, and each fails on operators the other finds).
 
 use super::CauseAware;
 use super::propose_untried;
+#[cfg(feature = "model-based")]
+use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::RngCore;
@@ -96,22 +101,62 @@ fn kernel(space: &BehaviorSpace, a: &Behavior, b: &Behavior) -> f64 {
     (-(1.0 - space.similarity(a, b)) / KERNEL_SCALE).exp()
 }
 
-/// The conditioned searcher.
-#[derive(Clone, Debug, Default)]
-pub struct Conditioned {
+/// The conditioned searcher, searching with `F` when no remembered behavior is expected
+/// to be accepted.
+#[derive(Clone, Debug)]
+pub struct Conditioned<F = CauseAware> {
+    /// The strategy's name: `conditioned`, or `hedged` with the alternating fallback.
+    name: &'static str,
     profiles: Vec<Profile>,
     /// The current episode's commands per behavior: (behavior, commands, completions).
     episode: Vec<(Behavior, f64, f64)>,
-    fallback: CauseAware,
+    fallback: F,
     /// The last remembered behavior proposed and its probability of acceptance (for its
     /// rationale); `None` when the last proposal was the fallback's.
     last: Option<(Behavior, f64)>,
 }
 
+impl Default for Conditioned {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl Conditioned {
-    /// A conditioned searcher that remembers no episode yet.
+    /// A conditioned searcher that remembers no episode yet, falling back to the
+    /// cause-aware search (`conditioned`).
     pub fn new() -> Self {
-        Self::default()
+        Self::with_fallback("conditioned", CauseAware::new())
+    }
+}
+
+/// The fallback of `hedged`: the cause-aware and the model-based searches in turn.
+#[cfg(feature = "model-based")]
+pub type HedgedFallback = Alternating<CauseAware, ModelBased>;
+
+#[cfg(feature = "model-based")]
+impl Conditioned<HedgedFallback> {
+    /// A conditioned searcher that remembers no episode yet, falling back to the
+    /// cause-aware and the model-based searches in turn (`hedged`).
+    pub fn hedged() -> Self {
+        Self::with_fallback(
+            "hedged",
+            Alternating::new(CauseAware::new(), ModelBased::new()),
+        )
+    }
+}
+
+impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
+    /// A conditioned searcher named `name`, searching with `fallback` when no remembered
+    /// behavior is expected to be accepted.
+    fn with_fallback(name: &'static str, fallback: F) -> Self {
+        Self {
+            name,
+            profiles: Vec::new(),
+            episode: Vec::new(),
+            fallback,
+            last: None,
+        }
     }
 
     /// The untried remembered behavior the profiles consistent with `evaluated` most
@@ -172,12 +217,12 @@ impl Conditioned {
     }
 }
 
-impl Searcher for Conditioned {
+impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditioned<F> {
     type Evidence = Evaluated;
     type Feedback = Outcome;
 
     fn name(&self) -> &str {
-        "conditioned"
+        self.name
     }
 
     fn learns_across_episodes(&self) -> bool {

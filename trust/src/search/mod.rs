@@ -9,10 +9,13 @@
 //! - `ModelBased`: a Gaussian-process surrogate of the operator, solved with faer (the
 //!   `model-based` cargo feature, on by default);
 //! - [`Conditioned`]: what earlier operators trusted, weighed by how consistent each is
-//!   with this episode's rejections (the operators who disagree are told apart).
+//!   with this episode's rejections (the operators who disagree are told apart); as
+//!   `hedged` (the `model-based` feature) it falls back to the cause-aware and the
+//!   model-based searches taking turns ([`Alternating`]).
 //!
 //! [`SearchKind`] names the built-in ones in configs.
 
+pub mod alternating;
 pub mod cause_aware;
 pub mod conditioned;
 #[cfg(feature = "model-based")]
@@ -22,6 +25,7 @@ pub mod uniform;
 mod untried;
 pub mod value_counts;
 
+pub use alternating::Alternating;
 pub use cause_aware::CauseAware;
 pub use conditioned::Conditioned;
 #[cfg(feature = "model-based")]
@@ -92,6 +96,10 @@ pub enum SearchKind {
     ModelBased,
     /// Conditioned search ([`Conditioned`]).
     Conditioned,
+    /// Conditioned search falling back to the cause-aware and the model-based searches in
+    /// turn ([`Conditioned::hedged`]; the `model-based` feature).
+    #[cfg(feature = "model-based")]
+    Hedged,
 }
 
 impl SearchKind {
@@ -103,6 +111,7 @@ impl SearchKind {
         SearchKind::CauseAware,
         SearchKind::ModelBased,
         SearchKind::Conditioned,
+        SearchKind::Hedged,
     ];
     /// Every kind built in, the paper's first.
     #[cfg(not(feature = "model-based"))]
@@ -122,6 +131,8 @@ impl SearchKind {
             #[cfg(feature = "model-based")]
             SearchKind::ModelBased => Box::new(ModelBased::new()),
             SearchKind::Conditioned => Box::new(Conditioned::new()),
+            #[cfg(feature = "model-based")]
+            SearchKind::Hedged => Box::new(Conditioned::hedged()),
         }
     }
 
@@ -134,6 +145,8 @@ impl SearchKind {
             #[cfg(feature = "model-based")]
             SearchKind::ModelBased => "model-based",
             SearchKind::Conditioned => "conditioned",
+            #[cfg(feature = "model-based")]
+            SearchKind::Hedged => "hedged",
         }
     }
 }
