@@ -58,16 +58,6 @@ use trust::{
 };
 use trust::{RetrieverFactory, SearcherFactory};
 
-/// Whether a domain's searcher and retriever are a user's own (an arm's or a plug-in's)
-/// rather than the kinds its adapter config names.
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct OwnParts {
-    /// The searcher is the user's.
-    pub(crate) searcher: bool,
-    /// The retriever is the user's.
-    pub(crate) retriever: bool,
-}
-
 /// A domain ready to serve.
 #[derive(Clone)]
 pub struct DomainDefinition {
@@ -375,12 +365,24 @@ impl DomainDefinition {
         self
     }
 
-    /// Which of the adapter config's parts a user's own replace.
-    pub(crate) fn own_parts(&self) -> OwnParts {
-        OwnParts {
-            searcher: self.searcher.is_some(),
-            retriever: self.retriever.is_some(),
+    /// The adapter served, as the `config` reply shows it: the adapter config, without
+    /// the kinds a user's own searcher or retriever (an arm's, or a plug-in's) replace
+    /// (they would be a claim about something not in use), and `"mode": "mission"` in
+    /// mission mode.
+    pub(crate) fn served_adapter(&self) -> serde_json::Value {
+        let mut adapter = serde_json::json!(self.adapter);
+        if let Some(fields) = adapter.as_object_mut() {
+            if self.searcher.is_some() {
+                fields.remove("search");
+            }
+            if self.retriever.is_some() {
+                fields.remove("retriever");
+            }
+            if self.mission() {
+                fields.insert("mode".into(), serde_json::json!("mission"));
+            }
         }
+        adapter
     }
 
     /// A fresh search strategy: the user's, or the kind the adapter config names.

@@ -20,7 +20,7 @@
 //! `state` and `explain` report the watch, and `config` shows `"mode": "mission"` in
 //! `adapter`.
 
-use crate::domain::{DomainDefinition, OwnParts};
+use crate::domain::DomainDefinition;
 use crate::reply::{self, Answer, CaseListing, Reply};
 use crate::request::{BehaviorSpec, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
@@ -31,8 +31,8 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 use std::sync::Arc;
 use trust::{
-    Account, Adaptation, AdapterConfig, AdapterError, Cause, ConfigError, Decision, DeclaredCause,
-    EpisodeReport, MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory,
+    Account, Adaptation, AdapterError, Cause, ConfigError, Decision, DeclaredCause, EpisodeReport,
+    MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory,
 };
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
@@ -43,10 +43,8 @@ pub struct Session {
     domain: String,
     causes: Vec<DeclaredCause>,
     observations: Vec<Cause>,
-    /// The adapter config served (what `config` shows).
-    config: AdapterConfig,
-    /// Which parts of `config` a user's own replace.
-    own_parts: OwnParts,
+    /// The adapter served, as `config` shows it ([`DomainDefinition::served_adapter`]).
+    adapter: Value,
     adapting: Adapting,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
@@ -168,13 +166,12 @@ impl Session {
         };
         let mut draws = ChaCha8Rng::seed_from_u64(seed);
         draws.set_stream(DRAW_STREAM);
-        let own_parts = domain.own_parts();
+        let adapter = domain.served_adapter();
         Ok(Self {
             domain: domain.name,
             causes: domain.causes,
             observations: domain.observations,
-            config: domain.adapter,
-            own_parts,
+            adapter,
             adapting,
             cases,
             draws,
@@ -430,20 +427,6 @@ impl Session {
     }
 
     fn config(&self) -> Value {
-        let mut adapter = json!(self.config);
-        // A user's searcher or retriever (an arm's, or a plug-in's) replaces what the
-        // config names: the config's kind would be a claim about something not in use.
-        if let Some(adapter) = adapter.as_object_mut() {
-            if self.own_parts.searcher {
-                adapter.remove("search");
-            }
-            if self.own_parts.retriever {
-                adapter.remove("retriever");
-            }
-        }
-        if self.adapting.mission().is_some() {
-            adapter["mode"] = json!("mission");
-        }
         json!({
             "ok": "config",
             "domain": self.domain,
@@ -451,7 +434,7 @@ impl Session {
             "observations": self.observations,
             "space": self.adaptation().space().as_ref(),
             "behaviors": self.adaptation().space().size(),
-            "adapter": adapter,
+            "adapter": self.adapter,
             "strategy": self.adaptation().strategy(),
         })
     }
