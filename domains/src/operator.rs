@@ -25,7 +25,8 @@
 //! (quoted, `by_cause: {"detonation": 1.0}`), and of those only the causes the robot
 //! perceives itself ([`crate::causes::PERCEIVED`]); the UGV's own rule refuses a
 //! preference whose cause the scenario does not declare ([`UndeclaredPreference`]). An
-//! operator's attention scales its reactions through [`lab::attention::Attending`].
+//! operator's attention scales its reactions through [`lab::attention::Attending`], and its
+//! deadline and giving up are the lab's [`Patience`].
 
 use crate::Scenario;
 use crate::causes::{
@@ -35,6 +36,7 @@ use crate::causes::{
 use crate::trace::{EventKind, Trace};
 use lab::attention::Attending;
 use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
+use lab::patience::Patience;
 use lab::{FeedbackChannel, Judgement};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
@@ -256,37 +258,37 @@ impl OperatorModel {
     /// How the run ends for an operator `attending` to it, before the judgement names what
     /// it overlooked.
     fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
-        let give_up = self.t_complete * self.give_up_factor;
-        let interrupt = |cause, t| Judgement::interrupted(self.weights.of(cause), cause, t);
-        let mut deadline_seen = false;
-        for event in &trace.events {
-            if !deadline_seen && event.t > self.t_complete {
-                deadline_seen = true;
-                if attending.react(rng, self.p_deadline, DEADLINE) {
-                    return interrupt(DEADLINE, self.t_complete);
-                }
-            }
-            if event.t > give_up {
-                return Judgement::failed(self.weights.of(DEADLINE), DEADLINE, give_up);
-            }
-            match event.kind {
+        let patience = Patience {
+            deadline_s: self.t_complete,
+            p_interrupt: self.p_deadline,
+            give_up_factor: self.give_up_factor,
+            cause: DEADLINE,
+        };
+        let interrupt = |cause, t| Some(Judgement::interrupted(self.weights.of(cause), cause, t));
+        let events = trace.events.iter().map(|event| (event.t, event.kind));
+        patience.watch(
+            events,
+            &self.weights,
+            attending,
+            rng,
+            |attending, rng, t, kind| match kind {
                 EventKind::Collision { .. }
                     if attending.react(rng, self.p_collision, COLLISION) =>
                 {
-                    return interrupt(COLLISION, event.t);
+                    interrupt(COLLISION, t)
                 }
-                EventKind::Stuck => return interrupt(STUCK, event.t),
+                EventKind::Stuck => interrupt(STUCK, t),
                 EventKind::MissedObject { .. }
                     if attending.react(rng, self.p_missed_object, MISSED_OBJECT) =>
                 {
-                    return interrupt(MISSED_OBJECT, event.t);
+                    interrupt(MISSED_OBJECT, t)
                 }
                 EventKind::Labelled {
                     explosive: false,
                     labelled_explosive: true,
                     ..
                 } if attending.react(rng, self.p_false_alarm, FALSE_ALARM) => {
-                    return interrupt(FALSE_ALARM, event.t);
+                    interrupt(FALSE_ALARM, t)
                 }
                 EventKind::PassedPerson {
                     present,
@@ -300,14 +302,14 @@ impl OperatorModel {
                         && attending.react(rng, c.p, TOO_FAST_NEAR_PEOPLE)
                 }) =>
                 {
-                    return interrupt(TOO_FAST_NEAR_PEOPLE, event.t);
+                    interrupt(TOO_FAST_NEAR_PEOPLE, t)
                 }
                 EventKind::ClosestPass { gap, .. }
                     if self
                         .clearance
                         .is_some_and(|c| gap < c.gap && attending.react(rng, c.p, TOO_CLOSE)) =>
                 {
-                    return interrupt(TOO_CLOSE, event.t);
+                    interrupt(TOO_CLOSE, t)
                 }
                 EventKind::Scanned {
                     distance, duration, ..
@@ -316,20 +318,17 @@ impl OperatorModel {
                         && attending.react(rng, c.p, POOR_SCAN)
                 }) =>
                 {
-                    return interrupt(POOR_SCAN, event.t);
+                    interrupt(POOR_SCAN, t)
                 }
-                EventKind::Detonation { .. } => {
-                    return Judgement::failed(self.weights.of(DETONATION), DETONATION, event.t);
-                }
-                EventKind::Arrived { .. } => {
-                    return Judgement::completed(self.weights.completed, event.t);
-                }
-                _ => {}
-            }
-        }
-        // A trace always ends with an arrival or a stuck robot; an empty one means the
-        // robot never started.
-        interrupt(STUCK, 0.0)
+                EventKind::Detonation { .. } => Some(Judgement::failed(
+                    self.weights.of(DETONATION),
+                    DETONATION,
+                    t,
+                )),
+                EventKind::Arrived { .. } => Some(Judgement::completed(self.weights.completed, t)),
+                _ => None,
+            },
+        )
     }
 }
 

@@ -118,33 +118,33 @@ pub fn observations(scenario: Scenario) -> &'static [Cause] {
 /// command ended (the outcome's duration), as bits over `declared` (a scenario's
 /// [`observations`]; an event whose name is not declared is not reported).
 pub fn perceive(trace: &Trace, until: f64, declared: &[Cause]) -> Observations {
-    let bit = |name: Cause| declared.iter().position(|&d| d == name);
-    trace
-        .events
-        .iter()
-        .take_while(|e| e.t <= until)
-        .filter_map(|event| match event.kind {
-            EventKind::Collision { .. } => bit(COLLISION),
-            EventKind::Stuck => bit(STUCK),
-            EventKind::Detonation { .. } => bit(DETONATION),
-            EventKind::BehindPlan { .. } => bit(BEHIND_PLAN),
-            // Its lidar sees a person who is there, not a spot where one might be.
-            EventKind::PassedPerson {
-                present: true,
-                gap,
-                speed,
-                ..
-            } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => bit(NEAR_PERSON_FAST),
-            EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => bit(CLOSE_PASS),
-            // Its own label: it knows it raised the alarm, and believes it right.
-            EventKind::Labelled {
-                labelled_explosive: true,
-                ..
-            } => bit(RAISED_ALARM),
-            // Not perceivable: an object it never saw, a label it believes, a scan it chose.
-            _ => None,
-        })
-        .fold(Observations::NONE, Observations::with)
+    let perceived =
+        trace
+            .events
+            .iter()
+            .take_while(|e| e.t <= until)
+            .filter_map(|event| match event.kind {
+                EventKind::Collision { .. } => Some(COLLISION),
+                EventKind::Stuck => Some(STUCK),
+                EventKind::Detonation { .. } => Some(DETONATION),
+                EventKind::BehindPlan { .. } => Some(BEHIND_PLAN),
+                // Its lidar sees a person who is there, not a spot where one might be.
+                EventKind::PassedPerson {
+                    present: true,
+                    gap,
+                    speed,
+                    ..
+                } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => Some(NEAR_PERSON_FAST),
+                EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => Some(CLOSE_PASS),
+                // Its own label: it knows it raised the alarm, and believes it right.
+                EventKind::Labelled {
+                    labelled_explosive: true,
+                    ..
+                } => Some(RAISED_ALARM),
+                // Not perceivable: an object it never saw, a label it believes, a scan it chose.
+                _ => None,
+            });
+    Observations::named(declared, perceived)
 }
 
 /// The robot's own confidence that the command of `trace` went as it should, up to time
@@ -217,10 +217,7 @@ mod tests {
 
     /// The bit of observation `name` in the patrol robot's list.
     fn seen(names: &[Cause]) -> Observations {
-        names
-            .iter()
-            .map(|n| PATROL.iter().position(|p| p == n).unwrap())
-            .fold(Observations::NONE, Observations::with)
+        Observations::named(&PATROL, names.iter().copied())
     }
 
     #[test]

@@ -19,7 +19,9 @@ use cbr_core::{Behavior, BehaviorSpace};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
-use trust::{Cause, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, Vocabulary};
+use trust::{
+    Cause, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, OutcomeWeights, Vocabulary,
+};
 
 /// A task domain: a behavior space and a way to run one command.
 pub trait Domain: Send + Sync {
@@ -190,6 +192,23 @@ impl Judgement {
         }
     }
 
+    /// A judgement of `kind` whose real reason is `truth`, weighed as an operator with
+    /// `weights` weighs it: a failure or an interruption by `truth`'s weight
+    /// ([`OutcomeWeights::of`]), a completion by `weights.completed` (and no truth).
+    pub fn weighed(
+        kind: OutcomeKind,
+        truth: Cause,
+        duration_s: f64,
+        weights: &OutcomeWeights,
+    ) -> Self {
+        match kind {
+            OutcomeKind::Completed => Self::completed(weights.completed, duration_s),
+            OutcomeKind::Failed | OutcomeKind::Interrupted => {
+                Self::new(kind, weights.of(truth), Some(truth), duration_s)
+            }
+        }
+    }
+
     /// The same judgement with what the robot perceived.
     #[must_use]
     pub fn observing(self, observed: Observations) -> Self {
@@ -232,5 +251,27 @@ mod tests {
         assert!(j.outcome.observed.contains(1));
         assert!(j.outcome.is_untrustworthy());
         assert_eq!(Judgement::completed(1.0, 1.0).truth, None);
+    }
+
+    #[test]
+    fn a_weighed_judgement_takes_its_cause_s_weight_or_the_completion_s() {
+        let weights = OutcomeWeights {
+            completed: 0.25,
+            default: 2.0,
+            by_cause: [(TOO_SLOW, 4.0)].into_iter().collect(),
+        };
+        let bump = Cause::from_static("bump");
+        assert_eq!(
+            Judgement::weighed(OutcomeKind::Interrupted, TOO_SLOW, 3.0, &weights),
+            Judgement::interrupted(4.0, TOO_SLOW, 3.0)
+        );
+        assert_eq!(
+            Judgement::weighed(OutcomeKind::Failed, bump, 5.0, &weights),
+            Judgement::failed(2.0, bump, 5.0)
+        );
+        assert_eq!(
+            Judgement::weighed(OutcomeKind::Completed, bump, 6.0, &weights),
+            Judgement::completed(0.25, 6.0)
+        );
     }
 }

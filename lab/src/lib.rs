@@ -19,6 +19,7 @@ pub mod mission;
 pub mod mission_figure;
 pub mod mission_report;
 pub mod operator_file;
+pub mod patience;
 pub mod plot;
 pub mod population;
 pub mod report;

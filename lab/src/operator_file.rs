@@ -410,6 +410,14 @@ pub fn named<O: OperatorData>(operators: impl IntoIterator<Item = O>) -> Vec<(St
         .collect()
 }
 
+/// The operator named `name` among `operators` (a family's poles, among the shipped
+/// operators); `None` when none is.
+pub fn find<O: OperatorData>(operators: impl IntoIterator<Item = O>, name: &str) -> Option<O> {
+    operators
+        .into_iter()
+        .find(|operator| operator.name() == name)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -479,6 +487,18 @@ mod tests {
     }
 
     const GOOD: &str = "p: 0.5, t: 2.0, gap: 0.0, factor: 1.5";
+
+    #[test]
+    fn an_operator_is_found_by_its_name() {
+        let ops = || {
+            ["a", "b"].map(|name| {
+                let text = format!("(name: \"{name}\", {GOOD})");
+                from_ron::<Watcher>(&text, Path::new("ops/w.ron"), &declared()).unwrap()
+            })
+        };
+        assert_eq!(find(ops(), "b").map(|w| w.name), Some("b".to_owned()));
+        assert!(find(ops(), "c").is_none());
+    }
 
     #[test]
     fn a_good_operator_reads_with_its_weights_checked() {

@@ -57,6 +57,39 @@ impl Observations {
         }
     }
 
+    /// The set of the observations `names`, numbered by their places in the domain's
+    /// `declared` observations (the lab's `Domain::observations`, in its order); a name
+    /// not declared is left out.
+    ///
+    /// ```
+    /// use trust::{Cause, Observations};
+    ///
+    /// const STOP: Cause = Cause::from_static("safety-stop");
+    /// const LATE: Cause = Cause::from_static("behind-plan");
+    /// const DECLARED: [Cause; 2] = [STOP, LATE];
+    ///
+    /// let seen = Observations::named(&DECLARED, [LATE]);
+    /// assert_eq!(seen, Observations::NONE.with(1));
+    /// assert!(seen.contains_named(&DECLARED, LATE));
+    /// assert!(!seen.contains_named(&DECLARED, STOP));
+    /// assert_eq!(Observations::named(&DECLARED, [Cause::from_static("glare")]), Observations::NONE);
+    /// ```
+    pub fn named(declared: &[Cause], names: impl IntoIterator<Item = Cause>) -> Self {
+        names
+            .into_iter()
+            .filter_map(|name| declared.iter().position(|&d| d == name))
+            .fold(Self::NONE, Self::with)
+    }
+
+    /// Whether the observation `name`, numbered by its place in the domain's `declared`
+    /// observations, happened (`false` for a name not declared).
+    pub fn contains_named(self, declared: &[Cause], name: Cause) -> bool {
+        declared
+            .iter()
+            .position(|&d| d == name)
+            .is_some_and(|index| self.contains(index))
+    }
+
     /// Whether observation number `index` happened.
     pub const fn contains(self, index: usize) -> bool {
         index < Self::CAPACITY && self.0 & (1 << index) != 0

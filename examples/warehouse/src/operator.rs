@@ -15,6 +15,7 @@ use std::convert::Infallible;
 use std::path::Path;
 use trustcbr::lab::attention::Attending;
 use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
+use trustcbr::lab::patience::Patience;
 use trustcbr::lab::{FeedbackChannel, Judgement};
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
@@ -110,56 +111,46 @@ impl WarehouseOperator {
     /// How the pick ends for an operator `attending` to it, before the judgement names
     /// what it overlooked.
     fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
-        let give_up = self.t_complete * self.give_up_factor;
-        let mut react = |p, cause: WarehouseCause| attending.react(rng, p, cause.to_trust());
-        let mut deadline_seen = false;
-        // A trace without an ending (never the simulation's) is a pick that never ends:
-        // the operator waits for it past every deadline.
-        let events = trace.events.iter().map(|&(t, e)| (t, Some(e)));
-        for (t, event) in events.chain([(f64::INFINITY, None)]) {
-            if !deadline_seen && t > self.t_complete {
-                deadline_seen = true;
-                if react(self.p_deadline, WarehouseCause::TooSlow) {
-                    return self.ending(
-                        OutcomeKind::Interrupted,
-                        WarehouseCause::TooSlow,
-                        self.t_complete,
-                    );
-                }
-            }
-            if t > give_up {
-                break;
-            }
-            match event {
-                // The reaction is drawn at every collision, in trace order.
-                Some(Event::Collision) if react(self.p_collision, WarehouseCause::Collision) => {
-                    return self.ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t);
-                }
-                Some(Event::ItemNotFound) => {
-                    return self.ending(OutcomeKind::Failed, WarehouseCause::ItemNotFound, t);
-                }
-                Some(Event::DroppedItem) => {
-                    return self.ending(OutcomeKind::Failed, WarehouseCause::DroppedItem, t);
-                }
-                Some(Event::Delivered { crushed }) => {
-                    if crushed && react(self.p_crushed, WarehouseCause::CrushedItem) {
-                        return self.ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t);
+        let patience = Patience {
+            deadline_s: self.t_complete,
+            p_interrupt: self.p_deadline,
+            give_up_factor: self.give_up_factor,
+            cause: WarehouseCause::TooSlow.to_trust(),
+        };
+        let ending = |kind, cause: WarehouseCause, t| {
+            Some(Judgement::weighed(kind, cause.to_trust(), t, &self.weights))
+        };
+        let events = trace.events.iter().copied();
+        patience.watch(
+            events,
+            &self.weights,
+            attending,
+            rng,
+            |attending, rng, t, event| {
+                let mut react =
+                    |p, cause: WarehouseCause| attending.react(rng, p, cause.to_trust());
+                match event {
+                    // The reaction is drawn at every collision, in trace order.
+                    Event::Collision if react(self.p_collision, WarehouseCause::Collision) => {
+                        ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t)
                     }
-                    return Judgement::completed(self.weights.completed, t);
+                    Event::ItemNotFound => {
+                        ending(OutcomeKind::Failed, WarehouseCause::ItemNotFound, t)
+                    }
+                    Event::DroppedItem => {
+                        ending(OutcomeKind::Failed, WarehouseCause::DroppedItem, t)
+                    }
+                    Event::Delivered { crushed: true }
+                        if react(self.p_crushed, WarehouseCause::CrushedItem) =>
+                    {
+                        ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t)
+                    }
+                    Event::Delivered { .. } => {
+                        Some(Judgement::completed(self.weights.completed, t))
+                    }
+                    Event::Collision => None,
                 }
-                Some(Event::Collision) | None => {}
-            }
-        }
-        self.ending(OutcomeKind::Failed, WarehouseCause::TooSlow, give_up)
-    }
-
-    /// A failure or interruption with `cause` at `t`, weighted by this operator.
-    fn ending(&self, kind: OutcomeKind, cause: WarehouseCause, t: f64) -> Judgement {
-        Judgement::new(
-            kind,
-            self.weights.of(cause.to_trust()),
-            Some(cause.to_trust()),
-            t,
+            },
         )
     }
 }

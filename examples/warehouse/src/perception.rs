@@ -66,20 +66,6 @@ pub const HINTS: [Hint; 3] = [
     },
 ];
 
-/// The bit of observation `name` in [`OBSERVATIONS`] (`None`: not one of them).
-pub fn bit(name: Cause) -> Option<usize> {
-    OBSERVATIONS.iter().position(|&o| o == name)
-}
-
-/// The observations `names` as an outcome carries them: bits in [`OBSERVATIONS`]' order
-/// (a name not declared is left out).
-pub fn observed(names: impl IntoIterator<Item = Cause>) -> Observations {
-    names
-        .into_iter()
-        .filter_map(bit)
-        .fold(Observations::NONE, Observations::with)
-}
-
 /// What the robot perceived of the pick in `trace` up to time `until` (s), the moment the
 /// command ended (the judgement's duration).
 pub fn perceive(trace: &Trace, until: f64) -> Observations {
@@ -103,5 +89,5 @@ pub fn perceive(trace: &Trace, until: f64) -> Observations {
             Event::Collision | Event::Delivered { .. } => None,
         });
     let late = (until > trace.planned_s).then_some(BEHIND_PLAN);
-    observed(stops.chain(firm).chain(events).chain(late))
+    Observations::named(&OBSERVATIONS, stops.chain(firm).chain(events).chain(late))
 }

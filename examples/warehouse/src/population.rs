@@ -20,14 +20,12 @@
 //! the base and the poles are the shipped operators.
 
 use crate::operator::{WarehouseOperator, builtin_operators};
+use trustcbr::lab::operator_file;
 use trustcbr::lab::population::{geometric, linear, two_pole_family};
 
 /// The shipped operator of `name`.
 fn shipped(name: &str) -> WarehouseOperator {
-    builtin_operators()
-        .into_iter()
-        .find(|o| o.name == name)
-        .expect("a shipped operator")
+    operator_file::find(builtin_operators(), name).expect("a shipped operator")
 }
 
 /// The member of the family at position `x` in `[-1, 1]` (-1: throughput-focused, 0:

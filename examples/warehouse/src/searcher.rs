@@ -19,7 +19,7 @@
 use crate::cause::WarehouseCause;
 use crate::gripper::Gripper;
 use crate::map::MapSource;
-use crate::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, bit};
+use crate::perception::{BEHIND_PLAN, FIRM_GRIP, OBSERVATIONS, SAFETY_STOP};
 use crate::space::{GRIP_FORCE, GRIPPER, MAP, SPEED};
 use std::collections::{HashMap, HashSet};
 use trustcbr::cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
@@ -78,7 +78,7 @@ impl Trouble {
         if let Some(stated) = outcome.stated.and_then(Trouble::stated) {
             return vec![stated];
         }
-        let perceived = |name: Cause| bit(name).is_some_and(|b| outcome.observed.contains(b));
+        let perceived = |name: Cause| outcome.observed.contains_named(&OBSERVATIONS, name);
         if perceived(WarehouseCause::DroppedItem.to_trust()) {
             return vec![Trouble::Slipped];
         }

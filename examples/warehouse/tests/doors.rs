@@ -9,9 +9,9 @@ use trustcbr::lab::{Domain, FeedbackChannel};
 use trustcbr::rand::SeedableRng;
 use trustcbr::rand::rngs::StdRng;
 use trustcbr::trust::testing::{check_searcher, searcher_conformance};
-use trustcbr::trust::{Cause, Evaluated, Outcome, RetrieverKind};
+use trustcbr::trust::{Cause, Evaluated, Observations, Outcome, RetrieverKind};
 use trustcbr::{Catalog, Family, Readings};
-use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, observed};
+use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, OBSERVATIONS, SAFETY_STOP};
 use warehouse::population::{family, member};
 use warehouse::searcher::Trouble;
 use warehouse::space::warehouse_space;
@@ -145,11 +145,17 @@ fn conflict_sets_how_far_members_sit_from_the_base() {
 }
 
 fn interrupted(perceived: &[Cause]) -> Outcome {
-    Outcome::interrupted(1.0, 30.0).observing(observed(perceived.iter().copied()))
+    Outcome::interrupted(1.0, 30.0).observing(Observations::named(
+        &OBSERVATIONS,
+        perceived.iter().copied(),
+    ))
 }
 
 fn failed(perceived: &[Cause]) -> Outcome {
-    Outcome::failed(1.0, 30.0).observing(observed(perceived.iter().copied()))
+    Outcome::failed(1.0, 30.0).observing(Observations::named(
+        &OBSERVATIONS,
+        perceived.iter().copied(),
+    ))
 }
 
 #[test]

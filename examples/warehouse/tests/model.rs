@@ -14,7 +14,7 @@ use warehouse::items::{ITEM_MIX, draw_item};
 use warehouse::map::MapSource;
 use warehouse::motion::{leg_time, stop_for, time_at};
 use warehouse::operator::{WarehouseOperator, builtin_operators};
-use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, SAFETY_STOP, observed, perceive};
+use warehouse::perception::{BEHIND_PLAN, FIRM_GRIP, OBSERVATIONS, SAFETY_STOP, perceive};
 use warehouse::trace::{Event, Trace};
 
 /// A generator that returns the same word forever: `0` makes every uniform draw 0.0, `!0`
@@ -218,9 +218,18 @@ fn the_robot_perceives_its_stops_its_grip_and_its_plan() {
     assert_eq!((grasp.squeeze_n, grasp.rated_n), (25.0, 96.0));
     // Up to the first stop, up to the plan, and past it (delivered at 43.5 s).
     assert_eq!(perceive(&trace, 6.0), Observations::NONE);
-    assert_eq!(perceive(&trace, 6.4), observed([SAFETY_STOP]));
-    assert_eq!(perceive(&trace, 27.0), observed([SAFETY_STOP]));
-    assert_eq!(perceive(&trace, 43.5), observed([SAFETY_STOP, BEHIND_PLAN]));
+    assert_eq!(
+        perceive(&trace, 6.4),
+        Observations::named(&OBSERVATIONS, [SAFETY_STOP])
+    );
+    assert_eq!(
+        perceive(&trace, 27.0),
+        Observations::named(&OBSERVATIONS, [SAFETY_STOP])
+    );
+    assert_eq!(
+        perceive(&trace, 43.5),
+        Observations::named(&OBSERVATIONS, [SAFETY_STOP, BEHIND_PLAN])
+    );
     // Judged: the balanced operator stops the robot at the first collision (draw 0), and
     // the judgement carries what the robot perceived until then; left to finish (draws
     // near 1), the pick is delivered late against the plan.
@@ -230,7 +239,10 @@ fn the_robot_perceives_its_stops_its_grip_and_its_plan() {
         .unwrap();
     let stopped = domain.run(&behavior, &operator("balanced"), &mut Constant(0));
     assert_eq!(stopped.truth, Some(WarehouseCause::Collision.to_trust()));
-    assert_eq!(stopped.outcome.observed, observed([SAFETY_STOP]));
+    assert_eq!(
+        stopped.outcome.observed,
+        Observations::named(&OBSERVATIONS, [SAFETY_STOP])
+    );
     // Jaws at 100 N squeeze the carton over its rating: a firm grip, and it is crushed.
     let jaws = domain.simulate(
         settings(Gripper::ParallelJaw, MapSource::Live, 1.0, 100.0),
@@ -240,7 +252,7 @@ fn the_robot_perceives_its_stops_its_grip_and_its_plan() {
     assert_eq!(end.1, Event::Delivered { crushed: true });
     assert_eq!(
         perceive(&jaws, end.0),
-        observed([SAFETY_STOP, FIRM_GRIP, BEHIND_PLAN])
+        Observations::named(&OBSERVATIONS, [SAFETY_STOP, FIRM_GRIP, BEHIND_PLAN])
     );
 }
 
@@ -256,7 +268,7 @@ fn a_pick_without_a_stop_ends_on_its_plan_and_perceives_its_endings() {
     assert!(dropped.safety_stops.is_empty());
     assert_eq!(
         perceive(&dropped, 28.0),
-        observed([WarehouseCause::DroppedItem.to_trust()])
+        Observations::named(&OBSERVATIONS, [WarehouseCause::DroppedItem.to_trust()])
     );
     // A cup's seal on oily metal holds 0.9 x 100 x 1.3 = 117 N against 6 x (9.81 + 3 x
     // 0.5) = 67.9 N: delivered after 24 + 1 + 1.5 + 24 + 0.5 = 51 s, exactly its plan; the
@@ -280,7 +292,7 @@ fn a_pick_without_a_stop_ends_on_its_plan_and_perceives_its_endings() {
             },
             21.25
         ),
-        observed([WarehouseCause::ItemNotFound.to_trust()])
+        Observations::named(&OBSERVATIONS, [WarehouseCause::ItemNotFound.to_trust()])
     );
 }
 
