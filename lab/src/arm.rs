@@ -167,6 +167,43 @@ impl Arm {
         }
     }
 
+    /// Algorithm 1 over the cases a built-in retriever of `retriever`'s kind indexes (the
+    /// suite's `adapter.retriever`, which `Catalog::arms` is handed), with `searcher` as
+    /// its fallback.
+    pub fn case_based_over(
+        name: impl Into<String>,
+        searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,
+        retriever: RetrieverKind,
+    ) -> Self {
+        Self::case_based(name, searcher, move |space, lambda| {
+            retriever.build(space.clone(), lambda)
+        })
+    }
+
+    /// A searcher offered as the built-in ones are: the arm `name` (the search alone) and
+    /// `case-based+name` (Algorithm 1 over `retriever`'s kind, with it as fallback).
+    ///
+    /// ```
+    /// use lab::Arm;
+    /// use trust::RetrieverKind;
+    /// use trust::search::SearchKind;
+    ///
+    /// let [alone, reusing] =
+    ///     Arm::search_and_case_based("uniform", |_| SearchKind::Uniform.build(), RetrieverKind::Linear);
+    /// assert_eq!((alone.name(), alone.reuses_cases()), ("uniform", false));
+    /// assert_eq!((reusing.name(), reusing.reuses_cases()), ("case-based+uniform", true));
+    /// ```
+    pub fn search_and_case_based(
+        name: &str,
+        searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Clone + Send + Sync + 'static,
+        retriever: RetrieverKind,
+    ) -> [Self; 2] {
+        [
+            Self::search_only(name, searcher.clone()),
+            Self::case_based_over(format!("case-based+{name}"), searcher, retriever),
+        ]
+    }
+
     /// The same arm starting every experiment from `cases` instead of an empty case base.
     pub fn with_starting_cases(mut self, cases: TrustCaseBase) -> Self {
         self.starting_cases = Some(Arc::new(cases));
@@ -219,9 +256,7 @@ impl Arm {
             .find(|k| k.name() == search)?;
         let searcher = move |_: &Arc<BehaviorSpace>| kind.build();
         Some(if reuse {
-            Self::case_based(name, searcher, move |space, lambda| {
-                retriever.build(space.clone(), lambda)
-            })
+            Self::case_based_over(name, searcher, retriever)
         } else {
             Self::search_only(name, searcher)
         })

@@ -292,9 +292,7 @@ pub fn python_arm(
         ))
     };
     if reuses_cases {
-        Arm::case_based(name, searcher, move |space, lambda| {
-            retriever.build(space.clone(), lambda)
-        })
+        Arm::case_based_over(name, searcher, retriever)
     } else {
         Arm::search_only(name, searcher)
     }

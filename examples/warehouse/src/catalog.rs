@@ -69,14 +69,7 @@ impl Catalog for WarehouseCatalog {
     // The troubleshooter alone, and as the fallback of case reuse.
     fn arms(&self, retriever: RetrieverKind) -> Vec<Arm> {
         let troubleshooter = |_: &Arc<BehaviorSpace>| Box::new(Troubleshooter::new()) as _;
-        vec![
-            Arm::search_only(TROUBLESHOOTER, troubleshooter),
-            Arm::case_based(
-                format!("case-based+{TROUBLESHOOTER}"),
-                troubleshooter,
-                move |space: &Arc<BehaviorSpace>, lambda| retriever.build(space.clone(), lambda),
-            ),
-        ]
+        Arm::search_and_case_based(TROUBLESHOOTER, troubleshooter, retriever).into()
     }
 
     fn completion_weight(&self, operator: &WarehouseOperator) -> Option<f64> {
