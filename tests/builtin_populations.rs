@@ -1,6 +1,6 @@
 //! A population of the catalog's built-in operators, named in a suite config
 //! (`builtin_operators`) beside operator files: its members and their order, the names
-//! refused (unknown, twice, with a family, without a population), and a suite held in a
+//! refused (unknown, twice, with a family, without a population, a file's name taken), and a suite held in a
 //! string, as a catalog embeds one, run through the binary with only its members judging.
 
 mod support;
@@ -90,6 +90,47 @@ fn names_a_population_cannot_hold_are_refused_with_the_known_ones() {
     assert_eq!(
         refused(&suite("feedback: None")),
         "pair.ron: experiments[0].population: a population needs its members: `builtin_operators`, `operator_files` or a `family`"
+    );
+}
+
+#[test]
+fn a_file_whose_operator_name_is_taken_is_named_with_what_holds_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let operator = |name: &str| {
+        format!("(name: \"{name}\", t_complete: 10.0, p_deadline: 0.9, p_collision: 0.1)")
+    };
+    for (file, name) in [
+        ("hasty.ron", "hasty"),
+        ("also-hasty.ron", "hasty"),
+        ("balanced.ron", "balanced"),
+        ("random.ron", "random"),
+    ] {
+        std::fs::write(dir.path().join(file), operator(name)).unwrap();
+    }
+    let origin = dir.path().join("pair.ron");
+    let refused = |members: &str| {
+        SuiteConfig::from_ron(&UgvCatalog, &suite(members), &origin)
+            .unwrap_err()
+            .to_string()
+    };
+    let at = origin.display();
+    assert_eq!(
+        refused("builtin_operators: [\"balanced\"], operator_files: [\"balanced.ron\"]"),
+        format!(
+            "{at}: experiments[0].operator_files[0]: operator name `balanced` is taken by a built-in operator"
+        )
+    );
+    assert_eq!(
+        refused("operator_files: [\"hasty.ron\", \"balanced.ron\", \"also-hasty.ron\"]"),
+        format!(
+            "{at}: experiments[0].operator_files[2]: operator name `hasty` is taken by `operator_files[0]`"
+        )
+    );
+    assert_eq!(
+        refused("operator_files: [\"random.ron\"]"),
+        format!(
+            "{at}: experiments[0].operator_files[0]: operator name `random` is reserved: it draws an operator per trial"
+        )
     );
 }
 

@@ -265,16 +265,36 @@ impl ExperimentSpec {
                 "the experiment has no operator".into(),
             ));
         }
+        // Files come after the built-in operators (or the family's members).
+        let first_file = operators.len() - self.operator_files.len();
+        let place = |k: usize| {
+            if k >= first_file {
+                format!("{field}.operator_files[{}]", k - first_file)
+            } else if self.population.as_ref().is_some_and(|p| p.family.is_none()) {
+                format!("{field}.builtin_operators[{k}]")
+            } else {
+                format!("{field}.scenario")
+            }
+        };
         for (k, (name, _)) in operators.iter().enumerate() {
             if let Err(e) = check_file_name("operator", name) {
-                return Err(invalid(format!("{field}.operator_files"), e.to_string()));
+                return Err(invalid(place(k), e.to_string()));
             }
-            if operators[..k].iter().any(|(n, _)| n == name) || name == RANDOM_OPERATOR {
-                return Err(invalid(
-                    format!("{field}.operator_files"),
-                    format!("operator name `{name}` is taken"),
-                ));
-            }
+            let holder = operators[..k].iter().position(|(n, _)| n == name);
+            let problem = match holder {
+                _ if name == RANDOM_OPERATOR => {
+                    format!("operator name `{name}` is reserved: it draws an operator per trial")
+                }
+                Some(j) if j < first_file => {
+                    format!("operator name `{name}` is taken by a built-in operator")
+                }
+                Some(j) => format!(
+                    "operator name `{name}` is taken by `operator_files[{}]`",
+                    j - first_file
+                ),
+                None => continue,
+            };
+            return Err(invalid(place(k), problem));
         }
         Ok(operators)
     }
