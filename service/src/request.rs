@@ -132,7 +132,7 @@ pub enum RequestError {
     },
     /// The retired `cause` field of an older controller.
     #[error(
-        "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (docs/protocol.md)"
+        "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (see `serve --help`)"
     )]
     RetiredCause,
     /// The outcome's numbers are unusable (negative weight or duration, a confidence
@@ -653,7 +653,7 @@ mod tests {
         ] {
             assert_eq!(
                 err(line),
-                "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (docs/protocol.md)"
+                "field `cause` is retired: the robot is not told the operator's true reason; send `stated` for a reason the operator gave (or leave it out) and `observed` for what the robot perceived (see `serve --help`)"
             );
         }
     }
