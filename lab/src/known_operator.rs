@@ -87,6 +87,9 @@ pub struct KnownOperator {
     /// its estimated mean contribution per command is positive, so the expected estimate
     /// climbs ([`Tally::trusted_on_average`]).
     pub trusted: Vec<bool>,
+    /// Per behavior (in rank order), its walk solved from the estimate: the acceptance
+    /// probability and expected costs the limit's optimal orders are made of.
+    pub walks: Vec<WalkOutcome>,
 }
 
 /// How much a population's operators disagree, measured on their trustworthy regions.
@@ -303,5 +306,6 @@ pub fn known_operator<D: Domain>(
         limit: Limit::from_outcomes(&walks)?,
         law: paper_law(&tallies, &walks, thresholds)?,
         trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
+        walks,
     })
 }
