@@ -9,14 +9,18 @@
 //! ([`crate::known_operator`], the known-operator limit's estimate). With them it acts as the
 //! known-operator limit's agent does:
 //!
-//! - at the mission's start, and at a change after which the behavior in use is not
-//!   trustworthy for the new member (or while it is still adapting), it begins an episode
-//!   for the member and tries behaviors in the order that minimises the expected
-//!   untrustworthy commands until one is accepted (ascending expected untrustworthy
-//!   commands over acceptance probability, [`limit::optimal_order`]; the behavior just
-//!   found wanting excluded);
-//! - at a change after which the behavior it settled on is trustworthy for the new member,
-//!   it keeps it: nothing would improve in expectation by adapting.
+//! - at the mission's start, and at a change while it is still adapting, it begins an
+//!   episode for the (new) member and tries behaviors in the order that minimises the
+//!   expected untrustworthy commands until one is accepted (ascending expected
+//!   untrustworthy commands over acceptance probability, [`limit::optimal_order`]);
+//! - at a change after it settled, it keeps the behavior in use when that costs no more in
+//!   expectation: its untrustworthy commands at the member's rate over the mean gap to the
+//!   next change (gaps are memoryless), against an episode in the member's order without
+//!   it ([`limit::order_cost`]); otherwise it begins that episode. A change *needs*
+//!   adaptation, as for the arms, when the behavior in use is not trustworthy for the new
+//!   member (its expected estimate falls); a behavior the member trusts may still be
+//!   given up for one that fails less, and one it does not may be kept when every
+//!   alternative costs more.
 //!
 //! Each tried behavior's estimate starts at 0 and walks with the outcomes the simulated
 //! operator gives (the runs of the mission's own stream), so its walk, acceptance or
@@ -44,11 +48,17 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use trust::{OutcomeKind, TrustEstimate, Verdict};
 
-/// What the oracle knows of one member of the population.
+/// What the oracle knows of one member of the population, per behavior in rank order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MemberKnowledge {
-    /// Per behavior (in rank order), whether it is trustworthy for the member.
+    /// Whether it is trustworthy for the member.
     pub trusted: Vec<bool>,
+    /// The probability that one of its commands is untrustworthy.
+    pub untrustworthy_rate: Vec<f64>,
+    /// The probability that an episode accepts it.
+    pub accept: Vec<f64>,
+    /// The expected untrustworthy commands until an episode accepts or rejects it.
+    pub untrustworthy: Vec<f64>,
     /// The behaviors (ranks) in the order the oracle tries them in an episode for the
     /// member: the known-operator agent's for untrustworthy commands.
     pub order: Vec<usize>,
@@ -58,11 +68,33 @@ impl MemberKnowledge {
     /// What the known-operator estimate `known` tells the oracle.
     pub fn of(known: &KnownOperator) -> Self {
         let accept: Vec<f64> = known.walks.iter().map(|w| w.accept).collect();
-        let cost: Vec<f64> = known.walks.iter().map(|w| w.untrustworthy).collect();
+        let untrustworthy: Vec<f64> = known.walks.iter().map(|w| w.untrustworthy).collect();
         Self {
             trusted: known.trusted.clone(),
-            order: limit::optimal_order(&accept, &cost),
+            untrustworthy_rate: known.untrustworthy_rate.clone(),
+            order: limit::optimal_order(&accept, &untrustworthy),
+            accept,
+            untrustworthy,
         }
+    }
+
+    /// The expected untrustworthy commands of an episode in the member's order without
+    /// the behavior of rank `without`, until one is accepted.
+    fn readaptation_cost(&self, without: usize) -> f64 {
+        let order: Vec<usize> = self
+            .order
+            .iter()
+            .copied()
+            .filter(|&r| r != without)
+            .collect();
+        limit::order_cost(&self.accept, &self.untrustworthy, &order)
+    }
+
+    /// Whether keeping the behavior of rank `rank` costs no more untrustworthy commands
+    /// in expectation than adapting without it: its rate over the `gap` commands expected
+    /// until the next change, against [`MemberKnowledge::readaptation_cost`].
+    fn keeps(&self, rank: usize, gap: f64) -> bool {
+        self.untrustworthy_rate[rank] * gap <= self.readaptation_cost(rank)
     }
 }
 
@@ -80,8 +112,8 @@ pub struct OracleRecord {
     pub mission: u32,
     /// Every change, in order, counted as an arm's are.
     pub changes: Vec<ChangeRecord>,
-    /// Episodes it began at a change (the behavior in use was not trustworthy for the new
-    /// member, or it was still adapting).
+    /// Episodes it began at a change (keeping the behavior in use would cost more, or it
+    /// was still adapting).
     pub readaptations: u32,
     /// Commands that failed.
     pub failures: u32,
@@ -187,8 +219,9 @@ impl MissionOracle {
                 if change.kind == ChangeKind::Takeover {
                     felt = 0.0;
                 }
-                let trusted = self.members[member].trusted[space.rank(&behavior) as usize];
-                let needed = !trusted;
+                let knows = &self.members[member];
+                let rank = space.rank(&behavior) as usize;
+                let needed = !knows.trusted[rank];
                 waiting = Some(record.changes.len());
                 record.changes.push(ChangeRecord {
                     at: c,
@@ -197,7 +230,7 @@ impl MissionOracle {
                     trusted_again: None,
                     untrustworthy: 0,
                 });
-                if needed || episode.is_some() {
+                if episode.is_some() || !knows.keeps(rank, plan.changes.every) {
                     record.readaptations += 1;
                     let mut fresh = Episode {
                         member,
@@ -403,6 +436,15 @@ mod tests {
         assert_eq!(three.order, [3, 0, 1, 2]);
         assert_eq!(nobody.trusted, [false; 4]);
         assert_eq!(nobody.order, [0, 1, 2, 3]);
+        assert_eq!(
+            (three.untrustworthy_rate[3], three.untrustworthy_rate[0]),
+            (0.0, 1.0)
+        );
+        // Adapting for three without 0 tries 3 first and pays nothing; for nobody without
+        // 3 it tries 0, 1, 2, each rejected after 5 failures.
+        assert_eq!(three.readaptation_cost(0), 0.0);
+        assert_eq!(nobody.readaptation_cost(3), 15.0);
+        assert!(!three.keeps(0, 1.0) && nobody.keeps(3, 15.0) && !nobody.keeps(3, 15.5));
     }
 
     #[test]
@@ -430,20 +472,21 @@ mod tests {
         let kinds: Vec<ChangeKind> = course.scheduled.iter().map(|s| s.kind).collect();
         let record = oracle.run_mission(&plan, named).unwrap();
         // 0-11: nobody rejects 0 (0-4) and 1 (5-9), then 2 fails twice: 12 failures.
-        // 12: 2 is not trusted by three: 3, accepted after 5 completions (12-16).
-        // 21: 3 is not trusted by nobody: 0 fails twice (21, 22).
-        // 23: 0 is not trusted by three: 3 again, accepted after 5 (23-27).
-        // 54: nobody: 0 rejected (54-58), 1 fails at 59.
+        // 12: still adapting: an episode for three, 3 accepted after 5 completions (12-16).
+        // 21: 3 is not trusted by nobody, but kept: it fails at rate 1 over a mean gap of
+        //     12 commands, and any episode without it 3 x 5 = 15 times; it fails twice.
+        // 23: three trusts 3 (rate 0): kept.
+        // 54: nobody: kept, it fails 6 times (54-59).
         assert_eq!(
             record.changes,
             [
                 change(12, kinds[0], true, Some(5), 0),
                 change(21, kinds[1], true, None, 2),
-                change(23, kinds[2], true, Some(5), 0),
+                change(23, kinds[2], false, None, 0),
                 change(54, kinds[3], true, None, 6),
             ]
         );
-        assert_eq!(record.readaptations, 4);
+        assert_eq!(record.readaptations, 1);
         assert_eq!(
             (record.failures, record.overlooked, record.untrustworthy),
             (20, 0, 20)
