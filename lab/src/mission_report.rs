@@ -261,9 +261,14 @@ fn ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.1} ± {:.1}", v.mean, v.ci95))
 }
 
+/// The oracle's untrustworthy commands per change, often a fraction of one: two decimals.
+fn fine_ci(value: Option<MeanCi>) -> String {
+    value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
+}
+
 /// A multiple of the oracle's figure, `-` when it has none.
 fn times(multiple: Option<f64>) -> String {
-    multiple.map_or("-".to_owned(), |m| format!("{m:.2}"))
+    multiple.map_or("-".to_owned(), |m| format!("{m:.1}"))
 }
 
 fn share(part: usize, whole: usize) -> String {
@@ -360,7 +365,7 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
             share(oracle.figures.needed, oracle.figures.changes),
             share(oracle.figures.adapted, oracle.figures.needed),
             ci(oracle.figures.trusted_again),
-            ci(oracle.figures.untrustworthy_per_change),
+            fine_ci(oracle.figures.untrustworthy_per_change),
             oracle.readaptations.mean,
             oracle.readaptations.ci95,
             oracle.harm.mean,
@@ -383,7 +388,7 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
         let _ = writeln!(
             md,
             "| oracle | {} | 1 | {:.2} | 1 |",
-            ci(oracle.figures.untrustworthy_per_change),
+            fine_ci(oracle.figures.untrustworthy_per_change),
             oracle.harm.mean,
         );
         md.push('\n');
