@@ -1,5 +1,5 @@
 //! The mission oracle: the reference a mission's arms are measured against
-//! (docs/missions.md#the-oracle).
+//! (docs/missions.md#the-oracle-labmission_oracle).
 //!
 //! The oracle is an agent on the same missions as the arms (the same first operator,
 //! changes, runs and stated reasons: [`crate::mission`]'s streams) with two things no arm
