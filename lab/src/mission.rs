@@ -352,8 +352,8 @@ impl<D: Domain> MissionPlan<'_, D> {
 
 /// Runs every plan: each (plan, arm, whether alerts are answered) is a chain of missions,
 /// chains in parallel on the current rayon pool, and the plan's oracle runs the same
-/// missions ([`MissionOracle`]). Every plan is checked first ([`MissionPlan::validate`]):
-/// a refused plan stops the run before any mission.
+/// missions ([`crate::mission_oracle::MissionOracle`]). Every plan is checked first
+/// ([`MissionPlan::validate`]): a refused plan stops the run before any mission.
 pub fn run_missions<D: Domain>(
     plans: &[MissionPlan<'_, D>],
     seed: u64,
