@@ -20,6 +20,7 @@ use crate::suite::{
 use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
+use lab::known_operator::LimitSettings;
 use lab::mission::{Changes, Complacency, MissionPlan, MissionResult, run_missions};
 use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
@@ -241,6 +242,7 @@ pub fn run_mission_suite<C: Catalog>(
             arms: arms.clone(),
             feedback: spec.operators.feedback,
             truth_runs: TRUTH_RUNS,
+            limit: LimitSettings::default(),
         })
         .collect();
     Ok(run_missions(&plans, config.seed, progress)?)

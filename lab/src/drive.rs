@@ -21,10 +21,9 @@
 use crate::arm::Initial;
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
-use crate::simulate::{self, Refused, SimulatedCommand};
+use crate::simulate::{self, SimulatedCommand};
 use crate::{Domain, FeedbackChannel, Judgement};
 use cbr_core::Behavior;
-use rand::RngCore;
 use rand_chacha::ChaCha8Rng;
 use trust::{
     AdapterError, Decision, EpisodeView, MissionAdapter, MissionDecision, Outcome, Source,
@@ -101,15 +100,10 @@ pub(crate) struct Start {
     pub(crate) learned: bool,
 }
 
-/// The first behavior of an episode of an arm that starts as `initial` says: the behavior
-/// drawn from `setup` (always drawn), or with [`Initial::Learned`] the guess of `adapter`'s
-/// memory when it holds a case.
-pub(crate) fn first_behavior(
-    initial: Initial,
-    adapter: &TrustAdapter,
-    setup: &mut dyn RngCore,
-) -> Start {
-    let drawn = adapter.space().draw(setup);
+/// The first behavior of an episode of an arm that starts as `initial` says: `drawn`, the
+/// unit's random behavior (drawn whatever the arm, so arms stay paired), or with
+/// [`Initial::Learned`] the guess of `adapter`'s memory when it holds a case.
+pub(crate) fn first_behavior(initial: Initial, adapter: &TrustAdapter, drawn: Behavior) -> Start {
     let guess = match initial {
         Initial::Random => None,
         Initial::Learned => adapter.first_guess(),
@@ -203,17 +197,7 @@ impl<'a, D: Domain> Drive<'a, D> {
             &mut self.runs,
             &mut self.stated,
         )
-        .map_err(|refused| match refused {
-            Refused::UndeclaredCause(reason) => PlanError::UndeclaredCause {
-                plan: self.plan.to_owned(),
-                domain: self.domain.name().to_owned(),
-                reason,
-            },
-            Refused::AttentionNotModelled(reason) => PlanError::AttentionNotModelled {
-                plan: self.plan.to_owned(),
-                reason,
-            },
-        })?;
+        .map_err(|refused| refused.in_plan(self.plan, self.domain.name()))?;
         let decision = adapter
             .record(&outcome)
             .expect("domains report valid outcomes");

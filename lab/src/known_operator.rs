@@ -87,6 +87,12 @@ pub struct KnownOperator {
     /// its estimated mean contribution per command is positive, so the expected estimate
     /// climbs ([`Tally::trusted_on_average`]).
     pub trusted: Vec<bool>,
+    /// Per behavior (in rank order), its walk solved from the estimate: the acceptance
+    /// probability and expected costs the limit's optimal orders are made of.
+    pub walks: Vec<WalkOutcome>,
+    /// Per behavior (in rank order), the estimated probability that a command is
+    /// untrustworthy (anything but a completion).
+    pub untrustworthy_rate: Vec<f64>,
 }
 
 /// How much a population's operators disagree, measured on their trustworthy regions.
@@ -303,5 +309,7 @@ pub fn known_operator<D: Domain>(
         limit: Limit::from_outcomes(&walks)?,
         law: paper_law(&tallies, &walks, thresholds)?,
         trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
+        untrustworthy_rate: tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
+        walks,
     })
 }

@@ -24,6 +24,8 @@
 use crate::arm::Arm;
 use crate::domain::check_attention;
 use crate::drive::{Command, Drive, first_behavior};
+use crate::known_operator::LimitSettings;
+use crate::mission_oracle::{OracleRecord, run_oracles};
 use crate::runner::{PlanError, fresh_adapter};
 use crate::seeds::{Purpose, stream};
 use crate::{Domain, FeedbackChannel};
@@ -137,6 +139,9 @@ pub struct MissionPlan<'a, D: Domain> {
     /// Runs that estimate whether a behavior is trustworthy for an operator (the truth of
     /// whether a change needed an adaptation).
     pub truth_runs: u32,
+    /// How the oracle's knowledge of each operator (its known-operator limit and
+    /// trustworthy region) is estimated ([`crate::mission_oracle`]).
+    pub limit: LimitSettings,
 }
 
 /// What changed.
@@ -325,6 +330,8 @@ pub struct MissionResult {
     pub complacency: bool,
     /// Every arm (answering alerts second, for complacency plans), in the plan's order.
     pub arms: Vec<MissionArmResult>,
+    /// The oracle's missions, the same missions as every arm's ([`crate::mission_oracle`]).
+    pub oracle: Vec<OracleRecord>,
 }
 
 impl<D: Domain> MissionPlan<'_, D> {
@@ -344,7 +351,8 @@ impl<D: Domain> MissionPlan<'_, D> {
 }
 
 /// Runs every plan: each (plan, arm, whether alerts are answered) is a chain of missions,
-/// chains in parallel on the current rayon pool. Every plan is checked first
+/// chains in parallel on the current rayon pool, and the plan's oracle runs the same
+/// missions ([`crate::mission_oracle::MissionOracle`]). Every plan is checked first
 /// ([`MissionPlan::validate`]): a refused plan stops the run before any mission.
 pub fn run_missions<D: Domain>(
     plans: &[MissionPlan<'_, D>],
@@ -354,6 +362,7 @@ pub fn run_missions<D: Domain>(
     for plan in plans {
         plan.validate()?;
     }
+    let oracles = run_oracles(plans, seed)?;
     let chains: Vec<(usize, usize, bool)> = plans
         .iter()
         .enumerate()
@@ -373,12 +382,14 @@ pub fn run_missions<D: Domain>(
         .into_iter();
     Ok(plans
         .iter()
-        .map(|plan| {
+        .zip(oracles)
+        .map(|(plan, oracle)| {
             let per_arm = if plan.complacency.is_some() { 2 } else { 1 };
             MissionResult {
                 name: plan.name.clone(),
                 complacency: plan.complacency.is_some(),
                 arms: ran.by_ref().take(plan.arms.len() * per_arm).collect(),
+                oracle,
             }
         })
         .collect())
@@ -431,10 +442,45 @@ fn run_chain<D: Domain>(
 }
 
 /// A change scheduled for a mission: when, what, and the operator after it.
-struct Scheduled {
-    at: u32,
-    kind: ChangeKind,
-    operator: usize,
+pub(crate) struct Scheduled {
+    /// The command at which it happens.
+    pub(crate) at: u32,
+    /// What changes.
+    pub(crate) kind: ChangeKind,
+    /// The operator after it (its place in the population).
+    pub(crate) operator: usize,
+}
+
+/// What a mission is whatever the robot does, drawn from its setup stream: its first
+/// operator, its random first behavior and its changes, the same for every arm and the
+/// oracle.
+pub(crate) struct Course {
+    /// The first operator (its place in the population).
+    pub(crate) first: usize,
+    /// The random first behavior (drawn whatever the arm, so arms stay paired).
+    pub(crate) drawn: Behavior,
+    /// The changes, in order.
+    pub(crate) scheduled: Vec<Scheduled>,
+}
+
+impl Course {
+    /// The course of the mission `named` of `plan`.
+    pub(crate) fn of<D: Domain>(plan: &MissionPlan<'_, D>, named: StreamName) -> Self {
+        let mut setup = stream(
+            named.seed,
+            named.plan,
+            u64::from(named.mission),
+            Purpose::Setup,
+        );
+        let first = setup.random_range(0..plan.operators.len());
+        let drawn = plan.domain.space().draw(&mut setup);
+        let scheduled = schedule(plan, first, &mut setup);
+        Self {
+            first,
+            drawn,
+            scheduled,
+        }
+    }
 }
 
 /// The mission's changes after its `first` operator, the same for every arm.
@@ -503,10 +549,13 @@ struct OperatorState {
 /// What names a mission's random streams: the master seed, its plan's place in the suite
 /// and its number.
 #[derive(Clone, Copy)]
-struct StreamName {
-    seed: u64,
-    plan: u64,
-    mission: u32,
+pub(crate) struct StreamName {
+    /// The master seed.
+    pub(crate) seed: u64,
+    /// The plan's place in the suite.
+    pub(crate) plan: u64,
+    /// The mission's number.
+    pub(crate) mission: u32,
 }
 
 fn run_mission<D: Domain>(
@@ -523,10 +572,12 @@ fn run_mission<D: Domain>(
         mission,
     } = named;
     let m = u64::from(mission);
-    let mut setup = stream(seed, index, m, Purpose::Setup);
-    let first = setup.random_range(0..plan.operators.len());
-    let start = first_behavior(arm.initial(), adapter.adapter(), &mut setup);
-    let scheduled = schedule(plan, first, &mut setup);
+    let Course {
+        first,
+        drawn,
+        scheduled,
+    } = Course::of(plan, named);
+    let start = first_behavior(arm.initial(), adapter.adapter(), drawn);
     let mut drive = Drive::new(
         &plan.name,
         arm.name(),

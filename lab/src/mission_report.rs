@@ -1,9 +1,14 @@
 //! What a mission suite reports per arm (docs/missions.md): how it met the changes, its
-//! false alarms, its alerts against complacency onsets, and the harm done with and
-//! without alerts answered, as tables (`missions.md`), data (`summary.json`, one record
-//! per mission in `missions.jsonl`) and a timeline figure per plan.
+//! false alarms, its alerts against complacency onsets, the harm done with and without
+//! alerts answered, and its untrustworthy commands per change and harm per mission as
+//! multiples of the oracle's ([`crate::mission_oracle`]), as tables (`missions.md`), data
+//! (`summary.json`, one record per mission in `missions.jsonl`) and a timeline figure per
+//! plan.
 
-use crate::mission::{DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult};
+use crate::mission::{
+    ChangeRecord, DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult,
+};
+use crate::mission_oracle::OracleRecord;
 use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
@@ -69,16 +74,100 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
     })
 }
 
-impl MissionSummary {
-    /// Sums up `arm`'s missions.
-    pub fn of(arm: &MissionArmResult) -> Self {
-        let changes: Vec<_> = arm.missions.iter().flat_map(|m| &m.changes).collect();
+/// How an agent met a plan's changes: the figures an arm and the oracle share.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChangeFigures {
+    /// Changes in all.
+    pub changes: usize,
+    /// Changes after which the behavior in use was not trustworthy for the new operator.
+    pub needed: usize,
+    /// Of those, changes after which a trustworthy behavior was settled on again before the
+    /// next change or the mission's end.
+    pub adapted: usize,
+    /// Commands from a change until trusted again, over the needed changes adapted to.
+    pub trusted_again: Option<MeanCi>,
+    /// Untrustworthy commands per change, over every change.
+    pub untrustworthy_per_change: Option<MeanCi>,
+}
+
+impl ChangeFigures {
+    /// The figures of these changes.
+    pub fn of<'a>(changes: impl IntoIterator<Item = &'a ChangeRecord>) -> Self {
+        let changes: Vec<&ChangeRecord> = changes.into_iter().collect();
         let needed: Vec<_> = changes.iter().filter(|c| c.needed).collect();
         let again: Vec<f64> = needed
             .iter()
             .filter_map(|c| c.trusted_again.map(f64::from))
             .collect();
         let per_change: Vec<f64> = changes.iter().map(|c| f64::from(c.untrustworthy)).collect();
+        Self {
+            changes: changes.len(),
+            needed: needed.len(),
+            adapted: again.len(),
+            trusted_again: mean_ci95(&again),
+            untrustworthy_per_change: mean_ci95(&per_change),
+        }
+    }
+}
+
+/// The oracle's missions of a plan summed up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OracleSummary {
+    /// Missions run.
+    pub missions: usize,
+    /// How it met the changes.
+    pub figures: ChangeFigures,
+    /// Episodes it began at a change, per mission.
+    pub readaptations: MeanCi,
+    /// Harm per mission.
+    pub harm: MeanCi,
+}
+
+impl OracleSummary {
+    /// Sums up the oracle's `missions`.
+    pub fn of(missions: &[OracleRecord]) -> Self {
+        let per_mission =
+            |f: fn(&OracleRecord) -> f64| summary_of(&missions.iter().map(f).collect::<Vec<_>>());
+        Self {
+            missions: missions.len(),
+            figures: ChangeFigures::of(missions.iter().flat_map(|m| &m.changes)),
+            readaptations: per_mission(|m| f64::from(m.readaptations)),
+            harm: per_mission(|m| f64::from(m.harm())),
+        }
+    }
+
+    /// `arm`'s untrustworthy commands per change as a multiple of the oracle's (`None`
+    /// when either has no change, or the oracle's is 0).
+    pub fn untrustworthy_multiple(&self, arm: &MissionSummary) -> Option<f64> {
+        let (arm, oracle) = (
+            arm.untrustworthy_per_change?,
+            self.figures.untrustworthy_per_change?,
+        );
+        multiple(arm.mean, oracle.mean)
+    }
+
+    /// `arm`'s harm per mission as a multiple of the oracle's (`None` when the oracle's
+    /// is 0).
+    pub fn harm_multiple(&self, arm: &MissionSummary) -> Option<f64> {
+        multiple(arm.harm.mean, self.harm.mean)
+    }
+}
+
+/// `value / reference`, or `None` when the reference is 0.
+fn multiple(value: f64, reference: f64) -> Option<f64> {
+    (reference > 0.0).then(|| value / reference)
+}
+
+impl MissionSummary {
+    /// Sums up `arm`'s missions.
+    pub fn of(arm: &MissionArmResult) -> Self {
+        let ChangeFigures {
+            changes,
+            needed,
+            adapted,
+            trusted_again,
+            untrustworthy_per_change,
+        } = ChangeFigures::of(arm.missions.iter().flat_map(|m| &m.changes));
         let onsets: Vec<_> = arm.missions.iter().flat_map(|m| &m.onsets).collect();
         let delays: Vec<f64> = onsets
             .iter()
@@ -91,11 +180,11 @@ impl MissionSummary {
             arm: arm.arm.clone(),
             answers_alerts: arm.answers_alerts,
             missions: arm.missions.len(),
-            changes: changes.len(),
-            needed: needed.len(),
-            adapted: again.len(),
-            trusted_again: mean_ci95(&again),
-            untrustworthy_per_change: mean_ci95(&per_change),
+            changes,
+            needed,
+            adapted,
+            trusted_again,
+            untrustworthy_per_change,
             readaptations: per_mission(|m| f64::from(m.readaptations)),
             false_alarms: arm.missions.iter().map(|m| m.false_alarms).sum(),
             missions_alerted: arm.missions.iter().filter(|m| !m.alerts.is_empty()).count(),
@@ -170,6 +259,16 @@ pub fn harm_comparisons(result: &MissionResult) -> Vec<HarmComparison> {
 
 fn ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.1} ± {:.1}", v.mean, v.ci95))
+}
+
+/// The oracle's untrustworthy commands per change, often a fraction of one: two decimals.
+fn fine_ci(value: Option<MeanCi>) -> String {
+    value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
+}
+
+/// A multiple of the oracle's figure, `-` when it has none.
+fn times(multiple: Option<f64>) -> String {
+    multiple.map_or("-".to_owned(), |m| format!("{m:.1}"))
 }
 
 fn share(part: usize, whole: usize) -> String {
@@ -259,6 +358,39 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
                 s.harm.ci95,
             );
         }
+        let oracle = OracleSummary::of(&result.oracle);
+        let _ = writeln!(
+            md,
+            "| oracle | {} | {} | {} | {} | {:.2} ± {:.2} | - | - | - | - | - | {:.2} ± {:.2} |",
+            share(oracle.figures.needed, oracle.figures.changes),
+            share(oracle.figures.adapted, oracle.figures.needed),
+            ci(oracle.figures.trusted_again),
+            fine_ci(oracle.figures.untrustworthy_per_change),
+            oracle.readaptations.mean,
+            oracle.readaptations.ci95,
+            oracle.harm.mean,
+            oracle.harm.ci95,
+        );
+        md.push_str(
+            "\nAgainst the oracle (told of every change, knowing every operator's landscape; its re-adaptations are the episodes it began at a change):\n\n| arm | untrustworthy commands per change | × oracle | harm per mission | × oracle |\n|---|---:|---:|---:|---:|\n",
+        );
+        for s in &summaries {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.2} | {} |",
+                s.label(),
+                ci(s.untrustworthy_per_change),
+                times(oracle.untrustworthy_multiple(s)),
+                s.harm.mean,
+                times(oracle.harm_multiple(s)),
+            );
+        }
+        let _ = writeln!(
+            md,
+            "| oracle | {} | 1 | {:.2} | 1 |",
+            fine_ci(oracle.figures.untrustworthy_per_change),
+            oracle.harm.mean,
+        );
         md.push('\n');
         for line in targets(result, &summaries) {
             let _ = writeln!(md, "- {line}");
@@ -277,8 +409,19 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
             .map(|result| {
                 let summaries: Vec<MissionSummary> =
                     result.arms.iter().map(MissionSummary::of).collect();
+                let oracle = OracleSummary::of(&result.oracle);
                 json!({
                     "plan": result.name,
+                    "oracle": {
+                        "missions": oracle.missions,
+                        "changes": oracle.figures.changes,
+                        "needed": oracle.figures.needed,
+                        "adapted": oracle.figures.adapted,
+                        "commands_until_trusted_again": ci_json(oracle.figures.trusted_again),
+                        "untrustworthy_per_change": ci_json(oracle.figures.untrustworthy_per_change),
+                        "readaptations_per_mission": ci_json(Some(oracle.readaptations)),
+                        "harm_per_mission": ci_json(Some(oracle.harm)),
+                    },
                     "complacency": result.complacency,
                     "targets": targets(result, &summaries),
                     "harm_with_and_without_alerts": harm_comparisons(result).iter().map(|h| json!({
@@ -306,6 +449,8 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "perceivable_detected_within_25": s.perceivable_detected,
                         "median_detection_delay": s.median_delay,
                         "harm_per_mission": ci_json(Some(s.harm)),
+                        "untrustworthy_per_change_x_oracle": oracle.untrustworthy_multiple(s),
+                        "harm_per_mission_x_oracle": oracle.harm_multiple(s),
                     })).collect::<Vec<_>>(),
                 })
             })
@@ -419,13 +564,38 @@ mod tests {
             name: "p".into(),
             complacency: true,
             arms: vec![arm, answered],
+            oracle: Vec::new(),
         };
         let [h] = harm_comparisons(&result).try_into().unwrap();
         assert_eq!(
             (h.ignored.mean, h.answered.mean, h.difference.mean),
             (3.0, 1.0, 2.0)
         );
-        let lines = targets(&result, &[s]);
+        let lines = targets(&result, std::slice::from_ref(&s));
+        // The oracle: 1.5 untrustworthy commands per change over 2 changes and 1 harm per
+        // mission, so the arm's 4.5 and 3.0 are 3 times its figures.
+        let oracle = OracleSummary::of(&[OracleRecord {
+            mission: 0,
+            changes: vec![change(true, Some(5), 3), change(false, None, 0)],
+            readaptations: 1,
+            failures: 1,
+            overlooked: 0,
+            untrustworthy: 3,
+        }]);
+        assert_eq!(oracle.figures.untrustworthy_per_change.unwrap().mean, 1.5);
+        assert_eq!((oracle.figures.needed, oracle.figures.adapted), (1, 1));
+        assert_eq!(oracle.untrustworthy_multiple(&s), Some(3.0));
+        assert_eq!(oracle.harm_multiple(&s), Some(3.0));
+        let flawless = OracleSummary::of(&[OracleRecord {
+            mission: 0,
+            changes: vec![change(false, None, 0)],
+            readaptations: 0,
+            failures: 0,
+            overlooked: 0,
+            untrustworthy: 0,
+        }]);
+        assert_eq!(flawless.untrustworthy_multiple(&s), None);
+        assert_eq!(flawless.harm_multiple(&s), None);
         assert!(lines[0].contains("33% of complacency onsets") && lines[0].ends_with("missed"));
     }
 }

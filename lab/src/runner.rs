@@ -15,6 +15,7 @@
 use crate::arm::{Arm, Initial};
 use crate::domain::AttentionNotModelled;
 use crate::drive::{Command, Drive, first_behavior};
+use crate::known_operator::KnownLimitError;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
 use crate::{Domain, FeedbackChannel};
@@ -125,6 +126,17 @@ pub enum PlanError {
         plan: String,
         /// The domain that keeps the default [`Domain::run_attending`].
         reason: AttentionNotModelled,
+    },
+    /// A mission plan's oracle could not learn an operator's landscape
+    /// ([`crate::mission_oracle`]).
+    #[error("{plan}: the mission oracle, operator `{operator}`: {reason}")]
+    Oracle {
+        /// The plan's name.
+        plan: String,
+        /// The operator's name.
+        operator: String,
+        /// Why its known-operator estimate failed.
+        reason: KnownLimitError,
     },
     /// A stop was requested ([`crate::interrupt`]) before every trial had run.
     #[error(transparent)]
@@ -711,7 +723,8 @@ fn run_trial<D: Domain>(
         OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
     };
     let (operator_name, operator) = &plan.operators[operator_index];
-    let start = first_behavior(arm.initial(), adapter, &mut setup);
+    let drawn = adapter.space().draw(&mut setup);
+    let start = first_behavior(arm.initial(), adapter, drawn);
     let mut drive = Drive::new(
         &plan.name,
         arm.name(),

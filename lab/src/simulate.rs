@@ -13,6 +13,7 @@
 //! `simulate` prints each command, and Python's `trustcbr.simulate(seed=S)` is the first
 //! command of `Simulation::new(.., S)`.
 
+use crate::runner::PlanError;
 use crate::{AttentionNotModelled, Domain, FeedbackChannel, Judgement};
 use cbr_core::Behavior;
 use rand::{RngCore, SeedableRng};
@@ -41,6 +42,23 @@ pub(crate) enum Refused {
     UndeclaredCause(Box<UndeclaredCause>),
     /// An attention was asked of a domain that keeps the default [`Domain::run_attending`].
     AttentionNotModelled(AttentionNotModelled),
+}
+
+impl Refused {
+    /// The error that stops the plan named `plan` over the domain named `domain`.
+    pub(crate) fn in_plan(self, plan: &str, domain: &str) -> PlanError {
+        match self {
+            Refused::UndeclaredCause(reason) => PlanError::UndeclaredCause {
+                plan: plan.to_owned(),
+                domain: domain.to_owned(),
+                reason,
+            },
+            Refused::AttentionNotModelled(reason) => PlanError::AttentionNotModelled {
+                plan: plan.to_owned(),
+                reason,
+            },
+        }
+    }
 }
 
 /// Runs one command of `domain` with `behavior` in front of `operator`, the paper's

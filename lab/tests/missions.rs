@@ -5,10 +5,13 @@
 
 use cbr_core::{Behavior, Case};
 use lab::Arm;
+use lab::known_operator::LimitSettings;
 use lab::mission::{
     ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
 };
-use lab::mission_report::{MissionSummary, harm_comparisons};
+use lab::mission_report::{
+    MissionSummary, OracleSummary, harm_comparisons, missions_json, missions_markdown,
+};
 use lab::testing::ToyDomain;
 use lab::{Domain, Judgement, PlanError};
 use rand::{Rng, RngCore};
@@ -103,6 +106,7 @@ fn try_run_arms<D: Domain<Operator = Favourite>>(
         arms,
         feedback: None,
         truth_runs: 50,
+        limit: LimitSettings::default(),
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -131,6 +135,13 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
     };
     assert_eq!(schedule(0), schedule(1));
     assert!(schedule(0).iter().map(Vec::len).sum::<usize>() > 12);
+    // The oracle meets the same missions and adapts to every change that needs it.
+    let oracle: Vec<Vec<(u32, ChangeKind)>> = result
+        .oracle
+        .iter()
+        .map(|m| m.changes.iter().map(|c| (c.at, c.kind)).collect())
+        .collect();
+    assert_eq!(oracle, schedule(0));
     for arm in &result.arms {
         assert_eq!(arm.missions.len(), 12);
         assert_eq!((arm.traced.every, arm.traced.steps.len()), (1, 300));
@@ -147,6 +158,31 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
         let s = MissionSummary::of(arm);
         assert!(s.needed * 2 > s.changes && s.adapted > 0, "{s:?}");
     }
+    // The oracle knows each favourite: it tries it first, so it needs fewer untrustworthy
+    // commands per change than any arm, and the report gives each arm's multiple of it.
+    let oracle = OracleSummary::of(&result.oracle);
+    let o = oracle.figures.untrustworthy_per_change.unwrap().mean;
+    for arm in &result.arms {
+        let s = MissionSummary::of(arm);
+        assert!(
+            s.untrustworthy_per_change.unwrap().mean > o,
+            "{s:?} {oracle:?}"
+        );
+        assert!(oracle.untrustworthy_multiple(&s).unwrap() > 1.0);
+    }
+    let md = missions_markdown(&one);
+    assert!(
+        md.contains("| oracle | ") && md.contains("× oracle"),
+        "{md}"
+    );
+    let json = missions_json(&one);
+    assert_eq!(json[0]["oracle"]["missions"], 12);
+    assert!(
+        json[0]["arms"][0]["untrustworthy_per_change_x_oracle"]
+            .as_f64()
+            .unwrap()
+            > 1.0
+    );
 }
 
 #[test]
