@@ -26,7 +26,7 @@
 //! Cargo features, all but `testing` on by default: `ugv` (the built-in catalog and the
 //! `trustcbr` binary, over the `domains` crate), `sqlite` and `postgres` (the case stores
 //! of `serve --cases` and `cases`, `service`'s features of the same names), `testing` (the
-//! conformance kits). A plug-in's tool depends on this crate with `default-features =
+//! conformance kits, and `testing`: a plug-in's tool run on a suite as a real process). A plug-in's tool depends on this crate with `default-features =
 //! false` and the stores it opens; a store left out is refused when a command opens one
 //! ("this tool was built without the `postgres` feature"). The plug-in guide's *Building
 //! only what you need* has what each costs.
@@ -44,6 +44,8 @@ pub mod served;
 pub mod simulate;
 pub mod suite;
 pub mod sweep;
+#[cfg(feature = "testing")]
+pub mod testing;
 #[cfg(feature = "ugv")]
 pub mod ugv;
 

@@ -47,10 +47,6 @@ fn one() -> f64 {
     1.0
 }
 
-fn give_up_factor() -> f64 {
-    2.0
-}
-
 /// A comfort speed near people: passing a standing person closer than `distance` faster
 /// than `speed` interrupts with probability `p`. With `expected_too`, the operator minds
 /// the places where people are expected to stand (a crossing, a bus stop) the same way,
@@ -113,7 +109,7 @@ pub struct OperatorModel {
     pub p_false_alarm: f64,
     /// The operator gives up at this multiple of `t_complete`: the run fails (cause
     /// deadline).
-    #[serde(default = "give_up_factor")]
+    #[serde(default = "lab::patience::default_give_up_factor")]
     pub give_up_factor: f64,
     /// Outcome weights.
     #[serde(default)]

@@ -32,7 +32,7 @@
 
 use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
-use lab::population::{geometric, linear, two_pole_family};
+use lab::population::{geometric, linear, toward, two_pole_family};
 use trust::OutcomeWeights;
 
 /// An operator's deadline and reaction probabilities.
@@ -98,11 +98,7 @@ pub(crate) fn paper_weights(scenario: Scenario) -> OutcomeWeights {
 pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
     let x = x.clamp(-1.0, 1.0);
     let (base, dispatcher, supervisor) = poles(scenario);
-    let (to, f) = if x < 0.0 {
-        (dispatcher, -x)
-    } else {
-        (supervisor, x)
-    };
+    let (to, f) = toward(x, dispatcher, supervisor);
     let p = P_MIND * x.max(0.0);
     let on = p > 0.0;
     // Exact at the ends: the base and the poles are the operators they are argued as.

@@ -404,10 +404,12 @@ pub fn shipped<O: OperatorData>(
 
 /// Operators paired with their names ([`OperatorData::name`]), as a catalog lists them.
 pub fn named<O: OperatorData>(operators: impl IntoIterator<Item = O>) -> Vec<(String, O)> {
-    operators
-        .into_iter()
-        .map(|operator| (operator.name().to_owned(), operator))
-        .collect()
+    operators.into_iter().map(with_name).collect()
+}
+
+/// One operator paired with its name, as a catalog's `load_operator` returns it.
+pub fn with_name<O: OperatorData>(operator: O) -> (String, O) {
+    (operator.name().to_owned(), operator)
 }
 
 /// The operator named `name` among `operators` (a family's poles, among the shipped

@@ -77,6 +77,14 @@ pub struct Patience {
     pub cause: Cause,
 }
 
+/// The give-up factor of an operator file that states none (serde's `default`): 2, an
+/// operator calls a robot lost when it takes twice the time it should (docs/simulation.md,
+/// "The operators"). Write `#[serde(default = "trustcbr::lab::patience::default_give_up_factor")]`
+/// on the field.
+pub fn default_give_up_factor() -> f64 {
+    2.0
+}
+
 impl Patience {
     /// The moment the operator gives up (s): `give_up_factor x deadline_s`.
     pub fn give_up_s(&self) -> f64 {

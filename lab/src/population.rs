@@ -55,6 +55,26 @@ pub fn two_pole_family<O>(
         .collect()
 }
 
+/// The pole on the side of position `x` (`negative` below 0, `positive` from 0 on) and
+/// how far towards it a member at `x` lies, `|x|` with `x` clamped to `[-1, 1]`: the
+/// share a member moves each number from the base (with [`geometric`] and [`linear`]).
+///
+/// ```
+/// use lab::population::toward;
+///
+/// assert_eq!(toward(-0.25, "hurried", "careful"), ("hurried", 0.25));
+/// assert_eq!(toward(0.0, "hurried", "careful"), ("careful", 0.0));
+/// assert_eq!(toward(3.0, "hurried", "careful"), ("careful", 1.0));
+/// ```
+pub fn toward<T>(x: f64, negative: T, positive: T) -> (T, f64) {
+    let x = x.clamp(-1.0, 1.0);
+    if x < 0.0 {
+        (negative, -x)
+    } else {
+        (positive, x)
+    }
+}
+
 /// The number `f` of the way from `base` to `pole` on a geometric scale,
 /// `base^(1 - f) pole^f` (for a scale such as a deadline: `f = 1/2` of the way from 15 s
 /// to 60 s is 30 s); exactly `base` at `f = 0` and `pole` at `f = 1`.

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use trustcbr::cbr_core::BehaviorSpace;
 use trustcbr::lab::Arm;
-use trustcbr::lab::operator_file::named;
+use trustcbr::lab::operator_file::{named, with_name};
 use trustcbr::trust::RetrieverKind;
 use trustcbr::{Catalog, CatalogError, Family, Readings, ToolInfo};
 
@@ -48,8 +48,7 @@ impl Catalog for WarehouseCatalog {
         _: &Readings,
     ) -> Result<(String, WarehouseOperator), CatalogError> {
         // The operator's errors name the file already.
-        let operator = WarehouseOperator::load(path)?;
-        Ok((operator.name.clone(), operator))
+        Ok(with_name(WarehouseOperator::load(path)?))
     }
 
     // Members of the throughput-against-care family (`population`).

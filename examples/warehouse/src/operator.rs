@@ -21,10 +21,6 @@ use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
 use trustcbr::trust::{OutcomeKind, OutcomeWeights};
 
-fn two() -> f64 {
-    2.0
-}
-
 /// A simulated warehouse operator.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(crate = "trustcbr::serde", deny_unknown_fields)]
@@ -40,7 +36,7 @@ pub struct WarehouseOperator {
     /// Probability that a crushed item is noticed at packing (and the pick failed).
     pub p_crushed: f64,
     /// The operator gives up at this multiple of `t_complete` (the pick fails, too slow).
-    #[serde(default = "two")]
+    #[serde(default = "trustcbr::lab::patience::default_give_up_factor")]
     pub give_up_factor: f64,
     /// Outcome weights.
     #[serde(default)]

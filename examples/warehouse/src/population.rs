@@ -21,7 +21,7 @@
 
 use crate::operator::{WarehouseOperator, builtin_operators};
 use trustcbr::lab::operator_file;
-use trustcbr::lab::population::{geometric, linear, two_pole_family};
+use trustcbr::lab::population::{geometric, linear, toward, two_pole_family};
 
 /// The shipped operator of `name`.
 fn shipped(name: &str) -> WarehouseOperator {
@@ -31,13 +31,8 @@ fn shipped(name: &str) -> WarehouseOperator {
 /// The member of the family at position `x` in `[-1, 1]` (-1: throughput-focused, 0:
 /// balanced, 1: care-focused), named `name`.
 pub fn member(x: f64, name: &str) -> WarehouseOperator {
-    let x = x.clamp(-1.0, 1.0);
     let base = shipped("balanced");
-    let (to, f) = if x < 0.0 {
-        (shipped("throughput-focused"), -x)
-    } else {
-        (shipped("care-focused"), x)
-    };
+    let (to, f) = toward(x, shipped("throughput-focused"), shipped("care-focused"));
     if f == 0.0 {
         // The base itself, whose weights are its own rather than a side's pole's.
         return WarehouseOperator {

@@ -7,6 +7,7 @@ use serde_json::Value;
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
+use trustcbr::testing::SuiteRun;
 
 fn warehouse() -> Command {
     Command::new(env!("CARGO_BIN_EXE_warehouse"))
@@ -304,8 +305,8 @@ fn simulate_prints_picking_commands() {
     }
 }
 
-/// A shipped suite file of the crate, its counts made small by `replacements`, in `dir`.
-fn small_suite(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> std::path::PathBuf {
+/// A shipped suite file of the crate, its counts made small by `replacements`.
+fn small_suite(name: &str, replacements: &[(&str, &str)]) -> String {
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("experiments")
         .join(name);
@@ -314,16 +315,17 @@ fn small_suite(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> std::pa
         assert!(text.contains(from), "{name} has no `{from}`");
         text = text.replace(from, to);
     }
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
+    text
+}
+
+/// `suite` run by the warehouse binary through the tool kit (`trustcbr::testing`).
+fn run_suite(suite: &str) -> SuiteRun {
+    trustcbr::testing::run_suite(env!("CARGO_BIN_EXE_warehouse"), suite, &[], &[])
 }
 
 #[test]
 fn the_population_suite_draws_operators_who_disagree_from_the_family() {
-    let dir = tempfile::tempdir().unwrap();
     let suite = small_suite(
-        dir.path(),
         "population.ron",
         &[
             // No landscapes nor limits: what is checked here is who judges the trials.
@@ -334,9 +336,7 @@ fn the_population_suite_draws_operators_who_disagree_from_the_family() {
             ("size: 8", "size: 2"),
         ],
     );
-    let out = dir.path().join("report");
-    succeed(warehouse().arg("run").arg(&suite).arg("--out").arg(&out));
-    let summary = json(&out.join("summary.json"));
+    let summary = run_suite(&suite).summary;
     let names: Vec<&str> = summary["experiments"]
         .as_array()
         .unwrap()
@@ -369,19 +369,16 @@ fn the_population_suite_draws_operators_who_disagree_from_the_family() {
 
 #[test]
 fn the_mission_suite_runs_among_operators_who_change_unannounced() {
-    let dir = tempfile::tempdir().unwrap();
     let suite = small_suite(
-        dir.path(),
         "missions.ron",
         &[
             ("count: 100", "count: 3"),
             ("commands: 400", "commands: 120"),
         ],
     );
-    let out = dir.path().join("report");
-    succeed(warehouse().arg("run").arg(&suite).arg("--out").arg(&out));
-    let records: Vec<Value> = std::fs::read_to_string(out.join("missions.jsonl"))
-        .unwrap()
+    let run = run_suite(&suite);
+    let records: Vec<Value> = run
+        .read("missions.jsonl")
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
@@ -398,7 +395,7 @@ fn the_mission_suite_runs_among_operators_who_change_unannounced() {
         .map(|r| r["record"]["changes"].as_array().unwrap().len())
         .sum();
     assert!(changes > 0, "operators change during missions");
-    let markdown = std::fs::read_to_string(out.join("missions.md")).unwrap();
+    let markdown = run.read("missions.md");
     assert!(
         markdown.contains("## picking/conflict-1/complacent"),
         "{markdown}"
