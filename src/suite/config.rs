@@ -292,6 +292,17 @@ fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String
     d.deserialize_any(Name)
 }
 
+/// The fields of an experiment ([`ExperimentSpec`]), which a suite refuses at its top level
+/// with a word on where they belong.
+const EXPERIMENT_FIELDS: [&str; 6] = [
+    "scenario",
+    "operator",
+    "operator_files",
+    "builtin_operators",
+    "population",
+    "feedback",
+];
+
 impl SuiteConfig {
     /// The arm the report tests the others against: the configured `reference`, else
     /// `case-based` when it runs, else the first arm.
@@ -336,7 +347,20 @@ impl SuiteConfig {
         if crate::missions::is_mission_suite(text) {
             return Err(mission_suite_here(origin));
         }
-        Ok(parse_ron(text, origin)?)
+        parse_ron(text, origin).map_err(|mut e| {
+            if let Some(field) = EXPERIMENT_FIELDS
+                .iter()
+                .find(|f| {
+                    let unexpected = format!("Unexpected field named `{f}` in `SuiteConfig`");
+                    e.message.starts_with(&unexpected)
+                })
+            {
+                e.message.push_str(&format!(
+                    "; `{field}` belongs to an experiment: `experiments: [(scenario: ..., {field}: ...)]`"
+                ));
+            }
+            SuiteError::from(e)
+        })
     }
 
     /// Parses and checks a suite config given as JSON (the same fields as the RON file: a
@@ -469,6 +493,34 @@ mod tests {
     use crate::catalog::resolve_readings;
     use crate::ugv::{PATROL_WEIGHTS, THREE_AND_ONE};
     use trust::{Retention, RetrieverKind, TimeUnit};
+
+    #[test]
+    fn an_experiment_s_field_at_the_top_says_where_it_belongs() {
+        let err = SuiteConfig::from_ron(
+            &UgvCatalog,
+            "(seed: 1, operator_files: [\"night.ron\"], experiments: [])",
+            Path::new("suite.ron"),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.starts_with(
+                "suite.ron:1:25: Unexpected field named `operator_files` in `SuiteConfig`, expected one of `seed`, "
+            ),
+            "{err}"
+        );
+        assert!(
+            err.contains(
+                "instead; `operator_files` belongs to an experiment: `experiments: [(scenario: ..., operator_files: ...)]`\n1 | (seed"
+            ),
+            "{err}"
+        );
+        // A field that belongs nowhere gets ron's list alone.
+        let err = SuiteConfig::from_ron(&UgvCatalog, "(sede: 1)", Path::new("suite.ron"))
+            .unwrap_err()
+            .to_string();
+        assert!(!err.contains("belongs"), "{err}");
+    }
 
     #[test]
     fn the_paper_config_has_the_seven_experiments() {
