@@ -33,7 +33,9 @@ use cbr_core::Behavior;
 use rand::{Rng, RngCore};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use trust::{AdapterConfig, Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord};
+use trust::{
+    AdapterConfig, Decision, MissionAdapter, MissionDecision, Outcome, OutcomeKind, OwnRecord,
+};
 
 /// When the operator changes during a mission.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -75,6 +77,14 @@ impl Complacency {
     /// The operator's attention at its own trust `felt` (in `[0, 1]`).
     pub fn attention(&self, felt: f64) -> f64 {
         1.0 - (1.0 - self.floor) * felt
+    }
+
+    /// The operator's own trust after watching a command with `outcome`, from `felt`
+    /// before it: an average over about `memory` commands of how they went (1 for a
+    /// command that went well, 0 for an untrustworthy one).
+    pub fn felt_after(&self, felt: f64, outcome: &Outcome) -> f64 {
+        let went_well = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
+        felt + (went_well - felt) / self.memory
     }
 
     /// Checks the numbers: `memory >= 1` and `floor` in `[0, 1]`.
@@ -184,6 +194,20 @@ pub struct OnsetRecord {
     /// something the robot perceived (a signal of its own record): the evidence the robot
     /// could have had.
     pub perceivable: u32,
+}
+
+/// Counts an untrustworthy command into a mission's `total` and into the change it came
+/// after while the robot had not yet settled again (`waiting`), as the arms and the oracle
+/// ([`crate::mission_oracle`]) count them.
+pub(crate) fn count_untrustworthy(
+    total: &mut u32,
+    changes: &mut [ChangeRecord],
+    waiting: Option<usize>,
+) {
+    *total += 1;
+    if let Some(k) = waiting {
+        changes[k].untrustworthy += 1;
+    }
 }
 
 /// One mission of one arm.
@@ -679,14 +703,10 @@ fn run_mission<D: Domain>(
             }
         }
         if outcome.is_untrustworthy() {
-            record.untrustworthy += 1;
-            if let Some(k) = waiting {
-                record.changes[k].untrustworthy += 1;
-            }
+            count_untrustworthy(&mut record.untrustworthy, &mut record.changes, waiting);
         }
         if let Some(model) = plan.complacency {
-            let went_well = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
-            state.felt += (went_well - state.felt) / model.memory;
+            state.felt = model.felt_after(state.felt, &outcome);
         }
         match decision {
             MissionDecision::Episode(Decision::Keep) => {}

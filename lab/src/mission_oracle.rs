@@ -39,7 +39,9 @@ use crate::domain::Domain;
 use crate::known_operator::{KnownLimitError, KnownOperator, known_operator};
 use crate::landscape::LandscapeError;
 use crate::limit;
-use crate::mission::{ChangeKind, ChangeRecord, Course, MissionPlan, StreamName};
+use crate::mission::{
+    ChangeKind, ChangeRecord, Course, MissionPlan, StreamName, count_untrustworthy,
+};
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
 use crate::simulate::{self, SimulatedCommand};
@@ -260,14 +262,10 @@ impl MissionOracle {
             record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
             record.overlooked += u32::from(judgement.overlooked.is_some());
             if outcome.is_untrustworthy() {
-                record.untrustworthy += 1;
-                if let Some(k) = waiting {
-                    record.changes[k].untrustworthy += 1;
-                }
+                count_untrustworthy(&mut record.untrustworthy, &mut record.changes, waiting);
             }
             if let Some(model) = plan.complacency {
-                let went_well = if outcome.is_untrustworthy() { 0.0 } else { 1.0 };
-                felt += (went_well - felt) / model.memory;
+                felt = model.felt_after(felt, &outcome);
             }
             let Some(e) = episode.as_mut() else {
                 continue;
