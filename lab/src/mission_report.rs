@@ -372,7 +372,7 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
             oracle.harm.ci95,
         );
         md.push_str(
-            "\nAgainst the oracle (told of every change, knowing every operator's landscape; its re-adaptations are the episodes it began at a change):\n\n| arm | untrustworthy commands per change | × oracle | harm per mission | × oracle |\n|---|---:|---:|---:|---:|\n",
+            "\nAgainst the oracle (told of every change, knowing every operator's landscape; its re-adaptations are the episodes it began at a change; it minimises untrustworthy commands, not harm, so an arm may do less harm than it):\n\n| arm | untrustworthy commands per change | × oracle | harm per mission | × oracle |\n|---|---:|---:|---:|---:|\n",
         );
         for s in &summaries {
             let _ = writeln!(
