@@ -212,8 +212,8 @@ struct RenderArgs {
     /// built-in operator of the scenario).
     #[arg(long)]
     operator: Option<String>,
-    /// Output SVG file.
-    #[arg(short = 'o', long, default_value = "run.svg")]
+    /// Output SVG file (`--out` too, as the other commands name theirs).
+    #[arg(short = 'o', long, visible_alias = "out", default_value = "run.svg")]
     output: PathBuf,
 }
 

@@ -106,6 +106,20 @@ fn every_landscape_heatmap_holds_its_colour_bar_in_view() {
 }
 
 #[test]
+fn render_takes_out_as_the_other_commands_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("walk.svg");
+    succeed(
+        trustcbr()
+            .args(["render", "--scenario", "movement", "--behavior"])
+            .arg("speed=2,padding=0.3")
+            .arg("--out")
+            .arg(&out),
+    );
+    assert!(std::fs::read_to_string(&out).unwrap().starts_with("<svg"));
+}
+
+#[test]
 fn render_refuses_a_bad_behavior() {
     let dir = tempfile::tempdir().unwrap();
     let output = trustcbr()
