@@ -10,7 +10,7 @@ import signal
 import subprocess
 import threading
 from pathlib import Path
-from typing import Any, List
+from typing import Any, Iterator, List
 
 import pytest
 
@@ -261,6 +261,16 @@ def test_progress_reaches_a_callback_and_can_be_silenced(capfd: Any) -> None:
         trustcbr.run(small_suite(), progress="yes")  # type: ignore[arg-type]
 
 
+@pytest.fixture
+def ctrl_c_reaches_python() -> Iterator[None]:
+    """Python's own Ctrl-C handler while the test runs: a process started with SIGINT
+    ignored (a background job of a shell without job control, as some CI runners start
+    their steps) has none, and a signal it ignores would stop nothing."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
 def interrupt_soon() -> threading.Timer:
     """Ctrl-C, as a terminal sends it, half a second from now."""
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
@@ -268,6 +278,7 @@ def interrupt_soon() -> threading.Timer:
     return timer
 
 
+@pytest.mark.usefixtures("ctrl_c_reaches_python")
 def test_ctrl_c_stops_a_long_run_and_writes_nothing(tmp_path: Path) -> None:
     out = tmp_path / "report"
     interrupt_soon()
@@ -277,6 +288,7 @@ def test_ctrl_c_stops_a_long_run_and_writes_nothing(tmp_path: Path) -> None:
     assert not out.exists() and not (tmp_path / "cases").exists()
 
 
+@pytest.mark.usefixtures("ctrl_c_reaches_python")
 def test_ctrl_c_stops_a_landscape() -> None:
     interrupt_soon()
     with pytest.raises(KeyboardInterrupt):
