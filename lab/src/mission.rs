@@ -196,6 +196,25 @@ pub struct OnsetRecord {
     pub perceivable: u32,
 }
 
+/// Records a change at command `at` in a mission's `changes` (nothing counted yet) and
+/// returns its place, the change the robot is now waiting to settle after, as the arms and
+/// the oracle ([`crate::mission_oracle`]) record them.
+pub(crate) fn begin_change(
+    changes: &mut Vec<ChangeRecord>,
+    at: u32,
+    kind: ChangeKind,
+    needed: bool,
+) -> usize {
+    changes.push(ChangeRecord {
+        at,
+        kind,
+        needed,
+        trusted_again: None,
+        untrustworthy: 0,
+    });
+    changes.len() - 1
+}
+
 /// Counts an untrustworthy command into a mission's `total` and into the change it came
 /// after while the robot had not yet settled again (`waiting`), as the arms and the oracle
 /// ([`crate::mission_oracle`]) count them.
@@ -659,14 +678,7 @@ fn run_mission<D: Domain>(
                 Purpose::Truth,
             );
             let needed = !trustworthy(plan, &behavior, &plan.operators[operator].1, &mut truth);
-            waiting = Some(record.changes.len());
-            record.changes.push(ChangeRecord {
-                at: c,
-                kind: change.kind,
-                needed,
-                trusted_again: None,
-                untrustworthy: 0,
-            });
+            waiting = Some(begin_change(&mut record.changes, c, change.kind, needed));
             changed_since_settled = true;
             marks.push(Mark::Change(change.kind));
         }

@@ -40,7 +40,7 @@ use crate::known_operator::{KnownLimitError, KnownOperator, known_operator};
 use crate::landscape::LandscapeError;
 use crate::limit;
 use crate::mission::{
-    ChangeKind, ChangeRecord, Course, MissionPlan, StreamName, count_untrustworthy,
+    ChangeKind, ChangeRecord, Course, MissionPlan, StreamName, begin_change, count_untrustworthy,
 };
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
@@ -224,14 +224,7 @@ impl MissionOracle {
                 let knows = &self.members[member];
                 let rank = space.rank(&behavior) as usize;
                 let needed = !knows.trusted[rank];
-                waiting = Some(record.changes.len());
-                record.changes.push(ChangeRecord {
-                    at: c,
-                    kind: change.kind,
-                    needed,
-                    trusted_again: None,
-                    untrustworthy: 0,
-                });
+                waiting = Some(begin_change(&mut record.changes, c, change.kind, needed));
                 if episode.is_some() || !knows.keeps(rank, plan.changes.every) {
                     record.readaptations += 1;
                     let mut fresh = Episode {
