@@ -2,7 +2,7 @@
 //! done by the suite, the sweep and the `trust` and `service` libraries.
 //!
 //! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
-//! `simulate`, `landscape`, `population`, `serve`, `cases` and `explain`, for the catalog's
+//! `simulate`, `landscape`, `competence`, `population`, `serve`, `cases` and `explain`, for the catalog's
 //! scenarios. The shipped `trustcbr`
 //! binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own domains
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
@@ -61,6 +61,10 @@ enum Command {
     /// Estimate, for every behavior, how often an operator lets a run complete; write
     /// `landscape.svg` (heatmap) and `landscape.csv`.
     Landscape(LandscapeArgs),
+    /// Measure how well the robot judges its own competence: its estimates of behaviors
+    /// drawn from the space against the simulator's truth; write `competence.md` and
+    /// `competence.json`.
+    Competence(CompetenceArgs),
     /// Draw an instance of the scenario's prior over operators and write its members as
     /// operator files, `OUT/MEMBER.ron`, which `landscape --operator` and a suite's
     /// `operator_files` read.
@@ -266,6 +270,36 @@ struct LandscapeArgs {
 }
 
 #[derive(Args)]
+struct CompetenceArgs {
+    /// The scenario, by the tool's name for it (an unknown name is refused with the list).
+    #[arg(long)]
+    scenario: String,
+    /// The operator in front of whom the robot runs its commands (its interruptions cut
+    /// them short): a built-in name or an operator file.
+    #[arg(long)]
+    operator: String,
+    /// Behaviors drawn uniformly from the space, 1 to 100000.
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    behaviors: u32,
+    /// After how many commands of a behavior the robot's estimate is taken, increasing,
+    /// each at most 10000 (0: its models and its record of other behaviors alone).
+    #[arg(long, default_value = "0,10,50", value_delimiter = ',', value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    seen: Vec<u32>,
+    /// Whole commands per behavior behind its truth, 1 to 100000.
+    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    truth_runs: u32,
+    /// The standard: the most any part may fall short per command, in [0, 1].
+    #[arg(long, default_value_t = 0.1)]
+    standard: f64,
+    /// Master seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output directory.
+    #[arg(long, default_value = ".")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
 struct PopulationArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
     #[arg(long)]
@@ -406,6 +440,7 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
         Command::Render(args) => render(&catalog, &args),
         Command::Simulate(args) => simulate(&catalog, &args),
         Command::Landscape(args) => landscape(&catalog, &args),
+        Command::Competence(args) => competence(&catalog, &args),
         Command::Population(args) => population(&catalog, &args),
         Command::Serve(args) => serve(&catalog, &args),
         Command::Sweep(args) => sweep(&catalog, &args),
@@ -835,6 +870,44 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
             "landscape.csv",
             estimate.csv(space, domain.causes()).into_bytes(),
         ),
+    ] {
+        let path = args.out.join(name);
+        files::write_atomically(&path, &bytes)
+            .with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// Measures the robot's competence estimates against the truth and writes the report.
+fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
+    let domain = domain_of(catalog, &args.scenario)?;
+    let readings = resolve_readings(catalog, &Default::default())?;
+    let (operator_name, operator) =
+        find_operator(catalog, &args.scenario, &args.operator, &readings)?;
+    files::output::ensure_writable_dir(&args.out)?;
+    let settings = lab::competence::CompetenceSettings {
+        behaviors: args.behaviors,
+        seen: args.seen.clone(),
+        truth_runs: args.truth_runs,
+        seed: args.seed,
+        standard: trust::CompetenceStandard::uniform(args.standard).context("--standard")?,
+    };
+    let progress = Progress::new(
+        "behavior",
+        &[(
+            format!("competence ({} truth runs each)", args.truth_runs),
+            u64::from(args.behaviors),
+        )],
+    );
+    let accuracy =
+        lab::competence::measure(&domain, &operator_name, &operator, &settings, &|| {
+            progress.tick(0)
+        })?;
+    let json = serde_json::to_string_pretty(&accuracy.json())? + "\n";
+    for (name, bytes) in [
+        ("competence.md", accuracy.markdown().into_bytes()),
+        ("competence.json", json.into_bytes()),
     ] {
         let path = args.out.join(name);
         files::write_atomically(&path, &bytes)

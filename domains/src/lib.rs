@@ -2,6 +2,7 @@
 #![deny(missing_docs)]
 
 pub mod causes;
+pub mod competence;
 pub mod detector;
 pub mod drive;
 pub mod geometry;

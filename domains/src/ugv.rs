@@ -6,6 +6,7 @@
 //! patrol places, spots, scans and labels the suspicious objects. The result is a
 //! [`Trace`]; the operator model turns it into a [`Judgement`].
 
+use crate::competence;
 use crate::detector::Detector;
 use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
@@ -21,7 +22,7 @@ use cbr_core::{Behavior, BehaviorSpace};
 use lab::{Domain, FeedbackChannel, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
-use trust::{Cause, DeclaredCause, Hint};
+use trust::{Cause, CompetencePart, DeclaredCause, Hint};
 
 /// The behavior's settings in physical units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -498,5 +499,29 @@ impl Domain for UgvDomain {
         rng: &mut dyn RngCore,
     ) -> Option<Judgement> {
         Some(self.run_at(behavior, operator, attention, rng))
+    }
+
+    fn competence_parts(&self) -> &[CompetencePart] {
+        competence::parts(self.scenario)
+    }
+
+    fn predict_competence(&self, behavior: &Behavior) -> Vec<Option<f64>> {
+        competence::predict(
+            self.scenario,
+            &self.settings(behavior),
+            &self.patrol,
+            &self.detector,
+        )
+    }
+
+    fn competence_truth(
+        &self,
+        behavior: &Behavior,
+        rng: &mut dyn RngCore,
+    ) -> Option<Vec<Option<bool>>> {
+        Some(competence::truth(
+            self.scenario,
+            &self.simulate(behavior, rng, false),
+        ))
     }
 }

@@ -20,7 +20,8 @@ use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 use trust::{
-    Cause, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, OutcomeWeights, Vocabulary,
+    Cause, CompetencePart, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, OutcomeWeights,
+    Vocabulary,
 };
 
 /// A task domain: a behavior space and a way to run one command.
@@ -89,6 +90,36 @@ pub trait Domain: Send + Sync {
         rng: &mut dyn RngCore,
     ) -> Option<Judgement> {
         let _ = (behavior, operator, attention, rng);
+        None
+    }
+
+    /// The ways a command can fall short that the robot judges itself, each seen (one of
+    /// [`Domain::observations`]) or unseen ([`trust::competence`]); none by default.
+    fn competence_parts(&self) -> &[CompetencePart] {
+        &[]
+    }
+
+    /// What the robot's own models predict of `behavior`: per part of
+    /// [`Domain::competence_parts`], the chance a command falls short that way, `None`
+    /// where no model says. Only what the robot knows may enter (its sensors' tables, its
+    /// settings, its briefing), never the operator. Nothing predicted by default.
+    fn predict_competence(&self, behavior: &Behavior) -> Vec<Option<f64>> {
+        let _ = behavior;
+        vec![None; self.competence_parts().len()]
+    }
+
+    /// For evaluation only, as the truth: one whole command of `behavior` with nobody to
+    /// stop it, drawing all randomness from `rng`, and for each part of
+    /// [`Domain::competence_parts`] (in their order) whether it fell short in it, or
+    /// `None` where the part does not apply to this command (a patrol that never set out
+    /// passed no object). `None`, the default: the domain gives no truth to measure the
+    /// robot's competence against ([`crate::competence::measure`] refuses it).
+    fn competence_truth(
+        &self,
+        behavior: &Behavior,
+        rng: &mut dyn RngCore,
+    ) -> Option<Vec<Option<bool>>> {
+        let _ = (behavior, rng);
         None
     }
 }

@@ -4,6 +4,7 @@
 pub mod arm;
 pub mod attention;
 pub mod benchmark;
+pub mod competence;
 pub mod domain;
 mod drive;
 pub mod feedback;

@@ -36,6 +36,10 @@ pub enum Purpose {
     /// (here "experiment" is the scenario's place among the benchmark's, "trial" the arm's
     /// place times the metrics plus the metric's: [`crate::benchmark`]).
     Benchmark = 9,
+    /// The measure of the robot's own competence ([`crate::competence`]): here
+    /// "experiment" is 0 for the behaviors drawn, 1 for the commands the robot runs of
+    /// behavior "trial", 2 for the truth's whole commands of it.
+    Competence = 10,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

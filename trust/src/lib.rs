@@ -3,6 +3,7 @@
 
 pub mod adapter;
 pub mod cause;
+pub mod competence;
 pub mod estimate;
 pub mod evaluated;
 pub mod explain;
@@ -24,6 +25,10 @@ pub use adapter::{
 };
 pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
+};
+pub use competence::{
+    Calibration, Competence, CompetencePart, CompetenceRecord, CompetenceStandard, PartEstimate,
+    calibrate,
 };
 pub use estimate::{
     Observations, Outcome, OutcomeError, OutcomeKind, THRESHOLD_TOLERANCE, ThresholdError,
