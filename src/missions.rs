@@ -21,7 +21,9 @@ use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::known_operator::LimitSettings;
-use lab::mission::{Changes, Complacency, MissionPlan, MissionResult, run_missions};
+use lab::mission::{
+    Changes, Complacency, MissionPlan, MissionResult, check_competence, run_missions,
+};
 use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
 use lab::plot::svg;
@@ -31,7 +33,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::AdapterConfig;
+use trust::{AdapterConfig, CompetenceStandard};
 
 /// A mission suite.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -70,6 +72,10 @@ pub struct MissionSpec {
     /// How operators grow complacent; absent: they stay attentive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub complacency: Option<Complacency>,
+    /// The standard the robot holds its own competence to (`Some((at_most: 0.1))`: at
+    /// most one command in ten falling short in any part); absent: it does not judge it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub competence: Option<CompetenceStandard>,
 }
 
 /// Whether `text` is a mission suite: a RON structure with a `missions` field.
@@ -137,11 +143,17 @@ impl MissionSuiteConfig {
             let operators =
                 spec.operators
                     .check(catalog, &field("operators"), origin, &readings)?;
-            if spec.complacency.is_some() {
+            if spec.complacency.is_some() || spec.competence.is_some() {
                 let domain = domain_of(catalog, &spec.operators.scenario)
                     .map_err(|e| invalid(field("operators.scenario"), e.to_string()))?;
-                check_attention(&domain, &operators)
-                    .map_err(|e| invalid(field("complacency"), e.to_string()))?;
+                if spec.complacency.is_some() {
+                    check_attention(&domain, &operators)
+                        .map_err(|e| invalid(field("complacency"), e.to_string()))?;
+                }
+                if let Some(standard) = &spec.competence {
+                    check_competence(&domain, standard)
+                        .map_err(|e| invalid(field("competence"), e))?;
+                }
             }
             spec.operators.check_reachable(
                 catalog,
@@ -238,6 +250,7 @@ pub fn run_mission_suite<C: Catalog>(
             commands: spec.commands.get(),
             changes: spec.changes,
             complacency: spec.complacency,
+            competence: spec.competence.clone(),
             adapter: config.adapter.clone(),
             arms: arms.clone(),
             feedback: spec.operators.feedback,

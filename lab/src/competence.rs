@@ -15,6 +15,7 @@ use crate::Domain;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95};
 use cbr_core::Behavior;
+use rand::RngCore;
 use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::json;
@@ -136,14 +137,49 @@ impl Agreement {
     }
 }
 
-/// The truth of a behavior as a [`Competence`] (every part's rate its true share).
-fn truth_as_competence(parts: &[CompetencePart], b: &BehaviorCompetence) -> Competence {
+/// The truth of `behavior` in `domain`: per part, the share of `runs` whole commands it
+/// applied to that fell short in it (`None`: it applied to none), drawn from `rng`;
+/// `None` when the domain gives no truth ([`Domain::competence_truth`]).
+pub fn true_rates<D: Domain + ?Sized>(
+    domain: &D,
+    behavior: &Behavior,
+    runs: u32,
+    rng: &mut dyn RngCore,
+) -> Option<Vec<Option<f64>>> {
+    // Per part: commands it fell short in, and commands it applied to.
+    let mut fell_short = vec![(0u32, 0u32); domain.competence_parts().len()];
+    for _ in 0..runs {
+        for (count, short) in fell_short
+            .iter_mut()
+            .zip(domain.competence_truth(behavior, rng)?)
+        {
+            if let Some(short) = short {
+                count.0 += u32::from(short);
+                count.1 += 1;
+            }
+        }
+    }
+    Some(
+        fell_short
+            .iter()
+            .map(|&(short, applied)| (applied > 0).then(|| f64::from(short) / f64::from(applied)))
+            .collect(),
+    )
+}
+
+/// The truth of `behavior` as a [`Competence`] of `parts`: every part's rate its true
+/// share `truth` ([`true_rates`]).
+pub fn true_competence(
+    parts: &[CompetencePart],
+    behavior: Behavior,
+    truth: &[Option<f64>],
+) -> Competence {
     Competence {
-        behavior: b.behavior,
+        behavior,
         commands: 0,
         parts: parts
             .iter()
-            .zip(&b.truth)
+            .zip(truth)
             .map(|(part, &truth)| PartEstimate {
                 name: part.name,
                 rate: truth,
@@ -177,7 +213,7 @@ impl CompetenceAccuracy {
         let standard = &self.settings.standard;
         let mut agreement = Agreement::default();
         for b in &self.behaviors {
-            let truly = standard.met_by(&truth_as_competence(&self.parts, b));
+            let truly = standard.met_by(&true_competence(&self.parts, b.behavior, &b.truth));
             let judged = standard.met_by(&b.estimates[k]);
             match (truly, judged) {
                 (true, true) => agreement.competent += 1,
@@ -344,41 +380,25 @@ pub fn measure<D: Domain>(
     };
     let most = settings.seen.last().copied().unwrap_or(0);
     // Per behavior: the outcomes of its commands, and its truth.
-    let runs = behaviors
-        .par_iter()
-        .enumerate()
-        .map(|(i, behavior)| {
-            crate::interrupt::check()?;
-            let mut commands = stream(settings.seed, 1, i as u64, Purpose::Competence);
-            let outcomes: Vec<trust::Outcome> = (0..most)
-                .map(|_| domain.run(behavior, operator, &mut commands).outcome)
-                .collect();
-            let mut whole = stream(settings.seed, 2, i as u64, Purpose::Competence);
-            // Per part: commands it fell short in, and commands it applied to.
-            let mut fell_short = vec![(0u32, 0u32); parts.len()];
-            for _ in 0..settings.truth_runs {
-                let truth = domain
-                    .competence_truth(behavior, &mut whole)
+    let runs =
+        behaviors
+            .par_iter()
+            .enumerate()
+            .map(|(i, behavior)| {
+                crate::interrupt::check()?;
+                let mut commands = stream(settings.seed, 1, i as u64, Purpose::Competence);
+                let outcomes: Vec<trust::Outcome> = (0..most)
+                    .map(|_| domain.run(behavior, operator, &mut commands).outcome)
+                    .collect();
+                let mut whole = stream(settings.seed, 2, i as u64, Purpose::Competence);
+                let truth = true_rates(domain, behavior, settings.truth_runs, &mut whole)
                     .ok_or_else(|| CompetenceError::NoTruth {
                         domain: domain.name().to_owned(),
                     })?;
-                for (count, short) in fell_short.iter_mut().zip(truth) {
-                    if let Some(short) = short {
-                        count.0 += u32::from(short);
-                        count.1 += 1;
-                    }
-                }
-            }
-            progress();
-            let truth = fell_short
-                .iter()
-                .map(|&(short, applied)| {
-                    (applied > 0).then(|| f64::from(short) / f64::from(applied))
-                })
-                .collect::<Vec<Option<f64>>>();
-            Ok((outcomes, truth))
-        })
-        .collect::<Result<Vec<_>, CompetenceError>>()?;
+                progress();
+                Ok((outcomes, truth))
+            })
+            .collect::<Result<Vec<_>, CompetenceError>>()?;
     // Per number of commands: a record holding every behavior's first commands.
     let records: Vec<CompetenceRecord> = settings
         .seen

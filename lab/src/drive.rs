@@ -68,7 +68,7 @@ impl Records for TrustAdapter {
     }
 }
 
-impl Records for MissionAdapter {
+impl Records for MissionAdapter<'_> {
     type Decision = MissionDecision;
 
     fn record(&mut self, outcome: &Outcome) -> Result<MissionDecision, AdapterError> {
@@ -86,7 +86,7 @@ impl Records for MissionAdapter {
     fn episode_decision(decision: &MissionDecision) -> Option<&Decision> {
         match decision {
             MissionDecision::Episode(decision) => Some(decision),
-            MissionDecision::Alert(_) => None,
+            MissionDecision::Alert(_) | MissionDecision::Overtrust(_) => None,
         }
     }
 }

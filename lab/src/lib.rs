@@ -17,6 +17,7 @@ pub mod landscape;
 pub mod limit;
 pub mod limit_law;
 pub mod mission;
+pub mod mission_calibration;
 pub mod mission_figure;
 pub mod mission_oracle;
 pub mod mission_report;

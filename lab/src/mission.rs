@@ -22,6 +22,7 @@
 //! mission, purpose), the same for every arm.
 
 use crate::arm::Arm;
+use crate::competence::{true_competence, true_rates};
 use crate::domain::check_attention;
 use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::LimitSettings;
@@ -30,11 +31,15 @@ use crate::runner::{PlanError, fresh_adapter};
 use crate::seeds::{Purpose, stream};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
-use rand::{Rng, RngCore};
+use rand::{Rng, RngCore, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::sync::Arc;
 use trust::{
-    AdapterConfig, Decision, MissionAdapter, MissionDecision, Outcome, OutcomeKind, OwnRecord,
+    AdapterConfig, Calibration, CompetenceJudge, CompetenceRecord, CompetenceStandard, Decision,
+    MissionAdapter, MissionDecision, Outcome, OutcomeKind, OwnRecord, Verdict,
 };
 
 /// When the operator changes during a mission.
@@ -152,6 +157,12 @@ pub struct MissionPlan<'a, D: Domain> {
     /// How the oracle's knowledge of each operator (its known-operator limit and
     /// trustworthy region) is estimated ([`crate::mission_oracle`]).
     pub limit: LimitSettings,
+    /// The standard the robot holds its own competence to (`None`: it does not judge
+    /// it): every arm then judges every command's behavior ([`trust::competence`]),
+    /// raises an overtrust alert once per settled behavior its operator trusts and it
+    /// judges not competent, and its records carry the calibration against the truth
+    /// ([`CalibrationRecord`]).
+    pub competence: Option<CompetenceStandard>,
 }
 
 /// What changed.
@@ -254,6 +265,41 @@ pub struct MissionRecord {
     pub overlooked: u32,
     /// Untrustworthy commands in all.
     pub untrustworthy: u32,
+    /// The robot's judgement of its own competence against the truth, on a plan with a
+    /// competence standard.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<CalibrationRecord>,
+}
+
+/// How the robot's judgement of its own competence met the truth during one mission
+/// (the truth of a behavior: the share of [`MissionPlan::truth_runs`] whole commands that
+/// fell short in each part, [`Domain::competence_truth`], against the plan's standard).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationRecord {
+    /// Commands of a watched (settled) behavior.
+    pub watched: u32,
+    /// Of those, commands whose operator trusted the behavior (its estimate at the
+    /// trustworthy threshold) while it was truly not competent: overtrust.
+    pub overtrusted: u32,
+    /// Of the watched commands, those the robot judged overtrust.
+    pub judged: u32,
+    /// Commands both overtrusted and judged so.
+    pub both: u32,
+    /// Watched commands of a behavior truly competent.
+    pub competent: u32,
+    /// The overtrust alerts raised: the command, and whether the behavior was truly
+    /// competent (a false alert).
+    pub alerts: Vec<(u32, bool)>,
+}
+
+impl CalibrationRecord {
+    /// Overtrust alerts raised on a behavior that was truly competent.
+    pub fn false_alerts(&self) -> usize {
+        self.alerts
+            .iter()
+            .filter(|(_, competent)| *competent)
+            .count()
+    }
 }
 
 impl MissionRecord {
@@ -381,6 +427,12 @@ impl<D: Domain> MissionPlan<'_, D> {
     /// Refuses a plan whose operators grow complacent over a domain that does not model
     /// attention ([`check_attention`]): it would run, and its alerts could change nothing.
     pub fn validate(&self) -> Result<(), PlanError> {
+        if let Some(standard) = &self.competence {
+            check_competence(self.domain, standard).map_err(|reason| PlanError::Competence {
+                plan: self.name.clone(),
+                reason,
+            })?;
+        }
         if self.complacency.is_some() {
             check_attention(self.domain, self.operators).map_err(|reason| {
                 PlanError::AttentionNotModelled {
@@ -390,6 +442,87 @@ impl<D: Domain> MissionPlan<'_, D> {
             })?;
         }
         Ok(())
+    }
+}
+
+/// Whether `domain` lets its robot judge its own competence under `standard`: it
+/// declares parts its robot can record, gives a truth to measure them against (asked once,
+/// on a stream of its own, so no stream of a run is touched), and the standard's bounds
+/// are chances.
+pub fn check_competence<D: Domain + ?Sized>(
+    domain: &D,
+    standard: &CompetenceStandard,
+) -> Result<(), String> {
+    standard.validate().map_err(|e| e.to_string())?;
+    if domain.competence_parts().is_empty() {
+        return Err(format!(
+            "domain `{}` declares no competence part (`Domain::competence_parts`), so a plan cannot set `competence`",
+            domain.name()
+        ));
+    }
+    CompetenceRecord::new(domain.competence_parts(), domain.observations())
+        .map_err(|e| e.to_string())?;
+    let mut probe = ChaCha8Rng::seed_from_u64(0);
+    if domain
+        .competence_truth(&domain.space().unrank(0), &mut probe)
+        .is_none()
+    {
+        return Err(format!(
+            "domain `{}` gives no truth of its robot's competence (`Domain::competence_truth`), so a plan cannot set `competence`",
+            domain.name()
+        ));
+    }
+    Ok(())
+}
+
+impl<'a, D: Domain> MissionPlan<'a, D> {
+    /// The robot's judge of its own competence for one arm's chain, on a plan with a
+    /// standard: an empty record, the domain's predictions, the standard.
+    fn judge(&self) -> Option<CompetenceJudge<'a>> {
+        let standard = self.competence.clone()?;
+        let domain = self.domain;
+        let record = CompetenceRecord::new(domain.competence_parts(), domain.observations())
+            .expect("checked by MissionPlan::validate");
+        Some(CompetenceJudge::new(
+            record,
+            Arc::new(move |behavior: &Behavior| domain.predict_competence(behavior)),
+            standard,
+        ))
+    }
+}
+
+/// The truth of the behaviors' competence on one chain of a plan with a standard, each
+/// behavior's learned once from the plan's truth runs on a stream of its own (so every
+/// chain finds the same truth).
+struct CompetenceTruth<'p, 'a, D: Domain> {
+    plan: &'p MissionPlan<'a, D>,
+    /// The seed and the plan's place, naming the streams.
+    seed: u64,
+    index: u64,
+    known: HashMap<Behavior, bool>,
+}
+
+impl<'p, 'a, D: Domain> CompetenceTruth<'p, 'a, D> {
+    /// Whether `behavior` is truly competent under the plan's standard.
+    fn competent(&mut self, behavior: Behavior) -> bool {
+        let plan = self.plan;
+        let (seed, index) = (self.seed, self.index);
+        *self.known.entry(behavior).or_insert_with(|| {
+            let standard = plan.competence.as_ref().expect("a plan with a standard");
+            let mut rng = stream(
+                seed,
+                index,
+                plan.domain.space().rank(&behavior),
+                Purpose::CompetenceTruth,
+            );
+            let rates = true_rates(plan.domain, &behavior, plan.truth_runs, &mut rng)
+                .expect("checked by MissionPlan::validate");
+            standard.met_by(&true_competence(
+                plan.domain.competence_parts(),
+                behavior,
+                &rates,
+            ))
+        })
     }
 }
 
@@ -456,6 +589,15 @@ fn run_chain<D: Domain>(
             reason,
         })?;
     let mut adapter = MissionAdapter::new(adapter);
+    if let Some(judge) = plan.judge() {
+        adapter = adapter.with_competence(judge);
+    }
+    let mut truth = CompetenceTruth {
+        plan,
+        seed,
+        index,
+        known: HashMap::new(),
+    };
     let mut missions = Vec::with_capacity(plan.missions as usize);
     let mut traced = MissionTrace::of(plan.commands);
     for mission in 0..plan.missions {
@@ -472,6 +614,7 @@ fn run_chain<D: Domain>(
             &mut adapter,
             named,
             answers_alerts,
+            &mut truth,
             trace,
         )?);
         progress();
@@ -604,9 +747,10 @@ pub(crate) struct StreamName {
 fn run_mission<D: Domain>(
     plan: &MissionPlan<'_, D>,
     arm: &Arm,
-    adapter: &mut MissionAdapter,
+    adapter: &mut MissionAdapter<'_>,
     named: StreamName,
     answers_alerts: bool,
+    truth: &mut CompetenceTruth<'_, '_, D>,
     mut trace: Option<&mut MissionTrace>,
 ) -> Result<MissionRecord, PlanError> {
     let StreamName {
@@ -645,7 +789,12 @@ fn run_mission<D: Domain>(
         failures: 0,
         overlooked: 0,
         untrustworthy: 0,
+        calibration: plan
+            .competence
+            .as_ref()
+            .map(|_| CalibrationRecord::default()),
     };
+    let thresholds = adapter.adapter().parameters().thresholds;
     let mut operator = first;
     let mut state = OperatorState {
         felt: 0.0,
@@ -698,6 +847,26 @@ fn run_mission<D: Domain>(
         }
         let judge = &plan.operators[operator].1;
         let was_watching = adapter.watching().is_some();
+        if let (Some(calibration), Some(watch), Some(robot)) = (
+            record.calibration.as_mut(),
+            adapter.watching(),
+            adapter.competence_judge(),
+        ) {
+            // The command of a watched behavior: trusted or not, truly competent or not,
+            // and what the robot judges of it, as the command is given.
+            let trusted = thresholds.verdict(watch.estimate.value) == Verdict::Trustworthy;
+            let competent = truth.competent(watch.behavior);
+            let judged = matches!(
+                robot.calibration(watch.behavior, watch.estimate.value, &thresholds),
+                Calibration::Overtrust { .. }
+            );
+            let overtrusted = trusted && !competent;
+            calibration.watched += 1;
+            calibration.competent += u32::from(competent);
+            calibration.overtrusted += u32::from(overtrusted);
+            calibration.judged += u32::from(judged);
+            calibration.both += u32::from(overtrusted && judged);
+        }
         let Command {
             judgement,
             outcome,
@@ -731,6 +900,20 @@ fn run_mission<D: Domain>(
                 }
                 if answers_alerts {
                     // Asked to supervise, the operator looks afresh.
+                    state = OperatorState {
+                        felt: 0.0,
+                        onset: None,
+                    };
+                }
+            }
+            MissionDecision::Overtrust(alert) => {
+                let competent = truth.competent(alert.behavior);
+                if let Some(calibration) = record.calibration.as_mut() {
+                    calibration.alerts.push((c, competent));
+                }
+                marks.push(Mark::Alert);
+                if answers_alerts {
+                    // Asked to choose, the operator looks afresh at the behavior.
                     state = OperatorState {
                         felt: 0.0,
                         onset: None,

@@ -388,6 +388,7 @@ mod tests {
                 candidates: 0,
                 candidate_runs: 0,
             },
+            competence: None,
         }
     }
 

@@ -8,6 +8,7 @@
 use crate::mission::{
     ChangeRecord, DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult,
 };
+use crate::mission_calibration::{calibration_json, calibration_markdown};
 use crate::mission_oracle::OracleRecord;
 use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
 use serde_json::{Value, json};
@@ -395,6 +396,9 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
         for line in targets(result, &summaries) {
             let _ = writeln!(md, "- {line}");
         }
+        if let Some(section) = calibration_markdown(&result.arms) {
+            md.push_str(&section);
+        }
         md.push('\n');
     }
     md
@@ -431,7 +435,8 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "difference": ci_json(Some(h.difference)),
                         "wilcoxon_p": h.wilcoxon_p,
                     })).collect::<Vec<_>>(),
-                    "arms": summaries.iter().map(|s| json!({
+                    "arms": summaries.iter().zip(&result.arms).map(|(s, arm)| {
+                        let mut summary = json!({
                         "arm": s.arm,
                         "answers_alerts": s.answers_alerts,
                         "missions": s.missions,
@@ -451,7 +456,13 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "harm_per_mission": ci_json(Some(s.harm)),
                         "untrustworthy_per_change_x_oracle": oracle.untrustworthy_multiple(s),
                         "harm_per_mission_x_oracle": oracle.harm_multiple(s),
-                    })).collect::<Vec<_>>(),
+                        });
+                        // Only a plan with a competence standard has a calibration.
+                        if let Some(calibration) = calibration_json(arm) {
+                            summary["calibration"] = calibration;
+                        }
+                        summary
+                    }).collect::<Vec<_>>(),
                 })
             })
             .collect(),
@@ -496,6 +507,7 @@ mod tests {
             failures: harm,
             overlooked: 0,
             untrustworthy: 0,
+            calibration: None,
         }
     }
 

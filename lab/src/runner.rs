@@ -118,6 +118,14 @@ pub enum PlanError {
         /// What is wrong with it.
         problem: &'static str,
     },
+    /// A plan sets a competence standard its domain cannot judge.
+    #[error("{plan}: {reason}")]
+    Competence {
+        /// The plan's name.
+        plan: String,
+        /// Why.
+        reason: String,
+    },
     /// A plan's operators grow complacent, but its domain does not model attention
     /// ([`crate::domain::check_attention`]).
     #[error("{plan}: {reason}")]

@@ -40,6 +40,9 @@ pub enum Purpose {
     /// "experiment" is 0 for the behaviors drawn, 1 for the commands the robot runs of
     /// behavior "trial", 2 for the truth's whole commands of it.
     Competence = 10,
+    /// A mission plan's truth of a behavior's competence (here "experiment" is the plan,
+    /// "trial" the behavior's rank in the space).
+    CompetenceTruth = 11,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -107,6 +107,7 @@ fn try_run_arms<D: Domain<Operator = Favourite>>(
         feedback: None,
         truth_runs: 50,
         limit: LimitSettings::default(),
+        competence: None,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

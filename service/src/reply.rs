@@ -15,7 +15,8 @@ use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
 use trust::{
-    Account, Alert, Cause, EpisodeReport, Evaluated, Explanation, Grounds, Next, Outcome, Source,
+    Account, Alert, Cause, CompetenceAlert, EpisodeReport, Evaluated, Explanation, Grounds, Next,
+    Outcome, Source,
 };
 
 /// How many cases a listing copies from the shared memory at a time.
@@ -290,6 +291,39 @@ pub fn alert(space: &BehaviorSpace, alert: &Alert) -> Value {
         "own_record": alert.own_record,
         "commands": alert.commands,
         "unacknowledged": alert.unacknowledged,
+        "sentence": sentence,
+    })
+}
+
+/// An overtrust alert (mission mode with a competence standard): the behavior kept, the
+/// operator's estimate of it (`trust`), the parts of the robot's own assessment above the
+/// standard (`short`), the assessment itself (`competence`: the commands behind it and
+/// each part's estimated chance per command, the model's prediction and the commands the
+/// robot perceived it in), and a `sentence` asking the operator to choose, for its screen.
+pub fn overtrust(space: &BehaviorSpace, alert: &CompetenceAlert) -> Value {
+    let short: Vec<String> = alert
+        .competence
+        .parts
+        .iter()
+        .filter(|p| alert.short.contains(&p.name))
+        .map(|p| format!("{} {:.2}", p.name, p.rate.unwrap_or(f64::NAN)))
+        .collect();
+    let sentence = format!(
+        "Please choose: the operator trusts {} (trust {:+.2}), but the robot judges it short of \
+         its standard, per command: {}. Keep it, supervise it, or ask for a safer behavior.",
+        space.display(&alert.behavior),
+        alert.estimate,
+        short.join(", "),
+    );
+    json!({
+        "ok": "overtrust",
+        "behavior": behavior(space, &alert.behavior),
+        "trust": alert.estimate,
+        "short": alert.short,
+        "competence": {
+            "commands": alert.competence.commands,
+            "parts": alert.competence.parts,
+        },
         "sentence": sentence,
     })
 }

@@ -57,7 +57,7 @@ pub struct Session {
 )]
 enum Adapting {
     Episodes(Adaptation),
-    Mission(MissionAdaptation),
+    Mission(MissionAdaptation<'static>),
 }
 
 impl Adapting {
@@ -70,7 +70,7 @@ impl Adapting {
     }
 
     /// The mission wrapper, in mission mode.
-    fn mission(&self) -> Option<&MissionAdaptation> {
+    fn mission(&self) -> Option<&MissionAdaptation<'static>> {
         match self {
             Self::Episodes(_) => None,
             Self::Mission(mission) => Some(mission),
@@ -295,6 +295,7 @@ impl Session {
                 reply
             }
             MissionDecision::Alert(alert) => reply::alert(&space, &alert),
+            MissionDecision::Overtrust(alert) => reply::overtrust(&space, &alert),
             MissionDecision::Episode(Decision::Settled(report)) => {
                 let (retained, held) = match self.adaptation().case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {

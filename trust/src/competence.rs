@@ -29,6 +29,7 @@ use crate::{Cause, Observations, Outcome, Thresholds, Verdict};
 use cbr_core::Behavior;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// How many commands' worth a seen part's prior weighs against a behavior's own record.
 pub const PRIOR_COMMANDS: f64 = 4.0;
@@ -326,6 +327,90 @@ pub fn calibrate(
         (Verdict::Untrustworthy, true) => Calibration::Undertrust,
         _ => Calibration::Calibrated,
     }
+}
+
+/// What a robot's models predict of a behavior, per part (its domain's
+/// [`CompetenceRecord::estimate`] argument), shared across threads; it may borrow its
+/// models for `'p`.
+pub type Predictor<'p> = Arc<dyn Fn(&Behavior) -> Vec<Option<f64>> + Send + Sync + 'p>;
+
+/// The robot's judge of its own competence on a mission: its record of every command,
+/// its models' predictions and the standard it is held to.
+#[derive(Clone)]
+pub struct CompetenceJudge<'p> {
+    record: CompetenceRecord,
+    predict: Predictor<'p>,
+    standard: CompetenceStandard,
+}
+
+impl std::fmt::Debug for CompetenceJudge<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CompetenceJudge")
+            .field("record", &self.record)
+            .field("standard", &self.standard)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'p> CompetenceJudge<'p> {
+    /// A judge over `record`, with the models' `predict` and `standard`.
+    pub fn new(
+        record: CompetenceRecord,
+        predict: Predictor<'p>,
+        standard: CompetenceStandard,
+    ) -> Self {
+        Self {
+            record,
+            predict,
+            standard,
+        }
+    }
+
+    /// Records one command of `behavior`.
+    pub fn record(&mut self, behavior: Behavior, outcome: &Outcome) {
+        self.record.record(behavior, outcome);
+    }
+
+    /// The robot's estimate of `behavior`.
+    pub fn competence(&self, behavior: Behavior) -> Competence {
+        self.record.estimate(behavior, &(self.predict)(&behavior))
+    }
+
+    /// The standard.
+    pub fn standard(&self) -> &CompetenceStandard {
+        &self.standard
+    }
+
+    /// The calibration of the operator's `estimate` of `behavior` against the robot's
+    /// competence.
+    pub fn calibration(
+        &self,
+        behavior: Behavior,
+        estimate: f64,
+        thresholds: &Thresholds,
+    ) -> Calibration {
+        calibrate(
+            estimate,
+            thresholds,
+            &self.competence(behavior),
+            &self.standard,
+        )
+    }
+}
+
+/// The robot asks its operator to choose (the second design of docs/missions.md): the
+/// operator trusts the behavior in use while the robot judges it not competent, for the
+/// parts named.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CompetenceAlert {
+    /// The behavior in use.
+    pub behavior: Behavior,
+    /// The operator's estimate of it (at the trustworthy threshold).
+    pub estimate: f64,
+    /// The robot's own estimate of it.
+    pub competence: Competence,
+    /// The parts above the standard.
+    pub short: Vec<Cause>,
 }
 
 #[cfg(test)]

@@ -27,8 +27,8 @@ pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
 };
 pub use competence::{
-    Calibration, Competence, CompetencePart, CompetenceRecord, CompetenceStandard, PartEstimate,
-    calibrate,
+    Calibration, Competence, CompetenceAlert, CompetenceJudge, CompetencePart, CompetenceRecord,
+    CompetenceStandard, PartEstimate, Predictor, calibrate,
 };
 pub use estimate::{
     Observations, Outcome, OutcomeError, OutcomeKind, THRESHOLD_TOLERANCE, ThresholdError,

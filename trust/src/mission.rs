@@ -13,7 +13,10 @@
 //!   case retained when it settles) and whose end is watched in turn;
 //! - **the robot's own record** ([`crate::overtrust`]): learned from every command of an
 //!   episode, weighed over the commands of the watched behavior, and an [`Alert`] when the
-//!   operator's trust is high while that record says the behavior is not earning it.
+//!   operator's trust is high while that record says the behavior is not earning it;
+//! - **the robot's own competence**, when the mission is given a [`CompetenceJudge`]
+//!   ([`crate::competence`]): every command recorded, and an [`CompetenceAlert`] once per
+//!   settled behavior the operator trusts while the robot judges it not competent.
 //!
 //! Telling the robot of a new operator ([`MissionAdaptation::begin_episode`]) ends the
 //! watch and forgets what it learned of how its operator reacts. The episode machine knows
@@ -27,10 +30,11 @@
 //! answers are [`MissionDecision`]s: the episode machine's decision, or an alert.
 
 use crate::adapter::{Adaptation, AdapterError, Decision, EpisodeReport, TrustAdapter};
+use crate::competence::{Calibration, CompetenceAlert, CompetenceJudge, calibrate};
 use crate::explain::Account;
 use crate::overtrust::{Alert, OwnRecord};
 use crate::watch::Watch;
-use crate::{Outcome, TrustEstimate, TrustMemory};
+use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory};
 use cbr_core::Behavior;
 
 /// What the robot should do after an outcome recorded on a mission.
@@ -43,6 +47,10 @@ pub enum MissionDecision {
     /// Keep the watched behavior, and ask the operator to supervise it: its trust is high
     /// while the robot's own record says the behavior is not earning it.
     Alert(Alert),
+    /// Keep the watched behavior, and ask the operator to choose: it trusts the behavior
+    /// while the robot judges it not competent ([`crate::competence`]), once per settled
+    /// behavior, on a mission given a [`CompetenceJudge`].
+    Overtrust(CompetenceAlert),
 }
 
 impl From<Decision> for MissionDecision {
@@ -53,14 +61,18 @@ impl From<Decision> for MissionDecision {
 
 /// What a mission adds to an episode machine, between and across its episodes.
 #[derive(Clone, Debug, Default)]
-struct Mission {
+struct Mission<'p> {
     /// The behavior the last episode settled on, under watch until a new episode begins.
     watch: Option<Watch>,
     /// The robot's own record of the watched behavior.
     own_record: OwnRecord,
+    /// The robot's judge of its own competence, if it was given one.
+    judge: Option<CompetenceJudge<'p>>,
+    /// Whether the watched behavior has had its overtrust alert.
+    judged: bool,
 }
 
-impl Mission {
+impl<'p> Mission<'p> {
     /// A new operator: an episode from `initial`, ending the watch.
     fn begin_episode(
         &mut self,
@@ -81,11 +93,12 @@ impl Mission {
         memory: &TrustMemory,
     ) -> Result<MissionDecision, AdapterError> {
         outcome.validate()?;
+        let in_use = self.in_use(adaptation).ok_or(AdapterError::NoEpisode)?.0;
+        if let Some(judge) = &mut self.judge {
+            judge.record(in_use, outcome);
+        }
         if self.watch.is_some() {
             return Ok(self.watched(adaptation, outcome, memory));
-        }
-        if adaptation.episode().is_none() {
-            return Err(AdapterError::NoEpisode);
         }
         // During an episode the operator is taken to be attentive: the record learns how
         // it reacts.
@@ -121,12 +134,37 @@ impl Mission {
             self.after(adaptation, &decision);
             return decision.into();
         }
-        match self.own_record.alert(watch.behavior, watch.estimate.value) {
-            Some(alert) => {
-                self.own_record.restart();
-                MissionDecision::Alert(alert)
-            }
+        if let Some(alert) = self.own_record.alert(watch.behavior, watch.estimate.value) {
+            self.own_record.restart();
+            return MissionDecision::Alert(alert);
+        }
+        match self.overtrust(watch.behavior, watch.estimate.value, &thresholds) {
+            Some(alert) => MissionDecision::Overtrust(alert),
             None => Decision::Keep.into(),
+        }
+    }
+
+    /// The overtrust alert for the watched `behavior` at the operator's `estimate`: once
+    /// per settled behavior, when the judge finds it trusted and not competent.
+    fn overtrust(
+        &mut self,
+        behavior: Behavior,
+        estimate: f64,
+        thresholds: &Thresholds,
+    ) -> Option<CompetenceAlert> {
+        let judge = self.judge.as_ref().filter(|_| !self.judged)?;
+        let competence = judge.competence(behavior);
+        match calibrate(estimate, thresholds, &competence, judge.standard()) {
+            Calibration::Overtrust { short } => {
+                self.judged = true;
+                Some(CompetenceAlert {
+                    behavior,
+                    estimate,
+                    competence,
+                    short,
+                })
+            }
+            _ => None,
         }
     }
 
@@ -139,6 +177,7 @@ impl Mission {
                 &adaptation.parameters().thresholds,
             ));
             self.own_record.restart();
+            self.judged = false;
         }
     }
 
@@ -170,12 +209,12 @@ impl Mission {
 /// Mission mode around an [`Adaptation`]: one robot's episodes and watch over a case
 /// memory it is handed (`serve --mission`, where sessions share one memory). The caller
 /// retains the case [`Adaptation::case_to_retain`] names when an episode settles.
-pub struct MissionAdaptation {
+pub struct MissionAdaptation<'p> {
     adaptation: Adaptation,
-    mission: Mission,
+    mission: Mission<'p>,
 }
 
-impl MissionAdaptation {
+impl<'p> MissionAdaptation<'p> {
     /// `adaptation` on a mission, watching nothing yet.
     pub fn new(adaptation: Adaptation) -> Self {
         Self {
@@ -231,16 +270,30 @@ impl MissionAdaptation {
     pub fn own_record(&self) -> &OwnRecord {
         &self.mission.own_record
     }
+
+    /// The same mission judging its own competence with `judge`: every command is
+    /// recorded, and a watched behavior the operator trusts while the judge finds it not
+    /// competent raises [`MissionDecision::Overtrust`] once.
+    #[must_use]
+    pub fn with_competence(mut self, judge: CompetenceJudge<'p>) -> Self {
+        self.mission.judge = Some(judge);
+        self
+    }
+
+    /// The robot's judge of its own competence, if it has one.
+    pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
+        self.mission.judge.as_ref()
+    }
 }
 
 /// Mission mode around a [`TrustAdapter`]: its episodes and watch over the memory it owns,
 /// retaining a case when an episode settles (an experiment's missions).
-pub struct MissionAdapter {
+pub struct MissionAdapter<'p> {
     adapter: TrustAdapter,
-    mission: Mission,
+    mission: Mission<'p>,
 }
 
-impl MissionAdapter {
+impl<'p> MissionAdapter<'p> {
     /// `adapter` on a mission, watching nothing yet.
     pub fn new(adapter: TrustAdapter) -> Self {
         Self {
@@ -271,7 +324,7 @@ impl MissionAdapter {
         let TrustAdapter { adaptation, memory } = &mut self.adapter;
         Ok(match self.mission.record(adaptation, outcome, memory)? {
             MissionDecision::Episode(decision) => self.adapter.retaining(decision).into(),
-            alert @ MissionDecision::Alert(_) => alert,
+            alert @ (MissionDecision::Alert(_) | MissionDecision::Overtrust(_)) => alert,
         })
     }
 
@@ -298,5 +351,19 @@ impl MissionAdapter {
     /// The robot's own record of the watched behavior.
     pub fn own_record(&self) -> &OwnRecord {
         &self.mission.own_record
+    }
+
+    /// The same mission judging its own competence with `judge`: every command is
+    /// recorded, and a watched behavior the operator trusts while the judge finds it not
+    /// competent raises [`MissionDecision::Overtrust`] once.
+    #[must_use]
+    pub fn with_competence(mut self, judge: CompetenceJudge<'p>) -> Self {
+        self.mission.judge = Some(judge);
+        self
+    }
+
+    /// The robot's judge of its own competence, if it has one.
+    pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
+        self.mission.judge.as_ref()
     }
 }

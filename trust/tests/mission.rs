@@ -5,8 +5,9 @@ use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use proptest::prelude::*;
 use std::sync::Arc;
 use trust::{
-    AdapterConfig, AdapterError, Decision, Evaluated, MissionAdapter, MissionDecision,
-    Observations, Outcome, Source, TrustAdapter, TrustCaseBase, TrustEstimate,
+    AdapterConfig, AdapterError, Cause, CompetenceJudge, CompetencePart, CompetenceRecord,
+    CompetenceStandard, Decision, Evaluated, MissionAdapter, MissionDecision, Observations,
+    Outcome, Predictor, Source, TrustAdapter, TrustCaseBase, TrustEstimate,
 };
 
 fn grid() -> Arc<BehaviorSpace> {
@@ -23,7 +24,7 @@ fn episode_adapter() -> TrustAdapter {
     TrustAdapter::new(grid(), AdapterConfig::default(), TrustCaseBase::new(), 3).unwrap()
 }
 
-fn mission_adapter() -> MissionAdapter {
+fn mission_adapter() -> MissionAdapter<'static> {
     MissionAdapter::new(episode_adapter())
 }
 
@@ -227,6 +228,64 @@ fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
     // The evidence starts again: the next bump alone raises nothing.
     assert_eq!(a.record(&bumped(DONE)).unwrap(), KEEP);
     assert!((a.own_record().value() - step).abs() < 1e-9);
+}
+
+#[test]
+fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent() {
+    const BUMP: Cause = Cause::from_static("bump");
+    const WRONG: Cause = Cause::from_static("wrong-label");
+    let parts = [
+        CompetencePart {
+            name: BUMP,
+            seen_as: Some(BUMP),
+        },
+        CompetencePart {
+            name: WRONG,
+            seen_as: None,
+        },
+    ];
+    // The model: behavior [1, 2] labels wrongly one command in five, every other one in
+    // a hundred; bumps it does not predict.
+    let careless = Behavior::new(&[1, 2]);
+    let predict: Predictor =
+        Arc::new(move |b: &Behavior| vec![None, Some(if *b == careless { 0.2 } else { 0.01 })]);
+    let standard = CompetenceStandard {
+        at_most: 0.5,
+        parts: vec![(WRONG, 0.1)],
+    };
+    let judge = || {
+        CompetenceJudge::new(
+            CompetenceRecord::new(&parts, &[BUMP]).unwrap(),
+            predict.clone(),
+            standard.clone(),
+        )
+    };
+    let mut a = mission_adapter().with_competence(judge());
+    a.begin_episode(careless).unwrap();
+    // Trusted while deciding (no calibration is judged during an episode), then settled.
+    settle(&mut a);
+    // The first watched command: trusted at +5, the wrong label's 0.2 above its 0.1.
+    let MissionDecision::Overtrust(alert) = a.record(&DONE).unwrap() else {
+        panic!("expected an overtrust alert");
+    };
+    assert_eq!((alert.behavior, alert.estimate), (careless, 5.0));
+    assert_eq!(alert.short, [WRONG]);
+    // Bumps: 0 of 6 commands; every behavior's (0 + 1/2) / (6 + 1), shrunk: (4 x 1/14) / 10.
+    assert_eq!(alert.competence.commands, 6);
+    assert!((alert.competence.parts[0].rate.unwrap() - 4.0 / 140.0).abs() < 1e-12);
+    // Once per settled behavior.
+    assert_eq!(a.record(&DONE).unwrap(), KEEP);
+    assert_eq!(
+        a.competence_judge().unwrap().competence(careless).commands,
+        7
+    );
+    // A competent behavior raises nothing.
+    let mut b = mission_adapter().with_competence(judge());
+    b.begin_episode(Behavior::new(&[0, 0])).unwrap();
+    settle(&mut b);
+    for _ in 0..5 {
+        assert_eq!(b.record(&DONE).unwrap(), KEEP);
+    }
 }
 
 proptest! {

@@ -1,0 +1,238 @@
+//! What a mission suite reports of the robot's judgement of its own competence, on a plan
+//! with a competence standard (docs/missions.md, "Overtrust, second design"): per arm,
+//! how often its operators trusted a behavior that was truly not competent (overtrust),
+//! how often the robot judged so, how its overtrust alerts fell, and the harm done.
+
+use crate::mission::{CalibrationRecord, MissionArmResult};
+use crate::stats::{MeanCi, mean_ci95};
+use serde_json::{Value, json};
+use std::fmt::Write as _;
+
+/// One arm's calibration over its missions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibrationSummary {
+    /// The arm's name.
+    pub arm: String,
+    /// Whether the operator answered the robot's alerts.
+    pub answers_alerts: bool,
+    /// Missions run.
+    pub missions: usize,
+    /// The commands of watched behaviors, summed over the missions.
+    pub totals: CalibrationRecord,
+    /// Overtrust alerts per mission.
+    pub alerts: MeanCi,
+    /// Missions with an overtrust alert on a truly competent behavior.
+    pub false_alert_missions: usize,
+    /// Missions in which a truly competent behavior was watched.
+    pub competent_missions: usize,
+    /// Harm per mission.
+    pub harm: MeanCi,
+}
+
+impl CalibrationSummary {
+    /// The summary of `arm`'s missions; `None` when they carry no calibration (a plan
+    /// without a competence standard).
+    pub fn of(arm: &MissionArmResult) -> Option<Self> {
+        let records: Vec<&CalibrationRecord> = arm
+            .missions
+            .iter()
+            .map(|m| m.calibration.as_ref())
+            .collect::<Option<_>>()?;
+        let mut totals = CalibrationRecord::default();
+        for r in &records {
+            totals.watched += r.watched;
+            totals.overtrusted += r.overtrusted;
+            totals.judged += r.judged;
+            totals.both += r.both;
+            totals.competent += r.competent;
+        }
+        let per_mission = |f: &dyn Fn(&CalibrationRecord) -> f64| {
+            let values: Vec<f64> = records.iter().map(|r| f(r)).collect();
+            mean_ci95(&values).unwrap_or(MeanCi {
+                mean: 0.0,
+                ci95: 0.0,
+            })
+        };
+        let harm: Vec<f64> = arm.missions.iter().map(|m| f64::from(m.harm())).collect();
+        Some(Self {
+            arm: arm.arm.clone(),
+            answers_alerts: arm.answers_alerts,
+            missions: records.len(),
+            totals,
+            alerts: per_mission(&|r| r.alerts.len() as f64),
+            false_alert_missions: records.iter().filter(|r| r.false_alerts() > 0).count(),
+            competent_missions: records.iter().filter(|r| r.competent > 0).count(),
+            harm: mean_ci95(&harm).unwrap_or(MeanCi {
+                mean: 0.0,
+                ci95: 0.0,
+            }),
+        })
+    }
+
+    /// The arm's name, and whether alerts were answered.
+    fn label(&self) -> String {
+        if self.answers_alerts {
+            format!("{}, alerts answered", self.arm)
+        } else {
+            self.arm.clone()
+        }
+    }
+
+    /// The share of missions with a competent watched behavior that had a false alert.
+    pub fn false_alert_rate(&self) -> Option<f64> {
+        (self.competent_missions > 0)
+            .then(|| self.false_alert_missions as f64 / self.competent_missions as f64)
+    }
+}
+
+/// `part / whole` as a percentage, `-` for nothing.
+fn percent(part: u32, whole: u32) -> String {
+    if whole == 0 {
+        "-".to_owned()
+    } else {
+        format!("{:.1}%", 100.0 * f64::from(part) / f64::from(whole))
+    }
+}
+
+/// The calibration section of a plan's report, `None` without a competence standard.
+pub fn calibration_markdown(arms: &[MissionArmResult]) -> Option<String> {
+    let summaries: Vec<CalibrationSummary> = arms
+        .iter()
+        .map(CalibrationSummary::of)
+        .collect::<Option<_>>()?;
+    let mut md = String::from(
+        "\nThe robot's own competence (commands of a settled behavior; overtrust: the operator's estimate at the trustworthy threshold while the behavior is truly not competent under the plan's standard):\n\n| arm | watched commands | of a competent behavior | overtrusted | judged overtrust by the robot | of the overtrusted, judged so | of those judged, overtrusted | overtrust alerts per mission | missions with a false overtrust alert | harm per mission |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for s in &summaries {
+        let t = &s.totals;
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} | {:.2} ± {:.2} | {} | {:.2} ± {:.2} |",
+            s.label(),
+            t.watched,
+            percent(t.competent, t.watched),
+            percent(t.overtrusted, t.watched),
+            percent(t.judged, t.watched),
+            percent(t.both, t.overtrusted),
+            percent(t.both, t.judged),
+            s.alerts.mean,
+            s.alerts.ci95,
+            match s.false_alert_rate() {
+                Some(rate) => format!(
+                    "{} of {} ({:.1}%)",
+                    s.false_alert_missions,
+                    s.competent_missions,
+                    100.0 * rate
+                ),
+                None => "-".to_owned(),
+            },
+            s.harm.mean,
+            s.harm.ci95,
+        );
+    }
+    md.push('\n');
+    for s in summaries.iter().filter(|s| !s.answers_alerts) {
+        let _ = writeln!(md, "- {}", false_alert_target(s));
+    }
+    Some(md)
+}
+
+/// The target on false overtrust alerts, checked on one arm's summary.
+fn false_alert_target(s: &CalibrationSummary) -> String {
+    match s.false_alert_rate() {
+        Some(rate) => format!(
+            "{}: false overtrust alerts on {:.1}% of the missions whose watched behavior was competent (target at most 5%): {}",
+            s.arm,
+            100.0 * rate,
+            if rate <= 0.05 { "met" } else { "missed" }
+        ),
+        None => format!(
+            "{}: no mission watched a competent behavior, so no false overtrust alert could be judged",
+            s.arm
+        ),
+    }
+}
+
+/// The calibration of an arm for `summary.json`, `None` without a competence standard.
+pub fn calibration_json(arm: &MissionArmResult) -> Option<Value> {
+    let s = CalibrationSummary::of(arm)?;
+    let t = &s.totals;
+    Some(json!({
+        "watched": t.watched,
+        "competent": t.competent,
+        "overtrusted": t.overtrusted,
+        "judged": t.judged,
+        "overtrusted_and_judged": t.both,
+        "alerts_per_mission": {"mean": s.alerts.mean, "ci95": s.alerts.ci95},
+        "missions_with_a_false_alert": s.false_alert_missions,
+        "missions_with_a_competent_behavior": s.competent_missions,
+        "target": (!s.answers_alerts).then(|| false_alert_target(&s)),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mission::{MissionRecord, MissionTrace};
+
+    fn mission(calibration: Option<CalibrationRecord>, failures: u32) -> MissionRecord {
+        MissionRecord {
+            mission: 0,
+            learned_start: None,
+            changes: Vec::new(),
+            readaptations: 0,
+            false_alarms: 0,
+            alerts: Vec::new(),
+            onsets: Vec::new(),
+            failures,
+            overlooked: 0,
+            untrustworthy: 0,
+            calibration,
+        }
+    }
+
+    #[test]
+    fn a_summary_sums_the_watched_commands_and_counts_false_alerts_by_mission() {
+        let calibrated = |watched, competent, alerts: Vec<(u32, bool)>| CalibrationRecord {
+            watched,
+            overtrusted: watched - competent,
+            judged: 2,
+            both: 1,
+            competent,
+            alerts,
+        };
+        let arm = MissionArmResult {
+            arm: "a".into(),
+            answers_alerts: false,
+            missions: vec![
+                mission(Some(calibrated(10, 10, vec![(3, true)])), 1),
+                mission(Some(calibrated(10, 4, vec![(5, false), (9, true)])), 3),
+                mission(Some(calibrated(6, 0, vec![])), 2),
+            ],
+            traced: MissionTrace::default(),
+        };
+        let s = CalibrationSummary::of(&arm).unwrap();
+        assert_eq!(
+            (s.totals.watched, s.totals.competent, s.totals.overtrusted),
+            (26, 14, 12)
+        );
+        assert_eq!((s.totals.judged, s.totals.both), (6, 3));
+        assert_eq!(s.alerts.mean, 1.0);
+        // Two missions watched a competent behavior; both had a false alert.
+        assert_eq!((s.false_alert_missions, s.competent_missions), (2, 2));
+        assert_eq!(s.false_alert_rate(), Some(1.0));
+        assert_eq!(s.harm.mean, 2.0);
+        let md = calibration_markdown(std::slice::from_ref(&arm)).unwrap();
+        assert!(
+            md.contains("| a | 26 | 53.8% | 46.2% | 23.1% | 25.0% | 50.0% | 1.00 ± "),
+            "{md}"
+        );
+        assert!(md.contains("(target at most 5%): missed"), "{md}");
+        // Without a standard: nothing.
+        let blind = MissionArmResult {
+            missions: vec![mission(None, 0)],
+            ..arm
+        };
+        assert_eq!(calibration_markdown(&[blind]), None);
+    }
+}
