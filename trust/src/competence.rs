@@ -24,6 +24,12 @@
 //!   ([`calibrate`]): *overtrust* is an estimate at the trustworthy threshold while the
 //!   behavior is not competent (with the parts that fall short); *undertrust* is an
 //!   estimate at the untrustworthy threshold while it is competent; otherwise calibrated.
+//! - **Sure enough to alert.** A calibration is the robot's best guess; an alert interrupts
+//!   the operator, so it waits until the robot is sure
+//!   ([`CompetenceStandard::surely_short`]): a seen part falls short surely when its own
+//!   record's rate is above the bound beyond chance (the Wilson score interval's lower end
+//!   at [`ALERT_Z`], one-sided 95%), an unseen part when its prediction is above the bound
+//!   (the robot has no record to doubt its model with).
 
 use crate::{Cause, Observations, Outcome, Thresholds, Verdict};
 use cbr_core::Behavior;
@@ -33,6 +39,24 @@ use std::sync::Arc;
 
 /// How many commands' worth a seen part's prior weighs against a behavior's own record.
 pub const PRIOR_COMMANDS: f64 = 4.0;
+
+/// The standard normal quantile of the confidence a seen part needs to fall short surely:
+/// one-sided 95%.
+pub const ALERT_Z: f64 = 1.645;
+
+/// The lower end of the Wilson score interval at `z` of `hits` in `trials` (0 with no
+/// trials): the least rate the record makes plausible.
+fn wilson_lower(hits: u32, trials: u32, z: f64) -> f64 {
+    if trials == 0 {
+        return 0.0;
+    }
+    let n = f64::from(trials);
+    let p = f64::from(hits) / n;
+    let z2 = z * z;
+    let centre = p + z2 / (2.0 * n);
+    let spread = z * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
+    ((centre - spread) / (1.0 + z2 / n)).max(0.0)
+}
 
 /// A way a command can fall short that the robot judges itself.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -290,6 +314,24 @@ impl CompetenceStandard {
             .collect()
     }
 
+    /// The parts of `competence` surely above their bound, enough for an alert: a seen part
+    /// whose own record is above it beyond chance ([`ALERT_Z`]), an unseen part whose
+    /// prediction is above it.
+    pub fn surely_short(&self, competence: &Competence) -> Vec<Cause> {
+        competence
+            .parts
+            .iter()
+            .filter(|p| {
+                let bound = self.bound(p.name);
+                match p.perceived {
+                    Some(hits) => wilson_lower(hits, competence.commands, ALERT_Z) > bound,
+                    None => p.rate.is_some_and(|r| r > bound),
+                }
+            })
+            .map(|p| p.name)
+            .collect()
+    }
+
     /// Whether every known part of `competence` is within its bound.
     pub fn met_by(&self, competence: &Competence) -> bool {
         self.short(competence).is_empty()
@@ -467,6 +509,49 @@ mod tests {
         assert!(close(estimate.parts[0].rate, 0.05));
         // Clean: (1 - 0.05)(1 - 0.3).
         assert!((estimate.clean() - 0.95 * 0.7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_wilson_lower_end_by_hand() {
+        // 5 in 20 at z = 1.645: (0.25 + z²/40 - z sqrt(0.25 x 0.75 / 20 + z²/1600)) / (1 + z²/20).
+        assert!((wilson_lower(5, 20, ALERT_Z) - 0.127_369_435_655_260_4).abs() < 1e-12);
+        // None seen: nothing is plausibly above 0; no trials: 0.
+        assert!(wilson_lower(0, 20, ALERT_Z).abs() < 1e-15);
+        assert_eq!(wilson_lower(0, 0, ALERT_Z), 0.0);
+    }
+
+    #[test]
+    fn a_seen_part_falls_short_surely_only_beyond_chance_an_unseen_one_by_its_prediction() {
+        let standard = CompetenceStandard::uniform(0.1).unwrap();
+        let competence = |commands: u32, bumps: u32, label: f64| Competence {
+            behavior: Behavior::new(&[0]),
+            commands,
+            parts: vec![
+                PartEstimate {
+                    name: BUMP,
+                    rate: Some(f64::from(bumps) / f64::from(commands)),
+                    predicted: None,
+                    perceived: Some(bumps),
+                },
+                PartEstimate {
+                    name: WRONG_LABEL,
+                    rate: Some(label),
+                    predicted: Some(label),
+                    perceived: None,
+                },
+            ],
+        };
+        // 3 bumps in 10: 0.3 is above 0.1, but the lower end is 0.127, above it too.
+        assert_eq!(standard.surely_short(&competence(10, 3, 0.05)), vec![BUMP]);
+        // 2 bumps in 10: the estimate falls short, surely not (lower end 0.069).
+        let unsure = competence(10, 2, 0.05);
+        assert_eq!(standard.short(&unsure), vec![BUMP]);
+        assert!(standard.surely_short(&unsure).is_empty());
+        // An unseen part's prediction above the bound is short surely.
+        assert_eq!(
+            standard.surely_short(&competence(10, 0, 0.11)),
+            vec![WRONG_LABEL]
+        );
     }
 
     #[test]

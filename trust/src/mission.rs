@@ -30,11 +30,11 @@
 //! answers are [`MissionDecision`]s: the episode machine's decision, or an alert.
 
 use crate::adapter::{Adaptation, AdapterError, Decision, EpisodeReport, TrustAdapter};
-use crate::competence::{Calibration, CompetenceAlert, CompetenceJudge, calibrate};
+use crate::competence::{CompetenceAlert, CompetenceJudge};
 use crate::explain::Account;
 use crate::overtrust::{Alert, OwnRecord};
 use crate::watch::Watch;
-use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory};
+use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory, Verdict};
 use cbr_core::Behavior;
 
 /// What the robot should do after an outcome recorded on a mission.
@@ -145,7 +145,8 @@ impl<'p> Mission<'p> {
     }
 
     /// The overtrust alert for the watched `behavior` at the operator's `estimate`: once
-    /// per settled behavior, when the judge finds it trusted and not competent.
+    /// per settled behavior, when the operator trusts it while the judge finds it surely
+    /// not competent ([`crate::competence::CompetenceStandard::surely_short`]).
     fn overtrust(
         &mut self,
         behavior: Behavior,
@@ -153,19 +154,21 @@ impl<'p> Mission<'p> {
         thresholds: &Thresholds,
     ) -> Option<CompetenceAlert> {
         let judge = self.judge.as_ref().filter(|_| !self.judged)?;
-        let competence = judge.competence(behavior);
-        match calibrate(estimate, thresholds, &competence, judge.standard()) {
-            Calibration::Overtrust { short } => {
-                self.judged = true;
-                Some(CompetenceAlert {
-                    behavior,
-                    estimate,
-                    competence,
-                    short,
-                })
-            }
-            _ => None,
+        if thresholds.verdict(estimate) != Verdict::Trustworthy {
+            return None;
         }
+        let competence = judge.competence(behavior);
+        let short = judge.standard().surely_short(&competence);
+        if short.is_empty() {
+            return None;
+        }
+        self.judged = true;
+        Some(CompetenceAlert {
+            behavior,
+            estimate,
+            competence,
+            short,
+        })
     }
 
     /// An episode that settled puts its behavior under watch, with a new own record.
