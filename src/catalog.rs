@@ -184,7 +184,7 @@ pub struct OperatorFile {
 /// The domains a tool offers, by scenario name. See the [module documentation](self).
 pub trait Catalog: Send + Sync {
     /// The domain type every scenario builds (an enum when scenarios differ in type).
-    type Domain: Domain;
+    type Domain: Domain + 'static;
 
     /// The tool's name, version and description: [`tool_info!`](crate::tool_info) gives
     /// the calling crate's.

@@ -4,10 +4,12 @@
 
 use crate::catalog::Catalog;
 use crate::suite::arm_named;
+use cbr_core::Behavior;
 use lab::Domain;
 use lab::Initial;
 use service::DomainDefinition;
-use trust::AdapterConfig;
+use std::sync::Arc;
+use trust::{AdapterConfig, CompetenceStandard, Predictor};
 
 /// The domain `name` names: a scenario of the catalog (its space, causes, observations
 /// and hints, with the paper's adapter defaults) or a RON domain file.
@@ -51,4 +53,30 @@ pub fn serving_arm<C: Catalog>(
     Ok(domain
         .with_searcher(move |space| searcher.build_searcher(space))
         .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda)))
+}
+
+/// `domain` whose robot judges its own competence in mission mode, held to at most
+/// `at_most` per command in every part (`serve --competence`, the Python `Adapter`'s
+/// `competence`): the parts and models of the catalog's scenario of the same name. A
+/// domain file declares neither, and is refused, as is a scenario that declares no part.
+pub fn judging_competence<C: Catalog>(
+    catalog: &C,
+    domain: DomainDefinition,
+    at_most: f64,
+) -> anyhow::Result<DomainDefinition> {
+    let Some(robot) = catalog.domain(&domain.name) else {
+        anyhow::bail!(
+            "--competence: `{}` is not a scenario of {}; only a scenario's robot has competence parts and models to judge itself by",
+            domain.name,
+            catalog.tool().name
+        );
+    };
+    let standard =
+        CompetenceStandard::uniform(at_most).map_err(|e| anyhow::anyhow!("--competence: {e}"))?;
+    let parts = robot.competence_parts().to_vec();
+    let predict: Predictor<'static> =
+        Arc::new(move |behavior: &Behavior| robot.predict_competence(behavior));
+    domain
+        .judging_competence(parts, predict, standard)
+        .map_err(|e| anyhow::anyhow!("--competence: {e}"))
 }

@@ -1,7 +1,8 @@
 //! `trustcbr serve --mission` as a process: outcomes after `settled` are answered for the
 //! watched behavior, ten net interruptions re-adapt, a new operator's `begin` ends the
-//! watch, an operator who lets pass what it reacted to raises an `alert`, and a bad
-//! `confidence` is refused; without `--mission` the paper's episodes are unchanged.
+//! watch, an operator who lets pass what it reacted to raises an `alert`, a robot that
+//! judges its own competence (`--competence`) raises an `overtrust` once for a trusted
+//! behavior it is surely short with, and a bad `confidence` is refused; without `--mission` the paper's episodes are unchanged.
 
 use serde_json::{Value, json};
 use std::io::Write;
@@ -17,14 +18,18 @@ const STATE: &str = r#"{"request": "state"}"#;
 /// Serves the movement domain (`--mission` when asked) over a fresh case base, sends
 /// `lines` on stdin and returns one reply per line.
 fn exchange(mission: bool, lines: &[&str]) -> Vec<Value> {
+    exchange_with(if mission { &["--mission"] } else { &[] }, lines)
+}
+
+/// Serves the movement domain with the options `extra` over a fresh case base, sends
+/// `lines` on stdin and returns one reply per line.
+fn exchange_with(extra: &[&str], lines: &[&str]) -> Vec<Value> {
     let dir = tempfile::tempdir().unwrap();
     let mut command = support::trustcbr();
     command
         .args(["serve", "--domain", "movement", "--seed", "3", "--cases"])
-        .arg(dir.path().join("cases.db"));
-    if mission {
-        command.arg("--mission");
-    }
+        .arg(dir.path().join("cases.db"))
+        .args(extra);
     let mut child = command
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -186,4 +191,95 @@ fn a_confidence_outside_zero_to_one_is_refused_naming_the_field() {
     );
     assert_eq!(r[3]["episode"]["behavior_commands"], 0, "nothing recorded");
     assert_eq!(r[4]["ok"], "keep");
+}
+
+#[test]
+fn a_robot_judging_its_competence_says_overtrust_once_for_a_trusted_behavior_that_bumps() {
+    let bumped =
+        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
+    // Five completions settle the behavior; every one bumped something.
+    let lines: Vec<&str> = [BEGIN]
+        .into_iter()
+        .chain(repeat(bumped, 8))
+        .chain([STATE])
+        .collect();
+    let replies = exchange_with(&["--mission", "--competence", "0.1"], &lines);
+    assert_eq!(replies[5]["ok"], "settled");
+    // The first watched command: 6 collisions in 6 commands, surely above 1 in 10.
+    let overtrust = &replies[6];
+    assert_eq!(overtrust["ok"], "overtrust", "{overtrust}");
+    assert_eq!(overtrust["behavior"], behavior());
+    assert_eq!(overtrust["trust"], 5.0);
+    assert_eq!(overtrust["short"], json!(["collision"]));
+    assert_eq!(overtrust["competence"]["commands"], 6);
+    let collision = &overtrust["competence"]["parts"][0];
+    assert_eq!(
+        (&collision["name"], &collision["perceived"]),
+        (&json!("collision"), &json!(6))
+    );
+    let sentence = overtrust["sentence"].as_str().unwrap();
+    // Its estimate: 6 of 6, shrunk towards every behavior's record (6.5 / 7) with the
+    // weight of 4 commands: (6 + 4 x 6.5 / 7) / 10 = 0.97.
+    assert!(sentence.contains("collision 0.97"), "{sentence}");
+    // Once per settled behavior: then kept as before.
+    assert_eq!(
+        (&replies[7]["ok"], &replies[8]["ok"]),
+        (&json!("keep"), &json!("keep"))
+    );
+    // `state` sets the operator's trust beside the robot's judgement.
+    let calibration = &replies[9]["watching"]["calibration"];
+    assert_eq!(
+        (&calibration["verdict"], &calibration["short"]),
+        (&json!("overtrust"), &json!(["collision"]))
+    );
+    assert_eq!(calibration["competence"]["commands"], 8);
+    // Without --competence the same mission only keeps, and judges nothing.
+    let blind = exchange(true, &lines);
+    assert!(blind[6..9].iter().all(|r| r["ok"] == "keep"), "{blind:?}");
+    assert!(blind[9]["watching"].get("calibration").is_none());
+}
+
+#[test]
+fn competence_needs_a_mission_a_chance_and_a_scenario() {
+    let refused = |args: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let output = support::trustcbr()
+            .args(["serve", "--cases"])
+            .arg(dir.path().join("cases.db"))
+            .args(args)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        assert!(!output.status.success());
+        assert!(
+            !dir.path().join("cases.db").exists(),
+            "a refused command creates no case base"
+        );
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    let no_mission = refused(&["--domain", "movement", "--competence", "0.1"]);
+    assert!(no_mission.contains("--mission"), "{no_mission}");
+    let not_a_chance = refused(&["--domain", "movement", "--mission", "--competence", "1.5"]);
+    assert!(
+        not_a_chance.contains("--competence: the competence standard of `at_most` is 1.5; it must be a chance in [0, 1]"),
+        "{not_a_chance}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("robot.ron");
+    std::fs::write(
+        &file,
+        r#"(space: (components: [(name: "speed", values: Numeric(min: 0.5, step: 0.5, count: 4))]), causes: [])"#,
+    )
+    .unwrap();
+    let not_a_scenario = refused(&[
+        "--domain",
+        file.to_str().unwrap(),
+        "--mission",
+        "--competence",
+        "0.1",
+    ]);
+    assert!(
+        not_a_scenario.contains("is not a scenario of trustcbr"),
+        "{not_a_scenario}"
+    );
 }

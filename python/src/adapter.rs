@@ -17,7 +17,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, ThreadId};
 use trustcbr::Catalog;
 use trustcbr::WithArms;
-use trustcbr::served::{served_domain, serving_arm};
+use trustcbr::served::{judging_competence, served_domain, serving_arm};
 use trustcbr::service::{Location, Session as ServedSession, SharedCases};
 
 /// One controller's adapter over a case base (`trustcbr serve` for one controller).
@@ -31,12 +31,23 @@ pub struct Session {
     errors: FirstError,
 }
 
+/// Whether a session runs a mission (`serve --mission`) and, on one, the standard its
+/// robot holds its own competence to (`serve --competence`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MissionMode {
+    /// Outcomes keep coming after an episode settles.
+    pub mission: bool,
+    /// The most each part of the robot's competence may fall short per command.
+    pub competence: Option<f64>,
+}
+
 impl Session {
     /// Opens the case base `cases` (an SQLite file, created when absent; a `postgres://`
     /// URL; or a read-only `.ron` file) for `domain` (a scenario of `catalog` or a RON
     /// domain file), searching as the domain's config says, as the arm `arm` does, or as
-    /// the Python `strategy` (`(name, factory, reuses_cases)`) does; with `mission`,
-    /// outcomes keep coming after an episode settles (`serve --mission`).
+    /// the Python `strategy` (`(name, factory, reuses_cases)`) does; in mission `mode`,
+    /// outcomes keep coming after an episode settles (`serve --mission`), and with a
+    /// competence standard the robot judges its own competence (`serve --competence`).
     pub fn open<C: Catalog + Clone>(
         catalog: &C,
         domain: &str,
@@ -44,7 +55,7 @@ impl Session {
         seed: u64,
         arm: Option<&str>,
         strategy: Option<(String, Py<PyAny>, bool)>,
-        mission: bool,
+        mode: MissionMode,
     ) -> PyResult<Self> {
         let mut definition = served_domain(catalog, domain).map_err(error)?;
         let errors = FirstError::default();
@@ -83,8 +94,17 @@ impl Session {
             }
             (None, None) => {}
         }
-        if mission {
+        if mode.mission {
             definition = definition.in_mission_mode();
+        }
+        if let Some(at_most) = mode.competence {
+            if !mode.mission {
+                return Err(error(
+                    "competence: the robot judges its own competence in mission mode: pass mission=True",
+                ));
+            }
+            definition =
+                judging_competence(catalog, definition, at_most).map_err(|e| anyhow_error(&e))?;
         }
         let shared = SharedCases::open(&definition, &Location::parse(cases)).map_err(error)?;
         let (location, writable) = (shared.location().to_owned(), shared.writable());

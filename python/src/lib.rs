@@ -176,8 +176,13 @@ macro_rules! catalog_module {
                 arm: Option<&str>,
                 strategy: Option<(String, Py<PyAny>, bool)>,
                 mission: bool,
+                competence: Option<f64>,
             ) -> PyResult<Session> {
-                Session::open(&$catalog, domain, cases, seed, arm, strategy, mission)
+                let mode = $crate::adapter::MissionMode {
+                    mission,
+                    competence,
+                };
+                Session::open(&$catalog, domain, cases, seed, arm, strategy, mode)
             }
 
             #[pyfunction]

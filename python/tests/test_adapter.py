@@ -147,6 +147,28 @@ def test_a_mission_keeps_listening_after_settling_and_alerts(tmp_path: Path) -> 
         adapter.tell("completed", confidence=1.5)
 
 
+def test_a_robot_judging_its_competence_asks_to_choose_once(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter(
+        "movement", tmp_path / "cases.db", seed=3, mission=True, competence=0.1
+    )
+    start = adapter.begin({"speed": 3.5, "padding": 0.4})
+    # Every command completes and bumps something: settled after five, and on the first
+    # watched command the robot's own record (6 bumps in 6) is surely above 1 in 10.
+    decisions = [
+        adapter.tell("completed", duration_s=2.0, observed=["collision"]) for _ in range(8)
+    ]
+    assert [d.kind for d in decisions] == ["keep"] * 4 + ["settled", "overtrust", "keep", "keep"]
+    overtrust = decisions[5]
+    assert (overtrust.behavior, overtrust.trust, overtrust.short) == (start, 5.0, ["collision"])
+    assert overtrust.reply["competence"]["commands"] == 6
+    assert (overtrust.sentence or "").startswith("Please choose: the operator trusts speed=3.5")
+    with pytest.raises(trustcbr.TrustcbrError, match="pass mission=True"):
+        trustcbr.Adapter("movement", tmp_path / "other.db", competence=0.1)
+    with pytest.raises(trustcbr.TrustcbrError, match="must be a chance in"):
+        trustcbr.Adapter("movement", tmp_path / "other.db", mission=True, competence=2.0)
+    assert not (tmp_path / "other.db").exists()
+
+
 def test_without_mission_outcomes_after_settling_are_refused(tmp_path: Path) -> None:
     adapter = trustcbr.Adapter("movement", tmp_path / "cases.db")
     adapter.begin({"speed": 3.5, "padding": 0.4})

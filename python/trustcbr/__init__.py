@@ -175,7 +175,11 @@ class Adapter:
     so what is evaluated offline is deployed through the same API.
     With ``mission`` (``trustcbr serve --mission``) outcomes keep coming after an episode
     settles: the settled behavior is watched, a fall of its trust starts a new episode
-    with a ``switch``, and an ``alert`` asks the operator to supervise.
+    with a ``switch``, and an ``alert`` asks the operator to supervise. With ``competence``
+    as well (``trustcbr serve --mission --competence``, a scenario's robot only) the robot
+    judges its own competence, at most ``competence`` per command in every part, and an
+    ``overtrust`` decision asks the operator to choose, once for a settled behavior it
+    trusts while the robot is surely short of that.
     Several adapters (processes, robots) may share one SQLite or PostgreSQL case base; an
     adapter belongs to the thread that made it (another thread's call raises
     :class:`TrustcbrError`).
@@ -193,6 +197,7 @@ class Adapter:
         arm: Optional[str] = None,
         strategy: Union[None, PythonArm, SearcherFactory] = None,
         mission: bool = False,
+        competence: Optional[float] = None,
         catalog: Catalog = None,
     ) -> None:
         served = None
@@ -202,7 +207,7 @@ class Adapter:
             name = getattr(strategy.factory, "__name__", "python")
             served = (str(name), strategy.factory, strategy.reuses_cases)
         self._session = _module(catalog).session(
-            str(domain), os.fspath(cases), seed, arm, served, mission
+            str(domain), os.fspath(cases), seed, arm, served, mission, competence
         )
 
     def _request(self, request: Mapping[str, Any]) -> Dict[str, Any]:
@@ -245,7 +250,8 @@ class Adapter:
         is the robot's own confidence in ``[0, 1]`` that the command went as it should, when
         it assesses itself. The decision is ``keep``, ``switch`` (use ``behavior`` from now
         on), ``settled`` (the episode is over), with the explanation of a switch or an end,
-        or in mission mode ``alert`` (keep the behavior and ask the operator to supervise).
+        or in mission mode ``alert`` (keep the behavior and ask the operator to supervise)
+        and, with ``competence``, ``overtrust`` (keep it and ask the operator to choose).
         Call :meth:`begin` first.
         """
         if isinstance(observed, str):

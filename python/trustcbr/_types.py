@@ -62,12 +62,14 @@ class Space(TypedDict):
 
 class Decision:
     """What the adapter says after an outcome: ``kind`` is ``keep``, ``switch``,
-    ``settled`` or, in mission mode, ``alert``; ``behavior`` is the behavior to use from now
-    on (the one settled on, the one kept by an alert); ``explanation`` says why, for a
-    switch and an end; ``sentence`` says it in one plain sentence (an alert's asks the
-    operator to supervise); ``trust`` is the estimate it was made on; ``reply`` is the
-    whole reply (trust estimate, source of a switch, counts at the end, an alert's own
-    record)."""
+    ``settled`` or, in mission mode, ``alert`` and (a robot judging its own competence)
+    ``overtrust``; ``behavior`` is the behavior to use from now on (the one settled on, the
+    one kept by an alert); ``explanation`` says why, for a switch and an end; ``sentence``
+    says it in one plain sentence (an alert's asks the operator to supervise, an
+    overtrust's to choose); ``trust`` is the estimate it was made on; ``short`` lists the
+    parts of the robot's own assessment above its standard (``overtrust``); ``reply`` is
+    the whole reply (trust estimate, source of a switch, counts at the end, an alert's own
+    record, an overtrust's competence estimate)."""
 
     __slots__ = ("reply",)
 
@@ -76,8 +78,14 @@ class Decision:
 
     @property
     def kind(self) -> str:
-        """``keep``, ``switch``, ``settled`` or ``alert``."""
+        """``keep``, ``switch``, ``settled``, ``alert`` or ``overtrust``."""
         return str(self.reply["ok"])
+
+    @property
+    def short(self) -> List[str]:
+        """The parts the robot judges surely above its standard (``overtrust``), else
+        empty."""
+        return [str(part) for part in self.reply.get("short", [])]
 
     @property
     def behavior(self) -> Behavior:

@@ -56,7 +56,21 @@ use trust::{
     AdapterConfig, Cause, ConfigError, DeclaredCause, Hint, Observations, Retention, RetrieverKind,
     Thresholds, TimeUnit, TrustCaseBase, TrustMemory, TrustRetriever, find_declared,
 };
-use trust::{RetrieverFactory, SearcherFactory};
+use trust::{
+    CompetenceJudge, CompetencePart, CompetenceRecord, CompetenceStandard, Predictor,
+    RetrieverFactory, SearcherFactory,
+};
+
+/// How a mission session's robot judges its own competence ([`trust::competence`]): the
+/// parts it judges, what its models predict of a behavior, and the standard it holds itself
+/// to.
+#[derive(Clone)]
+struct JudgedCompetence {
+    /// An empty record of the parts over the domain's observations.
+    record: CompetenceRecord,
+    predict: Predictor<'static>,
+    standard: CompetenceStandard,
+}
 
 /// A domain ready to serve.
 #[derive(Clone)]
@@ -77,6 +91,8 @@ pub struct DomainDefinition {
     /// Whether sessions keep listening after an episode settles (mission mode:
     /// [`DomainDefinition::in_mission_mode`]).
     mission: bool,
+    /// How the robot judges its own competence in mission mode; `None`: it does not.
+    competence: Option<JudgedCompetence>,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
     searcher: Option<SearcherFactory>,
     /// A user's retriever; `None`: the kind `adapter.retriever` names.
@@ -93,6 +109,7 @@ impl fmt::Debug for DomainDefinition {
             .field("hints", &self.hints)
             .field("adapter", &self.adapter)
             .field("mission", &self.mission)
+            .field("judges_competence", &self.competence.is_some())
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
             .finish()
@@ -251,6 +268,9 @@ pub enum DomainError {
     /// A hint names an undeclared observation or cause.
     #[error("{0}")]
     Hint(String),
+    /// The robot's competence cannot be judged as asked.
+    #[error("{0}")]
+    Competence(String),
 }
 
 impl DomainDefinition {
@@ -270,6 +290,7 @@ impl DomainDefinition {
             hints: Vec::new(),
             adapter,
             mission: false,
+            competence: None,
             searcher: None,
             retriever: None,
         }
@@ -296,6 +317,47 @@ impl DomainDefinition {
     /// Whether the domain is served in mission mode.
     pub fn mission(&self) -> bool {
         self.mission
+    }
+
+    /// The same domain whose robot judges its own competence in mission mode
+    /// ([`trust::competence`], `serve --mission --competence`): it records every command
+    /// for `parts` (each seen part one of the domain's observations: call
+    /// [`DomainDefinition::with_observations`] first), `predict` tells what its models
+    /// expect of a behavior, and a session raises an `overtrust` alert once per settled
+    /// behavior its operator trusts while it is surely short of `standard`. Refused: no
+    /// part, a seen part that is not an observation, a bound that is not a chance.
+    pub fn judging_competence(
+        self,
+        parts: Vec<CompetencePart>,
+        predict: Predictor<'static>,
+        standard: CompetenceStandard,
+    ) -> Result<Self, DomainError> {
+        if parts.is_empty() {
+            return Err(DomainError::Competence(format!(
+                "domain `{}` declares no competence part, so its robot cannot judge its own competence",
+                self.name
+            )));
+        }
+        standard
+            .validate()
+            .map_err(|e| DomainError::Competence(e.to_string()))?;
+        let record = CompetenceRecord::new(&parts, &self.observations)
+            .map_err(|e| DomainError::Competence(e.to_string()))?;
+        Ok(Self {
+            competence: Some(JudgedCompetence {
+                record,
+                predict,
+                standard,
+            }),
+            ..self
+        })
+    }
+
+    /// A fresh judge of the robot's competence for one session, if it judges it.
+    pub fn competence_judge(&self) -> Option<CompetenceJudge<'static>> {
+        self.competence
+            .as_ref()
+            .map(|c| CompetenceJudge::new(c.record.clone(), c.predict.clone(), c.standard.clone()))
     }
 
     /// The same domain whose explanations read `hints` (each names a declared observation

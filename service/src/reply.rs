@@ -15,8 +15,8 @@ use std::io::{self, Write};
 use std::sync::Arc;
 use trust::named::named_behavior;
 use trust::{
-    Account, Alert, Cause, CompetenceAlert, EpisodeReport, Evaluated, Explanation, Grounds, Next,
-    Outcome, Source,
+    Account, Alert, Cause, CompetenceAlert, CompetenceJudge, EpisodeReport, Evaluated, Explanation,
+    Grounds, Next, Outcome, Source, Thresholds, calibrate,
 };
 
 /// How many cases a listing copies from the shared memory at a time.
@@ -293,6 +293,31 @@ pub fn alert(space: &BehaviorSpace, alert: &Alert) -> Value {
         "unacknowledged": alert.unacknowledged,
         "sentence": sentence,
     })
+}
+
+/// The calibration of the watched `behavior` (mission mode with a competence standard):
+/// the operator's `estimate` beside the robot's judgement of its own competence, as
+/// `{"verdict": "calibrated" | "overtrust" | "undertrust", "short": [...], "competence":
+/// {...}}` (`short`, for overtrust, the parts above the standard by the robot's best
+/// estimate).
+pub fn calibration(
+    judge: &CompetenceJudge<'_>,
+    behavior: Behavior,
+    estimate: f64,
+    thresholds: &Thresholds,
+) -> Value {
+    let competence = judge.competence(behavior);
+    let mut reply = json!(calibrate(
+        estimate,
+        thresholds,
+        &competence,
+        judge.standard()
+    ));
+    reply["competence"] = json!({
+        "commands": competence.commands,
+        "parts": competence.parts,
+    });
+    reply
 }
 
 /// An overtrust alert (mission mode with a competence standard): the behavior kept, the

@@ -32,7 +32,7 @@ use serde_json::{Value, json};
 use std::sync::Arc;
 use trust::{
     Account, Adaptation, AdapterError, Cause, ConfigError, Decision, DeclaredCause, EpisodeReport,
-    MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory,
+    MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory, Watch,
 };
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
@@ -160,7 +160,11 @@ impl Session {
         )?
         .with_vocabulary(domain.vocabulary());
         let adapting = if domain.mission() {
-            Adapting::Mission(MissionAdaptation::new(adaptation))
+            let mission = MissionAdaptation::new(adaptation);
+            Adapting::Mission(match domain.competence_judge() {
+                Some(judge) => mission.with_competence(judge),
+                None => mission,
+            })
         } else {
             Adapting::Episodes(adaptation)
         };
@@ -335,12 +339,16 @@ impl Session {
             "episode": episode,
         });
         if let Some(mission) = self.adapting.mission() {
-            reply["watching"] = json!(mission.watching().map(|w| json!({
-                "behavior": reply::behavior(space, &w.behavior),
-                "trust": w.estimate.value,
-                "commands": w.commands,
-                "own_record": mission.own_record().value(),
-            })));
+            reply["watching"] = json!(mission.watching().map(|w| {
+                let mut watching = json!({
+                    "behavior": reply::behavior(space, &w.behavior),
+                    "trust": w.estimate.value,
+                    "commands": w.commands,
+                    "own_record": mission.own_record().value(),
+                });
+                self.add_calibration(&mut watching, mission, w);
+                watching
+            }));
         }
         reply["cases"] = json!(held);
         reply
@@ -418,13 +426,35 @@ impl Session {
         if let Some(mission) = self.adapting.mission() {
             // The account `standing` gives is the watched behavior's between episodes.
             let watching = mission.watching().zip(standing);
-            reply["watching"] = json!(watching.map(|(w, standing)| json!({
-                "current": reply::account(space, &standing),
-                "commands": w.commands,
-                "own_record": mission.own_record().value(),
-            })));
+            reply["watching"] = json!(watching.map(|(w, standing)| {
+                let mut watching = json!({
+                    "current": reply::account(space, &standing),
+                    "commands": w.commands,
+                    "own_record": mission.own_record().value(),
+                });
+                self.add_calibration(&mut watching, mission, w);
+                watching
+            }));
         }
         reply
+    }
+
+    /// Adds to a `watching` object the calibration of the watched behavior, when the robot
+    /// judges its own competence.
+    fn add_calibration(
+        &self,
+        watching: &mut Value,
+        mission: &MissionAdaptation<'_>,
+        watch: &Watch,
+    ) {
+        if let Some(judge) = mission.competence_judge() {
+            watching["calibration"] = reply::calibration(
+                judge,
+                watch.behavior,
+                watch.estimate.value,
+                &self.adaptation().parameters().thresholds,
+            );
+        }
     }
 
     fn config(&self) -> Value {
