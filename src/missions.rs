@@ -28,7 +28,7 @@ use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
 use lab::plot::svg;
 use lab::report::file_stems;
-use lab::{Arm, check_attention};
+use lab::{Arm, PREFERS_COMPETENT, check_attention, prefers_competent};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -135,6 +135,16 @@ impl MissionSuiteConfig {
             spec.changes
                 .validate()
                 .map_err(|e| invalid(field("changes"), e))?;
+            if spec.competence.is_none()
+                && let Some(arm) = self.arms.iter().find(|a| prefers_competent(a).1)
+            {
+                return Err(invalid(
+                    field("competence"),
+                    format!(
+                        "the arm `{arm}` prefers behaviors the robot judges competent, and this plan judges nothing: set a standard (`competence: Some((at_most: 0.1))`) or drop the arm's {PREFERS_COMPETENT}"
+                    ),
+                ));
+            }
             if let Some(model) = spec.complacency {
                 model
                     .validate()

@@ -42,6 +42,12 @@ pub fn serving_arm<C: Catalog>(
 ) -> anyhow::Result<DomainDefinition> {
     let arm = arm_named(catalog, name, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+    if arm.competent_passes() > 0 {
+        anyhow::bail!(
+            "--arm: `{name}` prefers behaviors the robot judges competent, which simulated missions measure; `serve` does not pass over a behavior its operator trusts: serve `{}` (with --mission --competence to be told of overtrust)",
+            lab::prefers_competent(name).0
+        );
+    }
     if arm.initial() != Initial::Random {
         anyhow::bail!(
             "--arm: `{name}` starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one); serve `{}`",

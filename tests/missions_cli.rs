@@ -220,3 +220,114 @@ fn a_mission_report_reruns_by_itself_from_another_folder() {
         );
     }
 }
+
+/// The missions' lines of `missions.jsonl` for `arm`.
+fn arm_lines(report: &Path, arm: &str) -> Vec<serde_json::Value> {
+    std::fs::read_to_string(report.join("missions.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+        .filter(|v| v["arm"] == arm)
+        .collect()
+}
+
+#[test]
+fn an_arm_preferring_competent_behaviors_runs_on_a_plan_with_a_standard_and_is_refused_elsewhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("competent.ron");
+    let suite = r#"(
+    seed: 5,
+    arms: ["uniform", "uniform+competent"],
+    missions: [
+        (
+            name: "patrol/paper",
+            operators: (scenario: "patrol", operator: "random"),
+            count: 4,
+            commands: 150,
+            changes: (every: 60.0, takeover: 0.5),
+            competence: Some((at_most: 0.1)),
+        ),
+    ],
+)
+"#;
+    std::fs::write(&config, suite).unwrap();
+    let out = dir.path().join("report");
+    succeeded(&run(&config, &out, &[]));
+    let (plain, preferring) = (
+        arm_lines(&out, "uniform"),
+        arm_lines(&out, "uniform+competent"),
+    );
+    assert_eq!((plain.len(), preferring.len()), (4, 4));
+    // The same missions (operators and changes drawn for every arm alike) ...
+    let changes = |lines: &[serde_json::Value]| -> Vec<serde_json::Value> {
+        lines
+            .iter()
+            .map(|l| l["record"]["changes"].clone())
+            .collect()
+    };
+    let at = |lines: &[serde_json::Value]| -> Vec<Vec<u64>> {
+        changes(lines)
+            .iter()
+            .map(|c| {
+                c.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|c| c["at"].as_u64().unwrap())
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(at(&plain), at(&preferring));
+    // ... met differently: passing over trusted behaviors changes what is watched.
+    let watched = |lines: &[serde_json::Value]| -> Vec<serde_json::Value> {
+        lines
+            .iter()
+            .map(|l| l["record"]["calibration"].clone())
+            .collect()
+    };
+    assert_ne!(watched(&plain), watched(&preferring));
+
+    // Without a standard the plan judges nothing: refused, naming the field.
+    std::fs::write(
+        &config,
+        suite.replace("            competence: Some((at_most: 0.1)),\n", ""),
+    )
+    .unwrap();
+    let refused = run(&config, &dir.path().join("none"), &[]);
+    let stderr = String::from_utf8(refused.stderr).unwrap();
+    assert!(
+        stderr.contains("competent.ron: missions[0].competence: the arm `uniform+competent` prefers behaviors the robot judges competent, and this plan judges nothing"),
+        "{stderr}"
+    );
+    // An experiment suite settles on the first trusted behavior: refused.
+    let experiments = dir.path().join("experiments.ron");
+    let embedded = String::from_utf8(trustcbr(&["config"]).stdout).unwrap();
+    let arms_at = embedded.find("arms: [").unwrap();
+    let arms_end = arms_at + embedded[arms_at..].find(']').unwrap() + 1;
+    let with_arm = format!(
+        "{}arms: [\"case-based\", \"case-based+competent\"]{}",
+        &embedded[..arms_at],
+        &embedded[arms_end..]
+    );
+    std::fs::write(&experiments, with_arm).unwrap();
+    let stderr = String::from_utf8(run(&experiments, &dir.path().join("e"), &[]).stderr).unwrap();
+    assert!(
+        stderr.contains("arms[1]: `case-based+competent` prefers behaviors the robot judges competent, which only a mission plan with a competence standard judges"),
+        "{stderr}"
+    );
+    // Twice is refused as learned-start twice is.
+    let stderr = String::from_utf8(
+        trustcbr(&[
+            "serve",
+            "--domain",
+            "patrol",
+            "--cases",
+            dir.path().join("c.db").to_str().unwrap(),
+            "--arm",
+            "uniform+competent+competent",
+        ])
+        .stderr,
+    )
+    .unwrap();
+    assert!(stderr.contains("says +competent twice"), "{stderr}");
+}

@@ -6,7 +6,9 @@
 //! factories, so a user's own searcher or retriever enters an experiment exactly as the
 //! built-in ones do ([`Arm::search_only`], [`Arm::case_based`]). [`Arm::builtin`] names
 //! the built-in arms; any arm's name followed by [`LEARNED_START`] is that arm starting
-//! each episode from the memory's guess ([`Arm::learned_start`]).
+//! each episode from the memory's guess ([`Arm::learned_start`]), and followed by
+//! [`PREFERS_COMPETENT`] (last) that arm passing over a trusted behavior the robot is sure
+//! is not competent, on missions that judge it ([`Arm::preferring_competent`]).
 
 use cbr_core::BehaviorSpace;
 use serde::{Deserialize, Serialize};
@@ -36,6 +38,16 @@ pub const BUILTIN_ARMS: [&str; 11] = [
 /// ([`Initial::Learned`]): `case-based+conditioned+learned-start`.
 pub const LEARNED_START: &str = "+learned-start";
 
+/// What ends the name of an arm that prefers behaviors the robot judges competent
+/// ([`Arm::preferring_competent`]): `case-based+conditioned+competent`.
+pub const PREFERS_COMPETENT: &str = "+competent";
+
+/// How many trusted behaviors an episode of an arm preferring competent ones passes over
+/// before it settles on the next whatever its competence: one more look. Each pass costs
+/// another search for a trusted behavior, so more would multiply what the operator
+/// endures for a preference the operator did not state.
+pub const COMPETENT_PASSES: u32 = 1;
+
 /// How each episode of an arm starts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -59,17 +71,34 @@ impl Initial {
     }
 }
 
+/// The arm name `name` split into the name of the arm it is built on and whether it
+/// prefers behaviors the robot judges competent: `x+competent` is `x`, preferring.
+pub fn prefers_competent(name: &str) -> (&str, bool) {
+    match name.strip_suffix(PREFERS_COMPETENT) {
+        Some(base) => (base, true),
+        None => (name, false),
+    }
+}
+
 /// What each built-in arm does, in one line (docs/search-strategies.md tells more),
 /// followed for a [`LEARNED_START`] arm by how it starts; `None` for an arm that is not
 /// built in.
 pub fn describe(name: &str) -> Option<String> {
-    let (base, initial) = Initial::of_name(name);
+    let (started, prefers) = prefers_competent(name);
+    let (base, initial) = Initial::of_name(started);
     let what = describe_builtin(base)?;
-    Some(match initial {
+    let what = match initial {
         Initial::Random => what.to_owned(),
         Initial::Learned => format!(
             "{what}; each episode starts from the behavior earlier operators accepted most often (the case memory's guess), not at random"
         ),
+    };
+    Some(if prefers {
+        format!(
+            "{what}; on missions that judge the robot's competence, an episode passes over a trusted behavior the robot is sure falls short, once, and searches on"
+        )
+    } else {
+        what
     })
 }
 
@@ -112,6 +141,8 @@ pub struct Arm {
     retriever: Option<RetrieverFactory>,
     initial: Initial,
     starting_cases: Option<Arc<TrustCaseBase>>,
+    /// Trusted behaviors an episode passes over for being surely not competent.
+    competent_passes: u32,
 }
 
 impl fmt::Debug for Arm {
@@ -120,6 +151,7 @@ impl fmt::Debug for Arm {
             .field("name", &self.name)
             .field("reuses_cases", &self.reuses_cases())
             .field("initial", &self.initial)
+            .field("competent_passes", &self.competent_passes)
             .field(
                 "starting_cases",
                 &self.starting_cases.as_ref().map(|c| c.len()),
@@ -130,7 +162,7 @@ impl fmt::Debug for Arm {
 
 /// An arm name that is not a built-in one.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START})", BUILTIN_ARMS.join(", "))]
+#[error("unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
 pub struct UnknownArm {
     /// The name asked for.
     pub name: String,
@@ -149,6 +181,7 @@ impl Arm {
             retriever: None,
             initial: Initial::Random,
             starting_cases: None,
+            competent_passes: 0,
         }
     }
 
@@ -222,22 +255,49 @@ impl Arm {
         self
     }
 
+    /// The same arm preferring behaviors the robot judges competent, named with
+    /// [`PREFERS_COMPETENT`] after its name (once): on a mission that judges the robot's
+    /// competence, each episode passes over up to [`COMPETENT_PASSES`] behaviors its
+    /// operator trusts while the robot is sure they fall short of the standard, searching
+    /// on past each ([`trust::MissionAdapter::preferring_competent`]). Elsewhere it is
+    /// refused (an experiment, or a mission plan without a standard, judges nothing).
+    pub fn preferring_competent(mut self) -> Self {
+        if self.competent_passes == 0 {
+            self.competent_passes = COMPETENT_PASSES;
+            self.name.push_str(PREFERS_COMPETENT);
+        }
+        self
+    }
+
+    /// Trusted behaviors an episode of the arm passes over for being surely not
+    /// competent (0 unless [`Arm::preferring_competent`]).
+    pub fn competent_passes(&self) -> u32 {
+        self.competent_passes
+    }
+
     /// A built-in arm by name ([`BUILTIN_ARMS`]): `NAME` is a search strategy alone and
     /// `case-based+NAME` is Algorithm 1 with it as fallback (`case-based` falls back to
     /// the random walk, as in the paper); case-based arms use `retriever`. Each name
-    /// followed by [`LEARNED_START`] is the same arm with [`Arm::learned_start`].
+    /// followed by [`LEARNED_START`] is the same arm with [`Arm::learned_start`], and
+    /// followed (last) by [`PREFERS_COMPETENT`] with [`Arm::preferring_competent`].
     pub fn builtin(name: &str, retriever: RetrieverKind) -> Result<Self, UnknownArm> {
         let unknown = || UnknownArm {
             name: name.to_owned(),
         };
-        let (base, initial) = Initial::of_name(name);
+        let (name_started, prefers_competent) = prefers_competent(name);
+        let (base, initial) = Initial::of_name(name_started);
         if !BUILTIN_ARMS.contains(&base) {
             return Err(unknown());
         }
         let arm = Self::builtin_random(base, retriever).ok_or_else(unknown)?;
-        Ok(match initial {
+        let arm = match initial {
             Initial::Random => arm,
             Initial::Learned => arm.learned_start(),
+        };
+        Ok(if prefers_competent {
+            arm.preferring_competent()
+        } else {
+            arm
         })
     }
 
@@ -336,6 +396,33 @@ mod tests {
                 .contains("known: random-walk, case-based, uniform")
         );
         assert!(Arm::builtin("annealing", RetrieverKind::Linear).is_err());
+    }
+
+    #[test]
+    fn preferring_competent_behaviors_is_the_last_suffix_of_any_arm_name() {
+        let arm = Arm::builtin(
+            "case-based+conditioned+learned-start+competent",
+            RetrieverKind::Linear,
+        )
+        .unwrap();
+        assert_eq!(arm.name(), "case-based+conditioned+learned-start+competent");
+        assert_eq!(
+            (arm.initial(), arm.competent_passes()),
+            (Initial::Learned, COMPETENT_PASSES)
+        );
+        let plain = Arm::builtin("uniform", RetrieverKind::Linear).unwrap();
+        assert_eq!(plain.competent_passes(), 0);
+        // Once only.
+        let preferring = plain.preferring_competent().preferring_competent();
+        assert_eq!(preferring.name(), "uniform+competent");
+        // Last: before the learned start it is no arm's name.
+        for bad in ["competent", "uniform+competent+learned-start"] {
+            let err = Arm::builtin(bad, RetrieverKind::Linear).unwrap_err();
+            assert!(err.to_string().contains("NAME+competent"), "{err}");
+        }
+        assert!(describe("uniform+competent").unwrap().ends_with(
+            "passes over a trusted behavior the robot is sure falls short, once, and searches on"
+        ));
     }
 
     #[test]

@@ -34,7 +34,10 @@ pub mod stats;
 pub mod testing;
 pub mod timeline;
 
-pub use arm::{Arm, BUILTIN_ARMS, Initial, LEARNED_START, UnknownArm};
+pub use arm::{
+    Arm, BUILTIN_ARMS, COMPETENT_PASSES, Initial, LEARNED_START, PREFERS_COMPETENT, UnknownArm,
+    prefers_competent,
+};
 pub use domain::{AttentionNotModelled, Domain, Judgement, check_attention, vocabulary};
 pub use feedback::{FeedbackChannel, FeedbackError};
 pub use heatmap::LandscapeSvgError;

@@ -427,6 +427,17 @@ impl<D: Domain> MissionPlan<'_, D> {
     /// Refuses a plan whose operators grow complacent over a domain that does not model
     /// attention ([`check_attention`]): it would run, and its alerts could change nothing.
     pub fn validate(&self) -> Result<(), PlanError> {
+        if self.competence.is_none()
+            && let Some(arm) = self.arms.iter().find(|a| a.competent_passes() > 0)
+        {
+            return Err(PlanError::Competence {
+                plan: self.name.clone(),
+                reason: format!(
+                    "the arm `{}` prefers behaviors the robot judges competent, and the plan sets no competence standard",
+                    arm.name()
+                ),
+            });
+        }
         if let Some(standard) = &self.competence {
             check_competence(self.domain, standard).map_err(|reason| PlanError::Competence {
                 plan: self.name.clone(),
@@ -590,7 +601,9 @@ fn run_chain<D: Domain>(
         })?;
     let mut adapter = MissionAdapter::new(adapter);
     if let Some(judge) = plan.judge() {
-        adapter = adapter.with_competence(judge);
+        adapter = adapter
+            .with_competence(judge)
+            .preferring_competent(arm.competent_passes());
     }
     let mut truth = CompetenceTruth {
         plan,

@@ -1,10 +1,13 @@
 //! What a mission suite reports of the robot's judgement of its own competence, on a plan
 //! with a competence standard (docs/missions.md, "Overtrust, second design"): per arm,
 //! how often its operators trusted a behavior that was truly not competent (overtrust),
-//! how often the robot judged so, how its overtrust alerts fell, and the harm done.
+//! how often the robot judged so, how its overtrust alerts fell, and the harm done; and,
+//! for an arm preferring competent behaviors beside the arm it is built on
+//! ([`crate::PREFERS_COMPETENT`]), what the preference cut and cost, paired by mission.
 
+use crate::arm::prefers_competent;
 use crate::mission::{CalibrationRecord, MissionArmResult};
-use crate::stats::{MeanCi, mean_ci95};
+use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -85,6 +88,97 @@ impl CalibrationSummary {
     }
 }
 
+/// What preferring competent behaviors did to an arm, on the same missions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Preference {
+    /// The arm preferring competent behaviors.
+    pub arm: String,
+    /// The arm it is built on.
+    pub base: String,
+    /// Whether the operator answered the robot's alerts (both arms alike).
+    pub answers_alerts: bool,
+    /// Harm per mission of the base arm and of the preferring one.
+    pub harm: (MeanCi, MeanCi),
+    /// The share of the base arm's harm the preference removed (negative: it added harm).
+    pub harm_cut: f64,
+    /// The preferring arm's untrustworthy commands over the base arm's.
+    pub untrustworthy_ratio: f64,
+    /// The Wilcoxon signed-rank p-value of the paired harm differences.
+    pub wilcoxon_p: f64,
+}
+
+/// The cut in harm the preference must reach, and the most untrustworthy commands it may
+/// cost, as a multiple of the base arm's.
+const PREFERENCE_TARGET: (f64, f64) = (0.3, 1.2);
+
+impl Preference {
+    /// The preference of every arm named `X+competent` whose base `X` ran beside it (with
+    /// alerts answered alike).
+    pub fn all(arms: &[MissionArmResult]) -> Vec<Self> {
+        arms.iter()
+            .filter_map(|arm| {
+                let (base_name, prefers) = prefers_competent(&arm.arm);
+                let base = arms.iter().find(|b| {
+                    prefers && b.arm == base_name && b.answers_alerts == arm.answers_alerts
+                })?;
+                Some(Self::between(base, arm))
+            })
+            .collect()
+    }
+
+    fn between(base: &MissionArmResult, arm: &MissionArmResult) -> Self {
+        let harm = |a: &MissionArmResult| -> Vec<f64> {
+            a.missions.iter().map(|m| f64::from(m.harm())).collect()
+        };
+        let untrustworthy = |a: &MissionArmResult| -> f64 {
+            a.missions.iter().map(|m| f64::from(m.untrustworthy)).sum()
+        };
+        let (without, with) = (harm(base), harm(arm));
+        let zero = MeanCi {
+            mean: 0.0,
+            ci95: 0.0,
+        };
+        let (before, after) = (
+            mean_ci95(&without).unwrap_or(zero),
+            mean_ci95(&with).unwrap_or(zero),
+        );
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
+        Self {
+            arm: arm.arm.clone(),
+            base: base.arm.clone(),
+            answers_alerts: arm.answers_alerts,
+            harm: (before, after),
+            harm_cut: 1.0 - ratio(after.mean, before.mean),
+            untrustworthy_ratio: ratio(untrustworthy(arm), untrustworthy(base)),
+            wilcoxon_p: wilcoxon_signed_rank(&without, &with).unwrap_or(1.0),
+        }
+    }
+
+    /// The target, checked.
+    fn target(&self) -> String {
+        let (cut, cost) = PREFERENCE_TARGET;
+        let met =
+            self.harm_cut >= cut && self.untrustworthy_ratio <= cost && self.wilcoxon_p < 0.01;
+        format!(
+            "{}{}: harm per mission {:.2} -> {:.2} against `{}` ({:+.0}%, paired Wilcoxon p = {:.2e}) at {:.2} x its untrustworthy commands (target: a cut of at least {:.0}% at most {cost} x, significant): {}",
+            self.arm,
+            if self.answers_alerts {
+                ", alerts answered"
+            } else {
+                ""
+            },
+            self.harm.0.mean,
+            self.harm.1.mean,
+            self.base,
+            -100.0 * self.harm_cut,
+            self.wilcoxon_p,
+            self.untrustworthy_ratio,
+            100.0 * cut,
+            if met { "met" } else { "missed" }
+        )
+    }
+}
+
 /// `part / whole` as a percentage, `-` for nothing.
 fn percent(part: u32, whole: u32) -> String {
     if whole == 0 {
@@ -134,6 +228,9 @@ pub fn calibration_markdown(arms: &[MissionArmResult]) -> Option<String> {
     for s in summaries.iter().filter(|s| !s.answers_alerts) {
         let _ = writeln!(md, "- {}", false_alert_target(s));
     }
+    for preference in Preference::all(arms) {
+        let _ = writeln!(md, "- {}", preference.target());
+    }
     Some(md)
 }
 
@@ -153,8 +250,10 @@ fn false_alert_target(s: &CalibrationSummary) -> String {
     }
 }
 
-/// The calibration of an arm for `summary.json`, `None` without a competence standard.
-pub fn calibration_json(arm: &MissionArmResult) -> Option<Value> {
+/// The calibration of `arm` (one of the plan's `arms`) for `summary.json`, with what the
+/// preference for competent behaviors did for an arm that has one; `None` without a
+/// competence standard.
+pub fn calibration_json(arm: &MissionArmResult, arms: &[MissionArmResult]) -> Option<Value> {
     let s = CalibrationSummary::of(arm)?;
     let t = &s.totals;
     Some(json!({
@@ -167,6 +266,17 @@ pub fn calibration_json(arm: &MissionArmResult) -> Option<Value> {
         "missions_with_a_false_alert": s.false_alert_missions,
         "missions_with_a_competent_behavior": s.competent_missions,
         "target": (!s.answers_alerts).then(|| false_alert_target(&s)),
+        "preference": Preference::all(arms)
+            .into_iter()
+            .find(|p| p.arm == arm.arm && p.answers_alerts == arm.answers_alerts)
+            .map(|p| json!({
+            "base": p.base,
+            "harm_per_mission": {"base": p.harm.0.mean, "preferring": p.harm.1.mean},
+            "harm_cut": p.harm_cut,
+            "untrustworthy_ratio": p.untrustworthy_ratio,
+            "wilcoxon_p": p.wilcoxon_p,
+            "target": p.target(),
+        })),
     }))
 }
 
@@ -189,6 +299,49 @@ mod tests {
             untrustworthy: 0,
             calibration,
         }
+    }
+
+    #[test]
+    fn a_preference_is_its_arm_against_the_arm_it_is_built_on_mission_by_mission() {
+        let arm = |name: &str, harms: &[u32], untrustworthy: u32| MissionArmResult {
+            arm: name.into(),
+            answers_alerts: false,
+            missions: harms
+                .iter()
+                .map(|&h| MissionRecord {
+                    untrustworthy,
+                    ..mission(Some(CalibrationRecord::default()), h)
+                })
+                .collect(),
+            traced: MissionTrace::default(),
+        };
+        let base: Vec<u32> = (1..=12).map(|k| 2 * k).collect();
+        let halved: Vec<u32> = (1..=12).collect();
+        let arms = [
+            arm("uniform", &base, 10),
+            arm("uniform+competent", &halved, 11),
+            arm("case-based+competent", &[1; 12], 1),
+        ];
+        // Only a preferring arm whose base ran beside it.
+        let [p] = Preference::all(&arms).try_into().unwrap();
+        assert_eq!(
+            (p.arm.as_str(), p.base.as_str()),
+            ("uniform+competent", "uniform")
+        );
+        // Harm 13 -> 6.5: half cut; 132 untrustworthy commands against 120.
+        assert_eq!((p.harm.0.mean, p.harm.1.mean), (13.0, 6.5));
+        assert_eq!(p.harm_cut, 0.5);
+        assert!((p.untrustworthy_ratio - 1.1).abs() < 1e-12);
+        // Twelve positive differences 1..12: W = 78 against 39 expected, sd sqrt(162.5):
+        // z = 3.06, p = 0.0022.
+        assert!((p.wilcoxon_p - 0.0022).abs() < 1e-4, "{}", p.wilcoxon_p);
+        assert!(p.target().ends_with(": met"), "{}", p.target());
+        let json = calibration_json(&arms[1], &arms).unwrap();
+        assert_eq!(json["preference"]["base"], "uniform");
+        assert_eq!(
+            calibration_json(&arms[0], &arms).unwrap()["preference"],
+            Value::Null
+        );
     }
 
     #[test]

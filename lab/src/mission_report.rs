@@ -458,7 +458,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "harm_per_mission_x_oracle": oracle.harm_multiple(s),
                         });
                         // Only a plan with a competence standard has a calibration.
-                        if let Some(calibration) = calibration_json(arm) {
+                        if let Some(calibration) = calibration_json(arm, &result.arms) {
                             summary["calibration"] = calibration;
                         }
                         summary

@@ -192,7 +192,7 @@ mod tests {
             err.contains("arms[0]")
                 && err.contains("unknown arm `yours`")
                 && err.ends_with(
-                    "case-based+conditioned, hedged, case-based+hedged, mine; each also as NAME+learned-start)"
+                    "case-based+conditioned, hedged, case-based+hedged, mine; each also as NAME+learned-start and NAME+competent)"
                 ),
             "{err}"
         );

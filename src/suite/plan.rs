@@ -7,12 +7,16 @@ use crate::catalog::{Catalog, OperatorOf, UnknownScenario, domain_of, resolve_re
 use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
-use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, Initial, LEARNED_START, OperatorChoice};
+use lab::{
+    Arm, BUILTIN_ARMS, ExperimentPlan, Initial, LEARNED_START, OperatorChoice, PREFERS_COMPETENT,
+    prefers_competent,
+};
 use std::path::Path;
 use trust::RetrieverKind;
 
 /// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
-/// followed once by [`LEARNED_START`] ([`Arm::learned_start`]); the error lists every name
+/// followed once by [`LEARNED_START`] ([`Arm::learned_start`]) and then once by
+/// [`PREFERS_COMPETENT`] ([`Arm::preferring_competent`]); the error lists every name
 /// known. An arm's name is a file name (its saved case base is `EXPERIMENT/ARM.ron`), so a
 /// name that is not one ([`check_file_name`]) is refused here, for every suite kind, sweep
 /// and `serve --arm`, and so is an arm whose name would differ from the one asked for.
@@ -22,7 +26,13 @@ pub fn arm_named<C: Catalog>(
     retriever: RetrieverKind,
 ) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
-    let (base, initial) = Initial::of_name(name);
+    let (started, prefers) = prefers_competent(name);
+    if prefers_competent(started).1 {
+        return Err(format!(
+            "`{name}` says {PREFERS_COMPETENT} twice; an arm prefers competent behaviors or not: write `{started}`"
+        ));
+    }
+    let (base, initial) = Initial::of_name(started);
     if Initial::of_name(base).1 == Initial::Learned {
         return Err(format!(
             "`{name}` says {LEARNED_START} twice; an arm starts from the memory's guess or not: write `{base}`"
@@ -37,7 +47,7 @@ pub fn arm_named<C: Catalog>(
                 .chain(own.iter().map(Arm::name))
                 .collect();
             format!(
-                "unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START})",
+                "unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})",
                 known.join(", ")
             )
         })?,
@@ -45,6 +55,11 @@ pub fn arm_named<C: Catalog>(
     let arm = match initial {
         Initial::Random => arm,
         Initial::Learned => arm.learned_start(),
+    };
+    let arm = if prefers {
+        arm.preferring_competent()
+    } else {
+        arm
     };
     check_file_name("arm", arm.name()).map_err(|e| e.to_string())?;
     if arm.name() != name {

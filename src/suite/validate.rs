@@ -16,6 +16,7 @@ use crate::limits::{
     SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
+use lab::prefers_competent;
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
@@ -72,6 +73,15 @@ impl SuiteConfig {
             .map_err(over)?;
         check_adapter(&self.adapter, origin)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
+        if let Some(i) = self.arms.iter().position(|a| prefers_competent(a).1) {
+            return Err(invalid(
+                format!("arms[{i}]"),
+                format!(
+                    "`{}` prefers behaviors the robot judges competent, which only a mission plan with a competence standard judges (docs/missions.md); an experiment's episodes settle on the first trusted behavior",
+                    self.arms[i]
+                ),
+            ));
+        }
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {

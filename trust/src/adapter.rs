@@ -438,6 +438,20 @@ impl Adaptation {
         outcome: &Outcome,
         memory: &TrustMemory,
     ) -> Result<Decision, AdapterError> {
+        self.record_passing(outcome, memory, |_| false)
+    }
+
+    /// [`Adaptation::record`], except that a behavior reaching the trustworthy threshold
+    /// that `pass_over` names (asked once, with the behavior) is not settled on: it is
+    /// given up as an untrustworthy one is (its evaluated pair, the next behavior from
+    /// `memory`), so the episode searches on past a behavior its operator trusts (a
+    /// mission preferring behaviors the robot judges competent, [`crate::mission`]).
+    pub fn record_passing(
+        &mut self,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+        pass_over: impl FnOnce(&Behavior) -> bool,
+    ) -> Result<Decision, AdapterError> {
         outcome.validate()?;
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
         episode.estimate.record(outcome);
@@ -450,6 +464,7 @@ impl Adaptation {
         self.searcher.observe(&episode.current, outcome);
         match episode.estimate.verdict(&self.parameters.thresholds) {
             Verdict::Undecided => Ok(Decision::Keep),
+            Verdict::Trustworthy if pass_over(&episode.current) => Ok(self.give_up(memory)),
             Verdict::Trustworthy => {
                 episode.explanations.push(Explanation {
                     given_up: None,

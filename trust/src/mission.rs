@@ -16,7 +16,9 @@
 //!   operator's trust is high while that record says the behavior is not earning it;
 //! - **the robot's own competence**, when the mission is given a [`CompetenceJudge`]
 //!   ([`crate::competence`]): every command recorded, and an [`CompetenceAlert`] once per
-//!   settled behavior the operator trusts while the robot judges it not competent.
+//!   settled behavior the operator trusts while the robot judges it not competent; and,
+//!   when asked ([`MissionAdapter::preferring_competent`]), episodes that pass over a few
+//!   trusted behaviors the robot is sure are not competent before settling.
 //!
 //! Telling the robot of a new operator ([`MissionAdaptation::begin_episode`]) ends the
 //! watch and forgets what it learned of how its operator reacts. The episode machine knows
@@ -70,6 +72,11 @@ struct Mission<'p> {
     judge: Option<CompetenceJudge<'p>>,
     /// Whether the watched behavior has had its overtrust alert.
     judged: bool,
+    /// How many trusted behaviors an episode may pass over for being surely not competent
+    /// (0: it settles on the first, as the paper's does).
+    passes: u32,
+    /// How many the episode under way has passed over.
+    passed: u32,
 }
 
 impl<'p> Mission<'p> {
@@ -81,6 +88,7 @@ impl<'p> Mission<'p> {
     ) -> Result<(), AdapterError> {
         adaptation.begin_episode(initial)?;
         self.watch = None;
+        self.passed = 0;
         self.own_record.forget_operator();
         Ok(())
     }
@@ -103,7 +111,19 @@ impl<'p> Mission<'p> {
         // During an episode the operator is taken to be attentive: the record learns how
         // it reacts.
         self.own_record.learn(outcome);
-        let decision = adaptation.record(outcome, memory)?;
+        let decision = match self.judge.as_ref().filter(|_| self.passed < self.passes) {
+            Some(judge) => {
+                let mut passed_over = false;
+                let decision = adaptation.record_passing(outcome, memory, |behavior| {
+                    let competence = judge.competence(*behavior);
+                    passed_over = !judge.standard().surely_short(&competence).is_empty();
+                    passed_over
+                })?;
+                self.passed += u32::from(passed_over);
+                decision
+            }
+            None => adaptation.record(outcome, memory)?,
+        };
         self.after(adaptation, &decision);
         Ok(decision.into())
     }
@@ -181,6 +201,7 @@ impl<'p> Mission<'p> {
             ));
             self.own_record.restart();
             self.judged = false;
+            self.passed = 0;
         }
     }
 
@@ -287,6 +308,16 @@ impl<'p> MissionAdaptation<'p> {
     pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
         self.mission.judge.as_ref()
     }
+
+    /// The same mission preferring behaviors its judge finds competent (given one with
+    /// [`MissionAdaptation::with_competence`]): an episode passes over up to `passes`
+    /// behaviors its operator trusts while the judge is sure they fall short, searching
+    /// on past each, and settles on the next trusted one whatever its competence.
+    #[must_use]
+    pub fn preferring_competent(mut self, passes: u32) -> Self {
+        self.mission.passes = passes;
+        self
+    }
 }
 
 /// Mission mode around a [`TrustAdapter`]: its episodes and watch over the memory it owns,
@@ -368,5 +399,13 @@ impl<'p> MissionAdapter<'p> {
     /// The robot's judge of its own competence, if it has one.
     pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
         self.mission.judge.as_ref()
+    }
+
+    /// The same mission preferring behaviors its judge finds competent: see
+    /// [`MissionAdaptation::preferring_competent`].
+    #[must_use]
+    pub fn preferring_competent(mut self, passes: u32) -> Self {
+        self.mission.passes = passes;
+        self
     }
 }

@@ -288,6 +288,86 @@ fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent()
     }
 }
 
+#[test]
+fn preferring_competent_behaviors_an_episode_passes_over_a_trusted_one_it_is_sure_of() {
+    const BUMP: Cause = Cause::from_static("bump");
+    const WRONG: Cause = Cause::from_static("wrong-label");
+    let parts = [
+        CompetencePart {
+            name: BUMP,
+            seen_as: Some(BUMP),
+        },
+        CompetencePart {
+            name: WRONG,
+            seen_as: None,
+        },
+    ];
+    let careless = Behavior::new(&[1, 2]);
+    // `careful_only`: only `careless` labels wrongly; `all_careless`: every behavior does.
+    let judge = |all_careless: bool| {
+        let predict: Predictor = Arc::new(move |b: &Behavior| {
+            vec![
+                None,
+                Some(if all_careless || *b == careless {
+                    0.2
+                } else {
+                    0.01
+                }),
+            ]
+        });
+        CompetenceJudge::new(
+            CompetenceRecord::new(&parts, &[BUMP]).unwrap(),
+            predict,
+            CompetenceStandard::uniform(0.1).unwrap(),
+        )
+    };
+    let four_then = |a: &mut MissionAdapter| {
+        for _ in 0..4 {
+            assert_eq!(a.record(&DONE).unwrap(), KEEP);
+        }
+        a.record(&DONE).unwrap()
+    };
+    let mut a = mission_adapter()
+        .with_competence(judge(false))
+        .preferring_competent(1);
+    a.begin_episode(careless).unwrap();
+    // Trusted after five completions, but surely not competent: given up, the search goes on.
+    let MissionDecision::Episode(Decision::Switch {
+        to, explanation, ..
+    }) = four_then(&mut a)
+    else {
+        panic!("expected the trusted behavior to be passed over");
+    };
+    assert_ne!(to, careless);
+    assert_eq!(explanation.given_up.unwrap().estimate, 5.0);
+    assert!(a.watching().is_none());
+    assert_eq!(a.adapter().cases().len(), 0, "nothing retained yet");
+    // The next trusted behavior is competent: settled on, and retained.
+    let MissionDecision::Episode(Decision::Settled(report)) = four_then(&mut a) else {
+        panic!("expected a settled episode");
+    };
+    assert_eq!((report.settled, report.behaviors_evaluated), (to, 2));
+    assert_eq!(a.watching().unwrap().behavior, to);
+    assert_eq!(a.adapter().cases().len(), 1);
+    // Every behavior careless and one pass: the second trusted one is kept all the same.
+    let mut b = mission_adapter()
+        .with_competence(judge(true))
+        .preferring_competent(1);
+    b.begin_episode(careless).unwrap();
+    assert!(matches!(
+        four_then(&mut b),
+        MissionDecision::Episode(Decision::Switch { .. })
+    ));
+    assert!(matches!(
+        four_then(&mut b),
+        MissionDecision::Episode(Decision::Settled(r)) if r.found_trustworthy
+    ));
+    // Without a preference, the first trusted behavior settles (the paper's episode).
+    let mut c = mission_adapter().with_competence(judge(true));
+    c.begin_episode(careless).unwrap();
+    settle(&mut c);
+}
+
 proptest! {
     /// In mission mode every outcome is answered (never `NoEpisode`), an episode runs or a
     /// behavior is watched after every answer, and the watched estimate never exceeds the
