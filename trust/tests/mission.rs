@@ -230,11 +230,13 @@ fn an_alert_when_the_operator_stops_reacting_to_what_the_robot_perceives() {
     assert!((a.own_record().value() - step).abs() < 1e-9);
 }
 
-#[test]
-fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent() {
-    const BUMP: Cause = Cause::from_static("bump");
-    const WRONG: Cause = Cause::from_static("wrong-label");
-    let parts = [
+/// A bump the robot perceives (observation 0), and a wrong label it cannot see.
+const BUMP: Cause = Cause::from_static("bump");
+const WRONG: Cause = Cause::from_static("wrong-label");
+
+/// The competence parts of these tests: a bump, seen; a wrong label, unseen.
+fn competence_parts() -> [CompetencePart; 2] {
+    [
         CompetencePart {
             name: BUMP,
             seen_as: Some(BUMP),
@@ -243,7 +245,12 @@ fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent()
             name: WRONG,
             seen_as: None,
         },
-    ];
+    ]
+}
+
+#[test]
+fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent() {
+    let parts = competence_parts();
     // The model: behavior [1, 2] labels wrongly one command in five, every other one in
     // a hundred; bumps it does not predict.
     let careless = Behavior::new(&[1, 2]);
@@ -290,18 +297,7 @@ fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent()
 
 #[test]
 fn preferring_competent_behaviors_an_episode_passes_over_a_trusted_one_it_is_sure_of() {
-    const BUMP: Cause = Cause::from_static("bump");
-    const WRONG: Cause = Cause::from_static("wrong-label");
-    let parts = [
-        CompetencePart {
-            name: BUMP,
-            seen_as: Some(BUMP),
-        },
-        CompetencePart {
-            name: WRONG,
-            seen_as: None,
-        },
-    ];
+    let parts = competence_parts();
     let careless = Behavior::new(&[1, 2]);
     // `careful_only`: only `careless` labels wrongly; `all_careless`: every behavior does.
     let judge = |all_careless: bool| {
