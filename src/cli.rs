@@ -14,7 +14,7 @@ use crate::progress::Progress;
 use crate::run::{
     RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
 };
-use crate::served::{judging_competence, served_domain, serving_arm};
+use crate::served::{check_preference, judging_competence, served_domain, serving_arm};
 use crate::simulate::command_json;
 use crate::suite::{
     EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_best_arms, suite_table, trace_report_trial,
@@ -394,7 +394,8 @@ struct ServeArgs {
     /// With --mission, the robot judges its own competence (a scenario's parts and models,
     /// docs/missions.md#overtrust-second-design): at most AT_MOST per command in every
     /// part, in [0, 1]; a settled behavior the operator trusts while the robot is surely
-    /// short of it draws an `overtrust` reply once.
+    /// short of it draws an `overtrust` reply once; with `--arm NAME+competent`, episodes
+    /// pass over such a behavior once and search on.
     #[arg(long, value_name = "AT_MOST", requires = "mission")]
     competence: Option<f64>,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
@@ -689,6 +690,7 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     if let Some(at_most) = args.competence {
         domain = judging_competence(catalog, domain, at_most)?;
     }
+    check_preference(&domain)?;
     // Every option is checked, and the address bound, before the case base is opened: a
     // refused command creates no case base.
     let listening = match args.listen {

@@ -6,7 +6,7 @@ use crate::catalog::Catalog;
 use crate::suite::arm_named;
 use cbr_core::Behavior;
 use lab::Domain;
-use lab::Initial;
+use lab::{Initial, PREFERS_COMPETENT};
 use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
@@ -42,12 +42,6 @@ pub fn serving_arm<C: Catalog>(
 ) -> anyhow::Result<DomainDefinition> {
     let arm = arm_named(catalog, name, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
-    if arm.competent_passes() > 0 {
-        anyhow::bail!(
-            "--arm: `{name}` prefers behaviors the robot judges competent, which simulated missions measure; `serve` does not pass over a behavior its operator trusts: serve `{}` (with --mission --competence to be told of overtrust)",
-            lab::prefers_competent(name).0
-        );
-    }
     if arm.initial() != Initial::Random {
         anyhow::bail!(
             "--arm: `{name}` starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one); serve `{}`",
@@ -55,10 +49,24 @@ pub fn serving_arm<C: Catalog>(
         );
     }
     domain.adapter.reuse_cases = arm.reuses_cases();
+    let passes = arm.competent_passes();
     let (searcher, retriever) = (arm.clone(), arm);
     Ok(domain
+        .preferring_competent(passes)
         .with_searcher(move |space| searcher.build_searcher(space))
         .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda)))
+}
+
+/// Refuses a served `domain` that prefers competent behaviors (`--arm NAME+competent`)
+/// while its robot judges nothing: a mission session with a competence standard is where
+/// the preference acts, so anywhere else it would be accepted and do nothing.
+pub fn check_preference(domain: &DomainDefinition) -> anyhow::Result<()> {
+    if domain.competent_passes() > 0 && !(domain.mission() && domain.judges_competence()) {
+        anyhow::bail!(
+            "--arm: an arm NAME{PREFERS_COMPETENT} prefers behaviors the robot judges competent, which it judges only in mission mode with a standard: add --mission --competence AT_MOST (Python: mission=True, competence=AT_MOST)"
+        );
+    }
+    Ok(())
 }
 
 /// `domain` whose robot judges its own competence in mission mode, held to at most

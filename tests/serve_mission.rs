@@ -283,3 +283,42 @@ fn competence_needs_a_mission_a_chance_and_a_scenario() {
         "{not_a_scenario}"
     );
 }
+
+#[test]
+fn an_arm_preferring_competent_behaviors_passes_over_a_trusted_one_the_robot_is_sure_of() {
+    let bumped =
+        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
+    let lines: Vec<&str> = [BEGIN].into_iter().chain(repeat(bumped, 5)).collect();
+    let replies = exchange_with(
+        &[
+            "--mission",
+            "--competence",
+            "0.1",
+            "--arm",
+            "uniform+competent",
+        ],
+        &lines,
+    );
+    // Trusted after five completions, every one a bump: passed over, the search goes on.
+    let passed = &replies[5];
+    assert_eq!(passed["ok"], "switch", "{passed}");
+    assert_ne!(passed["behavior"], behavior());
+    assert_eq!(passed["explanation"]["given_up"]["trust"], 5.0);
+    // Without a standard the preference would do nothing: refused before anything opens.
+    let dir = tempfile::tempdir().unwrap();
+    let output = support::trustcbr()
+        .args(["serve", "--domain", "movement", "--mission", "--arm"])
+        .arg("uniform+competent")
+        .arg("--cases")
+        .arg(dir.path().join("cases.db"))
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("add --mission --competence AT_MOST"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("cases.db").exists());
+}

@@ -17,7 +17,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, ThreadId};
 use trustcbr::Catalog;
 use trustcbr::WithArms;
-use trustcbr::served::{judging_competence, served_domain, serving_arm};
+use trustcbr::served::{check_preference, judging_competence, served_domain, serving_arm};
 use trustcbr::service::{Location, Session as ServedSession, SharedCases};
 
 /// One controller's adapter over a case base (`trustcbr serve` for one controller).
@@ -106,6 +106,7 @@ impl Session {
             definition =
                 judging_competence(catalog, definition, at_most).map_err(|e| anyhow_error(&e))?;
         }
+        check_preference(&definition).map_err(|e| anyhow_error(&e))?;
         let shared = SharedCases::open(&definition, &Location::parse(cases)).map_err(error)?;
         let (location, writable) = (shared.location().to_owned(), shared.writable());
         let session = ServedSession::new(definition, Arc::new(shared), seed).map_err(error)?;

@@ -169,6 +169,26 @@ def test_a_robot_judging_its_competence_asks_to_choose_once(tmp_path: Path) -> N
     assert not (tmp_path / "other.db").exists()
 
 
+def test_an_arm_preferring_competent_behaviors_passes_over_one(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter(
+        "movement",
+        tmp_path / "cases.db",
+        arm="uniform+competent",
+        mission=True,
+        competence=0.1,
+    )
+    start = adapter.begin({"speed": 3.5, "padding": 0.4})
+    decisions = [
+        adapter.tell("completed", duration_s=2.0, observed=["collision"]) for _ in range(5)
+    ]
+    # Trusted on the fifth, but surely not competent: given up, and the search goes on.
+    assert [d.kind for d in decisions] == ["keep"] * 4 + ["switch"]
+    assert decisions[-1].behavior != start
+    with pytest.raises(trustcbr.TrustcbrError, match="add --mission --competence"):
+        trustcbr.Adapter("movement", tmp_path / "other.db", arm="uniform+competent", mission=True)
+    assert not (tmp_path / "other.db").exists()
+
+
 def test_without_mission_outcomes_after_settling_are_refused(tmp_path: Path) -> None:
     adapter = trustcbr.Adapter("movement", tmp_path / "cases.db")
     adapter.begin({"speed": 3.5, "padding": 0.4})

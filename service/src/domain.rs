@@ -93,6 +93,8 @@ pub struct DomainDefinition {
     mission: bool,
     /// How the robot judges its own competence in mission mode; `None`: it does not.
     competence: Option<JudgedCompetence>,
+    /// Trusted behaviors an episode passes over for being surely not competent.
+    competent_passes: u32,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
     searcher: Option<SearcherFactory>,
     /// A user's retriever; `None`: the kind `adapter.retriever` names.
@@ -110,6 +112,7 @@ impl fmt::Debug for DomainDefinition {
             .field("adapter", &self.adapter)
             .field("mission", &self.mission)
             .field("judges_competence", &self.competence.is_some())
+            .field("competent_passes", &self.competent_passes)
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
             .finish()
@@ -291,6 +294,7 @@ impl DomainDefinition {
             adapter,
             mission: false,
             competence: None,
+            competent_passes: 0,
             searcher: None,
             retriever: None,
         }
@@ -351,6 +355,29 @@ impl DomainDefinition {
             }),
             ..self
         })
+    }
+
+    /// Whether the robot judges its own competence ([`DomainDefinition::judging_competence`]).
+    pub fn judges_competence(&self) -> bool {
+        self.competence.is_some()
+    }
+
+    /// The same domain whose mission sessions prefer behaviors the robot judges competent
+    /// (`serve --arm NAME+competent`): an episode passes over up to `passes` behaviors its
+    /// operator trusts while the robot is sure they fall short, and searches on
+    /// ([`trust::MissionAdaptation::preferring_competent`]). It takes effect where the
+    /// robot judges its competence, in mission mode.
+    #[must_use]
+    pub fn preferring_competent(self, passes: u32) -> Self {
+        Self {
+            competent_passes: passes,
+            ..self
+        }
+    }
+
+    /// Trusted behaviors an episode passes over ([`DomainDefinition::preferring_competent`]).
+    pub fn competent_passes(&self) -> u32 {
+        self.competent_passes
     }
 
     /// A fresh judge of the robot's competence for one session, if it judges it.

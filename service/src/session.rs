@@ -162,7 +162,9 @@ impl Session {
         let adapting = if domain.mission() {
             let mission = MissionAdaptation::new(adaptation);
             Adapting::Mission(match domain.competence_judge() {
-                Some(judge) => mission.with_competence(judge),
+                Some(judge) => mission
+                    .with_competence(judge)
+                    .preferring_competent(domain.competent_passes()),
                 None => mission,
             })
         } else {
