@@ -423,6 +423,14 @@ impl<'p> CompetenceJudge<'p> {
         &self.standard
     }
 
+    /// The robot's estimate of `behavior` and the parts it is sure fall short of the
+    /// standard ([`CompetenceStandard::surely_short`]).
+    pub fn surely_short(&self, behavior: Behavior) -> (Competence, Vec<Cause>) {
+        let competence = self.competence(behavior);
+        let short = self.standard.surely_short(&competence);
+        (competence, short)
+    }
+
     /// The calibration of the operator's `estimate` of `behavior` against the robot's
     /// competence.
     pub fn calibration(

@@ -115,8 +115,7 @@ impl<'p> Mission<'p> {
             Some(judge) => {
                 let mut passed_over = false;
                 let decision = adaptation.record_passing(outcome, memory, |behavior| {
-                    let competence = judge.competence(*behavior);
-                    passed_over = !judge.standard().surely_short(&competence).is_empty();
+                    passed_over = !judge.surely_short(*behavior).1.is_empty();
                     passed_over
                 })?;
                 self.passed += u32::from(passed_over);
@@ -177,8 +176,7 @@ impl<'p> Mission<'p> {
         if thresholds.verdict(estimate) != Verdict::Trustworthy {
             return None;
         }
-        let competence = judge.competence(behavior);
-        let short = judge.standard().surely_short(&competence);
+        let (competence, short) = judge.surely_short(behavior);
         if short.is_empty() {
             return None;
         }
