@@ -410,6 +410,13 @@ pub struct MissionArmResult {
     pub traced: MissionTrace,
 }
 
+impl MissionArmResult {
+    /// The harm done in each mission ([`MissionRecord::harm`]), in order.
+    pub fn harms(&self) -> Vec<f64> {
+        self.missions.iter().map(|m| f64::from(m.harm())).collect()
+    }
+}
+
 /// A mission plan's results.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MissionResult {
@@ -745,6 +752,17 @@ struct OperatorState {
     onset: Option<usize>,
 }
 
+impl OperatorState {
+    /// An operator whose trust in the robot starts from nothing, attentive: a new one, or
+    /// one asked by an alert to look afresh.
+    fn fresh() -> Self {
+        Self {
+            felt: 0.0,
+            onset: None,
+        }
+    }
+}
+
 /// What names a mission's random streams: the master seed, its plan's place in the suite
 /// and its number.
 #[derive(Clone, Copy)]
@@ -809,10 +827,7 @@ fn run_mission<D: Domain>(
     };
     let thresholds = adapter.adapter().parameters().thresholds;
     let mut operator = first;
-    let mut state = OperatorState {
-        felt: 0.0,
-        onset: None,
-    };
+    let mut state = OperatorState::fresh();
     let mut behavior = start.behavior;
     let mut upcoming = scheduled.iter().peekable();
     // The last change, while the robot has not settled since, and whether any change
@@ -828,10 +843,7 @@ fn run_mission<D: Domain>(
         if let Some(change) = upcoming.next_if(|s| s.at == c) {
             operator = change.operator;
             if change.kind == ChangeKind::Takeover {
-                state = OperatorState {
-                    felt: 0.0,
-                    onset: None,
-                };
+                state = OperatorState::fresh();
             }
             let mut truth = stream(
                 seed,
@@ -913,10 +925,7 @@ fn run_mission<D: Domain>(
                 }
                 if answers_alerts {
                     // Asked to supervise, the operator looks afresh.
-                    state = OperatorState {
-                        felt: 0.0,
-                        onset: None,
-                    };
+                    state = OperatorState::fresh();
                 }
             }
             MissionDecision::Overtrust(alert) => {
@@ -927,10 +936,7 @@ fn run_mission<D: Domain>(
                 marks.push(Mark::Alert);
                 if answers_alerts {
                     // Asked to choose, the operator looks afresh at the behavior.
-                    state = OperatorState {
-                        felt: 0.0,
-                        onset: None,
-                    };
+                    state = OperatorState::fresh();
                 }
             }
             MissionDecision::Episode(Decision::Switch { to, .. }) => {

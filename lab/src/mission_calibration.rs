@@ -7,7 +7,7 @@
 
 use crate::arm::prefers_competent;
 use crate::mission::{CalibrationRecord, MissionArmResult};
-use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
+use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -49,26 +49,16 @@ impl CalibrationSummary {
             totals.both += r.both;
             totals.competent += r.competent;
         }
-        let per_mission = |f: &dyn Fn(&CalibrationRecord) -> f64| {
-            let values: Vec<f64> = records.iter().map(|r| f(r)).collect();
-            mean_ci95(&values).unwrap_or(MeanCi {
-                mean: 0.0,
-                ci95: 0.0,
-            })
-        };
-        let harm: Vec<f64> = arm.missions.iter().map(|m| f64::from(m.harm())).collect();
+        let alerts: Vec<f64> = records.iter().map(|r| r.alerts.len() as f64).collect();
         Some(Self {
             arm: arm.arm.clone(),
             answers_alerts: arm.answers_alerts,
             missions: records.len(),
             totals,
-            alerts: per_mission(&|r| r.alerts.len() as f64),
+            alerts: mean_ci95_or_zero(&alerts),
             false_alert_missions: records.iter().filter(|r| r.false_alerts() > 0).count(),
             competent_missions: records.iter().filter(|r| r.competent > 0).count(),
-            harm: mean_ci95(&harm).unwrap_or(MeanCi {
-                mean: 0.0,
-                ci95: 0.0,
-            }),
+            harm: mean_ci95_or_zero(&arm.harms()),
         })
     }
 
@@ -127,21 +117,11 @@ impl Preference {
     }
 
     fn between(base: &MissionArmResult, arm: &MissionArmResult) -> Self {
-        let harm = |a: &MissionArmResult| -> Vec<f64> {
-            a.missions.iter().map(|m| f64::from(m.harm())).collect()
-        };
         let untrustworthy = |a: &MissionArmResult| -> f64 {
             a.missions.iter().map(|m| f64::from(m.untrustworthy)).sum()
         };
-        let (without, with) = (harm(base), harm(arm));
-        let zero = MeanCi {
-            mean: 0.0,
-            ci95: 0.0,
-        };
-        let (before, after) = (
-            mean_ci95(&without).unwrap_or(zero),
-            mean_ci95(&with).unwrap_or(zero),
-        );
+        let (without, with) = (base.harms(), arm.harms());
+        let (before, after) = (mean_ci95_or_zero(&without), mean_ci95_or_zero(&with));
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
         Self {
             arm: arm.arm.clone(),

@@ -10,7 +10,7 @@ use crate::mission::{
 };
 use crate::mission_calibration::{calibration_json, calibration_markdown};
 use crate::mission_oracle::OracleRecord;
-use crate::stats::{MeanCi, mean_ci95, wilcoxon_signed_rank};
+use crate::stats::{MeanCi, mean_ci95, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -53,13 +53,6 @@ pub struct MissionSummary {
     pub median_delay: Option<f64>,
     /// Harm per mission (failures and problems nobody noticed).
     pub harm: MeanCi,
-}
-
-fn summary_of(values: &[f64]) -> MeanCi {
-    mean_ci95(values).unwrap_or(MeanCi {
-        mean: 0.0,
-        ci95: 0.0,
-    })
 }
 
 fn median(mut values: Vec<f64>) -> Option<f64> {
@@ -127,8 +120,9 @@ pub struct OracleSummary {
 impl OracleSummary {
     /// Sums up the oracle's `missions`.
     pub fn of(missions: &[OracleRecord]) -> Self {
-        let per_mission =
-            |f: fn(&OracleRecord) -> f64| summary_of(&missions.iter().map(f).collect::<Vec<_>>());
+        let per_mission = |f: fn(&OracleRecord) -> f64| {
+            mean_ci95_or_zero(&missions.iter().map(f).collect::<Vec<_>>())
+        };
         Self {
             missions: missions.len(),
             figures: ChangeFigures::of(missions.iter().flat_map(|m| &m.changes)),
@@ -175,7 +169,7 @@ impl MissionSummary {
             .filter_map(|o| o.detected_after.map(f64::from))
             .collect();
         let per_mission = |f: fn(&MissionRecord) -> f64| {
-            summary_of(&arm.missions.iter().map(f).collect::<Vec<_>>())
+            mean_ci95_or_zero(&arm.missions.iter().map(f).collect::<Vec<_>>())
         };
         Self {
             arm: arm.arm.clone(),
@@ -233,9 +227,6 @@ pub struct HarmComparison {
 
 /// The paired harm comparison of every arm of a complacency plan.
 pub fn harm_comparisons(result: &MissionResult) -> Vec<HarmComparison> {
-    let harm = |arm: &MissionArmResult| -> Vec<f64> {
-        arm.missions.iter().map(|m| f64::from(m.harm())).collect()
-    };
     result
         .arms
         .iter()
@@ -245,13 +236,13 @@ pub fn harm_comparisons(result: &MissionResult) -> Vec<HarmComparison> {
                 .arms
                 .iter()
                 .find(|a| a.answers_alerts && a.arm == ignored.arm)?;
-            let (without, with) = (harm(ignored), harm(answered));
+            let (without, with) = (ignored.harms(), answered.harms());
             let difference: Vec<f64> = without.iter().zip(&with).map(|(a, b)| a - b).collect();
             Some(HarmComparison {
                 arm: ignored.arm.clone(),
-                ignored: summary_of(&without),
-                answered: summary_of(&with),
-                difference: summary_of(&difference),
+                ignored: mean_ci95_or_zero(&without),
+                answered: mean_ci95_or_zero(&with),
+                difference: mean_ci95_or_zero(&difference),
                 wilcoxon_p: wilcoxon_signed_rank(&without, &with).unwrap_or(1.0),
             })
         })

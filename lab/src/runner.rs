@@ -17,7 +17,7 @@ use crate::domain::AttentionNotModelled;
 use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::KnownLimitError;
 use crate::seeds::{Purpose, stream};
-use crate::stats::{MeanCi, mean_ci95, paired_t_test, wilcoxon_signed_rank};
+use crate::stats::{MeanCi, mean_ci95_or_zero, paired_t_test, wilcoxon_signed_rank};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
@@ -599,12 +599,7 @@ fn run_chain<D: Domain>(
             arm.reads_cases().then(|| adapter.cases().clone()),
         )
     };
-    let summary = |values: Vec<f64>| {
-        mean_ci95(&values).unwrap_or(MeanCi {
-            mean: 0.0,
-            ci95: 0.0,
-        })
-    };
+    let summary = |values: Vec<f64>| mean_ci95_or_zero(&values);
     let of = |value: fn(&TrialRecord) -> f64| summary(trials.iter().map(value).collect());
     let mut explained = ExplanationCheck::default();
     for t in &trials {

@@ -86,6 +86,14 @@ pub fn mean_ci95(values: &[f64]) -> Option<MeanCi> {
     })
 }
 
+/// [`mean_ci95`], with 0 ± 0 for no values (a summary that must show a figure).
+pub fn mean_ci95_or_zero(values: &[f64]) -> MeanCi {
+    mean_ci95(values).unwrap_or(MeanCi {
+        mean: 0.0,
+        ci95: 0.0,
+    })
+}
+
 /// Student's t quantile at 0.975 for `df` degrees of freedom (at least 1). The quantile
 /// is found numerically, so small degrees of freedom (the moving windows of the learning
 /// curves ask for them thousands of times) are computed once.
