@@ -162,7 +162,7 @@ impl MissionSuiteConfig {
                 }
                 if let Some(standard) = &spec.competence {
                     check_competence(&domain, standard)
-                        .map_err(|e| invalid(field("competence"), e))?;
+                        .map_err(|e| invalid(field("competence"), e.to_string()))?;
                 }
             }
             spec.operators.check_reachable(

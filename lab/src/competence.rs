@@ -333,6 +333,23 @@ impl CompetenceAccuracy {
     }
 }
 
+/// An empty record of `domain`'s competence parts, for a robot held to `standard`; refused
+/// when the domain declares no part, a bound of the standard is not a chance, or a seen
+/// part is not one of the domain's observations.
+pub fn empty_record<D: Domain + ?Sized>(
+    domain: &D,
+    standard: &CompetenceStandard,
+) -> Result<CompetenceRecord, CompetenceError> {
+    let parts = domain.competence_parts();
+    if parts.is_empty() {
+        return Err(CompetenceError::NoParts {
+            domain: domain.name().to_owned(),
+        });
+    }
+    standard.validate()?;
+    Ok(CompetenceRecord::new(parts, domain.observations())?)
+}
+
 /// Measures the robot's estimates of `settings.behaviors` behaviors of `domain` against
 /// the truth, its commands judged by `operator` (named `operator_name` in the report), in
 /// parallel on the current rayon pool; `progress()` is called after each behavior.
@@ -343,13 +360,8 @@ pub fn measure<D: Domain>(
     settings: &CompetenceSettings,
     progress: &(dyn Fn() + Sync),
 ) -> Result<CompetenceAccuracy, CompetenceError> {
+    let empty = empty_record(domain, &settings.standard)?;
     let parts = domain.competence_parts();
-    if parts.is_empty() {
-        return Err(CompetenceError::NoParts {
-            domain: domain.name().to_owned(),
-        });
-    }
-    settings.standard.validate()?;
     if settings.behaviors == 0
         || settings.truth_runs == 0
         || settings.seen.windows(2).any(|w| w[0] >= w[1])
@@ -360,7 +372,6 @@ pub fn measure<D: Domain>(
             seen: settings.seen.clone(),
         });
     }
-    let empty = CompetenceRecord::new(parts, domain.observations())?;
     let space = domain.space();
     // Distinct behaviors (a record counts a behavior's commands together): the whole
     // space when it has no more than asked for.

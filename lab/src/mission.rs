@@ -22,7 +22,7 @@
 //! mission, purpose), the same for every arm.
 
 use crate::arm::Arm;
-use crate::competence::{true_competence, true_rates};
+use crate::competence::{CompetenceError, empty_record, true_competence, true_rates};
 use crate::domain::check_attention;
 use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::LimitSettings;
@@ -38,8 +38,8 @@ use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::sync::Arc;
 use trust::{
-    AdapterConfig, Calibration, CompetenceJudge, CompetenceRecord, CompetenceStandard, Decision,
-    MissionAdapter, MissionDecision, Outcome, OutcomeKind, OwnRecord, Verdict,
+    AdapterConfig, Calibration, CompetenceJudge, CompetenceStandard, Decision, MissionAdapter,
+    MissionDecision, Outcome, OutcomeKind, OwnRecord, Verdict,
 };
 
 /// When the operator changes during a mission.
@@ -446,9 +446,9 @@ impl<D: Domain> MissionPlan<'_, D> {
             });
         }
         if let Some(standard) = &self.competence {
-            check_competence(self.domain, standard).map_err(|reason| PlanError::Competence {
+            check_competence(self.domain, standard).map_err(|e| PlanError::Competence {
                 plan: self.name.clone(),
-                reason,
+                reason: e.to_string(),
             })?;
         }
         if self.complacency.is_some() {
@@ -470,25 +470,16 @@ impl<D: Domain> MissionPlan<'_, D> {
 pub fn check_competence<D: Domain + ?Sized>(
     domain: &D,
     standard: &CompetenceStandard,
-) -> Result<(), String> {
-    standard.validate().map_err(|e| e.to_string())?;
-    if domain.competence_parts().is_empty() {
-        return Err(format!(
-            "domain `{}` declares no competence part (`Domain::competence_parts`), so a plan cannot set `competence`",
-            domain.name()
-        ));
-    }
-    CompetenceRecord::new(domain.competence_parts(), domain.observations())
-        .map_err(|e| e.to_string())?;
+) -> Result<(), CompetenceError> {
+    empty_record(domain, standard)?;
     let mut probe = ChaCha8Rng::seed_from_u64(0);
     if domain
         .competence_truth(&domain.space().unrank(0), &mut probe)
         .is_none()
     {
-        return Err(format!(
-            "domain `{}` gives no truth of its robot's competence (`Domain::competence_truth`), so a plan cannot set `competence`",
-            domain.name()
-        ));
+        return Err(CompetenceError::NoTruth {
+            domain: domain.name().to_owned(),
+        });
     }
     Ok(())
 }
@@ -499,8 +490,7 @@ impl<'a, D: Domain> MissionPlan<'a, D> {
     fn judge(&self) -> Option<CompetenceJudge<'a>> {
         let standard = self.competence.clone()?;
         let domain = self.domain;
-        let record = CompetenceRecord::new(domain.competence_parts(), domain.observations())
-            .expect("checked by MissionPlan::validate");
+        let record = empty_record(domain, &standard).expect("checked by MissionPlan::validate");
         Some(CompetenceJudge::new(
             record,
             Arc::new(move |behavior: &Behavior| domain.predict_competence(behavior)),
