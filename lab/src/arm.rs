@@ -290,15 +290,22 @@ impl Arm {
             return Err(unknown());
         }
         let arm = Self::builtin_random(base, retriever).ok_or_else(unknown)?;
+        Ok(arm.with_name_options(initial, prefers_competent))
+    }
+
+    /// The same arm with what the suffixes of a name say: starting as `initial`
+    /// ([`Initial::of_name`], [`Arm::learned_start`]), and preferring competent behaviors
+    /// when `prefers_competent` ([`prefers_competent`], [`Arm::preferring_competent`]).
+    pub fn with_name_options(self, initial: Initial, prefers_competent: bool) -> Self {
         let arm = match initial {
-            Initial::Random => arm,
-            Initial::Learned => arm.learned_start(),
+            Initial::Random => self,
+            Initial::Learned => self.learned_start(),
         };
-        Ok(if prefers_competent {
+        if prefers_competent {
             arm.preferring_competent()
         } else {
             arm
-        })
+        }
     }
 
     /// The built-in arm `name` (one of [`BUILTIN_ARMS`]), starting at random.

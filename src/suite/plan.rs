@@ -52,15 +52,7 @@ pub fn arm_named<C: Catalog>(
             )
         })?,
     };
-    let arm = match initial {
-        Initial::Random => arm,
-        Initial::Learned => arm.learned_start(),
-    };
-    let arm = if prefers {
-        arm.preferring_competent()
-    } else {
-        arm
-    };
+    let arm = arm.with_name_options(initial, prefers);
     check_file_name("arm", arm.name()).map_err(|e| e.to_string())?;
     if arm.name() != name {
         return Err(format!(
