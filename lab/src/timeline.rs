@@ -73,14 +73,6 @@ fn perceived(timeline: &Timeline, command: &TracedCommand) -> String {
     }
 }
 
-fn kind_name(kind: OutcomeKind) -> &'static str {
-    match kind {
-        OutcomeKind::Completed => "completed",
-        OutcomeKind::Failed => "failed",
-        OutcomeKind::Interrupted => "interrupted",
-    }
-}
-
 /// The columns of the story's table of commands: each header, and whether its cells are
 /// right-aligned (numbers) or left-aligned (names).
 const COLUMNS: [(&str, Align); 7] = [
@@ -105,7 +97,7 @@ fn command_cells(number: usize, timeline: &Timeline, c: &TracedCommand) -> [Stri
     let cause = |c: Option<trust::Cause>| c.map_or("-".to_owned(), |c| c.to_string());
     [
         number.to_string(),
-        kind_name(c.outcome.kind).to_owned(),
+        OutcomeKind::name(c.outcome.kind).to_owned(),
         format!("{:.2}", c.outcome.weight),
         perceived(timeline, c),
         cause(c.outcome.stated),

@@ -432,7 +432,10 @@ impl Adaptation {
 
     /// Records one command's outcome for the behavior in use and decides what to do next,
     /// selecting from `memory` when the behavior turns untrustworthy. A settled episode's
-    /// report has `retained: None`: the caller retains [`Self::case_to_retain`].
+    /// report has `retained: None`: the caller retains [`Self::case_to_retain`]. A said
+    /// goal change ([`Outcome::goal_change`]) counts as a command of the episode and
+    /// nothing else: the estimate, the explanations' account and the search learn
+    /// nothing from it, and the behavior is kept.
     pub fn record(
         &mut self,
         outcome: &Outcome,
@@ -454,8 +457,12 @@ impl Adaptation {
     ) -> Result<Decision, AdapterError> {
         outcome.validate()?;
         let episode = self.episode.as_mut().ok_or(AdapterError::NoEpisode)?;
-        episode.estimate.record(outcome);
         episode.commands += 1;
+        if outcome.goal_change {
+            // Said not to be about the behavior: no account of it learns anything.
+            return Ok(Decision::Keep);
+        }
+        episode.estimate.record(outcome);
         if outcome.kind != OutcomeKind::Completed {
             episode.untrustworthy += 1;
             episode.current_untrustworthy += 1;

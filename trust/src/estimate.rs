@@ -20,6 +20,15 @@ pub enum OutcomeKind {
 }
 
 impl OutcomeKind {
+    /// The kind as the protocol spells it (`completed`, `failed`, `interrupted`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Completed => "completed",
+            Self::Failed => "failed",
+            Self::Interrupted => "interrupted",
+        }
+    }
+
     /// The sign the outcome contributes to the estimate: +1 or -1.
     pub fn sign(self) -> f64 {
         match self {
@@ -149,6 +158,14 @@ pub struct Outcome {
     /// `None` when it has none. The overtrust monitor reads it ([`crate::overtrust`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub confidence: Option<f64>,
+    /// The operator said it stopped the robot because its goals changed (a threat
+    /// appeared, it sent the robot elsewhere), not because of the behavior: a distinct
+    /// statement, only of an interruption and never beside a stated reason. A said goal
+    /// change counts neither for nor against the behavior ([`Outcome::contribution`] is
+    /// 0, [`Outcome::is_untrustworthy`] is `false`); an unsaid one is an interruption like
+    /// any other (docs/model.md, "Goal changes").
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub goal_change: bool,
 }
 
 /// Why an outcome cannot be recorded.
@@ -164,6 +181,18 @@ pub enum OutcomeError {
     /// The self-assessed confidence is not a probability.
     #[error("confidence must be a number in [0, 1], got {0}")]
     Confidence(f64),
+    /// A goal change said of an outcome that is not an interruption, or beside a stated
+    /// reason.
+    #[error(
+        "goal_change is said only of an interruption with no stated reason (the operator stopped the robot for something other than the behavior), got outcome `{kind}`{}",
+        if *.stated { " with a stated reason" } else { "" }
+    )]
+    GoalChange {
+        /// How the command ended.
+        kind: &'static str,
+        /// Whether a reason was stated beside it.
+        stated: bool,
+    },
 }
 
 impl Outcome {
@@ -177,6 +206,7 @@ impl Outcome {
             observed: Observations::NONE,
             stated: None,
             confidence: None,
+            goal_change: false,
         }
     }
 
@@ -216,9 +246,21 @@ impl Outcome {
         Self { confidence, ..self }
     }
 
-    /// Whether the command failed or was interrupted (what the operator endured).
+    /// The same outcome with the operator saying (or not) that its goals changed
+    /// ([`Outcome::goal_change`]).
+    #[must_use]
+    pub fn saying_goal_change(self, goal_change: bool) -> Self {
+        Self {
+            goal_change,
+            ..self
+        }
+    }
+
+    /// Whether the command failed or was interrupted (what the operator endured) for a
+    /// reason that may be the behavior's: every failure and interruption but a said goal
+    /// change.
     pub fn is_untrustworthy(&self) -> bool {
-        self.kind != OutcomeKind::Completed
+        self.kind != OutcomeKind::Completed && !self.goal_change
     }
 
     /// Checks that the numbers are usable.
@@ -232,12 +274,23 @@ impl Outcome {
         if let Some(c) = self.confidence.filter(|c| !(0.0..=1.0).contains(c)) {
             return Err(OutcomeError::Confidence(c));
         }
+        if self.goal_change && (self.kind != OutcomeKind::Interrupted || self.stated.is_some()) {
+            return Err(OutcomeError::GoalChange {
+                kind: self.kind.name(),
+                stated: self.stated.is_some(),
+            });
+        }
         Ok(())
     }
 
-    /// The signed, weighted contribution `w * cmd` to the estimate.
+    /// The signed, weighted contribution `w * cmd` to the estimate: 0 for a said goal
+    /// change, which is not about the behavior.
     pub fn contribution(&self) -> f64 {
-        self.weight * self.kind.sign()
+        if self.goal_change {
+            0.0
+        } else {
+            self.weight * self.kind.sign()
+        }
     }
 }
 

@@ -7,6 +7,7 @@ pub mod competence;
 pub mod estimate;
 pub mod evaluated;
 pub mod explain;
+pub mod goal_change;
 pub mod mission;
 pub mod named;
 pub mod overtrust;

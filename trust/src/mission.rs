@@ -20,6 +20,9 @@
 //!   when asked ([`MissionAdapter::preferring_competent`]), episodes that pass over a few
 //!   trusted behaviors the robot is sure are not competent before settling.
 //!
+//! A goal change the operator says ([`crate::Outcome::goal_change`]) is kept out of all
+//! of these: the behavior in use stays, and nothing learns from the command.
+//!
 //! Telling the robot of a new operator ([`MissionAdaptation::begin_episode`]) ends the
 //! watch and forgets what it learned of how its operator reacts. The episode machine knows
 //! nothing of this: a mission drives it through its episode-level calls (an episode's
@@ -102,6 +105,16 @@ impl<'p> Mission<'p> {
     ) -> Result<MissionDecision, AdapterError> {
         outcome.validate()?;
         let in_use = self.in_use(adaptation).ok_or(AdapterError::NoEpisode)?.0;
+        if outcome.goal_change {
+            // Said not to be about the behavior: neither its estimate, its watch, its
+            // account, the robot's record nor its competence learns anything from it (an
+            // episode counts it as one of its commands).
+            return Ok(match self.watch {
+                Some(_) => Decision::Keep,
+                None => adaptation.record(outcome, memory)?,
+            }
+            .into());
+        }
         if let Some(judge) = &mut self.judge {
             judge.record(in_use, outcome);
         }

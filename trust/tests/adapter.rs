@@ -613,3 +613,73 @@ fn a_hand_built_episode_explains_its_switch() {
         }]
     ));
 }
+
+#[test]
+fn a_said_goal_change_counts_for_nothing_but_a_command() {
+    let space = grid(&[3, 3]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    let goal_change = Outcome::interrupted(1.0, 2.0).saying_goal_change(true);
+    // Four interruptions (-4), then three said goal changes: still -4, kept.
+    for _ in 0..4 {
+        assert_eq!(a.record(&interrupt(2.0)).unwrap(), Decision::Keep);
+    }
+    for _ in 0..3 {
+        assert_eq!(a.record(&goal_change).unwrap(), Decision::Keep);
+    }
+    let episode = a.episode().unwrap();
+    assert_eq!(episode.estimate.value, -4.0);
+    assert_eq!(episode.estimate.commands, 4);
+    assert_eq!(episode.estimate.elapsed_s, 8.0);
+    // The fifth interruption about the behavior gives it up, after 4 x 2 s of evidence
+    // plus its own 2 s (the goal changes' 6 s are not the behavior's time).
+    let Decision::Switch { explanation, .. } = a.record(&interrupt(2.0)).unwrap() else {
+        panic!("expected a switch");
+    };
+    let given_up = explanation.given_up.unwrap();
+    assert_eq!((given_up.commands, given_up.untrustworthy), (5, 5));
+    assert_eq!(a.episode().unwrap().evaluated[0].time, 10.0);
+    // The episode counts every command the operator gave: 8.
+    let report = a.abandon_episode().unwrap();
+    assert_eq!((report.commands, report.untrustworthy), (8, 5));
+}
+
+#[test]
+fn an_unsaid_goal_change_is_an_interruption_like_any_other() {
+    let space = grid(&[3, 3]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    a.begin_episode(Behavior::new(&[1, 1])).unwrap();
+    for _ in 0..4 {
+        assert_eq!(
+            a.record(&Outcome::interrupted(1.0, 2.0)).unwrap(),
+            Decision::Keep
+        );
+    }
+    assert!(matches!(
+        a.record(&Outcome::interrupted(1.0, 2.0)).unwrap(),
+        Decision::Switch { .. }
+    ));
+}
+
+#[test]
+fn a_goal_change_is_said_only_of_an_interruption_without_a_reason() {
+    let space = grid(&[3, 3]);
+    let mut a = adapter(&space, AdapterConfig::default());
+    a.begin_episode(Behavior::new(&[1, 1])).unwrap();
+    let failed = Outcome::failed(1.0, 2.0).saying_goal_change(true);
+    let err = a.record(&failed).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "invalid outcome: goal_change is said only of an interruption with no stated reason (the operator stopped the robot for something other than the behavior), got outcome `failed`"
+    );
+    let reasoned = interrupt(2.0).saying_goal_change(true);
+    assert!(
+        a.record(&reasoned)
+            .unwrap_err()
+            .to_string()
+            .ends_with("got outcome `interrupted` with a stated reason")
+    );
+    // Refused outcomes leave the episode as it was.
+    assert_eq!(a.episode().unwrap().estimate.commands, 0);
+}

@@ -389,3 +389,28 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_said_goal_change_leaves_the_watched_behavior_as_it_was() {
+    let mut a = mission_adapter();
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    settle(&mut a);
+    let goal_change = STOPPED.saying_goal_change(true);
+    // Nine interruptions about the behavior: +5 - 9 = -4.
+    for _ in 0..9 {
+        assert_eq!(a.record(&STOPPED).unwrap(), KEEP);
+    }
+    // Twenty said goal changes: still -4, still watched, nothing in its account.
+    for _ in 0..20 {
+        assert_eq!(a.record(&goal_change).unwrap(), KEEP);
+    }
+    let watch = a.watching().unwrap();
+    assert_eq!((watch.estimate.value, watch.commands), (-4.0, 9));
+    assert_eq!(a.standing().unwrap().untrustworthy, 9);
+    // The tenth interruption about it re-adapts, as without the goal changes.
+    assert!(matches!(
+        a.record(&STOPPED).unwrap(),
+        MissionDecision::Episode(Decision::Switch { .. })
+    ));
+}
