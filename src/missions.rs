@@ -132,6 +132,12 @@ impl MissionSuiteConfig {
                     ),
                 ));
             }
+            if spec.operators.goal_changes.is_some() {
+                return Err(invalid(
+                    field("operators.goal_changes"),
+                    "goal changes are simulated in experiment suites, not yet in missions: leave `goal_changes` out of a mission plan (docs/missions.md)".into(),
+                ));
+            }
             spec.changes
                 .validate()
                 .map_err(|e| invalid(field("changes"), e))?;

@@ -208,18 +208,25 @@ impl UgvDomain {
         }
     }
 
-    /// One command judged by an operator at `attention` (1: [`Domain::run`]): the run, the
-    /// operator's judgement of its trace ([`OperatorModel::judge_attending`]), then what
-    /// the robot perceived and its self-assessment up to the judgement's end.
+    /// One command judged by an operator at `attention` (1: [`Domain::run`]) whose goals
+    /// change `goal_change_at` seconds in (infinity: never): the run, the operator's
+    /// judgement of its trace ([`OperatorModel::judge_attending`]), cut by the goal change
+    /// if the command has not ended by then (weighed as the operator weighs an
+    /// interruption the robot cannot attribute, its default weight), then what the robot
+    /// perceived and its self-assessment up to the judgement's end.
     fn run_at(
         &self,
         behavior: &Behavior,
         operator: &OperatorModel,
         attention: f64,
+        goal_change_at: f64,
         rng: &mut dyn RngCore,
     ) -> Judgement {
         let run = self.simulate(behavior, rng, false);
-        let judgement = operator.judge_attending(&run.trace, attention, rng);
+        let mut judgement = operator.judge_attending(&run.trace, attention, rng);
+        if goal_change_at < judgement.outcome.duration_s {
+            judgement = Judgement::redirected(operator.weights.default, goal_change_at);
+        }
         let until = judgement.outcome.duration_s;
         let observed = perception::perceive(&run.trace, until, self.observations());
         judgement
@@ -488,7 +495,7 @@ impl Domain for UgvDomain {
         operator: &OperatorModel,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        self.run_at(behavior, operator, 1.0, rng)
+        self.run_at(behavior, operator, 1.0, f64::INFINITY, rng)
     }
 
     fn run_attending(
@@ -498,7 +505,18 @@ impl Domain for UgvDomain {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Option<Judgement> {
-        Some(self.run_at(behavior, operator, attention, rng))
+        Some(self.run_at(behavior, operator, attention, f64::INFINITY, rng))
+    }
+
+    fn run_redirected(
+        &self,
+        behavior: &Behavior,
+        operator: &OperatorModel,
+        attention: f64,
+        at_s: f64,
+        rng: &mut dyn RngCore,
+    ) -> Option<Judgement> {
+        Some(self.run_at(behavior, operator, attention, at_s, rng))
     }
 
     fn competence_parts(&self) -> &[CompetencePart] {

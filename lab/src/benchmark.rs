@@ -628,6 +628,7 @@ mod tests {
                     true_causes: Default::default(),
                     explained: Default::default(),
                     given_up: Vec::new(),
+                    goal_changes: None,
                 })
                 .collect(),
         }

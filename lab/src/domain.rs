@@ -93,6 +93,32 @@ pub trait Domain: Send + Sync {
         None
     }
 
+    /// [`Domain::run_attending`] (at `attention`) when the operator's goals change
+    /// `at_s` seconds into the command (a threat appears, it sends the robot elsewhere):
+    /// a command that has not ended by then is interrupted then, for that reason and not
+    /// the behavior's ([`Judgement::redirected`]), with what the robot perceived until
+    /// then. A command that ends first is judged as if nothing had changed.
+    ///
+    /// `None`, the default, says the domain does not model goal changes: only the domain
+    /// knows what its robot perceived until a moment, and how an operator weighs an
+    /// interruption the robot cannot attribute. A plan with goal changes
+    /// ([`crate::goal_change::GoalChanges`]) is refused on such a domain before anything
+    /// runs ([`check_goal_changes`]). A domain that models them overrides this, answers
+    /// `Some` for every behavior, operator, attention and moment, and at an `at_s` past
+    /// the command's end returns exactly [`Domain::run_attending`]'s judgement, draw for
+    /// draw.
+    fn run_redirected(
+        &self,
+        behavior: &Behavior,
+        operator: &Self::Operator,
+        attention: f64,
+        at_s: f64,
+        rng: &mut dyn RngCore,
+    ) -> Option<Judgement> {
+        let _ = (behavior, operator, attention, at_s, rng);
+        None
+    }
+
     /// The ways a command can fall short that the robot judges itself, each seen (one of
     /// [`Domain::observations`]) or unseen ([`trust::competence`]); none by default.
     fn competence_parts(&self) -> &[CompetencePart] {
@@ -158,6 +184,39 @@ pub fn check_attention<D: Domain + ?Sized>(
     }
 }
 
+/// A domain asked to run operators whose goals change, which keeps the default
+/// [`Domain::run_redirected`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "domain `{domain}` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
+)]
+pub struct GoalChangesNotModelled {
+    /// The domain's name.
+    pub domain: String,
+}
+
+/// Whether `domain` models goal changes: [`Domain::run_redirected`] is asked once per
+/// operator of `operators` (a behavior of the space, its goals changing at once, on a
+/// stream of its own, so no stream of a run is touched), and must answer for each.
+pub fn check_goal_changes<D: Domain + ?Sized>(
+    domain: &D,
+    operators: &[(String, D::Operator)],
+) -> Result<(), GoalChangesNotModelled> {
+    let behavior = domain.space().unrank(0);
+    let mut probe = ChaCha8Rng::seed_from_u64(0);
+    if operators.iter().all(|(_, operator)| {
+        domain
+            .run_redirected(&behavior, operator, 1.0, 0.0, &mut probe)
+            .is_some()
+    }) {
+        Ok(())
+    } else {
+        Err(GoalChangesNotModelled {
+            domain: domain.name().to_owned(),
+        })
+    }
+}
+
 /// The names an adaptation explains itself in: `domain`'s declared causes, its
 /// observations (in bit order) and its hints.
 pub fn vocabulary<D: Domain + ?Sized>(domain: &D) -> Vocabulary {
@@ -183,6 +242,11 @@ pub struct Judgement {
     /// attention was low: [`Domain::run_attending`]); the run went on past it.
     /// `None` for an attentive operator. For evaluation only, as the truth.
     pub overlooked: Option<Cause>,
+    /// The operator stopped the command because its goals changed, not because of the
+    /// behavior ([`Domain::run_redirected`]); `truth` is then `None`. For evaluation only,
+    /// as the truth: the robot is told only if the operator says so
+    /// ([`trust::Outcome::goal_change`]).
+    pub redirected: bool,
 }
 
 impl Judgement {
@@ -192,6 +256,16 @@ impl Judgement {
             outcome: Outcome::completed(weight, duration_s),
             truth: None,
             overlooked: None,
+            redirected: false,
+        }
+    }
+
+    /// An interruption because the operator's goals changed, `at_s` seconds in, weighed
+    /// `weight` (what the operator's interruptions weigh when the robot cannot tell why).
+    pub fn redirected(weight: f64, at_s: f64) -> Self {
+        Self {
+            redirected: true,
+            ..Self::new(OutcomeKind::Interrupted, weight, None, at_s)
         }
     }
 
@@ -201,6 +275,7 @@ impl Judgement {
             outcome: Outcome::failed(weight, duration_s),
             truth: Some(truth),
             overlooked: None,
+            redirected: false,
         }
     }
 
@@ -210,6 +285,7 @@ impl Judgement {
             outcome: Outcome::interrupted(weight, duration_s),
             truth: Some(truth),
             overlooked: None,
+            redirected: false,
         }
     }
 
@@ -220,6 +296,7 @@ impl Judgement {
             outcome: Outcome::new(kind, weight, duration_s),
             truth,
             overlooked: None,
+            redirected: false,
         }
     }
 

@@ -22,7 +22,7 @@ use crate::arm::Initial;
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
 use crate::simulate::{self, SimulatedCommand};
-use crate::{Domain, FeedbackChannel, Judgement};
+use crate::{Domain, FeedbackChannel, GoalChanges, Judgement};
 use cbr_core::Behavior;
 use rand_chacha::ChaCha8Rng;
 use trust::{
@@ -141,10 +141,14 @@ pub(crate) struct Drive<'a, D: Domain> {
     /// The channel every operator of the plan explains itself through (`None`: each its
     /// own).
     feedback: Option<FeedbackChannel>,
+    /// How often the operators' goals change (`None`: never).
+    goal_changes: Option<GoalChanges>,
     /// The simulated runs.
     runs: ChaCha8Rng,
     /// The operators' stated reasons.
     stated: ChaCha8Rng,
+    /// The moments of the goal changes (drawn only with `goal_changes`).
+    goal_change_moments: ChaCha8Rng,
 }
 
 impl<'a, D: Domain> Drive<'a, D> {
@@ -157,6 +161,7 @@ impl<'a, D: Domain> Drive<'a, D> {
         arm: &'a str,
         domain: &'a D,
         feedback: Option<FeedbackChannel>,
+        goal_changes: Option<GoalChanges>,
         seed: u64,
         index: u64,
         unit: u64,
@@ -168,15 +173,18 @@ impl<'a, D: Domain> Drive<'a, D> {
             arm,
             domain,
             feedback,
+            goal_changes,
             runs: stream(seed, index, unit, Purpose::Runs),
             stated: stream(seed, index, unit, Purpose::Feedback),
+            goal_change_moments: stream(seed, index, unit, Purpose::GoalChange),
         }
     }
 
     /// Runs one command with `behavior` in front of `operator` and records it with
     /// `adapter`: an attentive operator's ([`Domain::run`]) when `attention` is `None`, else
     /// one at that attention ([`Domain::run_attending`]; a domain that does not model
-    /// attention stops the plan). A truth the domain does not declare stops the plan, and
+    /// attention stops the plan); with goal changes, the moment of the next is drawn first
+    /// and the domain runs the command up to it ([`Domain::run_redirected`]). A truth the domain does not declare stops the plan, and
     /// so does a decision that breaks the searcher's contract ([`Drive::check_contract`]).
     pub(crate) fn command<A: Records>(
         &mut self,
@@ -188,11 +196,15 @@ impl<'a, D: Domain> Drive<'a, D> {
         let channel = self
             .feedback
             .unwrap_or_else(|| self.domain.feedback(operator));
+        let goal_change_at = self
+            .goal_changes
+            .map(|changes| changes.next_at(&mut self.goal_change_moments));
         let SimulatedCommand { judgement, outcome } = simulate::command(
             self.domain,
             behavior,
             operator,
             attention,
+            goal_change_at,
             channel,
             &mut self.runs,
             &mut self.stated,

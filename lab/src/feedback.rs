@@ -20,22 +20,33 @@ pub struct FeedbackChannel {
     /// The share of explanations that name a wrong reason (another declared cause, drawn
     /// uniformly).
     pub wrong: f64,
+    /// The share of goal changes ([`crate::goal_change`]) the operator says were goal
+    /// changes ([`trust::Outcome::goal_change`]); 0 by default (and then not written).
+    #[serde(skip_serializing_if = "says_none")]
+    pub goal_changes: f64,
+}
+
+fn says_none(goal_changes: &f64) -> bool {
+    *goal_changes <= 0.0
 }
 
 /// A channel as written, before it is checked.
 #[derive(Clone, Copy, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ChannelDefinition {
+    #[serde(default)]
     explains: f64,
     #[serde(default)]
     wrong: f64,
+    #[serde(default)]
+    goal_changes: f64,
 }
 
 /// A channel whose shares are not probabilities.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("feedback `{field}` must be a probability in [0, 1], got {value}")]
 pub struct FeedbackError {
-    /// `explains` or `wrong`.
+    /// `explains`, `wrong` or `goal_changes`.
     pub field: &'static str,
     /// The value given.
     pub value: f64,
@@ -45,7 +56,7 @@ impl TryFrom<ChannelDefinition> for FeedbackChannel {
     type Error = FeedbackError;
 
     fn try_from(d: ChannelDefinition) -> Result<Self, FeedbackError> {
-        Self::new(d.explains, d.wrong)
+        Self::new(d.explains, d.wrong)?.saying_goal_changes(d.goal_changes)
     }
 }
 
@@ -60,6 +71,7 @@ impl FeedbackChannel {
     pub const SILENT: Self = Self {
         explains: 0.0,
         wrong: 0.0,
+        goal_changes: 0.0,
     };
 
     /// A channel explaining a share `explains` of untrustworthy commands, a share `wrong`
@@ -70,12 +82,41 @@ impl FeedbackChannel {
                 return Err(FeedbackError { field, value });
             }
         }
-        Ok(Self { explains, wrong })
+        Ok(Self {
+            explains,
+            wrong,
+            goal_changes: 0.0,
+        })
     }
 
-    /// Whether the operator never explains.
+    /// The same channel saying a share `goal_changes` of goal changes.
+    pub fn saying_goal_changes(self, goal_changes: f64) -> Result<Self, FeedbackError> {
+        if !(0.0..=1.0).contains(&goal_changes) {
+            return Err(FeedbackError {
+                field: "goal_changes",
+                value: goal_changes,
+            });
+        }
+        Ok(Self {
+            goal_changes,
+            ..self
+        })
+    }
+
+    /// Whether the operator never explains an untrustworthy command (it may still say a
+    /// goal change).
     pub fn is_silent(&self) -> bool {
         self.explains <= 0.0
+    }
+
+    /// Whether the operator says that a command its goals changed during was stopped for
+    /// that. Draws from `rng` only when the channel says some goal changes and not all,
+    /// so a channel that says none never changes a random stream.
+    pub fn says_goal_change(&self, rng: &mut dyn RngCore) -> bool {
+        if self.goal_changes <= 0.0 {
+            return false;
+        }
+        self.goal_changes >= 1.0 || rng.random::<f64>() < self.goal_changes
     }
 
     /// What the operator says of a command whose real reason is `truth` (`None`: it

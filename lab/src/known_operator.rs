@@ -154,19 +154,37 @@ pub struct ExperimentLimit {
     pub operators: usize,
     /// How much the operators disagree (for one operator: its region alone).
     pub conflict: Conflict,
+    /// Each operator's name and trustworthy region ([`KnownOperator::trusted`]), in the
+    /// order given: what a report judges a given-up behavior against.
+    pub regions: Vec<(String, Vec<bool>)>,
 }
 
 impl ExperimentLimit {
-    /// The limit of an experiment whose trials draw from these operators.
-    pub fn of(operators: &[&KnownOperator]) -> Result<Self, KnownLimitError> {
-        let limits: Vec<Limit> = operators.iter().map(|o| o.limit).collect();
-        let regions: Vec<&[bool]> = operators.iter().map(|o| o.trusted.as_slice()).collect();
+    /// The limit of an experiment whose trials draw from these operators, each with its
+    /// name.
+    pub fn of(operators: &[(&str, &KnownOperator)]) -> Result<Self, KnownLimitError> {
+        let limits: Vec<Limit> = operators.iter().map(|(_, o)| o.limit).collect();
+        let regions: Vec<&[bool]> = operators
+            .iter()
+            .map(|(_, o)| o.trusted.as_slice())
+            .collect();
         Ok(Self {
             limit: Limit::mean_of(&limits)?,
-            law: UntrustworthyLaw::mixture(operators.iter().map(|o| (1.0, &o.law))),
+            law: UntrustworthyLaw::mixture(operators.iter().map(|(_, o)| (1.0, &o.law))),
             operators: operators.len(),
             conflict: Conflict::of(&regions),
+            regions: operators
+                .iter()
+                .map(|(name, o)| ((*name).to_owned(), o.trusted.clone()))
+                .collect(),
         })
+    }
+
+    /// Whether operator `operator` trusts the behavior of rank `rank` (`None`: an
+    /// operator or rank the limit does not know).
+    pub fn trusts(&self, operator: &str, rank: u64) -> Option<bool> {
+        let (_, region) = self.regions.iter().find(|(name, _)| name == operator)?;
+        region.get(usize::try_from(rank).ok()?).copied()
     }
 
     /// Whether it is a lower bound only (the mean over a population's operators).

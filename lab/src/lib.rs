@@ -9,6 +9,7 @@ pub mod domain;
 mod drive;
 pub mod feedback;
 pub mod folder;
+pub mod goal_change;
 pub mod heatmap;
 pub mod instance;
 pub mod interrupt;
@@ -38,8 +39,12 @@ pub use arm::{
     Arm, BUILTIN_ARMS, COMPETENT_PASSES, Initial, LEARNED_START, PREFERS_COMPETENT, UnknownArm,
     prefers_competent,
 };
-pub use domain::{AttentionNotModelled, Domain, Judgement, check_attention, vocabulary};
+pub use domain::{
+    AttentionNotModelled, Domain, GoalChangesNotModelled, Judgement, check_attention,
+    check_goal_changes, vocabulary,
+};
 pub use feedback::{FeedbackChannel, FeedbackError};
+pub use goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};
 pub use heatmap::LandscapeSvgError;
 pub use instance::{Instance, InstanceError, Split};
 pub use interrupt::Interrupted;

@@ -791,6 +791,7 @@ fn run_mission<D: Domain>(
         arm.name(),
         plan.domain,
         plan.feedback,
+        None,
         seed,
         index,
         m,

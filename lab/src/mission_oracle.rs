@@ -247,6 +247,7 @@ impl MissionOracle {
                 &behavior,
                 operator,
                 attention,
+                None,
                 channel,
                 &mut runs,
                 &mut stated,

@@ -13,12 +13,12 @@
 //! (the private `drive` module).
 
 use crate::arm::{Arm, Initial};
-use crate::domain::AttentionNotModelled;
+use crate::domain::{AttentionNotModelled, GoalChangesNotModelled, check_goal_changes};
 use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::KnownLimitError;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95_or_zero, paired_t_test, wilcoxon_signed_rank};
-use crate::{Domain, FeedbackChannel};
+use crate::{Domain, FeedbackChannel, GoalChangeRecord, GoalChanges};
 use cbr_core::Behavior;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -64,6 +64,9 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// How every operator of the plan explains itself, overriding each operator's own
     /// channel ([`Domain::feedback`]); `None` keeps the operators' own.
     pub feedback: Option<FeedbackChannel>,
+    /// How often the operators' goals change ([`crate::goal_change`]); `None`, the
+    /// paper's assumption: never.
+    pub goal_changes: Option<GoalChanges>,
 }
 
 /// Why experiments cannot be run.
@@ -135,6 +138,15 @@ pub enum PlanError {
         /// The domain that keeps the default [`Domain::run_attending`].
         reason: AttentionNotModelled,
     },
+    /// A plan's operators' goals change, but its domain does not model goal changes
+    /// ([`crate::domain::check_goal_changes`]).
+    #[error("{plan}: {reason}")]
+    GoalChangesNotModelled {
+        /// The plan's name.
+        plan: String,
+        /// The domain that keeps the default [`Domain::run_redirected`].
+        reason: GoalChangesNotModelled,
+    },
     /// A mission plan's oracle could not learn an operator's landscape
     /// ([`crate::mission_oracle`]).
     #[error("{plan}: the mission oracle, operator `{operator}`: {reason}")]
@@ -185,6 +197,10 @@ pub struct TrialRecord {
     /// [`trace_trial`] replays a trial with them, and [`ArmResult::samples`] keeps a few.
     #[serde(default)]
     pub given_up: Vec<GivenUpRecord>,
+    /// What the trial's goal changes were (for evaluation only); `None` when the plan has
+    /// none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub goal_changes: Option<GoalChangeRecord>,
 }
 
 /// One behavior a trial gave up, as its explanation put it and as it was.
@@ -456,6 +472,14 @@ impl<D: Domain> ExperimentPlan<'_, D> {
                     arm: arm.name().to_owned(),
                 });
             }
+        }
+        if self.goal_changes.is_some() {
+            check_goal_changes(self.domain, self.operators).map_err(|reason| {
+                PlanError::GoalChangesNotModelled {
+                    plan: self.name.clone(),
+                    reason,
+                }
+            })?;
         }
         Ok(())
     }
@@ -733,6 +757,7 @@ fn run_trial<D: Domain>(
         arm.name(),
         plan.domain,
         plan.feedback,
+        plan.goal_changes,
         seed,
         experiment,
         u64::from(trial),
@@ -748,6 +773,7 @@ fn run_trial<D: Domain>(
     let mut explained = ExplanationCheck::default();
     let mut given_up = Vec::new();
     let mut estimate = 0.0;
+    let mut goal_changes = plan.goal_changes.map(|_| GoalChangeRecord::default());
     let perceived = plan.domain.observations();
     let (report, truncated) = loop {
         let Command {
@@ -758,6 +784,9 @@ fn run_trial<D: Domain>(
         if let Some(cause) = judgement.truth {
             *true_causes.entry(cause).or_insert(0) += 1;
             *behavior_truth.entry(cause).or_insert(0) += 1;
+        }
+        if let Some(record) = &mut goal_changes {
+            record.record(&judgement, &outcome);
         }
         runs += 1;
         estimate += outcome.contribution();
@@ -815,6 +844,7 @@ fn run_trial<D: Domain>(
             true_causes,
             explained,
             given_up,
+            goal_changes,
         },
         explanations,
     ))

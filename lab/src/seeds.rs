@@ -43,6 +43,9 @@ pub enum Purpose {
     /// A mission plan's truth of a behavior's competence (here "experiment" is the plan,
     /// "trial" the behavior's rank in the space).
     CompetenceTruth = 11,
+    /// The moments at which the operator's goals change ([`crate::goal_change`]), drawn
+    /// only by experiments with goal changes.
+    GoalChange = 12,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -14,7 +14,7 @@
 //! command of `Simulation::new(.., S)`.
 
 use crate::runner::PlanError;
-use crate::{AttentionNotModelled, Domain, FeedbackChannel, Judgement};
+use crate::{AttentionNotModelled, Domain, FeedbackChannel, GoalChangesNotModelled, Judgement};
 use cbr_core::Behavior;
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -42,6 +42,9 @@ pub(crate) enum Refused {
     UndeclaredCause(Box<UndeclaredCause>),
     /// An attention was asked of a domain that keeps the default [`Domain::run_attending`].
     AttentionNotModelled(AttentionNotModelled),
+    /// A goal change was asked of a domain that keeps the default
+    /// [`Domain::run_redirected`].
+    GoalChangesNotModelled(GoalChangesNotModelled),
 }
 
 impl Refused {
@@ -57,31 +60,45 @@ impl Refused {
                 plan: plan.to_owned(),
                 reason,
             },
+            Refused::GoalChangesNotModelled(reason) => PlanError::GoalChangesNotModelled {
+                plan: plan.to_owned(),
+                reason,
+            },
         }
     }
 }
 
 /// Runs one command of `domain` with `behavior` in front of `operator`, the paper's
 /// attentive one ([`Domain::run`]) when `attention` is `None`, else one at that attention
-/// ([`Domain::run_attending`]), drawing the run from `runs`, and has `channel` state a
-/// reason from `stated`. A truth the domain does not declare is refused (the runs stream
-/// has drawn the run; nothing is drawn from `stated`), and so is an attention the domain
-/// does not model (nothing drawn).
+/// ([`Domain::run_attending`]); with `goal_change_at`, the operator's goals change that
+/// many seconds in ([`Domain::run_redirected`], at `attention` or 1). The run draws from
+/// `runs`; `channel` states a reason, or says a goal change, from `stated`. A truth the
+/// domain does not declare is refused (the runs stream has drawn the run; nothing is
+/// drawn from `stated`), and so is an attention or a goal change the domain does not
+/// model (nothing drawn).
 pub(crate) fn command<D: Domain + ?Sized>(
     domain: &D,
     behavior: &Behavior,
     operator: &D::Operator,
     attention: Option<f64>,
+    goal_change_at: Option<f64>,
     channel: FeedbackChannel,
     runs: &mut dyn RngCore,
     stated: &mut dyn RngCore,
 ) -> Result<SimulatedCommand, Refused> {
-    let judgement = match attention {
-        None => domain.run(behavior, operator, runs),
-        Some(attention) => domain
+    let judgement = match (attention, goal_change_at) {
+        (None, None) => domain.run(behavior, operator, runs),
+        (Some(attention), None) => domain
             .run_attending(behavior, operator, attention, runs)
             .ok_or_else(|| {
                 Refused::AttentionNotModelled(AttentionNotModelled {
+                    domain: domain.name().to_owned(),
+                })
+            })?,
+        (attention, Some(at_s)) => domain
+            .run_redirected(behavior, operator, attention.unwrap_or(1.0), at_s, runs)
+            .ok_or_else(|| {
+                Refused::GoalChangesNotModelled(GoalChangesNotModelled {
                     domain: domain.name().to_owned(),
                 })
             })?,
@@ -90,9 +107,15 @@ pub(crate) fn command<D: Domain + ?Sized>(
     if let Some(cause) = judgement.truth {
         find_declared(causes, cause).map_err(|e| Refused::UndeclaredCause(Box::new(e)))?;
     }
-    let outcome = judgement
-        .outcome
-        .stating(channel.state(judgement.truth, causes, stated));
+    let outcome = if judgement.redirected {
+        judgement
+            .outcome
+            .saying_goal_change(channel.says_goal_change(stated))
+    } else {
+        judgement
+            .outcome
+            .stating(channel.state(judgement.truth, causes, stated))
+    };
     Ok(SimulatedCommand { judgement, outcome })
 }
 
@@ -182,6 +205,7 @@ impl<D: Domain + ?Sized> Iterator for Simulation<'_, D> {
                 // At full attention, the paper's operator: `Domain::run`, which every
                 // domain has and `run_attending` equals there.
                 (self.attention < 1.0).then_some(self.attention),
+                None,
                 self.channel,
                 &mut self.runs,
                 &mut self.stated,
@@ -193,6 +217,9 @@ impl<D: Domain + ?Sized> Iterator for Simulation<'_, D> {
                 },
                 Refused::AttentionNotModelled(reason) => {
                     SimulationError::AttentionNotModelled(reason)
+                }
+                Refused::GoalChangesNotModelled(_) => {
+                    unreachable!("a simulation asks for no goal change")
                 }
             }),
         )
@@ -227,6 +254,7 @@ mod tests {
                 outcome: Outcome::interrupted(1.0, 2.0),
                 truth: Some(SLOW),
                 overlooked: None,
+                redirected: false,
             }
         })
     }
@@ -305,6 +333,7 @@ mod tests {
             outcome: Outcome::failed(1.0, 1.0),
             truth: Some(BUMP),
             overlooked: None,
+            redirected: false,
         });
         let mut simulation = Simulation::new(&domain, Behavior::new(&[0]), &(), 1.0, 0).unwrap();
         assert_eq!(

@@ -158,6 +158,8 @@ pub fn try_check_domain<D: Domain>(
                 ));
             }
             models_attention = Some(modelled);
+            check_goal_change(domain, operator, &behavior, seed, &judgement)
+                .map_err(|rule| broken(rule, case()))?;
             let (Some(attentive), Some(inattentive)) = (attentive, inattentive) else {
                 continue;
             };
@@ -178,6 +180,52 @@ pub fn try_check_domain<D: Domain>(
                 ));
             }
         }
+    }
+    Ok(())
+}
+
+/// The rules of [`Domain::run_redirected`] for a domain that models goal changes, as a
+/// sentence for the first one broken: a goal change after the command's end changes
+/// nothing (`judgement` is [`Domain::run`]'s on the same stream), and one halfway through
+/// a command that lasts cuts it there, as an interruption with no true reason.
+fn check_goal_change<D: Domain>(
+    domain: &D,
+    operator: &D::Operator,
+    behavior: &Behavior,
+    seed: u64,
+    judgement: &Judgement,
+) -> Result<(), String> {
+    let redirected = |at_s| {
+        domain.run_redirected(
+            behavior,
+            operator,
+            1.0,
+            at_s,
+            &mut ChaCha8Rng::seed_from_u64(seed),
+        )
+    };
+    let Some(never) = redirected(f64::INFINITY) else {
+        return Ok(());
+    };
+    if never != *judgement {
+        return Err("`run_redirected` with no goal change before the command's end differs from `run` on the same stream: it must be exactly `run`".to_owned());
+    }
+    let duration = judgement.outcome.duration_s;
+    if duration <= 0.0 {
+        return Ok(());
+    }
+    let halfway = redirected(duration / 2.0).ok_or(
+        "`run_redirected` answers for some moments and not others: a domain models goal changes for every behavior, operator, attention and moment, or for none",
+    )?;
+    let cut = halfway.redirected
+        && halfway.truth.is_none()
+        && halfway.outcome.kind == OutcomeKind::Interrupted
+        && halfway.outcome.duration_s == duration / 2.0;
+    if !cut {
+        return Err(format!(
+            "`run_redirected` with a goal change halfway through a command of {duration} s did not interrupt it then (`Judgement::redirected`, no true reason, {} s)",
+            duration / 2.0
+        ));
     }
     Ok(())
 }
@@ -203,6 +251,11 @@ fn check_judgement(
         return Err(
             "a run stated a reason: stating is the feedback channel's, which the runner applies"
                 .to_owned(),
+        );
+    }
+    if judgement.redirected || outcome.goal_change {
+        return Err(
+            "a run with no goal change was cut by one, or said one: only `run_redirected` cuts a command, and saying is the feedback channel's".to_owned(),
         );
     }
     match (outcome.kind, judgement.truth) {
@@ -327,6 +380,25 @@ impl<O: Send + Sync> Domain for ToyDomain<O> {
         rng: &mut dyn RngCore,
     ) -> Option<Judgement> {
         Some((self.rule)(behavior, operator, attention, rng))
+    }
+
+    /// The rule's command, cut at `at_s` when it would last longer: the toy's rule says
+    /// nothing of when it perceived what, so a cut command perceived nothing; it weighs
+    /// what the whole command would have.
+    fn run_redirected(
+        &self,
+        behavior: &Behavior,
+        operator: &O,
+        attention: f64,
+        at_s: f64,
+        rng: &mut dyn RngCore,
+    ) -> Option<Judgement> {
+        let judgement = (self.rule)(behavior, operator, attention, rng);
+        Some(if at_s < judgement.outcome.duration_s {
+            Judgement::redirected(judgement.outcome.weight, at_s)
+        } else {
+            judgement
+        })
     }
 }
 

@@ -100,7 +100,11 @@ fn command_cells(number: usize, timeline: &Timeline, c: &TracedCommand) -> [Stri
         OutcomeKind::name(c.outcome.kind).to_owned(),
         format!("{:.2}", c.outcome.weight),
         perceived(timeline, c),
-        cause(c.outcome.stated),
+        if c.outcome.goal_change {
+            "goal change".to_owned()
+        } else {
+            cause(c.outcome.stated)
+        },
         cause(c.truth),
         format!("{:+.2}", c.estimate),
     ]
@@ -378,6 +382,7 @@ mod tests {
             true_causes: Default::default(),
             explained: Default::default(),
             given_up: Vec::new(),
+            goal_changes: None,
         };
         let observations = [
             "collision",

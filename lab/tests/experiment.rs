@@ -126,6 +126,7 @@ fn plans<'a>(
         arms: arms(),
         max_commands: 100_000,
         feedback: None,
+        goal_changes: None,
     };
     vec![
         plan("toy/low", OperatorChoice::Fixed(0)),
@@ -266,7 +267,7 @@ fn the_report_folder_holds_every_file() {
         candidate_runs: 400,
     };
     let low = known_operator(&toy, &ops[0].1, Thresholds::default(), settings, 9).unwrap();
-    let limit = ExperimentLimit::of(&[&low]).unwrap();
+    let limit = ExperimentLimit::of(&[("low", &low)]).unwrap();
     assert_eq!(limit.conflict.trusted_by_all, 1);
     assert!((limit.limit.paper.behaviors - (1.0 + 35.0 / 36.0)).abs() < 0.02);
     assert!((limit.limit.free_first.behaviors - 1.0).abs() < 1e-9);

@@ -77,6 +77,7 @@ proptest! {
                 .collect(),
             max_commands: 100_000,
             feedback: None,
+            goal_changes: None,
         };
         let result = run_experiments(&[plan], 11, &|_| {}).unwrap().remove(0);
         let limit = exact_limit(&p).paper;

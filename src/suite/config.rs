@@ -5,10 +5,10 @@
 use super::{SuiteError, invalid};
 use crate::catalog::{Catalog, Family, OperatorOf, Readings};
 use files::{parse_ron, read_text};
-use lab::FeedbackChannel;
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
 use lab::{BUILTIN_ARMS, Initial, LEARNED_START};
+use lab::{FeedbackChannel, GoalChanges};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -256,6 +256,12 @@ pub struct ExperimentSpec {
     /// paper's silent operator unless an operator file says otherwise).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub feedback: Option<FeedbackChannel>,
+    /// How often the operators' goals change (`(per_hour: 1.0)`): commands interrupted
+    /// for reasons that are not the behavior's (lab::goal_change); absent: never, the
+    /// paper's assumption. Whether an operator says so is its channel's
+    /// (`feedback: (goal_changes: 1.0)`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub goal_changes: Option<GoalChanges>,
 }
 
 /// A population of operators an experiment draws from.
@@ -294,13 +300,14 @@ fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String
 
 /// The fields of an experiment ([`ExperimentSpec`]), which a suite refuses at its top level
 /// with a word on where they belong.
-const EXPERIMENT_FIELDS: [&str; 6] = [
+const EXPERIMENT_FIELDS: [&str; 7] = [
     "scenario",
     "operator",
     "operator_files",
     "builtin_operators",
     "population",
     "feedback",
+    "goal_changes",
 ];
 
 impl SuiteConfig {
@@ -399,9 +406,11 @@ fn mission_suite_here(origin: &Path) -> SuiteError {
 
 impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
-    /// with a feedback channel of its own, `movement/rung-2` for a population).
+    /// with a feedback channel of its own, `movement/rung-2` for a population; with goal
+    /// changes, `/g1` at one an hour, `/g1s0.5` when half of them are said).
     pub fn name(&self) -> String {
-        match (&self.population, self.feedback) {
+        let says_goal_changes = self.feedback.map_or(0.0, |c| c.goal_changes);
+        let base = match (&self.population, self.feedback) {
             (Some(population), _) => format!("{}/{}", self.scenario, population.name),
             (None, None) => format!("{}/{}", self.scenario, self.operator),
             // The same operator may be run with several channels: each is its own
@@ -410,9 +419,20 @@ impl ExperimentSpec {
                 "{}/{}/f{}w{}",
                 self.scenario, self.operator, channel.explains, channel.wrong
             ),
+            // A channel that only says goal changes is named by them.
+            (None, Some(channel)) if channel.explains <= 0.0 && says_goal_changes > 0.0 => {
+                format!("{}/{}", self.scenario, self.operator)
+            }
             (None, Some(channel)) => {
                 format!("{}/{}/f{}", self.scenario, self.operator, channel.explains)
             }
+        };
+        match self.goal_changes {
+            None => base,
+            Some(changes) if says_goal_changes > 0.0 => {
+                format!("{base}/g{}s{says_goal_changes}", changes.per_hour)
+            }
+            Some(changes) => format!("{base}/g{}", changes.per_hour),
         }
     }
 
@@ -566,6 +586,7 @@ mod tests {
             builtin_operators: Vec::new(),
             population: None,
             feedback: None,
+            goal_changes: None,
         };
         let origin = Path::new("x.ron");
         let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();

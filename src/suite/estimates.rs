@@ -92,9 +92,10 @@ pub(super) fn estimate_parts<C: Catalog>(
                 .map(|(name, op)| operator_limits.of(parts, config, k, name, op))
                 .collect::<Result<Vec<usize>, _>>()
                 .map_err(|e| fail(e.to_string()))?;
-            let known: Vec<&KnownOperator> = of_each
+            let known: Vec<(&str, &KnownOperator)> = judges
                 .iter()
-                .map(|&i| &operator_limits.known[i].1)
+                .zip(&of_each)
+                .map(|((name, _), &i)| (name.as_str(), &operator_limits.known[i].1))
                 .collect();
             limits.push(Some(
                 ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,

@@ -171,6 +171,7 @@ pub(super) fn plans<'p, C: Catalog>(
             arms: plan_arms,
             max_commands: config.max_commands,
             feedback: spec.feedback,
+            goal_changes: spec.goal_changes,
         });
     }
     Ok(plans)

@@ -88,6 +88,7 @@ mod tests {
             builtin_operators: Vec::new(),
             population: None,
             feedback: None,
+            goal_changes: None,
         }
     }
 

@@ -211,6 +211,12 @@ impl ExperimentSpec {
         if let Err(unknown) = domain_of(catalog, &self.scenario) {
             return Err(invalid(format!("{field}.scenario"), unknown.to_string()));
         }
+        if self.goal_changes.is_none() && self.feedback.is_some_and(|c| c.goal_changes > 0.0) {
+            return Err(invalid(
+                format!("{field}.feedback.goal_changes"),
+                "the operators would say goal changes, but none happen: add `goal_changes: Some((per_hour: ...))` beside `feedback`, or leave `goal_changes` out of the channel".into(),
+            ));
+        }
         if let Some(population) = &self.population {
             let problem = if self.operator != RANDOM_OPERATOR {
                 Some(format!(

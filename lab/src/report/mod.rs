@@ -29,7 +29,7 @@ pub use files::name::file_stems;
 pub use summary_json::summary;
 pub use tables::{
     arms_table, benchmark_table, best_arms, effects_table, explanations_table, free_first_table,
-    limit_table, population_table, sample_explanations, table,
+    goal_changes_table, limit_table, population_table, sample_explanations, table,
 };
 pub use trials_jsonl::trials_jsonl;
 

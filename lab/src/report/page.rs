@@ -3,9 +3,10 @@
 //! benchmark among them), every figure with its caption, the config and the provenance.
 
 use super::tables::{
-    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, NO_BENCHMARK, arms_table, benchmark_table,
-    benchmark_title, effects_table, explanations_table, found_note, free_first_table, limit_table,
-    population_table, sample_explanations, table,
+    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE, NO_BENCHMARK,
+    arms_table, benchmark_table, benchmark_title, effects_table, explanations_table, found_note,
+    free_first_table, goal_changes_table, limit_table, population_table, sample_explanations,
+    table,
 };
 use super::{Provenance, ReportEntry, file_stems};
 use crate::arm::Initial;
@@ -259,6 +260,17 @@ pub(super) fn html_page(
         "Explanations against the truth",
         explanations,
     );
+    let goal_changes = goal_changes_table(entries);
+    if !goal_changes.is_empty() {
+        section(
+            "goal-changes",
+            GOAL_CHANGES_TITLE,
+            format!(
+                "<p>A goal change interrupts a command for a reason that is not the behavior's. Given up though trusted: behaviors the trial's operator trusts (its trustworthy region, learned without goal changes) that the arm gave up. The guess takes an interruption with no stated reason and nothing perceived for an unsaid goal change.</p>\n{}",
+                html_table(&goal_changes)
+            ),
+        );
+    }
     if let Some(benchmarks) = benchmark {
         let mut html = format!("<p>{}</p>\n", escape(BENCHMARK_NOTE));
         if benchmarks.is_empty() {

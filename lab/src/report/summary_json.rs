@@ -1,6 +1,6 @@
 //! `summary.json`: per experiment, each arm's means with their intervals, its tests and
 //! effect size against the reference arm, its ratios to the known-operator limit and its
-//! explanations' accuracy; the limit and the population's measures; the provenance; and
+//! explanations' accuracy (and its goal changes, in a suite with some); the limit and the population's measures; the provenance; and
 //! for a benchmark suite, the benchmark of each scenario ([`crate::benchmark`]).
 
 use super::effects::{all_effect_sizes, versus_reference};
@@ -8,6 +8,7 @@ use super::tables::ratios;
 use super::{Provenance, ReportEntry};
 use crate::arm::Initial;
 use crate::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
+use crate::goal_change::{ArmGoalChanges, any_goal_changes};
 use crate::limit::Costs;
 use crate::runner::{ArmResult, ExplanationCheck};
 use crate::stats::RatioCi;
@@ -38,6 +39,10 @@ pub(super) fn summary_of(
     elapsed_s: f64,
     provenance: &Provenance,
 ) -> Value {
+    // Only in a suite with goal changes, so that other reports stay as they were.
+    let goal_changes = entries
+        .iter()
+        .any(|e| any_goal_changes(e.result.arms.iter()));
     let experiments: Vec<Value> = entries
         .iter()
         .zip(effects)
@@ -74,6 +79,10 @@ pub(super) fn summary_of(
                         summary["ratio_to_free_first_limit"] =
                             ratio_json(ratios(arm, &limit.limit.free_first));
                     }
+                }
+                if goal_changes {
+                    summary["goal_changes"] =
+                        goal_change_summary(&ArmGoalChanges::of(arm, e.space, e.limit));
                 }
                 strategies.insert(arm.name.clone(), summary);
             }
@@ -219,6 +228,19 @@ fn arm_benchmark_summary(
 /// A number for JSON, `null` when it is not finite.
 fn finite_or_null(x: f64) -> Value {
     if x.is_finite() { json!(x) } else { Value::Null }
+}
+
+/// An arm's goal changes for `summary.json` (`null` where a figure is not defined).
+fn goal_change_summary(g: &ArmGoalChanges) -> Value {
+    let mean = |m: &crate::stats::MeanCi| json!({ "mean": m.mean, "ci95": m.ci95 });
+    json!({
+        "given_up": mean(&g.given_up),
+        "given_up_though_trusted": g.wrongly_given_up.as_ref().map(mean),
+        "untrustworthy_about_behavior": mean(&g.untrustworthy_about_behavior),
+        "record": g.record,
+        "guess_recall": g.record.and_then(|r| r.recall()),
+        "guess_precision": g.record.and_then(|r| r.precision()),
+    })
 }
 
 fn arm_summary(arm: &ArmResult) -> Value {

@@ -2,13 +2,14 @@
 //! the paper's Table 1, every arm, the effect sizes, the explanations against the truth
 //! (with sample explanations), every arm against the known-operator limit (the paper's
 //! protocol, and free to choose the first behavior) and how much each population
-//! disagrees; every arm over the populations of a scenario (a benchmark suite's); and the
+//! disagrees; goal changes, when an experiment has them; every arm over the populations of a scenario (a benchmark suite's); and the
 //! one line per experiment printed after a run.
 
 use super::ReportEntry;
 use super::effects::versus_reference;
 use crate::arm::Initial;
 use crate::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
+use crate::goal_change::{ArmGoalChanges, any_goal_changes};
 use crate::known_operator::ExperimentLimit;
 use crate::limit::Costs;
 use crate::runner::ArmResult;
@@ -224,6 +225,58 @@ pub fn explanations_table(entries: &[ReportEntry<'_>]) -> String {
     }
     out
 }
+
+/// Goal changes, per arm of every experiment (empty when no experiment has any): goal
+/// changes per trial and the share said, behaviors given up and those of them the
+/// trial's operator trusts (given up wrongly; `—` without a limit), untrustworthy
+/// commands about the behavior, and the robot's guess of unsaid goal changes against the
+/// truth (recall: unsaid goal changes guessed; precision: guesses that were goal changes).
+pub fn goal_changes_table(entries: &[ReportEntry<'_>]) -> String {
+    if !entries
+        .iter()
+        .any(|e| any_goal_changes(e.result.arms.iter()))
+    {
+        return String::new();
+    }
+    let mut out = String::from(
+        "| Experiment | Arm | Goal changes per trial (said) | Behaviors given up | Given up though trusted | Untrustworthy about the behavior | Guess: recall | Guess: precision |
+",
+    );
+    out.push_str(
+        "|---|---|---:|---:|---:|---:|---:|---:|
+",
+    );
+    let share = |x: Option<f64>| x.map_or("—".to_owned(), |x| format!("{:.0}%", 100.0 * x));
+    for e in entries {
+        for arm in &e.result.arms {
+            let g = ArmGoalChanges::of(arm, e.space, e.limit);
+            let trials = arm.trials.len().max(1) as f64;
+            let happened = g.record.map_or("none".to_owned(), |r| {
+                format!(
+                    "{:.2} ({})",
+                    f64::from(r.happened) / trials,
+                    share((r.happened > 0).then(|| f64::from(r.said) / f64::from(r.happened)))
+                )
+            });
+            let _ = writeln!(
+                out,
+                "| {} | {} | {happened} | {} | {} | {} | {} | {} |",
+                e.result.name,
+                arm.name,
+                mean_cell(&g.given_up, 0),
+                g.wrongly_given_up
+                    .map_or("—".to_owned(), |m| mean_cell(&m, 0)),
+                mean_cell(&g.untrustworthy_about_behavior, 0),
+                share(g.record.and_then(|r| r.recall())),
+                share(g.record.and_then(|r| r.precision())),
+            );
+        }
+    }
+    out
+}
+
+/// The title of [`goal_changes_table`]'s section.
+pub(super) const GOAL_CHANGES_TITLE: &str = "Goal changes: interruptions not about the behavior, behaviors given up though the operator trusts them, and the robot's guess of unsaid ones";
 
 /// The explanations each arm kept whole ([`ArmResult::samples`]) as sentences, with the
 /// operator's most frequent true reason.
@@ -535,6 +588,17 @@ fn benchmark_section(benchmarks: &[ScenarioBenchmark]) -> String {
     out
 }
 
+/// [`goal_changes_table`] under its title, or nothing when no experiment has goal
+/// changes.
+fn goal_changes_section(entries: &[ReportEntry<'_>]) -> String {
+    let table = goal_changes_table(entries);
+    if table.is_empty() {
+        table
+    } else {
+        format!("\n## {GOAL_CHANGES_TITLE}\n\n{table}")
+    }
+}
+
 /// The title of [`free_first_table`]'s section.
 pub(super) const FREE_FIRST_TITLE: &str = "Arms that may start from the case memory's guess, against the known-operator limit free to choose its first behavior";
 
@@ -568,7 +632,8 @@ pub(super) fn table_md(
         found_note(entries),
         effects_table(entries, effects),
         explanations_table(entries)
-    ) + &benchmark.map_or(String::new(), benchmark_section)
+    ) + &goal_changes_section(entries)
+        + &benchmark.map_or(String::new(), benchmark_section)
 }
 
 #[cfg(test)]

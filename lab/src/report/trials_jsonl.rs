@@ -2,6 +2,7 @@
 //! given-up behavior's attributed and true reasons.
 
 use super::ReportEntry;
+use crate::goal_change::GoalChangeRecord;
 use crate::runner::{GivenUpRecord, TrialRecord};
 use serde::Serialize;
 use serde_json::{Map, Value};
@@ -35,6 +36,9 @@ struct TrialLine<'a> {
     /// Every behavior given up: the reason its explanation settled on, the most frequent
     /// true reason (evaluation only), and whether it was right.
     given_up: Vec<GivenUpLine>,
+    /// The trial's goal changes (evaluation only; left out when the experiment has none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    goal_changes: Option<GoalChangeRecord>,
 }
 
 /// A given-up behavior in `trials.jsonl` (how the next behavior was chosen is counted by
@@ -91,5 +95,6 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         truncated: t.truncated,
         true_causes: &t.true_causes,
         given_up: t.given_up.iter().map(GivenUpLine::from).collect(),
+        goal_changes: t.goal_changes,
     }
 }

@@ -1,0 +1,139 @@
+//! Goal changes in experiments: interruptions that are not about the behavior, said or
+//! unsaid, on a toy domain whose operator trusts every behavior.
+
+use lab::testing::ToyDomain;
+use lab::{
+    Arm, Domain, ExperimentPlan, FeedbackChannel, GoalChanges, Judgement, OperatorChoice,
+    PlanError, run_experiments,
+};
+use rand::RngCore;
+use std::sync::Arc;
+use trust::AdapterConfig;
+use trust::search::Uniform;
+use trust::{Cause, DeclaredCause};
+
+const SLOW: Cause = Cause::from_static("slow");
+
+/// Every command completes after 10 s: the operator trusts every behavior, and only a
+/// goal change can interrupt one.
+fn steady() -> ToyDomain<()> {
+    ToyDomain::grid("steady", &[4, 4], &[SLOW], |_, _: &(), _, _| {
+        Judgement::completed(1.0, 10.0)
+    })
+}
+
+fn plan<'a, D: Domain<Operator = ()>>(
+    domain: &'a D,
+    operators: &'a [(String, ())],
+    feedback: Option<FeedbackChannel>,
+    goal_changes: Option<GoalChanges>,
+) -> ExperimentPlan<'a, D> {
+    ExperimentPlan {
+        name: "steady".into(),
+        domain,
+        operators,
+        choice: OperatorChoice::Fixed(0),
+        trials: 200,
+        adapter: AdapterConfig::default(),
+        arms: vec![Arm::search_only("uniform", |_| Box::new(Uniform::new()))],
+        max_commands: 10_000,
+        feedback,
+        goal_changes,
+    }
+}
+
+/// Goal changes every 20 s on average: half the 10 s commands are cut.
+fn often() -> Option<GoalChanges> {
+    Some(GoalChanges::new(180.0).unwrap())
+}
+
+#[test]
+fn unsaid_goal_changes_give_up_behaviors_the_operator_trusts_and_said_ones_do_not() {
+    let domain = steady();
+    let operators = [("any".to_owned(), ())];
+    let unsaid = &run_experiments(&[plan(&domain, &operators, None, often())], 1, &|_| {}).unwrap()
+        [0]
+    .arms[0];
+    let said_channel = FeedbackChannel::SILENT.saying_goal_changes(1.0).unwrap();
+    let said = &run_experiments(
+        &[plan(&domain, &operators, Some(said_channel), often())],
+        1,
+        &|_| {},
+    )
+    .unwrap()[0]
+        .arms[0];
+    // Unsaid: P(cut) = 1 - e^-0.5 = 0.39 a command, so five cuts before five completions
+    // happen often enough that some trial gives its first behavior up.
+    let given_up: usize = unsaid.trials.iter().map(|t| t.report.evaluated.len()).sum();
+    assert!(given_up > 0);
+    for t in &unsaid.trials {
+        let record = t
+            .goal_changes
+            .expect("a plan with goal changes records them");
+        assert_eq!(record.said, 0);
+        // The adapter counted every goal change as an interruption: the only ones.
+        assert_eq!(t.report.untrustworthy, u64::from(record.happened));
+        // Nothing is ever perceived here, so the guess takes every unsaid goal change.
+        assert_eq!(record.guessed, record.happened);
+        assert_eq!((record.about_behavior, record.false_guesses), (0, 0));
+    }
+    // Said: no behavior is ever given up; each trial settles on its first behavior after
+    // five completions, with its goal changes counted as commands and nothing else.
+    let mut happened = 0;
+    for t in &said.trials {
+        let record = t.goal_changes.unwrap();
+        assert_eq!(record.said, record.happened);
+        assert!(t.report.evaluated.is_empty());
+        assert_eq!(t.report.settled, t.initial);
+        assert_eq!(t.report.untrustworthy, 0);
+        assert_eq!(t.report.commands, 5 + u64::from(record.happened));
+        happened += record.happened;
+    }
+    // About 0.39 / 0.61 = 0.65 goal changes per completion, five completions a trial.
+    let per_trial = f64::from(happened) / 200.0;
+    assert!((per_trial - 3.24).abs() < 0.6, "{per_trial}");
+}
+
+#[test]
+fn a_plan_without_goal_changes_runs_as_before() {
+    let domain = steady();
+    let operators = [("any".to_owned(), ())];
+    let results = run_experiments(&[plan(&domain, &operators, None, None)], 1, &|_| {}).unwrap();
+    for t in &results[0].arms[0].trials {
+        assert_eq!(t.goal_changes, None);
+        assert_eq!((t.report.commands, t.report.untrustworthy), (5, 0));
+    }
+}
+
+/// A domain that keeps the default `Domain::run_redirected`.
+struct Unmodelled(ToyDomain<()>);
+
+impl Domain for Unmodelled {
+    type Operator = ();
+    fn name(&self) -> &str {
+        "unmodelled"
+    }
+    fn space(&self) -> &Arc<cbr_core::BehaviorSpace> {
+        self.0.space()
+    }
+    fn causes(&self) -> &[DeclaredCause] {
+        self.0.causes()
+    }
+    fn run(&self, b: &cbr_core::Behavior, o: &(), rng: &mut dyn RngCore) -> Judgement {
+        self.0.run(b, o, rng)
+    }
+}
+
+#[test]
+fn goal_changes_are_refused_on_a_domain_that_does_not_model_them() {
+    let domain = Unmodelled(steady());
+    let operators = [("any".to_owned(), ())];
+    let err = run_experiments(&[plan(&domain, &operators, None, often())], 1, &|_| {})
+        .err()
+        .unwrap();
+    assert!(matches!(err, PlanError::GoalChangesNotModelled { .. }));
+    assert_eq!(
+        err.to_string(),
+        "steady: domain `unmodelled` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
+    );
+}
