@@ -196,3 +196,26 @@ def test_without_mission_outcomes_after_settling_are_refused(tmp_path: Path) -> 
     assert "watching" not in adapter.state()
     with pytest.raises(trustcbr.TrustcbrError, match="no episode is under way"):
         adapter.tell("completed")
+
+
+def test_a_said_goal_change_counts_against_nothing(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=3)
+    start = adapter.begin({"speed": 9.5, "padding": 0.2})
+    first = adapter.tell("interrupted", duration_s=10.0, observed=["collision"])
+    assert first.kind == "keep"
+    # Any number of said goal changes: the behavior is kept and its trust unchanged.
+    for _ in range(10):
+        decision = adapter.tell("interrupted", duration_s=4.0, goal_change=True)
+        assert decision.kind == "keep"
+        assert decision.behavior == start
+        assert decision.trust == first.trust == -1.0
+    episode = adapter.state()["episode"]
+    assert (episode["commands"], episode["behavior_commands"]) == (11, 1)
+    # Said only of an interruption, and never beside a reason.
+    with pytest.raises(trustcbr.TrustcbrError, match="goal_change is said only of an interruption"):
+        adapter.tell("completed", goal_change=True)
+    with pytest.raises(trustcbr.TrustcbrError, match="with a stated reason"):
+        adapter.tell("interrupted", stated="collision", goal_change=True)
+    # Unsaid, a goal change is an interruption like any other: four more give it up.
+    decisions = [adapter.tell("interrupted", duration_s=4.0) for _ in range(4)]
+    assert decisions[-1].kind == "switch"

@@ -241,6 +241,7 @@ class Adapter:
         observed: Sequence[str] = (),
         stated: Optional[str] = None,
         confidence: Optional[float] = None,
+        goal_change: bool = False,
     ) -> Decision:
         """Reports how the last command ended and returns what to do next.
 
@@ -248,7 +249,9 @@ class Adapter:
         what the robot perceived itself (observations the domain declares); ``stated`` is
         the reason the operator gave, if any (a cause the domain declares); ``confidence``
         is the robot's own confidence in ``[0, 1]`` that the command went as it should, when
-        it assesses itself. The decision is ``keep``, ``switch`` (use ``behavior`` from now
+        it assesses itself. ``goal_change=True`` says instead of a reason that the operator
+        stopped the robot because its goals changed (an ``"interrupted"`` outcome only): the
+        command counts against nothing, and the behavior is kept. The decision is ``keep``, ``switch`` (use ``behavior`` from now
         on), ``settled`` (the episode is over), with the explanation of a switch or an end,
         or in mission mode ``alert`` (keep the behavior and ask the operator to supervise)
         and, with ``competence``, ``overtrust`` (keep it and ask the operator to choose).
@@ -266,6 +269,8 @@ class Adapter:
             request["stated"] = stated
         if confidence is not None:
             request["confidence"] = confidence
+        if goal_change:
+            request["goal_change"] = True
         return Decision(self._tell(request))
 
     def _tell(self, request: Mapping[str, Any]) -> Dict[str, Any]:

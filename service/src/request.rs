@@ -9,7 +9,9 @@
 //! duration, what the robot perceived (`observed`: names the served domain declares as
 //! observations), when the operator gave one, its stated reason (`stated`: a cause the
 //! domain declares) and, when the robot assesses itself, its confidence that the command
-//! went as it should (`confidence`, in `[0, 1]`). The operator's true reason is never sent:
+//! went as it should (`confidence`, in `[0, 1]`); an interruption may say instead of a
+//! reason that the operator's goals changed (`goal_change: true`), which counts against
+//! nothing (trust::goal_change). The operator's true reason is never sent:
 //! the retired `cause` field is refused with the spelling to use.
 //! A key given twice in an object (at any depth) is refused rather than last-wins, and a
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
@@ -73,6 +75,7 @@ const OUTCOME_FIELDS: &[&str] = &[
     "observed",
     "stated",
     "confidence",
+    "goal_change",
 ];
 
 /// Why a line is not a valid request.
@@ -286,6 +289,7 @@ fn parse_outcome(
     let duration_s = fields.require("duration_s")?;
     let stated = fields.take::<Option<Cause>>("stated")?.flatten();
     let confidence = fields.take::<Option<f64>>("confidence")?.flatten();
+    let goal_change = fields.take::<bool>("goal_change")?.unwrap_or(false);
     if let Some(cause) = stated {
         find_declared(vocabulary.causes, cause).map_err(RequestError::UndeclaredCause)?;
     }
@@ -313,7 +317,8 @@ fn parse_outcome(
     let outcome = Outcome::new(kind, weight, duration_s)
         .observing(observed)
         .stating(stated)
-        .assessing(confidence);
+        .assessing(confidence)
+        .saying_goal_change(goal_change);
     outcome.validate()?;
     Ok(Request::Outcome(outcome))
 }
@@ -680,6 +685,31 @@ mod tests {
     }
 
     #[test]
+    fn a_goal_change_is_said_of_an_interruption_with_no_reason() {
+        let r = parse_request(
+            br#"{"outcome":"interrupted","weight":1,"duration_s":2,"goal_change":true}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            r,
+            Request::Outcome(Outcome::interrupted(1.0, 2.0).saying_goal_change(true))
+        );
+        let unsaid = parse_request(
+            br#"{"outcome":"interrupted","weight":1,"duration_s":2,"goal_change":false}"#,
+        )
+        .unwrap();
+        assert_eq!(unsaid, Request::Outcome(Outcome::interrupted(1.0, 2.0)));
+        assert_eq!(
+            err(r#"{"outcome":"completed","weight":1,"duration_s":2,"goal_change":true}"#),
+            "invalid outcome: goal_change is said only of an interruption with no stated reason (the operator stopped the robot for something other than the behavior), got outcome `completed`"
+        );
+        assert!(
+            err(r#"{"outcome":"interrupted","weight":1,"duration_s":2,"goal_change":1}"#)
+                .starts_with("field `goal_change`: invalid type: integer `1`, expected a boolean")
+        );
+    }
+
+    #[test]
     fn a_self_assessed_confidence_is_a_probability() {
         let r = parse_request(
             br#"{"outcome":"completed","weight":1,"duration_s":2,"confidence":0.75}"#,
@@ -736,7 +766,7 @@ mod tests {
         assert!(err(r#"{"request": "fly"}"#).contains("unknown request `fly`"));
         assert_eq!(
             err(r#"{"outcome":"completed","weight":1,"duration_s":1,"colour":"red"}"#),
-            "unknown field `colour` in an outcome report (allowed: outcome, weight, duration_s, observed, stated, confidence)"
+            "unknown field `colour` in an outcome report (allowed: outcome, weight, duration_s, observed, stated, confidence, goal_change)"
         );
         assert_eq!(
             err(r#"{"request":"state","verbose":true}"#),
