@@ -76,6 +76,11 @@ pub struct MissionSpec {
     /// most one command in ten falling short in any part); absent: it does not judge it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub competence: Option<CompetenceStandard>,
+    /// Whether an answered overtrust alert offers a safer behavior, which the operator
+    /// takes when it trusts it too (needs `competence`); absent: false, the operator only
+    /// looks afresh.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub offer_safer: bool,
 }
 
 /// Whether `text` is a mission suite: a RON structure with a `missions` field.
@@ -130,6 +135,12 @@ impl MissionSuiteConfig {
                         "a mission draws its operators from the population: write `operator: \"{RANDOM_OPERATOR}\"`, got `{}`",
                         spec.operators.operator
                     ),
+                ));
+            }
+            if spec.offer_safer && spec.competence.is_none() {
+                return Err(invalid(
+                    field("offer_safer"),
+                    "an overtrust alert offers a safer behavior, and this plan raises none: set a standard (`competence: Some((at_most: 0.1))`) or leave `offer_safer` out".into(),
                 ));
             }
             if spec.operators.goal_changes.is_some() {
@@ -267,6 +278,7 @@ pub fn run_mission_suite<C: Catalog>(
             changes: spec.changes,
             complacency: spec.complacency,
             competence: spec.competence.clone(),
+            offer_safer: spec.offer_safer,
             adapter: config.adapter.clone(),
             arms: arms.clone(),
             feedback: spec.operators.feedback,

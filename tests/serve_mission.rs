@@ -322,3 +322,68 @@ fn an_arm_preferring_competent_behaviors_passes_over_a_trusted_one_the_robot_is_
     );
     assert!(!dir.path().join("cases.db").exists());
 }
+
+#[test]
+fn an_overtrust_alert_offers_a_behavior_operators_trusted_before_and_the_operator_may_take_it() {
+    let bumped =
+        r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
+    const ACCEPT: &str = r#"{"request": "accept_offer"}"#;
+    // An operator gives up the first behavior, trusts the one the search proposes (a case
+    // is retained: the search found it) and runs it cleanly for 40 more commands; then
+    // another operator trusts a behavior that bumps every time.
+    let lines: Vec<&str> = [ACCEPT, BEGIN]
+        .into_iter()
+        .chain(repeat(STOPPED, 5))
+        .chain(repeat(DONE, 45))
+        .chain([r#"{"request": "abandon"}"#, BEGIN])
+        .chain(repeat(bumped, 6))
+        .chain([ACCEPT, STATE, DONE, ACCEPT])
+        .collect();
+    let replies = exchange_with(&["--mission", "--competence", "0.1"], &lines);
+    assert!(
+        replies[0]["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("no offer to accept"),
+        "{}",
+        replies[0]
+    );
+    assert_eq!(replies[6]["ok"], "switch");
+    let trusted = replies[6]["behavior"].clone();
+    assert_eq!(replies[11]["ok"], "settled");
+    assert_eq!(replies[11]["retained"], 1);
+    // The second operator settles on the bumping behavior: the alert offers the first
+    // operator's, which the robot ran 45 times without a bump.
+    let b = 53;
+    assert_eq!(replies[b + 5]["ok"], "settled");
+    let overtrust = &replies[b + 6];
+    assert_eq!(overtrust["ok"], "overtrust", "{overtrust}");
+    assert_eq!(overtrust["offer"], trusted);
+    let sentence = overtrust["sentence"].as_str().unwrap();
+    assert!(
+        sentence.contains("which the robot judges competent"),
+        "{sentence}"
+    );
+    // Taken: the watch moves to it, at the trustworthy threshold.
+    assert_eq!(
+        replies[b + 7],
+        json!({"ok": "accepted", "behavior": trusted})
+    );
+    let watching = &replies[b + 8]["watching"];
+    assert_eq!(
+        (
+            &watching["behavior"],
+            &watching["trust"],
+            &watching["commands"]
+        ),
+        (&trusted, &json!(5.0), &json!(0))
+    );
+    // An offer stands for the request right after its alert only.
+    assert_eq!(replies[b + 9]["ok"], "keep");
+    assert!(
+        replies[b + 10]["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("no offer to accept")
+    );
+}

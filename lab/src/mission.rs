@@ -163,6 +163,11 @@ pub struct MissionPlan<'a, D: Domain> {
     /// judges not competent, and its records carry the calibration against the truth
     /// ([`CalibrationRecord`]).
     pub competence: Option<CompetenceStandard>,
+    /// Whether an answered overtrust alert offers a safer behavior
+    /// ([`trust::CompetenceAlert::offer`]), which the operator takes when it trusts it
+    /// too (judged on [`MissionPlan::truth_runs`] commands, as a change's need is);
+    /// `false`: the operator only looks afresh.
+    pub offer_safer: bool,
 }
 
 /// What changed.
@@ -290,6 +295,16 @@ pub struct CalibrationRecord {
     /// The overtrust alerts raised: the command, and whether the behavior was truly
     /// competent (a false alert).
     pub alerts: Vec<(u32, bool)>,
+    /// Answered alerts that offered a safer behavior ([`MissionPlan::offer_safer`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub offered: u32,
+    /// Of those, offers the operator took (it trusts the offered behavior too).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub taken: u32,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 impl CalibrationRecord {
@@ -921,13 +936,32 @@ fn run_mission<D: Domain>(
             }
             MissionDecision::Overtrust(alert) => {
                 let competent = truth.competent(alert.behavior);
-                if let Some(calibration) = record.calibration.as_mut() {
-                    calibration.alerts.push((c, competent));
-                }
+                let calibration = record
+                    .calibration
+                    .as_mut()
+                    .expect("only a plan with a standard judges competence");
+                calibration.alerts.push((c, competent));
                 marks.push(Mark::Alert);
                 if answers_alerts {
                     // Asked to choose, the operator looks afresh at the behavior.
                     state = OperatorState::fresh();
+                    if let Some(offer) = alert.offer.filter(|_| plan.offer_safer) {
+                        // Offered a safer behavior, it takes it if it trusts it too.
+                        let mut judged = stream(
+                            seed,
+                            index,
+                            m << 16 | u64::from(calibration.offered),
+                            Purpose::Offer,
+                        );
+                        calibration.offered += 1;
+                        if trustworthy(plan, &offer, judge, &mut judged) {
+                            calibration.taken += 1;
+                            adapter
+                                .accept_offer(offer)
+                                .expect("an alert came from a watched behavior of the space");
+                            behavior = offer;
+                        }
+                    }
                 }
             }
             MissionDecision::Episode(Decision::Switch { to, .. }) => {

@@ -48,6 +48,8 @@ impl CalibrationSummary {
             totals.judged += r.judged;
             totals.both += r.both;
             totals.competent += r.competent;
+            totals.offered += r.offered;
+            totals.taken += r.taken;
         }
         let alerts: Vec<f64> = records.iter().map(|r| r.alerts.len() as f64).collect();
         Some(Self {
@@ -205,6 +207,16 @@ pub fn calibration_markdown(arms: &[MissionArmResult]) -> Option<String> {
         );
     }
     md.push('\n');
+    for s in summaries.iter().filter(|s| s.totals.offered > 0) {
+        let _ = writeln!(
+            md,
+            "- {}: {} answered alerts offered a safer behavior; the operator took {} ({}), trusting it too",
+            s.label(),
+            s.totals.offered,
+            s.totals.taken,
+            percent(s.totals.taken, s.totals.offered)
+        );
+    }
     for s in summaries.iter().filter(|s| !s.answers_alerts) {
         let _ = writeln!(md, "- {}", false_alert_target(s));
     }
@@ -236,7 +248,7 @@ fn false_alert_target(s: &CalibrationSummary) -> String {
 pub fn calibration_json(arm: &MissionArmResult, arms: &[MissionArmResult]) -> Option<Value> {
     let s = CalibrationSummary::of(arm)?;
     let t = &s.totals;
-    Some(json!({
+    let mut calibration = json!({
         "watched": t.watched,
         "competent": t.competent,
         "overtrusted": t.overtrusted,
@@ -257,7 +269,12 @@ pub fn calibration_json(arm: &MissionArmResult, arms: &[MissionArmResult]) -> Op
             "wilcoxon_p": p.wilcoxon_p,
             "target": p.target(),
         })),
-    }))
+    });
+    // Only where an answered alert offered something, so other reports stay as they were.
+    if t.offered > 0 {
+        calibration["offers"] = json!({ "offered": t.offered, "taken": t.taken });
+    }
+    Some(calibration)
 }
 
 #[cfg(test)]

@@ -390,6 +390,7 @@ mod tests {
                 candidate_runs: 0,
             },
             competence: None,
+            offer_safer: false,
         }
     }
 

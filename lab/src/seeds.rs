@@ -46,6 +46,9 @@ pub enum Purpose {
     /// The moments at which the operator's goals change ([`crate::goal_change`]), drawn
     /// only by experiments with goal changes.
     GoalChange = 12,
+    /// Whether a mission's operator trusts the safer behavior an overtrust alert offers
+    /// (here "trial" numbers the mission's offer, [`crate::mission::MissionPlan::offer_safer`]).
+    Offer = 13,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -108,6 +108,7 @@ fn try_run_arms<D: Domain<Operator = Favourite>>(
         truth_runs: 50,
         limit: LimitSettings::default(),
         competence: None,
+        offer_safer: false,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

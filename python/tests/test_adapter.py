@@ -162,11 +162,39 @@ def test_a_robot_judging_its_competence_asks_to_choose_once(tmp_path: Path) -> N
     assert (overtrust.behavior, overtrust.trust, overtrust.short) == (start, 5.0, ["collision"])
     assert overtrust.reply["competence"]["commands"] == 6
     assert (overtrust.sentence or "").startswith("Please choose: the operator trusts speed=3.5")
+    # No operator trusted anything before: nothing to offer, and nothing to take.
+    assert overtrust.offer is None
+    with pytest.raises(trustcbr.TrustcbrError, match="no offer to accept"):
+        adapter.accept_offer()
     with pytest.raises(trustcbr.TrustcbrError, match="pass mission=True"):
         trustcbr.Adapter("movement", tmp_path / "other.db", competence=0.1)
     with pytest.raises(trustcbr.TrustcbrError, match="must be a chance in"):
         trustcbr.Adapter("movement", tmp_path / "other.db", mission=True, competence=2.0)
     assert not (tmp_path / "other.db").exists()
+
+
+def test_an_overtrust_alert_offers_a_safer_behavior_to_take(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter(
+        "movement", tmp_path / "cases.db", seed=3, mission=True, competence=0.1
+    )
+    # A first operator gives up its first behavior and trusts the one the search finds
+    # (retained as a case), which then runs 40 more commands without a bump.
+    adapter.begin({"speed": 3.5, "padding": 0.4})
+    switch = [adapter.tell("interrupted", duration_s=2.0) for _ in range(5)][-1]
+    assert switch.kind == "switch"
+    for _ in range(45):
+        adapter.tell("completed", duration_s=2.0)
+    adapter.abandon()
+    # The next operator trusts a behavior that bumps every time.
+    adapter.begin({"speed": 3.5, "padding": 0.4})
+    decisions = [
+        adapter.tell("completed", duration_s=2.0, observed=["collision"]) for _ in range(6)
+    ]
+    overtrust = decisions[-1]
+    assert overtrust.kind == "overtrust"
+    assert overtrust.offer == switch.behavior
+    assert adapter.accept_offer() == switch.behavior
+    assert adapter.state()["watching"]["behavior"] == switch.behavior
 
 
 def test_an_arm_preferring_competent_behaviors_passes_over_one(tmp_path: Path) -> None:

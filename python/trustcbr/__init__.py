@@ -290,6 +290,13 @@ class Adapter:
         request = {k: v for k, v in outcome.items() if k != "truth"}
         return Decision(self._tell(request))
 
+    def accept_offer(self) -> Behavior:
+        """Takes the safer behavior the last ``overtrust`` decision offered
+        (:attr:`Decision.offer`), right after it: the robot watches it from now on, at the
+        trustworthy threshold. Raises ``TrustcbrError`` when no offer stands."""
+        accepted: Behavior = self._request({"request": "accept_offer"})["behavior"]
+        return accepted
+
     def abandon(self) -> Dict[str, Any]:
         """Ends the episode under way without retaining a case (in mission mode, or the
         watch of a settled behavior)."""

@@ -88,6 +88,14 @@ class Decision:
         return [str(part) for part in self.reply.get("short", [])]
 
     @property
+    def offer(self) -> Optional[Behavior]:
+        """The safer behavior an ``overtrust`` decision offers (one an operator trusted
+        before that the robot judges competent; take it with ``Adapter.accept_offer``),
+        else ``None``."""
+        offer: Optional[Behavior] = self.reply.get("offer")
+        return offer
+
+    @property
     def behavior(self) -> Behavior:
         """The behavior in use from now on."""
         behavior: Behavior = self.reply["behavior"]

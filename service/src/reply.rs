@@ -324,7 +324,9 @@ pub fn calibration(
 /// operator's estimate of it (`trust`), the parts of the robot's own assessment above the
 /// standard (`short`), the assessment itself (`competence`: the commands behind it and
 /// each part's estimated chance per command, the model's prediction and the commands the
-/// robot perceived it in), and a `sentence` asking the operator to choose, for its screen.
+/// robot perceived it in), the safer behavior it offers (`offer`: one an operator trusted
+/// before that the robot judges competent, taken with `{"request": "accept_offer"}`; `null`
+/// when it knows none), and a `sentence` asking the operator to choose, for its screen.
 pub fn overtrust(space: &BehaviorSpace, alert: &CompetenceAlert) -> Value {
     let short: Vec<String> = alert
         .competence
@@ -333,9 +335,16 @@ pub fn overtrust(space: &BehaviorSpace, alert: &CompetenceAlert) -> Value {
         .filter(|p| alert.short.contains(&p.name))
         .map(|p| format!("{} {:.2}", p.name, p.rate.unwrap_or(f64::NAN)))
         .collect();
+    let choices = match &alert.offer {
+        Some(offer) => format!(
+            "Keep it, supervise it, or take {}, which the robot judges competent.",
+            space.display(offer)
+        ),
+        None => "Keep it, supervise it, or ask for a safer behavior.".to_owned(),
+    };
     let sentence = format!(
         "Please choose: the operator trusts {} (trust {:+.2}), but the robot judges it short of \
-         its standard, per command: {}. Keep it, supervise it, or ask for a safer behavior.",
+         its standard, per command: {}. {choices}",
         space.display(&alert.behavior),
         alert.estimate,
         short.join(", "),
@@ -349,6 +358,7 @@ pub fn overtrust(space: &BehaviorSpace, alert: &CompetenceAlert) -> Value {
             "commands": alert.competence.commands,
             "parts": alert.competence.parts,
         },
+        "offer": alert.offer.map(|offer| behavior(space, &offer)),
         "sentence": sentence,
     })
 }

@@ -55,6 +55,8 @@ pub enum Request {
     Config,
     /// The explanation of the episode so far.
     Explain,
+    /// Take the safer behavior the last overtrust alert offered (mission mode).
+    AcceptOffer,
 }
 
 /// The requests named by a `request` field, with the fields each allows besides it.
@@ -65,6 +67,7 @@ const NAMED: &[(&str, &[&str])] = &[
     ("abandon", &[]),
     ("config", &[]),
     ("explain", &[]),
+    ("accept_offer", &[]),
 ];
 
 /// The fields of an outcome report.
@@ -271,6 +274,7 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
         "cases" => Request::Cases,
         "abandon" => Request::Abandon,
         "explain" => Request::Explain,
+        "accept_offer" => Request::AcceptOffer,
         _ => Request::Config,
     })
 }

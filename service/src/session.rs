@@ -48,6 +48,9 @@ pub struct Session {
     adapting: Adapting,
     cases: Arc<SharedCases>,
     draws: ChaCha8Rng,
+    /// The safer behavior the last reply's overtrust alert offered, until the next
+    /// request.
+    offer: Option<Behavior>,
 }
 
 /// One controller's adapter: the paper's episodes, or mission mode around them.
@@ -181,6 +184,7 @@ impl Session {
             adapting,
             cases,
             draws,
+            offer: None,
         })
     }
 
@@ -201,7 +205,10 @@ impl Session {
 
     /// Handles one parsed request and returns the reply.
     pub fn handle(&mut self, request: Request) -> Result<Reply, SessionError> {
+        // An offer stands for the request right after its alert only.
+        let offer = self.offer.take();
         Ok(Reply::Json(match request {
+            Request::AcceptOffer => self.accept_offer(offer),
             Request::Begin(spec) => self.begin(spec.as_ref()),
             Request::Outcome(outcome) => return self.outcome(&outcome).map(Reply::Json),
             Request::State => self.state(),
@@ -301,7 +308,10 @@ impl Session {
                 reply
             }
             MissionDecision::Alert(alert) => reply::alert(&space, &alert),
-            MissionDecision::Overtrust(alert) => reply::overtrust(&space, &alert),
+            MissionDecision::Overtrust(alert) => {
+                self.offer = alert.offer;
+                reply::overtrust(&space, &alert)
+            }
             MissionDecision::Episode(Decision::Settled(report)) => {
                 let (retained, held) = match self.adaptation().case_to_retain(&report) {
                     Some(case) if self.cases.writable() => {
@@ -364,6 +374,22 @@ impl Session {
                 count,
             }),
             Err(e) => Reply::Json(store_unavailable(&e)),
+        }
+    }
+
+    /// Takes `offer`, the safer behavior the reply before offered: the watch moves to it.
+    fn accept_offer(&mut self, offer: Option<Behavior>) -> Value {
+        let (Some(offer), Adapting::Mission(mission)) = (offer, &mut self.adapting) else {
+            return reply::error(
+                "no offer to accept: the request right after an `overtrust` reply with an `offer` takes it",
+            );
+        };
+        match mission.accept_offer(offer) {
+            Ok(()) => json!({
+                "ok": "accepted",
+                "behavior": reply::behavior(self.adapting.episodes().space(), &offer),
+            }),
+            Err(e) => reply::error(e),
         }
     }
 

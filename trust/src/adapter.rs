@@ -257,6 +257,12 @@ pub enum AdapterError {
     /// The behavior does not belong to the adapter's space.
     #[error("the behavior does not belong to this behavior space")]
     ForeignBehavior,
+    /// An offered behavior was taken while no settled behavior is under watch (mission
+    /// mode, [`crate::MissionAdapter::accept_offer`]).
+    #[error(
+        "no settled behavior is under watch: an offer is taken after an overtrust alert, in mission mode"
+    )]
+    NotWatching,
     /// [`Adaptation::give_up_kept`] was handed an estimate above the untrustworthy
     /// threshold.
     #[error("the kept behavior's estimate {estimate} is above the untrustworthy threshold")]

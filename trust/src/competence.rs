@@ -431,6 +431,32 @@ impl<'p> CompetenceJudge<'p> {
         (competence, short)
     }
 
+    /// Among `candidates` (behaviors an operator trusted before), other than `behavior`,
+    /// the one the robot judges competent (every known part within the standard,
+    /// [`CompetenceStandard::met_by`]) with the highest chance of a clean command
+    /// ([`Competence::clean`]; the first in order on a tie); `None` when none is.
+    pub fn safer_than(
+        &self,
+        behavior: Behavior,
+        candidates: impl IntoIterator<Item = Behavior>,
+    ) -> Option<Behavior> {
+        let mut best: Option<(Behavior, f64)> = None;
+        for candidate in candidates {
+            if candidate == behavior || best.is_some_and(|(b, _)| b == candidate) {
+                continue;
+            }
+            let competence = self.competence(candidate);
+            if !self.standard.met_by(&competence) {
+                continue;
+            }
+            let clean = competence.clean();
+            if best.is_none_or(|(_, c)| clean > c) {
+                best = Some((candidate, clean));
+            }
+        }
+        best.map(|(b, _)| b)
+    }
+
     /// The calibration of the operator's `estimate` of `behavior` against the robot's
     /// competence.
     pub fn calibration(
@@ -461,6 +487,12 @@ pub struct CompetenceAlert {
     pub competence: Competence,
     /// The parts above the standard.
     pub short: Vec<Cause>,
+    /// A safer behavior the robot offers instead: one an operator trusted before (a
+    /// retained case's solution) that the robot judges competent
+    /// ([`CompetenceJudge::safer_than`]); `None` when it knows none. The operator may
+    /// take it ([`crate::MissionAdapter::accept_offer`]) or keep the behavior in use and
+    /// watch it afresh.
+    pub offer: Option<Behavior>,
 }
 
 #[cfg(test)]

@@ -170,7 +170,7 @@ impl<'p> Mission<'p> {
             self.own_record.restart();
             return MissionDecision::Alert(alert);
         }
-        match self.overtrust(watch.behavior, watch.estimate.value, &thresholds) {
+        match self.overtrust(watch.behavior, watch.estimate.value, &thresholds, memory) {
             Some(alert) => MissionDecision::Overtrust(alert),
             None => Decision::Keep.into(),
         }
@@ -178,12 +178,14 @@ impl<'p> Mission<'p> {
 
     /// The overtrust alert for the watched `behavior` at the operator's `estimate`: once
     /// per settled behavior, when the operator trusts it while the judge finds it surely
-    /// not competent ([`crate::competence::CompetenceStandard::surely_short`]).
+    /// not competent ([`crate::competence::CompetenceStandard::surely_short`]), offering
+    /// the safest behavior of `memory`'s solutions the judge finds competent.
     fn overtrust(
         &mut self,
         behavior: Behavior,
         estimate: f64,
         thresholds: &Thresholds,
+        memory: &TrustMemory,
     ) -> Option<CompetenceAlert> {
         let judge = self.judge.as_ref().filter(|_| !self.judged)?;
         if thresholds.verdict(estimate) != Verdict::Trustworthy {
@@ -194,12 +196,39 @@ impl<'p> Mission<'p> {
             return None;
         }
         self.judged = true;
+        let offer = judge.safer_than(behavior, memory.base().cases().iter().map(|c| c.solution));
         Some(CompetenceAlert {
             behavior,
             estimate,
             competence,
             short,
+            offer,
         })
+    }
+
+    /// The operator took the behavior an overtrust alert offered: it is watched from now
+    /// on, as if an episode had settled on it (its estimate at the trustworthy threshold:
+    /// the operator chose it), with a new account and own record.
+    fn accept_offer(
+        &mut self,
+        adaptation: &mut Adaptation,
+        offer: Behavior,
+    ) -> Result<(), AdapterError> {
+        if self.watch.is_none() {
+            return Err(AdapterError::NotWatching);
+        }
+        if !adaptation.space().contains(&offer) {
+            return Err(AdapterError::ForeignBehavior);
+        }
+        self.watch = Some(Watch::settled(
+            offer,
+            true,
+            &adaptation.parameters().thresholds,
+        ));
+        adaptation.restart_account();
+        self.own_record.restart();
+        self.judged = false;
+        Ok(())
     }
 
     /// An episode that settled puts its behavior under watch, with a new own record.
@@ -329,6 +358,13 @@ impl<'p> MissionAdaptation<'p> {
         self.mission.passes = passes;
         self
     }
+
+    /// The operator took the behavior an overtrust alert offered
+    /// ([`CompetenceAlert::offer`]): the watch moves to it, as if an episode had settled
+    /// on it. Refused with no behavior under watch, or one outside the space.
+    pub fn accept_offer(&mut self, offer: Behavior) -> Result<(), AdapterError> {
+        self.mission.accept_offer(&mut self.adaptation, offer)
+    }
 }
 
 /// Mission mode around a [`TrustAdapter`]: its episodes and watch over the memory it owns,
@@ -410,6 +446,13 @@ impl<'p> MissionAdapter<'p> {
     /// The robot's judge of its own competence, if it has one.
     pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
         self.mission.judge.as_ref()
+    }
+
+    /// The operator took the behavior an overtrust alert offered: see
+    /// [`MissionAdaptation::accept_offer`].
+    pub fn accept_offer(&mut self, offer: Behavior) -> Result<(), AdapterError> {
+        self.mission
+            .accept_offer(&mut self.adapter.adaptation, offer)
     }
 
     /// The same mission preferring behaviors its judge finds competent: see

@@ -296,6 +296,84 @@ fn an_overtrust_alert_once_per_settled_behavior_the_robot_judges_not_competent()
 }
 
 #[test]
+fn an_overtrust_alert_offers_the_safest_competent_behavior_operators_trusted_before() {
+    let parts = competence_parts();
+    let careless = Behavior::new(&[1, 2]);
+    let (careful, fair, sloppy) = (
+        Behavior::new(&[3, 3]),
+        Behavior::new(&[0, 1]),
+        Behavior::new(&[2, 2]),
+    );
+    // Wrong labels: `careless` 0.2 and `sloppy` 0.15 (both above 0.1), `fair` 0.05,
+    // `careful` 0.01.
+    let predict: Predictor = Arc::new(move |b: &Behavior| {
+        let wrong = match b.indices() {
+            [1, 2] => 0.2,
+            [2, 2] => 0.15,
+            [0, 1] => 0.05,
+            _ => 0.01,
+        };
+        vec![None, Some(wrong)]
+    });
+    let judge = CompetenceJudge::new(
+        CompetenceRecord::new(&parts, &[BUMP]).unwrap(),
+        predict,
+        CompetenceStandard::uniform(0.1).unwrap(),
+    );
+    // Earlier operators trusted `sloppy`, `fair` and `careful` (solutions of retained
+    // cases; `careless` too, which is never offered in its own place).
+    let mut cases = TrustCaseBase::new();
+    for solution in [sloppy, fair, careless, careful, fair] {
+        cases.push(cbr_core::Case {
+            problem: episode_pairs(solution),
+            solution,
+        });
+    }
+    let adapter = TrustAdapter::new(grid(), AdapterConfig::default(), cases, 3).unwrap();
+    let mut a = MissionAdapter::new(adapter).with_competence(judge);
+    assert_eq!(
+        a.accept_offer(careful).unwrap_err(),
+        AdapterError::NotWatching
+    );
+    a.begin_episode(careless).unwrap();
+    settle(&mut a);
+    let MissionDecision::Overtrust(alert) = a.record(&DONE).unwrap() else {
+        panic!("expected an overtrust alert");
+    };
+    // The competent ones are `fair` and `careful`; `careful` has the cleaner command.
+    assert_eq!(alert.offer, Some(careful));
+    // The operator takes it: watched from now on at the trustworthy threshold, and, being
+    // competent, it raises no alert.
+    assert_eq!(
+        a.accept_offer(Behavior::new(&[9, 9])).unwrap_err(),
+        AdapterError::ForeignBehavior
+    );
+    a.accept_offer(careful).unwrap();
+    let watch = a.watching().unwrap();
+    assert_eq!(
+        (watch.behavior, watch.estimate.value, watch.commands),
+        (careful, 5.0, 0)
+    );
+    for _ in 0..5 {
+        assert_eq!(a.record(&DONE).unwrap(), KEEP);
+    }
+    assert_eq!(a.in_use().unwrap().0, careful);
+    // Nothing competent to offer: no offer.
+    let lone = CompetenceJudge::new(
+        CompetenceRecord::new(&parts, &[BUMP]).unwrap(),
+        Arc::new(|_: &Behavior| vec![None, Some(0.2)]),
+        CompetenceStandard::uniform(0.1).unwrap(),
+    );
+    let mut b = mission_adapter().with_competence(lone);
+    b.begin_episode(careless).unwrap();
+    settle(&mut b);
+    let MissionDecision::Overtrust(alert) = b.record(&DONE).unwrap() else {
+        panic!("expected an overtrust alert");
+    };
+    assert_eq!(alert.offer, None);
+}
+
+#[test]
 fn preferring_competent_behaviors_an_episode_passes_over_a_trusted_one_it_is_sure_of() {
     let parts = competence_parts();
     let careless = Behavior::new(&[1, 2]);
