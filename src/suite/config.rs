@@ -7,7 +7,7 @@ use crate::catalog::{Catalog, Family, OperatorOf, Readings};
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
-use lab::{BUILTIN_ARMS, Initial, LEARNED_START};
+use lab::{BUILTIN_ARMS, Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use lab::{FeedbackChannel, GoalChanges};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -45,7 +45,8 @@ pub struct SuiteConfig {
     /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
     /// episode from the case memory's guess); default: every built-in arm. A config may
     /// also write an arm as `(name: "case-based", initial: learned)` (`initial`: `random`,
-    /// the default, or `learned`), which is read as the name `case-based+learned-start`.
+    /// the default, or `learned`), which is read as the name `case-based+learned-start`
+    /// (`case-based+learned-start+competent` for `(name: "case-based+competent", ...)`).
     #[serde(default = "default_arms", deserialize_with = "arm_names")]
     pub arms: Vec<String>,
     /// The arm the report tests every other arm against (p-values), one of `arms`;
@@ -156,15 +157,23 @@ impl<'de> serde::de::Visitor<'de> for ArmVisitor {
             }
         }
         let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
-        if Initial::of_name(&name).1 == Initial::Learned {
+        // A preference for competent behaviors stays last (`x+learned-start+competent`).
+        let (started, prefers) = prefers_competent(&name);
+        if Initial::of_name(started).1 == Initial::Learned {
             return Err(A::Error::custom(format!(
-                "field `name`: `{name}` already names how its episodes start; write the arm `{}` and set `initial`",
-                Initial::of_name(&name).0
+                "field `name`: `{name}` already names how its episodes start; write the arm `{}{}` and set `initial`",
+                Initial::of_name(started).0,
+                if prefers { PREFERS_COMPETENT } else { "" }
             )));
         }
-        Ok(match initial.unwrap_or_default() {
-            Initial::Random => name,
-            Initial::Learned => name + LEARNED_START,
+        let named = match initial.unwrap_or_default() {
+            Initial::Random => started.to_owned(),
+            Initial::Learned => started.to_owned() + LEARNED_START,
+        };
+        Ok(if prefers {
+            named + PREFERS_COMPETENT
+        } else {
+            named
         })
     }
 }
@@ -509,6 +518,28 @@ impl ExperimentSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_arm_preferring_competent_behaviors_may_start_from_the_memory_s_guess() {
+        #[derive(Deserialize)]
+        struct Arms {
+            #[serde(deserialize_with = "arm_names")]
+            arms: Vec<String>,
+        }
+        let read = |text: &str| ron::from_str::<Arms>(text).map(|a| a.arms);
+        assert_eq!(
+            read(r#"(arms: ["uniform", (name: "case-based+competent", initial: learned), (name: "uniform+competent")])"#).unwrap(),
+            ["uniform", "case-based+learned-start+competent", "uniform+competent"]
+        );
+        let twice =
+            read(r#"(arms: [(name: "case-based+learned-start+competent", initial: learned)])"#)
+                .unwrap_err()
+                .to_string();
+        assert!(
+            twice.contains("already names how its episodes start; write the arm `case-based+competent` and set `initial`"),
+            "{twice}"
+        );
+    }
     use crate::UgvCatalog;
     use crate::catalog::resolve_readings;
     use crate::ugv::{PATROL_WEIGHTS, THREE_AND_ONE};
