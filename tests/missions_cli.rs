@@ -331,3 +331,70 @@ fn an_arm_preferring_competent_behaviors_runs_on_a_plan_with_a_standard_and_is_r
     .unwrap();
     assert!(stderr.contains("says +competent twice"), "{stderr}");
 }
+
+#[test]
+fn an_answered_alert_may_offer_a_safer_behavior_the_operator_takes_when_it_trusts_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("offer.ron");
+    let suite = r#"(
+    seed: 5,
+    arms: ["uniform"],
+    missions: [
+        (
+            name: "movement/paper/complacent",
+            operators: (scenario: "movement", operator: "random"),
+            count: 30,
+            commands: 300,
+            changes: (every: 150.0, takeover: 0.5),
+            complacency: Some((memory: 20.0, floor: 0.3)),
+            competence: Some((at_most: 0.1)),
+            offer_safer: true,
+        ),
+    ],
+)
+"#;
+    std::fs::write(&config, suite).unwrap();
+    let out = dir.path().join("report");
+    succeeded(&run(&config, &out, &[]));
+    let lines = arm_lines(&out, "uniform");
+    let count = |answered: bool, field: &str| -> u64 {
+        lines
+            .iter()
+            .filter(|l| l["answers_alerts"] == answered)
+            .map(|l| l["record"]["calibration"][field].as_u64().unwrap_or(0))
+            .sum()
+    };
+    // Offers are made only where alerts are answered, and some are taken.
+    assert_eq!((count(false, "offered"), count(false, "taken")), (0, 0));
+    let (offered, taken) = (count(true, "offered"), count(true, "taken"));
+    assert!(
+        offered > 0 && taken > 0 && taken <= offered,
+        "{offered} {taken}"
+    );
+    let report = std::fs::read_to_string(out.join("missions.md")).unwrap();
+    assert!(
+        report.contains(&format!(
+            "uniform, alerts answered: {offered} answered alerts offered a safer behavior; the operator took {taken}"
+        )),
+        "{report}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let text = summary.to_string();
+    assert!(text.contains(&format!(
+        "\"offers\":{{\"offered\":{offered},\"taken\":{taken}}}"
+    )));
+    // Offers need alerts to offer them: without a standard the plan is refused.
+    std::fs::write(
+        &config,
+        suite.replace("            competence: Some((at_most: 0.1)),\n", ""),
+    )
+    .unwrap();
+    let refused = run(&config, &dir.path().join("none"), &[]);
+    let stderr = String::from_utf8(refused.stderr).unwrap();
+    assert!(
+        stderr.contains("offer.ron: missions[0].offer_safer: an overtrust alert offers a safer behavior, and this plan raises none"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("none").exists());
+}
