@@ -21,7 +21,7 @@
 use crate::arm::Initial;
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
-use crate::simulate::{self, SimulatedCommand};
+use crate::simulate::{self, Conditions, SimulatedCommand};
 use crate::{Domain, FeedbackChannel, GoalChanges, Judgement};
 use cbr_core::Behavior;
 use rand_chacha::ChaCha8Rng;
@@ -203,8 +203,10 @@ impl<'a, D: Domain> Drive<'a, D> {
             self.domain,
             behavior,
             operator,
-            attention,
-            goal_change_at,
+            Conditions {
+                attention,
+                goal_change_at,
+            },
             channel,
             &mut self.runs,
             &mut self.stated,

@@ -349,6 +349,8 @@ mod tests {
             judged: 2,
             both: 1,
             competent,
+            offered: alerts.len() as u32,
+            taken: u32::from(competent > 0),
             alerts,
         };
         let arm = MissionArmResult {
@@ -367,6 +369,7 @@ mod tests {
             (26, 14, 12)
         );
         assert_eq!((s.totals.judged, s.totals.both), (6, 3));
+        assert_eq!((s.totals.offered, s.totals.taken), (3, 2));
         assert_eq!(s.alerts.mean, 1.0);
         // Two missions watched a competent behavior; both had a false alert.
         assert_eq!((s.false_alert_missions, s.competent_missions), (2, 2));
@@ -378,6 +381,12 @@ mod tests {
             "{md}"
         );
         assert!(md.contains("(target at most 5%): missed"), "{md}");
+        assert!(
+            md.contains(
+                "- a: 3 answered alerts offered a safer behavior; the operator took 2 (66.7%)"
+            ),
+            "{md}"
+        );
         // Without a standard: nothing.
         let blind = MissionArmResult {
             missions: vec![mission(None, 0)],

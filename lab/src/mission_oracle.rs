@@ -44,7 +44,7 @@ use crate::mission::{
 };
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
-use crate::simulate::{self, SimulatedCommand};
+use crate::simulate::{self, Conditions, SimulatedCommand};
 use cbr_core::Behavior;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -246,8 +246,10 @@ impl MissionOracle {
                 plan.domain,
                 &behavior,
                 operator,
-                attention,
-                None,
+                Conditions {
+                    attention,
+                    goal_change_at: None,
+                },
                 channel,
                 &mut runs,
                 &mut stated,

@@ -68,10 +68,19 @@ impl Refused {
     }
 }
 
+/// What the operator of a simulated command is like at that moment.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Conditions {
+    /// Its attention (`None`: the paper's attentive operator).
+    pub(crate) attention: Option<f64>,
+    /// Seconds into the command at which its goals change (`None`: they do not).
+    pub(crate) goal_change_at: Option<f64>,
+}
+
 /// Runs one command of `domain` with `behavior` in front of `operator`, the paper's
-/// attentive one ([`Domain::run`]) when `attention` is `None`, else one at that attention
-/// ([`Domain::run_attending`]); with `goal_change_at`, the operator's goals change that
-/// many seconds in ([`Domain::run_redirected`], at `attention` or 1). The run draws from
+/// attentive one ([`Domain::run`]) when its `attention` is `None`, else one at that
+/// attention ([`Domain::run_attending`]); with `goal_change_at`, the operator's goals
+/// change that many seconds in ([`Domain::run_redirected`], at `attention` or 1). The run draws from
 /// `runs`; `channel` states a reason, or says a goal change, from `stated`. A truth the
 /// domain does not declare is refused (the runs stream has drawn the run; nothing is
 /// drawn from `stated`), and so is an attention or a goal change the domain does not
@@ -80,8 +89,10 @@ pub(crate) fn command<D: Domain + ?Sized>(
     domain: &D,
     behavior: &Behavior,
     operator: &D::Operator,
-    attention: Option<f64>,
-    goal_change_at: Option<f64>,
+    Conditions {
+        attention,
+        goal_change_at,
+    }: Conditions,
     channel: FeedbackChannel,
     runs: &mut dyn RngCore,
     stated: &mut dyn RngCore,
@@ -202,10 +213,12 @@ impl<D: Domain + ?Sized> Iterator for Simulation<'_, D> {
                 self.domain,
                 &self.behavior,
                 self.operator,
-                // At full attention, the paper's operator: `Domain::run`, which every
-                // domain has and `run_attending` equals there.
-                (self.attention < 1.0).then_some(self.attention),
-                None,
+                Conditions {
+                    // At full attention, the paper's operator: `Domain::run`, which every
+                    // domain has and `run_attending` equals there.
+                    attention: (self.attention < 1.0).then_some(self.attention),
+                    goal_change_at: None,
+                },
                 self.channel,
                 &mut self.runs,
                 &mut self.stated,
