@@ -251,8 +251,9 @@ class Adapter:
         is the robot's own confidence in ``[0, 1]`` that the command went as it should, when
         it assesses itself. ``goal_change=True`` says instead of a reason that the operator
         stopped the robot because its goals changed (an ``"interrupted"`` outcome only): the
-        command counts against nothing, and the behavior is kept. The decision is ``keep``, ``switch`` (use ``behavior`` from now
-        on), ``settled`` (the episode is over), with the explanation of a switch or an end,
+        command counts against nothing, and the behavior is kept. The decision is ``keep``,
+        ``switch`` (use ``behavior`` from now on), ``settled`` (the episode is over), with the
+        explanation of a switch or an end,
         or in mission mode ``alert`` (keep the behavior and ask the operator to supervise)
         and, with ``competence``, ``overtrust`` (keep it and ask the operator to choose).
         Call :meth:`begin` first.
