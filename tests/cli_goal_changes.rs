@@ -7,7 +7,7 @@ mod support;
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
-use support::{succeed, trustcbr};
+use support::{refused, succeed, trustcbr};
 
 /// Movement, the paper's operators drawn per trial, goal changes every two minutes on
 /// average (a sixth of the 20 s commands cut), unsaid and said.
@@ -23,13 +23,6 @@ const SUITE: &str = r#"(
         (scenario: "movement", operator: "random", goal_changes: Some((per_hour: 30.0)), feedback: Some((goal_changes: 1.0))),
     ],
 )"#;
-
-fn refused(command: &mut Command) -> String {
-    let output = command.output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(matches!(output.status.code(), Some(1 | 2)), "{stderr}");
-    stderr
-}
 
 fn run(dir: &Path, text: &str) -> Command {
     let config = dir.join("suite.ron");

@@ -4,18 +4,8 @@
 mod support;
 
 use std::path::Path;
-use std::process::{Command, Output};
-use support::{succeed, trustcbr};
-
-/// Runs `command`, checks that it failed with an error (status 1, or 2 for a usage error)
-/// rather than a panic, and returns its stderr.
-fn refused(command: &mut Command) -> String {
-    let output: Output = command.output().unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert!(matches!(output.status.code(), Some(1 | 2)), "{stderr}");
-    assert!(stderr.starts_with("error: "), "{stderr}");
-    stderr
-}
+use std::process::Command;
+use support::{refused, succeed, trustcbr};
 
 fn render(behavior: &str, out: &Path) -> String {
     refused(

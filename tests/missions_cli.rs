@@ -231,6 +231,20 @@ fn arm_lines(report: &Path, arm: &str) -> Vec<serde_json::Value> {
         .collect()
 }
 
+/// Runs `suite` without its competence standard, written to `config`, into `out`; returns
+/// the refusal's stderr (nothing is written).
+fn refused_without_standard(config: &Path, suite: &str, out: &Path) -> String {
+    std::fs::write(
+        config,
+        suite.replace("            competence: Some((at_most: 0.1)),\n", ""),
+    )
+    .unwrap();
+    let refused = run(config, out, &[]);
+    assert!(!refused.status.success());
+    assert!(!out.exists());
+    String::from_utf8(refused.stderr).unwrap()
+}
+
 #[test]
 fn an_arm_preferring_competent_behaviors_runs_on_a_plan_with_a_standard_and_is_refused_elsewhere() {
     let dir = tempfile::tempdir().unwrap();
@@ -288,13 +302,7 @@ fn an_arm_preferring_competent_behaviors_runs_on_a_plan_with_a_standard_and_is_r
     assert_ne!(watched(&plain), watched(&preferring));
 
     // Without a standard the plan judges nothing: refused, naming the field.
-    std::fs::write(
-        &config,
-        suite.replace("            competence: Some((at_most: 0.1)),\n", ""),
-    )
-    .unwrap();
-    let refused = run(&config, &dir.path().join("none"), &[]);
-    let stderr = String::from_utf8(refused.stderr).unwrap();
+    let stderr = refused_without_standard(&config, suite, &dir.path().join("none"));
     assert!(
         stderr.contains("competent.ron: missions[0].competence: the arm `uniform+competent` prefers behaviors the robot judges competent, and this plan judges nothing"),
         "{stderr}"
@@ -385,16 +393,9 @@ fn an_answered_alert_may_offer_a_safer_behavior_the_operator_takes_when_it_trust
         "\"offers\":{{\"offered\":{offered},\"taken\":{taken}}}"
     )));
     // Offers need alerts to offer them: without a standard the plan is refused.
-    std::fs::write(
-        &config,
-        suite.replace("            competence: Some((at_most: 0.1)),\n", ""),
-    )
-    .unwrap();
-    let refused = run(&config, &dir.path().join("none"), &[]);
-    let stderr = String::from_utf8(refused.stderr).unwrap();
+    let stderr = refused_without_standard(&config, suite, &dir.path().join("none"));
     assert!(
         stderr.contains("offer.ron: missions[0].offer_safer: an overtrust alert offers a safer behavior, and this plan raises none"),
         "{stderr}"
     );
-    assert!(!dir.path().join("none").exists());
 }

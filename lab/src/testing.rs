@@ -291,6 +291,31 @@ fn describe(
     )
 }
 
+/// `D` reduced to [`Domain`]'s required methods (its name, space, causes and runs), every
+/// optional hook at its default: what a plug-in that implements no more than it must is,
+/// for tests of the plans that need a hook (attention, goal changes) and refuse it.
+pub struct Bare<D>(pub D);
+
+impl<D: Domain> Domain for Bare<D> {
+    type Operator = D::Operator;
+
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+
+    fn space(&self) -> &Arc<BehaviorSpace> {
+        self.0.space()
+    }
+
+    fn causes(&self) -> &[DeclaredCause] {
+        self.0.causes()
+    }
+
+    fn run(&self, behavior: &Behavior, operator: &D::Operator, rng: &mut dyn RngCore) -> Judgement {
+        self.0.run(behavior, operator, rng)
+    }
+}
+
 /// How a [`ToyDomain`] runs one command: the behavior, the operator, its attention (1 for
 /// [`Domain::run`]) and the run's random stream.
 pub type ToyRule<O> = dyn Fn(&Behavior, &O, f64, &mut dyn RngCore) -> Judgement + Send + Sync;

@@ -1,16 +1,14 @@
 //! Goal changes in experiments: interruptions that are not about the behavior, said or
 //! unsaid, on a toy domain whose operator trusts every behavior.
 
-use lab::testing::ToyDomain;
+use lab::testing::{Bare, ToyDomain};
 use lab::{
     Arm, Domain, ExperimentPlan, FeedbackChannel, GoalChanges, Judgement, OperatorChoice,
     PlanError, run_experiments,
 };
-use rand::RngCore;
-use std::sync::Arc;
 use trust::AdapterConfig;
+use trust::Cause;
 use trust::search::Uniform;
-use trust::{Cause, DeclaredCause};
 
 const SLOW: Cause = Cause::from_static("slow");
 
@@ -105,28 +103,10 @@ fn a_plan_without_goal_changes_runs_as_before() {
     }
 }
 
-/// A domain that keeps the default `Domain::run_redirected`.
-struct Unmodelled(ToyDomain<()>);
-
-impl Domain for Unmodelled {
-    type Operator = ();
-    fn name(&self) -> &str {
-        "unmodelled"
-    }
-    fn space(&self) -> &Arc<cbr_core::BehaviorSpace> {
-        self.0.space()
-    }
-    fn causes(&self) -> &[DeclaredCause] {
-        self.0.causes()
-    }
-    fn run(&self, b: &cbr_core::Behavior, o: &(), rng: &mut dyn RngCore) -> Judgement {
-        self.0.run(b, o, rng)
-    }
-}
-
 #[test]
 fn goal_changes_are_refused_on_a_domain_that_does_not_model_them() {
-    let domain = Unmodelled(steady());
+    // The toy domain without its goal-change hook.
+    let domain = Bare(steady());
     let operators = [("any".to_owned(), ())];
     let err = run_experiments(&[plan(&domain, &operators, None, often())], 1, &|_| {})
         .err()
@@ -134,6 +114,6 @@ fn goal_changes_are_refused_on_a_domain_that_does_not_model_them() {
     assert!(matches!(err, PlanError::GoalChangesNotModelled { .. }));
     assert_eq!(
         err.to_string(),
-        "steady: domain `unmodelled` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
+        "steady: domain `steady` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
     );
 }

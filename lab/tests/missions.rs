@@ -12,7 +12,7 @@ use lab::mission::{
 use lab::mission_report::{
     MissionSummary, OracleSummary, harm_comparisons, missions_json, missions_markdown,
 };
-use lab::testing::ToyDomain;
+use lab::testing::{Bare, ToyDomain};
 use lab::{Domain, Judgement, PlanError};
 use rand::{Rng, RngCore};
 use std::sync::Arc;
@@ -298,28 +298,10 @@ fn a_learned_start_arm_starts_its_missions_from_the_memory_s_guess() {
     assert_ne!(courses(&random.missions), courses(&learned.missions));
 }
 
-/// The toy domain without its attending hook: its operators' attention is not modelled.
-struct Unmodelled(Toy);
-
-impl Domain for Unmodelled {
-    type Operator = Favourite;
-    fn name(&self) -> &str {
-        "unmodelled"
-    }
-    fn space(&self) -> &Arc<cbr_core::BehaviorSpace> {
-        self.0.space()
-    }
-    fn causes(&self) -> &[DeclaredCause] {
-        self.0.causes()
-    }
-    fn run(&self, b: &Behavior, operator: &Favourite, rng: &mut dyn RngCore) -> Judgement {
-        self.0.run(b, operator, rng)
-    }
-}
-
 #[test]
 fn complacency_is_refused_on_a_domain_that_does_not_model_attention() {
-    let (domain, operators) = (Unmodelled(toy()), operators());
+    // The toy domain without its attending hook: its operators' attention is not modelled.
+    let (domain, operators) = (Bare(toy()), operators());
     let complacency = Complacency {
         memory: 20.0,
         floor: 0.3,
@@ -328,7 +310,7 @@ fn complacency_is_refused_on_a_domain_that_does_not_model_attention() {
         .unwrap_err()
         .to_string();
     assert!(
-        err.starts_with("toy: domain `unmodelled` does not model its operators' attention")
+        err.starts_with("toy: domain `toy` does not model its operators' attention")
             && err.contains("overrides `Domain::run_attending`"),
         "{err}"
     );

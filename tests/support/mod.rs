@@ -26,6 +26,16 @@ pub fn succeed(command: &mut Command) -> String {
     String::from_utf8(output.stdout).unwrap()
 }
 
+/// Runs `command`, asserts that it was refused with a user's error (status 1 or 2, the
+/// message starting `error: `) rather than a panic, and returns its stderr.
+pub fn refused(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(matches!(output.status.code(), Some(1 | 2)), "{stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    stderr
+}
+
 /// A 5 x 5 domain whose episodes end in three requests: `begin`, one interruption
 /// (untrustworthy at -1: the adapter switches; the robot felt a collision), one completion
 /// (trustworthy at +1). With
