@@ -14,9 +14,8 @@ use lab::mission_report::{
 };
 use lab::testing::{Bare, ToyDomain};
 use lab::{Domain, Judgement, PlanError};
-use rand::{Rng, RngCore};
-use std::sync::Arc;
-use trust::{AdapterConfig, DeclaredCause};
+use rand::Rng;
+use trust::AdapterConfig;
 use trust::{Cause, Evaluated, Observations, RetrieverKind, TrustCaseBase, first_guess};
 
 const BUMPED: Cause = Cause::from_static("bumped");
