@@ -220,29 +220,29 @@ impl<'p> Mission<'p> {
         if !adaptation.space().contains(&offer) {
             return Err(AdapterError::ForeignBehavior);
         }
-        self.watch = Some(Watch::settled(
-            offer,
-            true,
-            &adaptation.parameters().thresholds,
-        ));
+        self.watch_settled(offer, true, adaptation);
         adaptation.restart_account();
-        self.own_record.restart();
-        self.judged = false;
         Ok(())
     }
 
     /// An episode that settled puts its behavior under watch, with a new own record.
     fn after(&mut self, adaptation: &Adaptation, decision: &Decision) {
         if let Decision::Settled(report) = decision {
-            self.watch = Some(Watch::settled(
-                report.settled,
-                report.found_trustworthy,
-                &adaptation.parameters().thresholds,
-            ));
-            self.own_record.restart();
-            self.judged = false;
+            self.watch_settled(report.settled, report.found_trustworthy, adaptation);
             self.passed = 0;
         }
+    }
+
+    /// Watches `behavior` as a settled one (`trustworthy`: it reached the threshold), with
+    /// a new own record and its overtrust alert still to come.
+    fn watch_settled(&mut self, behavior: Behavior, trustworthy: bool, adaptation: &Adaptation) {
+        self.watch = Some(Watch::settled(
+            behavior,
+            trustworthy,
+            &adaptation.parameters().thresholds,
+        ));
+        self.own_record.restart();
+        self.judged = false;
     }
 
     /// The operator left: ends the episode under way (its report) or the watch.
