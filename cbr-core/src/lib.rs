@@ -4,6 +4,7 @@
 pub mod behavior;
 pub mod case;
 pub mod component;
+pub mod context;
 pub mod memory;
 pub mod neighbourhood;
 pub mod retrieve;
@@ -20,6 +21,7 @@ pub use component::{
     NamedComponent, NumericGrid, RegistryError, Values, register_component_kind,
     registered_component_kinds,
 };
+pub use context::{Context, ContextError, ContextSimilarity, ContextSpace, ContextVariable};
 pub use memory::CaseMemory;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use search::{Proposal, Rationale, Searcher};
