@@ -18,8 +18,8 @@ fn set_similarity(c: &mut Criterion) {
     let mut episodes = benches::Episodes::new(&space, 1);
     let mut group = c.benchmark_group("algorithm2");
     for len in [4usize, 16, 64] {
-        let e1 = episodes.case_of_length(len).problem;
-        let e2 = episodes.case_of_length(len).problem;
+        let e1 = episodes.case_of_length(len).problem.evaluated;
+        let e2 = episodes.case_of_length(len).problem.evaluated;
         group.bench_with_input(BenchmarkId::new("set_similarity", len), &len, |b, _| {
             b.iter(|| measure.compare(black_box(&e1), black_box(&e2)))
         });

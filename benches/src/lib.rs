@@ -39,8 +39,8 @@ use serde::Deserialize;
 use std::fmt;
 use trust::search::RandomWalk;
 use trust::{
-    Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate, Verdict,
-    select_behavior,
+    Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate,
+    TrustProblem, Verdict, select_behavior,
 };
 
 /// What the operator cares about (the two patrol operators of docs/model.md#the-operators).
@@ -190,16 +190,16 @@ impl<'a> Episodes<'a> {
             },
         };
         let mut walk = RandomWalk::new();
-        let mut e_past = Vec::with_capacity(len);
+        let mut e_past = TrustProblem::new(Vec::with_capacity(len));
         let mut current = self.space.draw(&mut self.rng);
         loop {
             let time = operator.verdict_time(self.space, &current, &mut self.rng);
-            e_past.push(Evaluated {
+            e_past.evaluated.push(Evaluated {
                 behavior: current,
                 time,
             });
             match select_behavior(&e_past, None, &mut walk, self.space, &mut self.rng) {
-                Selection::Next { behavior: next, .. } if e_past.len() == len => {
+                Selection::Next { behavior: next, .. } if e_past.evaluated.len() == len => {
                     return Case {
                         problem: e_past,
                         solution: next,
@@ -228,7 +228,7 @@ pub fn case_base(space: &BehaviorSpace, cases: usize, seed: u64) -> TrustCaseBas
 
 /// `count` query `E_past`s drawn like the cases of [`case_base`] but from another stream,
 /// so none is in a case base of the same `seed`.
-pub fn queries(space: &BehaviorSpace, count: usize, seed: u64) -> Vec<Vec<Evaluated>> {
+pub fn queries(space: &BehaviorSpace, count: usize, seed: u64) -> Vec<TrustProblem> {
     let mut episodes = Episodes::new(space, seed ^ 0x5eed);
     (0..count).map(|_| episodes.next_case().problem).collect()
 }
@@ -286,7 +286,7 @@ mod tests {
         let space = domains::spaces::patrol_space();
         let base = case_base(&space, 2_000, 7);
         let real = LengthStats::of(patrol_case_lengths());
-        let made = LengthStats::of(base.cases().iter().map(|c| c.problem.len()));
+        let made = LengthStats::of(base.cases().iter().map(|c| c.problem.evaluated.len()));
         assert_eq!(made.median, real.median);
         assert!(
             (made.mean - real.mean).abs() <= 0.1 * real.mean,
@@ -300,11 +300,12 @@ mod tests {
         let mut episodes = Episodes::new(&space, 3);
         for len in [1, 2, 40] {
             let case = episodes.case_of_length(len);
-            assert_eq!(case.problem.len(), len);
-            let distinct: HashSet<Behavior> = case.problem.iter().map(|e| e.behavior).collect();
+            assert_eq!(case.problem.evaluated.len(), len);
+            let distinct: HashSet<Behavior> =
+                case.problem.evaluated.iter().map(|e| e.behavior).collect();
             assert_eq!(distinct.len(), len);
             assert!(!distinct.contains(&case.solution));
-            assert!(case.problem.iter().all(|e| e.time > 0.0));
+            assert!(case.problem.evaluated.iter().all(|e| e.time > 0.0));
         }
         let again = case_base(&space, 50, 3);
         assert_eq!(case_base(&space, 80, 3).cases()[..50], again.cases()[..]);

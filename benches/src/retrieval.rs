@@ -34,7 +34,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 use trust::evaluated::LambdaError;
-use trust::{Evaluated, TrustCase, TrustCaseBase, TrustMemory, TrustRetriever};
+use trust::{TrustCase, TrustCaseBase, TrustMemory, TrustProblem, TrustRetriever};
 
 /// The case-base sizes compared.
 pub const SIZES: [usize; 4] = [100, 1_000, 10_000, 100_000];
@@ -54,7 +54,7 @@ pub struct Workload {
     pub space: Arc<BehaviorSpace>,
     cases: TrustCaseBase,
     /// The query `E_past`s, drawn like the cases from another stream.
-    pub queries: Vec<Vec<Evaluated>>,
+    pub queries: Vec<TrustProblem>,
 }
 
 impl Workload {
@@ -70,12 +70,12 @@ impl Workload {
         let cases = crate::case_base(&space, largest, SEED);
         let queries = crate::queries(&space, QUERIES, SEED);
         let real = crate::LengthStats::of(crate::patrol_case_lengths());
-        let made = crate::LengthStats::of(cases.cases().iter().map(|c| c.problem.len()));
-        let asked = crate::LengthStats::of(queries.iter().map(Vec::len));
+        let made = crate::LengthStats::of(cases.cases().iter().map(|c| c.problem.evaluated.len()));
+        let asked = crate::LengthStats::of(queries.iter().map(|q| q.evaluated.len()));
         eprintln!("|E_past| of the real patrol cases: {real}");
         eprintln!("|E_past| over {largest} synthetic cases: {made}");
         eprintln!("|E_past| of the {QUERIES} queries: {asked}");
-        let same = crate::LengthStats::of(queries[..SAME].iter().map(Vec::len));
+        let same = crate::LengthStats::of(queries[..SAME].iter().map(|q| q.evaluated.len()));
         eprintln!("|E_past| of the first {SAME} queries: {same}");
         let off = (made.mean - real.mean).abs() / real.mean;
         assert!(
@@ -102,8 +102,8 @@ impl Workload {
 
 /// Algorithm 1's query: the case most similar to `q` among those whose final behavior `q`
 /// has not evaluated.
-pub fn query(memory: &TrustMemory, q: &Vec<Evaluated>) -> Option<Retrieved> {
-    let exclude = |c: &TrustCase| q.iter().any(|e| e.behavior == c.solution);
+pub fn query(memory: &TrustMemory, q: &TrustProblem) -> Option<Retrieved> {
+    let exclude = |c: &TrustCase| q.evaluated.iter().any(|e| e.behavior == c.solution);
     black_box(memory.retrieve(black_box(q), &exclude))
 }
 

@@ -622,6 +622,7 @@ mod tests {
                         settled_from_search: false,
                         retained: None,
                         evaluated: Vec::new(),
+                        context: cbr_core::Context::default(),
                         explanations: Vec::new(),
                     },
                     truncated: false,

@@ -376,6 +376,7 @@ mod tests {
                 settled_from_search: true,
                 retained: None,
                 evaluated: Vec::new(),
+                context: cbr_core::Context::default(),
                 explanations: Vec::new(),
             },
             truncated: false,

@@ -275,10 +275,13 @@ fn a_learned_start_arm_starts_its_missions_from_the_memory_s_guess() {
         problem: vec![Evaluated {
             behavior: Behavior::new(&[3, 3]),
             time: 5.0,
-        }],
+        }]
+        .into(),
         solution: Behavior::new(&[1, 1]),
     });
-    let guess = first_guess(&cases, domain.space(), 0.95).unwrap().behavior;
+    let guess = first_guess(&cases, domain.space(), 0.95, &Default::default())
+        .unwrap()
+        .behavior;
     assert_eq!(guess, Behavior::new(&[1, 1]));
     let from = |name: &str| arm(name).with_starting_cases(cases.clone());
     let results = run_arms(

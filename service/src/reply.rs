@@ -126,11 +126,14 @@ impl CaseListing {
                 if written > 0 {
                     out.write_all(b",")?;
                 }
-                let entry = json!({
+                let mut entry = json!({
                     "id": id,
-                    "evaluated": evaluated(&self.space, &case.problem),
+                    "evaluated": evaluated(&self.space, &case.problem.evaluated),
                     "solution": behavior(&self.space, &case.solution),
                 });
+                if !case.problem.context.is_default() {
+                    entry["context"] = json!(case.problem.context);
+                }
                 serde_json::to_writer(&mut *out, &entry)?;
                 written += 1;
             }

@@ -424,7 +424,7 @@ pub fn check_case(
     };
     let case = &stored.case;
     check_behavior(space, &case.solution).map_err(|r| foreign(format!("solution: {r}")))?;
-    for (k, e) in case.problem.iter().enumerate() {
+    for (k, e) in case.problem.evaluated.iter().enumerate() {
         check_behavior(space, &e.behavior)
             .map_err(|r| foreign(format!("evaluated pair {k}: {r}")))?;
         if !(e.time.is_finite() && e.time >= 0.0) {
@@ -521,6 +521,7 @@ pub(crate) mod row {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use cbr_core::{ContextSpace, ContextVariable};
     use proptest::prelude::*;
     use trust::Evaluated;
 
@@ -536,9 +537,56 @@ mod tests {
             problem: vec![Evaluated {
                 behavior: Behavior::new(&[3, 4]),
                 time: 12.0,
-            }],
+            }]
+            .into(),
             solution: Behavior::new(&solution),
         }
+    }
+
+    /// `case(solution)`, learned with hazardous cargo.
+    fn hazardous_case(solution: [u16; 2]) -> TrustCase {
+        let cargo = ContextSpace::new(vec![ContextVariable::new(
+            "cargo",
+            &["normal", "hazardous"],
+        )])
+        .unwrap();
+        let mut case = case(solution);
+        case.problem.context = cargo.context([("cargo", "hazardous")]).unwrap();
+        case
+    }
+
+    /// A case learned in another context reads back with it from an SQLite file and from
+    /// the RON file exported from it, beside a case of the default context, which is stored
+    /// as it was before contexts (the problem column holds the bare pairs).
+    #[test]
+    fn a_case_keeps_its_context_in_every_file_store() {
+        let dir = tempfile::tempdir().unwrap();
+        let written = vec![case([5, 5]), hazardous_case([6, 6])];
+        let sqlite = Location::Sqlite(dir.path().join("cases.db"));
+        let mut store = open(&sqlite, &movement()).unwrap();
+        let mut last = None;
+        for c in &written {
+            last = Some(
+                store
+                    .append(c, last, &mut |_| panic!("nothing missed"))
+                    .unwrap(),
+            );
+        }
+        let ron = dir.path().join("cases.ron");
+        assert_eq!(super::ron_file::export(store.as_mut(), &ron).unwrap(), 2);
+        drop(store);
+        for location in [sqlite, Location::Ron(ron)] {
+            let mut again = open_existing(&location).unwrap();
+            let read: Vec<TrustCase> = all(again.as_mut(), None)
+                .into_iter()
+                .map(|c| c.case)
+                .collect();
+            assert_eq!(read, written, "{location:?}");
+        }
+        let (problem, _) = row::encode(&case([5, 5]));
+        assert_eq!(problem, r#"[{"behavior":[3,4],"time":12.0}]"#);
+        let (problem, _) = row::encode(&hazardous_case([5, 5]));
+        assert!(problem.starts_with(r#"{"context":{"cargo":"hazardous"},"evaluated":"#));
     }
 
     fn refused(opened: Result<Box<dyn CaseStore>, StoreError>) -> StoreError {

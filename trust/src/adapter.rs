@@ -23,8 +23,8 @@ use crate::retrieval::RetrieverKind;
 use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, Source, select_behavior};
 use crate::start::{FirstGuess, first_guess};
-use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory};
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseId};
+use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory, TrustProblem};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Context};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -216,6 +216,10 @@ pub struct EpisodeReport {
     pub retained: Option<CaseId>,
     /// The evaluated pairs `E_past`, in order.
     pub evaluated: Vec<Evaluated>,
+    /// The context the episode ran in (left out of the serialized report when it is the
+    /// default one).
+    #[serde(default, skip_serializing_if = "Context::is_default")]
+    pub context: Context,
     /// The explanation of every switch of the episode, in order, and last the one of its
     /// end.
     pub explanations: Vec<Explanation>,
@@ -247,7 +251,8 @@ pub enum AdapterError {
     /// `record` was called with no episode under way.
     #[error("no episode is under way: begin one first")]
     NoEpisode,
-    /// `begin_episode` (or [`Adaptation::give_up_kept`]) was called while one is under way.
+    /// `begin_episode` (or [`Adaptation::give_up_kept`], or a context set) was called while
+    /// one is under way.
     #[error("an episode is already under way")]
     EpisodeUnderWay,
     /// The outcome's numbers are unusable (shown in the message, so not chained as a
@@ -282,7 +287,8 @@ impl From<OutcomeError> for AdapterError {
 struct Episode {
     current: Behavior,
     estimate: TrustEstimate,
-    evaluated: Vec<Evaluated>,
+    /// The episode's context and the pairs it evaluated so far: Algorithm 1's query.
+    problem: TrustProblem,
     commands: u64,
     untrustworthy: u64,
     searched: u32,
@@ -304,6 +310,8 @@ pub struct EpisodeView<'a> {
     pub estimate: TrustEstimate,
     /// The pairs evaluated so far.
     pub evaluated: &'a [Evaluated],
+    /// The context the episode runs in.
+    pub context: &'a Context,
     /// Commands recorded in the episode.
     pub commands: u64,
     /// The explanations of the episode's switches so far.
@@ -323,6 +331,7 @@ fn matched_by_case(
         .iter()
         .filter(|e| {
             case.problem
+                .evaluated
                 .iter()
                 .any(|p| space.similarity(&e.behavior, &p.behavior) > lambda)
         })
@@ -346,6 +355,8 @@ pub struct Adaptation {
     searcher: Box<TrustSearcher>,
     rng: ChaCha8Rng,
     episode: Option<Episode>,
+    /// The context the robot is in: every episode begun runs in it.
+    context: Context,
     /// The account of the behavior in use (or kept after the last episode): the reasons
     /// of its untrustworthy commands, and what stated reasons taught across episodes.
     attribution: Attribution,
@@ -382,6 +393,7 @@ impl Adaptation {
             searcher,
             rng,
             episode: None,
+            context: Context::default(),
             attribution: Attribution::default(),
         })
     }
@@ -400,7 +412,25 @@ impl Adaptation {
         self.rng = ChaCha8Rng::seed_from_u64(seed);
     }
 
-    /// Starts an episode (a new operator) with `initial` in use.
+    /// The context the robot is in from now on (the default one until set): episodes
+    /// begun afterwards run in it, are matched with cases by it, and retain it in their
+    /// case. Refused while an episode is under way, whose pairs were all evaluated in the
+    /// context it began in. The caller checks `context` against its domain's
+    /// [`cbr_core::ContextSpace`].
+    pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
+        if self.episode.is_some() {
+            return Err(AdapterError::EpisodeUnderWay);
+        }
+        self.context = context;
+        Ok(())
+    }
+
+    /// The context the robot is in.
+    pub fn context(&self) -> &Context {
+        &self.context
+    }
+
+    /// Starts an episode (a new operator) with `initial` in use, in the robot's context.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.check_beginning(&initial)?;
         self.attribution.next_behavior();
@@ -424,7 +454,7 @@ impl Adaptation {
         self.episode = Some(Episode {
             current: initial,
             estimate,
-            evaluated: Vec::new(),
+            problem: TrustProblem::in_context(self.context.clone(), Vec::new()),
             commands: u64::from(estimate.commands),
             untrustworthy,
             searched: 0,
@@ -547,7 +577,7 @@ impl Adaptation {
         };
         self.attribution.next_behavior();
         episode.current_untrustworthy = 0;
-        episode.evaluated.push(Evaluated {
+        episode.problem.evaluated.push(Evaluated {
             behavior: episode.current,
             time: match self.parameters.time_unit {
                 TimeUnit::TaskSeconds => episode.estimate.elapsed_s,
@@ -556,7 +586,7 @@ impl Adaptation {
         });
         let memory = self.parameters.reuse_cases.then_some(memory);
         let selection = select_behavior(
-            &episode.evaluated,
+            &episode.problem,
             memory,
             self.searcher.as_mut(),
             &self.space,
@@ -586,10 +616,10 @@ impl Adaptation {
                     matched: matched_by_case(
                         &self.space,
                         self.parameters.lambda,
-                        &episode.evaluated,
+                        &episode.problem.evaluated,
                         memory.and_then(|m| m.base().get(case)),
                     ),
-                    given_up: u32::try_from(episode.evaluated.len()).unwrap_or(u32::MAX),
+                    given_up: u32::try_from(episode.problem.evaluated.len()).unwrap_or(u32::MAX),
                 }
             }
             Source::Search => {
@@ -620,7 +650,7 @@ impl Adaptation {
     }
 
     /// The case a finished episode retains (docs/model.md#cases-and-retention): its
-    /// evaluated pairs and the behavior found, when a trustworthy behavior was found and
+    /// context and evaluated pairs, and the behavior found, when a trustworthy behavior was found and
     /// the search strategy found it, in the configured reading of "found" ([`Retention`]).
     pub fn case_to_retain(&self, report: &EpisodeReport) -> Option<TrustCase> {
         let search_found_it = match self.parameters.retention {
@@ -628,7 +658,7 @@ impl Adaptation {
             Retention::FinalFromSearch => report.settled_from_search,
         };
         (report.found_trustworthy && search_found_it).then(|| Case {
-            problem: report.evaluated.clone(),
+            problem: TrustProblem::in_context(report.context.clone(), report.evaluated.clone()),
             solution: report.settled,
         })
     }
@@ -653,8 +683,14 @@ impl Adaptation {
         } else {
             None
         };
-        self.searcher.end_episode(&episode.evaluated, settled);
-        let mut distinct: Vec<Behavior> = episode.evaluated.iter().map(|e| e.behavior).collect();
+        self.searcher
+            .end_episode(&episode.problem.evaluated, settled);
+        let mut distinct: Vec<Behavior> = episode
+            .problem
+            .evaluated
+            .iter()
+            .map(|e| e.behavior)
+            .collect();
         if found_trustworthy {
             distinct.push(episode.current);
         }
@@ -670,7 +706,8 @@ impl Adaptation {
             reused: episode.reused,
             settled_from_search: episode.current_from_search,
             retained: None,
-            evaluated: episode.evaluated,
+            evaluated: episode.problem.evaluated,
+            context: episode.problem.context,
             explanations: episode.explanations,
         }
     }
@@ -690,7 +727,8 @@ impl Adaptation {
         self.episode.as_ref().map(|e| EpisodeView {
             current: e.current,
             estimate: e.estimate,
-            evaluated: &e.evaluated,
+            evaluated: &e.problem.evaluated,
+            context: &e.problem.context,
             commands: e.commands,
             explanations: &e.explanations,
         })
@@ -783,7 +821,17 @@ impl TrustAdapter {
         self
     }
 
-    /// Starts an episode (a new operator) with `initial` in use.
+    /// The context the robot is in from now on (see [`Adaptation::set_context`]).
+    pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
+        self.adaptation.set_context(context)
+    }
+
+    /// The context the robot is in.
+    pub fn context(&self) -> &Context {
+        self.adaptation.context()
+    }
+
+    /// Starts an episode (a new operator) with `initial` in use, in the robot's context.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.adaptation.begin_episode(initial)
     }
@@ -845,9 +893,14 @@ impl TrustAdapter {
     }
 
     /// The memory's best guess of a first behavior for an operator it does not yet know
-    /// ([`crate::start`]), `None` while the case base is empty; behaviors more similar
-    /// than the parameters' `lambda` count as the same.
+    /// in the robot's context ([`crate::start`]), `None` while no case was learned in it;
+    /// behaviors more similar than the parameters' `lambda` count as the same.
     pub fn first_guess(&self) -> Option<FirstGuess> {
-        first_guess(self.memory.base(), self.space(), self.parameters().lambda)
+        first_guess(
+            self.memory.base(),
+            self.space(),
+            self.parameters().lambda,
+            self.context(),
+        )
     }
 }

@@ -4,9 +4,12 @@
 //! An [`Evaluated`] pair records a behavior found untrustworthy and the time `t` it took.
 //! [`SetSimilarity`] compares the current episode's pairs with a case's: only pairs whose
 //! behaviors are nearly identical (behavior similarity strictly above `lambda`) count, and
-//! they count by how similar their times are.
+//! they count by how similar their times are. Between two problems
+//! ([`SetSimilarity::compare_problems`]) that similarity is weighed by their contexts'
+//! similarity, an exact match unless the domain declares one.
 
-use cbr_core::{Behavior, BehaviorSpace, SimilarityMeasure};
+use crate::problem::TrustProblem;
+use cbr_core::{Behavior, BehaviorSpace, ContextSimilarity, SimilarityMeasure};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -42,6 +45,7 @@ pub struct SetSimilarity<T = RelativeTime> {
     space: Arc<BehaviorSpace>,
     lambda: f64,
     time: T,
+    context: ContextSimilarity,
 }
 
 /// A `lambda` outside `(0, 1]`.
@@ -82,7 +86,21 @@ impl<T> SetSimilarity<T> {
             space,
             lambda,
             time,
+            context: ContextSimilarity::Exact,
         })
+    }
+
+    /// The same measure, weighing the contexts of two problems by `context` (an exact
+    /// match by default).
+    #[must_use]
+    pub fn with_context_similarity(mut self, context: ContextSimilarity) -> Self {
+        self.context = context;
+        self
+    }
+
+    /// How the contexts of two problems are weighed.
+    pub fn context_similarity(&self) -> &ContextSimilarity {
+        &self.context
     }
 
     /// The behavior-similarity threshold.
@@ -139,9 +157,21 @@ impl<T: SimilarityMeasure<f64>> SetSimilarity<T> {
     }
 }
 
-impl<T: SimilarityMeasure<f64>> SimilarityMeasure<Vec<Evaluated>> for SetSimilarity<T> {
-    fn similarity(&self, a: &Vec<Evaluated>, b: &Vec<Evaluated>) -> f64 {
-        self.compare(a, b)
+impl<T: SimilarityMeasure<f64>> SetSimilarity<T> {
+    /// The similarity of a query to a case's problem: Algorithm 2 over their pairs, times
+    /// their contexts' similarity (exactly Algorithm 2 when both are in one context).
+    pub fn compare_problems(&self, query: &TrustProblem, case: &TrustProblem) -> f64 {
+        let context = self.context.similarity(&query.context, &case.context);
+        if context == 0.0 {
+            return 0.0;
+        }
+        context * self.compare(&query.evaluated, &case.evaluated)
+    }
+}
+
+impl<T: SimilarityMeasure<f64>> SimilarityMeasure<TrustProblem> for SetSimilarity<T> {
+    fn similarity(&self, a: &TrustProblem, b: &TrustProblem) -> f64 {
+        self.compare_problems(a, b)
     }
 }
 

@@ -11,6 +11,7 @@ pub mod goal_change;
 pub mod mission;
 pub mod named;
 pub mod overtrust;
+pub mod problem;
 pub mod retrieval;
 pub mod search;
 pub mod select;
@@ -42,6 +43,7 @@ pub use explain::{
 };
 pub use mission::{MissionAdaptation, MissionAdapter, MissionDecision};
 pub use overtrust::{Alert, OwnRecord};
+pub use problem::TrustProblem;
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};
 pub use search::{SearchKind, SearcherFactory, TrustSearcher};
 pub use select::{Selection, Source, select_behavior};
@@ -51,14 +53,15 @@ pub use weights::{OutcomeWeights, WeightsError};
 
 use cbr_core::{Behavior, Case, CaseBase, CaseMemory, Retriever};
 
-/// A trust case: the evaluated pairs of an episode and the trustworthy behavior found.
-pub type TrustCase = Case<Vec<Evaluated>, cbr_core::Behavior>;
+/// A trust case: an episode's context and evaluated pairs, and the trustworthy behavior
+/// found.
+pub type TrustCase = Case<TrustProblem, cbr_core::Behavior>;
 /// The trust case base.
-pub type TrustCaseBase = CaseBase<Vec<Evaluated>, Behavior>;
+pub type TrustCaseBase = CaseBase<TrustProblem, Behavior>;
 /// The trust case base with its retriever.
-pub type TrustMemory = CaseMemory<Vec<Evaluated>, Behavior>;
+pub type TrustMemory = CaseMemory<TrustProblem, Behavior>;
 /// A retriever over the trust case base.
-pub type TrustRetriever = dyn Retriever<Vec<Evaluated>, Behavior>;
+pub type TrustRetriever = dyn Retriever<TrustProblem, Behavior>;
 
 /// The random-number crate of `Domain::run` and the searchers, re-exported so a user
 /// names the same version.

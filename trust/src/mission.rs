@@ -40,7 +40,7 @@ use crate::explain::Account;
 use crate::overtrust::{Alert, OwnRecord};
 use crate::watch::Watch;
 use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory, Verdict};
-use cbr_core::Behavior;
+use cbr_core::{Behavior, Context};
 
 /// What the robot should do after an outcome recorded on a mission.
 #[derive(Clone, Debug, PartialEq)]
@@ -298,6 +298,13 @@ impl<'p> MissionAdaptation<'p> {
         self.mission.begin_episode(&mut self.adaptation, initial)
     }
 
+    /// The robot's context from now on ([`Adaptation::set_context`]): a watched behavior
+    /// stays in use, and the episodes begun afterwards run in it. Refused while an episode
+    /// is under way.
+    pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
+        self.adaptation.set_context(context)
+    }
+
     /// Records one command's outcome (of the episode under way, or of the watched
     /// behavior) and decides what to do next, selecting from `memory` when a behavior is
     /// given up. Refused only with neither an episode nor a watch, or an unusable outcome.
@@ -391,6 +398,11 @@ impl<'p> MissionAdapter<'p> {
     /// Restarts the search randomness from `seed`.
     pub fn reseed(&mut self, seed: u64) {
         self.adapter.reseed(seed);
+    }
+
+    /// The robot's context from now on (see [`MissionAdaptation::set_context`]).
+    pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
+        self.adapter.set_context(context)
     }
 
     /// A new operator (see [`MissionAdaptation::begin_episode`]).

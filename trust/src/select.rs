@@ -7,7 +7,7 @@
 //! honours the retrieval contract gives the same selection as the linear scan.
 
 use crate::search::TrustSearcher;
-use crate::{Evaluated, TrustCase, TrustMemory};
+use crate::{TrustCase, TrustMemory, TrustProblem};
 use cbr_core::{Behavior, BehaviorSpace, CaseId, Proposal};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
@@ -49,14 +49,15 @@ pub enum Selection {
 
 /// Algorithm 1. With `memory` set to `None` this is the search strategy alone.
 pub fn select_behavior(
-    e_past: &Vec<Evaluated>,
+    problem: &TrustProblem,
     memory: Option<&TrustMemory>,
     searcher: &mut TrustSearcher,
     space: &BehaviorSpace,
     rng: &mut dyn RngCore,
 ) -> Selection {
+    let e_past = &problem.evaluated;
     let already_evaluated = |case: &TrustCase| e_past.iter().any(|e| e.behavior == case.solution);
-    if let Some(best) = memory.and_then(|m| m.retrieve(e_past, &already_evaluated)) {
+    if let Some(best) = memory.and_then(|m| m.retrieve(problem, &already_evaluated)) {
         let behavior = memory
             .and_then(|m| m.base().get(best.id))
             .expect("retrievers return ids of stored cases")

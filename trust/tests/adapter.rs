@@ -1,7 +1,8 @@
 //! The online adapter: hand-computed episodes and invariants.
 
 use cbr_core::{
-    Behavior, BehaviorSpace, Case, CaseBase, CaseId, CaseMemory, LinearRetriever, NamedComponent,
+    Behavior, BehaviorSpace, Case, CaseBase, CaseId, CaseMemory, ContextSpace, ContextVariable,
+    LinearRetriever, NamedComponent,
 };
 use proptest::prelude::*;
 use rand::SeedableRng;
@@ -11,7 +12,7 @@ use trust::search::RandomWalk;
 use trust::{
     Account, AdapterConfig, AdapterError, AttributedReason, Cause, Decision, Evaluated,
     Explanation, Grounds, Hint, Next, Observations, Outcome, Parameters, Selection, SetSimilarity,
-    Source, TrustAdapter, TrustCaseBase, Vocabulary, select_behavior,
+    Source, TrustAdapter, TrustCaseBase, TrustProblem, Vocabulary, select_behavior,
 };
 
 /// Causes of a made-up domain.
@@ -173,7 +174,8 @@ fn search_only_ignores_cases() {
         problem: vec![Evaluated {
             behavior: b0,
             time: 10.0,
-        }],
+        }]
+        .into(),
         solution: Behavior::new(&[2, 2]),
     });
     let config = AdapterConfig {
@@ -296,20 +298,28 @@ fn arbitrary_case_base(space: Arc<BehaviorSpace>) -> impl Strategy<Value = Trust
         (
             prop::collection::vec((0..size, 0.0f64..60.0), 1..5),
             0..size,
+            any::<bool>(),
         ),
         0..12,
     )
     .prop_map(move |cases| {
+        let cargo = ContextSpace::new(vec![ContextVariable::new(
+            "cargo",
+            &["normal", "hazardous"],
+        )])
+        .unwrap();
         let mut base = TrustCaseBase::new();
-        for (problem, solution) in cases {
+        for (problem, solution, hazardous) in cases {
+            let evaluated = problem.into_iter().map(|(r, t)| Evaluated {
+                behavior: space.unrank(r),
+                time: t,
+            });
+            let cargo_value = if hazardous { "hazardous" } else { "normal" };
             base.push(Case {
-                problem: problem
-                    .into_iter()
-                    .map(|(r, t)| Evaluated {
-                        behavior: space.unrank(r),
-                        time: t,
-                    })
-                    .collect(),
+                problem: TrustProblem::in_context(
+                    cargo.context([("cargo", cargo_value)]).unwrap(),
+                    evaluated.collect(),
+                ),
                 solution: space.unrank(solution),
             });
         }
@@ -336,7 +346,7 @@ proptest! {
         let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
         let memory = CaseMemory::new(base, Box::new(LinearRetriever::new(measure)));
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let chosen = match select_behavior(&e_past, Some(&memory), &mut RandomWalk::new(), &space, &mut rng) {
+        let chosen = match select_behavior(&TrustProblem::new(e_past.clone()), Some(&memory), &mut RandomWalk::new(), &space, &mut rng) {
             Selection::Next { behavior, source: Source::Case { similarity, .. } } => {
                 prop_assert!(similarity > 0.0);
                 behavior
@@ -373,7 +383,7 @@ proptest! {
         prop_assert_eq!(a.cases().len(), retained.len());
         for (id, evaluated, settled) in retained {
             let case = a.cases().get(id).unwrap();
-            prop_assert_eq!(&case.problem, &evaluated);
+            prop_assert_eq!(&case.problem.evaluated, &evaluated);
             prop_assert_eq!(case.solution, settled);
         }
     }
@@ -381,7 +391,7 @@ proptest! {
     #[test]
     fn a_case_base_round_trips_through_ron(base in arbitrary_case_base(grid(&[4, 5, 2]))) {
         let text = ron::ser::to_string_pretty(&base, ron::ser::PrettyConfig::default()).unwrap();
-        let back: CaseBase<Vec<Evaluated>, Behavior> = ron::from_str(&text).unwrap();
+        let back: CaseBase<TrustProblem, Behavior> = ron::from_str(&text).unwrap();
         prop_assert_eq!(back, base);
     }
 
@@ -454,7 +464,8 @@ fn both_readings_of_retention_and_both_units_of_time() {
                 } else {
                     10.0
                 },
-            }],
+            }]
+            .into(),
             solution,
         });
         let parameters = Parameters {

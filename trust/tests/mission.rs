@@ -177,7 +177,10 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
     // episode's was not: no search found it).
     settle(&mut a);
     assert_eq!(a.adapter().cases().len(), 1);
-    assert_eq!(a.adapter().cases().cases()[0].problem, episode_pairs(b0));
+    assert_eq!(
+        a.adapter().cases().cases()[0].problem.evaluated,
+        episode_pairs(b0)
+    );
 }
 
 #[test]
@@ -325,7 +328,7 @@ fn an_overtrust_alert_offers_the_safest_competent_behavior_operators_trusted_bef
     let mut cases = TrustCaseBase::new();
     for solution in [sloppy, fair, careless, careful, fair] {
         cases.push(cbr_core::Case {
-            problem: episode_pairs(solution),
+            problem: episode_pairs(solution).into(),
             solution,
         });
     }

@@ -1,6 +1,6 @@
 //! The learned first behavior: invariants over random case bases.
 
-use cbr_core::{Behavior, BehaviorSpace, Case, NamedComponent};
+use cbr_core::{Behavior, BehaviorSpace, Case, Context, NamedComponent};
 use proptest::prelude::*;
 use trust::{Evaluated, TrustCaseBase, first_guess};
 
@@ -41,10 +41,10 @@ proptest! {
         lambda in prop::sample::select(vec![0.8, 0.95, 1.0]),
     ) {
         let space = space();
-        let guess = first_guess(&base, &space, lambda);
+        let guess = first_guess(&base, &space, lambda, &Context::default());
         // None exactly when the memory is empty; deterministic.
         prop_assert_eq!(guess.is_none(), base.is_empty());
-        prop_assert_eq!(guess, first_guess(&base, &space, lambda));
+        prop_assert_eq!(guess, first_guess(&base, &space, lambda, &Context::default()));
         let Some(guess) = guess else { return Ok(()) };
         // A remembered solution, named by the earliest case that holds it.
         let cases = base.cases();
@@ -56,7 +56,7 @@ proptest! {
             let trusted = cases.iter().filter(|c| same(&c.solution, &candidate)).count() as f64;
             let rejected = cases
                 .iter()
-                .filter(|c| c.problem.iter().any(|e| same(&e.behavior, &candidate)))
+                .filter(|c| c.problem.evaluated.iter().any(|e| same(&e.behavior, &candidate)))
                 .count() as f64;
             let estimate = (trusted + 1.0) / (trusted + rejected + 2.0);
             prop_assert!(estimate <= guess.acceptance() + 1e-12);

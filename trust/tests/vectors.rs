@@ -9,7 +9,9 @@ use serde::Deserialize;
 use std::collections::HashSet;
 use std::sync::Arc;
 use trust::search::{RandomWalk, longest_resisting};
-use trust::{Evaluated, RetrieverKind, Selection, SetSimilarity, Source, select_behavior};
+use trust::{
+    Evaluated, RetrieverKind, Selection, SetSimilarity, Source, TrustProblem, select_behavior,
+};
 
 #[derive(Deserialize)]
 struct Vectors {
@@ -129,10 +131,10 @@ fn algorithm_1_matches_every_vector() {
         let space = space(&v.space);
         let measure = SetSimilarity::new(space.clone(), 0.95).unwrap();
         let e_past = pairs(&space, &v.e_past);
-        let mut base = CaseBase::new();
+        let mut base: CaseBase<TrustProblem, _> = CaseBase::new();
         for case in &v.case_base {
             base.push(Case {
-                problem: pairs(&space, &case.e_past),
+                problem: pairs(&space, &case.e_past).into(),
                 solution: behavior(&space, &case.final_behavior),
             });
         }
@@ -146,7 +148,7 @@ fn algorithm_1_matches_every_vector() {
                         !excluded,
                         "select_behavior[{i}] case {k} should not be excluded"
                     );
-                    let got = measure.compare(&e_past, &case.problem);
+                    let got = measure.compare(&e_past, &case.problem.evaluated);
                     assert!(
                         (got - s).abs() < 1e-9,
                         "select_behavior[{i}] case {k}: {got} vs {s}"
@@ -160,7 +162,8 @@ fn algorithm_1_matches_every_vector() {
             let memory = CaseMemory::new(base.clone(), retriever);
             let mut walk = RandomWalk::new();
             let mut rng = ChaCha8Rng::seed_from_u64(i as u64);
-            let selection = select_behavior(&e_past, Some(&memory), &mut walk, &space, &mut rng);
+            let query = TrustProblem::new(e_past.clone());
+            let selection = select_behavior(&query, Some(&memory), &mut walk, &space, &mut rng);
             match (selection, v.selected_case) {
                 (
                     Selection::Next {

@@ -341,8 +341,8 @@ impl CaseStore for PostgresStore {
 mod tests {
     use super::*;
     use crate::store::{Location, open};
-    use cbr_core::Behavior;
-    use trust::Evaluated;
+    use cbr_core::{Behavior, ContextSpace, ContextVariable};
+    use trust::{Evaluated, TrustProblem};
 
     /// A fresh database on the test server, dropped when the test ends; `None` (with a
     /// message) when no server is named, which CI does not allow.
@@ -390,12 +390,23 @@ mod tests {
         }
     }
 
+    /// A case of the default context, but the second, learned with hazardous cargo: a
+    /// context read back through the server.
     fn case(solution: u16) -> TrustCase {
+        let cargo = ContextSpace::new(vec![ContextVariable::new(
+            "cargo",
+            &["normal", "hazardous"],
+        )])
+        .unwrap();
+        let value = if solution == 2 { "hazardous" } else { "normal" };
         TrustCase {
-            problem: vec![Evaluated {
-                behavior: Behavior::new(&[3, 4]),
-                time: 12.0,
-            }],
+            problem: TrustProblem::in_context(
+                cargo.context([("cargo", value)]).unwrap(),
+                vec![Evaluated {
+                    behavior: Behavior::new(&[3, 4]),
+                    time: 12.0,
+                }],
+            ),
             solution: Behavior::new(&[solution, solution]),
         }
     }

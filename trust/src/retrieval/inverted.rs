@@ -14,8 +14,11 @@
 //! exact value, not even after rounding (IEEE addition and division are monotone, and the
 //! exact value sums, in the same order, a time similarity no larger for each counted pair).
 //! Cases are then verified in decreasing order of bound with the exact
-//! [`SetSimilarity::compare`], the very function the linear scan calls, and the search stops
-//! as soon as no remaining bound can beat (or tie with a smaller id) the best exact value.
+//! [`SetSimilarity::compare_problems`], the very function the linear scan calls, and the
+//! search stops as soon as no remaining bound can beat (or tie with a smaller id) the best
+//! exact value. The contexts of query and case weigh the exact value by a factor in
+//! `[0, 1]` (IEEE multiplication by it never increases a value), so the bound of a case's
+//! pairs bounds its similarity in any context.
 //!
 //! Invariant: every case with similarity above zero is reached by the probe (a case no
 //! posting of which lies in any neighbourhood counts no pair, so its similarity is 0), and
@@ -23,6 +26,7 @@
 //! smallest id. Queries and cases must belong to the index's behavior space.
 
 use crate::evaluated::{Evaluated, RelativeTime, SetSimilarity};
+use crate::problem::TrustProblem;
 use cbr_core::{
     Behavior, Case, CaseBase, CaseId, Exclusion, Retrieved, Retriever, SimilarityMeasure, better,
 };
@@ -163,7 +167,7 @@ impl<T: SimilarityMeasure<f64>> InvertedIndex<T> {
     }
 }
 
-impl<T> Retriever<Vec<Evaluated>, Behavior> for InvertedIndex<T>
+impl<T> Retriever<TrustProblem, Behavior> for InvertedIndex<T>
 where
     T: SimilarityMeasure<f64> + Send + Sync,
 {
@@ -171,10 +175,10 @@ where
         "inverted_index"
     }
 
-    fn retain(&mut self, id: CaseId, case: &Case<Vec<Evaluated>, Behavior>) {
+    fn retain(&mut self, id: CaseId, case: &Case<TrustProblem, Behavior>) {
         debug_assert_eq!(id.index(), self.cases, "cases are retained in id order");
         let space = self.measure.space();
-        for e in &case.problem {
+        for e in &case.problem.evaluated {
             self.postings
                 .entry(space.rank(&e.behavior))
                 .or_default()
@@ -188,13 +192,13 @@ where
 
     fn retrieve(
         &self,
-        base: &CaseBase<Vec<Evaluated>, Behavior>,
-        query: &Vec<Evaluated>,
-        exclude: Exclusion<'_, Vec<Evaluated>, Behavior>,
+        base: &CaseBase<TrustProblem, Behavior>,
+        query: &TrustProblem,
+        exclude: Exclusion<'_, TrustProblem, Behavior>,
     ) -> Option<Retrieved> {
         debug_assert_eq!(base.len(), self.cases, "the index has seen every case");
         let mut queue: BinaryHeap<Candidate> = self
-            .bounds(query)
+            .bounds(&query.evaluated)
             .into_iter()
             .map(|b| Candidate {
                 bound: b.total / f64::from(b.matched),
@@ -218,7 +222,7 @@ where
             if exclude(case) {
                 continue;
             }
-            let similarity = self.measure.compare(query, &case.problem);
+            let similarity = self.measure.compare_problems(query, &case.problem);
             best = better(best, Retrieved { id, similarity });
         }
         best

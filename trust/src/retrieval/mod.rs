@@ -55,12 +55,17 @@ impl RetrieverKind {
         space: Arc<BehaviorSpace>,
         lambda: f64,
     ) -> Result<Box<TrustRetriever>, LambdaError> {
-        let measure = SetSimilarity::new(space, lambda)?;
-        Ok(match self {
+        Ok(self.build_measure(SetSimilarity::new(space, lambda)?))
+    }
+
+    /// The retriever ranking cases by `measure`: how a domain that declares how similar
+    /// its contexts are ([`SetSimilarity::with_context_similarity`]) gets any kind.
+    pub fn build_measure(self, measure: SetSimilarity) -> Box<TrustRetriever> {
+        match self {
             RetrieverKind::Linear => Box::new(LinearRetriever::new(measure)),
             RetrieverKind::InvertedIndex => Box::new(InvertedIndex::new(measure)),
             RetrieverKind::ParallelScan => Box::new(ParallelScan::new(measure)),
-        })
+        }
     }
 }
 

@@ -2,17 +2,20 @@
 //!
 //! Every retriever must return exactly the linear scan's answer: the same case, a
 //! bit-identical similarity, ties to the smallest id. The kit checks it on random case
-//! bases, queries and exclusions, with cases retained before and between queries; on
-//! case bases shaped like real episodes; and through an adapter, whose decisions must be
-//! the same as with the linear scan.
+//! bases, queries and exclusions, with cases retained before and between queries, cases
+//! and queries in several contexts; on case bases shaped like real episodes; and through
+//! an adapter, whose decisions must be the same as with the linear scan.
 
 use crate::evaluated::LambdaError;
 use crate::{
     AdapterConfig, Cause, Decision, Evaluated, Outcome, TrustAdapter, TrustCase, TrustCaseBase,
-    TrustMemory, TrustRetriever,
+    TrustMemory, TrustProblem, TrustRetriever,
 };
 use cbr_core::testing::{SpaceShape, behavior_spaces};
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, LinearRetriever, NamedComponent};
+use cbr_core::{
+    Behavior, BehaviorSpace, Case, CaseId, Context, ContextSpace, ContextVariable, LinearRetriever,
+    NamedComponent,
+};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestRunner};
 use rand::{Rng, SeedableRng};
@@ -24,6 +27,24 @@ type Build<'a> = dyn Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>,
 
 /// The scripted operator's one cause.
 const TOO_SLOW: Cause = Cause::from_static("too-slow");
+
+/// Context number `k` of three (0: the default one), of a robot that knows its cargo and
+/// situation.
+fn context(k: u8) -> Context {
+    let space = ContextSpace::new(vec![
+        ContextVariable::new("cargo", &["normal", "hazardous"]),
+        ContextVariable::new("situation", &["routine", "emergency"]),
+    ])
+    .expect("a valid declaration");
+    let settings: &[(&str, &str)] = match k % 3 {
+        0 => &[],
+        1 => &[("cargo", "hazardous")],
+        _ => &[("situation", "emergency")],
+    };
+    space
+        .context(settings.iter().copied())
+        .expect("declared values")
+}
 
 /// The reference: the linear scan.
 fn linear(space: &Arc<BehaviorSpace>, lambda: f64) -> Box<TrustRetriever> {
@@ -38,10 +59,13 @@ fn linear(space: &Arc<BehaviorSpace>, lambda: f64) -> Box<TrustRetriever> {
 ///   with similarity tables), unequal and zero weights, `lambda` from 0.01 to 1, case
 ///   bases with duplicate behaviors and tied times, queries with and without exclusions
 ///   (Algorithm 1's own and arbitrary ones), and cases retained between queries, so the
-///   retriever is told of cases incrementally;
-/// - on 1,000 episode-shaped cases over a patrol-like space (60 queries);
-/// - through a [`TrustAdapter`]: 150 scripted episodes make the same decisions as with
-///   the linear scan.
+///   retriever is told of cases incrementally; cases and queries in three contexts,
+///   matched exactly (a retriever weighs contexts through its measure,
+///   [`crate::SetSimilarity::compare_problems`]);
+/// - on 1,000 episode-shaped cases over a patrol-like space (60 queries), a quarter of
+///   them learned in another context;
+/// - through a [`TrustAdapter`]: 150 scripted episodes, the robot's context changing
+///   every 40, make the same decisions as with the linear scan.
 ///
 /// # Panics
 /// With the failing case (proptest's minimal one) when an answer differs.
@@ -95,7 +119,7 @@ type Answer = Option<(CaseId, Exact)>;
 
 fn answer(
     memory: &TrustMemory,
-    query: &Vec<Evaluated>,
+    query: &TrustProblem,
     exclude: &dyn Fn(&TrustCase) -> bool,
 ) -> Answer {
     memory
@@ -133,15 +157,18 @@ fn evaluated(space: &BehaviorSpace, pairs: &[(u64, f64)]) -> Vec<Evaluated> {
         .collect()
 }
 
+/// A case as (problem pairs, solution rank seed, context number).
+type ScenarioCase = (Vec<(u64, f64)>, u64, u8);
+
 #[derive(Clone, Debug)]
 struct Scenario {
     space: Arc<BehaviorSpace>,
     lambda: f64,
-    /// Cases as (problem, solution rank seed).
-    cases: Vec<(Vec<(u64, f64)>, u64)>,
+    cases: Vec<ScenarioCase>,
     /// How many cases the memory starts with; the rest are retained between queries.
     initial: usize,
-    queries: Vec<Vec<(u64, f64)>>,
+    /// Queries as (problem, context number).
+    queries: Vec<(Vec<(u64, f64)>, u8)>,
     /// Excluded solution ranks (besides Algorithm 1's own exclusion, tried separately).
     excluded: Vec<u64>,
 }
@@ -150,9 +177,12 @@ fn scenario() -> impl Strategy<Value = Scenario> {
     (
         space(),
         prop_oneof![Just(0.95), Just(1.0), Just(0.5), 0.01f64..1.0],
-        prop::collection::vec((pairs(6), prop_oneof![0u64..8, any::<u64>()]), 0..40),
+        prop::collection::vec(
+            (pairs(6), prop_oneof![0u64..8, any::<u64>()], contexts()),
+            0..40,
+        ),
         any::<prop::sample::Index>(),
-        prop::collection::vec(pairs(6), 1..5),
+        prop::collection::vec((pairs(6), contexts()), 1..5),
         prop::collection::vec(0u64..8, 0..3),
     )
         .prop_map(
@@ -167,9 +197,14 @@ fn scenario() -> impl Strategy<Value = Scenario> {
         )
 }
 
-fn case(space: &BehaviorSpace, (problem, solution): &(Vec<(u64, f64)>, u64)) -> TrustCase {
+/// Context numbers, the default one most often.
+fn contexts() -> impl Strategy<Value = u8> {
+    prop_oneof![2 => Just(0u8), 1 => 0u8..3]
+}
+
+fn case(space: &BehaviorSpace, (problem, solution, k): &(Vec<(u64, f64)>, u64, u8)) -> TrustCase {
     Case {
-        problem: evaluated(space, problem),
+        problem: TrustProblem::in_context(context(*k), evaluated(space, problem)),
         solution: space.unrank(solution % space.size()),
     }
 }
@@ -189,13 +224,13 @@ fn answers(s: &Scenario, build: &Build<'_>) -> Vec<Answer> {
     let mut pending = s.cases[s.initial..].iter();
     let mut out = Vec::new();
     loop {
-        for q in &s.queries {
-            let query = evaluated(&s.space, q);
+        for (q, k) in &s.queries {
+            let query = TrustProblem::in_context(context(*k), evaluated(&s.space, q));
             out.push(answer(&memory, &query, &|_| false));
             out.push(answer(&memory, &query, &|c| excluded.contains(&c.solution)));
             // Algorithm 1's exclusion: final behaviors already evaluated in the episode.
             out.push(answer(&memory, &query, &|c| {
-                query.iter().any(|e| e.behavior == c.solution)
+                query.evaluated.iter().any(|e| e.behavior == c.solution)
             }));
         }
         // Retain a few more cases, then ask again.
@@ -240,26 +275,29 @@ fn path(space: &BehaviorSpace, len: usize, rng: &mut ChaCha8Rng) -> Vec<Evaluate
     path
 }
 
-/// 1,000 cases shaped like random-walk episodes over a patrol-like space, 60 queries of
-/// the same shape, Algorithm 1's exclusion: the reference's answer every time.
+/// 1,000 cases shaped like random-walk episodes over a patrol-like space, a quarter of
+/// them learned in another context, 60 queries of the same shape (every fourth in that
+/// context), Algorithm 1's exclusion: the reference's answer every time.
 fn episode_shaped_case_bases_get_the_linear_answer(build: &Build<'_>) {
     let space = patrol_like();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut base = TrustCaseBase::new();
     for _ in 0..1_000 {
         let len = rng.random_range(1..30);
+        let k = u8::from(rng.random_range(0..4) == 0);
         base.push(Case {
-            problem: path(&space, len, &mut rng),
+            problem: TrustProblem::in_context(context(k), path(&space, len, &mut rng)),
             solution: space.draw(&mut rng),
         });
     }
     let reference = TrustMemory::new(base.clone(), linear(&space, 0.95));
     let memory = TrustMemory::new(base, build(&space, 0.95).expect("a valid lambda"));
     let mut reused = 0;
-    for _ in 0..60 {
+    for q in 0..60 {
         let len = rng.random_range(1..30);
-        let query = path(&space, len, &mut rng);
-        let exclude = |c: &TrustCase| query.iter().any(|e| e.behavior == c.solution);
+        let query =
+            TrustProblem::in_context(context(u8::from(q % 4 == 3)), path(&space, len, &mut rng));
+        let exclude = |c: &TrustCase| query.evaluated.iter().any(|e| e.behavior == c.solution);
         let expected = answer(&reference, &query, &exclude);
         reused += usize::from(expected.is_some());
         assert_eq!(
@@ -298,7 +336,10 @@ fn scripted_run(build: &Build<'_>) -> Vec<String> {
     .expect("the paper's parameters");
     let mut rng = ChaCha8Rng::seed_from_u64(9);
     let mut decisions = Vec::new();
-    for _ in 0..150 {
+    for episode in 0..150u8 {
+        if episode % 40 == 0 {
+            adapter.set_context(context(episode / 40)).unwrap();
+        }
         adapter.begin_episode(space.draw(&mut rng)).unwrap();
         loop {
             let current = adapter.episode().unwrap().current;
