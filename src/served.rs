@@ -26,6 +26,7 @@ pub fn served_domain<C: Catalog>(
                 AdapterConfig::default(),
             )
             .with_observations(d.observations().to_vec())
+            .with_contexts(d.contexts().clone())
             .with_hints(d.hints().to_vec())
             .expect("a built-in domain's hints name its own observations and causes")
         })

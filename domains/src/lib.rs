@@ -3,6 +3,7 @@
 
 pub mod causes;
 pub mod competence;
+pub mod context;
 pub mod detector;
 pub mod drive;
 pub mod geometry;

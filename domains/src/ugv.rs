@@ -18,7 +18,7 @@ use crate::profile::point_to_point;
 use crate::scenario::Scenario;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
-use cbr_core::{Behavior, BehaviorSpace};
+use cbr_core::{Behavior, BehaviorSpace, ContextSpace};
 use lab::{Domain, FeedbackChannel, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
@@ -483,6 +483,10 @@ impl Domain for UgvDomain {
 
     fn hints(&self) -> &[Hint] {
         perception::hints(self.scenario)
+    }
+
+    fn contexts(&self) -> &ContextSpace {
+        crate::context::contexts()
     }
 
     fn feedback(&self, operator: &OperatorModel) -> FeedbackChannel {

@@ -15,7 +15,7 @@
 //! causes, observations and hints a robot also knows), built by [`vocabulary`].
 
 use crate::feedback::FeedbackChannel;
-use cbr_core::{Behavior, BehaviorSpace};
+use cbr_core::{Behavior, BehaviorSpace, ContextSpace};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
@@ -23,6 +23,9 @@ use trust::{
     Cause, CompetencePart, DeclaredCause, Hint, Observations, Outcome, OutcomeKind, OutcomeWeights,
     Vocabulary,
 };
+
+/// The context space of a domain that declares none.
+static NO_CONTEXTS: ContextSpace = ContextSpace::NONE;
 
 /// A task domain: a behavior space and a way to run one command.
 pub trait Domain: Send + Sync {
@@ -44,6 +47,12 @@ pub trait Domain: Send + Sync {
     /// [`Observations::CAPACITY`](trust::Observations::CAPACITY); none by default.
     fn observations(&self) -> &[Cause] {
         &[]
+    }
+
+    /// The context variables the robot knows (what it carries, the situation it was sent
+    /// into: [`cbr_core::context`]), which cases are matched by; none by default.
+    fn contexts(&self) -> &ContextSpace {
+        &NO_CONTEXTS
     }
 
     /// Which observations hint at which causes the robot cannot perceive itself (what a

@@ -247,3 +247,41 @@ def test_a_said_goal_change_counts_against_nothing(tmp_path: Path) -> None:
     # Unsaid, a goal change is an interruption like any other: four more give it up.
     decisions = [adapter.tell("interrupted", duration_s=4.0) for _ in range(4)]
     assert decisions[-1].kind == "switch"
+
+
+def test_a_case_is_learned_and_reused_in_its_context(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=3)
+    assert adapter.context == {}
+    first = {"speed": 9.5, "padding": 0.2}
+
+    def give_up_first() -> trustcbr.Decision:
+        decision = adapter.tell("interrupted", duration_s=10.0)
+        while decision.kind == "keep":
+            decision = adapter.tell("interrupted", duration_s=10.0)
+        return decision
+
+    adapter.begin(first, context={"cargo": "hazardous"})
+    assert adapter.context == {"cargo": "hazardous"}
+    assert give_up_first().reply["source"] == "search"
+    decision = adapter.tell("completed", duration_s=10.0)
+    while decision.kind != "settled":
+        decision = adapter.tell("completed", duration_s=10.0)
+    [case] = adapter.cases()
+    assert case["context"] == {"cargo": "hazardous"}
+    # In another context the same start finds no case; in the same one it reuses it.
+    assert adapter.set_context({"situation": "emergency"}) == {"situation": "emergency"}
+    adapter.begin(first)
+    assert give_up_first().reply["source"] == "search"
+    adapter.abandon()
+    adapter.begin(first, context={"cargo": "hazardous"})
+    reused = give_up_first()
+    assert reused.reply["source"] == "case"
+    assert reused.behavior == case["solution"]
+    with pytest.raises(trustcbr.TrustcbrError, match="an episode is under way"):
+        adapter.set_context({})
+    adapter.abandon()
+    with pytest.raises(trustcbr.TrustcbrError, match="may be normal, hazardous, not `toxic`"):
+        adapter.set_context({"cargo": "toxic"})
+    assert adapter.context == {"cargo": "hazardous"}
+    assert adapter.set_context({}) == {}
+    assert adapter.context == {}

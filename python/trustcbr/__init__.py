@@ -224,13 +224,41 @@ class Adapter:
         """Whether retained cases are stored (a ``.ron`` case file is read-only)."""
         return bool(self._session.writable)
 
-    def begin(self, behavior: Optional[Behavior] = None) -> Behavior:
-        """Starts an episode with ``behavior``, or one drawn uniformly at random; returns it."""
+    def begin(
+        self,
+        behavior: Optional[Behavior] = None,
+        *,
+        context: Optional[Mapping[str, str]] = None,
+    ) -> Behavior:
+        """Starts an episode with ``behavior``, or one drawn uniformly at random; returns it.
+
+        ``context`` sets the robot's context first (as :meth:`set_context` does), for
+        example ``{"cargo": "hazardous"}``; without it the context stays as it was.
+        """
         request: Dict[str, Any] = {"request": "begin"}
         if behavior is not None:
             request["behavior"] = dict(behavior)
+        if context is not None:
+            request["context"] = dict(context)
         started: Behavior = self._request(request)["behavior"]
         return started
+
+    def set_context(self, context: Mapping[str, str]) -> Dict[str, str]:
+        """Sets the robot's context from now on, between episodes: each variable the domain
+        declares (the UGV's ``cargo``, ``normal`` or ``hazardous``, and ``situation``,
+        ``routine`` or ``emergency``) with its value; the rest are at their defaults.
+        Episodes begun afterwards are matched with the cases learned in that context and
+        retain it in their case. Returns the context, its defaults left out."""
+        reply = self._request({"request": "context", "context": dict(context)})
+        current: Dict[str, str] = reply["context"]
+        return current
+
+    @property
+    def context(self) -> Dict[str, str]:
+        """The robot's context: the variables set away from their defaults (empty: the
+        default context)."""
+        current: Dict[str, str] = self.state().get("context", {})
+        return current
 
     def tell(
         self,

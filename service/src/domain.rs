@@ -17,6 +17,11 @@
 //! )
 //! ```
 //!
+//! A file may also declare the robot's context variables (`contexts: [(name: "cargo",
+//! values: ["normal", "hazardous"])]`, the first value the default, with an optional
+//! `similarity` table per variable): `begin` and `context` requests then name a context
+//! among them, and cases are matched by it ([`cbr_core::context`]); none by default.
+//!
 //! `causes` is required: the outcome reports of `serve` may carry exactly these causes
 //! (an empty list: outcomes carry none). A declared default weight is informational
 //! here, since every outcome report states its weight. Every field is checked while it is
@@ -43,7 +48,7 @@
 //! assert_eq!(domain.build_searcher().name(), "uniform");
 //! ```
 
-use cbr_core::BehaviorSpace;
+use cbr_core::{BehaviorSpace, ContextSimilarity, ContextSpace};
 use files::{FileError, RonError, parse_ron, read_text};
 use serde::Deserialize;
 use std::fmt;
@@ -86,6 +91,8 @@ pub struct DomainDefinition {
     pub observations: Vec<Cause>,
     /// Which observations hint at which causes, for explanations (none unless declared).
     pub hints: Vec<Hint>,
+    /// The context variables a request may set (none unless declared).
+    pub contexts: Arc<ContextSpace>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
     /// Whether sessions keep listening after an episode settles (mission mode:
@@ -109,6 +116,7 @@ impl fmt::Debug for DomainDefinition {
             .field("causes", &self.causes)
             .field("observations", &self.observations)
             .field("hints", &self.hints)
+            .field("contexts", &self.contexts)
             .field("adapter", &self.adapter)
             .field("mission", &self.mission)
             .field("judges_competence", &self.competence.is_some())
@@ -130,6 +138,8 @@ struct DomainFile {
     observations: Vec<Cause>,
     #[serde(default)]
     hints: Vec<Hint>,
+    #[serde(default)]
+    contexts: ContextSpace,
     #[serde(default)]
     adapter: AdapterSection,
 }
@@ -291,6 +301,7 @@ impl DomainDefinition {
             causes,
             observations: Vec::new(),
             hints: Vec::new(),
+            contexts: Arc::new(ContextSpace::NONE),
             adapter,
             mission: false,
             competence: None,
@@ -306,6 +317,15 @@ impl DomainDefinition {
     pub fn with_observations(self, observations: Vec<Cause>) -> Self {
         Self {
             observations,
+            ..self
+        }
+    }
+
+    /// The same domain whose robot knows the context variables of `contexts`.
+    #[must_use]
+    pub fn with_contexts(self, contexts: ContextSpace) -> Self {
+        Self {
+            contexts: Arc::new(contexts),
             ..self
         }
     }
@@ -482,15 +502,17 @@ impl DomainDefinition {
         }
     }
 
-    /// A case memory over `cases` with the user's retriever, or the kind the adapter
-    /// config names.
+    /// A case memory over `cases` with the user's retriever (which matches contexts
+    /// exactly), or the kind the adapter config names, weighing contexts by the domain's
+    /// declared similarities.
     pub fn memory(&self, cases: TrustCaseBase) -> Result<TrustMemory, ConfigError> {
         let retriever = match &self.retriever {
             Some(build) => build(&self.space, self.adapter.lambda)?,
-            None => self
-                .adapter
-                .retriever
-                .build(self.space.clone(), self.adapter.lambda)?,
+            None => {
+                let measure = trust::SetSimilarity::new(self.space.clone(), self.adapter.lambda)?
+                    .with_context_similarity(ContextSimilarity::Declared(self.contexts.clone()));
+                self.adapter.retriever.build_measure(measure)
+            }
         };
         Ok(TrustMemory::new(cases, retriever))
     }
@@ -518,6 +540,7 @@ impl DomainDefinition {
         };
         domain
             .with_observations(file.observations)
+            .with_contexts(file.contexts)
             .with_hints(file.hints)
             .map_err(|e| match e {
                 DomainError::Hint(reason) => {
@@ -753,6 +776,8 @@ mod tests {
         let d = DomainDefinition::from_ron(blocks[0], Path::new("protocol.md")).unwrap();
         assert_eq!(d.adapter.retriever, trust::RetrieverKind::InvertedIndex);
         assert_eq!(d.space.size(), 8 * 10 * 3);
+        let shift = d.contexts.context([("shift", "night")]).unwrap();
+        assert_eq!(d.contexts.similarity(&shift, &Default::default()), 0.5);
     }
 
     /// The built-in movement domain.

@@ -37,12 +37,24 @@ pub enum BehaviorSpec {
     Values(Vec<(String, String)>),
 }
 
+/// The context a request names: each variable with its value, as given (checked against
+/// the domain's context space by the session).
+pub type ContextSettings = Vec<(String, String)>;
+
 /// One request of the protocol.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Request {
-    /// Start an episode, with the given behavior or one the server draws.
-    Begin(Option<BehaviorSpec>),
+    /// Start an episode, with the given behavior or one the server draws, in the context
+    /// given (the robot's context so far when none is).
+    Begin {
+        /// The first behavior; `None`: the server draws one.
+        behavior: Option<BehaviorSpec>,
+        /// The context the robot is in from now on; `None`: unchanged.
+        context: Option<ContextSettings>,
+    },
+    /// The robot's context from now on (between episodes).
+    Context(ContextSettings),
     /// The outcome of the last command.
     Outcome(Outcome),
     /// The adapter's current state.
@@ -61,7 +73,8 @@ pub enum Request {
 
 /// The requests named by a `request` field, with the fields each allows besides it.
 const NAMED: &[(&str, &[&str])] = &[
-    ("begin", &["behavior"]),
+    ("begin", &["behavior", "context"]),
+    ("context", &["context"]),
     ("state", &[]),
     ("cases", &[]),
     ("abandon", &[]),
@@ -96,12 +109,12 @@ pub enum RequestError {
     NotAnObject(&'static str),
     /// Neither `request` nor `outcome` is present.
     #[error(
-        "a request needs a `request` field (one of begin, state, cases, abandon, config, explain) or, for an outcome report, an `outcome` field"
+        "a request needs a `request` field (one of begin, context, state, cases, abandon, config, explain, accept_offer) or, for an outcome report, an `outcome` field"
     )]
     NoKind,
     /// The `request` field names no request.
     #[error(
-        "field `request`: unknown request `{0}` (one of begin, state, cases, abandon, config, explain; outcome reports have an `outcome` field instead)"
+        "field `request`: unknown request `{0}` (one of begin, context, state, cases, abandon, config, explain, accept_offer; outcome reports have an `outcome` field instead)"
     )]
     UnknownRequest(String),
     /// A field the request does not have.
@@ -269,7 +282,15 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
     };
     fields.only(allowed, &format!("a `{name}` request"))?;
     Ok(match name {
-        "begin" => Request::Begin(fields.take_behavior()?),
+        "begin" => Request::Begin {
+            behavior: fields.take_behavior()?,
+            context: fields.take_context()?,
+        },
+        "context" => Request::Context(
+            fields
+                .take_context()?
+                .ok_or(RequestError::Missing("context"))?,
+        ),
         "state" => Request::State,
         "cases" => Request::Cases,
         "abandon" => Request::Abandon,
@@ -368,6 +389,32 @@ impl Fields {
 
     fn require<T: DeserializeOwned>(&mut self, field: &'static str) -> Result<T, RequestError> {
         self.take(field)?.ok_or(RequestError::Missing(field))
+    }
+
+    /// The `context` field, an object of variable names and their values (labels).
+    fn take_context(&mut self) -> Result<Option<ContextSettings>, RequestError> {
+        let bad = |field: String, got: &Value| RequestError::Field {
+            field,
+            message: format!("expected a label, got {}", json_type(got)),
+        };
+        match self.0.remove("context") {
+            None | Some(Value::Null) => Ok(None),
+            Some(Value::Object(values)) => values
+                .into_iter()
+                .map(|(name, value)| match value {
+                    Value::String(s) => Ok((name, s)),
+                    other => Err(bad(format!("context.{name}"), &other)),
+                })
+                .collect::<Result<_, _>>()
+                .map(Some),
+            Some(other) => Err(RequestError::Field {
+                field: "context".to_owned(),
+                message: format!(
+                    "expected an object such as {{\"cargo\": \"hazardous\"}}, got {}",
+                    json_type(&other)
+                ),
+            }),
+        }
     }
 
     fn take_behavior(&mut self) -> Result<Option<BehaviorSpec>, RequestError> {
@@ -750,15 +797,45 @@ mod tests {
         );
         assert_eq!(
             parse_request(br#"{"request":"begin"}"#).unwrap(),
-            Request::Begin(None)
+            Request::Begin {
+                behavior: None,
+                context: None
+            }
         );
         assert_eq!(
             parse_request(br#"{"request":"begin","behavior":{"speed":3.5,"planner":"rrt"}}"#)
                 .unwrap(),
-            Request::Begin(Some(BehaviorSpec::Values(vec![
-                ("speed".into(), "3.5".into()),
-                ("planner".into(), "rrt".into()),
-            ])))
+            Request::Begin {
+                behavior: Some(BehaviorSpec::Values(vec![
+                    ("speed".into(), "3.5".into()),
+                    ("planner".into(), "rrt".into()),
+                ])),
+                context: None
+            }
+        );
+        assert_eq!(
+            parse_request(br#"{"request":"begin","context":{"cargo":"hazardous"}}"#).unwrap(),
+            Request::Begin {
+                behavior: None,
+                context: Some(vec![("cargo".into(), "hazardous".into())])
+            }
+        );
+        assert_eq!(
+            parse_request(br#"{"request":"context","context":{"situation":"emergency"}}"#).unwrap(),
+            Request::Context(vec![("situation".into(), "emergency".into())])
+        );
+    }
+
+    #[test]
+    fn a_context_must_be_an_object_of_labels() {
+        assert_eq!(err(r#"{"request":"context"}"#), "missing field `context`");
+        assert_eq!(
+            err(r#"{"request":"context","context":"hazardous"}"#),
+            r#"field `context`: expected an object such as {"cargo": "hazardous"}, got a string"#
+        );
+        assert_eq!(
+            err(r#"{"request":"begin","context":{"cargo":1}}"#),
+            "field `context.cargo`: expected a label, got a number"
         );
     }
 

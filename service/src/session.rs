@@ -22,10 +22,10 @@
 
 use crate::domain::DomainDefinition;
 use crate::reply::{self, Answer, CaseListing, Reply};
-use crate::request::{BehaviorSpec, Request, Vocabulary, parse_line};
+use crate::request::{BehaviorSpec, ContextSettings, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
 use crate::store::{StoreError, StoreId};
-use cbr_core::Behavior;
+use cbr_core::{Behavior, Context, ContextSpace};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
@@ -43,6 +43,8 @@ pub struct Session {
     domain: String,
     causes: Vec<DeclaredCause>,
     observations: Vec<Cause>,
+    /// The context variables the domain declares.
+    contexts: Arc<ContextSpace>,
     /// The adapter served, as `config` shows it ([`DomainDefinition::served_adapter`]).
     adapter: Value,
     adapting: Adapting,
@@ -84,6 +86,13 @@ impl Adapting {
         match self {
             Self::Episodes(adaptation) => adaptation.begin_episode(initial),
             Self::Mission(mission) => mission.begin_episode(initial),
+        }
+    }
+
+    fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
+        match self {
+            Self::Episodes(adaptation) => adaptation.set_context(context),
+            Self::Mission(mission) => mission.set_context(context),
         }
     }
 
@@ -180,6 +189,7 @@ impl Session {
             domain: domain.name,
             causes: domain.causes,
             observations: domain.observations,
+            contexts: domain.contexts,
             adapter,
             adapting,
             cases,
@@ -209,7 +219,8 @@ impl Session {
         let offer = self.offer.take();
         Ok(Reply::Json(match request {
             Request::AcceptOffer => self.accept_offer(offer),
-            Request::Begin(spec) => self.begin(spec.as_ref()),
+            Request::Begin { behavior, context } => self.begin(behavior.as_ref(), context.as_ref()),
+            Request::Context(settings) => self.change_context(&settings),
             Request::Outcome(outcome) => return self.outcome(&outcome).map(Reply::Json),
             Request::State => self.state(),
             Request::Cases => return Ok(self.cases()),
@@ -224,12 +235,41 @@ impl Session {
         self.adapting.episodes()
     }
 
-    fn begin(&mut self, spec: Option<&BehaviorSpec>) -> Value {
+    /// The context `settings` name, checked against the domain's context space.
+    fn context(&self, settings: &ContextSettings) -> Result<Context, Value> {
+        let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+        self.contexts
+            .context(named)
+            .map_err(|e| reply::error(format_args!("field `context`: {e}")))
+    }
+
+    /// A `context` request: the robot's context from now on, between episodes.
+    fn change_context(&mut self, settings: &ContextSettings) -> Value {
+        if self.adaptation().episode().is_some() {
+            return reply::error(
+                "an episode is under way, and its behaviors were all evaluated in the context it began in: change the context after it settles, or end it with {\"request\": \"abandon\"}",
+            );
+        }
+        let context = match self.context(settings) {
+            Ok(context) => context,
+            Err(refused) => return refused,
+        };
+        match self.adapting.set_context(context) {
+            Ok(()) => json!({"ok": "context", "context": self.adaptation().context()}),
+            Err(e) => reply::error(e),
+        }
+    }
+
+    fn begin(&mut self, spec: Option<&BehaviorSpec>, context: Option<&ContextSettings>) -> Value {
         if self.adaptation().episode().is_some() {
             return reply::error(
                 "an episode is already under way: report its outcomes, or end it with {\"request\": \"abandon\"}",
             );
         }
+        let context = match context.map(|settings| self.context(settings)).transpose() {
+            Ok(context) => context,
+            Err(refused) => return refused,
+        };
         let space = self.adaptation().space().clone();
         let (initial, chosen_by) = match spec {
             None => (space.draw(&mut self.draws), "server"),
@@ -245,12 +285,32 @@ impl Session {
                 }
             }
         };
-        match self.adapting.begin_episode(initial) {
-            Ok(()) => json!({
-                "ok": "begun",
-                "behavior": reply::behavior(&space, &initial),
-                "chosen_by": chosen_by,
-            }),
+        let before = self.adaptation().context().clone();
+        if let Some(context) = context
+            && let Err(e) = self.adapting.set_context(context)
+        {
+            return reply::error(e);
+        }
+        let begun = self.adapting.begin_episode(initial);
+        if begun.is_err() {
+            // A refused request changes nothing.
+            self.adapting
+                .set_context(before)
+                .expect("no episode is under way");
+        }
+        match begun {
+            Ok(()) => {
+                let mut begun = json!({
+                    "ok": "begun",
+                    "behavior": reply::behavior(&space, &initial),
+                    "chosen_by": chosen_by,
+                });
+                let context = self.adaptation().context();
+                if !context.is_default() {
+                    begun["context"] = json!(context);
+                }
+                begun
+            }
             Err(e) => reply::error(e),
         }
     }
@@ -350,6 +410,10 @@ impl Session {
             "domain": self.domain,
             "episode": episode,
         });
+        let context = self.adaptation().context();
+        if !context.is_default() {
+            reply["context"] = json!(context);
+        }
         if let Some(mission) = self.adapting.mission() {
             reply["watching"] = json!(mission.watching().map(|w| {
                 let mut watching = json!({
@@ -486,7 +550,7 @@ impl Session {
     }
 
     fn config(&self) -> Value {
-        json!({
+        let mut config = json!({
             "ok": "config",
             "domain": self.domain,
             "causes": self.causes,
@@ -495,7 +559,11 @@ impl Session {
             "behaviors": self.adaptation().space().size(),
             "adapter": self.adapter,
             "strategy": self.adaptation().strategy(),
-        })
+        });
+        if !self.contexts.is_empty() {
+            config["contexts"] = json!(self.contexts.as_ref());
+        }
+        config
     }
 }
 

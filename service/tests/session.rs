@@ -18,7 +18,8 @@ fn quick_movement() -> DomainDefinition {
         domains::Scenario::Movement.causes().to_vec(),
         trust::AdapterConfig::default(),
     )
-    .with_observations(domains::perception::MOVEMENT.to_vec());
+    .with_observations(domains::perception::MOVEMENT.to_vec())
+    .with_contexts(domains::context::contexts().clone());
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
     domain
@@ -720,4 +721,97 @@ fn fifteen_weights_of_a_third_reach_a_threshold_over_the_protocol() {
     let settled = ok(&mut s, &third("completed"));
     assert_eq!(settled["ok"], "settled", "{settled}");
     assert_eq!(settled["trustworthy"], true);
+}
+
+/// The robot's context over the protocol: a case keeps the context its episode began in,
+/// an episode reuses only the cases of its own context, and a context that is not the
+/// domain's, or a change in the middle of an episode, is refused and changes nothing.
+#[test]
+fn cases_are_learned_and_reused_in_their_context() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut s = session(dir.path());
+    let config = ok(&mut s, r#"{"request":"config"}"#);
+    assert_eq!(
+        config["contexts"],
+        json!([
+            {"name": "cargo", "values": ["normal", "hazardous"]},
+            {"name": "situation", "values": ["routine", "emergency"]}
+        ])
+    );
+    let first = r#""behavior":{"speed":3.5,"padding":0.4}"#;
+    let begun = ok(
+        &mut s,
+        &format!(r#"{{"request":"begin",{first},"context":{{"cargo":"hazardous"}}}}"#),
+    );
+    assert_eq!(begun["context"], json!({"cargo": "hazardous"}));
+    // No change of context while the episode runs.
+    let before = snapshot(&mut s);
+    let refused = ask(
+        &mut s,
+        r#"{"request":"context","context":{"cargo":"normal"}}"#,
+    );
+    assert!(
+        refused["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("an episode is under way, and its behaviors were all evaluated"),
+        "{refused}"
+    );
+    assert_eq!(snapshot(&mut s), before);
+    assert_eq!(before.0["context"], json!({"cargo": "hazardous"}));
+    assert_eq!(ok(&mut s, INTERRUPTED)["source"], "search");
+    assert_eq!(ok(&mut s, COMPLETED)["retained"], 1);
+    let learned = stored(dir.path());
+    assert_eq!(
+        learned.cases()[0].problem.context.to_string(),
+        "cargo=hazardous"
+    );
+    let cases = ok(&mut s, r#"{"request":"cases"}"#);
+    assert_eq!(cases["cases"][0]["context"], json!({"cargo": "hazardous"}));
+
+    // Back to normal cargo: the same first behavior, given up alike, finds no case.
+    let changed = ok(
+        &mut s,
+        r#"{"request":"context","context":{"cargo":"normal"}}"#,
+    );
+    assert_eq!(changed, json!({"ok": "context", "context": {}}));
+    assert!(
+        ok(&mut s, r#"{"request":"state"}"#)
+            .get("context")
+            .is_none()
+    );
+    ok(&mut s, &format!(r#"{{"request":"begin",{first}}}"#));
+    assert_eq!(ok(&mut s, INTERRUPTED)["source"], "search");
+    ok(&mut s, r#"{"request":"abandon"}"#);
+    // With hazardous cargo again it reuses the case learned with it.
+    ok(
+        &mut s,
+        &format!(r#"{{"request":"begin",{first},"context":{{"cargo":"hazardous"}}}}"#),
+    );
+    let reused = ok(&mut s, INTERRUPTED);
+    assert_eq!(reused["source"], "case", "{reused}");
+    assert_eq!(reused["behavior"], cases["cases"][0]["solution"]);
+    ok(&mut s, r#"{"request":"abandon"}"#);
+
+    // A context the domain does not declare is refused, naming what it allows, and a
+    // refused begin begins nothing.
+    let before = snapshot(&mut s);
+    let unknown = ask(
+        &mut s,
+        r#"{"request":"context","context":{"weather":"rain"}}"#,
+    );
+    assert_eq!(
+        unknown["error"],
+        "field `context`: unknown context variable `weather`; the domain declares: cargo, situation"
+    );
+    let bad_value = ask(
+        &mut s,
+        r#"{"request":"begin","context":{"situation":"drill"}}"#,
+    );
+    assert_eq!(
+        bad_value["error"],
+        "field `context`: context variable `situation` may be routine, emergency, not `drill`"
+    );
+    assert_eq!(snapshot(&mut s), before);
+    assert_eq!(ok(&mut s, r#"{"request":"begin"}"#)["chosen_by"], "server");
 }
