@@ -66,6 +66,15 @@ impl Default for FeedbackChannel {
     }
 }
 
+/// `value` when it is a share (in `[0, 1]`), else the error naming `field`.
+fn share(field: &'static str, value: f64) -> Result<f64, FeedbackError> {
+    if (0.0..=1.0).contains(&value) {
+        Ok(value)
+    } else {
+        Err(FeedbackError { field, value })
+    }
+}
+
 impl FeedbackChannel {
     /// The paper's operator: it never explains.
     pub const SILENT: Self = Self {
@@ -77,28 +86,17 @@ impl FeedbackChannel {
     /// A channel explaining a share `explains` of untrustworthy commands, a share `wrong`
     /// of them wrongly.
     pub fn new(explains: f64, wrong: f64) -> Result<Self, FeedbackError> {
-        for (field, value) in [("explains", explains), ("wrong", wrong)] {
-            if !(0.0..=1.0).contains(&value) {
-                return Err(FeedbackError { field, value });
-            }
-        }
         Ok(Self {
-            explains,
-            wrong,
+            explains: share("explains", explains)?,
+            wrong: share("wrong", wrong)?,
             goal_changes: 0.0,
         })
     }
 
     /// The same channel saying a share `goal_changes` of goal changes.
     pub fn saying_goal_changes(self, goal_changes: f64) -> Result<Self, FeedbackError> {
-        if !(0.0..=1.0).contains(&goal_changes) {
-            return Err(FeedbackError {
-                field: "goal_changes",
-                value: goal_changes,
-            });
-        }
         Ok(Self {
-            goal_changes,
+            goal_changes: share("goal_changes", goal_changes)?,
             ..self
         })
     }
