@@ -143,6 +143,12 @@ impl MissionSuiteConfig {
                     "an overtrust alert offers a safer behavior, and this plan raises none: set a standard (`competence: Some((at_most: 0.1))`) or leave `offer_safer` out".into(),
                 ));
             }
+            if spec.operators.contexts.is_some() {
+                return Err(invalid(
+                    field("operators.contexts"),
+                    "contexts are simulated in experiment suites, not yet in missions: leave `contexts` out of a mission plan (docs/missions.md)".into(),
+                ));
+            }
             if spec.operators.goal_changes.is_some() {
                 return Err(invalid(
                     field("operators.goal_changes"),

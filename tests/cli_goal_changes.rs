@@ -7,7 +7,7 @@ mod support;
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
-use support::{refused, succeed, trustcbr};
+use support::{one_mission_suite, refused, succeed, trustcbr};
 
 /// Movement, the paper's operators drawn per trial, goal changes every two minutes on
 /// average (a sixth of the 20 s commands cut), unsaid and said.
@@ -122,18 +122,10 @@ fn goal_changes_that_cannot_mean_anything_are_refused() {
         stderr.contains("feedback `goal_changes` must be a probability in [0, 1], got 1.5"),
         "{stderr}"
     );
-    let mission = r#"(
-    seed: 1,
-    arms: ["uniform"],
-    missions: [(
-        name: "movement/paper",
-        operators: (scenario: "movement", operator: "random", goal_changes: Some((per_hour: 1.0))),
-        count: 2,
-        commands: 20,
-        changes: (every: 10.0, takeover: 0.5),
-    )],
-)"#;
-    let stderr = refused(&mut run(dir.path(), mission));
+    let mission = one_mission_suite(
+        r#"(scenario: "movement", operator: "random", goal_changes: Some((per_hour: 1.0)))"#,
+    );
+    let stderr = refused(&mut run(dir.path(), &mission));
     assert!(
         stderr.contains("missions[0].operators.goal_changes: goal changes are simulated in experiment suites, not yet in missions"),
         "{stderr}"

@@ -20,6 +20,11 @@
 //! - `scan_standard`: interrupts (probability `p`) when a scan was made from farther than
 //!   `max_distance` or lasted less than `min_time` (cause `poor-scan`; patrol).
 //!
+//! And `contexts`, off unless the file states it: how the preferences change with the
+//! robot's context ([`ContextPreferences`]: `t_complete`, `p_deadline`, `p_collision`,
+//! `comfort` and `clearance` replaced where its `when` holds;
+//! docs/simulation.md#context).
+//!
 //! An operator is read against the causes its scenario declares ([`crate::causes`]) by
 //! the lab's loader ([`lab::operator_file`]): `weights.by_cause` may name only those
 //! (quoted, `by_cause: {"detonation": 1.0}`), and of those only the causes the robot
@@ -34,12 +39,14 @@ use crate::causes::{
     TOO_CLOSE, TOO_FAST_NEAR_PEOPLE,
 };
 use crate::trace::{EventKind, Trace};
+use cbr_core::Context;
 use lab::attention::Attending;
 use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use lab::patience::Patience;
 use lab::{FeedbackChannel, Judgement};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 use trust::{Cause, DeclaredCause, OutcomeWeights};
 
@@ -89,6 +96,56 @@ pub struct ScanStandard {
     pub p: f64,
 }
 
+/// How an operator's preferences change in a context of the robot's
+/// (docs/simulation.md#context): where the robot's context gives every variable of `when`
+/// its value, each preference given here replaces the operator's own.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextPreferences {
+    /// The context it applies in: variables of the UGV's context with their values
+    /// (`{"cargo": "hazardous"}`); the variables left out may take any value.
+    #[serde(deserialize_with = "declared_context")]
+    pub when: BTreeMap<String, String>,
+    /// The time allowed for the task there (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_complete: Option<f64>,
+    /// Probability of interrupting when `t_complete` passes there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_deadline: Option<f64>,
+    /// Probability of interrupting on each collision there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_collision: Option<f64>,
+    /// A comfort speed near people there (turned on, or replaced).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub comfort: Option<Comfort>,
+    /// A least acceptable body gap there (turned on, or replaced).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<Clearance>,
+}
+
+impl ContextPreferences {
+    /// Whether `context` gives every variable of `when` its value.
+    pub fn applies_in(&self, context: &Context) -> bool {
+        let contexts = crate::context::contexts();
+        self.when
+            .iter()
+            .all(|(variable, value)| contexts.value(context, variable) == Some(value.as_str()))
+    }
+}
+
+/// A `when` of the UGV's context: each variable declared, each value one it may take
+/// (kept as written, so that naming a default value still restricts the context).
+fn declared_context<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<BTreeMap<String, String>, D::Error> {
+    let when = BTreeMap::<String, String>::deserialize(d)?;
+    let named = when.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+    crate::context::contexts()
+        .context(named)
+        .map_err(|e| serde::de::Error::custom(format_args!("field `when`: {e}")))?;
+    Ok(when)
+}
+
 /// A simulated operator.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -127,6 +184,11 @@ pub struct OperatorModel {
     /// paper's operator, when absent. An experiment's `feedback` overrides it.
     #[serde(default)]
     pub feedback: FeedbackChannel,
+    /// How its preferences change with the robot's context, in order, a later entry
+    /// replacing what an earlier one set (off when absent: it judges every context
+    /// alike, as the paper's operators do).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contexts: Vec<ContextPreferences>,
 }
 
 /// Why an operator file cannot be used: the lab's operator-file errors, with the UGV's
@@ -187,13 +249,43 @@ impl OperatorData for OperatorModel {
         }
         check.positive("t_complete", self.t_complete);
         check.at_least("give_up_factor", self.give_up_factor, 1.0);
+        for (i, c) in self.contexts.iter().enumerate() {
+            let field = |name: &str| format!("contexts[{i}].{name}");
+            if let Some(p) = c.p_deadline {
+                check.probability(&field("p_deadline"), p);
+            }
+            if let Some(p) = c.p_collision {
+                check.probability(&field("p_collision"), p);
+            }
+            if let Some(comfort) = c.comfort {
+                check.probability(&field("comfort.p"), comfort.p);
+                check.non_negative(&field("comfort.distance"), comfort.distance);
+                check.non_negative(&field("comfort.speed"), comfort.speed);
+            }
+            if let Some(clearance) = c.clearance {
+                check.probability(&field("clearance.p"), clearance.p);
+                check.non_negative(&field("clearance.gap"), clearance.gap);
+            }
+            if let Some(t) = c.t_complete {
+                check.positive(&field("t_complete"), t);
+            }
+        }
     }
 
     /// Every preference that is on has its cause declared.
     fn check_rules(&self, declared: &[DeclaredCause]) -> Result<(), UndeclaredPreference> {
+        let in_some_context = |on: fn(&ContextPreferences) -> bool| self.contexts.iter().any(on);
         let on = [
-            ("comfort", self.comfort.is_some(), TOO_FAST_NEAR_PEOPLE),
-            ("clearance", self.clearance.is_some(), TOO_CLOSE),
+            (
+                "comfort",
+                self.comfort.is_some() || in_some_context(|c| c.comfort.is_some()),
+                TOO_FAST_NEAR_PEOPLE,
+            ),
+            (
+                "clearance",
+                self.clearance.is_some() || in_some_context(|c| c.clearance.is_some()),
+                TOO_CLOSE,
+            ),
             ("scan_standard", self.scan_standard.is_some(), POOR_SCAN),
         ];
         for (field, is_on, cause) in on {
@@ -227,6 +319,20 @@ impl OperatorModel {
     /// ([`lab::operator_file::load`]).
     pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
         operator_file::load(path, causes)
+    }
+
+    /// The operator as it judges in `context`: every entry of its `contexts` that applies
+    /// there, in order, replacing the preferences it gives.
+    pub fn in_context(&self, context: &Context) -> OperatorModel {
+        let mut there = self.clone();
+        for c in self.contexts.iter().filter(|c| c.applies_in(context)) {
+            there.t_complete = c.t_complete.unwrap_or(there.t_complete);
+            there.p_deadline = c.p_deadline.unwrap_or(there.p_deadline);
+            there.p_collision = c.p_collision.unwrap_or(there.p_collision);
+            there.comfort = c.comfort.or(there.comfort);
+            there.clearance = c.clearance.or(there.clearance);
+        }
+        there
     }
 
     /// Watches a run and decides how it ends, and why (the truth). Random reactions draw
@@ -451,6 +557,7 @@ mod tests {
             clearance: None,
             scan_standard: None,
             feedback: FeedbackChannel::SILENT,
+            contexts: Vec::new(),
         }
     }
 
@@ -551,6 +658,104 @@ mod tests {
         );
         assert!(err.starts_with("ops/x.ron:2:"), "{err}");
         assert!(err.contains("cause `Collision` has 'C' at byte 0"), "{err}");
+    }
+
+    /// An operator who minds bumps more with hazardous cargo, and in an emergency with it
+    /// wants the task sooner and minds bumps less than then but more than usual.
+    const CARGO_MINDED: &str = "(name: \"cargo-minded\", t_complete: 90.0, p_deadline: 0.5,
+        p_collision: 0.05,
+        contexts: [
+            (when: {\"cargo\": \"hazardous\"}, p_collision: Some(0.9),
+             comfort: Some((distance: 1.5, speed: 1.0, p: 0.8))),
+            (when: {\"cargo\": \"hazardous\", \"situation\": \"emergency\"},
+             t_complete: Some(60.0), p_collision: Some(0.5)),
+            (when: {\"situation\": \"routine\"}, p_deadline: Some(0.25)),
+        ])";
+
+    #[test]
+    fn an_operator_judges_by_the_preferences_it_states_for_the_robots_context() {
+        let op = OperatorModel::from_ron(
+            CARGO_MINDED,
+            Path::new("cargo-minded.ron"),
+            Scenario::Movement.causes(),
+        )
+        .unwrap();
+        let contexts = crate::context::contexts();
+        let at = |settings: &[(&str, &str)]| {
+            op.in_context(&contexts.context(settings.iter().copied()).unwrap())
+        };
+        let preferences = |o: &OperatorModel| (o.t_complete, o.p_deadline, o.p_collision);
+        // The default context is routine: only the third entry applies.
+        assert_eq!(preferences(&at(&[])), (90.0, 0.25, 0.05));
+        assert_eq!(at(&[]).comfort, None);
+        let hazardous = at(&[("cargo", "hazardous")]);
+        assert_eq!(preferences(&hazardous), (90.0, 0.25, 0.9));
+        assert_eq!(hazardous.comfort.unwrap().speed, 1.0);
+        // Both entries for hazardous cargo apply in an emergency, the later last; the
+        // routine one does not.
+        let rushed = at(&[("cargo", "hazardous"), ("situation", "emergency")]);
+        assert_eq!(preferences(&rushed), (60.0, 0.5, 0.5));
+        assert!(rushed.comfort.is_some());
+        assert_eq!(
+            preferences(&at(&[("situation", "emergency")])),
+            (90.0, 0.5, 0.05)
+        );
+        // The stated preferences judge: at hazardous cargo's 0.9 most bumps interrupt.
+        let bumped = trace(&[
+            (
+                2.0,
+                EventKind::Collision {
+                    at: Vec2::new(0.0, 0.0),
+                },
+            ),
+            (
+                30.0,
+                EventKind::Arrived {
+                    at: Vec2::new(2.0, 0.0),
+                },
+            ),
+        ]);
+        let interrupted = |o: &OperatorModel| {
+            (0..1000)
+                .filter(|&seed| {
+                    o.judge(&bumped, &mut ChaCha8Rng::seed_from_u64(seed)).truth == Some(COLLISION)
+                })
+                .count()
+        };
+        assert!(interrupted(&at(&[])) < 100);
+        assert!(interrupted(&hazardous) > 850);
+    }
+
+    #[test]
+    fn a_context_preference_is_checked_where_it_is_written() {
+        let origin = Path::new("ops/c.ron");
+        let read = |text: &str| {
+            OperatorModel::from_ron(text, origin, Scenario::Movement.causes())
+                .unwrap_err()
+                .to_string()
+        };
+        let head = "(name: \"c\", t_complete: 9.0, p_deadline: 1.0, p_collision: 0.1,\n";
+        let err = read(&format!(
+            "{head} contexts: [(when: {{\"cargo\": \"toxic\"}})])"
+        ));
+        assert!(err.starts_with("ops/c.ron:2:"), "{err}");
+        assert!(
+            err.contains(
+                "field `when`: context variable `cargo` may be normal, hazardous, not `toxic`"
+            ),
+            "{err}"
+        );
+        let err = read(&format!(
+            "{head} contexts: [(when: {{\"weather\": \"rain\"}})])"
+        ));
+        assert!(err.contains("unknown context variable `weather`"), "{err}");
+        let err = read(&format!(
+            "{head} contexts: [(when: {{}}, p_collision: Some(1.5))])"
+        ));
+        assert!(
+            err.contains("`contexts[0].p_collision` must be a probability in [0, 1], got 1.5"),
+            "{err}"
+        );
     }
 
     #[test]

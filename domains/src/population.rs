@@ -128,6 +128,7 @@ pub fn member(scenario: Scenario, x: f64, name: &str) -> OperatorModel {
         }),
         // How an operator explains itself is the experiment's to vary, not the family's.
         feedback: lab::FeedbackChannel::SILENT,
+        contexts: Vec::new(),
     }
 }
 

@@ -315,6 +315,7 @@ pub fn draw(scenario: Scenario, name: &str, rng: &mut dyn RngCore) -> OperatorMo
         clearance,
         scan_standard,
         feedback: FeedbackChannel::SILENT,
+        contexts: Vec::new(),
     }
 }
 

@@ -18,7 +18,7 @@ use crate::profile::point_to_point;
 use crate::scenario::Scenario;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
-use cbr_core::{Behavior, BehaviorSpace, ContextSpace};
+use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
 use lab::{Domain, FeedbackChannel, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
@@ -487,6 +487,14 @@ impl Domain for UgvDomain {
 
     fn contexts(&self) -> &ContextSpace {
         crate::context::contexts()
+    }
+
+    fn operator_in_context(
+        &self,
+        operator: &OperatorModel,
+        context: &Context,
+    ) -> Option<OperatorModel> {
+        (!operator.contexts.is_empty()).then(|| operator.in_context(context))
     }
 
     fn feedback(&self, operator: &OperatorModel) -> FeedbackChannel {

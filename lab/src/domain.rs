@@ -15,7 +15,7 @@
 //! causes, observations and hints a robot also knows), built by [`vocabulary`].
 
 use crate::feedback::FeedbackChannel;
-use cbr_core::{Behavior, BehaviorSpace, ContextSpace};
+use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
@@ -53,6 +53,19 @@ pub trait Domain: Send + Sync {
     /// into: [`cbr_core::context`]), which cases are matched by; none by default.
     fn contexts(&self) -> &ContextSpace {
         &NO_CONTEXTS
+    }
+
+    /// `operator` as it judges in `context` (its preferences there), or `None` when it
+    /// judges every context alike (the default: a domain whose operators state no
+    /// preferences by context). A simulated command in a context is judged by the operator
+    /// this returns.
+    fn operator_in_context(
+        &self,
+        operator: &Self::Operator,
+        context: &Context,
+    ) -> Option<Self::Operator> {
+        let _ = (operator, context);
+        None
     }
 
     /// Which observations hint at which causes the robot cannot perceive itself (what a
@@ -178,19 +191,29 @@ pub fn check_attention<D: Domain + ?Sized>(
     domain: &D,
     operators: &[(String, D::Operator)],
 ) -> Result<(), AttentionNotModelled> {
+    let answers = every_operator_answers(domain, operators, |behavior, operator, probe| {
+        domain
+            .run_attending(behavior, operator, 1.0, probe)
+            .is_some()
+    });
+    answers.then_some(()).ok_or_else(|| AttentionNotModelled {
+        domain: domain.name().to_owned(),
+    })
+}
+
+/// Whether `hook` answers for every one of `operators` on the space's first behavior,
+/// asked once each on one probe stream: how a plan tells whether its domain overrides an
+/// optional hook (a domain overrides it for every run or none).
+fn every_operator_answers<D: Domain + ?Sized>(
+    domain: &D,
+    operators: &[(String, D::Operator)],
+    hook: impl Fn(&Behavior, &D::Operator, &mut ChaCha8Rng) -> bool,
+) -> bool {
     let behavior = domain.space().unrank(0);
     let mut probe = ChaCha8Rng::seed_from_u64(0);
-    if operators.iter().all(|(_, operator)| {
-        domain
-            .run_attending(&behavior, operator, 1.0, &mut probe)
-            .is_some()
-    }) {
-        Ok(())
-    } else {
-        Err(AttentionNotModelled {
-            domain: domain.name().to_owned(),
-        })
-    }
+    operators
+        .iter()
+        .all(|(_, operator)| hook(&behavior, operator, &mut probe))
 }
 
 /// A domain asked to run operators whose goals change, which keeps the default
@@ -211,19 +234,14 @@ pub fn check_goal_changes<D: Domain + ?Sized>(
     domain: &D,
     operators: &[(String, D::Operator)],
 ) -> Result<(), GoalChangesNotModelled> {
-    let behavior = domain.space().unrank(0);
-    let mut probe = ChaCha8Rng::seed_from_u64(0);
-    if operators.iter().all(|(_, operator)| {
+    let answers = every_operator_answers(domain, operators, |behavior, operator, probe| {
         domain
-            .run_redirected(&behavior, operator, 1.0, 0.0, &mut probe)
+            .run_redirected(behavior, operator, 1.0, 0.0, probe)
             .is_some()
-    }) {
-        Ok(())
-    } else {
-        Err(GoalChangesNotModelled {
-            domain: domain.name().to_owned(),
-        })
-    }
+    });
+    answers.then_some(()).ok_or_else(|| GoalChangesNotModelled {
+        domain: domain.name().to_owned(),
+    })
 }
 
 /// The names an adaptation explains itself in: `domain`'s declared causes, its

@@ -5,6 +5,7 @@ pub mod arm;
 pub mod attention;
 pub mod benchmark;
 pub mod competence;
+pub mod context;
 pub mod domain;
 mod drive;
 pub mod feedback;
@@ -39,6 +40,7 @@ pub use arm::{
     Arm, BUILTIN_ARMS, COMPETENT_PASSES, Initial, LEARNED_START, PREFERS_COMPETENT, UnknownArm,
     prefers_competent,
 };
+pub use context::TrialContexts;
 pub use domain::{
     AttentionNotModelled, Domain, GoalChangesNotModelled, Judgement, check_attention,
     check_goal_changes, vocabulary,

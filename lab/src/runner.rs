@@ -18,8 +18,8 @@ use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::KnownLimitError;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95_or_zero, paired_t_test, wilcoxon_signed_rank};
-use crate::{Domain, FeedbackChannel, GoalChangeRecord, GoalChanges};
-use cbr_core::Behavior;
+use crate::{Domain, FeedbackChannel, GoalChangeRecord, GoalChanges, TrialContexts};
+use cbr_core::{Behavior, Context};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -67,6 +67,9 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// How often the operators' goals change ([`crate::goal_change`]); `None`, the
     /// paper's assumption: never.
     pub goal_changes: Option<GoalChanges>,
+    /// The contexts the trials run in, and whether the robot is told them
+    /// ([`crate::context`]); `None`: every trial in the default context, as the paper's.
+    pub contexts: Option<TrialContexts>,
 }
 
 /// Why experiments cannot be run.
@@ -201,6 +204,10 @@ pub struct TrialRecord {
     /// none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub goal_changes: Option<GoalChangeRecord>,
+    /// The context the trial ran in (left out when the default one); the report's own
+    /// `context` is the one the robot was told.
+    #[serde(default, skip_serializing_if = "Context::is_default")]
+    pub context: Context,
 }
 
 /// One behavior a trial gave up, as its explanation put it and as it was.
@@ -750,6 +757,17 @@ fn run_trial<D: Domain>(
         OperatorChoice::Random => setup.random_range(0..plan.operators.len()),
     };
     let (operator_name, operator) = &plan.operators[operator_index];
+    let context = plan
+        .contexts
+        .as_ref()
+        .map_or_else(Context::default, |c| c.of_trial(trial).clone());
+    let in_context = plan.domain.operator_in_context(operator, &context);
+    let operator = in_context.as_ref().unwrap_or(operator);
+    if let Some(contexts) = &plan.contexts {
+        adapter
+            .set_context(contexts.told_in(trial))
+            .expect("no episode is under way between trials");
+    }
     let drawn = adapter.space().draw(&mut setup);
     let start = first_behavior(arm.initial(), adapter, drawn);
     let mut drive = Drive::new(
@@ -845,6 +863,7 @@ fn run_trial<D: Domain>(
             explained,
             given_up,
             goal_changes,
+            context,
         },
         explanations,
     ))

@@ -384,6 +384,7 @@ mod tests {
             explained: Default::default(),
             given_up: Vec::new(),
             goal_changes: None,
+            context: cbr_core::Context::default(),
         };
         let observations = [
             "collision",

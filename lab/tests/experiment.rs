@@ -127,6 +127,7 @@ fn plans<'a>(
         max_commands: 100_000,
         feedback: None,
         goal_changes: None,
+        contexts: None,
     };
     vec![
         plan("toy/low", OperatorChoice::Fixed(0)),

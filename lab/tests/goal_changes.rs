@@ -37,6 +37,7 @@ fn plan<'a, D: Domain<Operator = ()>>(
         max_commands: 10_000,
         feedback,
         goal_changes,
+        contexts: None,
     }
 }
 

@@ -78,6 +78,7 @@ proptest! {
             max_commands: 100_000,
             feedback: None,
             goal_changes: None,
+            contexts: None,
         };
         let result = run_experiments(&[plan], 11, &|_| {}).unwrap().remove(0);
         let limit = exact_limit(&p).paper;

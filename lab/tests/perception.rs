@@ -101,6 +101,7 @@ fn told_with_seed(feedback: Option<FeedbackChannel>, seed: u64) -> Vec<Outcome> 
         max_commands: 10_000,
         feedback,
         goal_changes: None,
+        contexts: None,
     };
     let results = run_experiments(&[plan], seed, &|_| {}).unwrap();
     for trial in &results[0].arms[0].trials {
@@ -208,6 +209,7 @@ fn two_arms<'a>(
         max_commands: 10_000,
         feedback,
         goal_changes: None,
+        contexts: None,
     }
 }
 

@@ -4,11 +4,12 @@
 
 use super::{SuiteError, invalid};
 use crate::catalog::{Catalog, Family, OperatorOf, Readings};
+use cbr_core::ContextSpace;
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
 use lab::{BUILTIN_ARMS, Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
-use lab::{FeedbackChannel, GoalChanges};
+use lab::{FeedbackChannel, GoalChanges, TrialContexts};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -271,6 +272,52 @@ pub struct ExperimentSpec {
     /// (`feedback: (goal_changes: 1.0)`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub goal_changes: Option<GoalChanges>,
+    /// The contexts the trials run in, in turn (`(cycle: [{}, {"cargo": "hazardous"}])`;
+    /// docs/simulation.md#context), and whether the robot is told them (`told`, true by
+    /// default); absent: every trial in the default context.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contexts: Option<ContextsSpec>,
+}
+
+/// The contexts an experiment's trials run in ([`lab::TrialContexts`]), as a suite writes
+/// them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextsSpec {
+    /// Trial `k` runs in context `k` modulo the cycle's length: each context its
+    /// variables and values (`{}`: the default context).
+    pub cycle: Vec<BTreeMap<String, String>>,
+    /// Whether the robot is told the context (false: the paper's context-blind robot).
+    #[serde(default = "told_by_default")]
+    pub told: bool,
+}
+
+fn told_by_default() -> bool {
+    true
+}
+
+impl ContextsSpec {
+    /// The trials' contexts, each checked against `space` (the domain's context
+    /// variables); an error names the field under the experiment (`contexts.cycle[1]`).
+    pub fn trial_contexts(&self, space: &ContextSpace) -> Result<TrialContexts, (String, String)> {
+        let cycle = self
+            .cycle
+            .iter()
+            .enumerate()
+            .map(|(i, settings)| {
+                let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+                space
+                    .context(named)
+                    .map_err(|e| (format!("contexts.cycle[{i}]"), e.to_string()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        TrialContexts::new(cycle, self.told).ok_or_else(|| {
+            (
+                "contexts.cycle".to_owned(),
+                "needs at least one context (`{}` is the default one)".to_owned(),
+            )
+        })
+    }
 }
 
 /// A population of operators an experiment draws from.
@@ -309,7 +356,7 @@ fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String
 
 /// The fields of an experiment ([`ExperimentSpec`]), which a suite refuses at its top level
 /// with a word on where they belong.
-const EXPERIMENT_FIELDS: [&str; 7] = [
+const EXPERIMENT_FIELDS: [&str; 8] = [
     "scenario",
     "operator",
     "operator_files",
@@ -317,6 +364,7 @@ const EXPERIMENT_FIELDS: [&str; 7] = [
     "population",
     "feedback",
     "goal_changes",
+    "contexts",
 ];
 
 impl SuiteConfig {
@@ -416,8 +464,19 @@ fn mission_suite_here(origin: &Path) -> SuiteError {
 impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
     /// with a feedback channel of its own, `movement/rung-2` for a population; with goal
-    /// changes, `/g1` at one an hour, `/g1s0.5` when half of them are said).
+    /// changes, `/g1` at one an hour, `/g1s0.5` when half of them are said; in contexts,
+    /// `/contexts`, or `/contexts-untold` for a robot not told them).
     pub fn name(&self) -> String {
+        let name = self.name_without_contexts();
+        match &self.contexts {
+            None => name,
+            Some(c) if c.told => format!("{name}/contexts"),
+            Some(_) => format!("{name}/contexts-untold"),
+        }
+    }
+
+    /// [`ExperimentSpec::name`] before the contexts' part.
+    fn name_without_contexts(&self) -> String {
         let says_goal_changes = self.feedback.map_or(0.0, |c| c.goal_changes);
         let base = match (&self.population, self.feedback) {
             (Some(population), _) => format!("{}/{}", self.scenario, population.name),
@@ -618,6 +677,7 @@ mod tests {
             population: None,
             feedback: None,
             goal_changes: None,
+            contexts: None,
         };
         let origin = Path::new("x.ron");
         let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();

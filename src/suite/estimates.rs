@@ -5,6 +5,8 @@
 use super::plan::Parts;
 use super::{SuiteConfig, SuiteError, invalid};
 use crate::catalog::{Catalog, OperatorOf};
+use cbr_core::Context;
+use lab::Domain;
 use lab::known_operator::{ExperimentLimit, KnownLimitError, KnownOperator, known_operator};
 use lab::landscape::Landscape;
 use lab::report::finals_landscapes;
@@ -47,6 +49,11 @@ impl OperatorLimits {
     }
 }
 
+/// An operator of an experiment in one of its trials' contexts: its name there (with
+/// `@context` when it judges otherwise there), the operator as it judges there when it
+/// does, and the operator itself.
+type InContext<'a, C> = (String, Option<OperatorOf<C>>, &'a OperatorOf<C>);
+
 /// What a suite's report estimates beside the experiments' results, from the config alone:
 /// the landscapes behind each experiment's final behaviors and its known-operator limit
 /// ([`run_suite_with_report`](super::run_suite_with_report)). Independent of the results, so it is computed while the
@@ -71,9 +78,34 @@ pub(super) fn estimate_parts<C: Catalog>(
     let mut operator_limits = OperatorLimits::default();
     for (k, spec) in config.experiments.iter().enumerate() {
         let fail = |reason: String| invalid(origin, format!("experiments[{k}]"), reason);
-        let judges: Vec<&(String, OperatorOf<C>)> = spec.judges(&parts.operators[k]).collect();
+        let domain = parts.domain(k);
+        // In contexts, each operator judges as it does in each context of the cycle: the
+        // pairs a trial draws, equally often.
+        let cycle = match &spec.contexts {
+            None => vec![Context::default()],
+            Some(c) => c
+                .trial_contexts(domain.contexts())
+                .map_err(|(field, reason)| fail(format!("{field}: {reason}")))?
+                .cycle()
+                .to_vec(),
+        };
+        let in_contexts: Vec<InContext<'_, C>> = spec
+            .judges(&parts.operators[k])
+            .flat_map(|(name, op)| {
+                cycle.iter().map(
+                    move |context| match domain.operator_in_context(op, context) {
+                        Some(there) => (format!("{name}@{context}"), Some(there), op),
+                        None => (name.clone(), None, op),
+                    },
+                )
+            })
+            .collect();
+        let judges: Vec<(&String, &OperatorOf<C>)> = in_contexts
+            .iter()
+            .map(|(name, there, op)| (name, there.as_ref().unwrap_or(op)))
+            .collect();
         if config.landscape_runs > 0 {
-            let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| op).collect();
+            let operators: Vec<&OperatorOf<C>> = judges.iter().map(|(_, op)| *op).collect();
             landscapes.push(
                 finals_landscapes(
                     parts.domain(k),

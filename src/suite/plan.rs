@@ -161,6 +161,12 @@ pub(super) fn plans<'p, C: Catalog>(
                     })?,
             )
         };
+        let contexts = spec
+            .contexts
+            .as_ref()
+            .map(|c| c.trial_contexts(domain.contexts()))
+            .transpose()
+            .map_err(|(field, reason)| invalid(format!("experiments[{k}].{field}"), reason))?;
         plans.push(ExperimentPlan {
             name: spec.name(),
             domain,
@@ -172,6 +178,7 @@ pub(super) fn plans<'p, C: Catalog>(
             max_commands: config.max_commands,
             feedback: spec.feedback,
             goal_changes: spec.goal_changes,
+            contexts,
         });
     }
     Ok(plans)

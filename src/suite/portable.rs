@@ -89,6 +89,7 @@ mod tests {
             population: None,
             feedback: None,
             goal_changes: None,
+            contexts: None,
         }
     }
 

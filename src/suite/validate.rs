@@ -16,7 +16,7 @@ use crate::limits::{
     SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
-use lab::prefers_competent;
+use lab::{Domain, prefers_competent};
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
@@ -208,8 +208,12 @@ impl ExperimentSpec {
         readings: &Readings,
     ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
         let invalid = |field: String, message: String| invalid(origin, field, message);
-        if let Err(unknown) = domain_of(catalog, &self.scenario) {
-            return Err(invalid(format!("{field}.scenario"), unknown.to_string()));
+        let domain = domain_of(catalog, &self.scenario)
+            .map_err(|unknown| invalid(format!("{field}.scenario"), unknown.to_string()))?;
+        if let Some(contexts) = &self.contexts {
+            contexts
+                .trial_contexts(domain.contexts())
+                .map_err(|(name, reason)| invalid(format!("{field}.{name}"), reason))?;
         }
         if self.goal_changes.is_none() && self.feedback.is_some_and(|c| c.goal_changes > 0.0) {
             return Err(invalid(

@@ -201,3 +201,21 @@ pub fn outside_view(svg: &str) -> Vec<String> {
     }
     outside
 }
+
+/// A mission suite of one small plan, `movement/paper`, whose operators are `operators`
+/// (an experiment's fields, as a mission plan's `operators`).
+pub fn one_mission_suite(operators: &str) -> String {
+    format!(
+        r#"(
+    seed: 1,
+    arms: ["uniform"],
+    missions: [(
+        name: "movement/paper",
+        operators: {operators},
+        count: 2,
+        commands: 20,
+        changes: (every: 10.0, takeover: 0.5),
+    )],
+)"#
+    )
+}

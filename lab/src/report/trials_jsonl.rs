@@ -4,6 +4,7 @@
 use super::ReportEntry;
 use crate::goal_change::GoalChangeRecord;
 use crate::runner::{GivenUpRecord, TrialRecord};
+use cbr_core::Context;
 use serde::Serialize;
 use serde_json::{Map, Value};
 use std::collections::BTreeMap;
@@ -39,6 +40,13 @@ struct TrialLine<'a> {
     /// The trial's goal changes (evaluation only; left out when the experiment has none).
     #[serde(skip_serializing_if = "Option::is_none")]
     goal_changes: Option<GoalChangeRecord>,
+    /// The context the trial ran in (left out when the default one).
+    #[serde(skip_serializing_if = "Context::is_default")]
+    context: &'a Context,
+    /// The context the robot was told, when it differs from the trial's (a robot not
+    /// told its context is told the default one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    told: Option<&'a Context>,
 }
 
 /// A given-up behavior in `trials.jsonl` (how the next behavior was chosen is counted by
@@ -96,5 +104,7 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         true_causes: &t.true_causes,
         given_up: t.given_up.iter().map(GivenUpLine::from).collect(),
         goal_changes: t.goal_changes,
+        context: &t.context,
+        told: (t.report.context != t.context).then_some(&t.report.context),
     }
 }
