@@ -260,13 +260,6 @@ impl ContextSpace {
         Ok(Context(values))
     }
 
-    /// `context` checked against the space and written in its canonical form (values at
-    /// their defaults dropped): how a context read from outside (a file, a request, a
-    /// store) becomes one of this space.
-    pub fn check(&self, context: &Context) -> Result<Context, ContextError> {
-        self.context(context.iter())
-    }
-
     /// The value `context` gives `variable` (its default when the context says nothing),
     /// or `None` when the space does not declare it.
     pub fn value<'a>(&'a self, context: &'a Context, variable: &str) -> Option<&'a str> {
@@ -318,8 +311,9 @@ impl ContextSimilarity {
 }
 
 /// The values of a context's variables that differ from their defaults; empty for the
-/// default context. Built by [`ContextSpace::context`] (or read, then checked with
-/// [`ContextSpace::check`]); serialized as a map from variable to value.
+/// default context. Built by [`ContextSpace::context`] (a context read from outside is
+/// checked by passing its [`Context::iter`] to it); serialized as a map from variable to
+/// value.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct Context(BTreeMap<String, String>);
@@ -471,9 +465,9 @@ mod tests {
         let json = serde_json::to_string(&context).unwrap();
         assert_eq!(json, r#"{"cargo":"hazardous"}"#);
         let read: Context = serde_json::from_str(&json).unwrap();
-        assert_eq!(space.check(&read).unwrap(), context);
+        assert_eq!(space.context(read.iter()).unwrap(), context);
         let foreign: Context = serde_json::from_str(r#"{"cargo":"liquid"}"#).unwrap();
-        assert!(space.check(&foreign).is_err());
+        assert!(space.context(foreign.iter()).is_err());
         let text = ron::to_string(&space).unwrap();
         let back: ContextSpace = ron::from_str(&text).unwrap();
         assert_eq!(back, space);

@@ -36,11 +36,6 @@ impl TrialContexts {
         }
     }
 
-    /// Whether the robot is told the contexts.
-    pub fn told(&self) -> bool {
-        self.told
-    }
-
     /// The contexts in turn.
     pub fn cycle(&self) -> &[Context] {
         &self.cycle

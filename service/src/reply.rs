@@ -8,7 +8,7 @@
 use crate::request::RequestId;
 use crate::shared::SharedCases;
 use crate::store::StoreId;
-use cbr_core::{Behavior, BehaviorSpace, CaseId};
+use cbr_core::{Behavior, BehaviorSpace, CaseId, Context};
 use serde::ser::{SerializeMap, Serializer};
 use serde_json::{Map, Value, json};
 use std::io::{self, Write};
@@ -131,9 +131,7 @@ impl CaseListing {
                     "evaluated": evaluated(&self.space, &case.problem.evaluated),
                     "solution": behavior(&self.space, &case.solution),
                 });
-                if !case.problem.context.is_default() {
-                    entry["context"] = json!(case.problem.context);
-                }
+                add_context(&mut entry, &case.problem.context);
                 serde_json::to_writer(&mut *out, &entry)?;
                 written += 1;
             }
@@ -144,6 +142,14 @@ impl CaseListing {
             out.write_all(id.as_json().as_bytes())?;
         }
         out.write_all(b"}")
+    }
+}
+
+/// `reply` with the robot's `context` under `"context"`, unless it is the default one
+/// (replies in the default context are as they were before contexts).
+pub fn add_context(reply: &mut Value, context: &Context) {
+    if !context.is_default() {
+        reply["context"] = json!(context);
     }
 }
 

@@ -305,10 +305,7 @@ impl Session {
                     "behavior": reply::behavior(&space, &initial),
                     "chosen_by": chosen_by,
                 });
-                let context = self.adaptation().context();
-                if !context.is_default() {
-                    begun["context"] = json!(context);
-                }
+                reply::add_context(&mut begun, self.adaptation().context());
                 begun
             }
             Err(e) => reply::error(e),
@@ -410,10 +407,7 @@ impl Session {
             "domain": self.domain,
             "episode": episode,
         });
-        let context = self.adaptation().context();
-        if !context.is_default() {
-            reply["context"] = json!(context);
-        }
+        reply::add_context(&mut reply, self.adaptation().context());
         if let Some(mission) = self.adapting.mission() {
             reply["watching"] = json!(mission.watching().map(|w| {
                 let mut watching = json!({

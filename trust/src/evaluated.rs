@@ -98,11 +98,6 @@ impl<T> SetSimilarity<T> {
         self
     }
 
-    /// How the contexts of two problems are weighed.
-    pub fn context_similarity(&self) -> &ContextSimilarity {
-        &self.context
-    }
-
     /// The behavior-similarity threshold.
     pub fn lambda(&self) -> f64 {
         self.lambda
