@@ -15,7 +15,7 @@ use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, copy_operator_files, invalid, over, relocate_operator_files,
+    check_distinct, copy_operator_files, invalid, is_context_blind, over, relocate_operator_files,
 };
 use files::name::check_label;
 use files::write_file_in;
@@ -116,6 +116,15 @@ impl MissionSuiteConfig {
             .check("missions", self.missions.len() as u64)
             .map_err(over)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
+        if let Some(i) = self.arms.iter().position(|a| is_context_blind(a)) {
+            return Err(invalid(
+                format!("arms[{i}]"),
+                format!(
+                    "`{}` is blind to the robot's context, and missions run in the default context (contexts are simulated in experiment suites, not yet in missions): drop the arm's +context-blind",
+                    self.arms[i]
+                ),
+            ));
+        }
         check_adapter(&self.adapter, origin)?;
         for (k, spec) in self.missions.iter().enumerate() {
             check_label("plan", &spec.name)

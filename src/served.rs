@@ -6,7 +6,7 @@ use crate::catalog::Catalog;
 use crate::suite::arm_named;
 use cbr_core::Behavior;
 use lab::Domain;
-use lab::{Initial, PREFERS_COMPETENT};
+use lab::{Initial, NameOptions, PREFERS_COMPETENT};
 use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
@@ -43,6 +43,12 @@ pub fn serving_arm<C: Catalog>(
 ) -> anyhow::Result<DomainDefinition> {
     let arm = arm_named(catalog, name, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+    if arm.is_context_blind() {
+        anyhow::bail!(
+            "--arm: `{name}` is blind to the robot's context, which a controller tells `serve` (`begin` with a context, a `context` request): to serve a robot blind to it, send none; serve `{}`",
+            NameOptions::of_name(name).map_or(name, |(base, _)| base)
+        );
+    }
     if arm.initial() != Initial::Random {
         anyhow::bail!(
             "--arm: `{name}` starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one); serve `{}`",

@@ -1,7 +1,8 @@
 //! Trials in contexts through the binary: an experiment's trials take the contexts of its
-//! cycle in turn, their operator judging by the preferences it states there; a robot told
-//! its context learns cases in it, one not told learns them all in the default context;
-//! a context the domain does not declare is refused, leaving nothing behind.
+//! cycle in turn, their operator judging by the preferences it states there; an arm told
+//! its context learns cases in it, its context-blind twin (on the same trials) learns them
+//! all in the default context; a context the domain does not declare, a blind arm with no
+//! contexts to be blind to and the retired `told` are refused, leaving nothing behind.
 
 mod support;
 
@@ -19,22 +20,25 @@ const OPERATOR: &str = r#"(
     contexts: [(when: {"cargo": "hazardous"}, p_deadline: Some(0.05), p_collision: Some(0.95))],
 )"#;
 
-fn suite(cycle: &str) -> String {
+fn suite(contexts: &str) -> String {
     format!(
         r#"(
     seed: 7,
     trials: 12,
     landscape_runs: 0,
     limit: (runs: 20, budget: 0, candidates: 0, candidate_runs: 0),
-    arms: ["case-based"],
+    arms: ["case-based", "case-based+context-blind"],
     experiments: [
         (scenario: "movement", operator: "random", population: Some((name: "carrier")),
-         operator_files: ["carrier.ron"], contexts: Some((cycle: {cycle}))),
-        (scenario: "movement", operator: "random", population: Some((name: "carrier")),
-         operator_files: ["carrier.ron"], contexts: Some((cycle: {cycle}, told: false))),
+         operator_files: ["carrier.ron"]{contexts}),
     ],
 )"#
     )
+}
+
+/// [`suite`] with trials in the contexts of `cycle`.
+fn suite_in(cycle: &str) -> String {
+    suite(&format!(", contexts: Some((cycle: {cycle}))"))
 }
 
 fn run(dir: &Path, text: &str) -> Command {
@@ -52,37 +56,26 @@ fn run(dir: &Path, text: &str) -> Command {
     command
 }
 
-/// Every file under `dir`, read as text, joined.
-fn all_text(dir: &Path) -> String {
-    let mut text = String::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            text.push_str(&all_text(&path));
-        } else {
-            text.push_str(&std::fs::read_to_string(&path).unwrap());
-        }
-    }
-    text
-}
-
 #[test]
-fn trials_take_the_contexts_in_turn_and_a_told_robot_learns_cases_in_them() {
+fn trials_take_the_contexts_in_turn_and_a_told_arm_learns_cases_in_them() {
     let dir = tempfile::tempdir().unwrap();
     let stdout = succeed(&mut run(
         dir.path(),
-        &suite(r#"[{}, {"cargo": "hazardous"}]"#),
+        &suite_in(r#"[{}, {"cargo": "hazardous"}]"#),
     ));
     assert!(stdout.contains("movement/carrier/contexts"), "{stdout}");
     let lines = std::fs::read_to_string(dir.path().join("out/trials.jsonl")).unwrap();
     let mut seen = [0; 2];
+    let mut operators = [Vec::new(), Vec::new()];
     for line in lines.lines() {
         let trial: serde_json::Value = serde_json::from_str(line).unwrap();
-        let told = trial["experiment"] == "movement/carrier/contexts";
+        assert_eq!(trial["experiment"], "movement/carrier/contexts");
+        let told = trial["arm"] == "case-based";
         if !told {
-            assert_eq!(trial["experiment"], "movement/carrier/contexts-untold");
+            assert_eq!(trial["arm"], "case-based+context-blind");
         }
         seen[usize::from(told)] += 1;
+        operators[usize::from(told)].push((trial["trial"].clone(), trial["operator"].clone()));
         let hazardous = trial["trial"].as_u64().unwrap() % 2 == 1;
         if hazardous {
             assert_eq!(
@@ -90,7 +83,7 @@ fn trials_take_the_contexts_in_turn_and_a_told_robot_learns_cases_in_them() {
                 serde_json::json!({"cargo": "hazardous"}),
                 "{line}"
             );
-            // A robot not told its context is told the default one.
+            // A blind arm is told the default context.
             assert_eq!(trial.get("told").is_some(), !told, "{line}");
         } else {
             assert!(trial.get("context").is_none(), "{line}");
@@ -98,24 +91,12 @@ fn trials_take_the_contexts_in_turn_and_a_told_robot_learns_cases_in_them() {
         }
     }
     assert_eq!(seen, [12, 12]);
-    // The told robot's cases include some learned with hazardous cargo; the other's none.
-    let cases = dir.path().join("cases");
-    let mut told_text = String::new();
-    let mut untold_text = String::new();
-    for entry in std::fs::read_dir(&cases).unwrap() {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let text = if path.is_dir() {
-            all_text(&path)
-        } else {
-            std::fs::read_to_string(&path).unwrap()
-        };
-        if name.contains("untold") {
-            untold_text.push_str(&text);
-        } else {
-            told_text.push_str(&text);
-        }
-    }
+    // The twins are paired: the same trials.
+    assert_eq!(operators[0], operators[1]);
+    // The told arm's cases include some learned with hazardous cargo; the other's none.
+    let cases = dir.path().join("cases/movement-carrier-contexts");
+    let told_text = std::fs::read_to_string(cases.join("case-based.ron")).unwrap();
+    let untold_text = std::fs::read_to_string(cases.join("case-based+context-blind.ron")).unwrap();
     assert!(told_text.contains("hazardous"), "{told_text}");
     assert!(!untold_text.is_empty() && !untold_text.contains("hazardous"));
 }
@@ -123,10 +104,34 @@ fn trials_take_the_contexts_in_turn_and_a_told_robot_learns_cases_in_them() {
 #[test]
 fn a_context_the_domain_does_not_declare_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let err = refused(&mut run(dir.path(), &suite(r#"[{}, {"cargo": "toxic"}]"#)));
+    let err = refused(&mut run(
+        dir.path(),
+        &suite_in(r#"[{}, {"cargo": "toxic"}]"#),
+    ));
     assert!(err.contains("experiments[0].contexts.cycle[1]"), "{err}");
     assert!(
         err.contains("context variable `cargo` may be normal, hazardous, not `toxic`"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn a_blind_arm_without_contexts_and_the_retired_told_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = refused(&mut run(dir.path(), &suite("")));
+    assert!(err.contains("arms[1]"), "{err}");
+    assert!(
+        err.contains("`case-based+context-blind` is blind to the robot's context, and no experiment here has `contexts`"),
+        "{err}"
+    );
+    let err = refused(&mut run(
+        dir.path(),
+        &suite(r#", contexts: Some((cycle: [{}], told: false))"#),
+    ));
+    assert!(err.contains("experiments[0].contexts.told"), "{err}");
+    assert!(
+        err.contains("run the arm `NAME+context-blind` beside `NAME`"),
         "{err}"
     );
     assert!(!dir.path().join("out").exists());
@@ -141,6 +146,19 @@ fn a_mission_plan_in_contexts_is_refused() {
     let err = refused(&mut run(dir.path(), &mission));
     assert!(
         err.contains("missions[0].operators.contexts: contexts are simulated in experiment suites, not yet in missions"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn a_blind_arm_in_a_mission_suite_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mission = one_mission_suite(r#"(scenario: "movement", operator: "random")"#)
+        .replace(r#"["uniform"]"#, r#"["uniform+context-blind"]"#);
+    let err = refused(&mut run(dir.path(), &mission));
+    assert!(
+        err.contains("arms[0]: `uniform+context-blind` is blind to the robot's context, and missions run in the default context"),
         "{err}"
     );
     assert!(!dir.path().join("out").exists());

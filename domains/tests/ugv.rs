@@ -281,3 +281,50 @@ fn the_robot_perceives_what_ended_a_run_when_it_can_and_nothing_else() {
         }
     }
 }
+
+/// The paper's operators in the UGV's contexts (`operators/contexts/`,
+/// docs/simulation.md#context): on a routine job with normal cargo each judges exactly as
+/// its paper file; in an emergency every one minds lateness and tolerates bumps; with
+/// hazardous cargo, alone or in an emergency, every one minds bumps and fast passes near
+/// people present and tolerates lateness, at the paper's two reactions.
+#[test]
+fn the_paper_operators_in_contexts_follow_the_sites_rules() {
+    use domains::operator::Comfort;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("operators");
+    let space = domains::context::contexts();
+    let context = |pairs: &[(&str, &str)]| space.context(pairs.iter().copied()).unwrap();
+    let emergency = context(&[("situation", "emergency")]);
+    let hazardous = [
+        context(&[("cargo", "hazardous")]),
+        context(&[("cargo", "hazardous"), ("situation", "emergency")]),
+    ];
+    let care = Comfort {
+        distance: 3.6,
+        speed: 1.4,
+        p: 0.95,
+        expected_too: false,
+    };
+    let mut seen = 0;
+    for scenario in [Scenario::Movement, Scenario::Patrol] {
+        let folder = root.join("contexts").join(scenario.as_str());
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            let there = OperatorModel::load(&path, scenario.causes()).unwrap();
+            let paper_path = root.join(scenario.as_str()).join(path.file_name().unwrap());
+            let paper = OperatorModel::load(&paper_path, scenario.causes()).unwrap();
+            let mut routine = there.in_context(&cbr_core::Context::default());
+            routine.contexts.clear();
+            assert_eq!(routine, paper, "{}", path.display());
+            let urgent = there.in_context(&emergency);
+            assert_eq!((urgent.p_deadline, urgent.p_collision), (0.95, 0.05));
+            assert_eq!(urgent.comfort, paper.comfort);
+            for careful in hazardous.iter().map(|c| there.in_context(c)) {
+                assert_eq!((careful.p_deadline, careful.p_collision), (0.05, 0.95));
+                assert_eq!(careful.comfort, Some(care));
+                assert_eq!(careful.t_complete, paper.t_complete);
+            }
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 5);
+}

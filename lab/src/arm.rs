@@ -5,10 +5,12 @@
 //! optionally a case base to start from. The runner builds every arm's parts through
 //! factories, so a user's own searcher or retriever enters an experiment exactly as the
 //! built-in ones do ([`Arm::search_only`], [`Arm::case_based`]). [`Arm::builtin`] names
-//! the built-in arms; any arm's name followed by [`LEARNED_START`] is that arm starting
-//! each episode from the memory's guess ([`Arm::learned_start`]), and followed by
+//! the built-in arms; any arm's name followed by [`CONTEXT_BLIND`] is that arm not told
+//! the robot's context ([`Arm::blind_to_context`]), followed by [`LEARNED_START`] that arm
+//! starting each episode from the memory's guess ([`Arm::learned_start`]), and followed by
 //! [`PREFERS_COMPETENT`] (last) that arm passing over a trusted behavior the robot is sure
-//! is not competent, on missions that judge it ([`Arm::preferring_competent`]).
+//! is not competent, on missions that judge it ([`Arm::preferring_competent`]); the
+//! suffixes are written in that order ([`NameOptions`]).
 
 use cbr_core::BehaviorSpace;
 use serde::{Deserialize, Serialize};
@@ -33,6 +35,10 @@ pub const BUILTIN_ARMS: [&str; 11] = [
     "hedged",
     "case-based+hedged",
 ];
+
+/// What follows the name of an arm that is not told the robot's context, as the paper's
+/// robot is not ([`Arm::blind_to_context`]): `case-based+context-blind`.
+pub const CONTEXT_BLIND: &str = "+context-blind";
 
 /// What ends the name of an arm that starts each episode from the memory's guess
 /// ([`Initial::Learned`]): `case-based+conditioned+learned-start`.
@@ -80,20 +86,100 @@ pub fn prefers_competent(name: &str) -> (&str, bool) {
     }
 }
 
+/// The arm name `name` split into the name of the arm it is built on and whether it is
+/// blind to the robot's context: `x+context-blind` is `x`, blind.
+pub fn context_blind(name: &str) -> (&str, bool) {
+    match name.strip_suffix(CONTEXT_BLIND) {
+        Some(base) => (base, true),
+        None => (name, false),
+    }
+}
+
+/// What the suffixes of an arm's name add to the arm it is built on, each at most once and
+/// in this order: `NAME[+context-blind][+learned-start][+competent]`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NameOptions {
+    /// Not told the robot's context ([`CONTEXT_BLIND`]).
+    pub context_blind: bool,
+    /// How each episode starts ([`LEARNED_START`]).
+    pub initial: Initial,
+    /// Passing over trusted behaviors the robot is sure are not competent
+    /// ([`PREFERS_COMPETENT`]).
+    pub prefers_competent: bool,
+}
+
+impl NameOptions {
+    /// `name` split into the name of the arm it is built on and the options its suffixes
+    /// add; a suffix written twice, or out of order, is refused with what to write.
+    pub fn of_name(name: &str) -> Result<(&str, Self), String> {
+        let (started, prefers_competent) = self::prefers_competent(name);
+        let (sighted, initial) = Initial::of_name(started);
+        let (base, context_blind) = self::context_blind(sighted);
+        let options = Self {
+            context_blind,
+            initial,
+            prefers_competent,
+        };
+        let misplaced = [CONTEXT_BLIND, LEARNED_START, PREFERS_COMPETENT]
+            .into_iter()
+            .find(|suffix| base.ends_with(suffix));
+        let Some(suffix) = misplaced else {
+            return Ok((base, options));
+        };
+        let mut meant = options;
+        let already = match suffix {
+            CONTEXT_BLIND => std::mem::replace(&mut meant.context_blind, true),
+            LEARNED_START => {
+                std::mem::replace(&mut meant.initial, Initial::Learned) == Initial::Learned
+            }
+            _ => std::mem::replace(&mut meant.prefers_competent, true),
+        };
+        let write = format!("{}{}", &base[..base.len() - suffix.len()], meant.suffixes());
+        Err(if already {
+            format!("`{name}` says {suffix} twice; write `{write}`")
+        } else {
+            format!(
+                "`{name}` writes {suffix} out of order (NAME{CONTEXT_BLIND}{LEARNED_START}{PREFERS_COMPETENT}); write `{write}`"
+            )
+        })
+    }
+
+    /// The suffixes, in order (empty for an arm with none).
+    pub fn suffixes(self) -> String {
+        let mut suffixes = String::new();
+        for (on, suffix) in [
+            (self.context_blind, CONTEXT_BLIND),
+            (self.initial == Initial::Learned, LEARNED_START),
+            (self.prefers_competent, PREFERS_COMPETENT),
+        ] {
+            if on {
+                suffixes.push_str(suffix);
+            }
+        }
+        suffixes
+    }
+}
+
 /// What each built-in arm does, in one line (docs/search-strategies.md tells more),
 /// followed for a [`LEARNED_START`] arm by how it starts; `None` for an arm that is not
 /// built in.
 pub fn describe(name: &str) -> Option<String> {
-    let (started, prefers) = prefers_competent(name);
-    let (base, initial) = Initial::of_name(started);
+    let (base, options) = NameOptions::of_name(name).ok()?;
     let what = describe_builtin(base)?;
-    let what = match initial {
-        Initial::Random => what.to_owned(),
+    let what = if options.context_blind {
+        format!(
+            "{what}; blind to the robot's context, as the paper's robot: every episode and case in the default context"
+        )
+    } else {
+        what.to_owned()
+    };
+    let what = match options.initial {
+        Initial::Random => what,
         Initial::Learned => format!(
             "{what}; each episode starts from the behavior earlier operators accepted most often (the case memory's guess), not at random"
         ),
     };
-    Some(if prefers {
+    Some(if options.prefers_competent {
         format!(
             "{what}; on missions that judge the robot's competence, an episode passes over a trusted behavior the robot is sure falls short, once, and searches on"
         )
@@ -143,6 +229,8 @@ pub struct Arm {
     starting_cases: Option<Arc<TrustCaseBase>>,
     /// Trusted behaviors an episode passes over for being surely not competent.
     competent_passes: u32,
+    /// Not told the robot's context.
+    context_blind: bool,
 }
 
 impl fmt::Debug for Arm {
@@ -152,6 +240,7 @@ impl fmt::Debug for Arm {
             .field("reuses_cases", &self.reuses_cases())
             .field("initial", &self.initial)
             .field("competent_passes", &self.competent_passes)
+            .field("context_blind", &self.context_blind)
             .field(
                 "starting_cases",
                 &self.starting_cases.as_ref().map(|c| c.len()),
@@ -162,7 +251,7 @@ impl fmt::Debug for Arm {
 
 /// An arm name that is not a built-in one.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
+#[error("unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
 pub struct UnknownArm {
     /// The name asked for.
     pub name: String,
@@ -182,6 +271,7 @@ impl Arm {
             initial: Initial::Random,
             starting_cases: None,
             competent_passes: 0,
+            context_blind: false,
         }
     }
 
@@ -243,6 +333,23 @@ impl Arm {
         self
     }
 
+    /// The same arm not told the robot's context, as the paper's robot is not: its
+    /// episodes, and the cases they retain, are all in the default context whatever the
+    /// trial's context is. Named with [`CONTEXT_BLIND`] after its name (once; before any
+    /// other suffix, so build it first).
+    pub fn blind_to_context(mut self) -> Self {
+        if !self.context_blind {
+            self.context_blind = true;
+            self.name.push_str(CONTEXT_BLIND);
+        }
+        self
+    }
+
+    /// Whether the arm is not told the robot's context ([`Arm::blind_to_context`]).
+    pub fn is_context_blind(&self) -> bool {
+        self.context_blind
+    }
+
     /// The same arm starting each episode from the case memory's guess
     /// ([`Initial::Learned`]), named with [`LEARNED_START`] after its name (once: an arm
     /// that already starts so is returned as it is). Its trials read the cases earlier
@@ -278,34 +385,36 @@ impl Arm {
     /// A built-in arm by name ([`BUILTIN_ARMS`]): `NAME` is a search strategy alone and
     /// `case-based+NAME` is Algorithm 1 with it as fallback (`case-based` falls back to
     /// the random walk, as in the paper); case-based arms use `retriever`. Each name
-    /// followed by [`LEARNED_START`] is the same arm with [`Arm::learned_start`], and
-    /// followed (last) by [`PREFERS_COMPETENT`] with [`Arm::preferring_competent`].
+    /// followed by the suffixes of [`NameOptions`] is the same arm with what they add
+    /// ([`Arm::with_name_options`]).
     pub fn builtin(name: &str, retriever: RetrieverKind) -> Result<Self, UnknownArm> {
         let unknown = || UnknownArm {
             name: name.to_owned(),
         };
-        let (name_started, prefers_competent) = prefers_competent(name);
-        let (base, initial) = Initial::of_name(name_started);
+        let (base, options) = NameOptions::of_name(name).map_err(|_| unknown())?;
         if !BUILTIN_ARMS.contains(&base) {
             return Err(unknown());
         }
         let arm = Self::builtin_random(base, retriever).ok_or_else(unknown)?;
-        Ok(arm.with_name_options(initial, prefers_competent))
+        Ok(arm.with_name_options(options))
     }
 
-    /// The same arm with what the suffixes of a name say: starting as `initial`
-    /// ([`Initial::of_name`], [`Arm::learned_start`]), and preferring competent behaviors
-    /// when `prefers_competent` ([`prefers_competent`], [`Arm::preferring_competent`]).
-    pub fn with_name_options(self, initial: Initial, prefers_competent: bool) -> Self {
-        let arm = match initial {
-            Initial::Random => self,
-            Initial::Learned => self.learned_start(),
-        };
-        if prefers_competent {
-            arm.preferring_competent()
-        } else {
-            arm
+    /// The same arm with what the suffixes of a name add ([`NameOptions::of_name`]): blind
+    /// to the robot's context ([`Arm::blind_to_context`]), starting as `initial`
+    /// ([`Arm::learned_start`]), and preferring competent behaviors
+    /// ([`Arm::preferring_competent`]), each named in that order.
+    pub fn with_name_options(self, options: NameOptions) -> Self {
+        let mut arm = self;
+        if options.context_blind {
+            arm = arm.blind_to_context();
         }
+        if options.initial == Initial::Learned {
+            arm = arm.learned_start();
+        }
+        if options.prefers_competent {
+            arm = arm.preferring_competent();
+        }
+        arm
     }
 
     /// The built-in arm `name` (one of [`BUILTIN_ARMS`]), starting at random.
@@ -433,6 +542,72 @@ mod tests {
     }
 
     #[test]
+    fn context_blindness_is_the_first_suffix_of_any_arm_name() {
+        let arm = Arm::builtin(
+            "case-based+context-blind+learned-start+competent",
+            RetrieverKind::Linear,
+        )
+        .unwrap();
+        assert!(arm.is_context_blind());
+        assert_eq!(
+            (arm.initial(), arm.competent_passes()),
+            (Initial::Learned, COMPETENT_PASSES)
+        );
+        let plain = Arm::builtin("case-based", RetrieverKind::Linear).unwrap();
+        assert!(!plain.is_context_blind());
+        // Once only.
+        let blind = plain.blind_to_context().blind_to_context();
+        assert_eq!(blind.name(), "case-based+context-blind");
+        assert!(
+            describe("case-based+context-blind")
+                .unwrap()
+                .ends_with("every episode and case in the default context")
+        );
+    }
+
+    #[test]
+    fn name_options_are_read_in_one_order_and_a_wrong_one_says_what_to_write() {
+        assert_eq!(
+            NameOptions::of_name("mine+context-blind+competent"),
+            Ok((
+                "mine",
+                NameOptions {
+                    context_blind: true,
+                    initial: Initial::Random,
+                    prefers_competent: true,
+                }
+            ))
+        );
+        let all = NameOptions {
+            context_blind: true,
+            initial: Initial::Learned,
+            prefers_competent: true,
+        };
+        assert_eq!(all.suffixes(), "+context-blind+learned-start+competent");
+        assert_eq!(NameOptions::default().suffixes(), "");
+        for (name, expected) in [
+            (
+                "uniform+learned-start+context-blind",
+                "`uniform+learned-start+context-blind` writes +learned-start out of order (NAME+context-blind+learned-start+competent); write `uniform+context-blind+learned-start`",
+            ),
+            (
+                "uniform+competent+learned-start",
+                "`uniform+competent+learned-start` writes +competent out of order (NAME+context-blind+learned-start+competent); write `uniform+learned-start+competent`",
+            ),
+            (
+                "uniform+context-blind+context-blind",
+                "`uniform+context-blind+context-blind` says +context-blind twice; write `uniform+context-blind`",
+            ),
+            (
+                "uniform+learned-start+learned-start+competent",
+                "`uniform+learned-start+learned-start+competent` says +learned-start twice; write `uniform+learned-start+competent`",
+            ),
+        ] {
+            assert_eq!(NameOptions::of_name(name), Err(expected.to_owned()));
+        }
+    }
+
+    #[test]
     fn a_learned_start_is_a_suffix_of_any_arm_name() {
         let arm = Arm::builtin(
             "case-based+conditioned+learned-start",
@@ -456,7 +631,7 @@ mod tests {
             "uniform+learned-start+learned-start",
         ] {
             let err = Arm::builtin(bad, RetrieverKind::Linear).unwrap_err();
-            assert!(err.to_string().contains("each also as NAME+learned-start"));
+            assert!(err.to_string().contains("NAME+learned-start"), "{err}");
         }
         assert_eq!(
             Initial::of_name("mine+learned-start"),

@@ -37,8 +37,8 @@ pub mod testing;
 pub mod timeline;
 
 pub use arm::{
-    Arm, BUILTIN_ARMS, COMPETENT_PASSES, Initial, LEARNED_START, PREFERS_COMPETENT, UnknownArm,
-    prefers_competent,
+    Arm, BUILTIN_ARMS, COMPETENT_PASSES, CONTEXT_BLIND, Initial, LEARNED_START, NameOptions,
+    PREFERS_COMPETENT, UnknownArm, context_blind, prefers_competent,
 };
 pub use context::TrialContexts;
 pub use domain::{

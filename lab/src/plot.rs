@@ -236,20 +236,26 @@ pub fn arm_styles(names: &[&str]) -> Vec<ArmStyle> {
 
 /// The style of the arm named `name`, at `index` in its experiment: each built-in arm
 /// ([`crate::arm::BUILTIN_ARMS`]) has its own, the same in every figure of every report
-/// and sweep (the paper's two: vermillion discs and blue squares); a built-in arm that
-/// starts from the case memory's guess ([`crate::arm::LEARNED_START`]) has its base arm's
-/// shape in another colour, never one of the paper's two; another arm gets one by its
-/// index.
+/// and sweep (the paper's two: vermillion discs and blue squares); a built-in arm with
+/// suffixes ([`crate::arm::NameOptions`]: blind to context, starting from the case
+/// memory's guess) has its base arm's shape in another colour for each, never one of the
+/// paper's two; another arm gets one by its index.
 pub fn arm_style(name: &str, index: usize) -> ArmStyle {
-    let (base, initial) = Initial::of_name(name);
+    let (base, options) =
+        crate::arm::NameOptions::of_name(name).unwrap_or((name, Default::default()));
     let builtin = crate::arm::BUILTIN_ARMS.iter().position(|&a| a == base);
     let k = builtin.unwrap_or(index);
-    // The paper's two colours are theirs alone; the others take turns.
+    // The paper's two colours are theirs alone; the others take turns, the base arm's
+    // `k + 4` places along them (`k - 2`), each suffix's at its own distance from it.
     let others = ARM_COLORS.len() - 2;
-    let color = match (builtin, initial) {
-        // Three places along the others' turn from where the base arm's would be: never
-        // its base arm's colour.
-        (Some(_), Initial::Learned) => 2 + (k + 3) % others,
+    let shift = match (options.context_blind, options.initial) {
+        (false, Initial::Random) => None,
+        (false, Initial::Learned) => Some(3),
+        (true, Initial::Random) => Some(5),
+        (true, Initial::Learned) => Some(1),
+    };
+    let color = match (builtin, shift) {
+        (Some(_), Some(shift)) => 2 + (k + shift) % others,
         _ if k < 2 => k,
         _ => 2 + (k - 2) % others,
     };
@@ -599,12 +605,21 @@ mod tests {
             assert!(builtin[..i].iter().all(|b| b != a));
             assert!(i < 2 || builtin[..2].iter().all(|b| b.color != a.color));
         }
-        // A learned start keeps its base arm's shape in a colour of its own.
+        // A learned start, a blind arm and both keep their base arm's shape, each in a
+        // colour of its own.
         for (k, name) in crate::arm::BUILTIN_ARMS.iter().enumerate() {
-            let learned = arm_style(&format!("{name}{}", crate::arm::LEARNED_START), 0);
-            assert_eq!(learned.shape, builtin[k].shape);
-            assert_ne!(learned.color, builtin[k].color);
-            assert!(builtin[..2].iter().all(|b| b.color != learned.color));
+            let varied = [
+                "+learned-start",
+                "+context-blind",
+                "+context-blind+learned-start",
+            ]
+            .map(|suffixes| arm_style(&format!("{name}{suffixes}"), 0));
+            for (i, style) in varied.iter().enumerate() {
+                assert_eq!(style.shape, builtin[k].shape);
+                assert_ne!(style.color, builtin[k].color);
+                assert!(builtin[..2].iter().all(|b| b.color != style.color));
+                assert!(varied[..i].iter().all(|v| v.color != style.color));
+            }
         }
         assert_eq!(
             drawing_order(&["uniform", "case-based", "random-walk", "x"]),

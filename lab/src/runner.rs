@@ -763,9 +763,15 @@ fn run_trial<D: Domain>(
         .map_or_else(Context::default, |c| c.of_trial(trial).clone());
     let in_context = plan.domain.operator_in_context(operator, &context);
     let operator = in_context.as_ref().unwrap_or(operator);
-    if let Some(contexts) = &plan.contexts {
+    if plan.contexts.is_some() {
+        // A context-blind arm, as the paper's robot, is never told it.
+        let told = if arm.is_context_blind() {
+            Context::default()
+        } else {
+            context.clone()
+        };
         adapter
-            .set_context(contexts.told_in(trial))
+            .set_context(told)
             .expect("no episode is under way between trials");
     }
     let drawn = adapter.space().draw(&mut setup);

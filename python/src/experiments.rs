@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trustcbr::catalog::domain_of;
 use trustcbr::cbr_core::BehaviorSpace;
-use trustcbr::lab::{Arm, BUILTIN_ARMS, Domain, Initial};
+use trustcbr::lab::{Arm, BUILTIN_ARMS, Domain, NameOptions};
 use trustcbr::limits::{LANDSCAPE_RUNS, THREADS, TRIALS};
 use trustcbr::missions::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
@@ -153,7 +153,7 @@ fn check_python_arm_names<C: Catalog>(
         }
         if !arms_run
             .iter()
-            .any(|a| Initial::of_name(a).0 == name.as_str())
+            .any(|a| NameOptions::of_name(a).is_ok_and(|(base, _)| base == name.as_str()))
         {
             return Err(error(format_args!(
                 "python_arms: `{name}` is not among the arms run ({}); name it in `arms` to run it",

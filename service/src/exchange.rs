@@ -149,7 +149,7 @@ pub fn import(
     let location = reader.location();
     let mut cases: Vec<TrustCase> = Vec::new();
     reader.read_after(None, &mut |stored| {
-        store::check_case(&location, &stored, &identity.space)?;
+        store::check_case(&location, &stored, &identity.space, &domain.contexts)?;
         cases.push(stored.case);
         Ok(())
     })?;
@@ -159,7 +159,7 @@ pub fn import(
     let location = target.location();
     let mut held = HashSet::new();
     target.read_after(None, &mut |stored| {
-        store::check_case(&location, &stored, &identity.space)?;
+        store::check_case(&location, &stored, &identity.space, &domain.contexts)?;
         held.insert(row::encode(&stored.case));
         Ok(())
     })?;

@@ -11,13 +11,14 @@
 
 use crate::domain::DomainDefinition;
 use crate::store::{self, CaseStore, Identity, Location, StoreError, StoreId, StoredCase};
-use cbr_core::BehaviorSpace;
+use cbr_core::{BehaviorSpace, ContextSpace};
 use std::sync::{Arc, Mutex, MutexGuard};
 use trust::{ConfigError, TrustCase, TrustCaseBase, TrustMemory};
 
 /// The case memory of one server, shared by its sessions.
 pub struct SharedCases {
     space: Arc<BehaviorSpace>,
+    contexts: Arc<ContextSpace>,
     location: String,
     writable: bool,
     inner: Mutex<Inner>,
@@ -53,14 +54,21 @@ impl SharedCases {
         };
         let store = store::open(location, &identity)?;
         let memory = domain.memory(TrustCaseBase::new())?;
-        Ok(Self::load(store, memory, domain.space.clone())?)
+        Ok(Self::load(
+            store,
+            memory,
+            domain.space.clone(),
+            domain.contexts.clone(),
+        )?)
     }
 
-    /// Wraps `store`, loading every case it holds into `memory` (empty).
+    /// Wraps `store`, loading every case it holds into `memory` (empty); each is checked
+    /// against `space` and `contexts` ([`store::check_case`]).
     pub fn load(
         store: Box<dyn CaseStore>,
         memory: TrustMemory,
         space: Arc<BehaviorSpace>,
+        contexts: Arc<ContextSpace>,
     ) -> Result<Self, StoreError> {
         let location = store.location();
         let writable = store.writable();
@@ -69,9 +77,10 @@ impl SharedCases {
             ids: Vec::new(),
             store,
         };
-        inner.catch_up(&space, &location)?;
+        inner.catch_up(&space, &contexts, &location)?;
         Ok(Self {
             space,
+            contexts,
             location,
             writable,
             inner: Mutex::new(inner),
@@ -101,7 +110,7 @@ impl SharedCases {
         f: impl FnOnce(&TrustMemory, &[StoreId]) -> R,
     ) -> Result<R, StoreError> {
         let mut inner = self.lock();
-        inner.catch_up(&self.space, &self.location)?;
+        inner.catch_up(&self.space, &self.contexts, &self.location)?;
         Ok(f(&inner.memory, &inner.ids))
     }
 
@@ -117,7 +126,13 @@ impl SharedCases {
             .append(&case, after, &mut |stored| missed.push(stored))?;
         let Inner { memory, ids, .. } = &mut *inner;
         for stored in missed.into_iter().chain([StoredCase { id, case }]) {
-            add(memory, ids, stored, &self.space, &self.location)?;
+            add(
+                memory,
+                ids,
+                stored,
+                (&self.space, &self.contexts),
+                &self.location,
+            )?;
         }
         Ok((id, ids.len()))
     }
@@ -137,24 +152,30 @@ impl SharedCases {
 }
 
 impl Inner {
-    fn catch_up(&mut self, space: &BehaviorSpace, location: &str) -> Result<(), StoreError> {
+    fn catch_up(
+        &mut self,
+        space: &BehaviorSpace,
+        contexts: &ContextSpace,
+        location: &str,
+    ) -> Result<(), StoreError> {
         let after = self.ids.last().copied();
         let (memory, ids) = (&mut self.memory, &mut self.ids);
         self.store.read_after(after, &mut |stored| {
-            add(memory, ids, stored, space, location)
+            add(memory, ids, stored, (space, contexts), location)
         })
     }
 }
 
-/// Checks a stored case against the space and appends it to the memory.
+/// Checks a stored case against the domain's behavior space and contexts
+/// ([`store::check_case`]) and appends it to the memory.
 fn add(
     memory: &mut TrustMemory,
     ids: &mut Vec<StoreId>,
     stored: StoredCase,
-    space: &BehaviorSpace,
+    (space, contexts): (&BehaviorSpace, &ContextSpace),
     location: &str,
 ) -> Result<(), StoreError> {
-    store::check_case(location, &stored, space)?;
+    store::check_case(location, &stored, space, contexts)?;
     memory.retain(stored.case);
     ids.push(stored.id);
     Ok(())

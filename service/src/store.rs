@@ -29,7 +29,7 @@ pub mod ron_file;
 pub mod sqlite;
 mod sqlite_file;
 
-use cbr_core::{Behavior, BehaviorSpace};
+use cbr_core::{Behavior, BehaviorSpace, ContextSpace};
 use std::path::{Path, PathBuf};
 use trust::TrustCase;
 
@@ -148,6 +148,18 @@ pub enum StoreError {
         /// The case's store id.
         id: StoreId,
         /// What does not fit.
+        reason: String,
+    },
+    /// A stored case was learned in a context the domain does not declare.
+    #[error(
+        "{location}: case #{id} was learned in a context this domain does not declare ({reason}); is this the case base of another domain, or were the domain's context variables changed?"
+    )]
+    ForeignContext {
+        /// The store.
+        location: String,
+        /// The case's store id.
+        id: StoreId,
+        /// What is not declared.
         reason: String,
     },
     /// A stored case holds a value no case can have, whatever the domain (a negative
@@ -410,12 +422,14 @@ pub fn check_file(path: &Path) -> Result<bool, StoreError> {
     }
 }
 
-/// Checks a case read from a store against `space`: every behavior belongs to it and every
-/// time is a finite number >= 0.
+/// Checks a case read from a store against `space` and `contexts`: every behavior belongs
+/// to the space, every time is a finite number >= 0, and its context is one the domain
+/// declares, written as a context is (only the values away from their defaults).
 pub fn check_case(
     location: &str,
     stored: &StoredCase,
     space: &BehaviorSpace,
+    contexts: &ContextSpace,
 ) -> Result<(), StoreError> {
     let foreign = |reason: String| StoreError::Foreign {
         location: location.to_owned(),
@@ -438,7 +452,30 @@ pub fn check_case(
             });
         }
     }
-    Ok(())
+    let context = &case.problem.context;
+    match contexts.context(context.iter()) {
+        Ok(declared) if declared == *context => Ok(()),
+        Ok(declared) => {
+            let at_default: Vec<String> = context
+                .iter()
+                .filter(|(variable, _)| declared.get(variable).is_none())
+                .map(|(variable, value)| format!("`{variable}` at its default `{value}`"))
+                .collect();
+            Err(StoreError::Invalid {
+                location: location.to_owned(),
+                id: stored.id,
+                reason: format!(
+                    "context: {} written out; a context leaves its defaults out",
+                    at_default.join(", ")
+                ),
+            })
+        }
+        Err(e) => Err(StoreError::ForeignContext {
+            location: location.to_owned(),
+            id: stored.id,
+            reason: e.to_string(),
+        }),
+    }
 }
 
 fn check_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Result<(), String> {
@@ -792,7 +829,13 @@ mod tests {
         let mut store = open(&Location::Ron(path.clone()), &movement()).unwrap();
         assert!(!store.writable());
         let cases = all(store.as_mut(), None);
-        let err = check_case(&store.location(), &cases[0], &movement().space).unwrap_err();
+        let err = check_case(
+            &store.location(),
+            &cases[0],
+            &movement().space,
+            &ContextSpace::NONE,
+        )
+        .unwrap_err();
         assert!(
             err.to_string()
                 .contains("case #0 does not fit this domain's behavior space (solution: value index 25 of `padding` is out of range"),
@@ -804,6 +847,44 @@ mod tests {
             "{err}"
         );
         assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    }
+
+    #[test]
+    fn a_case_is_read_only_in_a_context_the_domain_declares_and_as_contexts_are_written() {
+        let contexts = ContextSpace::new(vec![cbr_core::ContextVariable::new(
+            "cargo",
+            &["normal", "hazardous"],
+        )])
+        .unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cases.ron");
+        let read = |context: &str| {
+            let text = format!(
+                "(cases: [(problem: (context: {context}, evaluated: [(behavior: [3, 4], time: 12.0)]), solution: [1, 2])])"
+            );
+            std::fs::write(&path, &text).unwrap();
+            let mut store = open(&Location::Ron(path.clone()), &movement()).unwrap();
+            let cases = all(store.as_mut(), None);
+            let checked = check_case(&store.location(), &cases[0], &movement().space, &contexts);
+            assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+            checked.map_err(|e| e.to_string())
+        };
+        assert_eq!(read(r#"{"cargo": "hazardous"}"#), Ok(()));
+        let err = read(r#"{"cargo": "toxic"}"#).unwrap_err();
+        assert!(
+            err.contains("case #0 was learned in a context this domain does not declare (context variable `cargo` may be normal, hazardous, not `toxic`)"),
+            "{err}"
+        );
+        let err = read(r#"{"situation": "emergency"}"#).unwrap_err();
+        assert!(
+            err.contains("was learned in a context this domain does not declare"),
+            "{err}"
+        );
+        let err = read(r#"{"cargo": "normal"}"#).unwrap_err();
+        assert!(
+            err.ends_with("case #0: context: `cargo` at its default `normal` written out; a context leaves its defaults out"),
+            "{err}"
+        );
     }
 
     proptest! {
@@ -828,7 +909,9 @@ mod tests {
             if let Ok(mut store) = open(&Location::Ron(path), &movement()) {
                 let location = store.location();
                 let space = movement().space;
-                let _ = store.read_after(None, &mut |c| check_case(&location, &c, &space));
+                let _ = store.read_after(None, &mut |c| {
+                    check_case(&location, &c, &space, &ContextSpace::NONE)
+                });
             }
         }
     }

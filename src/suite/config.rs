@@ -273,8 +273,8 @@ pub struct ExperimentSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub goal_changes: Option<GoalChanges>,
     /// The contexts the trials run in, in turn (`(cycle: [{}, {"cargo": "hazardous"}])`;
-    /// docs/simulation.md#context), and whether the robot is told them (`told`, true by
-    /// default); absent: every trial in the default context.
+    /// docs/simulation.md#context; the robot is told them unless its arm is
+    /// `NAME+context-blind`); absent: every trial in the default context.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contexts: Option<ContextsSpec>,
 }
@@ -287,19 +287,41 @@ pub struct ContextsSpec {
     /// Trial `k` runs in context `k` modulo the cycle's length: each context its
     /// variables and values (`{}`: the default context).
     pub cycle: Vec<BTreeMap<String, String>>,
-    /// Whether the robot is told the context (false: the paper's context-blind robot).
-    #[serde(default = "told_by_default")]
-    pub told: bool,
+    /// Retired (read only to say so): whether the robot is told the context is its arm's
+    /// (`NAME+context-blind`), so that a blind arm runs on the same trials as its sighted
+    /// twin.
+    #[serde(default, skip_serializing)]
+    pub told: Retired,
 }
 
-fn told_by_default() -> bool {
-    true
+/// A field that is read only to refuse it with what replaced it: present (whatever its
+/// value) or not.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Retired(bool);
+
+impl Retired {
+    /// Whether the field was written.
+    pub fn is_written(self) -> bool {
+        self.0
+    }
+}
+
+impl<'de> Deserialize<'de> for Retired {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        serde::de::IgnoredAny::deserialize(d).map(|_| Retired(true))
+    }
 }
 
 impl ContextsSpec {
     /// The trials' contexts, each checked against `space` (the domain's context
     /// variables); an error names the field under the experiment (`contexts.cycle[1]`).
     pub fn trial_contexts(&self, space: &ContextSpace) -> Result<TrialContexts, (String, String)> {
+        if self.told.is_written() {
+            return Err((
+                "contexts.told".to_owned(),
+                "is retired: whether the robot is told its context is its arm's; run the arm `NAME+context-blind` beside `NAME`, on the same trials".to_owned(),
+            ));
+        }
         let cycle = self
             .cycle
             .iter()
@@ -311,7 +333,7 @@ impl ContextsSpec {
                     .map_err(|e| (format!("contexts.cycle[{i}]"), e.to_string()))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        TrialContexts::new(cycle, self.told).ok_or_else(|| {
+        TrialContexts::new(cycle).ok_or_else(|| {
             (
                 "contexts.cycle".to_owned(),
                 "needs at least one context (`{}` is the default one)".to_owned(),
@@ -465,13 +487,12 @@ impl ExperimentSpec {
     /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
     /// with a feedback channel of its own, `movement/rung-2` for a population; with goal
     /// changes, `/g1` at one an hour, `/g1s0.5` when half of them are said; in contexts,
-    /// `/contexts`, or `/contexts-untold` for a robot not told them).
+    /// `/contexts`).
     pub fn name(&self) -> String {
         let name = self.name_without_contexts();
         match &self.contexts {
             None => name,
-            Some(c) if c.told => format!("{name}/contexts"),
-            Some(_) => format!("{name}/contexts-untold"),
+            Some(_) => format!("{name}/contexts"),
         }
     }
 
@@ -750,6 +771,28 @@ mod tests {
             SuiteConfig::from_ron(&UgvCatalog, &ron, Path::new("x.ron")).unwrap(),
             benchmark
         );
+    }
+
+    #[test]
+    fn the_contexts_suite_runs_each_case_reusing_arm_beside_its_blind_twin() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/experiments/contexts.ron");
+        let suite = SuiteConfig::load(&UgvCatalog, &file).unwrap();
+        assert!(suite.experiments.iter().all(|e| e.contexts.is_some()));
+        let sighted: Vec<&String> = suite
+            .arms
+            .iter()
+            .filter(|a| a.starts_with("case-based") && !a.contains("+context-blind"))
+            .collect();
+        assert_eq!(sighted.len(), 4);
+        for arm in sighted {
+            let (base, options) = lab::NameOptions::of_name(arm).unwrap();
+            let blind = lab::NameOptions {
+                context_blind: true,
+                ..options
+            };
+            let twin = format!("{base}{}", blind.suffixes());
+            assert!(suite.arms.contains(&twin), "{twin}");
+        }
     }
 
     #[test]

@@ -8,15 +8,15 @@ use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
 use lab::{
-    Arm, BUILTIN_ARMS, ExperimentPlan, Initial, LEARNED_START, OperatorChoice, PREFERS_COMPETENT,
-    prefers_competent,
+    Arm, BUILTIN_ARMS, CONTEXT_BLIND, ExperimentPlan, LEARNED_START, NameOptions, OperatorChoice,
+    PREFERS_COMPETENT,
 };
 use std::path::Path;
 use trust::RetrieverKind;
 
 /// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
-/// followed once by [`LEARNED_START`] ([`Arm::learned_start`]) and then once by
-/// [`PREFERS_COMPETENT`] ([`Arm::preferring_competent`]); the error lists every name
+/// followed by the suffixes of [`NameOptions`] ([`CONTEXT_BLIND`], [`LEARNED_START`],
+/// [`PREFERS_COMPETENT`], each once, in that order); the error lists every name
 /// known. An arm's name is a file name (its saved case base is `EXPERIMENT/ARM.ron`), so a
 /// name that is not one ([`check_file_name`]) is refused here, for every suite kind, sweep
 /// and `serve --arm`, and so is an arm whose name would differ from the one asked for.
@@ -26,18 +26,7 @@ pub fn arm_named<C: Catalog>(
     retriever: RetrieverKind,
 ) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
-    let (started, prefers) = prefers_competent(name);
-    if prefers_competent(started).1 {
-        return Err(format!(
-            "`{name}` says {PREFERS_COMPETENT} twice; an arm prefers competent behaviors or not: write `{started}`"
-        ));
-    }
-    let (base, initial) = Initial::of_name(started);
-    if Initial::of_name(base).1 == Initial::Learned {
-        return Err(format!(
-            "`{name}` says {LEARNED_START} twice; an arm starts from the memory's guess or not: write `{base}`"
-        ));
-    }
+    let (base, options) = NameOptions::of_name(name)?;
     let arm = match own.iter().find(|a| a.name() == base) {
         Some(arm) => arm.clone(),
         None => Arm::builtin(base, retriever).map_err(|_| {
@@ -47,12 +36,12 @@ pub fn arm_named<C: Catalog>(
                 .chain(own.iter().map(Arm::name))
                 .collect();
             format!(
-                "unknown arm `{name}` (known: {}; each also as NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})",
+                "unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})",
                 known.join(", ")
             )
         })?,
     };
-    let arm = arm.with_name_options(initial, prefers);
+    let arm = arm.with_name_options(options);
     check_file_name("arm", arm.name()).map_err(|e| e.to_string())?;
     if arm.name() != name {
         return Err(format!(
@@ -136,9 +125,13 @@ pub(super) fn plans<'p, C: Catalog>(
         let mut plan_arms = Vec::with_capacity(arms.len());
         for arm in &arms {
             let saved = match starting {
-                Some(s) if arm.reads_cases() => {
-                    s.load(stem, arm.name(), &spec.scenario, domain.space())?
-                }
+                Some(s) if arm.reads_cases() => s.load(
+                    stem,
+                    arm.name(),
+                    &spec.scenario,
+                    domain.space(),
+                    domain.contexts(),
+                )?,
                 _ => None,
             };
             plan_arms.push(match saved {

@@ -98,11 +98,17 @@ pub(crate) fn report_replay<C: Catalog>(
         let parts = Parts::of(catalog, config, origin)?;
         let stems = file_stems(config.experiments.iter().map(|s| s.name()));
         for (k, (spec, stem)) in config.experiments.iter().zip(&stems).enumerate() {
-            let space = parts.domain(k).space();
+            let domain = parts.domain(k);
             let mut arms = BTreeMap::new();
             for arm in &config.arms {
                 if reads_cases(catalog, config, arm)
-                    && let Some(cases) = starting.load(stem, arm, &spec.scenario, space)?
+                    && let Some(cases) = starting.load(
+                        stem,
+                        arm,
+                        &spec.scenario,
+                        domain.space(),
+                        domain.contexts(),
+                    )?
                 {
                     arms.insert(arm.clone(), cases_hash(&cases));
                 }
@@ -231,10 +237,16 @@ fn starting_hash<C: Catalog>(
     let origin = report.join("config.ron");
     let parts = Parts::of(catalog, config, &origin)?;
     let spec = &config.experiments[k];
-    let space = parts.domain(k).space();
+    let domain = parts.domain(k);
     let file = saved_file(&starting.dir, &stems[k], arm)?;
     Ok(starting
-        .load(&stems[k], arm, &spec.scenario, space)?
+        .load(
+            &stems[k],
+            arm,
+            &spec.scenario,
+            domain.space(),
+            domain.contexts(),
+        )?
         .map(|cases| (file, cases_hash(&cases))))
 }
 

@@ -5,7 +5,7 @@
 
 use super::{SuiteConfig, SuiteError, SuiteResults, arm_named};
 use crate::catalog::Catalog;
-use cbr_core::BehaviorSpace;
+use cbr_core::{BehaviorSpace, ContextSpace};
 use files::FileError;
 use files::name::file_in;
 use lab::report::file_stems;
@@ -40,6 +40,7 @@ impl StartingCases {
         arm: &str,
         scenario: &str,
         space: &BehaviorSpace,
+        contexts: &ContextSpace,
     ) -> Result<Option<TrustCaseBase>, SuiteError> {
         let path = saved_file(&self.dir, stem, arm)?;
         if !store::check_file(&path)? {
@@ -53,7 +54,7 @@ impl StartingCases {
         let location = store.location();
         let mut cases = TrustCaseBase::new();
         store.read_after(None, &mut |stored| {
-            store::check_case(&location, &stored, space)?;
+            store::check_case(&location, &stored, space, contexts)?;
             cases.push(stored.case);
             Ok(())
         })?;

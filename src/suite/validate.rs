@@ -16,7 +16,7 @@ use crate::limits::{
     SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
-use lab::{Domain, prefers_competent};
+use lab::{Domain, NameOptions, prefers_competent};
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
@@ -82,6 +82,17 @@ impl SuiteConfig {
                 ),
             ));
         }
+        if !self.experiments.iter().any(|e| e.contexts.is_some())
+            && let Some(i) = self.arms.iter().position(|a| is_context_blind(a))
+        {
+            return Err(invalid(
+                format!("arms[{i}]"),
+                format!(
+                    "`{}` is blind to the robot's context, and no experiment here has `contexts`: every trial runs in the default context, where the arm is its sighted twin; give an experiment `contexts` or drop the arm's +context-blind",
+                    self.arms[i]
+                ),
+            ));
+        }
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {
@@ -140,6 +151,12 @@ pub(crate) fn check_adapter(adapter: &AdapterConfig, origin: &Path) -> Result<()
     limits::check_thresholds("adapter.thresholds", &adapter.thresholds)
         .map_err(|e| over(origin, e))?;
     super::config::check_arms_choose(adapter, origin)
+}
+
+/// Whether the arm named `name` is blind to the robot's context (`NAME+context-blind`;
+/// a name [`check_arms`] refuses is not).
+pub(crate) fn is_context_blind(name: &str) -> bool {
+    NameOptions::of_name(name).is_ok_and(|(_, options)| options.context_blind)
 }
 
 /// Checks a suite's arms, whatever its kind: at least one, each known to `catalog` (or
