@@ -6,6 +6,7 @@
 //! randomness from the seeded generator it is handed.
 
 use crate::behavior::{Behavior, BehaviorSpace};
+use crate::context::Context;
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -112,6 +113,11 @@ pub trait Searcher: Send {
     fn learns_across_episodes(&self) -> bool {
         false
     }
+
+    /// Called when the robot is told its context, between episodes: the episodes that
+    /// follow are in `context` until it is told another. A strategy that weighs what it
+    /// learned by the context it was learned in reads it here; the default ignores it.
+    fn enter_context(&mut self, _context: &Context) {}
 
     /// Called when an episode begins with `initial` in use.
     fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {}

@@ -29,7 +29,7 @@ use rand::RngCore;
 use serde_json::{Value, json};
 use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
-use trustcbr::cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
+use trustcbr::cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
 use trustcbr::lab::Arm;
 use trustcbr::service::reply;
 use trustcbr::trust::named::named_space;
@@ -69,6 +69,8 @@ pub struct PySearcher {
     learns: bool,
     space: Option<Arc<BehaviorSpace>>,
     observations: Vec<Cause>,
+    /// A context the robot was told before the object was built, told it once built.
+    untold_context: Option<Context>,
     errors: FirstError,
     caller: Caller,
 }
@@ -96,6 +98,7 @@ impl PySearcher {
             learns: false,
             space: None,
             observations,
+            untold_context: None,
             errors,
             caller,
         };
@@ -174,9 +177,20 @@ impl Searcher for PySearcher {
         self.learns
     }
 
+    fn enter_context(&mut self, context: &Context) {
+        if self.object.is_none() {
+            self.untold_context = Some(context.clone());
+        } else {
+            self.call_optional("enter_context", vec![json!(context)]);
+        }
+    }
+
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
         if self.object.is_none() {
             self.build(&Arc::new(space.clone()));
+            if let Some(context) = self.untold_context.take() {
+                self.call_optional("enter_context", vec![json!(context)]);
+            }
         }
         self.call_optional("begin_episode", vec![reply::behavior(space, initial)]);
     }

@@ -75,6 +75,30 @@ def test_the_searcher_sees_outcomes_and_episodes() -> None:
     assert seen[0].observed and {"outcome", "weight", "observed"} <= set(seen[0].observed[0])
 
 
+def test_the_searcher_is_told_the_robots_context_and_a_blind_twin_is_not() -> None:
+    told: List[List[Any]] = []
+
+    class Contextual(UniformSearcher):
+        learns_across_episodes = True
+
+        def __init__(self, space: trustcbr.Space) -> None:
+            super().__init__(space)
+            self.contexts: List[Any] = []
+            told.append(self.contexts)
+
+        def enter_context(self, context: Any) -> None:
+            self.contexts.append(context)
+
+    cycle = [{}, {"cargo": "hazardous"}]
+    experiment = {"scenario": "movement", "operator": "balanced", "contexts": {"cycle": cycle}}
+    trustcbr.run(
+        small_suite(arms=["contextual", "contextual+context-blind"], experiments=[experiment]),
+        python_arms={"contextual": Contextual},
+    )
+    # One searcher for each arm's chain of trials: told the trial's context, or none.
+    assert len(told) == 2 and cycle * 6 in told and [{}] * 12 in told
+
+
 def test_the_conformance_kit_passes_a_conformant_searcher() -> None:
     trustcbr.check_searcher(UniformSearcher)
 

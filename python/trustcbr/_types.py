@@ -140,7 +140,9 @@ class Decision:
 class Searcher(Protocol):
     """A search strategy written in Python (only ``propose`` is required).
 
-    Optional: ``begin_episode(initial)``, ``observe(behavior, outcome)``,
+    Optional: ``enter_context(context)`` (the robot's context, a dict of the variables
+    away from their defaults, told between episodes), ``begin_episode(initial)``,
+    ``observe(behavior, outcome)``,
     ``end_episode(evaluated, settled)``, ``rationale(proposed)`` (a str, one plain line
     saying how it explores, or a dict ``{"expects": what, "confidence": p}`` saying what it
     expects of the proposal, ``p`` a probability or ``None``),

@@ -415,12 +415,13 @@ impl Adaptation {
     /// The context the robot is in from now on (the default one until set): episodes
     /// begun afterwards run in it, are matched with cases by it, and retain it in their
     /// case. Refused while an episode is under way, whose pairs were all evaluated in the
-    /// context it began in. The caller checks `context` against its domain's
-    /// [`cbr_core::ContextSpace`].
+    /// context it began in. The searcher is told it ([`cbr_core::Searcher::enter_context`]).
+    /// The caller checks `context` against its domain's [`cbr_core::ContextSpace`].
     pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
         if self.episode.is_some() {
             return Err(AdapterError::EpisodeUnderWay);
         }
+        self.searcher.enter_context(&context);
         self.context = context;
         Ok(())
     }

@@ -694,3 +694,68 @@ fn a_goal_change_is_said_only_of_an_interruption_without_a_reason() {
     // Refused outcomes leave the episode as it was.
     assert_eq!(a.episode().unwrap().estimate.commands, 0);
 }
+
+/// A searcher that writes down every context it is told.
+struct ContextWatcher {
+    told: Arc<std::sync::Mutex<Vec<cbr_core::Context>>>,
+}
+
+impl cbr_core::Searcher for ContextWatcher {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+
+    fn name(&self) -> &str {
+        "context-watcher"
+    }
+
+    fn enter_context(&mut self, context: &cbr_core::Context) {
+        self.told.lock().unwrap().push(context.clone());
+    }
+
+    fn propose(
+        &mut self,
+        space: &BehaviorSpace,
+        _evaluated: &[Evaluated],
+        rng: &mut dyn rand::RngCore,
+    ) -> cbr_core::Proposal {
+        cbr_core::Proposal::Next(space.draw(rng))
+    }
+}
+
+#[test]
+fn a_searcher_is_told_each_context_the_robot_is_told_and_none_mid_episode() {
+    let space = grid(&[3, 3]);
+    let contexts = ContextSpace::new(vec![ContextVariable::new(
+        "cargo",
+        &["normal", "hazardous"],
+    )])
+    .unwrap();
+    let hazardous = contexts.context([("cargo", "hazardous")]).unwrap();
+    let told = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let parameters = Parameters::default();
+    let measure = SetSimilarity::new(space.clone(), parameters.lambda).unwrap();
+    let mut adapter = TrustAdapter::with_parts(
+        space.clone(),
+        parameters,
+        CaseMemory::new(
+            TrustCaseBase::new(),
+            Box::new(LinearRetriever::new(measure)),
+        ),
+        Box::new(ContextWatcher { told: told.clone() }),
+        ChaCha8Rng::seed_from_u64(1),
+    )
+    .unwrap();
+    adapter.set_context(hazardous.clone()).unwrap();
+    adapter.begin_episode(Behavior::new(&[0, 0])).unwrap();
+    // Refused mid-episode: the searcher is not told.
+    assert!(matches!(
+        adapter.set_context(cbr_core::Context::default()),
+        Err(AdapterError::EpisodeUnderWay)
+    ));
+    adapter.abandon_episode();
+    adapter.set_context(cbr_core::Context::default()).unwrap();
+    assert_eq!(
+        *told.lock().unwrap(),
+        [hazardous, cbr_core::Context::default()]
+    );
+}

@@ -17,7 +17,7 @@
 //! The turns restart with every episode, the first strategy first.
 
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
 use rand::RngCore;
 
 /// Two searchers proposing in turn (see the module documentation).
@@ -57,6 +57,11 @@ where
 
     fn learns_across_episodes(&self) -> bool {
         self.first.learns_across_episodes() || self.second.learns_across_episodes()
+    }
+
+    fn enter_context(&mut self, context: &Context) {
+        self.first.enter_context(context);
+        self.second.enter_context(context);
     }
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {

@@ -42,7 +42,7 @@ use super::propose_untried;
 #[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
 use rand::RngCore;
 
 /// The kernel's scale in behavior similarity: the paper's `1 - lambda`.
@@ -227,6 +227,10 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
 
     fn learns_across_episodes(&self) -> bool {
         true
+    }
+
+    fn enter_context(&mut self, context: &Context) {
+        self.fallback.enter_context(context);
     }
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
