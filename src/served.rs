@@ -61,7 +61,7 @@ pub fn serving_arm<C: Catalog>(
     Ok(domain
         .preferring_competent(passes)
         .with_searcher(move |space| searcher.build_searcher(space))
-        .with_retriever(move |space, lambda| retriever.build_retriever(space, lambda)))
+        .with_retriever(move |measure| retriever.build_retriever(measure)))
 }
 
 /// Refuses a served `domain` that prefers competent behaviors (`--arm NAME+competent`)

@@ -41,7 +41,7 @@ fn an_arm_named_to_leave_its_folder_is_refused_and_nothing_outside_is_written() 
         Arm::case_based(
             "../../victim",
             |_| SearchKind::Uniform.build(),
-            move |space, lambda| retriever.build(space.clone(), lambda),
+            move |measure| retriever.build_measure(measure),
         )
     });
     let dir = tempfile::tempdir().unwrap();

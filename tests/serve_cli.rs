@@ -373,4 +373,19 @@ fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base(
         "{stderr}"
     );
     assert!(!fresh.exists());
+    // A robot blind to its context is one its controller tells none: refused as an arm.
+    let output = serve(
+        &["--domain", "movement", "--arm", "case-based+context-blind"],
+        &fresh,
+    )
+    .stdin(Stdio::null())
+    .output()
+    .unwrap();
+    let stderr = failure(&output);
+    assert!(
+        stderr.contains("--arm: `case-based+context-blind` is blind to the robot's context, which a controller tells `serve`"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("send none; serve `case-based`"), "{stderr}");
+    assert!(!fresh.exists());
 }

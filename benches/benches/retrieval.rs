@@ -37,9 +37,7 @@ fn retrieval(c: &mut Criterion) {
             .unwrap()
             .name()
             .to_owned();
-        bench_retriever(c, &workload, &name, |space, lambda| {
-            kind.build(space.clone(), lambda)
-        });
+        bench_retriever(c, &workload, &name, |measure| kind.build_measure(measure));
     }
 }
 

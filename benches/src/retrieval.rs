@@ -15,9 +15,8 @@
 //! fn retrieval(c: &mut Criterion) {
 //!     let workload = benches::retrieval::Workload::patrol();
 //!     // The user's own index (here the reference scan stands in for it).
-//!     benches::retrieval::bench_retriever(c, &workload, "my-index", |space, lambda| {
-//!         let measure = SetSimilarity::new(space.clone(), lambda)?;
-//!         Ok(Box::new(cbr_core::LinearRetriever::new(measure)) as Box<TrustRetriever>)
+//!     benches::retrieval::bench_retriever(c, &workload, "my-index", |measure: SetSimilarity| {
+//!         Box::new(cbr_core::LinearRetriever::new(measure)) as Box<TrustRetriever>
 //!     });
 //! }
 //!
@@ -33,8 +32,7 @@ use criterion::{BatchSize, BenchmarkId, Criterion, SamplingMode};
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
-use trust::evaluated::LambdaError;
-use trust::{TrustCase, TrustCaseBase, TrustMemory, TrustProblem, TrustRetriever};
+use trust::{SetSimilarity, TrustCase, TrustCaseBase, TrustMemory, TrustProblem, TrustRetriever};
 
 /// The case-base sizes compared.
 pub const SIZES: [usize; 4] = [100, 1_000, 10_000, 100_000];
@@ -107,22 +105,25 @@ pub fn query(memory: &TrustMemory, q: &TrustProblem) -> Option<Retrieved> {
     black_box(memory.retrieve(black_box(q), &exclude))
 }
 
-/// Benchmarks the retriever `build` makes (for a space and Algorithm 2's `lambda`, like
-/// a `trust::RetrieverFactory`), named `name`, over every size of [`SIZES`]:
+/// Benchmarks the retriever `build` makes (ranking cases by the measure it is given,
+/// Algorithm 2 at [`LAMBDA`], like a `trust::RetrieverFactory`), named `name`, over every
+/// size of [`SIZES`]:
 /// `retrieval/<name>/<cases>` (one query; the workload cycles through its queries) and
 /// `retrieval-build/<name>/<cases>`. Prints to stderr its mean time over the first
 /// [`SAME`] queries (criterion's median mixes query lengths differently for fast and slow
 /// retrievers; this mean is over the same queries for all).
-///
-/// # Panics
-/// When `build` refuses [`LAMBDA`].
 pub fn bench_retriever(
     c: &mut Criterion,
     workload: &Workload,
     name: &str,
-    build: impl Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError>,
+    build: impl Fn(SetSimilarity) -> Box<TrustRetriever>,
 ) {
-    let retriever = || build(&workload.space, LAMBDA).expect("the paper's lambda is valid");
+    let retriever = || {
+        build(
+            SetSimilarity::new(workload.space.clone(), LAMBDA)
+                .expect("the paper's lambda is valid"),
+        )
+    };
     let mut group = c.benchmark_group("retrieval");
     group.sampling_mode(SamplingMode::Flat);
     for &n in &SIZES {

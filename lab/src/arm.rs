@@ -18,7 +18,7 @@ use std::fmt;
 use std::sync::Arc;
 use trust::retrieval::RetrieverKind;
 use trust::search::{SearchKind, TrustSearcher};
-use trust::{LambdaError, RetrieverFactory, SearcherFactory};
+use trust::{RetrieverFactory, SearcherFactory, SetSimilarity};
 use trust::{TrustCaseBase, TrustRetriever};
 
 /// The built-in arms, in report order: the paper's two first.
@@ -275,14 +275,13 @@ impl Arm {
         }
     }
 
-    /// Algorithm 1 over the cases `retriever` indexes, with `searcher` as its fallback.
+    /// Algorithm 1 over the cases `retriever` indexes, with `searcher` as its fallback;
+    /// `retriever` ranks cases by the measure it is given (Algorithm 2 at the suite's
+    /// `lambda`, weighing contexts as the domain declares: [`trust::SetSimilarity::of_domain`]).
     pub fn case_based(
         name: impl Into<String>,
         searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,
-        retriever: impl Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError>
-        + Send
-        + Sync
-        + 'static,
+        retriever: impl Fn(SetSimilarity) -> Box<TrustRetriever> + Send + Sync + 'static,
     ) -> Self {
         Self {
             retriever: Some(Arc::new(retriever)),
@@ -298,8 +297,8 @@ impl Arm {
         searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,
         retriever: RetrieverKind,
     ) -> Self {
-        Self::case_based(name, searcher, move |space, lambda| {
-            retriever.build(space.clone(), lambda)
+        Self::case_based(name, searcher, move |measure| {
+            retriever.build_measure(measure)
         })
     }
 
@@ -469,16 +468,12 @@ impl Arm {
         (self.searcher)(space)
     }
 
-    /// The retriever for `space`: the arm's own when it reuses cases, the linear scan
-    /// otherwise (it only receives the retained cases, which are never read).
-    pub fn build_retriever(
-        &self,
-        space: &Arc<BehaviorSpace>,
-        lambda: f64,
-    ) -> Result<Box<TrustRetriever>, LambdaError> {
+    /// The retriever ranking cases by `measure`: the arm's own when it reuses cases, the
+    /// linear scan otherwise (it only receives the retained cases, which are never read).
+    pub fn build_retriever(&self, measure: SetSimilarity) -> Box<TrustRetriever> {
         match &self.retriever {
-            Some(build) => build(space, lambda),
-            None => RetrieverKind::Linear.build(space.clone(), lambda),
+            Some(build) => build(measure),
+            None => RetrieverKind::Linear.build_measure(measure),
         }
     }
 }

@@ -25,9 +25,10 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::sync::Arc;
 use trust::{
-    AdapterConfig, Cause, ConfigError, Decision, EpisodeReport, Explanation, Outcome, Source,
-    TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause,
+    AdapterConfig, Cause, ConfigError, Decision, EpisodeReport, Explanation, Outcome,
+    SetSimilarity, Source, TrustAdapter, TrustCaseBase, TrustMemory, UndeclaredCause,
 };
 
 /// Which operator judges each trial.
@@ -521,7 +522,12 @@ pub(crate) fn fresh_adapter<D: Domain>(
     arm: &Arm,
 ) -> Result<TrustAdapter, ConfigError> {
     let space = domain.space();
-    let retriever = arm.build_retriever(space, adapter.lambda)?;
+    let measure = SetSimilarity::of_domain(
+        space.clone(),
+        adapter.lambda,
+        Arc::new(domain.contexts().clone()),
+    )?;
+    let retriever = arm.build_retriever(measure);
     let cases = arm.starting_cases().cloned().unwrap_or_default();
     let parameters = AdapterConfig {
         reuse_cases: arm.reuses_cases(),

@@ -13,7 +13,7 @@
 //! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::domain::{Domain, Judgement};
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use cbr_core::{Behavior, BehaviorSpace, ContextSpace, NamedComponent};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
@@ -332,6 +332,7 @@ pub struct ToyDomain<O> {
     causes: Vec<DeclaredCause>,
     observations: Vec<Cause>,
     hints: Vec<Hint>,
+    contexts: ContextSpace,
     rule: Box<ToyRule<O>>,
 }
 
@@ -357,8 +358,17 @@ impl<O> ToyDomain<O> {
             causes: causes.iter().copied().map(DeclaredCause::new).collect(),
             observations: Vec::new(),
             hints: Vec::new(),
+            contexts: ContextSpace::NONE,
             rule: Box::new(rule),
         }
+    }
+
+    /// The same domain declaring the context variables of `contexts` (with any similarity
+    /// it declares between their values).
+    #[must_use]
+    pub fn in_contexts(mut self, contexts: ContextSpace) -> Self {
+        self.contexts = contexts;
+        self
     }
 
     /// The same domain declaring `observations` (in bit order) and `hints`.
@@ -391,6 +401,10 @@ impl<O: Send + Sync> Domain for ToyDomain<O> {
 
     fn hints(&self) -> &[Hint] {
         &self.hints
+    }
+
+    fn contexts(&self) -> &ContextSpace {
+        &self.contexts
     }
 
     fn run(&self, behavior: &Behavior, operator: &O, rng: &mut dyn RngCore) -> Judgement {

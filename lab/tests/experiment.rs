@@ -11,7 +11,6 @@ use lab::testing::ToyDomain;
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
 use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
-use std::sync::Arc;
 use trust::AdapterConfig;
 use trust::search::{draw_untried, propose_untried};
 use trust::{Cause, Evaluated, Outcome, RetrieverKind, SetSimilarity, Thresholds, TrustRetriever};
@@ -84,14 +83,8 @@ impl Searcher for SmallestOfFour {
 }
 
 /// A user's own retriever factory: the reference scan, built by hand.
-fn users_retriever(
-    space: &Arc<BehaviorSpace>,
-    lambda: f64,
-) -> Result<Box<TrustRetriever>, trust::evaluated::LambdaError> {
-    Ok(Box::new(LinearRetriever::new(SetSimilarity::new(
-        space.clone(),
-        lambda,
-    )?)))
+fn users_retriever(measure: SetSimilarity) -> Box<TrustRetriever> {
+    Box::new(LinearRetriever::new(measure))
 }
 
 /// Every built-in arm, then a user's searcher alone and with a user's retriever.

@@ -203,7 +203,7 @@ fn two_arms<'a>(
             Arm::case_based(
                 "case-based",
                 |_| Box::new(Uniform::new()),
-                |space, lambda| RetrieverKind::Linear.build(space.clone(), lambda),
+                |measure| RetrieverKind::Linear.build_measure(measure),
             ),
         ],
         max_commands: 10_000,

@@ -44,22 +44,21 @@
 //! let domain = DomainDefinition::from_ron(file, Path::new("robot.ron"))
 //!     .unwrap()
 //!     .with_searcher(|_space| Box::new(trust::search::Uniform::new()))
-//!     .with_retriever(|space, lambda| trust::RetrieverKind::InvertedIndex.build(space.clone(), lambda));
+//!     .with_retriever(|measure| trust::RetrieverKind::InvertedIndex.build_measure(measure));
 //! assert_eq!(domain.build_searcher().name(), "uniform");
 //! ```
 
-use cbr_core::{BehaviorSpace, ContextSimilarity, ContextSpace};
+use cbr_core::{BehaviorSpace, ContextSpace};
 use files::{FileError, RonError, parse_ron, read_text};
 use serde::Deserialize;
 use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
-use trust::evaluated::LambdaError;
 use trust::search::SearchKind;
 use trust::search::TrustSearcher;
 use trust::{
     AdapterConfig, Cause, ConfigError, DeclaredCause, Hint, Observations, Retention, RetrieverKind,
-    Thresholds, TimeUnit, TrustCaseBase, TrustMemory, TrustRetriever, find_declared,
+    SetSimilarity, Thresholds, TimeUnit, TrustCaseBase, TrustMemory, TrustRetriever, find_declared,
 };
 use trust::{
     CompetenceJudge, CompetencePart, CompetenceRecord, CompetenceStandard, Predictor,
@@ -461,14 +460,12 @@ impl DomainDefinition {
         self
     }
 
-    /// The same domain retrieving cases with a user's retriever (for the space and
-    /// Algorithm 2's `lambda`).
+    /// The same domain retrieving cases with a user's retriever, ranking cases by the
+    /// measure it is given (Algorithm 2 over the space at the adapter's `lambda`, weighing
+    /// contexts as the domain declares: [`trust::SetSimilarity::of_domain`]).
     pub fn with_retriever(
         mut self,
-        retriever: impl Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError>
-        + Send
-        + Sync
-        + 'static,
+        retriever: impl Fn(SetSimilarity) -> Box<TrustRetriever> + Send + Sync + 'static,
     ) -> Self {
         self.retriever = Some(Arc::new(retriever));
         self
@@ -502,17 +499,18 @@ impl DomainDefinition {
         }
     }
 
-    /// A case memory over `cases` with the user's retriever (which matches contexts
-    /// exactly), or the kind the adapter config names, weighing contexts by the domain's
+    /// A case memory over `cases` with the user's retriever or the kind the adapter config
+    /// names, either ranking cases by Algorithm 2 weighing contexts by the domain's
     /// declared similarities.
     pub fn memory(&self, cases: TrustCaseBase) -> Result<TrustMemory, ConfigError> {
+        let measure = SetSimilarity::of_domain(
+            self.space.clone(),
+            self.adapter.lambda,
+            self.contexts.clone(),
+        )?;
         let retriever = match &self.retriever {
-            Some(build) => build(&self.space, self.adapter.lambda)?,
-            None => {
-                let measure = trust::SetSimilarity::new(self.space.clone(), self.adapter.lambda)?
-                    .with_context_similarity(ContextSimilarity::Declared(self.contexts.clone()));
-                self.adapter.retriever.build_measure(measure)
-            }
+            Some(build) => build(measure),
+            None => self.adapter.retriever.build_measure(measure),
         };
         Ok(TrustMemory::new(cases, retriever))
     }
@@ -658,9 +656,7 @@ mod tests {
         );
         let d = d
             .with_searcher(|_| trust::SearchKind::CauseAware.build())
-            .with_retriever(|space, lambda| {
-                trust::RetrieverKind::ParallelScan.build(space.clone(), lambda)
-            });
+            .with_retriever(|measure| trust::RetrieverKind::ParallelScan.build_measure(measure));
         assert_eq!(d.build_searcher().name(), "cause-aware");
         assert_eq!(
             d.memory(TrustCaseBase::new()).unwrap().retriever_name(),

@@ -189,9 +189,7 @@ fn a_users_searcher_and_retriever_serve_through_the_definition() {
     let dir = tempfile::tempdir().unwrap();
     let domain = quick_movement()
         .with_searcher(|_| Box::new(Lowest))
-        .with_retriever(|space, lambda| {
-            trust::RetrieverKind::InvertedIndex.build(space.clone(), lambda)
-        });
+        .with_retriever(|measure| trust::RetrieverKind::InvertedIndex.build_measure(measure));
     let cases = SharedCases::open(&domain, &Location::Sqlite(dir.path().join("cases.db"))).unwrap();
     let retriever = cases.current(|memory, _| memory.retriever_name().to_owned());
     assert_eq!(retriever.unwrap(), "inverted_index");

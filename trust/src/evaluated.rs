@@ -9,7 +9,7 @@
 //! similarity, an exact match unless the domain declares one.
 
 use crate::problem::TrustProblem;
-use cbr_core::{Behavior, BehaviorSpace, ContextSimilarity, SimilarityMeasure};
+use cbr_core::{Behavior, BehaviorSpace, ContextSimilarity, ContextSpace, SimilarityMeasure};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -75,6 +75,20 @@ impl SetSimilarity<RelativeTime> {
     /// similarity.
     pub fn new(space: Arc<BehaviorSpace>, lambda: f64) -> Result<Self, LambdaError> {
         Self::with_time(space, lambda, RelativeTime)
+    }
+
+    /// Algorithm 2 over `space` at `lambda`, weighing contexts as a domain declares them
+    /// (`contexts`: its declared similarities, an exact match where it declares none): the
+    /// measure an adapter's retriever ranks cases by, in an experiment and in `serve`.
+    pub fn of_domain(
+        space: Arc<BehaviorSpace>,
+        lambda: f64,
+        contexts: Arc<ContextSpace>,
+    ) -> Result<Self, LambdaError> {
+        Ok(
+            Self::new(space, lambda)?
+                .with_context_similarity(ContextSimilarity::Declared(contexts)),
+        )
     }
 }
 

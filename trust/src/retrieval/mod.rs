@@ -21,10 +21,11 @@ use cbr_core::{BehaviorSpace, LinearRetriever};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Builds a retriever for a behavior space and Algorithm 2's `lambda`: how a user's
-/// retriever enters an experiment arm or a `serve` session, exactly as the built-in ones do.
-pub type RetrieverFactory =
-    Arc<dyn Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError> + Send + Sync>;
+/// Builds a retriever ranking cases by the measure it is given (Algorithm 2 over the
+/// behavior space at the adapter's `lambda`, weighing contexts as the domain declares):
+/// how a user's retriever enters an experiment arm or a `serve` session, exactly as the
+/// built-in ones do ([`RetrieverKind::build_measure`]).
+pub type RetrieverFactory = Arc<dyn Fn(SetSimilarity) -> Box<TrustRetriever> + Send + Sync>;
 
 /// Which retriever answers Algorithm 1's queries. Every kind returns the same answers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -19,11 +19,10 @@
 //!
 //! trust::testing::check_searcher(|| Box::new(trust::search::Uniform::new()));
 //!
-//! // A user's retriever, made for a space and Algorithm 2's `lambda` (here the
-//! // reference scan itself, standing in for the user's own index).
-//! trust::testing::check_retriever(|space, lambda| {
-//!     let measure = SetSimilarity::new(space.clone(), lambda)?;
-//!     Ok(Box::new(cbr_core::LinearRetriever::new(measure)) as Box<TrustRetriever>)
+//! // A user's retriever, ranking cases by the measure it is given (here the reference
+//! // scan itself, standing in for the user's own index).
+//! trust::testing::check_retriever(|measure: SetSimilarity| {
+//!     Box::new(cbr_core::LinearRetriever::new(measure)) as Box<TrustRetriever>
 //! });
 //! ```
 

@@ -3,18 +3,18 @@
 //! Every retriever must return exactly the linear scan's answer: the same case, a
 //! bit-identical similarity, ties to the smallest id. The kit checks it on random case
 //! bases, queries and exclusions, with cases retained before and between queries, cases
-//! and queries in several contexts; on case bases shaped like real episodes; and through
-//! an adapter, whose decisions must be the same as with the linear scan.
+//! and queries in several contexts, matched exactly or by a declared similarity; on case
+//! bases shaped like real episodes; and through an adapter, whose decisions must be the
+//! same as with the linear scan.
 
-use crate::evaluated::LambdaError;
 use crate::{
-    AdapterConfig, Cause, Decision, Evaluated, Outcome, TrustAdapter, TrustCase, TrustCaseBase,
-    TrustMemory, TrustProblem, TrustRetriever,
+    AdapterConfig, Cause, Decision, Evaluated, Outcome, SetSimilarity, TrustAdapter, TrustCase,
+    TrustCaseBase, TrustMemory, TrustProblem, TrustRetriever,
 };
 use cbr_core::testing::{SpaceShape, behavior_spaces};
 use cbr_core::{
-    Behavior, BehaviorSpace, Case, CaseId, Context, ContextSpace, ContextVariable, LinearRetriever,
-    NamedComponent,
+    Behavior, BehaviorSpace, Case, CaseId, Context, ContextSimilarity, ContextSpace,
+    ContextVariable, LinearRetriever, NamedComponent,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestRunner};
@@ -22,20 +22,27 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 
-/// What builds the retriever under test, for a space and Algorithm 2's `lambda`.
-type Build<'a> = dyn Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError> + 'a;
+/// What builds the retriever under test, ranking cases by a measure.
+type Build<'a> = dyn Fn(SetSimilarity) -> Box<TrustRetriever> + 'a;
 
 /// The scripted operator's one cause.
 const TOO_SLOW: Cause = Cause::from_static("too-slow");
 
-/// Context number `k` of three (0: the default one), of a robot that knows its cargo and
-/// situation.
-fn context(k: u8) -> Context {
-    let space = ContextSpace::new(vec![
+/// The context variables of a robot that knows its cargo and situation; the situations
+/// declared half alike, the cargo matched exactly.
+fn context_space() -> ContextSpace {
+    let mut situation = ContextVariable::new("situation", &["routine", "emergency"]);
+    situation.similarity = Some(vec![vec![1.0, 0.5], vec![0.5, 1.0]]);
+    ContextSpace::new(vec![
         ContextVariable::new("cargo", &["normal", "hazardous"]),
-        ContextVariable::new("situation", &["routine", "emergency"]),
+        situation,
     ])
-    .expect("a valid declaration");
+    .expect("a valid declaration")
+}
+
+/// Context number `k` of three (0: the default one).
+fn context(k: u8) -> Context {
+    let space = context_space();
     let settings: &[(&str, &str)] = match k % 3 {
         0 => &[],
         1 => &[("cargo", "hazardous")],
@@ -46,39 +53,48 @@ fn context(k: u8) -> Context {
         .expect("declared values")
 }
 
+/// Algorithm 2 over `space` at `lambda`, weighing contexts exactly or, when `declared`,
+/// by [`context_space`]'s declared similarities.
+fn measure(space: &Arc<BehaviorSpace>, lambda: f64, declared: bool) -> SetSimilarity {
+    let measure = SetSimilarity::new(space.clone(), lambda).expect("a valid lambda");
+    if declared {
+        measure.with_context_similarity(ContextSimilarity::Declared(Arc::new(context_space())))
+    } else {
+        measure
+    }
+}
+
 /// The reference: the linear scan.
-fn linear(space: &Arc<BehaviorSpace>, lambda: f64) -> Box<TrustRetriever> {
-    let measure = crate::SetSimilarity::new(space.clone(), lambda).expect("a valid lambda");
+fn linear(measure: SetSimilarity) -> Box<TrustRetriever> {
     Box::new(LinearRetriever::new(measure))
 }
 
-/// Checks that retrievers made by `build` (for a space and Algorithm 2's `lambda`) return
-/// the linear scan's answer bit for bit (same case, same similarity, ties to the smallest
-/// id):
+/// Checks that retrievers made by `build` (ranking cases by the measure it is given:
+/// Algorithm 2 at some `lambda`, weighing contexts as a domain declares) return the linear
+/// scan's answer by the same measure bit for bit (same case, same similarity, ties to the
+/// smallest id):
 /// - on 400 random scenarios (fixed seed): numeric and categorical components (plain and
 ///   with similarity tables), unequal and zero weights, `lambda` from 0.01 to 1, case
 ///   bases with duplicate behaviors and tied times, queries with and without exclusions
 ///   (Algorithm 1's own and arbitrary ones), and cases retained between queries, so the
 ///   retriever is told of cases incrementally; cases and queries in three contexts,
-///   matched exactly (a retriever weighs contexts through its measure,
-///   [`crate::SetSimilarity::compare_problems`]);
+///   matched exactly or by a declared similarity (a retriever weighs contexts through its
+///   measure, [`crate::SetSimilarity::compare_problems`]);
 /// - on 1,000 episode-shaped cases over a patrol-like space (60 queries), a quarter of
-///   them learned in another context;
+///   them learned in another context, the contexts matched exactly and declared alike;
 /// - through a [`TrustAdapter`]: 150 scripted episodes, the robot's context changing
 ///   every 40, make the same decisions as with the linear scan.
 ///
 /// # Panics
 /// With the failing case (proptest's minimal one) when an answer differs.
-pub fn check_retriever(
-    build: impl Fn(&Arc<BehaviorSpace>, f64) -> Result<Box<TrustRetriever>, LambdaError>,
-) {
+pub fn check_retriever(build: impl Fn(SetSimilarity) -> Box<TrustRetriever>) {
     let mut runner = TestRunner::new(Config {
         cases: 400,
         rng_seed: RngSeed::Fixed(0x7275_7374),
         failure_persistence: None,
         ..Config::default()
     });
-    let reference = |space: &Arc<BehaviorSpace>, lambda| Ok(linear(space, lambda));
+    let reference = linear;
     let result = runner.run(&scenario(), |s| {
         prop_assert_eq!(answers(&s, &build), answers(&s, &reference));
         Ok(())
@@ -86,7 +102,9 @@ pub fn check_retriever(
     if let Err(e) = result {
         panic!("retriever check failed: {e}");
     }
-    episode_shaped_case_bases_get_the_linear_answer(&build);
+    for declared in [false, true] {
+        episode_shaped_case_bases_get_the_linear_answer(&build, declared);
+    }
     let decisions = scripted_run(&build);
     let reused = decisions.iter().filter(|d| d.contains("Case")).count();
     assert!(reused > 20, "the script exercises reuse ({reused} reuses)");
@@ -164,6 +182,8 @@ type ScenarioCase = (Vec<(u64, f64)>, u64, u8);
 struct Scenario {
     space: Arc<BehaviorSpace>,
     lambda: f64,
+    /// Whether the contexts are weighed by a declared similarity (else exactly).
+    declared: bool,
     cases: Vec<ScenarioCase>,
     /// How many cases the memory starts with; the rest are retained between queries.
     initial: usize,
@@ -177,6 +197,7 @@ fn scenario() -> impl Strategy<Value = Scenario> {
     (
         space(),
         prop_oneof![Just(0.95), Just(1.0), Just(0.5), 0.01f64..1.0],
+        any::<bool>(),
         prop::collection::vec(
             (pairs(6), prop_oneof![0u64..8, any::<u64>()], contexts()),
             0..40,
@@ -186,10 +207,11 @@ fn scenario() -> impl Strategy<Value = Scenario> {
         prop::collection::vec(0u64..8, 0..3),
     )
         .prop_map(
-            |(space, lambda, cases, initial, queries, excluded)| Scenario {
+            |(space, lambda, declared, cases, initial, queries, excluded)| Scenario {
                 initial: initial.index(cases.len() + 1),
                 space,
                 lambda,
+                declared,
                 cases,
                 queries,
                 excluded,
@@ -215,7 +237,7 @@ fn answers(s: &Scenario, build: &Build<'_>) -> Vec<Answer> {
     for c in &s.cases[..s.initial] {
         base.push(case(&s.space, c));
     }
-    let mut memory = TrustMemory::new(base, build(&s.space, s.lambda).expect("a valid lambda"));
+    let mut memory = TrustMemory::new(base, build(measure(&s.space, s.lambda, s.declared)));
     let excluded: Vec<Behavior> = s
         .excluded
         .iter()
@@ -276,27 +298,30 @@ fn path(space: &BehaviorSpace, len: usize, rng: &mut ChaCha8Rng) -> Vec<Evaluate
 }
 
 /// 1,000 cases shaped like random-walk episodes over a patrol-like space, a quarter of
-/// them learned in another context, 60 queries of the same shape (every fourth in that
-/// context), Algorithm 1's exclusion: the reference's answer every time.
-fn episode_shaped_case_bases_get_the_linear_answer(build: &Build<'_>) {
+/// them learned in an emergency (half alike when `declared`), 60 queries of the same shape
+/// (every fourth in an emergency), Algorithm 1's exclusion: the reference's answer every time, the contexts
+/// weighed exactly or, when `declared`, by a declared similarity.
+fn episode_shaped_case_bases_get_the_linear_answer(build: &Build<'_>, declared: bool) {
     let space = patrol_like();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut base = TrustCaseBase::new();
     for _ in 0..1_000 {
         let len = rng.random_range(1..30);
-        let k = u8::from(rng.random_range(0..4) == 0);
+        let k = 2 * u8::from(rng.random_range(0..4) == 0);
         base.push(Case {
             problem: TrustProblem::in_context(context(k), path(&space, len, &mut rng)),
             solution: space.draw(&mut rng),
         });
     }
-    let reference = TrustMemory::new(base.clone(), linear(&space, 0.95));
-    let memory = TrustMemory::new(base, build(&space, 0.95).expect("a valid lambda"));
+    let reference = TrustMemory::new(base.clone(), linear(measure(&space, 0.95, declared)));
+    let memory = TrustMemory::new(base, build(measure(&space, 0.95, declared)));
     let mut reused = 0;
     for q in 0..60 {
         let len = rng.random_range(1..30);
-        let query =
-            TrustProblem::in_context(context(u8::from(q % 4 == 3)), path(&space, len, &mut rng));
+        let query = TrustProblem::in_context(
+            context(2 * u8::from(q % 4 == 3)),
+            path(&space, len, &mut rng),
+        );
         let exclude = |c: &TrustCase| query.evaluated.iter().any(|e| e.behavior == c.solution);
         let expected = answer(&reference, &query, &exclude);
         reused += usize::from(expected.is_some());
@@ -324,7 +349,7 @@ fn scripted_run(build: &Build<'_>) -> Vec<String> {
     let config = AdapterConfig::default();
     let memory = TrustMemory::new(
         TrustCaseBase::new(),
-        build(&space, config.lambda).expect("a valid lambda"),
+        build(measure(&space, config.lambda, false)),
     );
     let mut adapter = TrustAdapter::with_parts(
         space.clone(),
