@@ -363,25 +363,21 @@ fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base(
     assert_eq!(config["adapter"]["reuse_cases"], false);
     // An unknown arm is refused, naming the known ones, and creates no case base.
     let fresh = dir.path().join("fresh.db");
-    let output = serve(&["--domain", "movement", "--arm", "annealing"], &fresh)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    let stderr = failure(&output);
+    let refused_arm = |arm: &str| {
+        let output = serve(&["--domain", "movement", "--arm", arm], &fresh)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        failure(&output)
+    };
+    let stderr = refused_arm("annealing");
     assert!(
         stderr.contains("--arm: unknown arm `annealing` (known: random-walk, case-based"),
         "{stderr}"
     );
     assert!(!fresh.exists());
     // A robot blind to its context is one its controller tells none: refused as an arm.
-    let output = serve(
-        &["--domain", "movement", "--arm", "case-based+context-blind"],
-        &fresh,
-    )
-    .stdin(Stdio::null())
-    .output()
-    .unwrap();
-    let stderr = failure(&output);
+    let stderr = refused_arm("case-based+context-blind");
     assert!(
         stderr.contains("--arm: `case-based+context-blind` is blind to the robot's context, which a controller tells `serve`"),
         "{stderr}"
