@@ -93,6 +93,30 @@ fn trials_take_the_contexts_in_turn_and_a_told_arm_learns_cases_in_them() {
     assert_eq!(seen, [12, 12]);
     // The twins are paired: the same trials.
     assert_eq!(operators[0], operators[1]);
+    // The report breaks each arm down by context, against its blind twin.
+    let table = std::fs::read_to_string(dir.path().join("out/table.md")).unwrap();
+    assert!(table.contains("## By context"), "{table}");
+    for row in [
+        "| movement/carrier/contexts | case-based | all | 12 |",
+        "| movement/carrier/contexts | case-based | default | 6 |",
+        "| movement/carrier/contexts | case-based | cargo=hazardous | 6 |",
+        "| movement/carrier/contexts | case-based+context-blind | cargo=hazardous | 6 |",
+    ] {
+        assert!(table.contains(row), "{row}: {table}");
+    }
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let strategies = &summary["experiments"][0]["strategies"];
+    let told = &strategies["case-based"]["contexts"];
+    assert_eq!(told[0]["context"], serde_json::Value::Null);
+    assert_eq!(
+        told[2]["context"],
+        serde_json::json!({"cargo": "hazardous"})
+    );
+    assert!(told[2]["versus_blind"]["untrustworthy_p"].is_number());
+    assert!(strategies["case-based+context-blind"]["contexts"][2]["versus_blind"].is_null());
     // The told arm's cases include some learned with hazardous cargo; the other's none.
     let cases = dir.path().join("cases/movement-carrier-contexts");
     let told_text = std::fs::read_to_string(cases.join("case-based.ron")).unwrap();

@@ -585,55 +585,7 @@ mod tests {
     /// An arm whose trials ended with these (found trustworthy, untrustworthy commands);
     /// each trial evaluated 2 behaviors in 10 commands.
     fn arm(name: &str, trials: &[(bool, u64)]) -> ArmResult {
-        let untrustworthy: Vec<f64> = trials.iter().map(|&(_, u)| u as f64).collect();
-        let mean = crate::stats::mean_ci95(&untrustworthy).unwrap();
-        ArmResult {
-            name: name.to_owned(),
-            reuses_cases: false,
-            initial: crate::arm::Initial::Random,
-            starting_cases: 0,
-            behaviors: mean,
-            commands: mean,
-            untrustworthy: mean,
-            found_share: mean,
-            cases_acquired: 0,
-            final_cases: None,
-            versus_first: None,
-            explained: Default::default(),
-            samples: Vec::new(),
-            traced: Vec::new(),
-            trials: trials
-                .iter()
-                .enumerate()
-                .map(|(k, &(found, untrustworthy))| TrialRecord {
-                    trial: k as u32,
-                    arm: name.to_owned(),
-                    operator: "o".to_owned(),
-                    initial: cbr_core::Behavior::new(&[0]),
-                    learned_start: false,
-                    report: trust::EpisodeReport {
-                        settled: cbr_core::Behavior::new(&[0]),
-                        found_trustworthy: found,
-                        behaviors_evaluated: 2,
-                        commands: 10,
-                        untrustworthy,
-                        searched: 0,
-                        reused: 0,
-                        settled_from_search: false,
-                        retained: None,
-                        evaluated: Vec::new(),
-                        context: cbr_core::Context::default(),
-                        explanations: Vec::new(),
-                    },
-                    truncated: false,
-                    true_causes: Default::default(),
-                    explained: Default::default(),
-                    given_up: Vec::new(),
-                    goal_changes: None,
-                    context: cbr_core::Context::default(),
-                })
-                .collect(),
-        }
+        ArmResult::of_trials(name, trials)
     }
 
     #[test]

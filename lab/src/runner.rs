@@ -397,6 +397,62 @@ impl ArmResult {
     pub fn truncated(&self) -> usize {
         self.trials.iter().filter(|t| t.truncated).count()
     }
+
+    /// For unit tests: the arm `name` of `trials`, each of them (found trustworthy,
+    /// untrustworthy commands) after 2 behaviors in 10 commands, in the default context.
+    #[cfg(test)]
+    pub(crate) fn of_trials(name: &str, trials: &[(bool, u64)]) -> Self {
+        let untrustworthy: Vec<f64> = trials.iter().map(|&(_, u)| u as f64).collect();
+        let mean = crate::stats::mean_ci95_or_zero(&untrustworthy);
+        let records = trials
+            .iter()
+            .enumerate()
+            .map(|(k, &(found, untrustworthy))| TrialRecord {
+                trial: k as u32,
+                arm: name.to_owned(),
+                operator: "o".to_owned(),
+                initial: Behavior::new(&[0]),
+                learned_start: false,
+                report: EpisodeReport {
+                    settled: Behavior::new(&[0]),
+                    found_trustworthy: found,
+                    behaviors_evaluated: 2,
+                    commands: 10,
+                    untrustworthy,
+                    searched: 0,
+                    reused: 0,
+                    settled_from_search: false,
+                    retained: None,
+                    evaluated: Vec::new(),
+                    context: Context::default(),
+                    explanations: Vec::new(),
+                },
+                truncated: false,
+                true_causes: BTreeMap::new(),
+                explained: ExplanationCheck::default(),
+                given_up: Vec::new(),
+                goal_changes: None,
+                context: Context::default(),
+            })
+            .collect();
+        ArmResult {
+            name: name.to_owned(),
+            reuses_cases: false,
+            initial: Initial::Random,
+            starting_cases: 0,
+            behaviors: mean,
+            commands: mean,
+            untrustworthy: mean,
+            found_share: mean,
+            cases_acquired: 0,
+            final_cases: None,
+            versus_first: None,
+            explained: ExplanationCheck::default(),
+            samples: Vec::new(),
+            traced: Vec::new(),
+            trials: records,
+        }
+    }
 }
 
 /// One experiment's results.

@@ -3,10 +3,10 @@
 //! benchmark among them), every figure with its caption, the config and the provenance.
 
 use super::tables::{
-    BENCHMARK_NOTE, BENCHMARK_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE, NO_BENCHMARK,
-    arms_table, benchmark_table, benchmark_title, effects_table, explanations_table, found_note,
-    free_first_table, goal_changes_table, limit_table, population_table, sample_explanations,
-    table,
+    BENCHMARK_NOTE, BENCHMARK_TITLE, CONTEXTS_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE,
+    NO_BENCHMARK, arms_table, benchmark_table, benchmark_title, contexts_table, effects_table,
+    explanations_table, found_note, free_first_table, goal_changes_table, limit_table,
+    population_table, sample_explanations, table,
 };
 use super::{Provenance, ReportEntry, file_stems};
 use crate::arm::Initial;
@@ -268,6 +268,17 @@ pub(super) fn html_page(
             format!(
                 "<p>A goal change interrupts a command for a reason that is not the behavior's. Given up though trusted: behaviors the trial's operator trusts (its trustworthy region, learned without goal changes) that the arm gave up. The guess takes an interruption with no stated reason and nothing perceived for an unsaid goal change.</p>\n{}",
                 html_table(&goal_changes)
+            ),
+        );
+    }
+    let contexts = contexts_table(entries);
+    if !contexts.is_empty() {
+        section(
+            "contexts",
+            CONTEXTS_TITLE,
+            format!(
+                "<p>An arm told its context learns and retrieves its cases in it; its twin <code>NAME+context-blind</code>, as the paper's robot, keeps every case in the default context. Told − blind: the mean paired difference on the same trials, with its Wilcoxon signed-rank p.</p>\n{}",
+                html_table(&contexts)
             ),
         );
     }

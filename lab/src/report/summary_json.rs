@@ -1,6 +1,8 @@
 //! `summary.json`: per experiment, each arm's means with their intervals, its tests and
 //! effect size against the reference arm, its ratios to the known-operator limit and its
-//! explanations' accuracy (and its goal changes, in a suite with some); the limit and the population's measures; the provenance; and
+//! explanations' accuracy (and its goal changes, in a suite with some; and by context,
+//! against its blind twin, in a suite whose trials ran in contexts); the limit and the
+//! population's measures; the provenance; and
 //! for a benchmark suite, the benchmark of each scenario ([`crate::benchmark`]).
 
 use super::effects::{all_effect_sizes, versus_reference};
@@ -8,6 +10,7 @@ use super::tables::ratios;
 use super::{Provenance, ReportEntry};
 use crate::arm::Initial;
 use crate::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
+use crate::context::{ArmInContext, any_contexts, by_context};
 use crate::goal_change::{ArmGoalChanges, any_goal_changes};
 use crate::limit::Costs;
 use crate::runner::{ArmResult, ExplanationCheck};
@@ -43,11 +46,19 @@ pub(super) fn summary_of(
     let goal_changes = entries
         .iter()
         .any(|e| any_goal_changes(e.result.arms.iter()));
+    // Only in a suite whose trials ran in contexts, likewise.
+    let contexts = entries.iter().any(|e| any_contexts(e.result.arms.iter()));
     let experiments: Vec<Value> = entries
         .iter()
         .zip(effects)
         .map(|(e, effects)| {
             let mut strategies = Map::new();
+            let mut by_arm = if contexts {
+                by_context(&e.result.arms)
+            } else {
+                Vec::new()
+            }
+            .into_iter();
             for ((arm, tests), effect) in e
                 .result
                 .arms
@@ -83,6 +94,9 @@ pub(super) fn summary_of(
                 if goal_changes {
                     summary["goal_changes"] =
                         goal_change_summary(&ArmGoalChanges::of(arm, e.space, e.limit));
+                }
+                if let Some((_, rows)) = by_arm.next() {
+                    summary["contexts"] = rows.iter().map(context_summary).collect();
                 }
                 strategies.insert(arm.name.clone(), summary);
             }
@@ -231,8 +245,12 @@ fn finite_or_null(x: f64) -> Value {
 }
 
 /// An arm's goal changes for `summary.json` (`null` where a figure is not defined).
+/// A mean with its interval: `{"mean", "ci95"}`.
+fn mean(m: &crate::stats::MeanCi) -> Value {
+    json!({ "mean": m.mean, "ci95": m.ci95 })
+}
+
 fn goal_change_summary(g: &ArmGoalChanges) -> Value {
-    let mean = |m: &crate::stats::MeanCi| json!({ "mean": m.mean, "ci95": m.ci95 });
     json!({
         "given_up": mean(&g.given_up),
         "given_up_though_trusted": g.wrongly_given_up.as_ref().map(mean),
@@ -240,6 +258,21 @@ fn goal_change_summary(g: &ArmGoalChanges) -> Value {
         "record": g.record,
         "guess_recall": g.record.and_then(|r| r.recall()),
         "guess_precision": g.record.and_then(|r| r.precision()),
+    })
+}
+
+fn context_summary(c: &ArmInContext) -> Value {
+    json!({
+        "context": c.context,
+        "trials": c.trials,
+        "behaviors": mean(&c.behaviors),
+        "untrustworthy": mean(&c.untrustworthy),
+        "versus_blind": c.versus_blind.map(|v| json!({
+            "behaviors_difference": v.behaviors,
+            "behaviors_p": v.behaviors_p,
+            "untrustworthy_difference": v.untrustworthy,
+            "untrustworthy_p": v.untrustworthy_p,
+        })),
     })
 }
 

@@ -2,13 +2,15 @@
 //! the paper's Table 1, every arm, the effect sizes, the explanations against the truth
 //! (with sample explanations), every arm against the known-operator limit (the paper's
 //! protocol, and free to choose the first behavior) and how much each population
-//! disagrees; goal changes, when an experiment has them; every arm over the populations of a scenario (a benchmark suite's); and the
-//! one line per experiment printed after a run.
+//! disagrees; goal changes, when an experiment has them; each arm by context, against its
+//! blind twin, when trials ran in contexts; every arm over the populations of a scenario
+//! (a benchmark suite's); and the one line per experiment printed after a run.
 
 use super::ReportEntry;
 use super::effects::versus_reference;
 use crate::arm::Initial;
 use crate::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
+use crate::context::{any_contexts, by_context};
 use crate::goal_change::{ArmGoalChanges, any_goal_changes};
 use crate::known_operator::ExperimentLimit;
 use crate::limit::Costs;
@@ -273,6 +275,65 @@ pub fn goal_changes_table(entries: &[ReportEntry<'_>]) -> String {
         }
     }
     out
+}
+
+/// Each arm by the contexts its trials ran in (empty when every trial of every experiment
+/// ran in the default context): behaviors evaluated and untrustworthy commands per trial,
+/// and for an arm whose twin blind to the context (`NAME+context-blind`) ran the same
+/// trials, the mean paired difference, told minus blind, with its Wilcoxon p.
+pub fn contexts_table(entries: &[ReportEntry<'_>]) -> String {
+    if !entries.iter().any(|e| any_contexts(e.result.arms.iter())) {
+        return String::new();
+    }
+    let mut out = String::from(
+        "| Experiment | Arm | Context | Trials | Behaviors evaluated | Untrustworthy commands | Told − blind: behaviors (p) | Told − blind: untrustworthy (p) |\n|---|---|---|---:|---:|---:|---:|---:|\n",
+    );
+    for e in entries {
+        for (arm, contexts) in by_context(&e.result.arms) {
+            for c in contexts {
+                let (behaviors, untrustworthy) =
+                    c.versus_blind
+                        .map_or(("—".to_owned(), "—".to_owned()), |v| {
+                            (
+                                format!("{:+.2} ({})", v.behaviors, format_p(v.behaviors_p)),
+                                format!(
+                                    "{:+.2} ({})",
+                                    v.untrustworthy,
+                                    format_p(v.untrustworthy_p)
+                                ),
+                            )
+                        });
+                let context = match &c.context {
+                    None => "all".to_owned(),
+                    Some(c) if c.is_default() => "default".to_owned(),
+                    Some(c) => c.to_string(),
+                };
+                let _ = writeln!(
+                    out,
+                    "| {} | {arm} | {context} | {} | {} | {} | {behaviors} | {untrustworthy} |",
+                    e.result.name,
+                    c.trials,
+                    mean_cell(&c.behaviors, 0),
+                    mean_cell(&c.untrustworthy, 0),
+                );
+            }
+        }
+    }
+    out
+}
+
+/// The title of [`contexts_table`]'s section.
+pub(super) const CONTEXTS_TITLE: &str = "By context: each arm in each context of its trials, and against its twin blind to the context on the same trials";
+
+/// [`contexts_table`] under its title, or nothing when every trial ran in the default
+/// context.
+fn contexts_section(entries: &[ReportEntry<'_>]) -> String {
+    let table = contexts_table(entries);
+    if table.is_empty() {
+        table
+    } else {
+        format!("\n## {CONTEXTS_TITLE}\n\n{table}")
+    }
 }
 
 /// The title of [`goal_changes_table`]'s section.
@@ -633,6 +694,7 @@ pub(super) fn table_md(
         effects_table(entries, effects),
         explanations_table(entries)
     ) + &goal_changes_section(entries)
+        + &contexts_section(entries)
         + &benchmark.map_or(String::new(), benchmark_section)
 }
 
