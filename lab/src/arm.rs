@@ -87,8 +87,9 @@ pub fn prefers_competent(name: &str) -> (&str, bool) {
 }
 
 /// The arm name `name` split into the name of the arm it is built on and whether it is
-/// blind to the robot's context: `x+context-blind` is `x`, blind.
-pub fn context_blind(name: &str) -> (&str, bool) {
+/// blind to the robot's context: `x+context-blind` is `x`, blind (read through
+/// [`NameOptions::of_name`], where this suffix sits among the others).
+fn context_blind(name: &str) -> (&str, bool) {
     match name.strip_suffix(CONTEXT_BLIND) {
         Some(base) => (base, true),
         None => (name, false),

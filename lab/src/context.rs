@@ -100,6 +100,9 @@ fn blind_twin(name: &str) -> Option<String> {
 }
 
 fn in_contexts(arm: &ArmResult, twin: Option<&ArmResult>) -> Vec<ArmInContext> {
+    // The twin's trials by number, so that each trial finds its pair once.
+    let twin_trials: Option<BTreeMap<u32, &TrialRecord>> =
+        twin.map(|twin| twin.trials.iter().map(|t| (t.trial, t)).collect());
     let mut contexts: BTreeMap<Option<&Context>, Vec<&TrialRecord>> = BTreeMap::new();
     for trial in &arm.trials {
         contexts.entry(None).or_default().push(trial);
@@ -116,10 +119,10 @@ fn in_contexts(arm: &ArmResult, twin: Option<&ArmResult>) -> Vec<ArmInContext> {
             };
             let behaviors = |t: &TrialRecord| t.report.behaviors_evaluated;
             let untrustworthy = |t: &TrialRecord| t.report.untrustworthy;
-            let versus_blind = twin.and_then(|twin| {
+            let versus_blind = twin_trials.as_ref().and_then(|twin| {
                 let paired: Vec<&TrialRecord> = trials
                     .iter()
-                    .map(|t| twin.trials.iter().find(|b| b.trial == t.trial))
+                    .map(|t| twin.get(&t.trial).copied())
                     .collect::<Option<_>>()?;
                 let compare = |f: fn(&TrialRecord) -> u64| {
                     let (told, blind) = (column(f, &trials), column(f, &paired));

@@ -38,7 +38,7 @@ pub mod timeline;
 
 pub use arm::{
     Arm, BUILTIN_ARMS, COMPETENT_PASSES, CONTEXT_BLIND, Initial, LEARNED_START, NameOptions,
-    PREFERS_COMPETENT, UnknownArm, context_blind, prefers_competent,
+    PREFERS_COMPETENT, UnknownArm, prefers_competent,
 };
 pub use context::TrialContexts;
 pub use domain::{
