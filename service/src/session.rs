@@ -32,8 +32,19 @@ use serde_json::{Value, json};
 use std::sync::Arc;
 use trust::{
     Account, Adaptation, AdapterError, Cause, ConfigError, Decision, DeclaredCause, EpisodeReport,
-    MissionAdaptation, MissionDecision, Outcome, Source, TrustEstimate, TrustMemory, Watch,
+    MissionAdaptation, MissionDecision, Outcome, Source, SwitchStart, TrustEstimate, TrustMemory,
+    Watch,
 };
+
+/// How the protocol names where the behavior after a context switch comes from.
+fn switch_start(from: SwitchStart) -> &'static str {
+    match from {
+        SwitchStart::Kept => "kept",
+        SwitchStart::Resumed => "resumed",
+        SwitchStart::Guessed => "guessed",
+        SwitchStart::Restarted => "restarted",
+    }
+}
 
 /// The stream of the seed that draws initial behaviors (the adapter's search uses stream 0).
 const DRAW_STREAM: u64 = 1;
@@ -243,8 +254,15 @@ impl Session {
             .map_err(|e| reply::error(format_args!("field `context`: {e}")))
     }
 
-    /// A `context` request: the robot's context from now on, between episodes.
+    /// A `context` request: the robot's context from now on, between episodes; in mission
+    /// mode, once a behavior is in use, a switch the robot is told mid-mission
+    /// ([`MissionAdaptation::switch_context`]), answered with the behavior to use.
     fn change_context(&mut self, settings: &ContextSettings) -> Value {
+        if let Adapting::Mission(mission) = &self.adapting
+            && mission.in_use().is_some()
+        {
+            return self.switch_context(settings);
+        }
         if self.adaptation().episode().is_some() {
             return reply::error(
                 "an episode is under way, and its behaviors were all evaluated in the context it began in: change the context after it settles, or end it with {\"request\": \"abandon\"}",
@@ -258,6 +276,32 @@ impl Session {
             Ok(()) => json!({"ok": "context", "context": self.adaptation().context()}),
             Err(e) => reply::error(e),
         }
+    }
+
+    /// A context switch mid-mission: the episode under way ends, and the robot goes back
+    /// to what it last settled on in the new context, or carries on with the behavior in
+    /// use; the reply says which (`from`: `kept`, `resumed` or `restarted`) and whether a
+    /// watched behavior was given up.
+    fn switch_context(&mut self, settings: &ContextSettings) -> Value {
+        let context = match self.context(settings) {
+            Ok(context) => context,
+            Err(refused) => return refused,
+        };
+        let Adapting::Mission(mission) = &mut self.adapting else {
+            unreachable!("called in mission mode only")
+        };
+        let switched = match mission.switch_context(context, None) {
+            Ok(switched) => switched,
+            Err(e) => return reply::error(e),
+        };
+        let space = self.adaptation().space().clone();
+        json!({
+            "ok": "context",
+            "context": self.adaptation().context(),
+            "behavior": reply::behavior(&space, &switched.behavior),
+            "from": switch_start(switched.from),
+            "gave_up_watch": switched.gave_up_watch,
+        })
     }
 
     fn begin(&mut self, spec: Option<&BehaviorSpec>, context: Option<&ContextSettings>) -> Value {

@@ -295,3 +295,75 @@ fn a_domain_file_may_ask_for_mission_mode() {
         json!({"ok": "keep", "behavior": {"speed": 1.0}, "trust": 1.0})
     );
 }
+
+/// A context switch told mid-mission: the watched behavior stays watched where nothing
+/// was settled on in the new context; back in a context, the robot begins again from what
+/// it settled on there; mid-episode the episode begins again from the behavior in use.
+#[test]
+fn a_context_switch_mid_mission_goes_back_to_what_was_settled_on_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain = movement(true).with_contexts(domains::context::contexts().clone());
+    let mut s = session(dir.path(), domain);
+    settle(&mut s);
+    let hazardous = r#"{"request":"context","context":{"cargo":"hazardous"}}"#;
+    assert_eq!(
+        ok(&mut s, hazardous),
+        json!({"ok": "context", "context": {"cargo": "hazardous"}, "behavior": behavior(),
+               "from": "kept", "gave_up_watch": false})
+    );
+    assert_eq!(
+        ok(&mut s, r#"{"request":"state"}"#)["watching"]["behavior"],
+        behavior()
+    );
+    // The operator minds it with hazardous cargo: it falls and another settles.
+    let switched = loop {
+        let reply = ok(&mut s, STOPPED);
+        if reply["ok"] == "switch" {
+            break reply["behavior"].clone();
+        }
+    };
+    let settled = loop {
+        if ok(&mut s, DONE)["ok"] == "settled" {
+            break ok(&mut s, r#"{"request":"state"}"#)["watching"]["behavior"].clone();
+        }
+    };
+    assert_eq!(settled, switched);
+    // Back to normal cargo: an episode from the behavior settled on there.
+    let normal = r#"{"request":"context","context":{"cargo":"normal"}}"#;
+    assert_eq!(
+        ok(&mut s, normal),
+        json!({"ok": "context", "context": {}, "behavior": behavior(),
+               "from": "resumed", "gave_up_watch": true})
+    );
+    let state = ok(&mut s, r#"{"request":"state"}"#);
+    assert_eq!(
+        (&state["episode"]["behavior"], &state["watching"]),
+        (&behavior(), &Value::Null)
+    );
+    // Mid-episode, to an emergency never met: the episode begins again from the behavior
+    // in use.
+    ok(&mut s, DONE);
+    let emergency = r#"{"request":"context","context":{"situation":"emergency"}}"#;
+    let reply = ok(&mut s, emergency);
+    assert_eq!(
+        (&reply["from"], &reply["behavior"]),
+        (&json!("restarted"), &behavior())
+    );
+    assert_eq!(
+        ok(&mut s, r#"{"request":"state"}"#)["episode"]["trust"],
+        0.0
+    );
+    // A context the domain does not declare is refused and changes nothing.
+    let before = ok(&mut s, r#"{"request":"state"}"#);
+    let refused = ask(
+        &mut s,
+        r#"{"request":"context","context":{"weather":"rain"}}"#,
+    );
+    assert!(
+        refused["error"]
+            .as_str()
+            .unwrap()
+            .contains("unknown context variable")
+    );
+    assert_eq!(ok(&mut s, r#"{"request":"state"}"#), before);
+}

@@ -41,7 +41,7 @@ pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use explain::{
     Account, AttributedReason, Attribution, Explanation, Grounds, Hint, Next, Vocabulary,
 };
-pub use mission::{MissionAdaptation, MissionAdapter, MissionDecision};
+pub use mission::{ContextSwitch, MissionAdaptation, MissionAdapter, MissionDecision, SwitchStart};
 pub use overtrust::{Alert, OwnRecord};
 pub use problem::TrustProblem;
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};

@@ -24,7 +24,13 @@
 //! of these: the behavior in use stays, and nothing learns from the command.
 //!
 //! Telling the robot of a new operator ([`MissionAdaptation::begin_episode`]) ends the
-//! watch and forgets what it learned of how its operator reacts. The episode machine knows
+//! watch and forgets what it learned of how its operator reacts. Telling it that its
+//! context switched ([`MissionAdapter::switch_context`]) mid-mission ends an episode under
+//! way (its behaviors were evaluated in the old context) and forgets how its operator
+//! reacts (that holds in the context it was learned in); the robot then goes back to the
+//! behavior it last settled on, trusted, in the new context since its operator began, or
+//! else to the case memory's first guess there when asked, or else carries on with the
+//! behavior in use ([`ContextSwitch`]). The episode machine knows
 //! nothing of this: a mission drives it through its episode-level calls (an episode's
 //! outcomes, the account of the behavior kept after it, the episode begun from a kept
 //! behavior that fell).
@@ -38,6 +44,7 @@ use crate::adapter::{Adaptation, AdapterError, Decision, EpisodeReport, TrustAda
 use crate::competence::{CompetenceAlert, CompetenceJudge};
 use crate::explain::Account;
 use crate::overtrust::{Alert, OwnRecord};
+use crate::start::first_guess;
 use crate::watch::Watch;
 use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory, Verdict};
 use cbr_core::{Behavior, Context};
@@ -56,6 +63,48 @@ pub enum MissionDecision {
     /// while the robot judges it not competent ([`crate::competence`]), once per settled
     /// behavior, on a mission given a [`CompetenceJudge`].
     Overtrust(CompetenceAlert),
+}
+
+/// What the robot did when told mid-mission that its context switched
+/// ([`MissionAdapter::switch_context`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ContextSwitch {
+    /// The behavior in use from now on.
+    pub behavior: Behavior,
+    /// Where it comes from.
+    pub from: SwitchStart,
+    /// Whether a watched (settled) behavior was given up for it.
+    pub gave_up_watch: bool,
+}
+
+/// Where the behavior in use after a context switch comes from ([`ContextSwitch`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SwitchStart {
+    /// The watched behavior, still watched: nothing the robot knows of the new context
+    /// says otherwise.
+    Kept,
+    /// The behavior the robot last settled on, trusted, in the new context since its
+    /// operator began: an episode begins from it.
+    Resumed,
+    /// The case memory's first guess for the new context ([`crate::start`]): an episode
+    /// begins from it.
+    Guessed,
+    /// The behavior in use: the episode under way begins again in the new context.
+    Restarted,
+}
+
+/// The first guess of `memory` in `adaptation`'s context, if there is a memory to guess
+/// from ([`crate::start`]).
+fn guess(memory: Option<&TrustMemory>, adaptation: &Adaptation) -> Option<Behavior> {
+    let memory = memory?;
+    let parameters = adaptation.parameters();
+    first_guess(
+        memory.base(),
+        adaptation.space(),
+        parameters.lambda,
+        adaptation.context(),
+    )
+    .map(|g| g.behavior)
 }
 
 impl From<Decision> for MissionDecision {
@@ -80,6 +129,9 @@ struct Mission<'p> {
     passes: u32,
     /// How many the episode under way has passed over.
     passed: u32,
+    /// Per context, the behavior the robot last settled on, trusted, in it since its
+    /// operator began.
+    settled_in: Vec<(Context, Behavior)>,
 }
 
 impl<'p> Mission<'p> {
@@ -93,7 +145,63 @@ impl<'p> Mission<'p> {
         self.watch = None;
         self.passed = 0;
         self.own_record.forget_operator();
+        self.settled_in.clear();
         Ok(())
+    }
+
+    /// The robot's context switched to `context` mid-mission (see the module docs);
+    /// `guess` is the case memory's first guess in the adaptation's (new) context, if the
+    /// robot starts from it. Refused with neither an episode nor a watch.
+    fn switch_context(
+        &mut self,
+        adaptation: &mut Adaptation,
+        context: Context,
+        guess: impl FnOnce(&Adaptation) -> Option<Behavior>,
+    ) -> Result<ContextSwitch, AdapterError> {
+        let in_use = self.in_use(adaptation).ok_or(AdapterError::NoEpisode)?.0;
+        let watching = self.watch.is_some();
+        adaptation.abandon_episode();
+        adaptation.set_context(context)?;
+        self.own_record.forget_operator();
+        self.own_record.restart();
+        let remembered = self
+            .settled_in
+            .iter()
+            .find(|(c, _)| c == adaptation.context())
+            .map(|&(_, b)| b);
+        let (start, from) = match remembered {
+            Some(b) => (Some(b), SwitchStart::Resumed),
+            None => (guess(adaptation), SwitchStart::Guessed),
+        };
+        let (behavior, from) = match start {
+            Some(b) if !(watching && b == in_use) => (b, from),
+            _ if watching => {
+                return Ok(ContextSwitch {
+                    behavior: in_use,
+                    from: SwitchStart::Kept,
+                    gave_up_watch: false,
+                });
+            }
+            _ => (in_use, SwitchStart::Restarted),
+        };
+        adaptation.begin_episode(behavior)?;
+        self.watch = None;
+        self.passed = 0;
+        Ok(ContextSwitch {
+            behavior,
+            from,
+            gave_up_watch: watching,
+        })
+    }
+
+    /// Remembers `behavior` as the one last settled on, trusted, in `adaptation`'s
+    /// context.
+    fn remember_settled(&mut self, adaptation: &Adaptation, behavior: Behavior) {
+        let context = adaptation.context();
+        match self.settled_in.iter_mut().find(|(c, _)| c == context) {
+            Some(entry) => entry.1 = behavior,
+            None => self.settled_in.push((context.clone(), behavior)),
+        }
     }
 
     /// One command: of the episode under way, or of the watched behavior.
@@ -221,6 +329,7 @@ impl<'p> Mission<'p> {
             return Err(AdapterError::ForeignBehavior);
         }
         self.watch_settled(offer, true, adaptation);
+        self.remember_settled(adaptation, offer);
         adaptation.restart_account();
         Ok(())
     }
@@ -229,6 +338,9 @@ impl<'p> Mission<'p> {
     fn after(&mut self, adaptation: &Adaptation, decision: &Decision) {
         if let Decision::Settled(report) = decision {
             self.watch_settled(report.settled, report.found_trustworthy, adaptation);
+            if report.found_trustworthy {
+                self.remember_settled(adaptation, report.settled);
+            }
             self.passed = 0;
         }
     }
@@ -303,6 +415,19 @@ impl<'p> MissionAdaptation<'p> {
     /// is under way.
     pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
         self.adaptation.set_context(context)
+    }
+
+    /// The robot's context switched to `context` mid-mission, and it is told (see
+    /// [`MissionAdapter::switch_context`]); `learned_start`: the case memory whose first
+    /// guess in `context` to take when nothing was settled on there, if the robot starts
+    /// from it.
+    pub fn switch_context(
+        &mut self,
+        context: Context,
+        learned_start: Option<&TrustMemory>,
+    ) -> Result<ContextSwitch, AdapterError> {
+        self.mission
+            .switch_context(&mut self.adaptation, context, |a| guess(learned_start, a))
     }
 
     /// Records one command's outcome (of the episode under way, or of the watched
@@ -409,6 +534,24 @@ impl<'p> MissionAdapter<'p> {
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.mission
             .begin_episode(&mut self.adapter.adaptation, initial)
+    }
+
+    /// The robot's context switched to `context` mid-mission, and it is told: an episode
+    /// under way ends, what the robot learned of how its operator reacts is forgotten, and
+    /// it goes back to the behavior it last settled on, trusted, in `context` since its
+    /// operator began, or else (with `learned_start`) to the case memory's first guess in
+    /// `context`, or else carries on with the behavior in use (an episode under way
+    /// begins again from it; a watched one stays watched). Refused with neither an
+    /// episode nor a watch.
+    pub fn switch_context(
+        &mut self,
+        context: Context,
+        learned_start: bool,
+    ) -> Result<ContextSwitch, AdapterError> {
+        let TrustAdapter { adaptation, memory } = &mut self.adapter;
+        let memory = learned_start.then_some(&*memory);
+        self.mission
+            .switch_context(adaptation, context, |a| guess(memory, a))
     }
 
     /// Records one command's outcome (see [`MissionAdaptation::record`]); a settled

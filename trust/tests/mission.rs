@@ -1,13 +1,13 @@
 //! Mission mode and the overtrust alert: hand-computed missions through the mission
 //! wrapper of the adapter.
 
-use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, ContextVariable, NamedComponent};
 use proptest::prelude::*;
 use std::sync::Arc;
 use trust::{
     AdapterConfig, AdapterError, Cause, CompetenceJudge, CompetencePart, CompetenceRecord,
     CompetenceStandard, Decision, Evaluated, MissionAdapter, MissionDecision, Observations,
-    Outcome, Predictor, Source, TrustAdapter, TrustCaseBase, TrustEstimate,
+    Outcome, Predictor, Source, SwitchStart, TrustAdapter, TrustCaseBase, TrustEstimate,
 };
 
 fn grid() -> Arc<BehaviorSpace> {
@@ -494,4 +494,89 @@ fn a_said_goal_change_leaves_the_watched_behavior_as_it_was() {
         a.record(&STOPPED).unwrap(),
         MissionDecision::Episode(Decision::Switch { .. })
     ));
+}
+
+fn cargo(value: &str) -> Context {
+    let cargo = ContextVariable::new("cargo", &["normal", "hazardous", "explosive"]);
+    ContextSpace::new(vec![cargo])
+        .unwrap()
+        .context([("cargo", value)])
+        .unwrap()
+}
+
+/// Interruptions until the watched behavior falls: the behavior the new episode switched to.
+fn fall(a: &mut MissionAdapter) -> Behavior {
+    loop {
+        if let MissionDecision::Episode(Decision::Switch { to, .. }) = a.record(&STOPPED).unwrap() {
+            return to;
+        }
+    }
+}
+
+#[test]
+fn a_context_switch_goes_back_to_what_the_robot_settled_on_there() {
+    let mut a = mission_adapter();
+    assert_eq!(
+        a.switch_context(cargo("hazardous"), false),
+        Err(AdapterError::NoEpisode)
+    );
+    let first = Behavior::new(&[0, 0]);
+    a.begin_episode(first).unwrap();
+    settle(&mut a);
+    // Nothing known of hazardous cargo: the watched behavior stays watched, now there.
+    let kept = a.switch_context(cargo("hazardous"), false).unwrap();
+    assert_eq!(
+        (kept.behavior, kept.from, kept.gave_up_watch),
+        (first, SwitchStart::Kept, false)
+    );
+    assert_eq!(a.watching().unwrap().behavior, first);
+    assert_eq!(a.adapter().context(), &cargo("hazardous"));
+    // The operator minds it with hazardous cargo: it falls, and the episode that follows
+    // settles on another behavior, learned with hazardous cargo.
+    let hazardous = fall(&mut a);
+    assert_ne!(hazardous, first);
+    settle(&mut a);
+    // Back to normal cargo: the behavior settled on there, in an episode of its own.
+    let back = a.switch_context(Context::default(), false).unwrap();
+    assert_eq!(
+        (back.behavior, back.from, back.gave_up_watch),
+        (first, SwitchStart::Resumed, true)
+    );
+    assert!(a.watching().is_none());
+    assert_eq!(a.in_use().unwrap(), (first, TrustEstimate::default()));
+    // Mid-episode, back to hazardous cargo: the episode ends and one begins from the
+    // behavior settled on there.
+    a.record(&DONE).unwrap();
+    let again = a.switch_context(cargo("hazardous"), false).unwrap();
+    assert_eq!(
+        (again.behavior, again.from, again.gave_up_watch),
+        (hazardous, SwitchStart::Resumed, false)
+    );
+    assert_eq!(a.in_use().unwrap(), (hazardous, TrustEstimate::default()));
+    // A context never settled in, mid-episode: the episode begins again in it from the
+    // behavior in use.
+    a.record(&DONE).unwrap();
+    let fresh = a.switch_context(cargo("explosive"), false).unwrap();
+    assert_eq!(
+        (fresh.behavior, fresh.from),
+        (hazardous, SwitchStart::Restarted)
+    );
+    assert_eq!(a.in_use().unwrap(), (hazardous, TrustEstimate::default()));
+    // A new operator: what was settled on for the last one is forgotten, and with a
+    // learned start the case memory's guess for the context is taken (the case the
+    // hazardous episode retained).
+    a.abandon_episode();
+    a.set_context(Context::default()).unwrap();
+    a.begin_episode(Behavior::new(&[3, 3])).unwrap();
+    let guessed = a.switch_context(cargo("hazardous"), true).unwrap();
+    assert_eq!(
+        (guessed.behavior, guessed.from),
+        (hazardous, SwitchStart::Guessed)
+    );
+    // Without a learned start, or with no case in the context, it carries on.
+    let blank = a.switch_context(cargo("explosive"), true).unwrap();
+    assert_eq!(
+        (blank.behavior, blank.from),
+        (hazardous, SwitchStart::Restarted)
+    );
 }
