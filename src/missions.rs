@@ -5,8 +5,9 @@
 //! A mission suite names its seed, the adapter parameters and arms as an experiment suite
 //! does, and a list of mission plans. A plan's `operators` are an experiment's (a scenario
 //! and its operator files or population; `operator` must be `random`); `count` missions of
-//! `commands` commands each; `changes` and, optionally, `complacency` (only over a domain
-//! that models its operators' attention, [`lab::Domain::run_attending`]). The report
+//! `commands` commands each; `changes` and, optionally, `context_switches` (announced
+//! switches of the robot's context) and `complacency` (only over a domain that models its
+//! operators' attention, [`lab::Domain::run_attending`]). The report
 //! folder holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a
 //! timeline figure per plan, and the config with copies of its operator files, so it
 //! reruns by itself.
@@ -17,12 +18,15 @@ use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
     check_distinct, copy_operator_files, invalid, is_context_blind, over, relocate_operator_files,
 };
+use cbr_core::ContextSpace;
 use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
+use lab::Domain;
 use lab::known_operator::LimitSettings;
 use lab::mission::{
-    Changes, Complacency, MissionPlan, MissionResult, check_competence, run_missions,
+    Changes, Complacency, ContextSwitches, MissionPlan, MissionResult, check_competence,
+    run_missions,
 };
 use lab::mission_figure::mission_figure;
 use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
@@ -69,6 +73,11 @@ pub struct MissionSpec {
     pub commands: NonZeroU32,
     /// When the operator changes.
     pub changes: Changes,
+    /// When the robot's context switches, and the robot is told
+    /// (`Some((among: [{}, {"cargo": "hazardous"}], every: 100.0))`); absent: every
+    /// mission in the default context.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub context_switches: Option<ContextSwitchesSpec>,
     /// How operators grow complacent; absent: they stay attentive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub complacency: Option<Complacency>,
@@ -81,6 +90,43 @@ pub struct MissionSpec {
     /// looks afresh.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub offer_safer: bool,
+}
+
+/// A plan's context switches as a suite writes them ([`ContextSwitches`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextSwitchesSpec {
+    /// The contexts a mission may be in, each its variables and values (`{}`: the default
+    /// context); at least two.
+    pub among: Vec<BTreeMap<String, String>>,
+    /// Mean commands between switches.
+    pub every: f64,
+}
+
+impl ContextSwitchesSpec {
+    /// The switches, each context checked against `space` (the domain's context
+    /// variables); an error names the field under the plan (`context_switches.among[1]`).
+    pub fn switches(&self, space: &ContextSpace) -> Result<ContextSwitches, (String, String)> {
+        let among = self
+            .among
+            .iter()
+            .enumerate()
+            .map(|(i, settings)| {
+                let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+                space
+                    .context(named)
+                    .map_err(|e| (format!("context_switches.among[{i}]"), e.to_string()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let switches = ContextSwitches {
+            among,
+            every: self.every,
+        };
+        switches
+            .validate()
+            .map_err(|e| ("context_switches".to_owned(), e))?;
+        Ok(switches)
+    }
 }
 
 /// Whether `text` is a mission suite: a RON structure with a `missions` field.
@@ -116,11 +162,13 @@ impl MissionSuiteConfig {
             .check("missions", self.missions.len() as u64)
             .map_err(over)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
-        if let Some(i) = self.arms.iter().position(|a| is_context_blind(a)) {
+        if !self.missions.iter().any(|m| m.context_switches.is_some())
+            && let Some(i) = self.arms.iter().position(|a| is_context_blind(a))
+        {
             return Err(invalid(
                 format!("arms[{i}]"),
                 format!(
-                    "`{}` is blind to the robot's context, and missions run in the default context (contexts are simulated in experiment suites, not yet in missions): drop the arm's +context-blind",
+                    "`{}` is blind to the robot's context, and no plan here has `context_switches`: every mission runs in the default context, where the arm is its sighted twin; give a plan `context_switches` or drop the arm's +context-blind",
                     self.arms[i]
                 ),
             ));
@@ -155,7 +203,7 @@ impl MissionSuiteConfig {
             if spec.operators.contexts.is_some() {
                 return Err(invalid(
                     field("operators.contexts"),
-                    "contexts are simulated in experiment suites, not yet in missions: leave `contexts` out of a mission plan (docs/missions.md)".into(),
+                    "an experiment's trials take contexts in turn; a mission's context switches at random times: write the plan's `context_switches: Some((among: [...], every: N))` instead (docs/missions.md#context-switches)".into(),
                 ));
             }
             if spec.operators.goal_changes.is_some() {
@@ -185,9 +233,17 @@ impl MissionSuiteConfig {
             let operators =
                 spec.operators
                     .check(catalog, &field("operators"), origin, &readings)?;
-            if spec.complacency.is_some() || spec.competence.is_some() {
+            if spec.complacency.is_some()
+                || spec.competence.is_some()
+                || spec.context_switches.is_some()
+            {
                 let domain = domain_of(catalog, &spec.operators.scenario)
                     .map_err(|e| invalid(field("operators.scenario"), e.to_string()))?;
+                if let Some(switches) = &spec.context_switches {
+                    switches
+                        .switches(domain.contexts())
+                        .map_err(|(name, e)| invalid(field(&name), e))?;
+                }
                 if spec.complacency.is_some() {
                     check_attention(&domain, &operators)
                         .map_err(|e| invalid(field("complacency"), e.to_string()))?;
@@ -239,15 +295,20 @@ impl MissionSuiteConfig {
 impl MissionSpec {
     /// The commands one mission of the plan simulates, over a population of `members`:
     /// its own, and [`TRUTH_RUNS`] for each change expected (one every `changes.every`
-    /// commands on average, none with one member).
+    /// commands on average, none with one member, and one every `context_switches.every`).
     fn commands_with_truth_runs(&self, members: usize) -> u64 {
         let commands = u64::from(self.commands.get());
-        let changes = if members < 2 {
-            0
+        let operator_changes = if members < 2 {
+            0.0
         } else {
-            // At least one command apart, as the schedule draws them.
-            ((commands as f64 / self.changes.every).ceil() as u64).min(commands)
+            commands as f64 / self.changes.every
         };
+        let switches = self
+            .context_switches
+            .as_ref()
+            .map_or(0.0, |s| commands as f64 / s.every);
+        // At least one command apart, as the schedules draw them.
+        let changes = ((operator_changes + switches).ceil() as u64).min(commands);
         commands.saturating_add(changes.saturating_mul(u64::from(TRUTH_RUNS)))
     }
 }
@@ -279,18 +340,33 @@ pub fn run_mission_suite<C: Catalog>(
         .iter()
         .map(|spec| spec.operators.operators(catalog, origin, &readings))
         .collect::<Result<_, _>>()?;
+    let switches = config
+        .missions
+        .iter()
+        .zip(&domains)
+        .enumerate()
+        .map(|(k, (spec, domain))| {
+            spec.context_switches
+                .as_ref()
+                .map(|s| s.switches(domain.contexts()))
+                .transpose()
+                .map_err(|(name, e)| invalid(origin, format!("missions[{k}].{name}"), e))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     let plans: Vec<MissionPlan<'_, C::Domain>> = config
         .missions
         .iter()
         .zip(&domains)
         .zip(&operators)
-        .map(|((spec, domain), operators)| MissionPlan {
+        .zip(switches)
+        .map(|(((spec, domain), operators), contexts)| MissionPlan {
             name: spec.name.clone(),
             domain,
             operators,
             missions: spec.count.get(),
             commands: spec.commands.get(),
             changes: spec.changes,
+            contexts,
             complacency: spec.complacency,
             competence: spec.competence.clone(),
             offer_safer: spec.offer_safer,

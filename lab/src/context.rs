@@ -87,7 +87,7 @@ pub fn by_context(arms: &[ArmResult]) -> Vec<(&str, Vec<ArmInContext>)> {
 
 /// The name of the arm `name`'s twin blind to the context; `None` for an arm already
 /// blind, or a name that is no arm's.
-fn blind_twin(name: &str) -> Option<String> {
+pub(crate) fn blind_twin(name: &str) -> Option<String> {
     let (base, options) = NameOptions::of_name(name).ok()?;
     if options.context_blind {
         return None;

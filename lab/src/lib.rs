@@ -20,6 +20,7 @@ pub mod limit;
 pub mod limit_law;
 pub mod mission;
 pub mod mission_calibration;
+pub mod mission_contexts;
 pub mod mission_figure;
 pub mod mission_oracle;
 pub mod mission_report;

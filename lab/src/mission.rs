@@ -7,7 +7,10 @@
 //! times (exponential gaps of mean [`Changes::every`] commands) the operator changes:
 //! another operator *takes over* (a new person, who starts without trust in the robot) or
 //! the same operator's preferences *shift* to another member's (the context changed; its
-//! trust in the robot carries over). The robot runs in mission mode
+//! trust in the robot carries over). With [`ContextSwitches`] the robot's context (its
+//! cargo, the situation it was sent into) also switches at random times, and the robot is
+//! *told* (it knows what it carries): the operator then judges as it does in the new
+//! context ([`Domain::operator_in_context`]). The robot runs in mission mode
 //! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
 //! trial's are (the private `drive` module: the first behavior and each command).
 //!
@@ -21,7 +24,7 @@
 //! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
 //! mission, purpose), the same for every arm.
 
-use crate::arm::Arm;
+use crate::arm::{Arm, Initial};
 use crate::competence::{CompetenceError, empty_record, true_competence, true_rates};
 use crate::domain::check_attention;
 use crate::drive::{Command, Drive, first_behavior};
@@ -30,7 +33,7 @@ use crate::mission_oracle::{OracleRecord, run_oracles};
 use crate::runner::{PlanError, fresh_adapter};
 use crate::seeds::{Purpose, stream};
 use crate::{Domain, FeedbackChannel};
-use cbr_core::Behavior;
+use cbr_core::{Behavior, Context};
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -51,6 +54,44 @@ pub struct Changes {
     /// The share of changes that are takeovers by another operator; the others are shifts
     /// of the same operator's preferences.
     pub takeover: f64,
+}
+
+/// Announced switches of the robot's context during a mission (docs/missions.md#context-switches):
+/// a mission starts in one of `among`, drawn uniformly, and at random times (exponential
+/// gaps of mean `every` commands, drawn apart from the operator changes) switches to
+/// another of them, uniformly. The robot is told each switch the moment it happens, unless
+/// its arm is blind to its context ([`Arm::is_context_blind`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContextSwitches {
+    /// The contexts a mission may be in (at least two, each the domain's).
+    pub among: Vec<Context>,
+    /// Mean commands between switches (gaps are exponential, at least one command).
+    pub every: f64,
+}
+
+impl ContextSwitches {
+    /// Checks the numbers: at least two contexts, none twice, and `every >= 1`.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.among.len() < 2 {
+            return Err(format!(
+                "context_switches.among: at least two contexts to switch between, got {}",
+                self.among.len()
+            ));
+        }
+        if let Some(i) = (1..self.among.len()).find(|&i| self.among[..i].contains(&self.among[i])) {
+            return Err(format!(
+                "context_switches.among[{i}]: a context already listed"
+            ));
+        }
+        if !(self.every.is_finite() && self.every >= 1.0) {
+            return Err(format!(
+                "context_switches.every: a mean number of commands >= 1, got {}",
+                self.every
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// How an operator grows complacent: its own trust in the robot is an average of how the
@@ -143,6 +184,8 @@ pub struct MissionPlan<'a, D: Domain> {
     pub commands: u32,
     /// When the operator changes.
     pub changes: Changes,
+    /// When the robot's context switches (`None`: every mission in the default context).
+    pub contexts: Option<ContextSwitches>,
     /// How operators grow complacent (`None`: they stay attentive, the paper's).
     pub complacency: Option<Complacency>,
     /// The adapter every arm starts from (see [`ExperimentPlan`](crate::ExperimentPlan)'s `adapter`).
@@ -178,6 +221,9 @@ pub enum ChangeKind {
     Takeover,
     /// The operator's preferences shifted to another member's.
     Shift,
+    /// The robot's context switched, and the robot was told (unless blind to it); the
+    /// operator judges as it does in the new context.
+    Context,
 }
 
 /// One change of a mission and how the robot met it.
@@ -196,6 +242,9 @@ pub struct ChangeRecord {
     /// Untrustworthy commands from the change until then (or until the next change or the
     /// end).
     pub untrustworthy: u32,
+    /// A context switch back to a context the mission was in before.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub back: bool,
 }
 
 /// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`]) and
@@ -212,21 +261,21 @@ pub struct OnsetRecord {
     pub perceivable: u32,
 }
 
-/// Records a change at command `at` in a mission's `changes` (nothing counted yet) and
-/// returns its place, the change the robot is now waiting to settle after, as the arms and
-/// the oracle ([`crate::mission_oracle`]) record them.
+/// Records `change` in a mission's `changes` (nothing counted yet) and returns its place,
+/// the change the robot is now waiting to settle after, as the arms and the oracle
+/// ([`crate::mission_oracle`]) record them.
 pub(crate) fn begin_change(
     changes: &mut Vec<ChangeRecord>,
-    at: u32,
-    kind: ChangeKind,
+    change: &Scheduled,
     needed: bool,
 ) -> usize {
     changes.push(ChangeRecord {
-        at,
-        kind,
+        at: change.at,
+        kind: change.kind,
         needed,
         trusted_again: None,
         untrustworthy: 0,
+        back: change.back,
     });
     changes.len() - 1
 }
@@ -254,6 +303,9 @@ pub struct MissionRecord {
     /// once its memory holds a case); `None`: the mission's random behavior.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub learned_start: Option<Behavior>,
+    /// The context the mission started in (the default without context switches).
+    #[serde(default, skip_serializing_if = "Context::is_default")]
+    pub context: Context,
     /// Every change, in order.
     pub changes: Vec<ChangeRecord>,
     /// Times the robot gave up a behavior it had settled on.
@@ -439,6 +491,8 @@ pub struct MissionResult {
     pub name: String,
     /// Whether operators could grow complacent.
     pub complacency: bool,
+    /// Whether the robot's context switched during missions ([`MissionPlan::contexts`]).
+    pub context_switches: bool,
     /// Every arm (answering alerts second, for complacency plans), in the plan's order.
     pub arms: Vec<MissionArmResult>,
     /// The oracle's missions, the same missions as every arm's ([`crate::mission_oracle`]).
@@ -446,9 +500,34 @@ pub struct MissionResult {
 }
 
 impl<D: Domain> MissionPlan<'_, D> {
+    /// The mean commands from one change (an operator change or a context switch) to the
+    /// next: the gaps of each are memoryless, so together they are of the summed rates.
+    pub fn mean_gap(&self) -> f64 {
+        let operator_rate = if self.operators.len() < 2 {
+            0.0
+        } else {
+            1.0 / self.changes.every
+        };
+        let context_rate = self.contexts.as_ref().map_or(0.0, |c| 1.0 / c.every);
+        1.0 / (operator_rate + context_rate)
+    }
+
+    /// The context of place `context` in the plan's switches (the default without them).
+    fn context(&self, context: usize) -> Context {
+        self.contexts
+            .as_ref()
+            .map_or_else(Context::default, |c| c.among[context].clone())
+    }
+
     /// Refuses a plan whose operators grow complacent over a domain that does not model
     /// attention ([`check_attention`]): it would run, and its alerts could change nothing.
     pub fn validate(&self) -> Result<(), PlanError> {
+        if let Some(switches) = &self.contexts {
+            switches.validate().map_err(|reason| PlanError::Contexts {
+                plan: self.name.clone(),
+                reason,
+            })?;
+        }
         if self.competence.is_none()
             && let Some(arm) = self.arms.iter().find(|a| a.competent_passes() > 0)
         {
@@ -587,6 +666,7 @@ pub fn run_missions<D: Domain>(
             MissionResult {
                 name: plan.name.clone(),
                 complacency: plan.complacency.is_some(),
+                context_switches: plan.contexts.is_some(),
                 arms: ran.by_ref().take(plan.arms.len() * per_arm).collect(),
                 oracle,
             }
@@ -652,7 +732,7 @@ fn run_chain<D: Domain>(
     })
 }
 
-/// A change scheduled for a mission: when, what, and the operator after it.
+/// A change scheduled for a mission: when, what, and the operator and context after it.
 pub(crate) struct Scheduled {
     /// The command at which it happens.
     pub(crate) at: u32,
@@ -660,34 +740,57 @@ pub(crate) struct Scheduled {
     pub(crate) kind: ChangeKind,
     /// The operator after it (its place in the population).
     pub(crate) operator: usize,
+    /// The context after it (its place in [`ContextSwitches::among`]; 0 without switches).
+    pub(crate) context: usize,
+    /// A context switch back to a context the mission was in before.
+    pub(crate) back: bool,
 }
 
-/// What a mission is whatever the robot does, drawn from its setup stream: its first
-/// operator, its random first behavior and its changes, the same for every arm and the
-/// oracle.
+/// What a mission is whatever the robot does, drawn from its setup stream (and, with
+/// context switches, a stream of their own): its first operator and context, its random
+/// first behavior and its changes, the same for every arm and the oracle.
 pub(crate) struct Course {
     /// The first operator (its place in the population).
     pub(crate) first: usize,
+    /// The first context (its place in [`ContextSwitches::among`]; 0 without switches).
+    pub(crate) first_context: usize,
     /// The random first behavior (drawn whatever the arm, so arms stay paired).
     pub(crate) drawn: Behavior,
-    /// The changes, in order.
+    /// The changes, in order (an operator change before a context switch at the same
+    /// command).
     pub(crate) scheduled: Vec<Scheduled>,
 }
 
 impl Course {
     /// The course of the mission `named` of `plan`.
     pub(crate) fn of<D: Domain>(plan: &MissionPlan<'_, D>, named: StreamName) -> Self {
-        let mut setup = stream(
-            named.seed,
-            named.plan,
-            u64::from(named.mission),
-            Purpose::Setup,
-        );
+        let mission = u64::from(named.mission);
+        let mut setup = stream(named.seed, named.plan, mission, Purpose::Setup);
         let first = setup.random_range(0..plan.operators.len());
         let drawn = plan.domain.space().draw(&mut setup);
-        let scheduled = schedule(plan, first, &mut setup);
+        let mut scheduled = schedule(plan, first, &mut setup);
+        let mut first_context = 0;
+        if let Some(switches) = &plan.contexts {
+            let mut rng = stream(named.seed, named.plan, mission, Purpose::ContextSwitch);
+            let switched;
+            (first_context, switched) = switch_contexts(switches, plan.commands, &mut rng);
+            scheduled.extend(switched);
+            // At a command with both, the operator change comes first.
+            scheduled.sort_by_key(|s| (s.at, s.kind == ChangeKind::Context));
+            let (mut operator, mut context) = (first, first_context);
+            for change in &mut scheduled {
+                if change.kind == ChangeKind::Context {
+                    change.operator = operator;
+                    context = change.context;
+                } else {
+                    change.context = context;
+                    operator = change.operator;
+                }
+            }
+        }
         Self {
             first,
+            first_context,
             drawn,
             scheduled,
         }
@@ -724,9 +827,87 @@ fn schedule<D: Domain>(
             at: at as u32,
             kind,
             operator,
+            context: 0,
+            back: false,
         });
     }
     changes
+}
+
+/// A mission's first context and its switches (their operator left for the caller), from
+/// the mission's own stream of them.
+fn switch_contexts(
+    switches: &ContextSwitches,
+    commands: u32,
+    rng: &mut dyn RngCore,
+) -> (usize, Vec<Scheduled>) {
+    let n = switches.among.len();
+    let first = rng.random_range(0..n);
+    let mut seen = vec![false; n];
+    seen[first] = true;
+    let (mut at, mut context) = (0.0f64, first);
+    let mut switched = Vec::new();
+    loop {
+        let u: f64 = rng.random();
+        at += (-switches.every * (1.0 - u).ln()).ceil().max(1.0);
+        if at >= f64::from(commands) {
+            break;
+        }
+        // Another context, uniformly.
+        let mut next = rng.random_range(0..n - 1);
+        if next >= context {
+            next += 1;
+        }
+        context = next;
+        switched.push(Scheduled {
+            at: at as u32,
+            kind: ChangeKind::Context,
+            operator: 0,
+            context,
+            back: seen[context],
+        });
+        seen[context] = true;
+    }
+    (first, switched)
+}
+
+/// Every member of a plan's population as it judges in each context of the plan's
+/// switches (the member itself in a domain whose operators judge every context alike).
+pub(crate) struct Judges<'p, D: Domain> {
+    operators: &'p [(String, D::Operator)],
+    /// Per context (in [`ContextSwitches::among`]'s order), per member, the member there
+    /// when it judges differently from its own file; empty without switches.
+    in_context: Vec<Vec<Option<D::Operator>>>,
+}
+
+impl<'p, D: Domain> Judges<'p, D> {
+    /// The judges of `plan`.
+    pub(crate) fn of(plan: &MissionPlan<'p, D>) -> Self {
+        let in_context = plan.contexts.as_ref().map_or_else(Vec::new, |switches| {
+            switches
+                .among
+                .iter()
+                .map(|context| {
+                    plan.operators
+                        .iter()
+                        .map(|(_, operator)| plan.domain.operator_in_context(operator, context))
+                        .collect()
+                })
+                .collect()
+        });
+        Self {
+            operators: plan.operators,
+            in_context,
+        }
+    }
+
+    /// Member `member` as it judges in context `context`.
+    pub(crate) fn judge(&self, member: usize, context: usize) -> &D::Operator {
+        self.in_context
+            .get(context)
+            .and_then(|members| members[member].as_ref())
+            .unwrap_or(&self.operators[member].1)
+    }
 }
 
 /// Whether `behavior` is trustworthy for `operator`: its mean weighted outcome over the
@@ -797,9 +978,17 @@ fn run_mission<D: Domain>(
     let m = u64::from(mission);
     let Course {
         first,
+        first_context,
         drawn,
         scheduled,
     } = Course::of(plan, named);
+    let told = plan.contexts.is_some() && !arm.is_context_blind();
+    if told {
+        adapter
+            .set_context(plan.context(first_context))
+            .expect("no episode is under way between missions");
+    }
+    let judges = Judges::of(plan);
     let start = first_behavior(arm.initial(), adapter.adapter(), drawn);
     let mut drive = Drive::new(
         &plan.name,
@@ -818,6 +1007,7 @@ fn run_mission<D: Domain>(
     let mut record = MissionRecord {
         mission,
         learned_start: start.learned.then_some(start.behavior),
+        context: plan.context(first_context),
         changes: Vec::new(),
         readaptations: 0,
         false_alarms: 0,
@@ -832,7 +1022,7 @@ fn run_mission<D: Domain>(
             .map(|_| CalibrationRecord::default()),
     };
     let thresholds = adapter.adapter().parameters().thresholds;
-    let mut operator = first;
+    let (mut operator, mut context) = (first, first_context);
     let mut state = OperatorState::fresh();
     let mut behavior = start.behavior;
     let mut upcoming = scheduled.iter().peekable();
@@ -846,8 +1036,8 @@ fn run_mission<D: Domain>(
             crate::interrupt::check()?;
         }
         let mut marks = Vec::new();
-        if let Some(change) = upcoming.next_if(|s| s.at == c) {
-            operator = change.operator;
+        while let Some(change) = upcoming.next_if(|s| s.at == c) {
+            (operator, context) = (change.operator, change.context);
             if change.kind == ChangeKind::Takeover {
                 state = OperatorState::fresh();
             }
@@ -857,10 +1047,22 @@ fn run_mission<D: Domain>(
                 m << 16 | record.changes.len() as u64,
                 Purpose::Truth,
             );
-            let needed = !trustworthy(plan, &behavior, &plan.operators[operator].1, &mut truth);
-            waiting = Some(begin_change(&mut record.changes, c, change.kind, needed));
+            let needed = !trustworthy(plan, &behavior, judges.judge(operator, context), &mut truth);
+            waiting = Some(begin_change(&mut record.changes, change, needed));
             changed_since_settled = true;
             marks.push(Mark::Change(change.kind));
+            if change.kind == ChangeKind::Context && told {
+                let switched = adapter
+                    .switch_context(plan.context(context), arm.initial() == Initial::Learned)
+                    .expect("a mission always has an episode or a watch, in a declared context");
+                if switched.gave_up_watch {
+                    record.readaptations += 1;
+                    marks.push(Mark::Readaptation);
+                } else if switched.behavior != behavior {
+                    marks.push(Mark::Switch);
+                }
+                behavior = switched.behavior;
+            }
         }
         // `None`: the paper's attentive operator.
         let attention = plan.complacency.map(|model| model.attention(state.felt));
@@ -876,7 +1078,7 @@ fn run_mission<D: Domain>(
         } else if level >= RECOVERED_AT {
             state.onset = None;
         }
-        let judge = &plan.operators[operator].1;
+        let judge = judges.judge(operator, context);
         let was_watching = adapter.watching().is_some();
         if let (Some(calibration), Some(watch), Some(robot)) = (
             record.calibration.as_mut(),

@@ -286,6 +286,7 @@ mod tests {
         MissionRecord {
             mission: 0,
             learned_start: None,
+            context: Default::default(),
             changes: Vec::new(),
             readaptations: 0,
             false_alarms: 0,

@@ -85,6 +85,7 @@ pub fn mission_figure(
                 let label = match kind {
                     ChangeKind::Takeover => "takeover",
                     ChangeKind::Shift => "shift",
+                    ChangeKind::Context => "context",
                 };
                 chart.draw_series(std::iter::once(Text::new(
                     label,

@@ -40,7 +40,8 @@ use crate::known_operator::{KnownLimitError, KnownOperator, known_operator};
 use crate::landscape::LandscapeError;
 use crate::limit;
 use crate::mission::{
-    ChangeKind, ChangeRecord, Course, MissionPlan, StreamName, begin_change, count_untrustworthy,
+    ChangeKind, ChangeRecord, Course, Judges, MissionPlan, StreamName, begin_change,
+    count_untrustworthy,
 };
 use crate::runner::PlanError;
 use crate::seeds::{Purpose, stream, stream_seed};
@@ -100,11 +101,15 @@ impl MemberKnowledge {
     }
 }
 
-/// The oracle of one mission plan: what it knows of each member, in the population's order.
+/// The oracle of one mission plan: what it knows of each member in each context.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MissionOracle {
-    /// Each member's landscape, as the oracle uses it.
+    /// Each member's landscape, as the oracle uses it: in the population's order, and with
+    /// context switches, the population in the first context, then in the second, and so
+    /// on ([`MissionOracle::knowledge`]).
     pub members: Vec<MemberKnowledge>,
+    /// The population's size.
+    population: usize,
 }
 
 /// One mission of the oracle.
@@ -132,8 +137,9 @@ impl OracleRecord {
     }
 }
 
-/// An episode under way: the member it is for, the next place in its order, the behavior
-/// excluded from it, and the estimate of the behavior in use.
+/// An episode under way: the member in its context it is for (its place in
+/// [`MissionOracle::members`]), the next place in its order, the behavior excluded from
+/// it, and the estimate of the behavior in use.
 struct Episode {
     member: usize,
     next: usize,
@@ -142,19 +148,22 @@ struct Episode {
 }
 
 impl MissionOracle {
-    /// Estimates what the oracle knows of each member of `plan`'s population with
-    /// `plan.limit` under the plan's thresholds; member `k`'s landscape draws from the
-    /// stream (`seed`, `index`, `k`) of [`Purpose::Limit`].
+    /// Estimates what the oracle knows of each member of `plan`'s population in each of
+    /// its contexts with `plan.limit` under the plan's thresholds; the landscape of place
+    /// `k` of [`MissionOracle::members`] draws from the stream (`seed`, `index`, `k`) of
+    /// [`Purpose::Limit`].
     pub fn estimate<D: Domain>(
         plan: &MissionPlan<'_, D>,
         seed: u64,
         index: u64,
     ) -> Result<Self, PlanError> {
-        let members = plan
-            .operators
-            .iter()
-            .enumerate()
-            .map(|(k, (name, operator))| {
+        let judges = Judges::of(plan);
+        let population = plan.operators.len();
+        let contexts = plan.contexts.as_ref().map_or(1, |c| c.among.len());
+        let members = (0..contexts * population)
+            .map(|k| {
+                let name = &plan.operators[k % population].0;
+                let operator = judges.judge(k % population, k / population);
                 let seed = stream_seed(seed, index, k as u64, Purpose::Limit);
                 let known = known_operator(
                     plan.domain,
@@ -176,7 +185,15 @@ impl MissionOracle {
                 }
             })
             .collect::<Result<Vec<_>, PlanError>>()?;
-        Ok(Self { members })
+        Ok(Self {
+            members,
+            population,
+        })
+    }
+
+    /// The place in [`MissionOracle::members`] of member `member` in context `context`.
+    fn knowledge(&self, member: usize, context: usize) -> usize {
+        context * self.population + member
     }
 
     /// Runs the oracle through the mission `named` of `plan`.
@@ -186,8 +203,12 @@ impl MissionOracle {
         named: StreamName,
     ) -> Result<OracleRecord, PlanError> {
         let Course {
-            first, scheduled, ..
+            first,
+            first_context,
+            scheduled,
+            ..
         } = Course::of(plan, named);
+        let judges = Judges::of(plan);
         let m = u64::from(named.mission);
         let mut runs = stream(named.seed, named.plan, m, Purpose::Runs);
         let mut stated = stream(named.seed, named.plan, m, Purpose::Feedback);
@@ -201,9 +222,9 @@ impl MissionOracle {
             overlooked: 0,
             untrustworthy: 0,
         };
-        let mut member = first;
+        let (mut member, mut context) = (first, first_context);
         let mut start = Episode {
-            member,
+            member: self.knowledge(member, context),
             next: 0,
             excluded: None,
             estimate: TrustEstimate::default(),
@@ -216,19 +237,20 @@ impl MissionOracle {
         let mut upcoming = scheduled.iter().peekable();
         let mut waiting: Option<usize> = None;
         for c in 0..plan.commands {
-            if let Some(change) = upcoming.next_if(|s| s.at == c) {
-                member = change.operator;
+            while let Some(change) = upcoming.next_if(|s| s.at == c) {
+                (member, context) = (change.operator, change.context);
                 if change.kind == ChangeKind::Takeover {
                     felt = 0.0;
                 }
-                let knows = &self.members[member];
+                let knowing = self.knowledge(member, context);
+                let knows = &self.members[knowing];
                 let rank = space.rank(&behavior) as usize;
                 let needed = !knows.trusted[rank];
-                waiting = Some(begin_change(&mut record.changes, c, change.kind, needed));
-                if episode.is_some() || !knows.keeps(rank, plan.changes.every) {
+                waiting = Some(begin_change(&mut record.changes, change, needed));
+                if episode.is_some() || !knows.keeps(rank, plan.mean_gap()) {
                     record.readaptations += 1;
                     let mut fresh = Episode {
-                        member,
+                        member: knowing,
                         next: 0,
                         excluded: needed.then_some(behavior),
                         estimate: TrustEstimate::default(),
@@ -238,7 +260,7 @@ impl MissionOracle {
                 }
             }
             let attention = plan.complacency.map(|model| model.attention(felt));
-            let operator = &plan.operators[member].1;
+            let operator = judges.judge(member, context);
             let channel = plan
                 .feedback
                 .unwrap_or_else(|| plan.domain.feedback(operator));
@@ -380,6 +402,7 @@ mod tests {
                 every: 12.0,
                 takeover: 0.5,
             },
+            contexts: None,
             complacency: None,
             adapter: AdapterConfig::default(),
             arms: Vec::new(),
@@ -414,6 +437,7 @@ mod tests {
             needed,
             trusted_again: again,
             untrustworthy,
+            back: false,
         }
     }
 

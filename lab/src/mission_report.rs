@@ -6,9 +6,10 @@
 //! plan.
 
 use crate::mission::{
-    ChangeRecord, DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult,
+    ChangeKind, ChangeRecord, DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult,
 };
 use crate::mission_calibration::{calibration_json, calibration_markdown};
+use crate::mission_contexts::{switch_targets, switches_json, switches_markdown};
 use crate::mission_oracle::OracleRecord;
 use crate::stats::{MeanCi, mean_ci95, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
@@ -68,6 +69,16 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
     })
 }
 
+/// The operator changes among `changes` (the context switches are reported apart:
+/// [`crate::mission_contexts`]).
+fn operator_changes<'a>(
+    changes: impl IntoIterator<Item = &'a ChangeRecord>,
+) -> impl Iterator<Item = &'a ChangeRecord> {
+    changes
+        .into_iter()
+        .filter(|c| c.kind != ChangeKind::Context)
+}
+
 /// How an agent met a plan's changes: the figures an arm and the oracle share.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChangeFigures {
@@ -125,7 +136,7 @@ impl OracleSummary {
         };
         Self {
             missions: missions.len(),
-            figures: ChangeFigures::of(missions.iter().flat_map(|m| &m.changes)),
+            figures: ChangeFigures::of(operator_changes(missions.iter().flat_map(|m| &m.changes))),
             readaptations: per_mission(|m| f64::from(m.readaptations)),
             harm: per_mission(|m| f64::from(m.harm())),
         }
@@ -162,7 +173,9 @@ impl MissionSummary {
             adapted,
             trusted_again,
             untrustworthy_per_change,
-        } = ChangeFigures::of(arm.missions.iter().flat_map(|m| &m.changes));
+        } = ChangeFigures::of(operator_changes(
+            arm.missions.iter().flat_map(|m| &m.changes),
+        ));
         let onsets: Vec<_> = arm.missions.iter().flat_map(|m| &m.onsets).collect();
         let delays: Vec<f64> = onsets
             .iter()
@@ -383,8 +396,14 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
             fine_ci(oracle.figures.untrustworthy_per_change),
             oracle.harm.mean,
         );
+        if let Some(section) = switches_markdown(result) {
+            md.push_str(&section);
+        }
         md.push('\n');
-        for line in targets(result, &summaries) {
+        for line in targets(result, &summaries)
+            .into_iter()
+            .chain(switch_targets(result))
+        {
             let _ = writeln!(md, "- {line}");
         }
         if let Some(section) = calibration_markdown(&result.arms) {
@@ -405,7 +424,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                 let summaries: Vec<MissionSummary> =
                     result.arms.iter().map(MissionSummary::of).collect();
                 let oracle = OracleSummary::of(&result.oracle);
-                json!({
+                let mut plan = json!({
                     "plan": result.name,
                     "oracle": {
                         "missions": oracle.missions,
@@ -454,7 +473,11 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         }
                         summary
                     }).collect::<Vec<_>>(),
-                })
+                });
+                if let Some(switches) = switches_json(result) {
+                    plan["context_switches"] = switches;
+                }
+                plan
             })
             .collect(),
     )
@@ -490,6 +513,7 @@ mod tests {
         MissionRecord {
             mission: 0,
             learned_start: None,
+            context: Default::default(),
             changes,
             readaptations: 1,
             false_alarms: 1,
@@ -509,6 +533,7 @@ mod tests {
             needed,
             trusted_again,
             untrustworthy,
+            back: false,
         }
     }
 
@@ -566,6 +591,7 @@ mod tests {
         let result = MissionResult {
             name: "p".into(),
             complacency: true,
+            context_switches: false,
             arms: vec![arm, answered],
             oracle: Vec::new(),
         };

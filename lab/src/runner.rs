@@ -125,6 +125,14 @@ pub enum PlanError {
         /// What is wrong with it.
         problem: &'static str,
     },
+    /// A mission plan's context switches are unusable.
+    #[error("{plan}: {reason}")]
+    Contexts {
+        /// The plan's name.
+        plan: String,
+        /// Why.
+        reason: String,
+    },
     /// A plan sets a competence standard its domain cannot judge.
     #[error("{plan}: {reason}")]
     Competence {

@@ -49,6 +49,9 @@ pub enum Purpose {
     /// Whether a mission's operator trusts the safer behavior an overtrust alert offers
     /// (here "trial" numbers the mission's offer, [`crate::mission::MissionPlan::offer_safer`]).
     Offer = 13,
+    /// A mission's context switches ([`crate::mission::ContextSwitches`]): its first
+    /// context and when it switches to which, drawn only by plans with switches.
+    ContextSwitch = 14,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

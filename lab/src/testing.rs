@@ -13,7 +13,7 @@
 //! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::domain::{Domain, Judgement};
-use cbr_core::{Behavior, BehaviorSpace, ContextSpace, NamedComponent};
+use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, NamedComponent};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
@@ -320,6 +320,9 @@ impl<D: Domain> Domain for Bare<D> {
 /// [`Domain::run`]) and the run's random stream.
 pub type ToyRule<O> = dyn Fn(&Behavior, &O, f64, &mut dyn RngCore) -> Judgement + Send + Sync;
 
+/// How a [`ToyDomain`]'s operator judges in a context ([`Domain::operator_in_context`]).
+pub type ToyInContext<O> = dyn Fn(&O, &Context) -> Option<O> + Send + Sync;
+
 /// A small domain for tests: a grid of numeric components `c0, c1, ...` (values `0, 1, ...`),
 /// the causes and observations it declares, and a rule the test writes for one command
 /// under an operator of type `O`. [`Domain::run`] is the rule at attention 1 and
@@ -334,6 +337,7 @@ pub struct ToyDomain<O> {
     hints: Vec<Hint>,
     contexts: ContextSpace,
     rule: Box<ToyRule<O>>,
+    in_context: Option<Box<ToyInContext<O>>>,
 }
 
 impl<O> ToyDomain<O> {
@@ -360,6 +364,7 @@ impl<O> ToyDomain<O> {
             hints: Vec::new(),
             contexts: ContextSpace::NONE,
             rule: Box::new(rule),
+            in_context: None,
         }
     }
 
@@ -368,6 +373,17 @@ impl<O> ToyDomain<O> {
     #[must_use]
     pub fn in_contexts(mut self, contexts: ContextSpace) -> Self {
         self.contexts = contexts;
+        self
+    }
+
+    /// The same domain whose operators judge in a context as `in_context` says (`None`:
+    /// as in their own file).
+    #[must_use]
+    pub fn judging_in_context(
+        mut self,
+        in_context: impl Fn(&O, &Context) -> Option<O> + Send + Sync + 'static,
+    ) -> Self {
+        self.in_context = Some(Box::new(in_context));
         self
     }
 
@@ -405,6 +421,10 @@ impl<O: Send + Sync> Domain for ToyDomain<O> {
 
     fn contexts(&self) -> &ContextSpace {
         &self.contexts
+    }
+
+    fn operator_in_context(&self, operator: &O, context: &Context) -> Option<O> {
+        self.in_context.as_ref()?(operator, context)
     }
 
     fn run(&self, behavior: &Behavior, operator: &O, rng: &mut dyn RngCore) -> Judgement {

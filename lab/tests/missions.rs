@@ -100,6 +100,7 @@ fn try_run_arms<D: Domain<Operator = Favourite>>(
             every: 80.0,
             takeover: 0.5,
         },
+        contexts: None,
         complacency,
         adapter: AdapterConfig::default(),
         arms,

@@ -1,0 +1,249 @@
+//! What announced context switches cost each arm of a mission plan
+//! (docs/missions.md#context-switches): its untrustworthy commands per switch, and per
+//! switch back to a context the mission was in before, as multiples of the oracle's
+//! ([`crate::mission_oracle`]); and each arm told its context against its twin blind to
+//! it (`NAME+context-blind`), switch by switch on the same missions.
+
+use crate::context::blind_twin;
+use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
+use crate::mission_report::ChangeFigures;
+use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
+use serde_json::{Value, json};
+use std::fmt::Write as _;
+
+/// How one agent (an arm or the oracle) met a plan's context switches.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SwitchFigures {
+    /// Every switch.
+    pub all: ChangeFigures,
+    /// The switches back to a context the mission was in before.
+    pub back: ChangeFigures,
+}
+
+impl SwitchFigures {
+    /// The figures of the context switches among `changes`.
+    pub fn of<'a>(changes: impl IntoIterator<Item = &'a ChangeRecord>) -> Self {
+        let switches: Vec<&ChangeRecord> = changes
+            .into_iter()
+            .filter(|c| c.kind == ChangeKind::Context)
+            .collect();
+        Self {
+            all: ChangeFigures::of(switches.iter().copied()),
+            back: ChangeFigures::of(switches.iter().copied().filter(|c| c.back)),
+        }
+    }
+
+    /// The mean untrustworthy commands per switch back, if there was one.
+    fn per_switch_back(&self) -> Option<f64> {
+        self.back.untrustworthy_per_change.map(|v| v.mean)
+    }
+}
+
+/// The untrustworthy commands of each switch back of `arm`, in mission order.
+fn per_switch_back(arm: &MissionArmResult) -> Vec<f64> {
+    arm.missions
+        .iter()
+        .flat_map(|m| &m.changes)
+        .filter(|c| c.kind == ChangeKind::Context && c.back)
+        .map(|c| f64::from(c.untrustworthy))
+        .collect()
+}
+
+/// An arm told its context against its blind twin, over the switches back: the same
+/// switches at the same commands of the same missions, paired one by one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VersusBlindTwin {
+    /// The arm told its context.
+    pub arm: String,
+    /// Its twin.
+    pub blind: String,
+    /// The switches back paired.
+    pub switches: usize,
+    /// The told arm's untrustworthy commands per switch back.
+    pub told: MeanCi,
+    /// The blind twin's.
+    pub blind_figure: MeanCi,
+    /// The paired difference, told minus blind.
+    pub difference: MeanCi,
+    /// The Wilcoxon signed-rank test's p-value (1 when every pair ties).
+    pub wilcoxon_p: f64,
+}
+
+/// Every arm of `result` told its context against its blind twin, where the plan runs
+/// both (and they met the same switches, as arms of one plan do).
+pub fn versus_blind_twins(result: &MissionResult) -> Vec<VersusBlindTwin> {
+    result
+        .arms
+        .iter()
+        .filter_map(|told| {
+            let name = blind_twin(&told.arm)?;
+            let twin = result
+                .arms
+                .iter()
+                .find(|a| a.arm == name && a.answers_alerts == told.answers_alerts)?;
+            let (a, b) = (per_switch_back(told), per_switch_back(twin));
+            if a.len() != b.len() {
+                return None;
+            }
+            let difference: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
+            Some(VersusBlindTwin {
+                arm: told.arm.clone(),
+                blind: twin.arm.clone(),
+                switches: a.len(),
+                told: mean_ci95_or_zero(&a),
+                blind_figure: mean_ci95_or_zero(&b),
+                difference: mean_ci95_or_zero(&difference),
+                wilcoxon_p: wilcoxon_signed_rank(&a, &b).unwrap_or(1.0),
+            })
+        })
+        .collect()
+}
+
+/// The multiple `value / oracle`, `-` when the oracle's is 0 or absent.
+fn times(value: Option<f64>, oracle: Option<f64>) -> String {
+    match (value, oracle) {
+        (Some(v), Some(o)) if o > 0.0 => format!("{:.1}", v / o),
+        _ => "-".to_owned(),
+    }
+}
+
+fn ci(value: Option<MeanCi>) -> String {
+    value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
+}
+
+/// The targets on a plan with context switches (docs/missions.md#context-switches): the
+/// best arm's untrustworthy commands per switch back at most 1.5 times the oracle's, and
+/// each arm told its context fewer than its blind twin (paired, significant). One line
+/// each; none for a plan without switches.
+pub fn switch_targets(result: &MissionResult) -> Vec<String> {
+    if !result.context_switches {
+        return Vec::new();
+    }
+    let mut lines = Vec::new();
+    let oracle = SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes));
+    let best = result
+        .arms
+        .iter()
+        .filter_map(|arm| {
+            let figures = SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes));
+            Some((arm.arm.as_str(), figures.per_switch_back()?))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let (Some((arm, value)), Some(reference)) = (best, oracle.per_switch_back()) {
+        lines.push(format!(
+            "best arm after a switch back ({arm}): {value:.2} untrustworthy commands per switch, {} x the oracle's {reference:.2} (target at most 1.5 x): {}",
+            times(Some(value), Some(reference)),
+            if value <= 1.5 * reference { "met" } else { "missed" }
+        ));
+    }
+    for v in versus_blind_twins(result) {
+        let better = v.difference.mean < 0.0 && v.wilcoxon_p < 0.05;
+        lines.push(format!(
+            "{}: {:.2} untrustworthy commands per switch back, its blind twin {:.2} (paired difference {:.2} ± {:.2} over {} switches, Wilcoxon p = {:.2e}): {}",
+            v.arm,
+            v.told.mean,
+            v.blind_figure.mean,
+            v.difference.mean,
+            v.difference.ci95,
+            v.switches,
+            v.wilcoxon_p,
+            if better { "fewer told, met" } else { "not fewer told, missed" }
+        ));
+    }
+    lines
+}
+
+/// The context switches section of a plan's `missions.md`; `None` for a plan without
+/// switches.
+pub fn switches_markdown(result: &MissionResult) -> Option<String> {
+    if !result.context_switches {
+        return None;
+    }
+    let oracle = SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes));
+    let mut md = String::from(
+        "\nAnnounced context switches (the robot is told, unless its arm is blind to its context; a switch back is to a context the mission was in before):\n\n| arm | switches needing adaptation | adapted to | untrustworthy commands per switch | × oracle | per switch back | × oracle |\n|---|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let row = |md: &mut String, label: &str, f: &SwitchFigures| {
+        let mean = |c: &ChangeFigures| c.untrustworthy_per_change.map(|v| v.mean);
+        let _ = writeln!(
+            md,
+            "| {label} | {} of {} | {} | {} | {} | {} | {} |",
+            f.all.needed,
+            f.all.changes,
+            f.all.adapted,
+            ci(f.all.untrustworthy_per_change),
+            times(mean(&f.all), mean(&oracle.all)),
+            ci(f.back.untrustworthy_per_change),
+            times(mean(&f.back), mean(&oracle.back)),
+        );
+    };
+    for arm in &result.arms {
+        let label = if arm.answers_alerts {
+            format!("{}, alerts answered", arm.arm)
+        } else {
+            arm.arm.clone()
+        };
+        row(
+            &mut md,
+            &label,
+            &SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes)),
+        );
+    }
+    row(&mut md, "oracle", &oracle);
+    let twins = versus_blind_twins(result);
+    if !twins.is_empty() {
+        md.push_str("\nTold against blind, switch by switch back (the same switches of the same missions):\n\n| arm | blind twin | switches back | told | blind | told − blind | Wilcoxon p |\n|---|---|---:|---:|---:|---:|---:|\n");
+        for v in &twins {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.2} | {:.2} | {:.2} ± {:.2} | {:.2e} |",
+                v.arm,
+                v.blind,
+                v.switches,
+                v.told.mean,
+                v.blind_figure.mean,
+                v.difference.mean,
+                v.difference.ci95,
+                v.wilcoxon_p
+            );
+        }
+    }
+    Some(md)
+}
+
+/// The context switches of a plan in `summary.json`: per arm and for the oracle, the
+/// figures of every switch and of the switches back, and each told arm against its
+/// blind twin; `None` for a plan without switches.
+pub fn switches_json(result: &MissionResult) -> Option<Value> {
+    if !result.context_switches {
+        return None;
+    }
+    let ci_json = |v: Option<MeanCi>| v.map(|v| json!({"mean": v.mean, "ci95": v.ci95}));
+    let figures = |f: &ChangeFigures| {
+        json!({
+            "switches": f.changes,
+            "needed": f.needed,
+            "adapted": f.adapted,
+            "untrustworthy_per_switch": ci_json(f.untrustworthy_per_change),
+        })
+    };
+    let both = |f: &SwitchFigures| json!({"all": figures(&f.all), "back": figures(&f.back)});
+    Some(json!({
+        "oracle": both(&SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes))),
+        "arms": result.arms.iter().map(|arm| json!({
+            "arm": arm.arm,
+            "answers_alerts": arm.answers_alerts,
+            "figures": both(&SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes))),
+        })).collect::<Vec<_>>(),
+        "versus_blind": versus_blind_twins(result).iter().map(|v| json!({
+            "arm": v.arm,
+            "blind": v.blind,
+            "switches_back": v.switches,
+            "told": ci_json(Some(v.told)),
+            "blind_per_switch_back": ci_json(Some(v.blind_figure)),
+            "difference": ci_json(Some(v.difference)),
+            "wilcoxon_p": v.wilcoxon_p,
+        })).collect::<Vec<_>>(),
+        "targets": switch_targets(result),
+    }))
+}

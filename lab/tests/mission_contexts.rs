@@ -1,0 +1,239 @@
+//! Missions whose robot's context switches and is told so: the switches are the same for
+//! every arm and the oracle, an arm blind to its context meets them on the same missions,
+//! the learned start reads the context, the oracle knows each operator in each context,
+//! and the report gives the switches apart from the operator changes.
+
+use cbr_core::{Behavior, Case, Context, ContextSpace, ContextVariable};
+use lab::known_operator::LimitSettings;
+use lab::mission::{
+    ChangeKind, Changes, ContextSwitches, MissionPlan, MissionResult, run_missions,
+};
+use lab::mission_contexts::{SwitchFigures, switch_targets, versus_blind_twins};
+use lab::mission_report::{MissionSummary, missions_json, missions_markdown};
+use lab::testing::ToyDomain;
+use lab::{Arm, Domain, Judgement, PlanError};
+use rand::Rng;
+use trust::{AdapterConfig, Cause, Evaluated, RetrieverKind, TrustCaseBase, TrustProblem};
+
+const BUMPED: Cause = Cause::from_static("bumped");
+
+/// The behavior an operator trusts: every other one bumps four times in five.
+struct Favourite(Behavior);
+
+/// A 6 x 6 grid whose robot knows its cargo (normal, hazardous); with hazardous cargo
+/// every operator's favourite is the mirror image of its own (`(5 - x, 5 - y)`).
+fn toy() -> ToyDomain<Favourite> {
+    ToyDomain::grid(
+        "toy",
+        &[6, 6],
+        &[BUMPED],
+        |behavior, operator: &Favourite, _, rng| {
+            let bumps = if *behavior == operator.0 { 0.05 } else { 0.8 };
+            if rng.random_bool(bumps) {
+                Judgement::interrupted(1.0, BUMPED, 1.0)
+            } else {
+                Judgement::completed(1.0, 1.0)
+            }
+        },
+    )
+    .in_contexts(
+        ContextSpace::new(vec![ContextVariable::new(
+            "cargo",
+            &["normal", "hazardous"],
+        )])
+        .unwrap(),
+    )
+    .judging_in_context(|operator, context| {
+        (context.get("cargo") == Some("hazardous")).then(|| {
+            let [x, y] = operator.0.indices()[..] else {
+                unreachable!("two components")
+            };
+            Favourite(Behavior::new(&[5 - x, 5 - y]))
+        })
+    })
+}
+
+fn hazardous(domain: &ToyDomain<Favourite>) -> Context {
+    domain.contexts().context([("cargo", "hazardous")]).unwrap()
+}
+
+fn operators() -> Vec<(String, Favourite)> {
+    vec![
+        ("low".to_owned(), Favourite(Behavior::new(&[1, 1]))),
+        ("high".to_owned(), Favourite(Behavior::new(&[4, 5]))),
+    ]
+}
+
+fn arm(name: &str) -> Arm {
+    Arm::builtin(name, RetrieverKind::Linear).unwrap()
+}
+
+fn plan<'a>(
+    domain: &'a ToyDomain<Favourite>,
+    operators: &'a [(String, Favourite)],
+    missions: u32,
+    arms: Vec<Arm>,
+) -> MissionPlan<'a, ToyDomain<Favourite>> {
+    MissionPlan {
+        name: "toy".into(),
+        domain,
+        operators,
+        missions,
+        commands: 300,
+        changes: Changes {
+            every: 150.0,
+            takeover: 0.5,
+        },
+        contexts: Some(ContextSwitches {
+            among: vec![Context::default(), hazardous(domain)],
+            every: 50.0,
+        }),
+        complacency: None,
+        adapter: AdapterConfig::default(),
+        arms,
+        feedback: None,
+        truth_runs: 50,
+        limit: LimitSettings::default(),
+        competence: None,
+        offer_safer: false,
+    }
+}
+
+fn run(plan: MissionPlan<'_, ToyDomain<Favourite>>, seed: u64) -> Result<MissionResult, PlanError> {
+    Ok(run_missions(&[plan], seed, &|_| {})?.remove(0))
+}
+
+#[test]
+fn every_arm_and_the_oracle_meet_the_same_switches_and_the_report_gives_them_apart() {
+    let (domain, operators) = (toy(), operators());
+    let arms = vec![
+        arm("case-based+learned-start"),
+        arm("case-based+context-blind+learned-start"),
+    ];
+    let result = run(plan(&domain, &operators, 20, arms), 7).unwrap();
+    assert!(result.context_switches);
+    let course = |changes: &[lab::mission::ChangeRecord]| -> Vec<(u32, ChangeKind, bool)> {
+        changes.iter().map(|c| (c.at, c.kind, c.back)).collect()
+    };
+    let [told, blind] = result.arms.as_slice() else {
+        panic!("two arms")
+    };
+    for (k, m) in told.missions.iter().enumerate() {
+        assert_eq!(course(&m.changes), course(&blind.missions[k].changes));
+        assert_eq!(course(&m.changes), course(&result.oracle[k].changes));
+        assert_eq!(m.context, blind.missions[k].context);
+        // Two contexts: every switch after the first goes back to one the mission was in.
+        let switches: Vec<bool> = m
+            .changes
+            .iter()
+            .filter(|c| c.kind == ChangeKind::Context)
+            .map(|c| c.back)
+            .collect();
+        assert!(switches.iter().skip(1).all(|&back| back), "{switches:?}");
+        assert!(switches.first().is_none_or(|&back| !back));
+    }
+    let switches: usize = told
+        .missions
+        .iter()
+        .map(|m| {
+            m.changes
+                .iter()
+                .filter(|c| c.kind == ChangeKind::Context)
+                .count()
+        })
+        .sum();
+    // About 300 / 50 switches a mission.
+    assert!((60..=180).contains(&switches), "{switches}");
+    // The operator changes' figures leave the switches out; the switches' figures count
+    // them all.
+    let summary = MissionSummary::of(told);
+    let figures = SwitchFigures::of(told.missions.iter().flat_map(|m| &m.changes));
+    let changes: usize = told.missions.iter().map(|m| m.changes.len()).sum();
+    assert_eq!(summary.changes + figures.all.changes, changes);
+    assert_eq!(figures.all.changes, switches);
+    // The oracle knows each operator in each context: after a switch it tries the
+    // operator's favourite there first.
+    let oracle = SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes));
+    let oracle_back = oracle.back.untrustworthy_per_change.unwrap().mean;
+    let told_back = figures.back.untrustworthy_per_change.unwrap().mean;
+    assert!(oracle_back < told_back, "{oracle_back} {told_back}");
+    // The report: a section of its own, the twins paired switch by switch, the targets.
+    let [versus] = versus_blind_twins(&result).try_into().unwrap();
+    assert_eq!(
+        (versus.arm.as_str(), versus.blind.as_str()),
+        (
+            "case-based+learned-start",
+            "case-based+context-blind+learned-start"
+        )
+    );
+    assert_eq!(versus.switches, figures.back.changes);
+    let targets = switch_targets(&result);
+    assert_eq!(targets.len(), 2, "{targets:?}");
+    assert!(targets[0].starts_with("best arm after a switch back"));
+    let md = missions_markdown(std::slice::from_ref(&result));
+    assert!(md.contains("Announced context switches") && md.contains("Told against blind"));
+    let json = missions_json(std::slice::from_ref(&result));
+    assert_eq!(
+        json[0]["context_switches"]["versus_blind"][0]["switches_back"],
+        versus.switches
+    );
+}
+
+#[test]
+fn the_learned_start_reads_the_context_a_mission_starts_in() {
+    let (domain, operators) = (toy(), operators());
+    // One case learned with normal cargo (the low operator's favourite) and one with
+    // hazardous cargo (its mirror image): the memory's guess in each context is its own.
+    let case = |context: Context, solution: Behavior| Case {
+        problem: TrustProblem {
+            context,
+            evaluated: vec![Evaluated {
+                behavior: Behavior::new(&[3, 3]),
+                time: 5.0,
+            }],
+        },
+        solution,
+    };
+    let mut cases = TrustCaseBase::new();
+    cases.push(case(Context::default(), Behavior::new(&[1, 1])));
+    cases.push(case(hazardous(&domain), Behavior::new(&[4, 4])));
+    let with_cases = |name: &str| arm(name).with_starting_cases(cases.clone());
+    let mut started = Vec::new();
+    for seed in 0..12 {
+        let arms = vec![
+            with_cases("case-based+learned-start"),
+            with_cases("case-based+context-blind+learned-start"),
+            with_cases("case-based"),
+        ];
+        let result = run(plan(&domain, &operators, 1, arms), seed).unwrap();
+        let [told, blind, random] = result.arms.as_slice() else {
+            panic!("three arms")
+        };
+        let (told, blind, random) = (&told.missions[0], &blind.missions[0], &random.missions[0]);
+        let expected = if told.context == hazardous(&domain) {
+            Behavior::new(&[4, 4])
+        } else {
+            Behavior::new(&[1, 1])
+        };
+        assert_eq!(told.learned_start, Some(expected), "seed {seed}");
+        // The blind twin is in the default context whatever the cargo: it starts from the
+        // case learned there.
+        assert_eq!(blind.learned_start, Some(Behavior::new(&[1, 1])));
+        assert_eq!(random.learned_start, None);
+        started.push(told.context.clone());
+    }
+    assert!(started.contains(&Context::default()) && started.contains(&hazardous(&domain)));
+}
+
+#[test]
+fn switches_need_two_contexts() {
+    let (domain, operators) = (toy(), operators());
+    let mut one = plan(&domain, &operators, 1, vec![arm("case-based")]);
+    one.contexts.as_mut().unwrap().among.truncate(1);
+    let err = run(one, 1).unwrap_err().to_string();
+    assert!(err.contains("at least two contexts"), "{err}");
+    let mut twice = plan(&domain, &operators, 1, vec![arm("case-based")]);
+    twice.contexts.as_mut().unwrap().among[1] = Context::default();
+    let err = run(twice, 1).unwrap_err().to_string();
+    assert!(err.contains("among[1]: a context already listed"), "{err}");
+}
