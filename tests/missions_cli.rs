@@ -399,3 +399,126 @@ fn an_answered_alert_may_offer_a_safer_behavior_the_operator_takes_when_it_trust
         "{stderr}"
     );
 }
+
+/// A mission suite whose robot's context switches: movement's paper operators in contexts
+/// (the shipped files, by absolute path), one arm beside its blind twin.
+fn context_suite(arms: &str, switches: &str) -> String {
+    let operators =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/operators/contexts/movement");
+    let file = |name: &str| format!("{:?}", operators.join(name).to_str().unwrap());
+    format!(
+        r#"(
+    seed: 3,
+    arms: [{arms}],
+    missions: [
+        (
+            name: "movement/paper",
+            operators: (
+                scenario: "movement",
+                operator: "random",
+                population: Some((name: "paper")),
+                operator_files: [{}, {}],
+            ),
+            count: 4,
+            commands: 150,
+            changes: (every: 100.0, takeover: 0.5),
+            {switches}
+        ),
+    ],
+)
+"#,
+        file("speed-focused.ron"),
+        file("safety-focused.ron"),
+    )
+}
+
+#[test]
+fn a_mission_suite_may_switch_the_robot_s_context_and_pairs_each_arm_with_its_blind_twin() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("contexts.ron");
+    let switches = r#"context_switches: Some((among: [{}, {"cargo": "hazardous"}], every: 30.0)),"#;
+    let arms = r#""case-based+learned-start", "case-based+context-blind+learned-start""#;
+    std::fs::write(&config, context_suite(arms, switches)).unwrap();
+    let out = dir.path().join("report");
+    succeeded(&run(&config, &out, &["--threads", "2"]));
+    let md = std::fs::read_to_string(out.join("missions.md")).unwrap();
+    assert!(
+        md.contains("Announced context switches")
+            && md.contains("| case-based+learned-start | case-based+context-blind+learned-start |"),
+        "{md}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let switched = &summary[0]["context_switches"];
+    assert_eq!(
+        switched["versus_blind"][0]["arm"],
+        "case-based+learned-start"
+    );
+    assert!(switched["oracle"]["all"]["switches"].as_u64().unwrap() > 0);
+    // Every mission record gives its switches, and the context it started in when not
+    // the default.
+    let told = arm_lines(&out, "case-based+learned-start");
+    assert_eq!(told.len(), 4);
+    assert!(told.iter().any(|line| {
+        line["record"]["changes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|c| c["kind"] == "context")
+    }));
+    // The report reruns by itself: its config names the copied operator files.
+    let rerun = dir.path().join("rerun");
+    succeeded(&run(&out.join("config.ron"), &rerun, &[]));
+    assert_eq!(
+        std::fs::read_to_string(rerun.join("missions.md")).unwrap(),
+        md
+    );
+}
+
+#[test]
+fn bad_context_switches_are_refused_with_the_file_and_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("bad.ron");
+    let out = dir.path().join("report");
+    let refused = |text: String| {
+        std::fs::write(&config, text).unwrap();
+        let ran = run(&config, &out, &[]);
+        assert!(!ran.status.success());
+        assert!(!out.exists(), "a refused suite creates no folder");
+        String::from_utf8(ran.stderr).unwrap()
+    };
+    let stderr = refused(context_suite(
+        r#""case-based""#,
+        r#"context_switches: Some((among: [{}, {"cargo": "radioactive"}], every: 30.0)),"#,
+    ));
+    assert!(
+        stderr.contains("bad.ron: missions[0].context_switches.among[1]: context variable `cargo` may be normal, hazardous, not `radioactive`"),
+        "{stderr}"
+    );
+    let stderr = refused(context_suite(
+        r#""case-based""#,
+        r#"context_switches: Some((among: [{}], every: 30.0)),"#,
+    ));
+    assert!(
+        stderr.contains(
+            "missions[0].context_switches: context_switches.among: at least two contexts"
+        ),
+        "{stderr}"
+    );
+    let stderr = refused(context_suite(r#""case-based+context-blind""#, ""));
+    assert!(
+        stderr.contains("bad.ron: arms[0]: `case-based+context-blind` is blind to the robot's context, and no plan here has `context_switches`"),
+        "{stderr}"
+    );
+    // An experiment's contexts in turn are not a mission's.
+    let stderr = refused(context_suite(r#""case-based""#, "").replace(
+        r#"population: Some((name: "paper")),"#,
+        r#"population: Some((name: "paper")), contexts: Some((cycle: [{}])),"#,
+    ));
+    assert!(
+        stderr.contains(
+            "missions[0].operators.contexts: an experiment's trials take contexts in turn"
+        ) && stderr.contains("context_switches"),
+        "{stderr}"
+    );
+}

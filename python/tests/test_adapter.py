@@ -285,3 +285,28 @@ def test_a_case_is_learned_and_reused_in_its_context(tmp_path: Path) -> None:
     assert adapter.context == {"cargo": "hazardous"}
     assert adapter.set_context({}) == {}
     assert adapter.context == {}
+
+
+def test_a_robot_on_a_mission_goes_back_to_what_it_settled_on_in_a_context(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=1, mission=True)
+    with pytest.raises(trustcbr.TrustcbrError, match="once a behavior is in use"):
+        adapter.switch_context({"cargo": "hazardous"})
+    start = adapter.begin({"speed": 3.5, "padding": 0.4})
+    decisions = [adapter.tell("completed", duration_s=8.5) for _ in range(5)]
+    assert decisions[-1].kind == "settled"
+    kept = adapter.switch_context({"cargo": "hazardous"})
+    assert kept == trustcbr.ContextSwitch(start, "kept", False, {"cargo": "hazardous"})
+    # The operator minds it with hazardous cargo: ten interruptions give it up, and five
+    # completions settle the next.
+    falls = [adapter.tell("interrupted", duration_s=10.0) for _ in range(10)]
+    assert falls[-1].kind == "switch"
+    settled = [adapter.tell("completed", duration_s=8.5) for _ in range(5)][-1]
+    assert settled.kind == "settled" and settled.behavior != start
+    back = adapter.switch_context({})
+    assert (back.behavior, back.origin, back.gave_up_watch) == (start, "resumed", True)
+    assert adapter.state()["episode"]["behavior"] == start
+    # Outside mission mode there is no switch to tell of.
+    episodes = trustcbr.Adapter("movement", tmp_path / "other.db", seed=1)
+    episodes.begin()
+    with pytest.raises(trustcbr.TrustcbrError, match="mission=True"):
+        episodes.switch_context({"cargo": "hazardous"})

@@ -44,6 +44,7 @@ from trustcbr._progress import Progress, ProgressCallback, ProgressOption, Repor
 from trustcbr._results import MissionResults, Results, load_report
 from trustcbr._types import (
     Behavior,
+    ContextSwitch,
     Decision,
     Evaluated,
     Outcome,
@@ -58,6 +59,7 @@ __version__: str = _native.__version__
 __all__ = [
     "Adapter",
     "Behavior",
+    "ContextSwitch",
     "Decision",
     "Evaluated",
     "Explained",
@@ -252,6 +254,27 @@ class Adapter:
         reply = self._request({"request": "context", "context": dict(context)})
         current: Dict[str, str] = reply["context"]
         return current
+
+    def switch_context(self, context: Mapping[str, str]) -> ContextSwitch:
+        """In mission mode, once a behavior is in use: tells the robot its context switched
+        (docs/missions.md, "Context switches"). An episode under way ends, what the robot
+        learned of how its operator reacts is forgotten, and it goes back to the behavior it
+        last settled on, trusted, in the new context since its operator began, or else
+        carries on with the behavior in use. Raises ``TrustcbrError``, changing nothing,
+        outside mission mode or before the first ``begin`` (use ``set_context`` there)."""
+        state = self.state()
+        if "watching" not in state or (state["episode"] is None and state["watching"] is None):
+            raise TrustcbrError(
+                "switch_context tells a robot on a mission (mission=True) of a switch once "
+                "a behavior is in use; between episodes, set_context sets the context"
+            )
+        reply = self._request({"request": "context", "context": dict(context)})
+        return ContextSwitch(
+            behavior=reply["behavior"],
+            origin=str(reply["from"]),
+            gave_up_watch=bool(reply["gave_up_watch"]),
+            context=dict(reply["context"]),
+        )
 
     @property
     def context(self) -> Dict[str, str]:

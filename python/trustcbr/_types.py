@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import random
 import sys
+from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional, Union
 
 if sys.version_info >= (3, 11):  # pragma: no cover - depends on the interpreter
@@ -135,6 +136,23 @@ class Decision:
 
     def __repr__(self) -> str:
         return f"Decision(kind={self.kind!r}, behavior={self.behavior!r}, trust={self.trust:+.2f})"
+
+
+@dataclass(frozen=True)
+class ContextSwitch:
+    """What a robot on a mission did when told its context switched
+    (``Adapter.switch_context``): ``behavior`` is the behavior to use from now on;
+    ``origin`` says where it comes from: ``kept`` (the watched behavior, still watched),
+    ``resumed`` (the behavior last settled on, trusted, in the new context since the
+    operator began: an episode begins from it), ``restarted`` (the episode under way begins
+    again, in the new context, from the behavior in use); ``gave_up_watch`` whether a
+    watched behavior was given up; ``context`` the robot's context now, its defaults left
+    out."""
+
+    behavior: Behavior
+    origin: str
+    gave_up_watch: bool
+    context: Dict[str, str]
 
 
 class Searcher(Protocol):
