@@ -161,28 +161,31 @@ fn a_blind_arm_without_contexts_and_the_retired_told_are_refused() {
     assert!(!dir.path().join("out").exists());
 }
 
+/// An experiment's contexts in turn are not a mission's switches.
 #[test]
-fn a_mission_plan_in_contexts_is_refused() {
+fn a_mission_plan_with_an_experiment_s_contexts_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let mission = one_mission_suite(
         r#"(scenario: "movement", operator: "random", contexts: Some((cycle: [{}])))"#,
     );
     let err = refused(&mut run(dir.path(), &mission));
     assert!(
-        err.contains("missions[0].operators.contexts: contexts are simulated in experiment suites, not yet in missions"),
+        err.contains(
+            "missions[0].operators.contexts: an experiment's trials take contexts in turn"
+        ) && err.contains("context_switches: Some((among: [...], every: N))"),
         "{err}"
     );
     assert!(!dir.path().join("out").exists());
 }
 
 #[test]
-fn a_blind_arm_in_a_mission_suite_is_refused() {
+fn a_blind_arm_in_a_mission_suite_without_switches_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let mission = one_mission_suite(r#"(scenario: "movement", operator: "random")"#)
         .replace(r#"["uniform"]"#, r#"["uniform+context-blind"]"#);
     let err = refused(&mut run(dir.path(), &mission));
     assert!(
-        err.contains("arms[0]: `uniform+context-blind` is blind to the robot's context, and missions run in the default context"),
+        err.contains("arms[0]: `uniform+context-blind` is blind to the robot's context, and no plan here has `context_switches`"),
         "{err}"
     );
     assert!(!dir.path().join("out").exists());

@@ -505,20 +505,4 @@ fn bad_context_switches_are_refused_with_the_file_and_the_field() {
         ),
         "{stderr}"
     );
-    let stderr = refused(context_suite(r#""case-based+context-blind""#, ""));
-    assert!(
-        stderr.contains("bad.ron: arms[0]: `case-based+context-blind` is blind to the robot's context, and no plan here has `context_switches`"),
-        "{stderr}"
-    );
-    // An experiment's contexts in turn are not a mission's.
-    let stderr = refused(context_suite(r#""case-based""#, "").replace(
-        r#"population: Some((name: "paper")),"#,
-        r#"population: Some((name: "paper")), contexts: Some((cycle: [{}])),"#,
-    ));
-    assert!(
-        stderr.contains(
-            "missions[0].operators.contexts: an experiment's trials take contexts in turn"
-        ) && stderr.contains("context_switches"),
-        "{stderr}"
-    );
 }
