@@ -162,6 +162,7 @@ impl<'p> Mission<'p> {
         let watching = self.watch.is_some();
         adaptation.abandon_episode();
         adaptation.set_context(context)?;
+        self.own_record.enter_context(adaptation.context());
         self.own_record.forget_operator();
         self.own_record.restart();
         let remembered = self
@@ -411,10 +412,15 @@ impl<'p> MissionAdaptation<'p> {
     }
 
     /// The robot's context from now on ([`Adaptation::set_context`]): a watched behavior
-    /// stays in use, and the episodes begun afterwards run in it. Refused while an episode
+    /// stays in use, the episodes begun afterwards run in it, and the own record weighs
+    /// signals by how operators react in it ([`OwnRecord::enter_context`]). Refused while an episode
     /// is under way.
     pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
-        self.adaptation.set_context(context)
+        self.adaptation.set_context(context)?;
+        self.mission
+            .own_record
+            .enter_context(self.adaptation.context());
+        Ok(())
     }
 
     /// The robot's context switched to `context` mid-mission, and it is told (see
@@ -527,7 +533,11 @@ impl<'p> MissionAdapter<'p> {
 
     /// The robot's context from now on (see [`MissionAdaptation::set_context`]).
     pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
-        self.adapter.set_context(context)
+        self.adapter.set_context(context)?;
+        self.mission
+            .own_record
+            .enter_context(self.adapter.adaptation.context());
+        Ok(())
     }
 
     /// A new operator (see [`MissionAdaptation::begin_episode`]).

@@ -17,10 +17,12 @@
 //! whether to trust a behavior (every command of an adaptation episode) it is taken to be
 //! attentive: an operator grows complacent only once it trusts the robot. From those
 //! commands the record learns, for each signal, how often operators react (fail or
-//! interrupt the command) when it is present. It keeps two counts: every operator's since
-//! the robot started (the fleet's prior, `(reacted + 1) / (seen + 2)`), and the current
+//! interrupt the command) when it is present. It keeps two counts: every operator's in the
+//! robot's context since the robot started (the fleet's prior, `(reacted + 1) / (seen +
+//! 2)`, kept per context, [`OwnRecord::enter_context`]: in an emergency operators let
+//! bumps pass that they stop the robot for with hazardous cargo), and the current
 //! operator's, forgotten when the robot is told a new operator begins
-//! ([`OwnRecord::forget_operator`]). The current operator's rate is its own counts shrunk
+//! ([`OwnRecord::forget_operator`]) or that its context switched. The current operator's rate is its own counts shrunk
 //! towards the prior with the weight of [`PRIOR_WEIGHT`] commands. Commands without a
 //! signal are counted too, for the *base rate* `b` at which the operator reacts to
 //! something the robot did not perceive: during adaptation most behaviors are poor, so a
@@ -46,7 +48,7 @@
 //! supervise it. The evidence then starts again from 0.
 
 use crate::{Observations, Outcome};
-use cbr_core::Behavior;
+use cbr_core::{Behavior, Context};
 use serde::{Deserialize, Serialize};
 
 /// A self-assessed confidence below this is a signal of doubt.
@@ -78,6 +80,10 @@ pub struct OwnRecord {
     seen: [u32; SIGNALS],
     fleet_reacted: [u32; SIGNALS],
     fleet_seen: [u32; SIGNALS],
+    /// The context the fleet's counts above are of.
+    context: Context,
+    /// The fleet's counts (reacted, seen) in the other contexts the robot has been in.
+    other_contexts: Vec<(Context, [u32; SIGNALS], [u32; SIGNALS])>,
     value: f64,
     commands: u64,
     unacknowledged: u64,
@@ -90,6 +96,8 @@ impl Default for OwnRecord {
             seen: [0; SIGNALS],
             fleet_reacted: [0; SIGNALS],
             fleet_seen: [0; SIGNALS],
+            context: Context::default(),
+            other_contexts: Vec::new(),
             value: 0.0,
             commands: 0,
             unacknowledged: 0,
@@ -148,6 +156,25 @@ impl OwnRecord {
     pub fn forget_operator(&mut self) {
         self.reacted = [0; SIGNALS];
         self.seen = [0; SIGNALS];
+    }
+
+    /// The robot is in `context` from now on: the fleet's counts are those learned in it
+    /// (none yet in a context it was never in); those of the context it leaves are kept.
+    pub fn enter_context(&mut self, context: &Context) {
+        if *context == self.context {
+            return;
+        }
+        let (reacted, seen) = match self.other_contexts.iter().position(|(c, ..)| c == context) {
+            Some(i) => {
+                let (_, reacted, seen) = self.other_contexts.swap_remove(i);
+                (reacted, seen)
+            }
+            None => ([0; SIGNALS], [0; SIGNALS]),
+        };
+        let left = std::mem::replace(&mut self.context, context.clone());
+        let left_reacted = std::mem::replace(&mut self.fleet_reacted, reacted);
+        let left_seen = std::mem::replace(&mut self.fleet_seen, seen);
+        self.other_contexts.push((left, left_reacted, left_seen));
     }
 
     /// Starts a new record (a behavior settled, or an alert was raised).
@@ -264,6 +291,41 @@ mod tests {
         // Two signals: the larger rate (a late command, never seen, provokes nothing).
         let both = bumped(false).observing(Observations::NONE.with(LATE).with(BUMP));
         assert!(close(record.score(&both), 1.75f64.ln()));
+    }
+
+    #[test]
+    fn the_fleet_s_reactions_are_kept_per_context() {
+        let mut record = OwnRecord::default();
+        // Normal cargo: 4 commands without a signal let pass, 3 bumps of 4 stopped (as
+        // above: a new operator's bump let pass adds ln 1.75).
+        for _ in 0..4 {
+            record.learn(&Outcome::completed(1.0, 1.0));
+        }
+        for reacted in [true, true, false, true] {
+            record.learn(&bumped(reacted));
+        }
+        record.forget_operator();
+        assert!(close(record.score(&bumped(false)), 1.75f64.ln()));
+        // An emergency, never met: nothing learned there, a bump says nothing.
+        let emergency = cbr_core::ContextSpace::new(vec![cbr_core::ContextVariable::new(
+            "situation",
+            &["routine", "emergency"],
+        )])
+        .unwrap()
+        .context([("situation", "emergency")])
+        .unwrap();
+        record.enter_context(&emergency);
+        assert_eq!(record.score(&bumped(false)), 0.0);
+        // There operators let bumps pass as often as anything else: still nothing.
+        for _ in 0..4 {
+            record.learn(&Outcome::completed(1.0, 1.0));
+            record.learn(&bumped(false));
+        }
+        record.forget_operator();
+        assert_eq!(record.score(&bumped(false)), 0.0);
+        // Back to normal cargo: what operators taught there is as it was.
+        record.enter_context(&Context::default());
+        assert!(close(record.score(&bumped(false)), 1.75f64.ln()));
     }
 
     #[test]
