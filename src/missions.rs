@@ -16,7 +16,8 @@ use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, copy_operator_files, invalid, is_context_blind, over, relocate_operator_files,
+    check_distinct, contexts_written, copy_operator_files, invalid, is_context_blind, over,
+    relocate_operator_files,
 };
 use cbr_core::ContextSpace;
 use files::name::check_label;
@@ -107,17 +108,7 @@ impl ContextSwitchesSpec {
     /// The switches, each context checked against `space` (the domain's context
     /// variables); an error names the field under the plan (`context_switches.among[1]`).
     pub fn switches(&self, space: &ContextSpace) -> Result<ContextSwitches, (String, String)> {
-        let among = self
-            .among
-            .iter()
-            .enumerate()
-            .map(|(i, settings)| {
-                let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
-                space
-                    .context(named)
-                    .map_err(|e| (format!("context_switches.among[{i}]"), e.to_string()))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let among = contexts_written(&self.among, space, "context_switches.among")?;
         let switches = ContextSwitches {
             among,
             every: self.every,

@@ -807,8 +807,7 @@ fn schedule<D: Domain>(
     let mut changes = Vec::new();
     let (mut at, mut operator) = (0.0f64, first);
     loop {
-        let u: f64 = setup.random();
-        at += (-plan.changes.every * (1.0 - u).ln()).ceil().max(1.0);
+        at += gap(plan.changes.every, setup);
         if at >= f64::from(plan.commands) || n < 2 {
             break;
         }
@@ -817,12 +816,7 @@ fn schedule<D: Domain>(
         } else {
             ChangeKind::Shift
         };
-        // Another member, uniformly.
-        let mut next = setup.random_range(0..n - 1);
-        if next >= operator {
-            next += 1;
-        }
-        operator = next;
+        operator = another(n, operator, setup);
         changes.push(Scheduled {
             at: at as u32,
             kind,
@@ -832,6 +826,19 @@ fn schedule<D: Domain>(
         });
     }
     changes
+}
+
+/// The commands to the next change: an exponential gap of mean `every`, rounded up, at
+/// least one.
+fn gap(every: f64, rng: &mut dyn RngCore) -> f64 {
+    let u: f64 = rng.random();
+    (-every * (1.0 - u).ln()).ceil().max(1.0)
+}
+
+/// One of `0..n` other than `current`, uniformly (`n` at least 2).
+fn another(n: usize, current: usize, rng: &mut dyn RngCore) -> usize {
+    let next = rng.random_range(0..n - 1);
+    if next >= current { next + 1 } else { next }
 }
 
 /// A mission's first context and its switches (their operator left for the caller), from
@@ -848,17 +855,11 @@ fn switch_contexts(
     let (mut at, mut context) = (0.0f64, first);
     let mut switched = Vec::new();
     loop {
-        let u: f64 = rng.random();
-        at += (-switches.every * (1.0 - u).ln()).ceil().max(1.0);
+        at += gap(switches.every, rng);
         if at >= f64::from(commands) {
             break;
         }
-        // Another context, uniformly.
-        let mut next = rng.random_range(0..n - 1);
-        if next >= context {
-            next += 1;
-        }
-        context = next;
+        context = another(n, context, rng);
         switched.push(Scheduled {
             at: at as u32,
             kind: ChangeKind::Context,

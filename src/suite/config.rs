@@ -4,7 +4,7 @@
 
 use super::{SuiteError, invalid};
 use crate::catalog::{Catalog, Family, OperatorOf, Readings};
-use cbr_core::ContextSpace;
+use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
@@ -322,17 +322,7 @@ impl ContextsSpec {
                 "is retired: whether the robot is told its context is its arm's; run the arm `NAME+context-blind` beside `NAME`, on the same trials".to_owned(),
             ));
         }
-        let cycle = self
-            .cycle
-            .iter()
-            .enumerate()
-            .map(|(i, settings)| {
-                let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
-                space
-                    .context(named)
-                    .map_err(|e| (format!("contexts.cycle[{i}]"), e.to_string()))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let cycle = contexts_written(&self.cycle, space, "contexts.cycle")?;
         TrialContexts::new(cycle).ok_or_else(|| {
             (
                 "contexts.cycle".to_owned(),
@@ -340,6 +330,25 @@ impl ContextsSpec {
             )
         })
     }
+}
+
+/// The contexts a suite writes under `field` (each its variables and values), each checked
+/// against `space`; an error names the field and the place (`contexts.cycle[1]`).
+pub(crate) fn contexts_written(
+    written: &[BTreeMap<String, String>],
+    space: &ContextSpace,
+    field: &str,
+) -> Result<Vec<Context>, (String, String)> {
+    written
+        .iter()
+        .enumerate()
+        .map(|(i, settings)| {
+            let named = settings.iter().map(|(k, v)| (k.as_str(), v.as_str()));
+            space
+                .context(named)
+                .map_err(|e| (format!("{field}[{i}]"), e.to_string()))
+        })
+        .collect()
 }
 
 /// A population of operators an experiment draws from.

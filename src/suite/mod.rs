@@ -28,7 +28,7 @@ mod trace;
 mod validate;
 
 pub use config::{EMBEDDED_ORIGIN, ExperimentSpec, Population, RANDOM_OPERATOR, SuiteConfig};
-pub(crate) use config::{arm_name_lists, arm_names, some_arm_names};
+pub(crate) use config::{arm_name_lists, arm_names, contexts_written, some_arm_names};
 pub use estimates::ReportEstimates;
 pub use plan::arm_named;
 pub(crate) use portable::{copy_operator_files, relocate_operator_files};
