@@ -106,7 +106,7 @@ impl MemberKnowledge {
 pub struct MissionOracle {
     /// Each member's landscape, as the oracle uses it: in the population's order, and with
     /// context switches, the population in the first context, then in the second, and so
-    /// on ([`MissionOracle::knowledge`]).
+    /// on (member `k` in context `c` at `c * population + k`).
     pub members: Vec<MemberKnowledge>,
     /// The population's size.
     population: usize,
