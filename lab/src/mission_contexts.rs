@@ -40,7 +40,7 @@ impl SwitchFigures {
 }
 
 /// The untrustworthy commands of each switch back of `arm`, in mission order.
-fn per_switch_back(arm: &MissionArmResult) -> Vec<f64> {
+fn switches_back_of(arm: &MissionArmResult) -> Vec<f64> {
     arm.missions
         .iter()
         .flat_map(|m| &m.changes)
@@ -55,14 +55,14 @@ fn per_switch_back(arm: &MissionArmResult) -> Vec<f64> {
 pub struct VersusBlindTwin {
     /// The arm told its context.
     pub arm: String,
-    /// Its twin.
-    pub blind: String,
+    /// Its twin blind to the context.
+    pub twin: String,
     /// The switches back paired.
     pub switches: usize,
     /// The told arm's untrustworthy commands per switch back.
     pub told: MeanCi,
-    /// The blind twin's.
-    pub blind_figure: MeanCi,
+    /// The twin's.
+    pub blind: MeanCi,
     /// The paired difference, told minus blind.
     pub difference: MeanCi,
     /// The Wilcoxon signed-rank test's p-value (1 when every pair ties).
@@ -81,17 +81,17 @@ pub fn versus_blind_twins(result: &MissionResult) -> Vec<VersusBlindTwin> {
                 .arms
                 .iter()
                 .find(|a| a.arm == name && a.answers_alerts == told.answers_alerts)?;
-            let (a, b) = (per_switch_back(told), per_switch_back(twin));
+            let (a, b) = (switches_back_of(told), switches_back_of(twin));
             if a.len() != b.len() {
                 return None;
             }
             let difference: Vec<f64> = a.iter().zip(&b).map(|(x, y)| x - y).collect();
             Some(VersusBlindTwin {
                 arm: told.arm.clone(),
-                blind: twin.arm.clone(),
+                twin: twin.arm.clone(),
                 switches: a.len(),
                 told: mean_ci95_or_zero(&a),
-                blind_figure: mean_ci95_or_zero(&b),
+                blind: mean_ci95_or_zero(&b),
                 difference: mean_ci95_or_zero(&difference),
                 wilcoxon_p: wilcoxon_signed_rank(&a, &b).unwrap_or(1.0),
             })
@@ -142,7 +142,7 @@ pub fn switch_targets(result: &MissionResult) -> Vec<String> {
             "{}: {:.2} untrustworthy commands per switch back, its blind twin {:.2} (paired difference {:.2} ± {:.2} over {} switches, Wilcoxon p = {:.2e}): {}",
             v.arm,
             v.told.mean,
-            v.blind_figure.mean,
+            v.blind.mean,
             v.difference.mean,
             v.difference.ci95,
             v.switches,
@@ -198,10 +198,10 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
                 md,
                 "| {} | {} | {} | {:.2} | {:.2} | {:.2} ± {:.2} | {:.2e} |",
                 v.arm,
-                v.blind,
+                v.twin,
                 v.switches,
                 v.told.mean,
-                v.blind_figure.mean,
+                v.blind.mean,
                 v.difference.mean,
                 v.difference.ci95,
                 v.wilcoxon_p
@@ -237,10 +237,10 @@ pub fn switches_json(result: &MissionResult) -> Option<Value> {
         })).collect::<Vec<_>>(),
         "versus_blind": versus_blind_twins(result).iter().map(|v| json!({
             "arm": v.arm,
-            "blind": v.blind,
+            "twin": v.twin,
             "switches_back": v.switches,
             "told": ci_json(Some(v.told)),
-            "blind_per_switch_back": ci_json(Some(v.blind_figure)),
+            "blind": ci_json(Some(v.blind)),
             "difference": ci_json(Some(v.difference)),
             "wilcoxon_p": v.wilcoxon_p,
         })).collect::<Vec<_>>(),

@@ -160,7 +160,7 @@ fn every_arm_and_the_oracle_meet_the_same_switches_and_the_report_gives_them_apa
     // The report: a section of its own, the twins paired switch by switch, the targets.
     let [versus] = versus_blind_twins(&result).try_into().unwrap();
     assert_eq!(
-        (versus.arm.as_str(), versus.blind.as_str()),
+        (versus.arm.as_str(), versus.twin.as_str()),
         (
             "case-based+learned-start",
             "case-based+context-blind+learned-start"
