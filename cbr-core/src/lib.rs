@@ -11,6 +11,7 @@ pub mod retrieve;
 pub mod search;
 pub mod similarity;
 pub mod space_diff;
+pub mod statement;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;
 
@@ -27,6 +28,7 @@ pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use search::{Proposal, Rationale, Searcher};
 pub use similarity::SimilarityMeasure;
 pub use space_diff::SpaceDifference;
+pub use statement::Statement;
 
 /// The random-number crate of `BehaviorSpace::draw` and the `Searcher` trait, re-exported so
 /// a user names the same version.

@@ -7,6 +7,7 @@
 
 use crate::behavior::{Behavior, BehaviorSpace};
 use crate::context::Context;
+use crate::statement::Statement;
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
@@ -118,6 +119,12 @@ pub trait Searcher: Send {
     /// follow are in `context` until it is told another. A strategy that weighs what it
     /// learned by the context it was learned in reads it here; the default ignores it.
     fn enter_context(&mut self, _context: &Context) {}
+
+    /// Called right after [`Searcher::begin_episode`] with what this episode's user stated
+    /// up front ([`crate::statement`]): possibly nothing, possibly incomplete or wrong. A
+    /// strategy that takes statements as a prior reads them here; the default ignores
+    /// them.
+    fn hear(&mut self, _stated: &[Statement]) {}
 
     /// Called when an episode begins with `initial` in use.
     fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {}

@@ -5,7 +5,8 @@
 //! behaviors in order, each `{"behavior": {...}, "time": s}`, and a `random.Random` seeded
 //! from the trial's search stream; it returns the next behavior as a dict in real units, or
 //! `None` when nothing is left to try, which keeps the behavior that resisted longest) and
-//! optionally `begin_episode(initial)`, `observe(behavior, outcome)`,
+//! optionally `begin_episode(initial)`, `hear(stated)` (what the episode's operator
+//! stated up front, a list of `{"name": ..., "minds": bool}`), `observe(behavior, outcome)`,
 //! `end_episode(evaluated, settled)`, `rationale(proposed)` (a str: how it explores; or a
 //! dict `{"expects": what, "confidence": p}`: what it expects) and the attributes
 //! `name` and `learns_across_episodes`. A factory builds one per chain of trials (one per
@@ -29,7 +30,9 @@ use rand::RngCore;
 use serde_json::{Value, json};
 use std::borrow::Cow;
 use std::sync::{Arc, Mutex};
-use trustcbr::cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
+use trustcbr::cbr_core::{
+    Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement,
+};
 use trustcbr::lab::Arm;
 use trustcbr::service::reply;
 use trustcbr::trust::named::named_space;
@@ -193,6 +196,10 @@ impl Searcher for PySearcher {
             }
         }
         self.call_optional("begin_episode", vec![reply::behavior(space, initial)]);
+    }
+
+    fn hear(&mut self, stated: &[Statement]) {
+        self.call_optional("hear", vec![json!(stated)]);
     }
 
     fn propose(

@@ -24,7 +24,7 @@ use crate::search::{SearchKind, TrustSearcher};
 use crate::select::{Selection, Source, select_behavior};
 use crate::start::{FirstGuess, first_guess};
 use crate::{Evaluated, TrustCase, TrustCaseBase, TrustMemory, TrustProblem};
-use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Context};
+use cbr_core::{Behavior, BehaviorSpace, Case, CaseId, Context, Statement};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -268,6 +268,13 @@ pub enum AdapterError {
         "no settled behavior is under watch: an offer is taken after an overtrust alert, in mission mode"
     )]
     NotWatching,
+    /// An episode was begun with two statements of the same name
+    /// ([`Adaptation::begin_episode_hearing`]).
+    #[error("`{name}` is stated twice: an operator states each name at most once")]
+    StatedTwice {
+        /// The name.
+        name: String,
+    },
     /// [`Adaptation::give_up_kept`] was handed an estimate above the untrustworthy
     /// threshold.
     #[error("the kept behavior's estimate {estimate} is above the untrustworthy threshold")]
@@ -357,6 +364,8 @@ pub struct Adaptation {
     episode: Option<Episode>,
     /// The context the robot is in: every episode begun runs in it.
     context: Context,
+    /// What the operator of the episode under way (or of the last one) stated up front.
+    stated: Vec<Statement>,
     /// The account of the behavior in use (or kept after the last episode): the reasons
     /// of its untrustworthy commands, and what stated reasons taught across episodes.
     attribution: Attribution,
@@ -394,6 +403,7 @@ impl Adaptation {
             rng,
             episode: None,
             context: Context::default(),
+            stated: Vec::new(),
             attribution: Attribution::default(),
         })
     }
@@ -431,9 +441,29 @@ impl Adaptation {
         &self.context
     }
 
-    /// Starts an episode (a new operator) with `initial` in use, in the robot's context.
+    /// Starts an episode (a new operator, who states nothing up front) with `initial` in
+    /// use, in the robot's context.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+        self.begin_episode_hearing(initial, Vec::new())
+    }
+
+    /// Starts an episode with `initial` in use, in the robot's context, for an operator who
+    /// stated `stated` up front (in its domain's vocabulary, which the caller checks; each
+    /// name at most once). The searcher hears them ([`cbr_core::Searcher::hear`]) as every
+    /// episode of this operator begins (in mission mode, also when a kept behavior is
+    /// given up).
+    pub fn begin_episode_hearing(
+        &mut self,
+        initial: Behavior,
+        stated: Vec<Statement>,
+    ) -> Result<(), AdapterError> {
         self.check_beginning(&initial)?;
+        if let Some(name) = cbr_core::statement::repeated_name(&stated) {
+            return Err(AdapterError::StatedTwice {
+                name: name.to_owned(),
+            });
+        }
+        self.stated = stated;
         self.attribution.next_behavior();
         self.start_episode(initial, TrustEstimate::default(), 0);
         Ok(())
@@ -465,6 +495,12 @@ impl Adaptation {
             explanations: Vec::new(),
         });
         self.searcher.begin_episode(&self.space, &initial);
+        self.searcher.hear(&self.stated);
+    }
+
+    /// What the operator of the episode under way (or of the last one) stated up front.
+    pub fn stated(&self) -> &[Statement] {
+        &self.stated
     }
 
     /// Records one command's outcome for the behavior in use and decides what to do next,
@@ -835,6 +871,21 @@ impl TrustAdapter {
     /// Starts an episode (a new operator) with `initial` in use, in the robot's context.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.adaptation.begin_episode(initial)
+    }
+
+    /// Starts an episode for an operator who stated `stated` up front (see
+    /// [`Adaptation::begin_episode_hearing`]).
+    pub fn begin_episode_hearing(
+        &mut self,
+        initial: Behavior,
+        stated: Vec<Statement>,
+    ) -> Result<(), AdapterError> {
+        self.adaptation.begin_episode_hearing(initial, stated)
+    }
+
+    /// What the operator of the episode under way (or of the last one) stated up front.
+    pub fn stated(&self) -> &[Statement] {
+        self.adaptation.stated()
     }
 
     /// Records one command's outcome for the behavior in use and decides what to do next;

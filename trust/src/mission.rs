@@ -47,7 +47,7 @@ use crate::overtrust::{Alert, OwnRecord};
 use crate::start::first_guess;
 use crate::watch::Watch;
 use crate::{Outcome, Thresholds, TrustEstimate, TrustMemory, Verdict};
-use cbr_core::{Behavior, Context};
+use cbr_core::{Behavior, Context, Statement};
 
 /// What the robot should do after an outcome recorded on a mission.
 #[derive(Clone, Debug, PartialEq)]
@@ -135,13 +135,15 @@ struct Mission<'p> {
 }
 
 impl<'p> Mission<'p> {
-    /// A new operator: an episode from `initial`, ending the watch.
+    /// A new operator, who stated `stated` up front: an episode from `initial`, ending the
+    /// watch.
     fn begin_episode(
         &mut self,
         adaptation: &mut Adaptation,
         initial: Behavior,
+        stated: Vec<Statement>,
     ) -> Result<(), AdapterError> {
-        adaptation.begin_episode(initial)?;
+        adaptation.begin_episode_hearing(initial, stated)?;
         self.watch = None;
         self.passed = 0;
         self.own_record.forget_operator();
@@ -408,7 +410,18 @@ impl<'p> MissionAdaptation<'p> {
     /// A new operator: begins an episode with `initial` in use, ending the watch of a
     /// settled behavior; what the robot learned of how its operator reacts is forgotten.
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
-        self.mission.begin_episode(&mut self.adaptation, initial)
+        self.begin_episode_hearing(initial, Vec::new())
+    }
+
+    /// A new operator who stated `stated` up front
+    /// ([`Adaptation::begin_episode_hearing`]): as [`MissionAdaptation::begin_episode`].
+    pub fn begin_episode_hearing(
+        &mut self,
+        initial: Behavior,
+        stated: Vec<Statement>,
+    ) -> Result<(), AdapterError> {
+        self.mission
+            .begin_episode(&mut self.adaptation, initial, stated)
     }
 
     /// The robot's context from now on ([`Adaptation::set_context`]): a watched behavior
@@ -543,7 +556,7 @@ impl<'p> MissionAdapter<'p> {
     /// A new operator (see [`MissionAdaptation::begin_episode`]).
     pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
         self.mission
-            .begin_episode(&mut self.adapter.adaptation, initial)
+            .begin_episode(&mut self.adapter.adaptation, initial, Vec::new())
     }
 
     /// The robot's context switched to `context` mid-mission, and it is told: an episode

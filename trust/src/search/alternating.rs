@@ -17,7 +17,7 @@
 //! The turns restart with every episode, the first strategy first.
 
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement};
 use rand::RngCore;
 
 /// Two searchers proposing in turn (see the module documentation).
@@ -62,6 +62,11 @@ where
     fn enter_context(&mut self, context: &Context) {
         self.first.enter_context(context);
         self.second.enter_context(context);
+    }
+
+    fn hear(&mut self, stated: &[Statement]) {
+        self.first.hear(stated);
+        self.second.hear(stated);
     }
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {

@@ -16,7 +16,13 @@
 //! untrustworthy outcomes carrying it (what the current operator has shown it reacts to;
 //! an outcome with several signals shares its weight among them), plus the mean burden of
 //! an earlier episode (so a signal this operator has not yet shown still counts as much as
-//! it usually does). A proposal draws a pool
+//! it usually does). When the operator stated preferences up front
+//! ([`cbr_core::Searcher::hear`]), that mean is taken over the earlier episodes whose
+//! operators stated the same (every statement heard now, and maybe more), shrunk towards
+//! the mean of all earlier episodes with the weight of [`STATED_PRIOR_EPISODES`] episode:
+//! the searcher learns what a statement means from the burdens that followed it, so it
+//! needs no table of what names mean, and a statement that often proves wrong carries
+//! little. A proposal draws a pool
 //! of untried behaviors uniformly at random and takes the one whose predicted burden is
 //! smallest. The rate of a cause at a behavior is predicted from the per-value rates of
 //! its components, combined as independent multiplicative effects on the cause's overall
@@ -29,7 +35,7 @@ use super::untried::draw_untried;
 use super::value_counts::ValueCounts;
 use crate::Cause;
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher, Statement};
 use rand::RngCore;
 
 /// Untried behaviors drawn and scored per proposal.
@@ -37,6 +43,12 @@ pub const CAUSE_AWARE_POOL: usize = 128;
 
 /// Weight of the overall rate in each per-value rate, in commands (a Beta-prior strength).
 const PRIOR_COMMANDS: f64 = 2.0;
+
+/// How many episodes' worth the mean burden of all earlier episodes weighs against the
+/// episodes whose operators stated the same (a statement heard for the first time weighs
+/// nothing; one heard after one episode weighs half). Set a priori, not tuned: one
+/// episode is the least that lets a single earlier operator count.
+pub const STATED_PRIOR_EPISODES: f64 = 1.0;
 
 /// What an untrustworthy outcome tells the robot about why it happened.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +86,17 @@ struct CauseRecord {
     past_burden: f64,
 }
 
+/// The earlier episodes whose operators stated the same set of statements.
+#[derive(Clone, Debug)]
+struct StatedEpisodes {
+    /// The set, sorted.
+    stated: Vec<Statement>,
+    /// Episodes of it ended with some burden.
+    episodes: f64,
+    /// Their burden per signal, in the order of [`CauseAware::causes`].
+    burdens: Vec<f64>,
+}
+
 /// The cause-aware searcher.
 #[derive(Clone, Debug, Default)]
 pub struct CauseAware {
@@ -81,6 +104,10 @@ pub struct CauseAware {
     causes: Vec<CauseRecord>,
     /// Episodes ended so far.
     episodes: f64,
+    /// What this episode's operator stated, sorted.
+    stated: Vec<Statement>,
+    /// The earlier episodes by what their operators stated (none stated: not kept).
+    by_statements: Vec<StatedEpisodes>,
     /// Untried behaviors scored for the last proposal (for its rationale).
     last_pool: usize,
 }
@@ -91,11 +118,30 @@ impl CauseAware {
         Self::default()
     }
 
-    /// How much cause `c` matters now: this episode's burden, plus the mean burden of an
+    /// How much cause `i` matters now: this episode's burden, plus the mean burden of an
     /// earlier episode (the operators met so far), so a cause not yet met in this
-    /// episode still counts as much as it usually does.
-    fn weight(&self, c: &CauseRecord) -> f64 {
-        c.burden + c.past_burden / self.episodes.max(1.0)
+    /// episode still counts as much as it usually does; with statements heard, the mean
+    /// of the episodes whose operators stated the same, shrunk towards it.
+    fn weight(&self, i: usize) -> f64 {
+        let c = &self.causes[i];
+        let mean = c.past_burden / self.episodes.max(1.0);
+        if self.stated.is_empty() {
+            return c.burden + mean;
+        }
+        let (episodes, burden) = self
+            .agreeing()
+            .fold((0.0, 0.0), |(episodes, burden), group| {
+                let of_cause = group.burdens.get(i).copied().unwrap_or(0.0);
+                (episodes + group.episodes, burden + of_cause)
+            });
+        c.burden + (burden + STATED_PRIOR_EPISODES * mean) / (episodes + STATED_PRIOR_EPISODES)
+    }
+
+    /// The earlier episodes whose operators stated everything heard now.
+    fn agreeing(&self) -> impl Iterator<Item = &StatedEpisodes> {
+        self.by_statements
+            .iter()
+            .filter(|group| self.stated.iter().all(|s| group.stated.contains(s)))
     }
 
     /// `log(rate)` tables of the causes that matter: for each, its weight, the log of its
@@ -104,8 +150,10 @@ impl CauseAware {
     fn log_rate_tables(&self, space: &BehaviorSpace) -> Vec<(f64, f64, Vec<Vec<f64>>)> {
         self.causes
             .iter()
-            .filter(|c| self.weight(c) > 0.0)
-            .map(|c| {
+            .enumerate()
+            .map(|(i, c)| (self.weight(i), c))
+            .filter(|(weight, _)| *weight > 0.0)
+            .map(|(weight, c)| {
                 let overall = (c.counts.total() + 1.0) / (self.commands.total() + 2.0);
                 let tables = space
                     .components()
@@ -121,7 +169,7 @@ impl CauseAware {
                             .collect()
                     })
                     .collect();
-                (self.weight(c), overall.ln(), tables)
+                (weight, overall.ln(), tables)
             })
             .collect()
     }
@@ -132,10 +180,40 @@ impl CauseAware {
     fn close_episode(&mut self) {
         if self.causes.iter().any(|c| c.burden > 0.0) {
             self.episodes += 1.0;
+            if !self.stated.is_empty() {
+                self.remember_statements();
+            }
         }
         for c in &mut self.causes {
             c.past_burden += c.burden;
             c.burden = 0.0;
+        }
+    }
+}
+
+impl CauseAware {
+    /// Adds this episode's burdens to the earlier episodes whose operators stated the same.
+    fn remember_statements(&mut self) {
+        let index = match self
+            .by_statements
+            .iter()
+            .position(|group| group.stated == self.stated)
+        {
+            Some(i) => i,
+            None => {
+                self.by_statements.push(StatedEpisodes {
+                    stated: self.stated.clone(),
+                    episodes: 0.0,
+                    burdens: Vec::new(),
+                });
+                self.by_statements.len() - 1
+            }
+        };
+        let group = &mut self.by_statements[index];
+        group.episodes += 1.0;
+        group.burdens.resize(self.causes.len(), 0.0);
+        for (sum, c) in group.burdens.iter_mut().zip(&self.causes) {
+            *sum += c.burden;
         }
     }
 }
@@ -170,6 +248,12 @@ impl Searcher for CauseAware {
 
     fn begin_episode(&mut self, _space: &BehaviorSpace, _initial: &Behavior) {
         self.close_episode();
+        self.stated.clear();
+    }
+
+    fn hear(&mut self, stated: &[Statement]) {
+        self.stated = stated.to_vec();
+        self.stated.sort();
     }
 
     fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
@@ -222,14 +306,20 @@ impl Searcher for CauseAware {
     }
 
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
-        if self.causes.iter().all(|c| self.weight(c) <= 0.0) {
+        if (0..self.causes.len()).all(|i| self.weight(i) <= 0.0) {
             return Rationale::Explores {
                 how: "no trouble counted yet: an untried behavior drawn uniformly".into(),
             };
         }
+        let agreeing: f64 = self.agreeing().map(|group| group.episodes).sum();
+        let stated = if self.stated.is_empty() || agreeing == 0.0 {
+            String::new()
+        } else {
+            format!(", weighed as by {agreeing} earlier operators who stated the same")
+        };
         Rationale::Expects {
             what: format!(
-                "the fewest of the troubles this operator reacts to, of {} untried behaviors",
+                "the fewest of the troubles this operator reacts to, of {} untried behaviors{stated}",
                 self.last_pool
             )
             .into(),
@@ -381,5 +471,62 @@ mod tests {
         // A completion carries no signal.
         searcher.observe(&Behavior::new(&[0]), &Outcome::completed(1.0, 1.0));
         assert_eq!(searcher.causes.len(), 2);
+    }
+
+    #[test]
+    fn statements_weigh_causes_as_operators_who_stated_the_same_by_hand() {
+        // Two earlier episodes: an operator who stated "avoid-bumps" bore 3 of bumps
+        // (observation 0); one who stated "not avoid-bumps" bore 2 unexplained.
+        let bumps = Outcome::interrupted(1.0, 1.0).observing(Observations::NONE.with(0));
+        let unexplained = Outcome::interrupted(1.0, 1.0);
+        let avoid = [Statement::new("avoid-bumps", true)];
+        let (space, b) = (crate::search::grid(&[4]), Behavior::new(&[0]));
+        let mut searcher = CauseAware::new();
+        searcher.begin_episode(&space, &b);
+        searcher.hear(&avoid);
+        for _ in 0..3 {
+            searcher.observe(&b, &bumps);
+        }
+        searcher.end_episode(&[], None);
+        searcher.begin_episode(&space, &b);
+        searcher.hear(&[avoid[0].negated()]);
+        for _ in 0..2 {
+            searcher.observe(&b, &unexplained);
+        }
+        searcher.end_episode(&[], None);
+        // Signal 0 is bumps, 1 unexplained. Means over both episodes: 3/2 and 2/2.
+        searcher.begin_episode(&space, &b);
+        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+        // Stated "avoid-bumps": one agreeing episode, shrunk towards the mean with one
+        // episode's weight: (3 + 1.5) / 2 and (0 + 1.0) / 2.
+        searcher.hear(&avoid);
+        assert_eq!((searcher.weight(0), searcher.weight(1)), (2.25, 0.5));
+        // A statement no earlier operator made: the means.
+        searcher.hear(&[Statement::new("hurry", true)]);
+        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+        // Statements heard again at the next episode's start are forgotten there.
+        searcher.hear(&avoid);
+        searcher.end_episode(&[], None);
+        searcher.begin_episode(&space, &b);
+        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+    }
+
+    #[test]
+    fn an_episode_stating_more_agrees_with_one_stating_less() {
+        let bumps = Outcome::interrupted(1.0, 1.0).observing(Observations::NONE.with(0));
+        let (space, b) = (crate::search::grid(&[4]), Behavior::new(&[0]));
+        let mut searcher = CauseAware::new();
+        searcher.begin_episode(&space, &b);
+        searcher.hear(&[
+            Statement::new("hurry", false),
+            Statement::new("avoid-bumps", true),
+        ]);
+        searcher.observe(&b, &bumps);
+        searcher.end_episode(&[], None);
+        searcher.begin_episode(&space, &b);
+        searcher.hear(&[Statement::new("avoid-bumps", true)]);
+        assert_eq!(searcher.agreeing().count(), 1);
+        searcher.hear(&[Statement::new("avoid-bumps", false)]);
+        assert_eq!(searcher.agreeing().count(), 0);
     }
 }

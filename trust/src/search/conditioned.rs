@@ -42,7 +42,7 @@ use super::propose_untried;
 #[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
-use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher};
+use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement};
 use rand::RngCore;
 
 /// The kernel's scale in behavior similarity: the paper's `1 - lambda`.
@@ -231,6 +231,10 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
 
     fn enter_context(&mut self, context: &Context) {
         self.fallback.enter_context(context);
+    }
+
+    fn hear(&mut self, stated: &[Statement]) {
+        self.fallback.hear(stated);
     }
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
