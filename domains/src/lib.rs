@@ -18,6 +18,7 @@ pub mod profile;
 pub mod render;
 pub mod scenario;
 pub mod spaces;
+pub mod statements;
 pub mod trace;
 pub mod ugv;
 pub mod world;

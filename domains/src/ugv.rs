@@ -489,6 +489,14 @@ impl Domain for UgvDomain {
         crate::context::contexts()
     }
 
+    fn statements(&self) -> &[String] {
+        crate::statements::names(self.scenario)
+    }
+
+    fn true_statements(&self, operator: &OperatorModel) -> Vec<cbr_core::Statement> {
+        crate::statements::truth(self.scenario, operator)
+    }
+
     fn operator_in_context(
         &self,
         operator: &OperatorModel,

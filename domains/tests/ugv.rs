@@ -328,3 +328,64 @@ fn the_paper_operators_in_contexts_follow_the_sites_rules() {
     }
     assert_eq!(seen, 5);
 }
+
+/// What the paper's operators would state, by hand from their files: minding what they
+/// react to with probability at least 0.5, and none of the preferences they do not have.
+#[test]
+fn the_paper_operators_state_what_their_files_say_they_mind() {
+    let said = |scenario: Scenario, operator: &OperatorModel| -> Vec<String> {
+        domain(scenario)
+            .true_statements(operator)
+            .iter()
+            .map(ToString::to_string)
+            .collect()
+    };
+    let movement = builtin_operators(Scenario::Movement);
+    let by_name =
+        |ops: &[OperatorModel], name: &str| ops.iter().find(|o| o.name == name).unwrap().clone();
+    assert_eq!(
+        said(Scenario::Movement, &by_name(&movement, "safety-focused")),
+        [
+            "not hurry",
+            "avoid-bumps",
+            "not keep-away-from-people",
+            "not keep-clear"
+        ]
+    );
+    assert_eq!(
+        said(Scenario::Movement, &by_name(&movement, "speed-focused")),
+        [
+            "hurry",
+            "not avoid-bumps",
+            "not keep-away-from-people",
+            "not keep-clear"
+        ]
+    );
+    // Patrol operators react to every missed object and false alarm (their files leave
+    // the probabilities at 1) and keep no scan standard.
+    let patrol = builtin_operators(Scenario::Patrol);
+    assert_eq!(
+        said(Scenario::Patrol, &by_name(&patrol, "detection-focused")),
+        [
+            "not hurry",
+            "not avoid-bumps",
+            "not keep-away-from-people",
+            "not keep-clear",
+            "scan-every-object",
+            "no-false-alarms",
+            "not scan-closely"
+        ]
+    );
+    // Exactly at the threshold an operator minds it; just below, it does not.
+    let mut edge = by_name(&movement, "balanced");
+    edge.p_deadline = 0.5;
+    edge.p_collision = 0.499;
+    assert_eq!(
+        said(Scenario::Movement, &edge)[..2],
+        ["hurry", "not avoid-bumps"]
+    );
+    assert_eq!(
+        domain(Scenario::Patrol).statements(),
+        domains::statements::PATROL
+    );
+}

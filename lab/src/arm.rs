@@ -6,7 +6,9 @@
 //! factories, so a user's own searcher or retriever enters an experiment exactly as the
 //! built-in ones do ([`Arm::search_only`], [`Arm::case_based`]). [`Arm::builtin`] names
 //! the built-in arms; any arm's name followed by [`CONTEXT_BLIND`] is that arm not told
-//! the robot's context ([`Arm::blind_to_context`]), followed by [`LEARNED_START`] that arm
+//! the robot's context ([`Arm::blind_to_context`]), followed by [`IGNORES_STATEMENTS`] that
+//! arm not hearing what operators state up front ([`Arm::ignoring_statements`]), followed by
+//! [`LEARNED_START`] that arm
 //! starting each episode from the memory's guess ([`Arm::learned_start`]), and followed by
 //! [`PREFERS_COMPETENT`] (last) that arm passing over a trusted behavior the robot is sure
 //! is not competent, on missions that judge it ([`Arm::preferring_competent`]); the
@@ -39,6 +41,10 @@ pub const BUILTIN_ARMS: [&str; 11] = [
 /// What follows the name of an arm that is not told the robot's context, as the paper's
 /// robot is not ([`Arm::blind_to_context`]): `case-based+context-blind`.
 pub const CONTEXT_BLIND: &str = "+context-blind";
+
+/// What follows the name of an arm that does not hear what operators state up front
+/// ([`Arm::ignoring_statements`]): `case-based+cause-aware+ignores-statements`.
+pub const IGNORES_STATEMENTS: &str = "+ignores-statements";
 
 /// What ends the name of an arm that starts each episode from the memory's guess
 /// ([`Initial::Learned`]): `case-based+conditioned+learned-start`.
@@ -97,11 +103,13 @@ fn context_blind(name: &str) -> (&str, bool) {
 }
 
 /// What the suffixes of an arm's name add to the arm it is built on, each at most once and
-/// in this order: `NAME[+context-blind][+learned-start][+competent]`.
+/// in this order: `NAME[+context-blind][+ignores-statements][+learned-start][+competent]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct NameOptions {
     /// Not told the robot's context ([`CONTEXT_BLIND`]).
     pub context_blind: bool,
+    /// Not hearing what operators state up front ([`IGNORES_STATEMENTS`]).
+    pub ignores_statements: bool,
     /// How each episode starts ([`LEARNED_START`]).
     pub initial: Initial,
     /// Passing over trusted behaviors the robot is sure are not competent
@@ -114,22 +122,33 @@ impl NameOptions {
     /// add; a suffix written twice, or out of order, is refused with what to write.
     pub fn of_name(name: &str) -> Result<(&str, Self), String> {
         let (started, prefers_competent) = self::prefers_competent(name);
-        let (sighted, initial) = Initial::of_name(started);
+        let (hearing, initial) = Initial::of_name(started);
+        let (sighted, ignores_statements) = match hearing.strip_suffix(IGNORES_STATEMENTS) {
+            Some(base) => (base, true),
+            None => (hearing, false),
+        };
         let (base, context_blind) = self::context_blind(sighted);
         let options = Self {
             context_blind,
+            ignores_statements,
             initial,
             prefers_competent,
         };
-        let misplaced = [CONTEXT_BLIND, LEARNED_START, PREFERS_COMPETENT]
-            .into_iter()
-            .find(|suffix| base.ends_with(suffix));
+        let misplaced = [
+            CONTEXT_BLIND,
+            IGNORES_STATEMENTS,
+            LEARNED_START,
+            PREFERS_COMPETENT,
+        ]
+        .into_iter()
+        .find(|suffix| base.ends_with(suffix));
         let Some(suffix) = misplaced else {
             return Ok((base, options));
         };
         let mut meant = options;
         let already = match suffix {
             CONTEXT_BLIND => std::mem::replace(&mut meant.context_blind, true),
+            IGNORES_STATEMENTS => std::mem::replace(&mut meant.ignores_statements, true),
             LEARNED_START => {
                 std::mem::replace(&mut meant.initial, Initial::Learned) == Initial::Learned
             }
@@ -140,7 +159,7 @@ impl NameOptions {
             format!("`{name}` says {suffix} twice; write `{write}`")
         } else {
             format!(
-                "`{name}` writes {suffix} out of order (NAME{CONTEXT_BLIND}{LEARNED_START}{PREFERS_COMPETENT}); write `{write}`"
+                "`{name}` writes {suffix} out of order (NAME{CONTEXT_BLIND}{IGNORES_STATEMENTS}{LEARNED_START}{PREFERS_COMPETENT}); write `{write}`"
             )
         })
     }
@@ -150,6 +169,7 @@ impl NameOptions {
         let mut suffixes = String::new();
         for (on, suffix) in [
             (self.context_blind, CONTEXT_BLIND),
+            (self.ignores_statements, IGNORES_STATEMENTS),
             (self.initial == Initial::Learned, LEARNED_START),
             (self.prefers_competent, PREFERS_COMPETENT),
         ] {
@@ -173,6 +193,11 @@ pub fn describe(name: &str) -> Option<String> {
         )
     } else {
         what.to_owned()
+    };
+    let what = if options.ignores_statements {
+        format!("{what}; deaf to what operators state up front, as the paper's robot")
+    } else {
+        what
     };
     let what = match options.initial {
         Initial::Random => what,
@@ -232,6 +257,8 @@ pub struct Arm {
     competent_passes: u32,
     /// Not told the robot's context.
     context_blind: bool,
+    /// Not hearing what operators state up front.
+    ignores_statements: bool,
 }
 
 impl fmt::Debug for Arm {
@@ -242,6 +269,7 @@ impl fmt::Debug for Arm {
             .field("initial", &self.initial)
             .field("competent_passes", &self.competent_passes)
             .field("context_blind", &self.context_blind)
+            .field("ignores_statements", &self.ignores_statements)
             .field(
                 "starting_cases",
                 &self.starting_cases.as_ref().map(|c| c.len()),
@@ -252,7 +280,7 @@ impl fmt::Debug for Arm {
 
 /// An arm name that is not a built-in one.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
+#[error("unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{IGNORES_STATEMENTS}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
 pub struct UnknownArm {
     /// The name asked for.
     pub name: String,
@@ -273,6 +301,7 @@ impl Arm {
             starting_cases: None,
             competent_passes: 0,
             context_blind: false,
+            ignores_statements: false,
         }
     }
 
@@ -350,6 +379,23 @@ impl Arm {
         self.context_blind
     }
 
+    /// The same arm not hearing what operators state up front, as the paper's robot: its
+    /// episodes begin as if nothing were stated, on the same trials as the arm that hears
+    /// (so the two pair trial by trial). Named with [`IGNORES_STATEMENTS`] after its name
+    /// (once; after [`CONTEXT_BLIND`] and before the other suffixes).
+    pub fn ignoring_statements(mut self) -> Self {
+        if !self.ignores_statements {
+            self.ignores_statements = true;
+            self.name.push_str(IGNORES_STATEMENTS);
+        }
+        self
+    }
+
+    /// Whether the arm does not hear what operators state ([`Arm::ignoring_statements`]).
+    pub fn ignores_statements(&self) -> bool {
+        self.ignores_statements
+    }
+
     /// The same arm starting each episode from the case memory's guess
     /// ([`Initial::Learned`]), named with [`LEARNED_START`] after its name (once: an arm
     /// that already starts so is returned as it is). Its trials read the cases earlier
@@ -400,13 +446,17 @@ impl Arm {
     }
 
     /// The same arm with what the suffixes of a name add ([`NameOptions::of_name`]): blind
-    /// to the robot's context ([`Arm::blind_to_context`]), starting as `initial`
+    /// to the robot's context ([`Arm::blind_to_context`]), deaf to statements
+    /// ([`Arm::ignoring_statements`]), starting as `initial`
     /// ([`Arm::learned_start`]), and preferring competent behaviors
     /// ([`Arm::preferring_competent`]), each named in that order.
     pub fn with_name_options(self, options: NameOptions) -> Self {
         let mut arm = self;
         if options.context_blind {
             arm = arm.blind_to_context();
+        }
+        if options.ignores_statements {
+            arm = arm.ignoring_statements();
         }
         if options.initial == Initial::Learned {
             arm = arm.learned_start();
@@ -569,6 +619,7 @@ mod tests {
                 "mine",
                 NameOptions {
                     context_blind: true,
+                    ignores_statements: false,
                     initial: Initial::Random,
                     prefers_competent: true,
                 }
@@ -576,19 +627,27 @@ mod tests {
         );
         let all = NameOptions {
             context_blind: true,
+            ignores_statements: true,
             initial: Initial::Learned,
             prefers_competent: true,
         };
-        assert_eq!(all.suffixes(), "+context-blind+learned-start+competent");
+        assert_eq!(
+            all.suffixes(),
+            "+context-blind+ignores-statements+learned-start+competent"
+        );
+        assert_eq!(
+            NameOptions::of_name("hedged+learned-start+ignores-statements"),
+            Err("`hedged+learned-start+ignores-statements` writes +learned-start out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `hedged+ignores-statements+learned-start`".to_owned())
+        );
         assert_eq!(NameOptions::default().suffixes(), "");
         for (name, expected) in [
             (
                 "uniform+learned-start+context-blind",
-                "`uniform+learned-start+context-blind` writes +learned-start out of order (NAME+context-blind+learned-start+competent); write `uniform+context-blind+learned-start`",
+                "`uniform+learned-start+context-blind` writes +learned-start out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `uniform+context-blind+learned-start`",
             ),
             (
                 "uniform+competent+learned-start",
-                "`uniform+competent+learned-start` writes +competent out of order (NAME+context-blind+learned-start+competent); write `uniform+learned-start+competent`",
+                "`uniform+competent+learned-start` writes +competent out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `uniform+learned-start+competent`",
             ),
             (
                 "uniform+context-blind+context-blind",

@@ -68,6 +68,21 @@ pub trait Domain: Send + Sync {
         None
     }
 
+    /// The names an operator may state preferences in up front ([`cbr_core::statement`]:
+    /// for a robot, "hurry" or "avoid bumps"), each naming something the domain's
+    /// operators may or may not mind; none by default.
+    fn statements(&self) -> &[String] {
+        &[]
+    }
+
+    /// For simulation, the truth of what `operator` would state: for each of
+    /// [`Domain::statements`], in order, whether it minds it. An experiment with `stated`
+    /// ([`crate::stating`]) draws what the robot is told from it. Nothing by default.
+    fn true_statements(&self, operator: &Self::Operator) -> Vec<cbr_core::Statement> {
+        let _ = operator;
+        Vec::new()
+    }
+
     /// Which observations hint at which causes the robot cannot perceive itself (what a
     /// robot's designer knows of its operators, the same for all of them), for the
     /// explanations' inferences ([`trust::explain`]); none by default.

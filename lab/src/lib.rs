@@ -32,14 +32,15 @@ pub mod report;
 pub mod runner;
 pub mod seeds;
 pub mod simulate;
+pub mod stating;
 pub mod stats;
 #[cfg(feature = "testing")]
 pub mod testing;
 pub mod timeline;
 
 pub use arm::{
-    Arm, BUILTIN_ARMS, COMPETENT_PASSES, CONTEXT_BLIND, Initial, LEARNED_START, NameOptions,
-    PREFERS_COMPETENT, UnknownArm, prefers_competent,
+    Arm, BUILTIN_ARMS, COMPETENT_PASSES, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START,
+    NameOptions, PREFERS_COMPETENT, UnknownArm, prefers_competent,
 };
 pub use context::TrialContexts;
 pub use domain::{

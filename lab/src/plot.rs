@@ -248,7 +248,10 @@ pub fn arm_style(name: &str, index: usize) -> ArmStyle {
     // The paper's two colours are theirs alone; the others take turns, the base arm's
     // `k + 4` places along them (`k - 2`), each suffix's at its own distance from it.
     let others = ARM_COLORS.len() - 2;
-    let shift = match (options.context_blind, options.initial) {
+    // An arm deaf to statements is drawn as one blind to context: each is its twin's
+    // counterpart, and a suite compares one kind of twin at a time.
+    let unaware = options.context_blind || options.ignores_statements;
+    let shift = match (unaware, options.initial) {
         (false, Initial::Random) => None,
         (false, Initial::Learned) => Some(3),
         (true, Initial::Random) => Some(5),

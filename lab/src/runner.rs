@@ -17,9 +17,10 @@ use crate::domain::{AttentionNotModelled, GoalChangesNotModelled, check_goal_cha
 use crate::drive::{Command, Drive, first_behavior};
 use crate::known_operator::KnownLimitError;
 use crate::seeds::{Purpose, stream};
+use crate::stating::Stating;
 use crate::stats::{MeanCi, mean_ci95_or_zero, paired_t_test, wilcoxon_signed_rank};
 use crate::{Domain, FeedbackChannel, GoalChangeRecord, GoalChanges, TrialContexts};
-use cbr_core::{Behavior, Context};
+use cbr_core::{Behavior, Context, Statement};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -71,6 +72,9 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// The contexts the trials run in, and whether the robot is told them
     /// ([`crate::context`]); `None`: every trial in the default context, as the paper's.
     pub contexts: Option<TrialContexts>,
+    /// What the operators state up front ([`crate::stating`]); `None`, the paper's
+    /// operators: nothing.
+    pub stated: Option<Stating>,
 }
 
 /// Why experiments cannot be run.
@@ -132,6 +136,17 @@ pub enum PlanError {
         plan: String,
         /// Why.
         reason: String,
+    },
+    /// A plan's operators state preferences up front in a domain that declares no names
+    /// to state them in ([`Domain::statements`]).
+    #[error(
+        "{plan}: domain `{domain}` declares no statements (Domain::statements), so its operators have nothing to state: remove `stated`"
+    )]
+    NoStatements {
+        /// The plan's name.
+        plan: String,
+        /// The domain's name.
+        domain: String,
     },
     /// A plan sets a competence standard its domain cannot judge.
     #[error("{plan}: {reason}")]
@@ -217,6 +232,9 @@ pub struct TrialRecord {
     /// `context` is the one the robot was told.
     #[serde(default, skip_serializing_if = "Context::is_default")]
     pub context: Context,
+    /// What the trial's operator stated up front (left out when nothing).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stated: Vec<Statement>,
 }
 
 /// One behavior a trial gave up, as its explanation put it and as it was.
@@ -441,6 +459,7 @@ impl ArmResult {
                 given_up: Vec::new(),
                 goal_changes: None,
                 context: Context::default(),
+                stated: Vec::new(),
             })
             .collect();
         ArmResult {
@@ -544,6 +563,12 @@ impl<D: Domain> ExperimentPlan<'_, D> {
                     arm: arm.name().to_owned(),
                 });
             }
+        }
+        if self.stated.is_some() && self.domain.statements().is_empty() {
+            return Err(PlanError::NoStatements {
+                plan: self.name.clone(),
+                domain: self.domain.name().to_owned(),
+            });
         }
         if self.goal_changes.is_some() {
             check_goal_changes(self.domain, self.operators).map_err(|reason| {
@@ -844,6 +869,10 @@ fn run_trial<D: Domain>(
             .set_context(told)
             .expect("no episode is under way between trials");
     }
+    let stated = plan.stated.map_or_else(Vec::new, |stating| {
+        let mut draws = stream(seed, experiment, u64::from(trial), Purpose::Statements);
+        stating.draw(&plan.domain.true_statements(operator), &mut draws)
+    });
     let drawn = adapter.space().draw(&mut setup);
     let start = first_behavior(arm.initial(), adapter, drawn);
     let mut drive = Drive::new(
@@ -858,8 +887,15 @@ fn run_trial<D: Domain>(
         adapter,
     );
     adapter
-        .begin_episode(start.behavior)
-        .expect("no episode is under way and the behavior is drawn from the space");
+        .begin_episode_hearing(
+            start.behavior,
+            if arm.ignores_statements() {
+                Vec::new()
+            } else {
+                stated.clone()
+            },
+        )
+        .expect("no episode is under way, the behavior is drawn from the space and the domain states each name once");
     let mut behavior = start.behavior;
     let mut runs = 0u64;
     let mut true_causes = BTreeMap::new();
@@ -940,6 +976,7 @@ fn run_trial<D: Domain>(
             given_up,
             goal_changes,
             context,
+            stated,
         },
         explanations,
     ))

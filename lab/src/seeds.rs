@@ -52,6 +52,9 @@ pub enum Purpose {
     /// A mission's context switches ([`crate::mission::ContextSwitches`]): its first
     /// context and when it switches to which, drawn only by plans with switches.
     ContextSwitch = 14,
+    /// What the trial's operator states up front ([`crate::stating`]), drawn only by
+    /// experiments with `stated`.
+    Statements = 15,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -385,6 +385,7 @@ mod tests {
             given_up: Vec::new(),
             goal_changes: None,
             context: cbr_core::Context::default(),
+            stated: Vec::new(),
         };
         let observations = [
             "collision",

@@ -53,6 +53,7 @@ fn trials(domain: &ToyDomain<()>, contexts: bool) -> Vec<lab::TrialRecord> {
         feedback: None,
         goal_changes: None,
         contexts: contexts.then(|| TrialContexts::new(cycle).unwrap()),
+        stated: None,
     };
     let mut results = run_experiments(&[plan], 3, &|_| {}).unwrap();
     results.remove(0).arms.remove(0).trials

@@ -121,6 +121,7 @@ fn plans<'a>(
         feedback: None,
         goal_changes: None,
         contexts: None,
+        stated: None,
     };
     vec![
         plan("toy/low", OperatorChoice::Fixed(0)),

@@ -38,6 +38,7 @@ fn plan<'a, D: Domain<Operator = ()>>(
         feedback,
         goal_changes,
         contexts: None,
+        stated: None,
     }
 }
 

@@ -79,6 +79,7 @@ proptest! {
             feedback: None,
             goal_changes: None,
             contexts: None,
+            stated: None,
         };
         let result = run_experiments(&[plan], 11, &|_| {}).unwrap().remove(0);
         let limit = exact_limit(&p).paper;

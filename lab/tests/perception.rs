@@ -102,6 +102,7 @@ fn told_with_seed(feedback: Option<FeedbackChannel>, seed: u64) -> Vec<Outcome> 
         feedback,
         goal_changes: None,
         contexts: None,
+        stated: None,
     };
     let results = run_experiments(&[plan], seed, &|_| {}).unwrap();
     for trial in &results[0].arms[0].trials {
@@ -210,6 +211,7 @@ fn two_arms<'a>(
         feedback,
         goal_changes: None,
         contexts: None,
+        stated: None,
     }
 }
 

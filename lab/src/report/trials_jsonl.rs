@@ -4,7 +4,7 @@
 use super::ReportEntry;
 use crate::goal_change::GoalChangeRecord;
 use crate::runner::{GivenUpRecord, TrialRecord};
-use cbr_core::Context;
+use cbr_core::{Context, Statement};
 use serde::Serialize;
 use serde_json::{Map, Value};
 use std::collections::BTreeMap;
@@ -47,6 +47,12 @@ struct TrialLine<'a> {
     /// told its context is told the default one).
     #[serde(skip_serializing_if = "Option::is_none")]
     told: Option<&'a Context>,
+    /// What the operator stated up front (left out when nothing).
+    #[serde(skip_serializing_if = "<[Statement]>::is_empty")]
+    stated: &'a [Statement],
+    /// Whether the arm did not hear it (left out when it did, or nothing was stated).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    unheard: bool,
 }
 
 /// A given-up behavior in `trials.jsonl` (how the next behavior was chosen is counted by
@@ -106,5 +112,8 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         goal_changes: t.goal_changes,
         context: &t.context,
         told: (t.report.context != t.context).then_some(&t.report.context),
+        stated: &t.stated,
+        unheard: !t.stated.is_empty()
+            && crate::NameOptions::of_name(&t.arm).is_ok_and(|(_, o)| o.ignores_statements),
     }
 }
