@@ -16,8 +16,8 @@ use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, contexts_written, copy_operator_files, invalid, is_context_blind, over,
-    relocate_operator_files,
+    check_distinct, contexts_written, copy_operator_files, ignores_statements, invalid,
+    is_context_blind, over, relocate_operator_files,
 };
 use cbr_core::ContextSpace;
 use files::name::check_label;
@@ -160,6 +160,15 @@ impl MissionSuiteConfig {
                 format!("arms[{i}]"),
                 format!(
                     "`{}` is blind to the robot's context, and no plan here has `context_switches`: every mission runs in the default context, where the arm is its sighted twin; give a plan `context_switches` or drop the arm's +context-blind",
+                    self.arms[i]
+                ),
+            ));
+        }
+        if let Some(i) = self.arms.iter().position(|a| ignores_statements(a)) {
+            return Err(invalid(
+                format!("arms[{i}]"),
+                format!(
+                    "`{}` ignores what operators state up front, and a mission's operators state nothing (statements are an experiment's `stated`): drop the arm's +ignores-statements",
                     self.arms[i]
                 ),
             ));

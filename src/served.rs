@@ -27,6 +27,7 @@ pub fn served_domain<C: Catalog>(
             )
             .with_observations(d.observations().to_vec())
             .with_contexts(d.contexts().clone())
+            .with_statements(d.statements().to_vec())
             .with_hints(d.hints().to_vec())
             .expect("a built-in domain's hints name its own observations and causes")
         })
@@ -47,6 +48,12 @@ pub fn serving_arm<C: Catalog>(
         anyhow::bail!(
             "--arm: `{name}` is blind to the robot's context, which a controller tells `serve` (`begin` with a context, a `context` request): to serve a robot blind to it, send none; serve `{}`",
             NameOptions::of_name(name).map_or(name, |(base, _)| base)
+        );
+    }
+    if arm.ignores_statements() {
+        anyhow::bail!(
+            "--arm: `{name}` ignores what operators state up front, which a controller tells `serve` (`begin` with `stated`): to serve a robot that hears none, send none; serve `{}`",
+            name.replacen(lab::IGNORES_STATEMENTS, "", 1)
         );
     }
     if arm.initial() != Initial::Random {

@@ -8,6 +8,7 @@ use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
+use lab::stating::Stating;
 use lab::{BUILTIN_ARMS, Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use lab::{FeedbackChannel, GoalChanges, TrialContexts};
 use serde::{Deserialize, Serialize};
@@ -277,6 +278,12 @@ pub struct ExperimentSpec {
     /// `NAME+context-blind`); absent: every trial in the default context.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contexts: Option<ContextsSpec>,
+    /// What the operators state up front (`(said: 1.0, wrong: 0.3)`: each true statement
+    /// said with chance `said`, the wrong way round with chance `wrong`; lab::stating,
+    /// docs/simulation.md#stated-preferences); absent: nothing, as the paper's operators.
+    /// Named in the experiment's name (`/s1w0.3`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stated: Option<Stating>,
 }
 
 /// The contexts an experiment's trials run in ([`lab::TrialContexts`]), as a suite writes
@@ -499,13 +506,19 @@ impl ExperimentSpec {
     /// `/contexts`).
     pub fn name(&self) -> String {
         let name = self.name_without_contexts();
+        // The same operators may state with several shares: each is its own experiment.
+        let name = match self.stated {
+            None => name,
+            Some(s) if s.wrong > 0.0 => format!("{name}/s{}w{}", s.said, s.wrong),
+            Some(s) => format!("{name}/s{}", s.said),
+        };
         match &self.contexts {
             None => name,
             Some(_) => format!("{name}/contexts"),
         }
     }
 
-    /// [`ExperimentSpec::name`] before the contexts' part.
+    /// [`ExperimentSpec::name`] before the statements' and the contexts' parts.
     fn name_without_contexts(&self) -> String {
         let says_goal_changes = self.feedback.map_or(0.0, |c| c.goal_changes);
         let base = match (&self.population, self.feedback) {
@@ -708,6 +721,7 @@ mod tests {
             feedback: None,
             goal_changes: None,
             contexts: None,
+            stated: None,
         };
         let origin = Path::new("x.ron");
         let as_written = resolve_readings(&UgvCatalog, &BTreeMap::new()).unwrap();

@@ -42,7 +42,9 @@ pub use saved_cases::{StartingCases, check_save_targets, save_case_bases};
 pub use trace::{
     Replayable, ReplayedTrial, TraceError, replayable_config, trace_report_trial, trace_suite_trial,
 };
-pub(crate) use validate::{check_adapter, check_arms, check_distinct, is_context_blind, over};
+pub(crate) use validate::{
+    check_adapter, check_arms, check_distinct, ignores_statements, is_context_blind, over,
+};
 
 use crate::catalog::CatalogError;
 use crate::config_file::{ConfigFileError, from_config_file_errors};
@@ -192,7 +194,7 @@ mod tests {
             err.contains("arms[0]")
                 && err.contains("unknown arm `yours`")
                 && err.ends_with(
-                    "case-based+conditioned, hedged, case-based+hedged, mine; each also as NAME+context-blind, NAME+learned-start and NAME+competent)"
+                    "case-based+conditioned, hedged, case-based+hedged, mine; each also as NAME+context-blind, NAME+ignores-statements, NAME+learned-start and NAME+competent)"
                 ),
             "{err}"
         );

@@ -8,14 +8,14 @@ use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
 use lab::{
-    Arm, BUILTIN_ARMS, CONTEXT_BLIND, ExperimentPlan, LEARNED_START, NameOptions, OperatorChoice,
-    PREFERS_COMPETENT,
+    Arm, BUILTIN_ARMS, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START,
+    NameOptions, OperatorChoice, PREFERS_COMPETENT,
 };
 use std::path::Path;
 use trust::RetrieverKind;
 
 /// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
-/// followed by the suffixes of [`NameOptions`] ([`CONTEXT_BLIND`], [`LEARNED_START`],
+/// followed by the suffixes of [`NameOptions`] ([`CONTEXT_BLIND`], [`IGNORES_STATEMENTS`], [`LEARNED_START`],
 /// [`PREFERS_COMPETENT`], each once, in that order); the error lists every name
 /// known. An arm's name is a file name (its saved case base is `EXPERIMENT/ARM.ron`), so a
 /// name that is not one ([`check_file_name`]) is refused here, for every suite kind, sweep
@@ -36,7 +36,7 @@ pub fn arm_named<C: Catalog>(
                 .chain(own.iter().map(Arm::name))
                 .collect();
             format!(
-                "unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})",
+                "unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{IGNORES_STATEMENTS}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})",
                 known.join(", ")
             )
         })?,
@@ -172,6 +172,7 @@ pub(super) fn plans<'p, C: Catalog>(
             feedback: spec.feedback,
             goal_changes: spec.goal_changes,
             contexts,
+            stated: spec.stated,
         });
     }
     Ok(plans)

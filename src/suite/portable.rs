@@ -90,6 +90,7 @@ mod tests {
             feedback: None,
             goal_changes: None,
             contexts: None,
+            stated: None,
         }
     }
 

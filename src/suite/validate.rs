@@ -93,6 +93,17 @@ impl SuiteConfig {
                 ),
             ));
         }
+        if !self.experiments.iter().any(|e| e.stated.is_some())
+            && let Some(i) = self.arms.iter().position(|a| ignores_statements(a))
+        {
+            return Err(invalid(
+                format!("arms[{i}]"),
+                format!(
+                    "`{}` ignores what operators state up front, and no experiment here has `stated`: nothing is stated, so the arm is its twin that hears; give an experiment `stated` or drop the arm's +ignores-statements",
+                    self.arms[i]
+                ),
+            ));
+        }
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {
@@ -157,6 +168,12 @@ pub(crate) fn check_adapter(adapter: &AdapterConfig, origin: &Path) -> Result<()
 /// a name [`check_arms`] refuses is not).
 pub(crate) fn is_context_blind(name: &str) -> bool {
     NameOptions::of_name(name).is_ok_and(|(_, options)| options.context_blind)
+}
+
+/// Whether the arm named `name` ignores what operators state (`NAME+ignores-statements`;
+/// a name [`check_arms`] refuses does not).
+pub(crate) fn ignores_statements(name: &str) -> bool {
+    NameOptions::of_name(name).is_ok_and(|(_, options)| options.ignores_statements)
 }
 
 /// Checks a suite's arms, whatever its kind: at least one, each known to `catalog` (or

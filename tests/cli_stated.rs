@@ -1,0 +1,106 @@
+//! Stated preferences through the binary: an experiment's operators state what their files
+//! say they mind (`stated`), each trial's line of `trials.jsonl` says what was stated, an arm
+//! `NAME+ignores-statements` runs on the same trials as `NAME` without hearing it, and an arm
+//! ignoring statements where none are stated, or shares that are not probabilities, are
+//! refused, leaving nothing behind.
+
+mod support;
+
+use std::path::Path;
+use std::process::Command;
+use support::{refused, succeed, trustcbr};
+
+fn suite(stated: &str, arms: &str) -> String {
+    format!(
+        r#"(
+    seed: 7,
+    trials: 12,
+    landscape_runs: 0,
+    limit: (runs: 0),
+    arms: [{arms}],
+    experiments: [(scenario: "movement", operator: "random"{stated})],
+)"#
+    )
+}
+
+fn run(dir: &Path, text: &str) -> Command {
+    let config = dir.join("suite.ron");
+    std::fs::write(&config, text).unwrap();
+    let mut command = trustcbr();
+    command
+        .arg("run")
+        .arg(&config)
+        .arg("--out")
+        .arg(dir.join("out"));
+    command
+}
+
+#[test]
+fn operators_state_their_preferences_and_a_deaf_twin_runs_the_same_trials() {
+    let dir = tempfile::tempdir().unwrap();
+    let arms = r#""case-based+cause-aware", "case-based+cause-aware+ignores-statements""#;
+    let stdout = succeed(&mut run(
+        dir.path(),
+        &suite(", stated: Some((said: 1.0))", arms),
+    ));
+    assert!(stdout.contains("movement/random/s1"), "{stdout}");
+    let lines = std::fs::read_to_string(dir.path().join("out/trials.jsonl")).unwrap();
+    let trials: Vec<serde_json::Value> = lines
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(trials.len(), 24);
+    let (heard, deaf) = trials.split_at(12);
+    for (h, d) in heard.iter().zip(deaf) {
+        // The same trial: operator, first behavior and statements.
+        for field in ["trial", "operator", "initial", "stated"] {
+            assert_eq!(h[field], d[field], "{field}");
+        }
+        assert!(h.get("unheard").is_none(), "{h}");
+        assert_eq!(d["unheard"], true);
+        // The paper's movement operators, by hand from their files.
+        let minds = |name: &str| {
+            h["stated"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|s| s["name"] == name)
+                .unwrap()["minds"]
+                .as_bool()
+                .unwrap()
+        };
+        let (hurry, bumps) = match h["operator"].as_str().unwrap() {
+            "balanced" => (true, true),
+            "safety-focused" => (false, true),
+            "speed-focused" => (true, false),
+            other => panic!("unknown operator {other}"),
+        };
+        assert_eq!((minds("hurry"), minds("avoid-bumps")), (hurry, bumps));
+        assert!(!minds("keep-away-from-people") && !minds("keep-clear"));
+    }
+}
+
+#[test]
+fn ignoring_statements_none_state_and_shares_out_of_range_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let stderr = refused(&mut run(
+        dir.path(),
+        &suite("", r#""cause-aware", "cause-aware+ignores-statements""#),
+    ));
+    assert!(
+        stderr.contains("arms[1]: `cause-aware+ignores-statements` ignores what operators state up front, and no experiment here has `stated`"),
+        "{stderr}"
+    );
+    let stderr = refused(&mut run(
+        dir.path(),
+        &suite(
+            ", stated: Some((said: 1.0, wrong: 1.3))",
+            r#""cause-aware""#,
+        ),
+    ));
+    assert!(
+        stderr.contains("stated `wrong` must be a probability in [0, 1], got 1.3"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out").exists());
+}
