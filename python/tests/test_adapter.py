@@ -287,6 +287,21 @@ def test_a_case_is_learned_and_reused_in_its_context(tmp_path: Path) -> None:
     assert adapter.context == {}
 
 
+def test_an_operator_states_its_preferences_as_an_episode_begins(tmp_path: Path) -> None:
+    adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", arm="cause-aware", seed=3)
+    assert adapter.config()["statements"] == [
+        "hurry",
+        "avoid-bumps",
+        "keep-away-from-people",
+        "keep-clear",
+    ]
+    with pytest.raises(trustcbr.TrustcbrError, match="`fly` is not a statement of this domain"):
+        adapter.begin(preferences={"fly": True})
+    assert adapter.state()["episode"] is None
+    begun = adapter.begin({"speed": 9.5, "padding": 0.2}, preferences={"avoid-bumps": True})
+    assert begun == {"speed": 9.5, "padding": 0.2}
+
+
 def test_a_robot_on_a_mission_goes_back_to_what_it_settled_on_in_a_context(tmp_path: Path) -> None:
     adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=1, mission=True)
     with pytest.raises(trustcbr.TrustcbrError, match="once a behavior is in use"):

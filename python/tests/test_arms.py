@@ -99,6 +99,36 @@ def test_the_searcher_is_told_the_robots_context_and_a_blind_twin_is_not() -> No
     assert len(told) == 2 and cycle * 6 in told and [{}] * 12 in told
 
 
+def test_the_searcher_hears_what_operators_state_and_a_deaf_twin_does_not() -> None:
+    heard: List[List[Any]] = []
+
+    class Listening(UniformSearcher):
+        learns_across_episodes = True
+
+        def __init__(self, space: trustcbr.Space) -> None:
+            super().__init__(space)
+            self.stated: List[Any] = []
+            heard.append(self.stated)
+
+        def hear(self, stated: Any) -> None:
+            self.stated.append(stated)
+
+    experiment = {"scenario": "movement", "operator": "balanced", "stated": {"said": 1.0}}
+    trustcbr.run(
+        small_suite(arms=["listening", "listening+ignores-statements"], experiments=[experiment]),
+        python_arms={"listening": Listening},
+    )
+    # The balanced operator minds lateness and bumps, and has neither of the other two
+    # preferences (domains/operators/movement/balanced.ron).
+    truth = [
+        {"name": "hurry", "minds": True},
+        {"name": "avoid-bumps", "minds": True},
+        {"name": "keep-away-from-people", "minds": False},
+        {"name": "keep-clear", "minds": False},
+    ]
+    assert len(heard) == 2 and [truth] * 12 in heard and [[]] * 12 in heard
+
+
 def test_the_conformance_kit_passes_a_conformant_searcher() -> None:
     trustcbr.check_searcher(UniformSearcher)
 

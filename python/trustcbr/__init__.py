@@ -231,17 +231,24 @@ class Adapter:
         behavior: Optional[Behavior] = None,
         *,
         context: Optional[Mapping[str, str]] = None,
+        preferences: Optional[Mapping[str, bool]] = None,
     ) -> Behavior:
         """Starts an episode with ``behavior``, or one drawn uniformly at random; returns it.
 
         ``context`` sets the robot's context first (as :meth:`set_context` does), for
         example ``{"cargo": "hazardous"}``; without it the context stays as it was.
+        ``preferences`` is what the new operator states up front, each of the domain's
+        statement names (``config()["statements"]``; the UGV's ``hurry``, ``avoid-bumps``,
+        ...) with whether it minds it, for example ``{"hurry": True}``: the search may take
+        it as a prior. A name the domain does not declare raises ``TrustcbrError``.
         """
         request: Dict[str, Any] = {"request": "begin"}
         if behavior is not None:
             request["behavior"] = dict(behavior)
         if context is not None:
             request["context"] = dict(context)
+        if preferences is not None:
+            request["preferences"] = {name: bool(minds) for name, minds in preferences.items()}
         started: Behavior = self._request(request)["behavior"]
         return started
 

@@ -20,7 +20,10 @@
 //! A file may also declare the robot's context variables (`contexts: [(name: "cargo",
 //! values: ["normal", "hazardous"])]`, the first value the default, with an optional
 //! `similarity` table per variable): `begin` and `context` requests then name a context
-//! among them, and cases are matched by it ([`cbr_core::context`]); none by default.
+//! among them, and cases are matched by it ([`cbr_core::context`]); none by default. And
+//! the names an operator may state preferences in up front (`statements: ["hurry",
+//! "avoid-bumps"]`): a `begin` request's `preferences` may then say of each whether the
+//! operator minds it ([`cbr_core::statement`]); none by default.
 //!
 //! `causes` is required: the outcome reports of `serve` may carry exactly these causes
 //! (an empty list: outcomes carry none). A declared default weight is informational
@@ -92,6 +95,8 @@ pub struct DomainDefinition {
     pub hints: Vec<Hint>,
     /// The context variables a request may set (none unless declared).
     pub contexts: Arc<ContextSpace>,
+    /// The names a `begin` request's `preferences` may state (none unless declared).
+    pub statements: Vec<String>,
     /// The adapter configuration (the paper's defaults unless the file sets it).
     pub adapter: AdapterConfig,
     /// Whether sessions keep listening after an episode settles (mission mode:
@@ -116,6 +121,7 @@ impl fmt::Debug for DomainDefinition {
             .field("observations", &self.observations)
             .field("hints", &self.hints)
             .field("contexts", &self.contexts)
+            .field("statements", &self.statements)
             .field("adapter", &self.adapter)
             .field("mission", &self.mission)
             .field("judges_competence", &self.competence.is_some())
@@ -139,6 +145,8 @@ struct DomainFile {
     hints: Vec<Hint>,
     #[serde(default)]
     contexts: ContextSpace,
+    #[serde(default)]
+    statements: Vec<String>,
     #[serde(default)]
     adapter: AdapterSection,
 }
@@ -301,6 +309,7 @@ impl DomainDefinition {
             observations: Vec::new(),
             hints: Vec::new(),
             contexts: Arc::new(ContextSpace::NONE),
+            statements: Vec::new(),
             adapter,
             mission: false,
             competence: None,
@@ -327,6 +336,12 @@ impl DomainDefinition {
             contexts: Arc::new(contexts),
             ..self
         }
+    }
+
+    /// The same domain whose operators may state preferences in `statements` up front.
+    #[must_use]
+    pub fn with_statements(self, statements: Vec<String>) -> Self {
+        Self { statements, ..self }
     }
 
     /// The same domain served in mission mode ([`trust::mission`]): outcomes keep coming
@@ -539,6 +554,7 @@ impl DomainDefinition {
         domain
             .with_observations(file.observations)
             .with_contexts(file.contexts)
+            .with_statements(file.statements)
             .with_hints(file.hints)
             .map_err(|e| match e {
                 DomainError::Hint(reason) => {

@@ -17,6 +17,7 @@
 //! UTF-8 byte-order mark before the object is skipped. Parsing never looks at the
 //! adapter: it only says what was asked.
 
+use cbr_core::Statement;
 use serde::Deserialize;
 use serde::de::{self, DeserializeOwned, MapAccess, SeqAccess, Visitor};
 use serde_json::value::RawValue;
@@ -52,6 +53,9 @@ pub enum Request {
         behavior: Option<BehaviorSpec>,
         /// The context the robot is in from now on; `None`: unchanged.
         context: Option<ContextSettings>,
+        /// What the operator states up front, each name as given (checked against the
+        /// domain's statements by the session); empty: nothing.
+        preferences: Vec<Statement>,
     },
     /// The robot's context from now on (between episodes).
     Context(ContextSettings),
@@ -73,7 +77,7 @@ pub enum Request {
 
 /// The requests named by a `request` field, with the fields each allows besides it.
 const NAMED: &[(&str, &[&str])] = &[
-    ("begin", &["behavior", "context"]),
+    ("begin", &["behavior", "context", "preferences"]),
     ("context", &["context"]),
     ("state", &[]),
     ("cases", &[]),
@@ -285,6 +289,7 @@ fn parse_named(map: Map<String, Value>) -> Result<Request, RequestError> {
         "begin" => Request::Begin {
             behavior: fields.take_behavior()?,
             context: fields.take_context()?,
+            preferences: fields.take_preferences()?,
         },
         "context" => Request::Context(
             fields
@@ -411,6 +416,34 @@ impl Fields {
                 field: "context".to_owned(),
                 message: format!(
                     "expected an object such as {{\"cargo\": \"hazardous\"}}, got {}",
+                    json_type(&other)
+                ),
+            }),
+        }
+    }
+
+    /// The `preferences` field, an object of statement names and whether the operator
+    /// minds each (`{"hurry": true, "avoid-bumps": false}`).
+    fn take_preferences(&mut self) -> Result<Vec<Statement>, RequestError> {
+        match self.0.remove("preferences") {
+            None | Some(Value::Null) => Ok(Vec::new()),
+            Some(Value::Object(values)) => values
+                .into_iter()
+                .map(|(name, value)| match value {
+                    Value::Bool(minds) => Ok(Statement { name, minds }),
+                    other => Err(RequestError::Field {
+                        field: format!("preferences.{name}"),
+                        message: format!(
+                            "expected true (the operator minds it) or false, got {}",
+                            json_type(&other)
+                        ),
+                    }),
+                })
+                .collect(),
+            Some(other) => Err(RequestError::Field {
+                field: "preferences".to_owned(),
+                message: format!(
+                    "expected an object such as {{\"hurry\": true, \"avoid-bumps\": false}}, got {}",
                     json_type(&other)
                 ),
             }),
@@ -799,7 +832,8 @@ mod tests {
             parse_request(br#"{"request":"begin"}"#).unwrap(),
             Request::Begin {
                 behavior: None,
-                context: None
+                context: None,
+                preferences: Vec::new()
             }
         );
         assert_eq!(
@@ -810,19 +844,47 @@ mod tests {
                     ("speed".into(), "3.5".into()),
                     ("planner".into(), "rrt".into()),
                 ])),
-                context: None
+                context: None,
+                preferences: Vec::new()
             }
         );
         assert_eq!(
             parse_request(br#"{"request":"begin","context":{"cargo":"hazardous"}}"#).unwrap(),
             Request::Begin {
                 behavior: None,
-                context: Some(vec![("cargo".into(), "hazardous".into())])
+                context: Some(vec![("cargo".into(), "hazardous".into())]),
+                preferences: Vec::new()
+            }
+        );
+        assert_eq!(
+            parse_request(
+                br#"{"request":"begin","preferences":{"hurry":true,"avoid-bumps":false}}"#
+            )
+            .unwrap(),
+            Request::Begin {
+                behavior: None,
+                context: None,
+                preferences: vec![
+                    Statement::new("hurry", true),
+                    Statement::new("avoid-bumps", false)
+                ]
             }
         );
         assert_eq!(
             parse_request(br#"{"request":"context","context":{"situation":"emergency"}}"#).unwrap(),
             Request::Context(vec![("situation".into(), "emergency".into())])
+        );
+    }
+
+    #[test]
+    fn preferences_must_be_an_object_of_booleans() {
+        assert_eq!(
+            err(r#"{"request":"begin","preferences":["hurry"]}"#),
+            r#"field `preferences`: expected an object such as {"hurry": true, "avoid-bumps": false}, got an array"#
+        );
+        assert_eq!(
+            err(r#"{"request":"begin","preferences":{"hurry":"yes"}}"#),
+            "field `preferences.hurry`: expected true (the operator minds it) or false, got a string"
         );
     }
 

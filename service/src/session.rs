@@ -25,7 +25,7 @@ use crate::reply::{self, Answer, CaseListing, Reply};
 use crate::request::{BehaviorSpec, ContextSettings, Request, Vocabulary, parse_line};
 use crate::shared::SharedCases;
 use crate::store::{StoreError, StoreId};
-use cbr_core::{Behavior, Context, ContextSpace};
+use cbr_core::{Behavior, Context, ContextSpace, Statement};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
@@ -56,6 +56,8 @@ pub struct Session {
     observations: Vec<Cause>,
     /// The context variables the domain declares.
     contexts: Arc<ContextSpace>,
+    /// The names the domain's operators may state preferences in.
+    statements: Vec<String>,
     /// The adapter served, as `config` shows it ([`DomainDefinition::served_adapter`]).
     adapter: Value,
     adapting: Adapting,
@@ -93,10 +95,14 @@ impl Adapting {
         }
     }
 
-    fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
+    fn begin_episode(
+        &mut self,
+        initial: Behavior,
+        stated: Vec<Statement>,
+    ) -> Result<(), AdapterError> {
         match self {
-            Self::Episodes(adaptation) => adaptation.begin_episode(initial),
-            Self::Mission(mission) => mission.begin_episode(initial),
+            Self::Episodes(adaptation) => adaptation.begin_episode_hearing(initial, stated),
+            Self::Mission(mission) => mission.begin_episode_hearing(initial, stated),
         }
     }
 
@@ -201,6 +207,7 @@ impl Session {
             causes: domain.causes,
             observations: domain.observations,
             contexts: domain.contexts,
+            statements: domain.statements,
             adapter,
             adapting,
             cases,
@@ -230,7 +237,11 @@ impl Session {
         let offer = self.offer.take();
         Ok(Reply::Json(match request {
             Request::AcceptOffer => self.accept_offer(offer),
-            Request::Begin { behavior, context } => self.begin(behavior.as_ref(), context.as_ref()),
+            Request::Begin {
+                behavior,
+                context,
+                preferences,
+            } => self.begin(behavior.as_ref(), context.as_ref(), preferences),
             Request::Context(settings) => self.change_context(&settings),
             Request::Outcome(outcome) => return self.outcome(&outcome).map(Reply::Json),
             Request::State => self.state(),
@@ -304,11 +315,30 @@ impl Session {
         })
     }
 
-    fn begin(&mut self, spec: Option<&BehaviorSpec>, context: Option<&ContextSettings>) -> Value {
+    fn begin(
+        &mut self,
+        spec: Option<&BehaviorSpec>,
+        context: Option<&ContextSettings>,
+        preferences: Vec<Statement>,
+    ) -> Value {
         if self.adaptation().episode().is_some() {
             return reply::error(
                 "an episode is already under way: report its outcomes, or end it with {\"request\": \"abandon\"}",
             );
+        }
+        if let Some(unknown) = preferences
+            .iter()
+            .find(|s| !self.statements.contains(&s.name))
+        {
+            let declared = if self.statements.is_empty() {
+                "this domain declares none".to_owned()
+            } else {
+                format!("declared: {}", self.statements.join(", "))
+            };
+            return reply::error(format_args!(
+                "field `preferences`: `{}` is not a statement of this domain ({declared})",
+                unknown.name
+            ));
         }
         let context = match context.map(|settings| self.context(settings)).transpose() {
             Ok(context) => context,
@@ -335,7 +365,7 @@ impl Session {
         {
             return reply::error(e);
         }
-        let begun = self.adapting.begin_episode(initial);
+        let begun = self.adapting.begin_episode(initial, preferences);
         if begun.is_err() {
             // A refused request changes nothing.
             self.adapting
@@ -350,6 +380,14 @@ impl Session {
                     "chosen_by": chosen_by,
                 });
                 reply::add_context(&mut begun, self.adaptation().context());
+                let heard = self.adaptation().stated();
+                if !heard.is_empty() {
+                    begun["preferences"] = heard
+                        .iter()
+                        .map(|s| (s.name.clone(), Value::Bool(s.minds)))
+                        .collect::<serde_json::Map<_, _>>()
+                        .into();
+                }
                 begun
             }
             Err(e) => reply::error(e),
@@ -600,6 +638,9 @@ impl Session {
         });
         if !self.contexts.is_empty() {
             config["contexts"] = json!(self.contexts.as_ref());
+        }
+        if !self.statements.is_empty() {
+            config["statements"] = json!(self.statements);
         }
         config
     }

@@ -813,3 +813,76 @@ fn cases_are_learned_and_reused_in_their_context() {
     assert_eq!(snapshot(&mut s), before);
     assert_eq!(ok(&mut s, r#"{"request":"begin"}"#)["chosen_by"], "server");
 }
+
+/// A user's searcher that keeps what it heard at each episode's start (and proposes as
+/// [`Lowest`]).
+struct Hearing(Arc<std::sync::Mutex<Vec<Vec<cbr_core::Statement>>>>);
+
+impl cbr_core::Searcher for Hearing {
+    type Evidence = trust::Evaluated;
+    type Feedback = trust::Outcome;
+
+    fn name(&self) -> &str {
+        "hearing"
+    }
+
+    fn hear(&mut self, stated: &[cbr_core::Statement]) {
+        self.0.lock().unwrap().push(stated.to_vec());
+    }
+
+    fn propose(
+        &mut self,
+        space: &cbr_core::BehaviorSpace,
+        evaluated: &[trust::Evaluated],
+        rng: &mut dyn rand::RngCore,
+    ) -> cbr_core::Proposal {
+        Lowest.propose(space, evaluated, rng)
+    }
+}
+
+/// What an operator states up front reaches the searcher through `begin`'s
+/// `preferences`; a name the domain does not declare is refused and changes nothing.
+#[test]
+fn stated_preferences_reach_the_searcher_through_begin() {
+    let dir = tempfile::tempdir().unwrap();
+    let heard = Arc::new(std::sync::Mutex::new(Vec::new()));
+    let kept = heard.clone();
+    let domain = quick_movement()
+        .with_statements(vec!["hurry".into(), "avoid-bumps".into()])
+        .with_searcher(move |_| Box::new(Hearing(kept.clone())));
+    let cases = SharedCases::open(&domain, &Location::Sqlite(dir.path().join("cases.db"))).unwrap();
+    let mut s = Session::new(domain, Arc::new(cases), 7).unwrap();
+    let config = ok(&mut s, r#"{"request":"config"}"#);
+    assert_eq!(config["statements"], json!(["hurry", "avoid-bumps"]));
+    let before = snapshot(&mut s);
+    let refused = ask(
+        &mut s,
+        r#"{"request":"begin","preferences":{"hurry":true,"fly":false}}"#,
+    );
+    assert_eq!(
+        refused["error"],
+        "field `preferences`: `fly` is not a statement of this domain (declared: hurry, avoid-bumps)"
+    );
+    assert_eq!(snapshot(&mut s), before);
+    assert!(heard.lock().unwrap().is_empty());
+    let begun = ok(
+        &mut s,
+        r#"{"request":"begin","behavior":"speed=3.5,padding=0.4","preferences":{"avoid-bumps":true,"hurry":false}}"#,
+    );
+    assert_eq!(
+        begun["preferences"],
+        json!({"avoid-bumps": true, "hurry": false})
+    );
+    assert_eq!(
+        *heard.lock().unwrap(),
+        [vec![
+            cbr_core::Statement::new("avoid-bumps", true),
+            cbr_core::Statement::new("hurry", false)
+        ]]
+    );
+    ok(&mut s, r#"{"request":"abandon"}"#);
+    // The next operator states nothing: the searcher hears nothing.
+    let begun = ok(&mut s, r#"{"request":"begin"}"#);
+    assert!(begun.get("preferences").is_none(), "{begun}");
+    assert_eq!(heard.lock().unwrap().last().unwrap(), &Vec::new());
+}
