@@ -145,7 +145,7 @@ struct DomainFile {
     hints: Vec<Hint>,
     #[serde(default)]
     contexts: ContextSpace,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "distinct_statements")]
     statements: Vec<String>,
     #[serde(default)]
     adapter: AdapterSection,
@@ -249,6 +249,26 @@ fn distinct_observations<'de, D: serde::Deserializer<'de>>(
         }
     }
     Ok(observations)
+}
+
+/// The statement names, each once and not empty.
+fn distinct_statements<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<Vec<String>, D::Error> {
+    let statements = Vec::<String>::deserialize(deserializer)?;
+    for (i, name) in statements.iter().enumerate() {
+        if name.trim().is_empty() {
+            return Err(serde::de::Error::custom(
+                "field `statements`: a statement name cannot be empty",
+            ));
+        }
+        if statements[..i].contains(name) {
+            return Err(serde::de::Error::custom(format_args!(
+                "field `statements`: statement `{name}` is declared twice"
+            )));
+        }
+    }
+    Ok(statements)
 }
 
 /// The declared causes, each once.
@@ -623,6 +643,45 @@ mod tests {
         );
         let d = DomainDefinition::from_ron(&without, Path::new("robot.ron")).unwrap();
         assert_eq!(d.adapter, AdapterConfig::default());
+    }
+
+    #[test]
+    fn statements_are_declared_once_each_and_not_empty() {
+        let with = |names: &str| {
+            GOOD.replacen(
+                "adapter: (",
+                &format!("statements: [{names}],\n    adapter: ("),
+                1,
+            )
+        };
+        let d = DomainDefinition::from_ron(
+            &with(r#""hurry", "handle-gently""#),
+            Path::new("robot.ron"),
+        )
+        .unwrap();
+        assert_eq!(d.statements, ["hurry", "handle-gently"]);
+        assert!(
+            DomainDefinition::from_ron(GOOD, Path::new("robot.ron"))
+                .unwrap()
+                .statements
+                .is_empty()
+        );
+        for (names, expected) in [
+            (
+                r#""hurry", "hurry""#,
+                "field `statements`: statement `hurry` is declared twice",
+            ),
+            (
+                r#"" ""#,
+                "field `statements`: a statement name cannot be empty",
+            ),
+        ] {
+            let error = DomainDefinition::from_ron(&with(names), Path::new("robot.ron"))
+                .unwrap_err()
+                .to_string();
+            assert!(error.starts_with("robot.ron:"), "{error}");
+            assert!(error.contains(expected), "{error}");
+        }
     }
 
     #[test]
