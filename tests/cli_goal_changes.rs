@@ -5,9 +5,8 @@
 mod support;
 
 use std::io::Write;
-use std::path::Path;
-use std::process::{Command, Stdio};
-use support::{one_mission_suite, refused, succeed, trustcbr};
+use std::process::Stdio;
+use support::{one_mission_suite, refused, run_suite, succeed, trustcbr};
 
 /// Movement, the paper's operators drawn per trial, goal changes every two minutes on
 /// average (a sixth of the 20 s commands cut), unsaid and said.
@@ -24,22 +23,10 @@ const SUITE: &str = r#"(
     ],
 )"#;
 
-fn run(dir: &Path, text: &str) -> Command {
-    let config = dir.join("suite.ron");
-    std::fs::write(&config, text).unwrap();
-    let mut command = trustcbr();
-    command
-        .arg("run")
-        .arg(&config)
-        .arg("--out")
-        .arg(dir.join("out"));
-    command
-}
-
 #[test]
 fn a_suite_with_goal_changes_reports_them_per_arm() {
     let dir = tempfile::tempdir().unwrap();
-    let stdout = succeed(&mut run(dir.path(), SUITE));
+    let stdout = succeed(&mut run_suite(dir.path(), SUITE));
     assert!(stdout.contains("movement/random/g30s1"), "{stdout}");
     let out = dir.path().join("out");
     let table = std::fs::read_to_string(out.join("table.md")).unwrap();
@@ -105,19 +92,19 @@ fn goal_changes_that_cannot_mean_anything_are_refused() {
         r#"(scenario: "movement", operator: "random"),"#,
         r#"(scenario: "movement", operator: "random", feedback: Some((goal_changes: 0.5))),"#,
     );
-    let stderr = refused(&mut run(dir.path(), &said_but_none));
+    let stderr = refused(&mut run_suite(dir.path(), &said_but_none));
     assert!(
         stderr.contains("experiments[0].feedback.goal_changes: the operators would say goal changes, but none happen"),
         "{stderr}"
     );
     let zero = SUITE.replace("per_hour: 30.0", "per_hour: 0.0");
-    let stderr = refused(&mut run(dir.path(), &zero));
+    let stderr = refused(&mut run_suite(dir.path(), &zero));
     assert!(
         stderr.contains("goal_changes `per_hour` must be a number in (0, 3600]"),
         "{stderr}"
     );
     let loud = SUITE.replace("goal_changes: 1.0", "goal_changes: 1.5");
-    let stderr = refused(&mut run(dir.path(), &loud));
+    let stderr = refused(&mut run_suite(dir.path(), &loud));
     assert!(
         stderr.contains("feedback `goal_changes` must be a probability in [0, 1], got 1.5"),
         "{stderr}"
@@ -125,7 +112,7 @@ fn goal_changes_that_cannot_mean_anything_are_refused() {
     let mission = one_mission_suite(
         r#"(scenario: "movement", operator: "random", goal_changes: Some((per_hour: 1.0)))"#,
     );
-    let stderr = refused(&mut run(dir.path(), &mission));
+    let stderr = refused(&mut run_suite(dir.path(), &mission));
     assert!(
         stderr.contains("missions[0].operators.goal_changes: goal changes are simulated in experiment suites, not yet in missions"),
         "{stderr}"

@@ -6,9 +6,7 @@
 
 mod support;
 
-use std::path::Path;
-use std::process::Command;
-use support::{refused, succeed, trustcbr};
+use support::{refused, run_suite, succeed};
 
 fn suite(stated: &str, arms: &str) -> String {
     format!(
@@ -23,23 +21,11 @@ fn suite(stated: &str, arms: &str) -> String {
     )
 }
 
-fn run(dir: &Path, text: &str) -> Command {
-    let config = dir.join("suite.ron");
-    std::fs::write(&config, text).unwrap();
-    let mut command = trustcbr();
-    command
-        .arg("run")
-        .arg(&config)
-        .arg("--out")
-        .arg(dir.join("out"));
-    command
-}
-
 #[test]
 fn operators_state_their_preferences_and_a_deaf_twin_runs_the_same_trials() {
     let dir = tempfile::tempdir().unwrap();
     let arms = r#""case-based+cause-aware", "case-based+cause-aware+ignores-statements""#;
-    let stdout = succeed(&mut run(
+    let stdout = succeed(&mut run_suite(
         dir.path(),
         &suite(", stated: Some((said: 1.0))", arms),
     ));
@@ -83,7 +69,7 @@ fn operators_state_their_preferences_and_a_deaf_twin_runs_the_same_trials() {
 #[test]
 fn ignoring_statements_none_state_and_shares_out_of_range_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let stderr = refused(&mut run(
+    let stderr = refused(&mut run_suite(
         dir.path(),
         &suite("", r#""cause-aware", "cause-aware+ignores-statements""#),
     ));
@@ -91,7 +77,7 @@ fn ignoring_statements_none_state_and_shares_out_of_range_are_refused() {
         stderr.contains("arms[1]: `cause-aware+ignores-statements` ignores what operators state up front, and no experiment here has `stated`"),
         "{stderr}"
     );
-    let stderr = refused(&mut run(
+    let stderr = refused(&mut run_suite(
         dir.path(),
         &suite(
             ", stated: Some((said: 1.0, wrong: 1.3))",

@@ -10,42 +10,55 @@ usage: docs/probes/benchmark_suites.py [COUNT]   (default 20 instances of each s
 per scenario: TRIALS, chosen so that a suite runs within 10 minutes on the project's 2-core
 machine)
 """
+
 import pathlib
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parent.parent.parent
-COUNT = int(sys.argv[1]) if len(sys.argv) > 1 else 20
+COUNT = int(sys.argv[1]) if __name__ == "__main__" and len(sys.argv) > 1 else 20
 TRIALS = {"movement": 500, "patrol": 300}
 # A trial's commands are capped (the trial is then truncated, counted as not settled): the
 # paper's random walk needs thousands of commands a trial on a population with a small
 # trustworthy region, and would alone exceed the suite's 10 minutes.
 MAX_COMMANDS = 2000
 ARMS = [
-    "random-walk", "case-based", "uniform", "cause-aware", "model-based", "conditioned",
-    "case-based+cause-aware", "case-based+model-based", "case-based+conditioned", "hedged",
+    "random-walk",
+    "case-based",
+    "uniform",
+    "cause-aware",
+    "model-based",
+    "conditioned",
+    "case-based+cause-aware",
+    "case-based+model-based",
+    "case-based+conditioned",
+    "hedged",
     "case-based+hedged",
 ]
 
 
-# Per split (the prefix of its instances' names): the folder of their members under domains/operators,
-# the suite's file name and what its header says the split is for.
+# Per split (the prefix of its instances' names): the folder of their members under
+# domains/operators, the suite's file name and what its header says the split is for.
 SPLITS = {
-    "eval": ("benchmark", "benchmark-{scenario}.ron",
-             "the evaluation instances", "Nothing in any strategy was chosen on these instances."),
-    "dev": ("benchmark-dev", "benchmark-dev-{scenario}.ron",
-            "the development instances", "Strategies are developed on these instances, never judged."),
+    "eval": (
+        "benchmark",
+        "benchmark-{scenario}.ron",
+        "the evaluation instances",
+        "Nothing in any strategy was chosen on these instances.",
+    ),
+    "dev": (
+        "benchmark-dev",
+        "benchmark-dev-{scenario}.ron",
+        "the development instances",
+        "Strategies are developed on these instances, never judged.",
+    ),
 }
 
 
-def suite(scenario: str, split: str) -> str:
-    folder_name, file_name, which, promise = SPLITS[split]
-    title = "benchmark" if split == "eval" else "development benchmark"
-    lines = [
-        f"// The {title} for {scenario} (docs/search-strategies.md, \"The benchmark\"): every arm",
-        f"// on {which} {split}-0 .. {split}-{COUNT - 1} of the prior ugv-1, silent operators,",
-        f"// the paper's adapter. {promise} Written by",
-        "// docs/probes/benchmark_suites.py; run it with",
-        f"// `trustcbr run domains/experiments/{file_name.format(scenario=scenario)} --out DIR`.",
+def opening(comment: list[str], scenario: str, arms: list[str]) -> list[str]:
+    """A benchmark suite's lines up to its arms: `comment`, then the seed, the scenario's
+    trials, the command cap and the paper's adapter (shared by docs/probes/stated_suites.py)."""
+    return [
+        *[f"// {line}" for line in comment],
         "(",
         "    seed: 2014,",
         f"    trials: {TRIALS[scenario]},",
@@ -58,9 +71,24 @@ def suite(scenario: str, split: str) -> str:
         "        time_unit: task_seconds,",
         "    ),",
         "    arms: [",
-        *[f"        \"{arm}\"," for arm in ARMS],
+        *[f'        "{arm}",' for arm in arms],
         "    ],",
         "    landscape_runs: 0,",
+    ]
+
+
+def suite(scenario: str, split: str) -> str:
+    folder_name, file_name, which, promise = SPLITS[split]
+    title = "benchmark" if split == "eval" else "development benchmark"
+    comment = [
+        f'The {title} for {scenario} (docs/search-strategies.md, "The benchmark"): every arm',
+        f"on {which} {split}-0 .. {split}-{COUNT - 1} of the prior ugv-1, silent operators,",
+        f"the paper's adapter. {promise} Written by",
+        "docs/probes/benchmark_suites.py; run it with",
+        f"`trustcbr run domains/experiments/{file_name.format(scenario=scenario)} --out DIR`.",
+    ]
+    lines = [
+        *opening(comment, scenario, ARMS),
         "    benchmark: true,",
         "    experiments: [",
     ]
@@ -68,14 +96,18 @@ def suite(scenario: str, split: str) -> str:
         folder = REPO / "domains/operators" / folder_name / scenario / f"{split}-{k}"
         files = sorted(folder.glob("*.ron"))
         if not files:
-            sys.exit(f"{folder}: no members (run `trustcbr population --scenario {scenario} "
-                     f"--instance {split}-{k} --out {folder.relative_to(REPO)}` first)")
-        listed = ", ".join(f'"../operators/{folder_name}/{scenario}/{split}-{k}/{f.name}"' for f in files)
+            sys.exit(
+                f"{folder}: no members (run `trustcbr population --scenario {scenario} "
+                f"--instance {split}-{k} --out {folder.relative_to(REPO)}` first)"
+            )
+        listed = ", ".join(
+            f'"../operators/{folder_name}/{scenario}/{split}-{k}/{f.name}"' for f in files
+        )
         lines += [
             "        (",
-            f"            scenario: \"{scenario}\",",
-            "            operator: \"random\",",
-            f"            population: Some((name: \"{split}-{k}\")),",
+            f'            scenario: "{scenario}",',
+            '            operator: "random",',
+            f'            population: Some((name: "{split}-{k}")),',
             f"            operator_files: [{listed}],",
             "        ),",
         ]
@@ -83,8 +115,9 @@ def suite(scenario: str, split: str) -> str:
     return "\n".join(lines)
 
 
-for split, (_, file_name, _, _) in SPLITS.items():
-    for scenario in ("movement", "patrol"):
-        path = REPO / "domains/experiments" / file_name.format(scenario=scenario)
-        path.write_text(suite(scenario, split))
-        print(f"wrote {path.relative_to(REPO)}")
+if __name__ == "__main__":
+    for split, (_, file_name, _, _) in SPLITS.items():
+        for scenario in ("movement", "patrol"):
+            path = REPO / "domains/experiments" / file_name.format(scenario=scenario)
+            path.write_text(suite(scenario, split))
+            print(f"wrote {path.relative_to(REPO)}")

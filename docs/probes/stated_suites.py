@@ -12,11 +12,10 @@ usage: docs/probes/stated_suites.py [COUNT]   (default 20 instances per scenario
 import pathlib
 import sys
 
+from benchmark_suites import opening
+
 REPO = pathlib.Path(__file__).resolve().parent.parent.parent
 COUNT = int(sys.argv[1]) if len(sys.argv) > 1 else 20
-# The benchmark's trials per scenario (docs/probes/benchmark_suites.py).
-TRIALS = {"movement": 500, "patrol": 300}
-MAX_COMMANDS = 2000
 # The built-in arms whose searchers hear statements (the cause-aware search, alone or as a
 # fallback), each followed by its twin that ignores them.
 HEARING = ["cause-aware", "case-based+cause-aware", "conditioned", "case-based+conditioned"]
@@ -27,30 +26,15 @@ STATINGS = [(1.0, 0.0), (0.5, 0.0), (1.0, 0.3)]
 
 def suite(scenario: str) -> str:
     file_name = f"stated-{scenario}.ron"
-    lines = [
-        f'// Stated preferences in {scenario} (docs/search-strategies.md, "Stated preferences"):',
-        "// each arm that hears statements beside its twin that ignores them, on the",
-        f"// evaluation instances eval-0 .. eval-{COUNT - 1} of the benchmark, each with operators",
-        "// who state everything rightly, half of it, and everything 30% wrongly; silent",
-        "// operators otherwise, the paper's adapter. Written by docs/probes/stated_suites.py;",
-        f"// run it with `trustcbr run domains/experiments/{file_name} --out DIR`.",
-        "(",
-        "    seed: 2014,",
-        f"    trials: {TRIALS[scenario]},",
-        f"    max_commands: {MAX_COMMANDS},",
-        "    adapter: (",
-        "        thresholds: (trustworthy: 5.0, untrustworthy: -5.0),",
-        "        lambda: 0.95,",
-        "        retriever: inverted_index,",
-        "        retention: any_search,",
-        "        time_unit: task_seconds,",
-        "    ),",
-        "    arms: [",
-        *[f'        "{arm}",' for arm in ARMS],
-        "    ],",
-        "    landscape_runs: 0,",
-        "    experiments: [",
+    comment = [
+        f'Stated preferences in {scenario} (docs/search-strategies.md, "Stated preferences"):',
+        "each arm that hears statements beside its twin that ignores them, on the",
+        f"evaluation instances eval-0 .. eval-{COUNT - 1} of the benchmark, each with operators",
+        "who state everything rightly, half of it, and everything 30% wrongly; silent",
+        "operators otherwise, the paper's adapter. Written by docs/probes/stated_suites.py;",
+        f"run it with `trustcbr run domains/experiments/{file_name} --out DIR`.",
     ]
+    lines = [*opening(comment, scenario, ARMS), "    experiments: ["]
     for k in range(COUNT):
         folder = REPO / "domains/operators/benchmark" / scenario / f"eval-{k}"
         files = sorted(folder.glob("*.ron"))

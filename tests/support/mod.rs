@@ -15,6 +15,19 @@ pub fn trustcbr() -> Command {
     Command::new(env!("CARGO_BIN_EXE_trustcbr"))
 }
 
+/// `trustcbr run` of the suite `text`, written to `dir/suite.ron`, reporting to `dir/out`.
+pub fn run_suite(dir: &std::path::Path, text: &str) -> Command {
+    let config = dir.join("suite.ron");
+    std::fs::write(&config, text).unwrap();
+    let mut command = trustcbr();
+    command
+        .arg("run")
+        .arg(&config)
+        .arg("--out")
+        .arg(dir.join("out"));
+    command
+}
+
 /// Runs `command`, asserts that it succeeded (showing its stderr if not), returns stdout.
 pub fn succeed(command: &mut Command) -> String {
     let output = command.output().unwrap();
