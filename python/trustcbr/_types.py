@@ -160,7 +160,9 @@ class Searcher(Protocol):
 
     Optional: ``enter_context(context)`` (the robot's context, a dict of the variables
     away from their defaults, told between episodes), ``begin_episode(initial)``,
-    ``observe(behavior, outcome)``,
+    ``hear(stated)`` (what the episode's operator stated up front, right after
+    ``begin_episode``: a list of ``{"name": ..., "minds": bool}``, possibly empty,
+    incomplete or wrong), ``observe(behavior, outcome)``,
     ``end_episode(evaluated, settled)``, ``rationale(proposed)`` (a str, one plain line
     saying how it explores, or a dict ``{"expects": what, "confidence": p}`` saying what it
     expects of the proposal, ``p`` a probability or ``None``),
