@@ -52,7 +52,7 @@ pub fn serving_arm<C: Catalog>(
     }
     if arm.ignores_statements() {
         anyhow::bail!(
-            "--arm: `{name}` ignores what operators state up front, which a controller tells `serve` (`begin` with `stated`): to serve a robot that hears none, send none; serve `{}`",
+            "--arm: `{name}` ignores what operators state up front, which a controller tells `serve` (`begin`'s `preferences`): to serve a robot that hears none, send none; serve `{}`",
             name.replacen(lab::IGNORES_STATEMENTS, "", 1)
         );
     }
