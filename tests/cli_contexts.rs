@@ -8,7 +8,7 @@ mod support;
 
 use std::path::Path;
 use std::process::Command;
-use support::{one_mission_suite, refused, succeed, trustcbr};
+use support::{one_mission_suite, refused, run_suite, succeed};
 
 /// A movement operator who wants speed on a routine job and, with hazardous cargo, wants
 /// no bumps and no hurry: both are satisfiable, so trials settle quickly in either context.
@@ -41,18 +41,11 @@ fn suite_in(cycle: &str) -> String {
     suite(&format!(", contexts: Some((cycle: {cycle}))"))
 }
 
+/// [`run_suite`] beside the operator file, saving the cases.
 fn run(dir: &Path, text: &str) -> Command {
     std::fs::write(dir.join("carrier.ron"), OPERATOR).unwrap();
-    let config = dir.join("suite.ron");
-    std::fs::write(&config, text).unwrap();
-    let mut command = trustcbr();
-    command
-        .arg("run")
-        .arg(&config)
-        .arg("--out")
-        .arg(dir.join("out"))
-        .arg("--save-cases")
-        .arg(dir.join("cases"));
+    let mut command = run_suite(dir, text);
+    command.arg("--save-cases").arg(dir.join("cases"));
     command
 }
 

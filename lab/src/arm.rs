@@ -86,17 +86,13 @@ impl Initial {
 /// The arm name `name` split into the name of the arm it is built on and whether it
 /// prefers behaviors the robot judges competent: `x+competent` is `x`, preferring.
 pub fn prefers_competent(name: &str) -> (&str, bool) {
-    match name.strip_suffix(PREFERS_COMPETENT) {
-        Some(base) => (base, true),
-        None => (name, false),
-    }
+    with_suffix(name, PREFERS_COMPETENT)
 }
 
-/// The arm name `name` split into the name of the arm it is built on and whether it is
-/// blind to the robot's context: `x+context-blind` is `x`, blind (read through
-/// [`NameOptions::of_name`], where this suffix sits among the others).
-fn context_blind(name: &str) -> (&str, bool) {
-    match name.strip_suffix(CONTEXT_BLIND) {
+/// `name` without `suffix`, and whether it ended with it: how [`NameOptions::of_name`]
+/// reads each on-or-off suffix where it sits among the others.
+fn with_suffix<'a>(name: &'a str, suffix: &str) -> (&'a str, bool) {
+    match name.strip_suffix(suffix) {
         Some(base) => (base, true),
         None => (name, false),
     }
@@ -123,11 +119,8 @@ impl NameOptions {
     pub fn of_name(name: &str) -> Result<(&str, Self), String> {
         let (started, prefers_competent) = self::prefers_competent(name);
         let (hearing, initial) = Initial::of_name(started);
-        let (sighted, ignores_statements) = match hearing.strip_suffix(IGNORES_STATEMENTS) {
-            Some(base) => (base, true),
-            None => (hearing, false),
-        };
-        let (base, context_blind) = self::context_blind(sighted);
+        let (sighted, ignores_statements) = with_suffix(hearing, IGNORES_STATEMENTS);
+        let (base, context_blind) = with_suffix(sighted, CONTEXT_BLIND);
         let options = Self {
             context_blind,
             ignores_statements,

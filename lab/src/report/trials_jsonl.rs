@@ -79,8 +79,10 @@ pub fn trials_jsonl(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
     for e in entries {
         for arm in &e.result.arms {
+            let deaf =
+                crate::NameOptions::of_name(&arm.name).is_ok_and(|(_, o)| o.ignores_statements);
             for t in &arm.trials {
-                let line = trial_line(e, t);
+                let line = trial_line(e, t, deaf);
                 out.push_str(&serde_json::to_string(&line).expect("plain data serializes"));
                 out.push('\n');
             }
@@ -89,7 +91,8 @@ pub fn trials_jsonl(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
-fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
+/// The line of trial `t`, of an arm that ignores statements when `deaf`.
+fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord, deaf: bool) -> TrialLine<'a> {
     TrialLine {
         experiment: &e.result.name,
         scenario: e.scenario,
@@ -113,7 +116,6 @@ fn trial_line<'a>(e: &'a ReportEntry<'_>, t: &'a TrialRecord) -> TrialLine<'a> {
         context: &t.context,
         told: (t.report.context != t.context).then_some(&t.report.context),
         stated: &t.stated,
-        unheard: !t.stated.is_empty()
-            && crate::NameOptions::of_name(&t.arm).is_ok_and(|(_, o)| o.ignores_statements),
+        unheard: deaf && !t.stated.is_empty(),
     }
 }

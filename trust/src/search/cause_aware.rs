@@ -118,23 +118,33 @@ impl CauseAware {
         Self::default()
     }
 
-    /// How much cause `i` matters now: this episode's burden, plus the mean burden of an
-    /// earlier episode (the operators met so far), so a cause not yet met in this
-    /// episode still counts as much as it usually does; with statements heard, the mean
-    /// of the episodes whose operators stated the same, shrunk towards it.
-    fn weight(&self, i: usize) -> f64 {
-        let c = &self.causes[i];
-        let mean = c.past_burden / self.episodes.max(1.0);
+    /// How much each cause matters now, in the order of [`CauseAware::causes`]: this
+    /// episode's burden, plus the mean burden of an earlier episode (the operators met so
+    /// far), so a cause not yet met in this episode still counts as much as it usually
+    /// does; with statements heard, the mean of the episodes whose operators stated the
+    /// same, shrunk towards it.
+    fn weights(&self) -> Vec<f64> {
+        let mean = |c: &CauseRecord| c.past_burden / self.episodes.max(1.0);
         if self.stated.is_empty() {
-            return c.burden + mean;
+            return self.causes.iter().map(|c| c.burden + mean(c)).collect();
         }
-        let (episodes, burden) = self
-            .agreeing()
-            .fold((0.0, 0.0), |(episodes, burden), group| {
-                let of_cause = group.burdens.get(i).copied().unwrap_or(0.0);
-                (episodes + group.episodes, burden + of_cause)
-            });
-        c.burden + (burden + STATED_PRIOR_EPISODES * mean) / (episodes + STATED_PRIOR_EPISODES)
+        let mut episodes = 0.0;
+        let mut burdens = vec![0.0; self.causes.len()];
+        for group in self.agreeing() {
+            episodes += group.episodes;
+            for (sum, burden) in burdens.iter_mut().zip(&group.burdens) {
+                *sum += burden;
+            }
+        }
+        self.causes
+            .iter()
+            .zip(burdens)
+            .map(|(c, burden)| {
+                c.burden
+                    + (burden + STATED_PRIOR_EPISODES * mean(c))
+                        / (episodes + STATED_PRIOR_EPISODES)
+            })
+            .collect()
     }
 
     /// The earlier episodes whose operators stated everything heard now.
@@ -150,10 +160,9 @@ impl CauseAware {
     fn log_rate_tables(&self, space: &BehaviorSpace) -> Vec<(f64, f64, Vec<Vec<f64>>)> {
         self.causes
             .iter()
-            .enumerate()
-            .map(|(i, c)| (self.weight(i), c))
-            .filter(|(weight, _)| *weight > 0.0)
-            .map(|(weight, c)| {
+            .zip(self.weights())
+            .filter(|(_, weight)| *weight > 0.0)
+            .map(|(c, weight)| {
                 let overall = (c.counts.total() + 1.0) / (self.commands.total() + 2.0);
                 let tables = space
                     .components()
@@ -189,9 +198,7 @@ impl CauseAware {
             c.burden = 0.0;
         }
     }
-}
 
-impl CauseAware {
     /// Adds this episode's burdens to the earlier episodes whose operators stated the same.
     fn remember_statements(&mut self) {
         let index = match self
@@ -306,7 +313,7 @@ impl Searcher for CauseAware {
     }
 
     fn rationale(&self, _proposed: &Behavior) -> Rationale {
-        if (0..self.causes.len()).all(|i| self.weight(i) <= 0.0) {
+        if self.weights().iter().all(|&weight| weight <= 0.0) {
             return Rationale::Explores {
                 how: "no trouble counted yet: an untried behavior drawn uniformly".into(),
             };
@@ -496,19 +503,19 @@ mod tests {
         searcher.end_episode(&[], None);
         // Signal 0 is bumps, 1 unexplained. Means over both episodes: 3/2 and 2/2.
         searcher.begin_episode(&space, &b);
-        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+        assert_eq!(searcher.weights(), [1.5, 1.0]);
         // Stated "avoid-bumps": one agreeing episode, shrunk towards the mean with one
         // episode's weight: (3 + 1.5) / 2 and (0 + 1.0) / 2.
         searcher.hear(&avoid);
-        assert_eq!((searcher.weight(0), searcher.weight(1)), (2.25, 0.5));
+        assert_eq!(searcher.weights(), [2.25, 0.5]);
         // A statement no earlier operator made: the means.
         searcher.hear(&[Statement::new("hurry", true)]);
-        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+        assert_eq!(searcher.weights(), [1.5, 1.0]);
         // Statements heard again at the next episode's start are forgotten there.
         searcher.hear(&avoid);
         searcher.end_episode(&[], None);
         searcher.begin_episode(&space, &b);
-        assert_eq!((searcher.weight(0), searcher.weight(1)), (1.5, 1.0));
+        assert_eq!(searcher.weights(), [1.5, 1.0]);
     }
 
     #[test]
