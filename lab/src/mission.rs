@@ -42,7 +42,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 use trust::{
     AdapterConfig, Calibration, CompetenceJudge, CompetenceStandard, Decision, MissionAdapter,
-    MissionDecision, Outcome, OutcomeKind, OwnRecord, Verdict,
+    MissionDecision, Outcome, OutcomeKind, OwnRecord, SwitchStart, Verdict,
 };
 
 /// When the operator changes during a mission.
@@ -245,6 +245,10 @@ pub struct ChangeRecord {
     /// A context switch back to a context the mission was in before.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub back: bool,
+    /// At a context switch the robot was told of, what it went on with
+    /// ([`trust::SwitchStart`]); `None` for every other change, and for the oracle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<SwitchStart>,
 }
 
 /// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`]) and
@@ -276,6 +280,7 @@ pub(crate) fn begin_change(
         trusted_again: None,
         untrustworthy: 0,
         back: change.back,
+        start: None,
     });
     changes.len() - 1
 }
@@ -1049,13 +1054,15 @@ fn run_mission<D: Domain>(
                 Purpose::Truth,
             );
             let needed = !trustworthy(plan, &behavior, judges.judge(operator, context), &mut truth);
-            waiting = Some(begin_change(&mut record.changes, change, needed));
+            let k = begin_change(&mut record.changes, change, needed);
+            waiting = Some(k);
             changed_since_settled = true;
             marks.push(Mark::Change(change.kind));
             if change.kind == ChangeKind::Context && told {
                 let switched = adapter
                     .switch_context(plan.context(context), arm.initial() == Initial::Learned)
                     .expect("a mission always has an episode or a watch, in a declared context");
+                record.changes[k].start = Some(switched.from);
                 if switched.gave_up_watch {
                     record.readaptations += 1;
                     marks.push(Mark::Readaptation);

@@ -1,15 +1,19 @@
 //! What announced context switches cost each arm of a mission plan
 //! (docs/missions.md#context-switches): its untrustworthy commands per switch, and per
 //! switch back to a context the mission was in before, as multiples of the oracle's
-//! ([`crate::mission_oracle`]); and each arm told its context against its twin blind to
-//! it (`NAME+context-blind`), switch by switch on the same missions.
+//! ([`crate::mission_oracle`]); each arm told its context against its twin blind to it
+//! (`NAME+context-blind`), switch by switch on the same missions; and the switches back of
+//! each told arm by what it went on with ([`SwitchStart`]), beside what the oracle paid
+//! on the same switches, which says where an arm's excess over the oracle comes from.
 
 use crate::context::blind_twin;
 use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
+use crate::mission_oracle::OracleRecord;
 use crate::mission_report::ChangeFigures;
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
+use trust::SwitchStart;
 
 /// How one agent (an arm or the oracle) met a plan's context switches.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,6 +51,72 @@ fn switches_back_of(arm: &MissionArmResult) -> Vec<f64> {
         .filter(|c| c.kind == ChangeKind::Context && c.back)
         .map(|c| f64::from(c.untrustworthy))
         .collect()
+}
+
+/// A told arm's switches back on which it went on the same way, and what they cost it
+/// and the oracle (on the same switches of the same missions).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SwitchesBackFrom {
+    /// What the arm went on with.
+    pub start: SwitchStart,
+    /// Switches back it went on this way.
+    pub switches: usize,
+    /// Of those, switches after which the behavior in use was not trustworthy.
+    pub needed: usize,
+    /// The arm's untrustworthy commands per switch back.
+    pub untrustworthy: MeanCi,
+    /// The oracle's on the same switches.
+    pub oracle: MeanCi,
+}
+
+/// The switches back of `arm` by what it went on with ([`SwitchStart`], in its order of
+/// declaration; kinds it never chose are left out), each beside the oracle's cost on the
+/// same switches. Empty for an arm blind to its context (it is never told of a switch).
+pub fn switches_back_by_start(
+    arm: &MissionArmResult,
+    oracle: &[OracleRecord],
+) -> Vec<SwitchesBackFrom> {
+    let mut paired: Vec<(SwitchStart, &ChangeRecord, &ChangeRecord)> = Vec::new();
+    for mission in &arm.missions {
+        let Some(reference) = oracle.iter().find(|o| o.mission == mission.mission) else {
+            continue;
+        };
+        for (change, theirs) in mission.changes.iter().zip(&reference.changes) {
+            if let Some(start) = change.start.filter(|_| change.back) {
+                debug_assert_eq!((change.at, change.kind), (theirs.at, theirs.kind));
+                paired.push((start, change, theirs));
+            }
+        }
+    }
+    [
+        SwitchStart::Kept,
+        SwitchStart::Resumed,
+        SwitchStart::Guessed,
+        SwitchStart::Restarted,
+    ]
+    .into_iter()
+    .filter_map(|start| {
+        let these: Vec<_> = paired.iter().filter(|p| p.0 == start).collect();
+        if these.is_empty() {
+            return None;
+        }
+        let of = |pick: fn(&(SwitchStart, &ChangeRecord, &ChangeRecord)) -> u32| {
+            mean_ci95_or_zero(&these.iter().map(|p| f64::from(pick(p))).collect::<Vec<_>>())
+        };
+        Some(SwitchesBackFrom {
+            start,
+            switches: these.len(),
+            needed: these.iter().filter(|p| p.1.needed).count(),
+            untrustworthy: of(|p| p.1.untrustworthy),
+            oracle: of(|p| p.2.untrustworthy),
+        })
+    })
+    .collect()
+}
+
+/// How a report names a [`SwitchStart`]: as `missions.jsonl` spells it.
+fn start_name(start: SwitchStart) -> String {
+    json!(start).as_str().unwrap_or_default().to_owned()
 }
 
 /// An arm told its context against its blind twin, over the switches back: the same
@@ -178,14 +248,9 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
         );
     };
     for arm in &result.arms {
-        let label = if arm.answers_alerts {
-            format!("{}, alerts answered", arm.arm)
-        } else {
-            arm.arm.clone()
-        };
         row(
             &mut md,
-            &label,
+            &label(arm),
             &SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes)),
         );
     }
@@ -208,7 +273,40 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
             );
         }
     }
+    let by_start: Vec<(String, Vec<SwitchesBackFrom>)> = result
+        .arms
+        .iter()
+        .map(|arm| (label(arm), switches_back_by_start(arm, &result.oracle)))
+        .filter(|(_, rows)| !rows.is_empty())
+        .collect();
+    if !by_start.is_empty() {
+        md.push_str("\nSwitches back by what the told robot went on with (kept: its watched behavior; resumed: the behavior it last settled on in that context; guessed: its case memory's first guess there; restarted: the episode under way, begun again), beside the oracle on the same switches:\n\n| arm | went on with | switches back | needing adaptation | untrustworthy per switch back | oracle, same switches |\n|---|---|---:|---:|---:|---:|\n");
+        for (arm, rows) in &by_start {
+            for r in rows {
+                let _ = writeln!(
+                    md,
+                    "| {arm} | {} | {} | {} | {:.2} ± {:.2} | {:.2} ± {:.2} |",
+                    start_name(r.start),
+                    r.switches,
+                    r.needed,
+                    r.untrustworthy.mean,
+                    r.untrustworthy.ci95,
+                    r.oracle.mean,
+                    r.oracle.ci95
+                );
+            }
+        }
+    }
     Some(md)
+}
+
+/// An arm's row label: its name, and whether its operator answered alerts.
+fn label(arm: &MissionArmResult) -> String {
+    if arm.answers_alerts {
+        format!("{}, alerts answered", arm.arm)
+    } else {
+        arm.arm.clone()
+    }
 }
 
 /// The context switches of a plan in `summary.json`: per arm and for the oracle, the
@@ -234,6 +332,13 @@ pub fn switches_json(result: &MissionResult) -> Option<Value> {
             "arm": arm.arm,
             "answers_alerts": arm.answers_alerts,
             "figures": both(&SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes))),
+            "back_by_start": switches_back_by_start(arm, &result.oracle).iter().map(|r| json!({
+                "start": start_name(r.start),
+                "switches": r.switches,
+                "needed": r.needed,
+                "untrustworthy_per_switch": ci_json(Some(r.untrustworthy)),
+                "oracle_per_switch": ci_json(Some(r.oracle)),
+            })).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "versus_blind": versus_blind_twins(result).iter().map(|v| json!({
             "arm": v.arm,

@@ -438,6 +438,7 @@ mod tests {
             trusted_again: again,
             untrustworthy,
             back: false,
+            start: None,
         }
     }
 

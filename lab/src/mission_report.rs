@@ -534,6 +534,7 @@ mod tests {
             trusted_again,
             untrustworthy,
             back: false,
+            start: None,
         }
     }
 

@@ -5,15 +5,20 @@
 
 use cbr_core::{Behavior, Case, Context, ContextSpace, ContextVariable};
 use lab::known_operator::LimitSettings;
+use lab::mission::ChangeRecord;
 use lab::mission::{
     ChangeKind, Changes, ContextSwitches, MissionPlan, MissionResult, run_missions,
 };
-use lab::mission_contexts::{SwitchFigures, switch_targets, versus_blind_twins};
+use lab::mission_contexts::{
+    SwitchFigures, switch_targets, switches_back_by_start, versus_blind_twins,
+};
 use lab::mission_report::{MissionSummary, missions_json, missions_markdown};
 use lab::testing::ToyDomain;
 use lab::{Arm, Domain, Judgement, PlanError};
 use rand::Rng;
-use trust::{AdapterConfig, Cause, Evaluated, RetrieverKind, TrustCaseBase, TrustProblem};
+use trust::{
+    AdapterConfig, Cause, Evaluated, RetrieverKind, SwitchStart, TrustCaseBase, TrustProblem,
+};
 
 const BUMPED: Cause = Cause::from_static("bumped");
 
@@ -131,6 +136,15 @@ fn every_arm_and_the_oracle_meet_the_same_switches_and_the_report_gives_them_apa
             .collect();
         assert!(switches.iter().skip(1).all(|&back| back), "{switches:?}");
         assert!(switches.first().is_none_or(|&back| !back));
+        // What the told robot went on with is recorded at each switch, and only there:
+        // not at an operator change (it is not told), nor for its blind twin or the
+        // oracle.
+        for c in &m.changes {
+            assert_eq!(c.start.is_some(), c.kind == ChangeKind::Context, "{c:?}");
+        }
+        let unrecorded = |changes: &[ChangeRecord]| changes.iter().all(|c| c.start.is_none());
+        assert!(unrecorded(&blind.missions[k].changes));
+        assert!(unrecorded(&result.oracle[k].changes));
     }
     let switches: usize = told
         .missions
@@ -177,6 +191,68 @@ fn every_arm_and_the_oracle_meet_the_same_switches_and_the_report_gives_them_apa
         json[0]["context_switches"]["versus_blind"][0]["switches_back"],
         versus.switches
     );
+    // Every switch back of the told arm in one kind or another; none for the blind twin.
+    let by_start = switches_back_by_start(told, &result.oracle);
+    assert_eq!(
+        by_start.iter().map(|r| r.switches).sum::<usize>(),
+        figures.back.changes
+    );
+    assert!(switches_back_by_start(blind, &result.oracle).is_empty());
+    assert!(md.contains("Switches back by what the told robot went on with"));
+    let first = &json[0]["context_switches"]["arms"][0]["back_by_start"][0];
+    assert_eq!(first["switches"], by_start[0].switches);
+}
+
+#[test]
+fn switches_back_by_what_the_robot_went_on_with_by_hand() {
+    let (domain, operators) = (toy(), operators());
+    let arms = vec![arm("case-based")];
+    let mut result = run(plan(&domain, &operators, 1, arms), 7).unwrap();
+    let change = |at, kind, back, start, needed, untrustworthy| ChangeRecord {
+        at,
+        kind,
+        needed,
+        trusted_again: None,
+        untrustworthy,
+        back,
+        start,
+    };
+    let (kept, resumed) = (Some(SwitchStart::Kept), Some(SwitchStart::Resumed));
+    // The arm: two switches back it kept (2 and 4 untrustworthy commands, one needing
+    // adaptation), one it resumed from (6), a first switch (not back) and an operator
+    // change, which are left out.
+    result.arms[0].missions[0].changes = vec![
+        change(10, ChangeKind::Context, false, kept, false, 9),
+        change(20, ChangeKind::Context, true, kept, true, 2),
+        change(30, ChangeKind::Shift, false, None, true, 9),
+        change(40, ChangeKind::Context, true, resumed, false, 6),
+        change(50, ChangeKind::Context, true, kept, false, 4),
+    ];
+    // The oracle on the same changes: 1, 0 and 2 on the kept ones' switches, 3 on the
+    // resumed one's.
+    result.oracle[0].changes = vec![
+        change(10, ChangeKind::Context, false, None, false, 5),
+        change(20, ChangeKind::Context, true, None, true, 1),
+        change(30, ChangeKind::Shift, false, None, false, 7),
+        change(40, ChangeKind::Context, true, None, false, 3),
+        change(50, ChangeKind::Context, true, None, false, 0),
+    ];
+    result.oracle[0].mission = result.arms[0].missions[0].mission;
+    let [kept, resumed] = switches_back_by_start(&result.arms[0], &result.oracle)
+        .try_into()
+        .unwrap();
+    assert_eq!(
+        (kept.start, kept.switches, kept.needed),
+        (SwitchStart::Kept, 2, 1)
+    );
+    assert!((kept.untrustworthy.mean - 3.0).abs() < 1e-12);
+    assert!((kept.oracle.mean - 0.5).abs() < 1e-12);
+    assert_eq!(
+        (resumed.start, resumed.switches, resumed.needed),
+        (SwitchStart::Resumed, 1, 0)
+    );
+    assert!((resumed.untrustworthy.mean - 6.0).abs() < 1e-12);
+    assert!((resumed.oracle.mean - 3.0).abs() < 1e-12);
 }
 
 #[test]

@@ -78,7 +78,8 @@ pub struct ContextSwitch {
 }
 
 /// Where the behavior in use after a context switch comes from ([`ContextSwitch`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum SwitchStart {
     /// The watched behavior, still watched: nothing the robot knows of the new context
     /// says otherwise.
