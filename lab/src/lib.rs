@@ -22,6 +22,7 @@ pub mod mission;
 pub mod mission_calibration;
 pub mod mission_contexts;
 pub mod mission_figure;
+pub mod mission_noticing;
 pub mod mission_oracle;
 pub mod mission_report;
 pub mod operator_file;

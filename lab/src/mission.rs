@@ -249,6 +249,31 @@ pub struct ChangeRecord {
     /// ([`trust::SwitchStart`]); `None` for every other change, and for the oracle.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<SwitchStart>,
+    /// When the robot gave up the behavior it used at the change, before the next change
+    /// or the mission's end (`None`: it did not).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noticed: Option<Noticed>,
+}
+
+/// When a robot gave up the behavior it used at a change ([`ChangeRecord::noticed`]):
+/// what noticing the change cost, apart from what searching after it cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Noticed {
+    /// Commands from the change until it gave the behavior up (0: at the change).
+    pub after: u32,
+    /// The change's untrustworthy commands until then.
+    pub untrustworthy: u32,
+}
+
+impl ChangeRecord {
+    /// Records that the behavior in use at the change was given up `at` a command (the
+    /// command's own outcome counted), unless it was already.
+    pub(crate) fn notice(&mut self, at: u32) {
+        self.noticed.get_or_insert(Noticed {
+            after: at - self.at,
+            untrustworthy: self.untrustworthy,
+        });
+    }
 }
 
 /// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`]) and
@@ -281,6 +306,7 @@ pub(crate) fn begin_change(
         untrustworthy: 0,
         back: change.back,
         start: None,
+        noticed: None,
     });
     changes.len() - 1
 }
@@ -1063,6 +1089,9 @@ fn run_mission<D: Domain>(
                     .switch_context(plan.context(context), arm.initial() == Initial::Learned)
                     .expect("a mission always has an episode or a watch, in a declared context");
                 record.changes[k].start = Some(switched.from);
+                if switched.behavior != behavior {
+                    record.changes[k].notice(c);
+                }
                 if switched.gave_up_watch {
                     record.readaptations += 1;
                     marks.push(Mark::Readaptation);
@@ -1175,6 +1204,9 @@ fn run_mission<D: Domain>(
                 }
             }
             MissionDecision::Episode(Decision::Switch { to, .. }) => {
+                if let Some(k) = waiting {
+                    record.changes[k].notice(c + 1);
+                }
                 if was_watching {
                     record.readaptations += 1;
                     record.false_alarms += u32::from(!changed_since_settled);

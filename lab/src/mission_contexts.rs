@@ -9,7 +9,7 @@
 use crate::context::blind_twin;
 use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
 use crate::mission_oracle::OracleRecord;
-use crate::mission_report::ChangeFigures;
+use crate::mission_report::{ChangeFigures, arm_label};
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
@@ -250,7 +250,7 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
     for arm in &result.arms {
         row(
             &mut md,
-            &label(arm),
+            &arm_label(&arm.arm, arm.answers_alerts),
             &SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes)),
         );
     }
@@ -276,7 +276,12 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
     let by_start: Vec<(String, Vec<SwitchesBackFrom>)> = result
         .arms
         .iter()
-        .map(|arm| (label(arm), switches_back_by_start(arm, &result.oracle)))
+        .map(|arm| {
+            (
+                arm_label(&arm.arm, arm.answers_alerts),
+                switches_back_by_start(arm, &result.oracle),
+            )
+        })
         .filter(|(_, rows)| !rows.is_empty())
         .collect();
     if !by_start.is_empty() {
@@ -298,15 +303,6 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
         }
     }
     Some(md)
-}
-
-/// An arm's row label: its name, and whether its operator answered alerts.
-fn label(arm: &MissionArmResult) -> String {
-    if arm.answers_alerts {
-        format!("{}, alerts answered", arm.arm)
-    } else {
-        arm.arm.clone()
-    }
 }
 
 /// The context switches of a plan in `summary.json`: per arm and for the oracle, the

@@ -246,7 +246,8 @@ impl MissionOracle {
                 let knows = &self.members[knowing];
                 let rank = space.rank(&behavior) as usize;
                 let needed = !knows.trusted[rank];
-                waiting = Some(begin_change(&mut record.changes, change, needed));
+                let k = begin_change(&mut record.changes, change, needed);
+                waiting = Some(k);
                 if episode.is_some() || !knows.keeps(rank, plan.mean_gap()) {
                     record.readaptations += 1;
                     let mut fresh = Episode {
@@ -255,7 +256,11 @@ impl MissionOracle {
                         excluded: needed.then_some(behavior),
                         estimate: TrustEstimate::default(),
                     };
-                    behavior = self.next_candidate(&mut fresh, space).unwrap_or(behavior);
+                    let next = self.next_candidate(&mut fresh, space).unwrap_or(behavior);
+                    if next != behavior {
+                        record.changes[k].notice(c);
+                    }
+                    behavior = next;
                     episode = Some(fresh);
                 }
             }
@@ -298,7 +303,12 @@ impl MissionOracle {
                     }
                 }
                 Verdict::Untrustworthy => match self.next_candidate(e, space) {
-                    Some(next) => behavior = next,
+                    Some(next) => {
+                        if let Some(k) = waiting {
+                            record.changes[k].notice(c + 1);
+                        }
+                        behavior = next;
+                    }
                     // Every behavior rejected: the last one stays in use, untrusted.
                     None => episode = None,
                 },
@@ -360,7 +370,7 @@ mod tests {
     use super::*;
     use crate::Judgement;
     use crate::known_operator::LimitSettings;
-    use crate::mission::Changes;
+    use crate::mission::{Changes, Noticed};
     use crate::testing::ToyDomain;
     use trust::{AdapterConfig, Cause};
 
@@ -439,6 +449,7 @@ mod tests {
             untrustworthy,
             back: false,
             start: None,
+            noticed: None,
         }
     }
 
@@ -493,7 +504,8 @@ mod tests {
         let kinds: Vec<ChangeKind> = course.scheduled.iter().map(|s| s.kind).collect();
         let record = oracle.run_mission(&plan, named).unwrap();
         // 0-11: nobody rejects 0 (0-4) and 1 (5-9), then 2 fails twice: 12 failures.
-        // 12: still adapting: an episode for three, 3 accepted after 5 completions (12-16).
+        // 12: still adapting: an episode for three, 2 given up at once (noticed after 0
+        //     commands) and 3 accepted after 5 completions (12-16).
         // 21: 3 is not trusted by nobody, but kept: it fails at rate 1 over a mean gap of
         //     12 commands, and any episode without it 3 x 5 = 15 times; it fails twice.
         // 23: three trusts 3 (rate 0): kept.
@@ -501,7 +513,13 @@ mod tests {
         assert_eq!(
             record.changes,
             [
-                change(12, kinds[0], true, Some(5), 0),
+                ChangeRecord {
+                    noticed: Some(Noticed {
+                        after: 0,
+                        untrustworthy: 0
+                    }),
+                    ..change(12, kinds[0], true, Some(5), 0)
+                },
                 change(21, kinds[1], true, None, 2),
                 change(23, kinds[2], false, None, 0),
                 change(54, kinds[3], true, None, 6),

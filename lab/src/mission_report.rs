@@ -10,6 +10,7 @@ use crate::mission::{
 };
 use crate::mission_calibration::{calibration_json, calibration_markdown};
 use crate::mission_contexts::{switch_targets, switches_json, switches_markdown};
+use crate::mission_noticing::{noticing_json, noticing_markdown};
 use crate::mission_oracle::OracleRecord;
 use crate::stats::{MeanCi, mean_ci95, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
@@ -56,7 +57,7 @@ pub struct MissionSummary {
     pub harm: MeanCi,
 }
 
-fn median(mut values: Vec<f64>) -> Option<f64> {
+pub(crate) fn median(mut values: Vec<f64>) -> Option<f64> {
     if values.is_empty() {
         return None;
     }
@@ -215,11 +216,16 @@ impl MissionSummary {
 
     /// The arm's name in tables: `ARM` or `ARM, alerts answered`.
     pub fn label(&self) -> String {
-        if self.answers_alerts {
-            format!("{}, alerts answered", self.arm)
-        } else {
-            self.arm.clone()
-        }
+        arm_label(&self.arm, self.answers_alerts)
+    }
+}
+
+/// An arm's name in a report's tables: `ARM`, or `ARM, alerts answered`.
+pub(crate) fn arm_label(arm: &str, answers_alerts: bool) -> String {
+    if answers_alerts {
+        format!("{arm}, alerts answered")
+    } else {
+        arm.to_owned()
     }
 }
 
@@ -396,6 +402,9 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
             fine_ci(oracle.figures.untrustworthy_per_change),
             oracle.harm.mean,
         );
+        if let Some(section) = noticing_markdown(result) {
+            md.push_str(&section);
+        }
         if let Some(section) = switches_markdown(result) {
             md.push_str(&section);
         }
@@ -437,6 +446,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "harm_per_mission": ci_json(Some(oracle.harm)),
                     },
                     "complacency": result.complacency,
+                    "noticing": noticing_json(result),
                     "targets": targets(result, &summaries),
                     "harm_with_and_without_alerts": harm_comparisons(result).iter().map(|h| json!({
                         "arm": h.arm,
@@ -535,6 +545,7 @@ mod tests {
             untrustworthy,
             back: false,
             start: None,
+            noticed: None,
         }
     }
 

@@ -216,6 +216,7 @@ fn switches_back_by_what_the_robot_went_on_with_by_hand() {
         untrustworthy,
         back,
         start,
+        noticed: None,
     };
     let (kept, resumed) = (Some(SwitchStart::Kept), Some(SwitchStart::Resumed));
     // The arm: two switches back it kept (2 and 4 untrustworthy commands, one needing

@@ -9,6 +9,7 @@ use lab::known_operator::LimitSettings;
 use lab::mission::{
     ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
 };
+use lab::mission_noticing::Noticing;
 use lab::mission_report::{
     MissionSummary, OracleSummary, harm_comparisons, missions_json, missions_markdown,
 };
@@ -151,8 +152,14 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
             // Attentive operators overlook nothing and never become complacent.
             assert_eq!((m.overlooked, m.onsets.len()), (0, 0));
             assert!(m.false_alarms <= m.readaptations);
-            for c in &m.changes {
+            for (k, c) in m.changes.iter().enumerate() {
                 assert!(c.trusted_again.is_none_or(|t| t >= 1));
+                // A behavior given up before the next change, with no more untrustworthy
+                // commands than the change had.
+                let next = m.changes.get(k + 1).map_or(300, |n| n.at);
+                if let Some(n) = c.noticed {
+                    assert!(c.at + n.after <= next && n.untrustworthy <= c.untrustworthy);
+                }
             }
         }
         // The two favourites differ: most changes need an adaptation, and the robot
@@ -164,6 +171,19 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
     // commands per change than any arm, and the report gives each arm's multiple of it.
     let oracle = OracleSummary::of(&result.oracle);
     let o = oracle.figures.untrustworthy_per_change.unwrap().mean;
+    // Told of every change, it gives up a behavior the new operator does not trust at
+    // once (here keeping one never pays: it fails four times in five, and the oracle knows
+    // the favourite); an arm notices only through its estimate, after untrustworthy
+    // commands.
+    for c in result.oracle.iter().flat_map(|m| &m.changes) {
+        if c.needed {
+            assert_eq!(c.noticed.map(|n| (n.after, n.untrustworthy)), Some((0, 0)));
+        }
+    }
+    for arm in &result.arms {
+        let n = Noticing::of(arm.missions.iter().flat_map(|m| &m.changes));
+        assert!(n.noticed > 0 && n.before.mean > 0.0, "{n:?}");
+    }
     for arm in &result.arms {
         let s = MissionSummary::of(arm);
         assert!(
@@ -177,8 +197,10 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
         md.contains("| oracle | ") && md.contains("× oracle"),
         "{md}"
     );
+    assert!(md.contains("noticing then searching"), "{md}");
     let json = missions_json(&one);
     assert_eq!(json[0]["oracle"]["missions"], 12);
+    assert_eq!(json[0]["noticing"][2]["agent"], "oracle");
     assert!(
         json[0]["arms"][0]["untrustworthy_per_change_x_oracle"]
             .as_f64()
