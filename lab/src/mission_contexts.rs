@@ -9,7 +9,10 @@
 use crate::context::blind_twin;
 use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
 use crate::mission_oracle::OracleRecord;
-use crate::mission_report::{ChangeFigures, arm_label};
+use crate::mission_report::{
+    ChangeFigures, OracleFigure, arm_label, interval_json, oracle_multiple, times,
+};
+use crate::stats::RatioCi;
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
@@ -169,14 +172,6 @@ pub fn versus_blind_twins(result: &MissionResult) -> Vec<VersusBlindTwin> {
         .collect()
 }
 
-/// The multiple `value / oracle`, `-` when the oracle's is 0 or absent.
-fn times(value: Option<f64>, oracle: Option<f64>) -> String {
-    match (value, oracle) {
-        (Some(v), Some(o)) if o > 0.0 => format!("{:.1}", v / o),
-        _ => "-".to_owned(),
-    }
-}
-
 fn ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
 }
@@ -185,7 +180,7 @@ fn ci(value: Option<MeanCi>) -> String {
 /// best arm's untrustworthy commands per switch back at most 1.5 times the oracle's, and
 /// each arm told its context fewer than its blind twin (paired, significant). One line
 /// each; none for a plan without switches.
-pub fn switch_targets(result: &MissionResult) -> Vec<String> {
+pub fn switch_targets(result: &MissionResult, plan: usize) -> Vec<String> {
     if !result.context_switches {
         return Vec::new();
     }
@@ -194,15 +189,16 @@ pub fn switch_targets(result: &MissionResult) -> Vec<String> {
     let best = result
         .arms
         .iter()
-        .filter_map(|arm| {
+        .enumerate()
+        .filter_map(|(a, arm)| {
             let figures = SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes));
-            Some((arm.arm.as_str(), figures.per_switch_back()?))
+            Some((a, arm.arm.as_str(), figures.per_switch_back()?))
         })
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    if let (Some((arm, value)), Some(reference)) = (best, oracle.per_switch_back()) {
+        .min_by(|a, b| a.2.total_cmp(&b.2));
+    if let (Some((a, arm, value)), Some(reference)) = (best, oracle.per_switch_back()) {
         lines.push(format!(
             "best arm after a switch back ({arm}): {value:.2} untrustworthy commands per switch, {} x the oracle's {reference:.2} (target at most 1.5 x): {}",
-            times(Some(value), Some(reference)),
+            times(oracle_multiple(result, plan, a, OracleFigure::UntrustworthyPerSwitchBack)),
             if value <= 1.5 * reference { "met" } else { "missed" }
         ));
     }
@@ -225,36 +221,39 @@ pub fn switch_targets(result: &MissionResult) -> Vec<String> {
 
 /// The context switches section of a plan's `missions.md`; `None` for a plan without
 /// switches.
-pub fn switches_markdown(result: &MissionResult) -> Option<String> {
+pub fn switches_markdown(result: &MissionResult, plan: usize) -> Option<String> {
     if !result.context_switches {
         return None;
     }
     let oracle = SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes));
     let mut md = String::from(
-        "\nAnnounced context switches (the robot is told, unless its arm is blind to its context; a switch back is to a context the mission was in before):\n\n| arm | switches needing adaptation | adapted to | untrustworthy commands per switch | × oracle | per switch back | × oracle |\n|---|---:|---:|---:|---:|---:|---:|\n",
+        "\nAnnounced context switches (the robot is told, unless its arm is blind to its context; a switch back is to a context the mission was in before; multiples of the oracle's with the 95% interval of a paired bootstrap over missions):\n\n| arm | switches needing adaptation | adapted to | untrustworthy commands per switch | × oracle | per switch back | × oracle |\n|---|---:|---:|---:|---:|---:|---:|\n",
     );
-    let row = |md: &mut String, label: &str, f: &SwitchFigures| {
-        let mean = |c: &ChangeFigures| c.untrustworthy_per_change.map(|v| v.mean);
+    let row = |md: &mut String, label: &str, f: &SwitchFigures, multiples: [String; 2]| {
+        let [all, back] = multiples;
         let _ = writeln!(
             md,
-            "| {label} | {} of {} | {} | {} | {} | {} | {} |",
+            "| {label} | {} of {} | {} | {} | {all} | {} | {back} |",
             f.all.needed,
             f.all.changes,
             f.all.adapted,
             ci(f.all.untrustworthy_per_change),
-            times(mean(&f.all), mean(&oracle.all)),
             ci(f.back.untrustworthy_per_change),
-            times(mean(&f.back), mean(&oracle.back)),
         );
     };
-    for arm in &result.arms {
+    for (a, arm) in result.arms.iter().enumerate() {
+        let multiple = |figure| times(oracle_multiple(result, plan, a, figure));
         row(
             &mut md,
             &arm_label(&arm.arm, arm.answers_alerts),
             &SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes)),
+            [
+                multiple(OracleFigure::UntrustworthyPerSwitch),
+                multiple(OracleFigure::UntrustworthyPerSwitchBack),
+            ],
         );
     }
-    row(&mut md, "oracle", &oracle);
+    row(&mut md, "oracle", &oracle, ["1".to_owned(), "1".to_owned()]);
     let twins = versus_blind_twins(result);
     if !twins.is_empty() {
         md.push_str("\nTold against blind, switch by switch back (the same switches of the same missions):\n\n| arm | blind twin | switches back | told | blind | told − blind | Wilcoxon p |\n|---|---|---:|---:|---:|---:|---:|\n");
@@ -305,10 +304,18 @@ pub fn switches_markdown(result: &MissionResult) -> Option<String> {
     Some(md)
 }
 
+/// A multiple of the oracle's with its interval in `summary.json`.
+fn multiple_json(multiple: Option<RatioCi>) -> Value {
+    multiple.map_or(
+        Value::Null,
+        |m| json!({"ratio": m.ratio, "ci95": interval_json(Some(m))}),
+    )
+}
+
 /// The context switches of a plan in `summary.json`: per arm and for the oracle, the
 /// figures of every switch and of the switches back, and each told arm against its
 /// blind twin; `None` for a plan without switches.
-pub fn switches_json(result: &MissionResult) -> Option<Value> {
+pub fn switches_json(result: &MissionResult, plan: usize) -> Option<Value> {
     if !result.context_switches {
         return None;
     }
@@ -324,10 +331,14 @@ pub fn switches_json(result: &MissionResult) -> Option<Value> {
     let both = |f: &SwitchFigures| json!({"all": figures(&f.all), "back": figures(&f.back)});
     Some(json!({
         "oracle": both(&SwitchFigures::of(result.oracle.iter().flat_map(|m| &m.changes))),
-        "arms": result.arms.iter().map(|arm| json!({
+        "arms": result.arms.iter().enumerate().map(|(a, arm)| json!({
             "arm": arm.arm,
             "answers_alerts": arm.answers_alerts,
             "figures": both(&SwitchFigures::of(arm.missions.iter().flat_map(|m| &m.changes))),
+            "x_oracle": {
+                "all": multiple_json(oracle_multiple(result, plan, a, OracleFigure::UntrustworthyPerSwitch)),
+                "back": multiple_json(oracle_multiple(result, plan, a, OracleFigure::UntrustworthyPerSwitchBack)),
+            },
             "back_by_start": switches_back_by_start(arm, &result.oracle).iter().map(|r| json!({
                 "start": start_name(r.start),
                 "switches": r.switches,
@@ -345,6 +356,6 @@ pub fn switches_json(result: &MissionResult) -> Option<Value> {
             "difference": ci_json(Some(v.difference)),
             "wilcoxon_p": v.wilcoxon_p,
         })).collect::<Vec<_>>(),
-        "targets": switch_targets(result),
+        "targets": switch_targets(result, plan),
     }))
 }

@@ -12,7 +12,10 @@ use crate::mission_calibration::{calibration_json, calibration_markdown};
 use crate::mission_contexts::{switch_targets, switches_json, switches_markdown};
 use crate::mission_noticing::{noticing_json, noticing_markdown};
 use crate::mission_oracle::OracleRecord;
-use crate::stats::{MeanCi, mean_ci95, mean_ci95_or_zero, wilcoxon_signed_rank};
+use crate::seeds::{Purpose, stream};
+use crate::stats::{
+    MeanCi, RatioCi, mean_ci95, mean_ci95_or_zero, paired_bootstrap_ratio, wilcoxon_signed_rank,
+};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -142,27 +145,82 @@ impl OracleSummary {
             harm: per_mission(|m| f64::from(m.harm())),
         }
     }
+}
 
-    /// `arm`'s untrustworthy commands per change as a multiple of the oracle's (`None`
-    /// when either has no change, or the oracle's is 0).
-    pub fn untrustworthy_multiple(&self, arm: &MissionSummary) -> Option<f64> {
-        let (arm, oracle) = (
-            arm.untrustworthy_per_change?,
-            self.figures.untrustworthy_per_change?,
-        );
-        multiple(arm.mean, oracle.mean)
-    }
+/// Resamples of the paired bootstrap over missions behind a multiple of the oracle's.
+pub const ORACLE_MULTIPLE_RESAMPLES: usize = 2000;
 
-    /// `arm`'s harm per mission as a multiple of the oracle's (`None` when the oracle's
-    /// is 0).
-    pub fn harm_multiple(&self, arm: &MissionSummary) -> Option<f64> {
-        multiple(arm.harm.mean, self.harm.mean)
+/// What a multiple of the oracle's counts, per mission.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OracleFigure {
+    /// Untrustworthy commands after operator changes.
+    UntrustworthyPerChange,
+    /// Harm done.
+    HarmPerMission,
+    /// Untrustworthy commands after context switches.
+    UntrustworthyPerSwitch,
+    /// Untrustworthy commands after switches back to a context the mission was in before.
+    UntrustworthyPerSwitchBack,
+}
+
+impl OracleFigure {
+    /// The figure's count in one mission's changes (and harm).
+    fn count(self, changes: &[ChangeRecord], harm: u32) -> f64 {
+        let sum = |pick: fn(&ChangeRecord) -> bool| -> f64 {
+            changes
+                .iter()
+                .filter(|c| pick(c))
+                .map(|c| f64::from(c.untrustworthy))
+                .sum()
+        };
+        match self {
+            Self::UntrustworthyPerChange => sum(|c| c.kind != ChangeKind::Context),
+            Self::HarmPerMission => f64::from(harm),
+            Self::UntrustworthyPerSwitch => sum(|c| c.kind == ChangeKind::Context),
+            Self::UntrustworthyPerSwitchBack => sum(|c| c.kind == ChangeKind::Context && c.back),
+        }
     }
 }
 
-/// `value / reference`, or `None` when the reference is 0.
-fn multiple(value: f64, reference: f64) -> Option<f64> {
-    (reference > 0.0).then(|| value / reference)
+/// Arm number `index` of plan number `plan` of a report: its `figure` as a multiple of the
+/// oracle's on the same missions, with the paired bootstrap's 95% interval over missions
+/// (each mission's two counts drawn together, [`ORACLE_MULTIPLE_RESAMPLES`] times, from
+/// the stream `(0, plan, 4 * index + figure, Bootstrap)`, so a report is the same every
+/// time). The arm and the oracle meet the same changes of the same missions, so the ratio
+/// of their totals is the ratio of their means per change (or per mission). `None` when
+/// the oracle's total is 0.
+pub fn oracle_multiple(
+    result: &MissionResult,
+    plan: usize,
+    index: usize,
+    figure: OracleFigure,
+) -> Option<RatioCi> {
+    let arm = &result.arms[index];
+    let (mut counts, mut reference) = (Vec::new(), Vec::new());
+    for (mission, oracle) in arm.missions.iter().zip(&result.oracle) {
+        debug_assert_eq!(mission.mission, oracle.mission);
+        counts.push(figure.count(&mission.changes, mission.harm()));
+        reference.push(figure.count(&oracle.changes, oracle.harm()));
+    }
+    let mut rng = stream(
+        0,
+        plan as u64,
+        4 * index as u64 + figure as u64,
+        Purpose::Bootstrap,
+    );
+    paired_bootstrap_ratio(&counts, &reference, ORACLE_MULTIPLE_RESAMPLES, &mut rng)
+}
+
+/// A multiple of the oracle's figure with its interval, `-` when it has none.
+pub(crate) fn times(multiple: Option<RatioCi>) -> String {
+    multiple.map_or("-".to_owned(), |m| {
+        format!("{:.1} [{:.1}, {:.1}]", m.ratio, m.low, m.high)
+    })
+}
+
+/// A multiple's interval in `summary.json`: `[low, high]`, `null` without a multiple.
+pub(crate) fn interval_json(multiple: Option<RatioCi>) -> Value {
+    multiple.map_or(Value::Null, |m| json!([m.low, m.high]))
 }
 
 impl MissionSummary {
@@ -277,11 +335,6 @@ fn fine_ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
 }
 
-/// A multiple of the oracle's figure, `-` when it has none.
-fn times(multiple: Option<f64>) -> String {
-    multiple.map_or("-".to_owned(), |m| format!("{m:.1}"))
-}
-
 fn share(part: usize, whole: usize) -> String {
     if whole == 0 {
         "-".to_owned()
@@ -341,7 +394,7 @@ pub fn targets(result: &MissionResult, summaries: &[MissionSummary]) -> Vec<Stri
 /// The markdown tables of every plan (`missions.md`).
 pub fn missions_markdown(results: &[MissionResult]) -> String {
     let mut md = String::from("# Missions\n\n");
-    for result in results {
+    for (p, result) in results.iter().enumerate() {
         let summaries: Vec<MissionSummary> = result.arms.iter().map(MissionSummary::of).collect();
         let missions = summaries.first().map_or(0, |s| s.missions);
         let _ = writeln!(md, "## {}\n\n{missions} missions per arm.\n", result.name);
@@ -383,17 +436,22 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
             oracle.harm.ci95,
         );
         md.push_str(
-            "\nAgainst the oracle (told of every change, knowing every operator's landscape; its re-adaptations are the episodes it began at a change; it minimises untrustworthy commands, not harm, so an arm may do less harm than it):\n\n| arm | untrustworthy commands per change | × oracle | harm per mission | × oracle |\n|---|---:|---:|---:|---:|\n",
+            "\nAgainst the oracle (told of every change, knowing every operator's landscape; its re-adaptations are the episodes it began at a change; it minimises untrustworthy commands, not harm, so an arm may do less harm than it; multiples with the 95% interval of a paired bootstrap over missions):\n\n| arm | untrustworthy commands per change | × oracle | harm per mission | × oracle |\n|---|---:|---:|---:|---:|\n",
         );
-        for s in &summaries {
+        for (a, s) in summaries.iter().enumerate() {
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {:.2} | {} |",
                 s.label(),
                 ci(s.untrustworthy_per_change),
-                times(oracle.untrustworthy_multiple(s)),
+                times(oracle_multiple(
+                    result,
+                    p,
+                    a,
+                    OracleFigure::UntrustworthyPerChange
+                )),
                 s.harm.mean,
-                times(oracle.harm_multiple(s)),
+                times(oracle_multiple(result, p, a, OracleFigure::HarmPerMission)),
             );
         }
         let _ = writeln!(
@@ -405,13 +463,13 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
         if let Some(section) = noticing_markdown(result) {
             md.push_str(&section);
         }
-        if let Some(section) = switches_markdown(result) {
+        if let Some(section) = switches_markdown(result, p) {
             md.push_str(&section);
         }
         md.push('\n');
         for line in targets(result, &summaries)
             .into_iter()
-            .chain(switch_targets(result))
+            .chain(switch_targets(result, p))
         {
             let _ = writeln!(md, "- {line}");
         }
@@ -429,7 +487,8 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
     Value::Array(
         results
             .iter()
-            .map(|result| {
+            .enumerate()
+            .map(|(p, result)| {
                 let summaries: Vec<MissionSummary> =
                     result.arms.iter().map(MissionSummary::of).collect();
                 let oracle = OracleSummary::of(&result.oracle);
@@ -455,7 +514,9 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "difference": ci_json(Some(h.difference)),
                         "wilcoxon_p": h.wilcoxon_p,
                     })).collect::<Vec<_>>(),
-                    "arms": summaries.iter().zip(&result.arms).map(|(s, arm)| {
+                    "arms": summaries.iter().zip(&result.arms).enumerate().map(|(a, (s, arm))| {
+                        let untrustworthy = oracle_multiple(result, p, a, OracleFigure::UntrustworthyPerChange);
+                        let harm = oracle_multiple(result, p, a, OracleFigure::HarmPerMission);
                         let mut summary = json!({
                         "arm": s.arm,
                         "answers_alerts": s.answers_alerts,
@@ -474,8 +535,10 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "perceivable_detected_within_25": s.perceivable_detected,
                         "median_detection_delay": s.median_delay,
                         "harm_per_mission": ci_json(Some(s.harm)),
-                        "untrustworthy_per_change_x_oracle": oracle.untrustworthy_multiple(s),
-                        "harm_per_mission_x_oracle": oracle.harm_multiple(s),
+                        "untrustworthy_per_change_x_oracle": untrustworthy.map(|m| m.ratio),
+                        "untrustworthy_per_change_x_oracle_ci95": interval_json(untrustworthy),
+                        "harm_per_mission_x_oracle": harm.map(|m| m.ratio),
+                        "harm_per_mission_x_oracle_ci95": interval_json(harm),
                         });
                         // Only a plan with a competence standard has a calibration.
                         if let Some(calibration) = calibration_json(arm, &result.arms) {
@@ -484,7 +547,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         summary
                     }).collect::<Vec<_>>(),
                 });
-                if let Some(switches) = switches_json(result) {
+                if let Some(switches) = switches_json(result, p) {
                     plan["context_switches"] = switches;
                 }
                 plan
@@ -613,30 +676,52 @@ mod tests {
             (3.0, 1.0, 2.0)
         );
         let lines = targets(&result, std::slice::from_ref(&s));
-        // The oracle: 1.5 untrustworthy commands per change over 2 changes and 1 harm per
-        // mission, so the arm's 4.5 and 3.0 are 3 times its figures.
-        let oracle = OracleSummary::of(&[OracleRecord {
+        // The oracle on the same two missions: 1.5 untrustworthy commands per change (3 and
+        // 0 in each) and 1 harm per mission, so the arm's 4.5 and 3.0 are 3 times its
+        // figures. Over missions the arm's untrustworthy commands are 4 and 14 against the
+        // oracle's 3 and 3: a resample of the first mission twice gives 8 / 6, of the
+        // second twice 28 / 6, each a quarter of the time, so the interval runs from 4/3
+        // to 14/3.
+        let oracle_record = |changes: Vec<ChangeRecord>, failures| OracleRecord {
             mission: 0,
-            changes: vec![change(true, Some(5), 3), change(false, None, 0)],
+            changes,
             readaptations: 1,
-            failures: 1,
+            failures,
             overlooked: 0,
             untrustworthy: 3,
-        }]);
+        };
+        let seen = || oracle_record(vec![change(true, Some(5), 3), change(false, None, 0)], 1);
+        let oracle = OracleSummary::of(&[seen(), seen()]);
         assert_eq!(oracle.figures.untrustworthy_per_change.unwrap().mean, 1.5);
-        assert_eq!((oracle.figures.needed, oracle.figures.adapted), (1, 1));
-        assert_eq!(oracle.untrustworthy_multiple(&s), Some(3.0));
-        assert_eq!(oracle.harm_multiple(&s), Some(3.0));
-        let flawless = OracleSummary::of(&[OracleRecord {
-            mission: 0,
-            changes: vec![change(false, None, 0)],
-            readaptations: 0,
-            failures: 0,
-            overlooked: 0,
-            untrustworthy: 0,
-        }]);
-        assert_eq!(flawless.untrustworthy_multiple(&s), None);
-        assert_eq!(flawless.harm_multiple(&s), None);
+        assert_eq!((oracle.figures.needed, oracle.figures.adapted), (2, 2));
+        let with_oracle = |oracle: Vec<OracleRecord>| MissionResult {
+            oracle,
+            ..result.clone()
+        };
+        let paired = with_oracle(vec![seen(), seen()]);
+        let untrustworthy =
+            oracle_multiple(&paired, 0, 0, OracleFigure::UntrustworthyPerChange).unwrap();
+        assert!((untrustworthy.ratio - 3.0).abs() < 1e-12);
+        assert!((untrustworthy.low - 4.0 / 3.0).abs() < 1e-12);
+        assert!((untrustworthy.high - 14.0 / 3.0).abs() < 1e-12);
+        let harm = oracle_multiple(&paired, 0, 0, OracleFigure::HarmPerMission).unwrap();
+        assert!((harm.ratio - 3.0).abs() < 1e-12);
+        assert_eq!(
+            times(Some(harm)),
+            format!("3.0 [{:.1}, {:.1}]", harm.low, harm.high)
+        );
+        // An oracle that endured nothing and did no harm has no multiple.
+        let flawless = || oracle_record(vec![change(false, None, 0)], 0);
+        let flawless = with_oracle(vec![flawless(), flawless()]);
+        assert_eq!(
+            oracle_multiple(&flawless, 0, 0, OracleFigure::UntrustworthyPerChange),
+            None
+        );
+        assert_eq!(
+            oracle_multiple(&flawless, 0, 0, OracleFigure::HarmPerMission),
+            None
+        );
+        assert_eq!(times(None), "-");
         assert!(lines[0].contains("33% of complacency onsets") && lines[0].ends_with("missed"));
     }
 }

@@ -181,7 +181,7 @@ fn every_arm_and_the_oracle_meet_the_same_switches_and_the_report_gives_them_apa
         )
     );
     assert_eq!(versus.switches, figures.back.changes);
-    let targets = switch_targets(&result);
+    let targets = switch_targets(&result, 0);
     assert_eq!(targets.len(), 2, "{targets:?}");
     assert!(targets[0].starts_with("best arm after a switch back"));
     let md = missions_markdown(std::slice::from_ref(&result));

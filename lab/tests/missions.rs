@@ -11,7 +11,8 @@ use lab::mission::{
 };
 use lab::mission_noticing::Noticing;
 use lab::mission_report::{
-    MissionSummary, OracleSummary, harm_comparisons, missions_json, missions_markdown,
+    MissionSummary, OracleFigure, OracleSummary, harm_comparisons, missions_json,
+    missions_markdown, oracle_multiple,
 };
 use lab::testing::{Bare, ToyDomain};
 use lab::{Domain, Judgement, PlanError};
@@ -184,13 +185,17 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
         let n = Noticing::of(arm.missions.iter().flat_map(|m| &m.changes));
         assert!(n.noticed > 0 && n.before.mean > 0.0, "{n:?}");
     }
-    for arm in &result.arms {
+    for (a, arm) in result.arms.iter().enumerate() {
         let s = MissionSummary::of(arm);
         assert!(
             s.untrustworthy_per_change.unwrap().mean > o,
             "{s:?} {oracle:?}"
         );
-        assert!(oracle.untrustworthy_multiple(&s).unwrap() > 1.0);
+        // Its multiple is the ratio of the means, inside its bootstrap interval.
+        let m = oracle_multiple(result, 0, a, OracleFigure::UntrustworthyPerChange).unwrap();
+        let ratio = s.untrustworthy_per_change.unwrap().mean / o;
+        assert!((m.ratio - ratio).abs() < 1e-9 && m.low <= m.ratio && m.ratio <= m.high);
+        assert!(m.ratio > 1.0, "{m:?}");
     }
     let md = missions_markdown(&one);
     assert!(
@@ -207,6 +212,7 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
             .unwrap()
             > 1.0
     );
+    assert!(json[0]["arms"][0]["untrustworthy_per_change_x_oracle_ci95"].is_array());
 }
 
 #[test]
