@@ -12,8 +12,7 @@ use crate::mission_oracle::OracleRecord;
 use crate::mission_report::{
     ChangeFigures, OracleFigure, arm_label, interval_json, oracle_multiple, times,
 };
-use crate::stats::RatioCi;
-use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
+use crate::stats::{MeanCi, RatioCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use trust::SwitchStart;
@@ -80,10 +79,9 @@ pub fn switches_back_by_start(
     oracle: &[OracleRecord],
 ) -> Vec<SwitchesBackFrom> {
     let mut paired: Vec<(SwitchStart, &ChangeRecord, &ChangeRecord)> = Vec::new();
-    for mission in &arm.missions {
-        let Some(reference) = oracle.iter().find(|o| o.mission == mission.mission) else {
-            continue;
-        };
+    // An arm's missions and the oracle's are the same missions, in the same order.
+    for (mission, reference) in arm.missions.iter().zip(oracle) {
+        debug_assert_eq!(mission.mission, reference.mission);
         for (change, theirs) in mission.changes.iter().zip(&reference.changes) {
             if let Some(start) = change.start.filter(|_| change.back) {
                 debug_assert_eq!((change.at, change.kind), (theirs.at, theirs.kind));
