@@ -306,7 +306,6 @@ impl CompetenceAccuracy {
     /// agreements, and every behavior.
     pub fn json(&self) -> serde_json::Value {
         let s = &self.settings;
-        let ci = |m: MeanCi| json!({"mean": m.mean, "ci95": m.ci95});
         json!({
             "domain": self.domain,
             "operator": self.operator,
@@ -320,8 +319,8 @@ impl CompetenceAccuracy {
                 "seen_as": part.seen_as,
                 "mean_true_rate": self.truth_mean(i),
                 "errors": (0..s.seen.len()).map(|k| self.part_error(k, i).map(|e| json!({
-                    "absolute": ci(e.absolute),
-                    "bias": ci(e.bias),
+                    "absolute": e.absolute,
+                    "bias": e.bias,
                 }))).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
             "agreement": (0..s.seen.len()).map(|k| {

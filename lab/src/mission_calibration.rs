@@ -254,7 +254,7 @@ pub fn calibration_json(arm: &MissionArmResult, arms: &[MissionArmResult]) -> Op
         "overtrusted": t.overtrusted,
         "judged": t.judged,
         "overtrusted_and_judged": t.both,
-        "alerts_per_mission": {"mean": s.alerts.mean, "ci95": s.alerts.ci95},
+        "alerts_per_mission": s.alerts,
         "missions_with_a_false_alert": s.false_alert_missions,
         "missions_with_a_competent_behavior": s.competent_missions,
         "target": (!s.answers_alerts).then(|| false_alert_target(&s)),

@@ -317,13 +317,12 @@ pub fn switches_json(result: &MissionResult, plan: usize) -> Option<Value> {
     if !result.context_switches {
         return None;
     }
-    let ci_json = |v: Option<MeanCi>| v.map(|v| json!({"mean": v.mean, "ci95": v.ci95}));
     let figures = |f: &ChangeFigures| {
         json!({
             "switches": f.changes,
             "needed": f.needed,
             "adapted": f.adapted,
-            "untrustworthy_per_switch": ci_json(f.untrustworthy_per_change),
+            "untrustworthy_per_switch": f.untrustworthy_per_change,
         })
     };
     let both = |f: &SwitchFigures| json!({"all": figures(&f.all), "back": figures(&f.back)});
@@ -341,17 +340,17 @@ pub fn switches_json(result: &MissionResult, plan: usize) -> Option<Value> {
                 "start": start_name(r.start),
                 "switches": r.switches,
                 "needed": r.needed,
-                "untrustworthy_per_switch": ci_json(Some(r.untrustworthy)),
-                "oracle_per_switch": ci_json(Some(r.oracle)),
+                "untrustworthy_per_switch": r.untrustworthy,
+                "oracle_per_switch": r.oracle,
             })).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "versus_blind": versus_blind_twins(result).iter().map(|v| json!({
             "arm": v.arm,
             "twin": v.twin,
             "switches_back": v.switches,
-            "told": ci_json(Some(v.told)),
-            "blind": ci_json(Some(v.blind)),
-            "difference": ci_json(Some(v.difference)),
+            "told": v.told,
+            "blind": v.blind,
+            "difference": v.difference,
             "wilcoxon_p": v.wilcoxon_p,
         })).collect::<Vec<_>>(),
         "targets": switch_targets(result, plan),

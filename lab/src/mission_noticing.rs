@@ -101,7 +101,6 @@ pub fn noticing_markdown(result: &MissionResult) -> Option<String> {
 
 /// The plan's `noticing` in `summary.json`: per agent, as in [`noticing_markdown`].
 pub fn noticing_json(result: &MissionResult) -> Value {
-    let ci = |v: MeanCi| json!({"mean": v.mean, "ci95": v.ci95});
     Value::Array(
         rows(result)
             .into_iter()
@@ -111,8 +110,8 @@ pub fn noticing_json(result: &MissionResult) -> Value {
                     "needed": n.needed,
                     "noticed": n.noticed,
                     "median_commands_to_notice": n.median_after,
-                    "untrustworthy_until_noticed": ci(n.before),
-                    "untrustworthy_after": ci(n.after),
+                    "untrustworthy_until_noticed": n.before,
+                    "untrustworthy_after": n.after,
                 })
             })
             .collect(),

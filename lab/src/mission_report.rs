@@ -483,7 +483,6 @@ pub fn missions_markdown(results: &[MissionResult]) -> String {
 
 /// The summaries of every plan (the mission report's `summary.json`).
 pub fn missions_json(results: &[MissionResult]) -> Value {
-    let ci_json = |v: Option<MeanCi>| v.map(|v| json!({"mean": v.mean, "ci95": v.ci95}));
     Value::Array(
         results
             .iter()
@@ -499,19 +498,19 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "changes": oracle.figures.changes,
                         "needed": oracle.figures.needed,
                         "adapted": oracle.figures.adapted,
-                        "commands_until_trusted_again": ci_json(oracle.figures.trusted_again),
-                        "untrustworthy_per_change": ci_json(oracle.figures.untrustworthy_per_change),
-                        "readaptations_per_mission": ci_json(Some(oracle.readaptations)),
-                        "harm_per_mission": ci_json(Some(oracle.harm)),
+                        "commands_until_trusted_again": oracle.figures.trusted_again,
+                        "untrustworthy_per_change": oracle.figures.untrustworthy_per_change,
+                        "readaptations_per_mission": oracle.readaptations,
+                        "harm_per_mission": oracle.harm,
                     },
                     "complacency": result.complacency,
                     "noticing": noticing_json(result),
                     "targets": targets(result, &summaries),
                     "harm_with_and_without_alerts": harm_comparisons(result).iter().map(|h| json!({
                         "arm": h.arm,
-                        "ignored": ci_json(Some(h.ignored)),
-                        "answered": ci_json(Some(h.answered)),
-                        "difference": ci_json(Some(h.difference)),
+                        "ignored": h.ignored,
+                        "answered": h.answered,
+                        "difference": h.difference,
                         "wilcoxon_p": h.wilcoxon_p,
                     })).collect::<Vec<_>>(),
                     "arms": summaries.iter().zip(&result.arms).enumerate().map(|(a, (s, arm))| {
@@ -524,9 +523,9 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "changes": s.changes,
                         "needed": s.needed,
                         "adapted": s.adapted,
-                        "commands_until_trusted_again": ci_json(s.trusted_again),
-                        "untrustworthy_per_change": ci_json(s.untrustworthy_per_change),
-                        "readaptations_per_mission": ci_json(Some(s.readaptations)),
+                        "commands_until_trusted_again": s.trusted_again,
+                        "untrustworthy_per_change": s.untrustworthy_per_change,
+                        "readaptations_per_mission": s.readaptations,
                         "false_alarms": s.false_alarms,
                         "missions_alerted": s.missions_alerted,
                         "onsets": s.onsets,
@@ -534,7 +533,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                         "perceivable_onsets": s.perceivable_onsets,
                         "perceivable_detected_within_25": s.perceivable_detected,
                         "median_detection_delay": s.median_delay,
-                        "harm_per_mission": ci_json(Some(s.harm)),
+                        "harm_per_mission": s.harm,
                         "untrustworthy_per_change_x_oracle": untrustworthy.map(|m| m.ratio),
                         "untrustworthy_per_change_x_oracle_ci95": interval_json(untrustworthy),
                         "harm_per_mission_x_oracle": harm.map(|m| m.ratio),

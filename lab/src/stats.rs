@@ -59,8 +59,9 @@ pub fn percentile(sorted: &[f64], q: f64) -> Option<f64> {
     sorted.get((last as f64 * q).round() as usize).copied()
 }
 
-/// Mean and the half-width of its 95% confidence interval (Student's t).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Mean and the half-width of its 95% confidence interval (Student's t). Serialized as
+/// `{"mean", "ci95"}`, as every report's JSON gives it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct MeanCi {
     /// Sample mean.
     pub mean: f64,

@@ -245,16 +245,11 @@ fn finite_or_null(x: f64) -> Value {
 }
 
 /// An arm's goal changes for `summary.json` (`null` where a figure is not defined).
-/// A mean with its interval: `{"mean", "ci95"}`.
-fn mean(m: &crate::stats::MeanCi) -> Value {
-    json!({ "mean": m.mean, "ci95": m.ci95 })
-}
-
 fn goal_change_summary(g: &ArmGoalChanges) -> Value {
     json!({
-        "given_up": mean(&g.given_up),
-        "given_up_though_trusted": g.wrongly_given_up.as_ref().map(mean),
-        "untrustworthy_about_behavior": mean(&g.untrustworthy_about_behavior),
+        "given_up": g.given_up,
+        "given_up_though_trusted": g.wrongly_given_up,
+        "untrustworthy_about_behavior": g.untrustworthy_about_behavior,
         "record": g.record,
         "guess_recall": g.record.and_then(|r| r.recall()),
         "guess_precision": g.record.and_then(|r| r.precision()),
@@ -265,8 +260,8 @@ fn context_summary(c: &ArmInContext) -> Value {
     json!({
         "context": c.context,
         "trials": c.trials,
-        "behaviors": mean(&c.behaviors),
-        "untrustworthy": mean(&c.untrustworthy),
+        "behaviors": c.behaviors,
+        "untrustworthy": c.untrustworthy,
         "versus_blind": c.versus_blind.map(|v| json!({
             "behaviors_difference": v.behaviors,
             "behaviors_p": v.behaviors_p,
