@@ -46,8 +46,8 @@ import re
 import shlex
 import subprocess
 import sys
-import time
 import tempfile
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional
@@ -60,7 +60,10 @@ TIMEOUT_S = 600
 SHELL_REWRITES = [
     (re.compile(r"cargo run --release -- "), "trustcbr "),
     (re.compile(r"target/release/trustcbr\b"), "trustcbr"),
-    (re.compile(r"^cargo build --release\s*$", re.M), ": cargo build --release, skipped: the binary CI built is used"),
+    (
+        re.compile(r"^cargo build --release\s*$", re.M),
+        ": cargo build --release, skipped: the binary CI built is used",
+    ),
 ]
 
 
@@ -100,7 +103,7 @@ def blocks_of(path: Path) -> List[Block]:
                 if key == "replace":
                     old, sep, new = value.partition(" => ")
                     if not sep:
-                        raise SystemExit(f"{block.where}: replace=\"OLD => NEW\", got {value!r}")
+                        raise SystemExit(f'{block.where}: replace="OLD => NEW", got {value!r}')
                     block.replacements.append([old, new])
                 else:
                     block.attributes[key] = value
@@ -151,7 +154,7 @@ def run_shell(block: Block, cwd: Path) -> Optional[str]:
     started = time.monotonic()
     code = prepared(block)
     if block.language == "console":
-        code = "\n".join(l[2:] for l in code.splitlines() if l.startswith("$ ")) + "\n"
+        code = "\n".join(line[2:] for line in code.splitlines() if line.startswith("$ ")) + "\n"
     for pattern, replacement in SHELL_REWRITES:
         code = pattern.sub(replacement, code)
     ran = subprocess.run(
@@ -254,7 +257,10 @@ def main() -> int:
         if rust:
             included = f'include_str!("../{path.relative_to(REPO)}")' in lib
             for block in rust:
-                report(block, None if included else "the page is not a doctest: include it in src/lib.rs")
+                report(
+                    block,
+                    None if included else "the page is not a doctest: include it in src/lib.rs",
+                )
         with tempfile.TemporaryDirectory(prefix="trustcbr-docs-") as scratch:
             empty = Path(scratch) / "empty"
             empty.mkdir()

@@ -1,15 +1,18 @@
 """Fails unless a PNG (8-bit RGB or RGBA, not interlaced) shows something: at least 1% of
 its pixels differ from its most common colour. Standard library only."""
+
 import struct
 import sys
 import zlib
 from collections import Counter
 
 
-def pixels(path):
-    data = open(path, "rb").read()
+def pixels(path: str) -> tuple[int, int, int, list[bytes]]:
+    with open(path, "rb") as file:
+        data = file.read()
     assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    pos, idat, header = 8, b"", None
+    pos, idat = 8, b""
+    header: tuple[int, ...] | None = None
     while pos < len(data):
         length, kind = struct.unpack(">I4s", data[pos : pos + 8])
         body = data[pos + 8 : pos + 8 + length]
@@ -18,13 +21,14 @@ def pixels(path):
         elif kind == b"IDAT":
             idat += body
         pos += 12 + length
+    assert header is not None, "no IHDR chunk"
     width, height, depth, colour, _, _, interlace = header
     assert depth == 8 and colour in (2, 6) and interlace == 0, f"unsupported PNG {header}"
     channels = 3 if colour == 2 else 4
     raw = zlib.decompress(idat)
     stride = width * channels
     previous = bytearray(stride)
-    rows = []
+    rows: list[bytes] = []
     for y in range(height):
         start = y * (stride + 1)
         kind, line = raw[start], bytearray(raw[start + 1 : start + 1 + stride])
@@ -41,14 +45,15 @@ def pixels(path):
             elif kind == 4:
                 p = left + up - corner
                 pa, pb, pc = abs(p - left), abs(p - up), abs(p - corner)
-                line[i] = (line[i] + (left if pa <= pb and pa <= pc else up if pb <= pc else corner)) & 255
+                predicted = left if pa <= pb and pa <= pc else up if pb <= pc else corner
+                line[i] = (line[i] + predicted) & 255
         rows.append(bytes(line))
         previous = line
     return width, height, channels, rows
 
 
 width, height, channels, rows = pixels(sys.argv[1])
-counts = Counter()
+counts: Counter[bytes] = Counter()
 for row in rows[:: max(1, height // 400)]:
     for x in range(0, len(row), channels * 2):
         counts[row[x : x + 3]] += 1
