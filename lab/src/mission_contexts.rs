@@ -10,7 +10,7 @@ use crate::context::blind_twin;
 use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
 use crate::mission_oracle::OracleRecord;
 use crate::mission_report::{
-    ChangeFigures, OracleFigure, arm_label, interval_json, oracle_multiple, times,
+    ChangeFigures, OracleFigure, arm_label, fine_ci, interval_json, oracle_multiple, times,
 };
 use crate::stats::{MeanCi, RatioCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use serde_json::{Value, json};
@@ -170,10 +170,6 @@ pub fn versus_blind_twins(result: &MissionResult) -> Vec<VersusBlindTwin> {
         .collect()
 }
 
-fn ci(value: Option<MeanCi>) -> String {
-    value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
-}
-
 /// The targets on a plan with context switches (docs/missions.md#context-switches): the
 /// best arm's untrustworthy commands per switch back at most 1.5 times the oracle's, and
 /// each arm told its context fewer than its blind twin (paired, significant). One line
@@ -235,8 +231,8 @@ pub fn switches_markdown(result: &MissionResult, plan: usize) -> Option<String> 
             f.all.needed,
             f.all.changes,
             f.all.adapted,
-            ci(f.all.untrustworthy_per_change),
-            ci(f.back.untrustworthy_per_change),
+            fine_ci(f.all.untrustworthy_per_change),
+            fine_ci(f.back.untrustworthy_per_change),
         );
     };
     for (a, arm) in result.arms.iter().enumerate() {

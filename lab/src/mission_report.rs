@@ -330,8 +330,9 @@ fn ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.1} ± {:.1}", v.mean, v.ci95))
 }
 
-/// The oracle's untrustworthy commands per change, often a fraction of one: two decimals.
-fn fine_ci(value: Option<MeanCi>) -> String {
+/// A mean and its interval to two decimals, for figures often a fraction of one (the
+/// oracle's untrustworthy commands per change or per switch).
+pub(crate) fn fine_ci(value: Option<MeanCi>) -> String {
     value.map_or("-".to_owned(), |v| format!("{:.2} ± {:.2}", v.mean, v.ci95))
 }
 
