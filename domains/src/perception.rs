@@ -118,33 +118,31 @@ pub fn observations(scenario: Scenario) -> &'static [Cause] {
 /// command ended (the outcome's duration), as bits over `declared` (a scenario's
 /// [`observations`]; an event whose name is not declared is not reported).
 pub fn perceive(trace: &Trace, until: f64, declared: &[Cause]) -> Observations {
-    let perceived =
-        trace
-            .events
-            .iter()
-            .take_while(|e| e.t <= until)
-            .filter_map(|event| match event.kind {
-                EventKind::Collision { .. } => Some(COLLISION),
-                EventKind::Stuck => Some(STUCK),
-                EventKind::Detonation { .. } => Some(DETONATION),
-                EventKind::BehindPlan { .. } => Some(BEHIND_PLAN),
-                // Its lidar sees a person who is there, not a spot where one might be.
-                EventKind::PassedPerson {
-                    present: true,
-                    gap,
-                    speed,
-                    ..
-                } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => Some(NEAR_PERSON_FAST),
-                EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => Some(CLOSE_PASS),
-                // Its own label: it knows it raised the alarm, and believes it right.
-                EventKind::Labelled {
-                    labelled_explosive: true,
-                    ..
-                } => Some(RAISED_ALARM),
-                // Not perceivable: an object it never saw, a label it believes, a scan it chose.
-                _ => None,
-            });
-    Observations::named(declared, perceived)
+    let perceived = trace.events.iter().filter_map(|event| {
+        let name = match event.kind {
+            EventKind::Collision { .. } => COLLISION,
+            EventKind::Stuck => STUCK,
+            EventKind::Detonation { .. } => DETONATION,
+            EventKind::BehindPlan { .. } => BEHIND_PLAN,
+            // Its lidar sees a person who is there, not a spot where one might be.
+            EventKind::PassedPerson {
+                present: true,
+                gap,
+                speed,
+                ..
+            } if gap < NEAR_PERSON_GAP && speed > WALKING_PACE => NEAR_PERSON_FAST,
+            EventKind::ClosestPass { gap, .. } if gap < CLOSE_PASS_GAP => CLOSE_PASS,
+            // Its own label: it knows it raised the alarm, and believes it right.
+            EventKind::Labelled {
+                labelled_explosive: true,
+                ..
+            } => RAISED_ALARM,
+            // Not perceivable: an object it never saw, a label it believes, a scan it chose.
+            _ => return None,
+        };
+        Some((event.t, name))
+    });
+    Observations::named_until(declared, until, perceived)
 }
 
 /// The robot's own confidence that the command of `trace` went as it should, up to time

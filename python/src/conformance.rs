@@ -58,7 +58,7 @@ pub fn check_searcher<'py, C: Catalog>(
         Some(name) => {
             let domain = domain_of(catalog, name).map_err(error)?;
             (
-                Some((**domain.space()).clone()),
+                Some(Arc::clone(domain.space())),
                 domain.observations().to_vec(),
             )
         }
@@ -76,7 +76,7 @@ pub fn check_searcher<'py, C: Catalog>(
             Caller::Here,
         ))
     };
-    let checked = py.detach(|| searcher_conformance(space, &build));
+    let checked = py.detach(|| searcher_conformance(space.as_deref(), &build));
     if let Some(e) = errors.take() {
         return Err(e);
     }

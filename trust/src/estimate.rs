@@ -90,6 +90,33 @@ impl Observations {
             .fold(Self::NONE, Self::with)
     }
 
+    /// What the robot had perceived when a command ended `until` seconds in: the set of
+    /// the observations among `timed` (each `(time, name)`, the moment the robot perceived
+    /// it, in any order) made at or before `until`, numbered as [`Observations::named`]
+    /// numbers them. A simulated run's trace may go on past the moment the operator
+    /// stopped it; what came after was never perceived.
+    ///
+    /// ```
+    /// use trust::{Cause, Observations};
+    ///
+    /// const STOP: Cause = Cause::from_static("safety-stop");
+    /// const DROP: Cause = Cause::from_static("dropped-item");
+    /// const DECLARED: [Cause; 2] = [STOP, DROP];
+    ///
+    /// let trace = [(2.0, STOP), (7.5, DROP), (4.0, STOP)];
+    /// assert_eq!(Observations::named_until(&DECLARED, 5.0, trace), Observations::NONE.with(0));
+    /// assert_eq!(Observations::named_until(&DECLARED, 7.5, trace), Observations::NONE.with(0).with(1));
+    /// assert_eq!(Observations::named_until(&DECLARED, 1.0, trace), Observations::NONE);
+    /// ```
+    pub fn named_until(
+        declared: &[Cause],
+        until: f64,
+        timed: impl IntoIterator<Item = (f64, Cause)>,
+    ) -> Self {
+        let perceived = timed.into_iter().filter(|&(t, _)| t <= until);
+        Self::named(declared, perceived.map(|(_, name)| name))
+    }
+
     /// Whether the observation `name`, numbered by its place in the domain's `declared`
     /// observations, happened (`false` for a name not declared).
     pub fn contains_named(self, declared: &[Cause], name: Cause) -> bool {

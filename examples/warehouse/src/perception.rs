@@ -69,25 +69,20 @@ pub const HINTS: [Hint; 3] = [
 /// What the robot perceived of the pick in `trace` up to time `until` (s), the moment the
 /// command ended (the judgement's duration).
 pub fn perceive(trace: &Trace, until: f64) -> Observations {
-    let stops = trace
-        .safety_stops
-        .iter()
-        .take_while(|&&t| t <= until)
-        .map(|_| SAFETY_STOP);
+    let stops = trace.safety_stops.iter().map(|&t| (t, SAFETY_STOP));
     let firm = trace
         .grasp
-        .filter(|g| g.t <= until && g.squeeze_n > g.rated_n)
-        .map(|_| FIRM_GRIP);
-    let events = trace
-        .events
-        .iter()
-        .take_while(|&&(t, _)| t <= until)
-        .filter_map(|&(_, event)| match event {
-            Event::ItemNotFound => Some(WarehouseCause::ItemNotFound.to_trust()),
-            Event::DroppedItem => Some(WarehouseCause::DroppedItem.to_trust()),
-            // Whether a stop touched, and whether the item arrived whole, it does not know.
-            Event::Collision | Event::Delivered { .. } => None,
-        });
-    let late = (until > trace.planned_s).then_some(BEHIND_PLAN);
-    Observations::named(&OBSERVATIONS, stops.chain(firm).chain(events).chain(late))
+        .filter(|g| g.squeeze_n > g.rated_n)
+        .map(|g| (g.t, FIRM_GRIP));
+    let events = trace.events.iter().filter_map(|&(t, event)| match event {
+        Event::ItemNotFound => Some((t, WarehouseCause::ItemNotFound.to_trust())),
+        Event::DroppedItem => Some((t, WarehouseCause::DroppedItem.to_trust())),
+        // Whether a stop touched, and whether the item arrived whole, it does not know.
+        Event::Collision | Event::Delivered { .. } => None,
+    });
+    // Behind its plan from the first instant past it: a pick without a stop ends exactly
+    // on its plan, and is not late.
+    let late = (trace.planned_s.next_up(), BEHIND_PLAN);
+    let timed = stops.chain(firm).chain(events).chain([late]);
+    Observations::named_until(&OBSERVATIONS, until, timed)
 }

@@ -285,8 +285,8 @@ fn the_troubleshooter_keeps_the_searcher_contract() {
     // On the kit's random spaces (none has the warehouse's components: it explores)...
     check_searcher(|| Box::new(Troubleshooter::new()));
     // ...and on the warehouse's own, where the kit's stated drops implicate the grip.
-    let space = (*warehouse_space()).clone();
-    if let Err(failure) = searcher_conformance(Some(space), &|| Box::new(Troubleshooter::new())) {
+    let space = warehouse_space();
+    if let Err(failure) = searcher_conformance(Some(&space), &|| Box::new(Troubleshooter::new())) {
         panic!("{failure}");
     }
 }

@@ -31,7 +31,7 @@
 //! say nothing; no rule about any particular domain or cause is written here.
 
 use super::propose_untried;
-use super::untried::draw_untried;
+use super::untried::{cheapest, draw_untried};
 use super::value_counts::ValueCounts;
 use crate::Cause;
 use crate::{Evaluated, Outcome};
@@ -299,16 +299,7 @@ impl Searcher for CauseAware {
             let pool = draw_untried(space, tried, CAUSE_AWARE_POOL, rng);
             self.last_pool = pool.len();
             let tables = self.log_rate_tables(space);
-            pool.iter()
-                .map(|b| (predicted_burden(&tables, b), *b))
-                .fold(
-                    None,
-                    |best: Option<(f64, Behavior)>, (score, b)| match best {
-                        Some((s, _)) if s <= score => best,
-                        _ => Some((score, b)),
-                    },
-                )
-                .map(|(_, b)| b)
+            cheapest(pool, |b| predicted_burden(&tables, b))
         })
     }
 

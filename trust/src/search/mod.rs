@@ -32,7 +32,7 @@ pub use conditioned::Conditioned;
 pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
 pub use uniform::Uniform;
-pub use untried::{draw_untried, evaluated_set};
+pub use untried::{best_untried, cheapest, draw_untried, evaluated_set};
 pub use value_counts::ValueCounts;
 
 use crate::{Evaluated, Outcome};

@@ -1,5 +1,5 @@
-//! The behaviors an episode has not tried yet: the evaluated set, and uniform draws from
-//! its complement.
+//! The behaviors an episode has not tried yet: the evaluated set, uniform draws from its
+//! complement, and the best of such a draw by a searcher's own cost.
 //!
 //! Every informed searcher scores candidates drawn here, so each of them explores the
 //! whole space and never proposes a behavior the episode has already evaluated.
@@ -50,6 +50,64 @@ pub fn draw_untried(
     }
     pool.truncate(take);
     pool
+}
+
+/// The behavior of `candidates` with the lowest `cost` (the first of equal costs), or
+/// `None` when there is none: how a searcher picks among candidates it scores. A searcher
+/// that maximizes a score (a sampled chance of completing, say) passes its negation.
+///
+/// ```
+/// use cbr_core::Behavior;
+/// use trust::search::cheapest;
+///
+/// let pool = [Behavior::new(&[0]), Behavior::new(&[1]), Behavior::new(&[2])];
+/// let cost = |b: &Behavior| (f64::from(b.get(0)) - 1.0).abs();
+/// assert_eq!(cheapest(pool, cost), Some(Behavior::new(&[1])));
+/// // Equal costs: the first is kept.
+/// assert_eq!(cheapest(pool, |_| 0.0), Some(Behavior::new(&[0])));
+/// assert_eq!(cheapest([], cost), None);
+/// ```
+pub fn cheapest(
+    candidates: impl IntoIterator<Item = Behavior>,
+    mut cost: impl FnMut(&Behavior) -> f64,
+) -> Option<Behavior> {
+    candidates
+        .into_iter()
+        .map(|b| (cost(&b), b))
+        .fold(None, |best: Option<(f64, Behavior)>, (c, b)| match best {
+            Some((lowest, _)) if lowest <= c => best,
+            _ => Some((c, b)),
+        })
+        .map(|(_, b)| b)
+}
+
+/// The cheapest by `cost` ([`cheapest`]) of up to `count` untried behaviors drawn
+/// uniformly ([`draw_untried`]); `None` only when every behavior has been tried. The
+/// usual body of a scoring searcher's proposal, inside [`super::propose_untried`]:
+///
+/// ```
+/// use cbr_core::{Behavior, BehaviorSpace, NamedComponent};
+/// use rand::SeedableRng;
+/// use rand_chacha::ChaCha8Rng;
+/// use std::collections::HashSet;
+/// use trust::search::best_untried;
+///
+/// let speed = NamedComponent::numeric("speed", "m/s", 1.0, 5.0, 5).unwrap();
+/// let space = BehaviorSpace::new(vec![speed]).unwrap();
+/// let tried: HashSet<Behavior> = [Behavior::new(&[0])].into();
+/// let mut rng = ChaCha8Rng::seed_from_u64(1);
+/// // All four untried behaviors drawn: the slowest of them is the cheapest.
+/// let slowest = best_untried(&space, &tried, 10, &mut rng, |b| f64::from(b.get(0)));
+/// assert_eq!(slowest, Some(Behavior::new(&[1])));
+/// ```
+pub fn best_untried(
+    space: &BehaviorSpace,
+    tried: &HashSet<Behavior>,
+    count: usize,
+    rng: &mut dyn RngCore,
+    cost: impl FnMut(&Behavior) -> f64,
+) -> Option<Behavior> {
+    cheapest(draw_untried(space, tried, count, rng), cost)
 }
 
 #[cfg(test)]

@@ -364,13 +364,13 @@ fn check_one_behavior(build: &dyn Fn() -> Box<TrustSearcher>) -> Result<(), Sear
 /// space may hold thousands of behaviors), so the rules about exhaustion and the
 /// one-behavior space are left to the random spaces.
 pub fn searcher_conformance(
-    space: Option<BehaviorSpace>,
+    space: Option<&BehaviorSpace>,
     build: &dyn Fn() -> Box<TrustSearcher>,
 ) -> Result<(), SearcherFailure> {
     let given = space.is_some();
     let (spaces, cases, most): (BoxedStrategy<BehaviorSpace>, u32, u64) = match space {
         Some(space) => (
-            Just(space).boxed(),
+            Just(space.clone()).boxed(),
             GIVEN_SPACE_CASES,
             GIVEN_SPACE_PROPOSALS,
         ),
