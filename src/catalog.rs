@@ -78,7 +78,7 @@
 //! ```
 
 use cbr_core::Behavior;
-use lab::{Arm, Domain, Instance};
+use lab::{Arm, Domain, Instance, SimulatedOperator};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -254,10 +254,12 @@ pub trait Catalog: Send + Sync {
 
     /// The weight a completion carries for `operator`, when the operator has one: a suite
     /// refuses an experiment whose operators could never reach the trustworthy threshold
-    /// within its `max_commands`. `None` (the default) skips that check.
+    /// within its `max_commands`. By default what the operator says
+    /// ([`SimulatedOperator::completion_weight`](lab::SimulatedOperator::completion_weight):
+    /// its `weights.completed` for an operator with the standard fields); `None` skips
+    /// that check.
     fn completion_weight(&self, operator: &OperatorOf<Self>) -> Option<f64> {
-        let _ = operator;
-        None
+        operator.completion_weight()
     }
 
     /// Arms of the catalog's own (a user's searcher or retriever, through

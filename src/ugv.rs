@@ -133,10 +133,6 @@ impl Catalog for UgvCatalog {
         }]
     }
 
-    fn completion_weight(&self, operator: &OperatorModel) -> Option<f64> {
-        Some(operator.weights.completed)
-    }
-
     fn default_suite(&self) -> &str {
         domains::PAPER_CONFIG
     }

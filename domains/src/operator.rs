@@ -42,8 +42,7 @@ use crate::trace::{EventKind, Trace};
 use cbr_core::Context;
 use lab::attention::Attending;
 use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
-use lab::patience::Patience;
-use lab::{FeedbackChannel, Judgement};
+use lab::{FeedbackChannel, Judgement, SimulatedOperator, StandardFields};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -209,19 +208,42 @@ pub struct UndeclaredPreference {
     pub declared: String,
 }
 
-impl OperatorData for OperatorModel {
-    type Invalid = UndeclaredPreference;
-    const PERCEIVED: Option<&'static [Cause]> = Some(&PERCEIVED);
+// The UGV's operator keeps its standard fields as plain fields (the file format and the
+// Python binding name them), so it implements the accessors by hand.
+impl SimulatedOperator for OperatorModel {
+    fn feedback(&self) -> FeedbackChannel {
+        self.feedback
+    }
 
+    fn completion_weight(&self) -> Option<f64> {
+        Some(self.weights.completed)
+    }
+}
+
+impl StandardFields for OperatorModel {
     fn name(&self) -> &str {
         &self.name
+    }
+
+    fn give_up_factor(&self) -> f64 {
+        self.give_up_factor
+    }
+
+    fn weights(&self) -> &OutcomeWeights {
+        &self.weights
     }
 
     fn weights_mut(&mut self) -> &mut OutcomeWeights {
         &mut self.weights
     }
+}
 
-    /// Every probability, then every amount, then the deadline and the patience.
+impl OperatorData for OperatorModel {
+    type Invalid = UndeclaredPreference;
+    const PERCEIVED: Option<&'static [Cause]> = Some(&PERCEIVED);
+
+    /// Every probability, then every amount, then the deadline (the loader checks the
+    /// patience, `give_up_factor`, after these).
     fn validate(&self, check: &mut RangeCheck) {
         check.probability("p_deadline", self.p_deadline);
         check.probability("p_collision", self.p_collision);
@@ -248,7 +270,6 @@ impl OperatorData for OperatorModel {
             check.non_negative("scan_standard.min_time", c.min_time);
         }
         check.positive("t_complete", self.t_complete);
-        check.at_least("give_up_factor", self.give_up_factor, 1.0);
         for (i, c) in self.contexts.iter().enumerate() {
             let field = |name: &str| format!("contexts[{i}].{name}");
             if let Some(p) = c.p_deadline {
@@ -360,12 +381,7 @@ impl OperatorModel {
     /// How the run ends for an operator `attending` to it, before the judgement names what
     /// it overlooked.
     fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
-        let patience = Patience {
-            deadline_s: self.t_complete,
-            p_interrupt: self.p_deadline,
-            give_up_factor: self.give_up_factor,
-            cause: DEADLINE,
-        };
+        let patience = self.patience(self.t_complete, self.p_deadline, DEADLINE);
         let interrupt = |cause, t| Some(Judgement::interrupted(self.weights.of(cause), cause, t));
         let events = trace.events.iter().map(|event| (event.t, event.kind));
         patience.watch(

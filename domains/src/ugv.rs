@@ -19,7 +19,7 @@ use crate::scenario::Scenario;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
-use lab::{Domain, FeedbackChannel, Judgement};
+use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
 use trust::{Cause, CompetencePart, DeclaredCause, Hint};
@@ -503,10 +503,6 @@ impl Domain for UgvDomain {
         context: &Context,
     ) -> Option<OperatorModel> {
         (!operator.contexts.is_empty()).then(|| operator.in_context(context))
-    }
-
-    fn feedback(&self, operator: &OperatorModel) -> FeedbackChannel {
-        operator.feedback
     }
 
     fn run(

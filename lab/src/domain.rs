@@ -15,6 +15,7 @@
 //! causes, observations and hints a robot also knows), built by [`vocabulary`].
 
 use crate::feedback::FeedbackChannel;
+use crate::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -29,8 +30,9 @@ static NO_CONTEXTS: ContextSpace = ContextSpace::NONE;
 
 /// A task domain: a behavior space and a way to run one command.
 pub trait Domain: Send + Sync {
-    /// The operator model that judges a run (e.g. preferences loaded from RON).
-    type Operator: Send + Sync;
+    /// The operator model that judges a run (e.g. preferences loaded from RON, declared
+    /// with [`standard_operator!`](crate::standard_operator)).
+    type Operator: SimulatedOperator + Send + Sync;
 
     /// The domain's name (e.g. `movement`).
     fn name(&self) -> &str;
@@ -90,22 +92,38 @@ pub trait Domain: Send + Sync {
         &[]
     }
 
-    /// How `operator` explains itself; the paper's silent operator by default. An
-    /// experiment may override it for all its operators.
-    fn feedback(&self, _operator: &Self::Operator) -> FeedbackChannel {
-        FeedbackChannel::SILENT
+    /// How `operator` explains itself: by default what the operator says of itself
+    /// ([`SimulatedOperator::feedback`], its file's `feedback` for a standard operator; the
+    /// paper's silent operator otherwise). An experiment may override it for all its
+    /// operators.
+    fn feedback(&self, operator: &Self::Operator) -> FeedbackChannel {
+        operator.feedback()
     }
 
     /// Runs one command with `behavior` under `operator`, drawing all randomness from
     /// `rng`, and returns how it ended: what the robot is told and perceives (nothing
     /// stated: the runner applies the operator's feedback channel on a stream of its own)
     /// and the operator's true reason.
+    ///
+    /// By default, [`Domain::run_attending`] at attention 1 (the paper's attentive
+    /// operator), so a domain that models attention writes its command once. A domain
+    /// must override one of the two: one that overrides neither panics here, naming
+    /// itself, on its first command (the domain kit, [`crate::testing::check_domain`],
+    /// runs one first).
     fn run(
         &self,
         behavior: &Behavior,
         operator: &Self::Operator,
         rng: &mut dyn RngCore,
-    ) -> Judgement;
+    ) -> Judgement {
+        self.run_attending(behavior, operator, 1.0, rng)
+            .unwrap_or_else(|| {
+                panic!(
+                    "domain `{}` overrides neither `Domain::run` nor `Domain::run_attending`: it cannot run a command",
+                    self.name()
+                )
+            })
+    }
 
     /// [`Domain::run`] under an operator whose `attention`, in `[0, 1]`, is the chance it
     /// notices a problem it would react to when attentive (1: the paper's operator, who

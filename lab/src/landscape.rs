@@ -409,6 +409,8 @@ mod tests {
         }
     }
 
+    impl crate::SimulatedOperator for [f64; 3] {}
+
     impl Domain for Dice {
         type Operator = [f64; 3];
 

@@ -380,6 +380,8 @@ mod tests {
     /// completes, every other fails), or none (every command fails).
     struct Pleased(Option<u16>);
 
+    impl crate::SimulatedOperator for Pleased {}
+
     fn toy() -> ToyDomain<Pleased> {
         ToyDomain::grid("line", &[4], &[BUMPED], |b, pleased: &Pleased, _, _| {
             if pleased.0 == Some(b.indices()[0]) {

@@ -1,15 +1,18 @@
 //! Operator files: a domain's operator model read from RON and checked before any run,
 //! with errors that name the file, the operator and what to fix.
 //!
-//! A domain's operator type implements [`OperatorData`]: its name, its
-//! [`OutcomeWeights`], the ranges of its own fields (through a [`RangeCheck`]) and,
-//! optionally, rules of the domain's own. [`load`] and [`from_ron`] then check an operator
-//! in one order, stopping at the first problem:
+//! A domain's operator type has the standard fields ([`StandardFields`]: a name, a
+//! patience, [`OutcomeWeights`] and a feedback channel, most simply declared with
+//! [`standard_operator!`](crate::standard_operator)) and implements [`OperatorData`]:
+//! the ranges of its own fields (through a [`RangeCheck`]) and, optionally, rules of the
+//! domain's own. [`load`] and [`from_ron`] then check an operator in one order, stopping
+//! at the first problem:
 //!
 //! 1. the text is read ([`files::read_text`]: [`OperatorFileError::Io`]) and parsed as the
 //!    type ([`files::parse_ron`]: [`OperatorFileError::Syntax`], at line:column);
-//! 2. every field the type's [`OperatorData::validate`] checks is in its range
-//!    ([`OperatorFileError::Range`]: the first one out of range, in the order checked);
+//! 2. every field the type's [`OperatorData::validate`] checks is in its range, then the
+//!    standard `give_up_factor` (at least 1) ([`OperatorFileError::Range`]: the first one
+//!    out of range, in the order checked);
 //! 3. the weights are finite and at least 0 and name only the causes the domain declares
 //!    ([`OutcomeWeights::check`], which fills in the declared default weights:
 //!    [`OperatorFileError::Weights`]);
@@ -29,29 +32,20 @@
 //! use serde::Deserialize;
 //! use std::convert::Infallible;
 //! use std::path::Path;
-//! use trust::{Cause, DeclaredCause, OutcomeWeights};
+//! use trust::{Cause, DeclaredCause};
 //!
-//! /// A courier's operator: how long a delivery may take, and how often it interrupts
-//! /// a late one.
-//! #[derive(Debug, Deserialize)]
-//! struct Dispatcher {
-//!     name: String,
-//!     t_complete: f64,
-//!     p_deadline: f64,
-//!     #[serde(default)]
-//!     weights: OutcomeWeights,
+//! lab::standard_operator! {
+//!     /// A courier's operator: how long a delivery may take, and how often it interrupts
+//!     /// a late one.
+//!     #[derive(Debug, Deserialize)]
+//!     struct Dispatcher {
+//!         t_complete: f64,
+//!         p_deadline: f64,
+//!     }
 //! }
 //!
 //! impl OperatorData for Dispatcher {
 //!     type Invalid = Infallible;
-//!
-//!     fn name(&self) -> &str {
-//!         &self.name
-//!     }
-//!
-//!     fn weights_mut(&mut self) -> &mut OutcomeWeights {
-//!         &mut self.weights
-//!     }
 //!
 //!     fn validate(&self, check: &mut RangeCheck) {
 //!         check.positive("t_complete", self.t_complete);
@@ -98,9 +92,11 @@ use std::path::{Path, PathBuf};
 use trust::cause::list_causes;
 use trust::{Cause, DeclaredCause, OutcomeWeights, WeightsError};
 
+use crate::operator::StandardFields;
+
 /// An operator model a domain reads from a file: what [`load`] and [`from_ron`] need to
-/// check it.
-pub trait OperatorData: DeserializeOwned {
+/// check it beyond its [`StandardFields`].
+pub trait OperatorData: DeserializeOwned + StandardFields {
     /// What the domain's own rules ([`OperatorData::check_rules`]) report; a domain
     /// without rules of its own says [`Infallible`].
     type Invalid: std::error::Error + Send + Sync + 'static;
@@ -113,16 +109,12 @@ pub trait OperatorData: DeserializeOwned {
     /// it declares default weights only for causes in this list.
     const PERCEIVED: Option<&'static [Cause]> = None;
 
-    /// The operator's name, as errors show it.
-    fn name(&self) -> &str;
-
-    /// The operator's outcome weights, checked against the declared causes (which fill in
-    /// their default weights).
-    fn weights_mut(&mut self) -> &mut OutcomeWeights;
-
     /// Checks the ranges of the operator's own fields through `check`, in the order a
-    /// reader should fix them: the first field out of range is the one reported.
-    fn validate(&self, check: &mut RangeCheck);
+    /// reader should fix them: the first field out of range is the one reported. The
+    /// standard fields are checked by the loader after these; nothing by default.
+    fn validate(&self, check: &mut RangeCheck) {
+        let _ = check;
+    }
 
     /// The domain's own rules, given the causes the scenario `declared` (for example,
     /// that a preference which is on has its cause declared); none by default.
@@ -335,6 +327,7 @@ pub fn from_ron<O: OperatorData>(
     let name = |operator: &O| operator.name().to_owned();
     let mut check = RangeCheck::default();
     operator.validate(&mut check);
+    check.at_least("give_up_factor", operator.give_up_factor(), 1.0);
     if let Some(OutOfRange {
         field,
         allowed,
@@ -402,19 +395,19 @@ pub fn shipped<O: OperatorData>(
         .collect()
 }
 
-/// Operators paired with their names ([`OperatorData::name`]), as a catalog lists them.
-pub fn named<O: OperatorData>(operators: impl IntoIterator<Item = O>) -> Vec<(String, O)> {
+/// Operators paired with their names ([`StandardFields::name`]), as a catalog lists them.
+pub fn named<O: StandardFields>(operators: impl IntoIterator<Item = O>) -> Vec<(String, O)> {
     operators.into_iter().map(with_name).collect()
 }
 
 /// One operator paired with its name, as a catalog's `load_operator` returns it.
-pub fn with_name<O: OperatorData>(operator: O) -> (String, O) {
+pub fn with_name<O: StandardFields>(operator: O) -> (String, O) {
     (operator.name().to_owned(), operator)
 }
 
 /// The operator named `name` among `operators` (a family's poles, among the shipped
 /// operators); `None` when none is.
-pub fn find<O: OperatorData>(operators: impl IntoIterator<Item = O>, name: &str) -> Option<O> {
+pub fn find<O: StandardFields>(operators: impl IntoIterator<Item = O>, name: &str) -> Option<O> {
     operators
         .into_iter()
         .find(|operator| operator.name() == name)
@@ -429,19 +422,18 @@ mod tests {
     const BUMP: Cause = Cause::from_static("bump");
     const GLARE: Cause = Cause::from_static("glare");
 
-    /// An operator with one field of every range, a perceived list, and a rule of its own:
-    /// `watch_glare` needs the cause `glare` declared.
-    #[derive(Debug, Deserialize)]
-    struct Watcher {
-        name: String,
-        p: f64,
-        t: f64,
-        gap: f64,
-        factor: f64,
-        #[serde(default)]
-        watch_glare: bool,
-        #[serde(default)]
-        weights: OutcomeWeights,
+    crate::standard_operator! {
+        /// An operator with one field of every range, a perceived list, and a rule of its own:
+        /// `watch_glare` needs the cause `glare` declared.
+        #[derive(Debug, Deserialize)]
+        struct Watcher {
+            p: f64,
+            t: f64,
+            gap: f64,
+            factor: f64,
+            #[serde(default)]
+            watch_glare: bool,
+        }
     }
 
     #[derive(Debug, PartialEq, thiserror::Error)]
@@ -451,14 +443,6 @@ mod tests {
     impl OperatorData for Watcher {
         type Invalid = GlareUndeclared;
         const PERCEIVED: Option<&'static [Cause]> = Some(&[BUMP]);
-
-        fn name(&self) -> &str {
-            &self.name
-        }
-
-        fn weights_mut(&mut self) -> &mut OutcomeWeights {
-            &mut self.weights
-        }
 
         fn validate(&self, check: &mut RangeCheck) {
             check.probability("p", self.p);
@@ -547,6 +531,25 @@ mod tests {
                 format!("ops/w.ron: operator `w`: {expected}")
             );
         }
+    }
+
+    #[test]
+    fn the_standard_patience_defaults_to_2_and_is_checked_after_the_domain_s_own_fields() {
+        assert_eq!(read(GOOD).unwrap().give_up_factor(), 2.0);
+        assert_eq!(
+            read(&format!("{GOOD}, give_up_factor: 3.5"))
+                .unwrap()
+                .give_up_factor(),
+            3.5
+        );
+        assert_eq!(
+            message(&format!("{GOOD}, give_up_factor: 0.9")),
+            "ops/w.ron: operator `w`: `give_up_factor` must be a finite number >= 1, got 0.9"
+        );
+        assert_eq!(
+            message("p: 2.0, t: 2.0, gap: 0.0, factor: 1.5, give_up_factor: 0.5"),
+            "ops/w.ron: operator `w`: `p` must be a probability in [0, 1], got 2"
+        );
     }
 
     #[test]

@@ -13,6 +13,7 @@
 //! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::domain::{Domain, Judgement};
+use crate::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, NamedComponent};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -396,7 +397,7 @@ impl<O> ToyDomain<O> {
     }
 }
 
-impl<O: Send + Sync> Domain for ToyDomain<O> {
+impl<O: SimulatedOperator + Send + Sync> Domain for ToyDomain<O> {
     type Operator = O;
 
     fn name(&self) -> &str {

@@ -24,6 +24,8 @@ type Toy = ToyDomain<Favourite>;
 
 struct Favourite(Behavior);
 
+impl lab::SimulatedOperator for Favourite {}
+
 /// The toy domain declaring `causes` (its runs name `too-slow` all the same).
 fn toy_declaring(causes: &[Cause]) -> Toy {
     ToyDomain::grid(

@@ -25,6 +25,8 @@ const BUMPED: Cause = Cause::from_static("bumped");
 /// The behavior an operator trusts: every other one bumps four times in five.
 struct Favourite(Behavior);
 
+impl lab::SimulatedOperator for Favourite {}
+
 /// A 6 x 6 grid whose robot knows its cargo (normal, hazardous); with hazardous cargo
 /// every operator's favourite is the mirror image of its own (`(5 - x, 5 - y)`).
 fn toy() -> ToyDomain<Favourite> {

@@ -29,6 +29,8 @@ type Toy = ToyDomain<Favourite>;
 
 struct Favourite(Behavior);
 
+impl lab::SimulatedOperator for Favourite {}
+
 fn toy() -> Toy {
     ToyDomain::grid(
         "toy",

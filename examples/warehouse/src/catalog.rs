@@ -71,10 +71,6 @@ impl Catalog for WarehouseCatalog {
         Arm::search_and_case_based(TROUBLESHOOTER, troubleshooter, retriever).into()
     }
 
-    fn completion_weight(&self, operator: &WarehouseOperator) -> Option<f64> {
-        Some(operator.weights.completed)
-    }
-
     fn default_suite(&self) -> &str {
         SUITE
     }

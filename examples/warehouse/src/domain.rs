@@ -5,7 +5,7 @@
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
 //! [`Trace`]; the operator turns it into a `Judgement`, at the attention a mission gives
-//! it (`run_attending`; `run` is attention 1), which carries what the robot perceived
+//! it (`run_attending`; the default `run` is attention 1), which carries what the robot perceived
 //! ([`perception`]). Every draw comes from the generator passed in, in a fixed order, so
 //! a seed gives one pick.
 
@@ -22,7 +22,7 @@ use std::convert::Infallible;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
-use trustcbr::lab::{Domain, FeedbackChannel, Judgement};
+use trustcbr::lab::{Domain, Judgement};
 use trustcbr::rand;
 use trustcbr::trust::{Cause, DeclaredCause, Hint};
 
@@ -187,19 +187,6 @@ impl Domain for WarehouseDomain {
 
     fn hints(&self) -> &[Hint] {
         &perception::HINTS
-    }
-
-    fn feedback(&self, operator: &WarehouseOperator) -> FeedbackChannel {
-        operator.feedback
-    }
-
-    fn run(
-        &self,
-        behavior: &Behavior,
-        operator: &WarehouseOperator,
-        rng: &mut dyn RngCore,
-    ) -> Judgement {
-        self.pick(behavior, operator, 1.0, rng)
     }
 
     fn run_attending(

@@ -15,36 +15,26 @@ use std::convert::Infallible;
 use std::path::Path;
 use trustcbr::lab::attention::Attending;
 use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
-use trustcbr::lab::patience::Patience;
-use trustcbr::lab::{FeedbackChannel, Judgement};
+use trustcbr::lab::{Judgement, StandardFields};
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
-use trustcbr::trust::{OutcomeKind, OutcomeWeights};
+use trustcbr::trust::OutcomeKind;
 
-/// A simulated warehouse operator.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(crate = "trustcbr::serde", deny_unknown_fields)]
-pub struct WarehouseOperator {
-    /// The operator's name (e.g. `throughput-focused`).
-    pub name: String,
-    /// The time the operator allows for one pick (s).
-    pub t_complete: f64,
-    /// Probability of interrupting when `t_complete` passes.
-    pub p_deadline: f64,
-    /// Probability of interrupting on each collision.
-    pub p_collision: f64,
-    /// Probability that a crushed item is noticed at packing (and the pick failed).
-    pub p_crushed: f64,
-    /// The operator gives up at this multiple of `t_complete` (the pick fails, too slow).
-    #[serde(default = "trustcbr::lab::patience::default_give_up_factor")]
-    pub give_up_factor: f64,
-    /// Outcome weights.
-    #[serde(default)]
-    pub weights: OutcomeWeights,
-    /// How the operator explains itself (`feedback: (explains: 0.3, wrong: 0.1)`); silent,
-    /// as the paper's operator, when absent. An experiment's `feedback` overrides it.
-    #[serde(default)]
-    pub feedback: FeedbackChannel,
+trustcbr::lab::standard_operator! {
+    /// A simulated warehouse operator: besides the standard fields (`name`,
+    /// `give_up_factor`, `weights`, `feedback`), what it watches in a pick.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    #[serde(crate = "trustcbr::serde", deny_unknown_fields)]
+    pub struct WarehouseOperator {
+        /// The time the operator allows for one pick (s).
+        pub t_complete: f64,
+        /// Probability of interrupting when `t_complete` passes.
+        pub p_deadline: f64,
+        /// Probability of interrupting on each collision.
+        pub p_collision: f64,
+        /// Probability that a crushed item is noticed at packing (and the pick failed).
+        pub p_crushed: f64,
+    }
 }
 
 /// Why an operator file cannot be used (the warehouse has no rules of its own beyond the
@@ -54,20 +44,11 @@ pub type OperatorError = OperatorFileError;
 impl OperatorData for WarehouseOperator {
     type Invalid = Infallible;
 
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn weights_mut(&mut self) -> &mut OutcomeWeights {
-        &mut self.weights
-    }
-
     fn validate(&self, check: &mut RangeCheck) {
         check.probability("p_deadline", self.p_deadline);
         check.probability("p_collision", self.p_collision);
         check.probability("p_crushed", self.p_crushed);
         check.positive("t_complete", self.t_complete);
-        check.at_least("give_up_factor", self.give_up_factor, 1.0);
     }
 }
 
@@ -107,12 +88,11 @@ impl WarehouseOperator {
     /// How the pick ends for an operator `attending` to it, before the judgement names
     /// what it overlooked.
     fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
-        let patience = Patience {
-            deadline_s: self.t_complete,
-            p_interrupt: self.p_deadline,
-            give_up_factor: self.give_up_factor,
-            cause: WarehouseCause::TooSlow.to_trust(),
-        };
+        let patience = self.patience(
+            self.t_complete,
+            self.p_deadline,
+            WarehouseCause::TooSlow.to_trust(),
+        );
         let ending = |kind, cause: WarehouseCause, t| {
             Some(Judgement::weighed(kind, cause.to_trust(), t, &self.weights))
         };
