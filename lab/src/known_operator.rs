@@ -21,7 +21,9 @@
 //! operators' limits ([`Limit::mean_of`]): a lower bound for an agent that is not told
 //! which operator it faces. How much its operators disagree ([`Conflict`]) is measured on
 //! the same landscapes: the share of behaviors every operator trusts, the pairwise Jaccard
-//! index of their trustworthy regions, and whether any single behavior pleases everyone.
+//! index of their trustworthy regions, the pairwise share of behaviors whose completion
+//! rates lie more than [`RATE_GAP`] apart, and whether any single behavior pleases
+//! everyone.
 
 use crate::Domain;
 use crate::landscape::{self, LandscapeError, Tally};
@@ -95,7 +97,35 @@ pub struct KnownOperator {
     pub untrustworthy_rate: Vec<f64>,
 }
 
-/// How much a population's operators disagree, measured on their trustworthy regions.
+impl KnownOperator {
+    /// Per behavior (in rank order), the estimated probability that a command completes:
+    /// one minus [`KnownOperator::untrustworthy_rate`].
+    pub fn completion_rate(&self) -> Vec<f64> {
+        self.untrustworthy_rate.iter().map(|u| 1.0 - u).collect()
+    }
+}
+
+/// How far apart two operators' completion rates on a behavior must be for
+/// [`Conflict::rate_gap_share`] to count it. One half, because rates (in [0, 1]) more than
+/// one half apart put the behavior on opposite sides of one half: one operator mostly lets
+/// it complete and the other mostly stops it, whatever the rates. A behavior counts as
+/// trusted even at 60% completion, so the trustworthy regions alone do not tell how far
+/// apart two operators are: both may trust a behavior at rates 0.6 and 1.0, and one may
+/// trust it at 0.6 while the other, at 0.55, does not.
+pub const RATE_GAP: f64 = 0.5;
+
+/// How much two completion rates may differ beyond [`RATE_GAP`] and still count as exactly
+/// `RATE_GAP` apart: rates are shares of runs, and the gap between two of them that is
+/// exactly one half (0.7 and 0.2) may come out of floating point a rounding error off.
+const RATE_GAP_ROUNDING: f64 = 1e-9;
+
+/// Whether completion rates `a` and `b` lie more than [`RATE_GAP`] apart.
+fn rates_apart(a: f64, b: f64) -> bool {
+    (a - b).abs() > RATE_GAP + RATE_GAP_ROUNDING
+}
+
+/// How much a population's operators disagree, measured on their trustworthy regions and
+/// completion rates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Conflict {
     /// Behaviors in the space.
@@ -107,16 +137,24 @@ pub struct Conflict {
     /// The Jaccard index (shared / either) of every pair of operators' regions, pairs
     /// `(0, 1), (0, 2), ..., (1, 2), ...`.
     pub jaccard: Vec<f64>,
+    /// For every pair of operators (in the order of [`Conflict::jaccard`]), the share of
+    /// the space's behaviors whose completion rates for the two lie more than
+    /// [`RATE_GAP`] apart: behaviors one operator mostly lets complete and the other
+    /// mostly stops. Unlike the Jaccard index it tells how far apart the rates are, not
+    /// only on which side of the trust threshold each falls.
+    pub rate_gap_share: Vec<f64>,
 }
 
 impl Conflict {
-    /// The conflict of operators with these trustworthy regions (all over one space).
-    pub fn of(regions: &[&[bool]]) -> Self {
-        let behaviors = regions.first().map_or(0, |r| r.len());
+    /// The conflict of operators, each given by its trustworthy region and its completion
+    /// rate per behavior (both in rank order, all over one space).
+    pub fn of(operators: &[(&[bool], &[f64])]) -> Self {
+        let behaviors = operators.first().map_or(0, |(r, _)| r.len());
         let count = |f: &dyn Fn(usize) -> bool| (0..behaviors).filter(|&b| f(b)).count();
         let mut jaccard = Vec::new();
-        for (i, a) in regions.iter().enumerate() {
-            for b in &regions[i + 1..] {
+        let mut rate_gap_share = Vec::new();
+        for (i, (a, a_rates)) in operators.iter().enumerate() {
+            for (b, b_rates) in &operators[i + 1..] {
                 let both = count(&|k| a[k] && b[k]);
                 let either = count(&|k| a[k] || b[k]);
                 jaccard.push(if either == 0 {
@@ -124,13 +162,16 @@ impl Conflict {
                 } else {
                     both as f64 / either as f64
                 });
+                let apart = count(&|k| rates_apart(a_rates[k], b_rates[k]));
+                rate_gap_share.push(apart as f64 / behaviors.max(1) as f64);
             }
         }
         Self {
             behaviors,
-            trusted_by_each: regions.iter().map(|r| count(&|k| r[k])).collect(),
-            trusted_by_all: count(&|k| regions.iter().all(|r| r[k])),
+            trusted_by_each: operators.iter().map(|(r, _)| count(&|k| r[k])).collect(),
+            trusted_by_all: count(&|k| operators.iter().all(|(r, _)| r[k])),
             jaccard,
+            rate_gap_share,
         }
     }
 
@@ -164,15 +205,17 @@ impl ExperimentLimit {
     /// name.
     pub fn of(operators: &[(&str, &KnownOperator)]) -> Result<Self, KnownLimitError> {
         let limits: Vec<Limit> = operators.iter().map(|(_, o)| o.limit).collect();
-        let regions: Vec<&[bool]> = operators
+        let rates: Vec<Vec<f64>> = operators.iter().map(|(_, o)| o.completion_rate()).collect();
+        let members: Vec<(&[bool], &[f64])> = operators
             .iter()
-            .map(|(_, o)| o.trusted.as_slice())
+            .zip(&rates)
+            .map(|((_, o), rates)| (o.trusted.as_slice(), rates.as_slice()))
             .collect();
         Ok(Self {
             limit: Limit::mean_of(&limits)?,
             law: UntrustworthyLaw::mixture(operators.iter().map(|(_, o)| (1.0, &o.law))),
             operators: operators.len(),
-            conflict: Conflict::of(&regions),
+            conflict: Conflict::of(&members),
             regions: operators
                 .iter()
                 .map(|(name, o)| ((*name).to_owned(), o.trusted.clone()))
@@ -330,4 +373,52 @@ pub fn known_operator<D: Domain>(
         untrustworthy_rate: tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
         walks,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rate_gap_share_counts_behaviors_whose_completion_rates_lie_more_than_half_apart() {
+        // Gaps 0.7, 0.7 and 0.05: two of three behaviors lie more than 0.5 apart.
+        let (a, b) = ([1.0, 0.2, 0.6], [0.3, 0.9, 0.55]);
+        let (a_trusts, b_trusts) = ([true, false, true], [false, true, true]);
+        let conflict = Conflict::of(&[(&a_trusts[..], &a[..]), (&b_trusts[..], &b[..])]);
+        assert_eq!(conflict.rate_gap_share, vec![2.0 / 3.0]);
+        // The same pair's Jaccard: one shared behavior of three trusted by either.
+        assert_eq!(conflict.jaccard, vec![1.0 / 3.0]);
+    }
+
+    #[test]
+    fn the_rate_gap_share_follows_the_pair_order_of_the_jaccard() {
+        let trusts = [true, true];
+        let rates: [&[f64]; 3] = [&[1.0, 1.0], &[0.0, 1.0], &[0.0, 0.0]];
+        let members: Vec<(&[bool], &[f64])> = rates.iter().map(|r| (&trusts[..], *r)).collect();
+        let conflict = Conflict::of(&members);
+        // Pairs (0, 1), (0, 2), (1, 2).
+        assert_eq!(conflict.rate_gap_share, vec![0.5, 1.0, 0.5]);
+        assert_eq!(conflict.jaccard, vec![1.0; 3]);
+    }
+
+    #[test]
+    fn rates_exactly_half_apart_are_not_counted_even_after_rounding() {
+        // 0.7 - 0.2 is 0.49999999999999994 in floating point, 0.8 - 0.3 is 0.5.
+        assert!(!rates_apart(0.7, 0.2));
+        assert!(!rates_apart(0.3, 0.8));
+        // Completion rates of 400 runs, as one minus the untrustworthy rates: 0.8825 and
+        // 0.3825, whose difference comes out 0.5000000000000001.
+        let (high, low) = (1.0 - 47.0 / 400.0, 1.0 - 247.0 / 400.0);
+        assert!(high - low > RATE_GAP);
+        assert!(!rates_apart(high, low));
+        assert!(rates_apart(0.76, 0.25));
+    }
+
+    #[test]
+    fn one_operator_has_no_pairs() {
+        let conflict = Conflict::of(&[(&[true, false][..], &[0.9, 0.1][..])]);
+        assert!(conflict.jaccard.is_empty());
+        assert!(conflict.rate_gap_share.is_empty());
+        assert_eq!(conflict.trusted_by_all, 1);
+    }
 }

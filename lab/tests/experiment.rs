@@ -5,7 +5,8 @@ use cbr_core::{Behavior, BehaviorSpace};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
 use lab::report::{
-    Provenance, ReportEntry, arms_table, table, trials_jsonl, versus_reference, write_report,
+    Provenance, ReportEntry, arms_table, population_table, summary, table, trials_jsonl,
+    versus_reference, write_report,
 };
 use lab::testing::ToyDomain;
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
@@ -346,6 +347,47 @@ fn the_report_folder_holds_every_file() {
     assert!(page.contains("<a href=\"#glossary\">") && page.contains("<h2 id=\"glossary\">"));
     assert!(!page.contains("url(http") && !page.contains("@import"));
     assert!(!page.contains("<script") && !page.contains("<link") && !page.contains("src="));
+}
+
+#[test]
+fn the_disagreement_table_and_summary_say_how_far_apart_the_operators_rates_are() {
+    // Each operator completes its favourite behavior always and every other one 5% of the
+    // time: of the 36 behaviors, only the two favourites have rates more than 0.5 apart,
+    // and the regions (each operator's favourite alone) do not meet.
+    let toy = toy();
+    let ops = operators();
+    let results = run_experiments(&plans(&toy, &ops, 2), 1, &|_| {}).unwrap();
+    let mut entries = entries(&results, &toy);
+    let settings = LimitSettings {
+        runs: 200,
+        budget: 0,
+        candidates: 0,
+        candidate_runs: 0,
+    };
+    let known: Vec<_> = ops
+        .iter()
+        .map(|(_, o)| known_operator(&toy, o, Thresholds::default(), settings, 9).unwrap())
+        .collect();
+    let limit = ExperimentLimit::of(&[("low", &known[0]), ("high", &known[1])]).unwrap();
+    assert_eq!(limit.conflict.rate_gap_share, vec![2.0 / 36.0]);
+    assert_eq!(limit.conflict.jaccard, vec![0.0]);
+    entries[0].limit = Some(&limit);
+    let table = population_table(&entries);
+    assert!(
+        table.starts_with("| Experiment | Operators | Trusted by each | Trusted by all | Jaccard (pairs) | Rates >0.5 apart (pairs) | One behavior pleases all |\n"),
+        "{table}"
+    );
+    assert!(
+        table.contains("| toy/low | 2 | 1, 1 | 0 (0.0%) | 0.00 | 0.06 | no |"),
+        "{table}"
+    );
+    let summary = summary(&entries, None, 0.0, &Provenance::default());
+    let population = &summary["experiments"][0]["limit"]["population"];
+    assert_eq!(
+        population["pairwise_rate_gap"],
+        serde_json::json!([2.0 / 36.0])
+    );
+    assert_eq!(population["pairwise_jaccard"], serde_json::json!([0.0]));
 }
 
 #[test]

@@ -4,9 +4,9 @@
 
 use super::tables::{
     BENCHMARK_NOTE, BENCHMARK_TITLE, CONTEXTS_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE,
-    NO_BENCHMARK, arms_table, benchmark_table, benchmark_title, contexts_table, effects_table,
-    explanations_table, found_note, free_first_table, goal_changes_table, limit_table,
-    population_table, sample_explanations, table,
+    NO_BENCHMARK, POPULATION_TITLE, arms_table, benchmark_table, benchmark_title, contexts_table,
+    effects_table, explanations_table, found_note, free_first_table, goal_changes_table,
+    limit_table, population_table, sample_explanations, table,
 };
 use super::{Provenance, ReportEntry, file_stems};
 use crate::arm::Initial;
@@ -229,7 +229,7 @@ pub(super) fn html_page(
         }
         section(
             "population",
-            "How much each experiment's operators disagree (their trustworthy regions)",
+            POPULATION_TITLE,
             html_table(&population_table(entries)),
         );
     }

@@ -121,6 +121,7 @@ pub(super) fn summary_of(
                         "trusted_by_all_share": conflict.shared_share(),
                         "one_behavior_pleases_all": conflict.trusted_by_all > 0,
                         "pairwise_jaccard": conflict.jaccard,
+                        "pairwise_rate_gap": conflict.rate_gap_share,
                     },
                 })
             });

@@ -12,7 +12,7 @@ use crate::arm::Initial;
 use crate::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
 use crate::context::{any_contexts, by_context};
 use crate::goal_change::{ArmGoalChanges, any_goal_changes};
-use crate::known_operator::ExperimentLimit;
+use crate::known_operator::{ExperimentLimit, RATE_GAP};
 use crate::limit::Costs;
 use crate::runner::ArmResult;
 use crate::stats::{MeanCi, RatioCi};
@@ -499,10 +499,14 @@ pub fn free_first_table(entries: &[ReportEntry<'_>]) -> String {
     out
 }
 
-/// How much each experiment's operators disagree, measured on their trustworthy regions
-/// (the landscapes behind the limit): the behaviors each trusts, those all trust, the
-/// pairwise Jaccard index, whether one behavior pleases everyone. Empty when no experiment
-/// has a limit.
+/// The title of [`population_table`]'s section.
+pub(super) const POPULATION_TITLE: &str = "How much each experiment's operators disagree (their trustworthy regions and completion rates)";
+
+/// How much each experiment's operators disagree, measured on the landscapes behind the
+/// limit: the behaviors each trusts, those all trust, the pairwise Jaccard index of their
+/// trustworthy regions, the pairwise share of behaviors whose completion rates lie more
+/// than [`RATE_GAP`] apart, whether one behavior pleases everyone. Empty when no
+/// experiment has a limit.
 pub fn population_table(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
     for e in entries {
@@ -510,31 +514,41 @@ pub fn population_table(entries: &[ReportEntry<'_>]) -> String {
             continue;
         };
         if out.is_empty() {
-            out.push_str("| Experiment | Operators | Trusted by each | Trusted by all | Jaccard (pairs) | One behavior pleases all |\n");
-            out.push_str("|---|---:|---|---:|---|---|\n");
+            let _ = writeln!(
+                out,
+                "| Experiment | Operators | Trusted by each | Trusted by all | Jaccard (pairs) | Rates >{RATE_GAP} apart (pairs) | One behavior pleases all |"
+            );
+            out.push_str("|---|---:|---|---:|---|---|---|\n");
         }
         let c = &limit.conflict;
         let each: Vec<String> = c.trusted_by_each.iter().map(usize::to_string).collect();
-        let jaccard = match (
-            c.jaccard.iter().copied().reduce(f64::min),
-            c.jaccard.iter().copied().reduce(f64::max),
-        ) {
-            (Some(lo), Some(hi)) if hi - lo < 0.005 => format!("{lo:.2}"),
-            (Some(lo), Some(hi)) => format!("{lo:.2} to {hi:.2}"),
-            _ => "—".to_owned(),
-        };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} ({:.1}%) | {jaccard} | {} |",
+            "| {} | {} | {} | {} ({:.1}%) | {} | {} | {} |",
             e.result.name,
             limit.operators,
             each.join(", "),
             c.trusted_by_all,
             100.0 * c.shared_share(),
+            pairs_range(&c.jaccard),
+            pairs_range(&c.rate_gap_share),
             if c.trusted_by_all > 0 { "yes" } else { "no" }
         );
     }
     out
+}
+
+/// A figure over every pair of operators as its range, `0.12 to 0.40`: one figure when
+/// the pairs agree to two decimals, `—` when there is no pair.
+fn pairs_range(pairs: &[f64]) -> String {
+    match (
+        pairs.iter().copied().reduce(f64::min),
+        pairs.iter().copied().reduce(f64::max),
+    ) {
+        (Some(lo), Some(hi)) if hi - lo < 0.005 => format!("{lo:.2}"),
+        (Some(lo), Some(hi)) => format!("{lo:.2} to {hi:.2}"),
+        _ => "—".to_owned(),
+    }
 }
 
 fn format_p(p: f64) -> String {
@@ -676,7 +690,7 @@ pub(super) fn table_md(
         String::new()
     } else {
         format!(
-            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}{}\n## How much each experiment's operators disagree (their trustworthy regions)\n\n{}",
+            "\n## Against the known-operator limit (the paper's protocol: a random first behavior)\n\n{limits}{}\n## {POPULATION_TITLE}\n\n{}",
             if free_first.is_empty() {
                 String::new()
             } else {
@@ -706,5 +720,12 @@ mod tests {
     fn p_values_are_readable() {
         assert_eq!(format_p(0.01234), "0.0123");
         assert_eq!(format_p(3.0e-9), "3.0e-9");
+    }
+
+    #[test]
+    fn a_figure_over_pairs_reads_as_its_range() {
+        assert_eq!(pairs_range(&[0.4, 0.123, 0.2]), "0.12 to 0.40");
+        assert_eq!(pairs_range(&[2.0 / 3.0, 0.668]), "0.67");
+        assert_eq!(pairs_range(&[]), "—");
     }
 }
