@@ -66,7 +66,9 @@ pub struct MissionSuiteConfig {
 pub struct MissionSpec {
     /// Its name in the report.
     pub name: String,
-    /// Who operates: a scenario and its population (`operator: "random"`).
+    /// Who operates: a scenario and its population (`operator: "random"`, which a plan
+    /// with a `population` or several `operator_files` may leave out).
+    #[serde(deserialize_with = "crate::suite::config::experiment_read")]
     pub operators: ExperimentSpec,
     /// Missions per arm.
     pub count: NonZeroU32,
@@ -185,6 +187,14 @@ impl MissionSuiteConfig {
         let (mut commands, mut missions) = (0u64, 0u64);
         for (k, spec) in self.missions.iter().enumerate() {
             let field = |name: &str| format!("missions[{k}].{name}");
+            if spec.operators.operator.is_empty() {
+                return Err(invalid(
+                    field("operators.operator"),
+                    format!(
+                        "a mission draws its operators from the population: write `operator: \"{RANDOM_OPERATOR}\"` (left out, it is `{RANDOM_OPERATOR}` only beside a `population` or several `operator_files`)"
+                    ),
+                ));
+            }
             if spec.operators.operator != RANDOM_OPERATOR {
                 return Err(invalid(
                     field("operators.operator"),

@@ -628,3 +628,63 @@ fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
     assert!(page.contains("<h2 id=\"explanations\">Explanations against the truth</h2>"));
     assert!(page.contains("<figcaption>The trust estimate of the behavior in use"));
 }
+
+/// A movement operator file of the plug-in guide's kind.
+const NIGHT: &str = "(name: \"night\", t_complete: 20.0, p_deadline: 0.5, p_collision: 0.5)";
+
+#[test]
+fn an_experiment_written_as_the_plugin_guide_writes_it_runs_its_file_s_operator() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("night.ron"), NIGHT).unwrap();
+    // docs/plugin-guide.md: `experiments: [(scenario: ..., operator_files: [...])]`.
+    let suite = |operator: &str| {
+        format!(
+            "(seed: 3, trials: 3, landscape_runs: 0, arms: [\"uniform\", \"case-based\"], experiments: [(scenario: \"movement\", {operator}operator_files: [\"night.ron\"])])"
+        )
+    };
+    let (guide, named) = (dir.path().join("guide.ron"), dir.path().join("named.ron"));
+    std::fs::write(&guide, suite("")).unwrap();
+    std::fs::write(&named, suite("operator: \"night\", ")).unwrap();
+    let (from_guide, from_named) = (dir.path().join("guide"), dir.path().join("named"));
+    let stdout = run(&guide, &from_guide, "2");
+    assert!(stdout.contains("| movement | night |"), "{stdout}");
+    run(&named, &from_named, "2");
+    // The file's operator judged every trial, exactly as when named.
+    let trials = std::fs::read_to_string(from_guide.join("trials.jsonl")).unwrap();
+    assert_eq!(
+        trials,
+        std::fs::read_to_string(from_named.join("trials.jsonl")).unwrap()
+    );
+    assert!(
+        trials.lines().all(|t| t.contains("\"operator\":\"night\"")),
+        "{trials}"
+    );
+    // The echoed config names it, and reruns to the same trials.
+    let echoed = std::fs::read_to_string(from_guide.join("config.ron")).unwrap();
+    assert!(echoed.contains("operator: \"night\""), "{echoed}");
+    let rerun = dir.path().join("rerun");
+    run(&from_guide.join("config.ron"), &rerun, "1");
+    assert_eq!(
+        trials,
+        std::fs::read_to_string(rerun.join("trials.jsonl")).unwrap()
+    );
+}
+
+#[test]
+fn an_experiment_with_neither_operator_nor_files_is_told_what_to_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("suite.ron");
+    std::fs::write(
+        &config,
+        "(seed: 3, trials: 3,\n experiments: [(scenario: \"movement\")])",
+    )
+    .unwrap();
+    let stderr = support::refused(trustcbr().arg("run").arg(&config));
+    assert_eq!(
+        stderr,
+        format!(
+            "error: {}: experiments[0].operator: is left out, and the experiment has no `operator_files` or `population` to choose it by: write `operator: \"NAME\"` with NAME one of movement's built-in operators (speed-focused, safety-focused, balanced), `operator: \"random\"` to draw one of them per trial, or `operator_files: [\"FILE.ron\"]` to run an operator of your own on every trial\n",
+            config.display()
+        )
+    );
+}

@@ -395,16 +395,17 @@ pub fn read_config<C: Catalog>(
     origin: &str,
 ) -> PyResult<String> {
     let (text, origin, missions) = suite_text(kind, text, Path::new(origin))?;
-    let _ = catalog;
     if missions {
         let config = mission_suite(kind, &text, &origin)?;
         return serde_json::to_string(&config).map_err(error);
     }
-    let config: SuiteConfig = if kind == "json" {
+    let mut config: SuiteConfig = if kind == "json" {
         serde_json::from_str(&text).map_err(error)?
     } else {
         trustcbr::files::parse_ron(&text, &origin).map_err(error)?
     };
+    // An experiment's operator left out beside one file is named, as a run names it.
+    config.choose_left_out_operators(catalog, &origin);
     serde_json::to_string(&config).map_err(error)
 }
 

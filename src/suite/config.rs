@@ -3,7 +3,7 @@
 //! names (its report name, its operators).
 
 use super::{SuiteError, invalid};
-use crate::catalog::{Catalog, Family, OperatorOf, Readings};
+use crate::catalog::{Catalog, Family, OperatorOf, Readings, resolve_readings};
 use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
@@ -61,6 +61,7 @@ pub struct SuiteConfig {
     )]
     pub reference: Option<String>,
     /// The experiments, in report order.
+    #[serde(deserialize_with = "experiments_read")]
     pub experiments: Vec<ExperimentSpec>,
     /// Runs per cell of the operator landscapes the report draws the final behaviors over
     /// (0: no landscape).
@@ -238,13 +239,38 @@ pub(crate) fn check_arms_choose(adapter: &AdapterConfig, origin: &Path) -> Resul
 }
 
 /// One experiment: a scenario and who operates the robot.
+///
+/// Read through [`SuiteConfig::from_ron`], [`SuiteConfig::from_json`] or
+/// [`SuiteConfig::load`], an experiment always names its operator: one it leaves out is
+/// chosen there (see [`ExperimentSpec::operator`]), and the report's `config.ron` writes it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentSpec {
     /// The scenario, by the catalog's name for it (a RON string: `"movement"`).
     #[serde(deserialize_with = "deserialize_scenario")]
     pub scenario: String,
-    /// An operator's name, or `random` to draw one per trial.
+    /// Who judges the trials: one of the experiment's operators by name (a built-in
+    /// operator of the scenario, or the `name` of one of its `operator_files`), or
+    /// [`RANDOM_OPERATOR`] (`random`) to draw one of them per trial.
+    ///
+    /// A config may leave it out when the experiment says who operates otherwise:
+    /// - with a `population`, it is `random` (the only value a population takes);
+    /// - with exactly one operator file (and no population), it is that file's operator
+    ///   (its `name`), which judges every trial, exactly as with that name written;
+    /// - with several operator files (and no population), it is `random`: each trial draws
+    ///   one of all the experiment's operators, the scenario's built-in ones and the
+    ///   files' (for a draw among the files alone, make them a `population`).
+    ///
+    /// An experiment with neither an `operator`, nor `operator_files`, nor a `population`
+    /// is refused, naming what to write. Every config that writes `operator` reads as it
+    /// always did. The `random` cases are filled in as the config is parsed, the one-file
+    /// case as it is read against the catalog (which reads the file's name): empty until
+    /// then, and an empty `operator` is written out of a config.
+    #[serde(
+        default,
+        skip_serializing_if = "String::is_empty",
+        deserialize_with = "deserialize_operator"
+    )]
     pub operator: String,
     /// Extra operator files (RON), relative to the config file; they join the scenario's
     /// built-in operators.
@@ -259,7 +285,7 @@ pub struct ExperimentSpec {
     /// The experiment's operators are a population instead of the scenario's: listed by
     /// hand (`builtin_operators`, then `operator_files`), or members drawn from the
     /// catalog's parametric family ([`Catalog::family`]); `operator` must then be `random`
-    /// (a member judges each trial).
+    /// or left out (a member judges each trial).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub population: Option<Population>,
     /// How every operator of the experiment explains itself (`(explains: 0.3, wrong:
@@ -284,6 +310,39 @@ pub struct ExperimentSpec {
     /// Named in the experiment's name (`/s1w0.3`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stated: Option<Stating>,
+}
+
+/// Reads a suite's experiments, each with the `operator` it leaves out chosen where that
+/// needs no catalog ([`ExperimentSpec::random_when_left_out`]).
+fn experiments_read<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<ExperimentSpec>, D::Error> {
+    let mut experiments = Vec::<ExperimentSpec>::deserialize(d)?;
+    experiments
+        .iter_mut()
+        .for_each(ExperimentSpec::random_when_left_out);
+    Ok(experiments)
+}
+
+/// [`experiments_read`] of one experiment (a mission plan's `operators`).
+pub(crate) fn experiment_read<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<ExperimentSpec, D::Error> {
+    let mut spec = ExperimentSpec::deserialize(d)?;
+    spec.random_when_left_out();
+    Ok(spec)
+}
+
+/// An experiment's `operator` as written: a name, never empty (an empty name would read as
+/// one left out).
+fn deserialize_operator<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let name = String::deserialize(d)?;
+    if name.is_empty() {
+        return Err(serde::de::Error::custom(format!(
+            "`operator` is empty: name an operator of the experiment (a built-in operator of its scenario, or an operator file's `name`), write `operator: \"{RANDOM_OPERATOR}\"`, or leave `operator` out beside `operator_files` or a `population`"
+        )));
+    }
+    Ok(name)
 }
 
 /// The contexts an experiment's trials run in ([`lab::TrialContexts`]), as a suite writes
@@ -432,15 +491,32 @@ impl SuiteConfig {
         Self::from_ron(catalog, &text, path)
     }
 
-    /// Parses and checks a suite config; `origin` names the source in errors.
+    /// Parses and checks a suite config; `origin` names the source in errors. An
+    /// experiment's `operator` left out is chosen here ([`ExperimentSpec::operator`]).
     pub fn from_ron<C: Catalog>(
         catalog: &C,
         text: &str,
         origin: &Path,
     ) -> Result<Self, SuiteError> {
-        let config = Self::parse(text, origin)?;
+        let mut config = Self::parse(text, origin)?;
+        config.choose_left_out_operators(catalog, origin);
         config.validate(catalog, origin)?;
         Ok(config)
+    }
+
+    /// Chooses the operator of each experiment that leaves it out beside exactly one
+    /// operator file: that file's operator (its file relative to the directory of
+    /// `origin`; [`ExperimentSpec::operator`]); the other choices were made as the config
+    /// was parsed. [`SuiteConfig::from_ron`], [`SuiteConfig::from_json`] and
+    /// [`SuiteConfig::load`] call it; a config parsed otherwise may. A file that cannot be
+    /// read, or readings that are not the catalog's, leave it out, for
+    /// [`SuiteConfig::validate`] to report.
+    pub fn choose_left_out_operators<C: Catalog>(&mut self, catalog: &C, origin: &Path) {
+        if let Ok(readings) = resolve_readings(catalog, &self.readings) {
+            for spec in &mut self.experiments {
+                spec.operator_of_its_file(catalog, origin, &readings);
+            }
+        }
     }
 
     /// Parses a suite config as written, unchecked (a mission suite refused by name, not
@@ -477,8 +553,9 @@ impl SuiteConfig {
         {
             return Err(mission_suite_here(origin));
         }
-        let config: Self = serde_json::from_str(text)
+        let mut config: Self = serde_json::from_str(text)
             .map_err(|e| invalid(origin, "config".into(), e.to_string()))?;
+        config.choose_left_out_operators(catalog, origin);
         config.validate(catalog, origin)?;
         Ok(config)
     }
@@ -544,6 +621,59 @@ impl ExperimentSpec {
                 format!("{base}/g{}s{says_goal_changes}", changes.per_hour)
             }
             Some(changes) => format!("{base}/g{}", changes.per_hour),
+        }
+    }
+
+    /// Chooses the `operator` the experiment leaves out where that needs no catalog:
+    /// `random` with a population or several operator files ([`ExperimentSpec::operator`]).
+    pub(crate) fn random_when_left_out(&mut self) {
+        if self.operator.is_empty() && (self.population.is_some() || self.operator_files.len() > 1)
+        {
+            self.operator = RANDOM_OPERATOR.to_owned();
+        }
+    }
+
+    /// Chooses the `operator` the experiment leaves out beside exactly one operator file
+    /// (and no population): that file's operator, read as `readings` read it (relative to
+    /// the directory of `origin`). A file that cannot be read leaves it out, for
+    /// [`SuiteConfig::validate`] to report the file's error.
+    fn operator_of_its_file<C: Catalog>(
+        &mut self,
+        catalog: &C,
+        origin: &Path,
+        readings: &Readings,
+    ) {
+        if let ([file], None, true) = (
+            self.operator_files.as_slice(),
+            &self.population,
+            self.operator.is_empty(),
+        ) && catalog.domain(&self.scenario).is_some()
+        {
+            let base = origin.parent().unwrap_or(Path::new("."));
+            if let Ok((name, _)) = catalog.load_operator(&self.scenario, &base.join(file), readings)
+            {
+                self.operator = name;
+            }
+        }
+    }
+
+    /// Why an experiment that leaves `operator` out cannot run (it has no operator files
+    /// and no population to choose it by), and what to write: a name among the scenario's
+    /// `builtins`, `random`, or an operator file.
+    pub(crate) fn operator_left_out(&self, builtins: &[String]) -> String {
+        let own = "`operator_files: [\"FILE.ron\"]` to run an operator of your own on every trial";
+        let choose = "is left out, and the experiment has no `operator_files` or `population` to choose it by";
+        if builtins.is_empty() {
+            format!(
+                "{choose}: write {own} ({} has no built-in operators)",
+                self.scenario
+            )
+        } else {
+            format!(
+                "{choose}: write `operator: \"NAME\"` with NAME one of {}'s built-in operators ({}), `operator: \"{RANDOM_OPERATOR}\"` to draw one of them per trial, or {own}",
+                self.scenario,
+                builtins.join(", ")
+            )
         }
     }
 

@@ -130,6 +130,7 @@ pub fn replayable_config<C: Catalog>(
     origin: &Path,
 ) -> Result<Replayable, TraceError> {
     let mut config = SuiteConfig::parse(text, origin)?;
+    config.choose_left_out_operators(catalog, origin);
     let retriever = config.adapter.retriever;
     let (kept, left_out): (Vec<String>, Vec<String>) = config
         .arms

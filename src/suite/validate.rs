@@ -124,15 +124,22 @@ impl SuiteConfig {
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
             {
                 let known: Vec<&str> = operators.iter().map(|(n, _)| n.as_str()).collect();
-                return Err(invalid(
-                    format!("{field}.operator"),
+                // Left out beside one file and not chosen: a config built by hand rather
+                // than read (reading chooses it, `ExperimentSpec::operator`).
+                let problem = if spec.operator.is_empty() {
+                    format!(
+                        "is left out: write `operator: \"NAME\"` with NAME one of the experiment's operators ({}), or `operator: \"{RANDOM_OPERATOR}\"`",
+                        known.join(", ")
+                    )
+                } else {
                     format!(
                         "unknown operator `{}` for {} (known: {}, or `{RANDOM_OPERATOR}`)",
                         spec.operator,
                         spec.scenario,
                         known.join(", ")
-                    ),
-                ));
+                    )
+                };
+                return Err(invalid(format!("{field}.operator"), problem));
             }
             spec.check_reachable(
                 catalog,
@@ -232,7 +239,8 @@ impl ExperimentSpec {
     /// Checks who operates an experiment or a mission plan (at `field`), whatever the
     /// suite's kind: its scenario, its population (a family's conflict and size, its
     /// members listed or drawn, not both; built-in members named only in a population,
-    /// each known and named once), and its operators, loaded as `readings` read them
+    /// each known and named once), an `operator` left out with nothing to choose it by
+    /// ([`ExperimentSpec::operator`]), and its operators, loaded as `readings` read them
     /// (file names as names, none named twice or `random`). Returns the operators.
     pub(crate) fn check<C: Catalog>(
         &self,
@@ -310,6 +318,16 @@ impl ExperimentSpec {
                     "built-in operators are named as a population's members: add `population: Some((name: ...))`, or leave them out (without a population every built-in operator of {} takes part)",
                     self.scenario
                 ),
+            ));
+        } else if self.operator.is_empty() && self.operator_files.is_empty() {
+            let builtins: Vec<String> = catalog
+                .operators(&self.scenario, readings)
+                .into_iter()
+                .map(|(name, _)| name)
+                .collect();
+            return Err(invalid(
+                format!("{field}.operator"),
+                self.operator_left_out(&builtins),
             ));
         }
         let operators = self.operators(catalog, origin, readings)?;
@@ -506,6 +524,144 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("reuse_cases"), "{err}");
+    }
+
+    /// A folder holding `night.ron` and `owl.ron`, two movement operators, and a suite
+    /// `suite.ron` of `experiments` beside them.
+    fn beside_two_operators(experiments: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["night", "owl"] {
+            std::fs::write(
+                dir.path().join(format!("{name}.ron")),
+                format!("(name: \"{name}\", t_complete: 20.0, p_deadline: 0.5, p_collision: 0.5)"),
+            )
+            .unwrap();
+        }
+        let config = dir.path().join("suite.ron");
+        std::fs::write(
+            &config,
+            format!("(seed: 1, trials: 5,\n experiments: [{experiments}])"),
+        )
+        .unwrap();
+        (dir, config)
+    }
+
+    #[test]
+    fn an_experiment_may_leave_its_operator_out_beside_operator_files_or_a_population() {
+        // One file: its operator judges every trial, as if named.
+        let (_dir, config) =
+            beside_two_operators("(scenario: \"movement\", operator_files: [\"night.ron\"])");
+        let suite = SuiteConfig::load(&UgvCatalog, &config).unwrap();
+        let (_named_dir, named) = beside_two_operators(
+            "(scenario: \"movement\", operator: \"night\", operator_files: [\"night.ron\"])",
+        );
+        assert_eq!(suite, SuiteConfig::load(&UgvCatalog, &named).unwrap());
+        assert_eq!(suite.experiments[0].name(), "movement/night");
+        // The config a report echoes names it, and reads back as the same config.
+        let echoed = suite.to_ron();
+        assert!(echoed.contains("operator: \"night\""), "{echoed}");
+        assert_eq!(
+            SuiteConfig::from_ron(&UgvCatalog, &echoed, &config).unwrap(),
+            suite
+        );
+        // Several files, or a population: a draw per trial, as `random` written.
+        for (experiment, name) in [
+            (
+                "(scenario: \"movement\", operator_files: [\"night.ron\", \"owl.ron\"])",
+                "movement/random",
+            ),
+            (
+                "(scenario: \"movement\", population: Some((name: \"pair\")), operator_files: [\"night.ron\", \"owl.ron\"])",
+                "movement/pair",
+            ),
+            (
+                "(scenario: \"movement\", population: Some((name: \"one\")), operator_files: [\"night.ron\"])",
+                "movement/one",
+            ),
+            (
+                "(scenario: \"movement\", population: Some((name: \"fam\", family: Some((conflict: 0.5, size: 2, seed: 1)))))",
+                "movement/fam",
+            ),
+        ] {
+            let (_dir, config) = beside_two_operators(experiment);
+            let suite = SuiteConfig::load(&UgvCatalog, &config).unwrap();
+            let spec = &suite.experiments[0];
+            assert_eq!(
+                (spec.operator.as_str(), spec.name().as_str()),
+                (RANDOM_OPERATOR, name)
+            );
+            let written = std::fs::read_to_string(&config).unwrap().replace(
+                "(scenario: \"movement\",",
+                "(scenario: \"movement\", operator: \"random\",",
+            );
+            assert_eq!(
+                SuiteConfig::from_ron(&UgvCatalog, &written, &config).unwrap(),
+                suite
+            );
+        }
+        // The same from JSON (a Python dict).
+        let (_dir, config) = beside_two_operators("");
+        let json = r#"{"seed": 1, "trials": 5, "experiments": [{"scenario": "movement", "operator_files": ["night.ron"]}]}"#;
+        let suite = SuiteConfig::from_json(&UgvCatalog, json, &config).unwrap();
+        assert_eq!(suite.experiments[0].operator, "night");
+    }
+
+    #[test]
+    fn an_experiment_with_no_operator_and_nothing_to_choose_it_by_says_what_to_write() {
+        let refused = |experiment: &str| {
+            let (_dir, config) = beside_two_operators(experiment);
+            SuiteConfig::load(&UgvCatalog, &config)
+                .unwrap_err()
+                .to_string()
+                .replace(&config.display().to_string(), "suite.ron")
+        };
+        assert_eq!(
+            refused("(scenario: \"movement\", operator: \"balanced\"), (scenario: \"patrol\")"),
+            "suite.ron: experiments[1].operator: is left out, and the experiment has no `operator_files` or `population` to choose it by: write `operator: \"NAME\"` with NAME one of patrol's built-in operators (speed-focused, detection-focused), `operator: \"random\"` to draw one of them per trial, or `operator_files: [\"FILE.ron\"]` to run an operator of your own on every trial"
+        );
+        // An empty name is not a name left out.
+        assert_eq!(
+            refused("(scenario: \"movement\", operator: \"\", operator_files: [\"night.ron\"])"),
+            "suite.ron:2:51: `operator` is empty: name an operator of the experiment (a built-in operator of its scenario, or an operator file's `name`), write `operator: \"random\"`, or leave `operator` out beside `operator_files` or a `population`\n2 |  experiments: [(scenario: \"movement\", operator: \"\", operator_files: [\"night.ron\"])])\n  |                                                   ^"
+        );
+        // A file that cannot be read is reported as before.
+        let err = refused("(scenario: \"movement\", operator_files: [\"absent.ron\"])");
+        assert!(err.contains("absent.ron"), "{err}");
+        // A config built by hand that leaves it out beside one file.
+        let (_dir, config) =
+            beside_two_operators("(scenario: \"movement\", operator_files: [\"night.ron\"])");
+        let mut suite = SuiteConfig::load(&UgvCatalog, &config).unwrap();
+        suite.experiments[0].operator.clear();
+        let err = suite
+            .validate(&UgvCatalog, &config)
+            .unwrap_err()
+            .to_string();
+        let err = err.replace(&config.display().to_string(), "x.ron");
+        assert!(err.starts_with("x.ron: experiments[0].operator: is left out: write `operator: \"NAME\"` with NAME one of the experiment's operators (speed-focused, safety-focused, balanced, night), or `operator: \"random\"`"), "{err}");
+    }
+
+    #[test]
+    fn a_mission_plan_may_leave_its_operator_out_beside_a_population() {
+        use crate::missions::MissionSuiteConfig;
+        let plan = |operators: &str| {
+            let (dir, config) = beside_two_operators("");
+            let text = format!(
+                "(seed: 1, arms: [\"uniform\"], missions: [(name: \"m\", operators: {operators}, count: 1, commands: 100, changes: (every: 30.0, takeover: 0.5))])"
+            );
+            std::fs::write(&config, text).unwrap();
+            let read = MissionSuiteConfig::load(&UgvCatalog, &config);
+            drop(dir);
+            read
+        };
+        let suite = plan("(scenario: \"movement\", population: Some((name: \"pair\")), operator_files: [\"night.ron\", \"owl.ron\"])").unwrap();
+        assert_eq!(suite.missions[0].operators.operator, RANDOM_OPERATOR);
+        let err = plan("(scenario: \"movement\", operator_files: [\"night.ron\"])")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.ends_with("missions[0].operators.operator: a mission draws its operators from the population: write `operator: \"random\"` (left out, it is `random` only beside a `population` or several `operator_files`)"),
+            "{err}"
+        );
     }
 
     #[test]
