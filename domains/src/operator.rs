@@ -40,7 +40,6 @@ use crate::causes::{
 };
 use crate::trace::{EventKind, Trace};
 use cbr_core::Context;
-use lab::attention::Attending;
 use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use lab::{FeedbackChannel, Judgement, SimulatedOperator, StandardFields};
 use rand::RngCore;
@@ -375,19 +374,13 @@ impl OperatorModel {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        Attending::judge(attention, |attending| self.watch(trace, attending, rng))
-    }
-
-    /// How the run ends for an operator `attending` to it, before the judgement names what
-    /// it overlooked.
-    fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
         let patience = self.patience(self.t_complete, self.p_deadline, DEADLINE);
         let interrupt = |cause, t| Some(Judgement::interrupted(self.weights.of(cause), cause, t));
         let events = trace.events.iter().map(|event| (event.t, event.kind));
-        patience.watch(
+        self.judge_run(
+            &patience,
             events,
-            &self.weights,
-            attending,
+            attention,
             rng,
             |attending, rng, t, kind| match kind {
                 EventKind::Collision { .. }
@@ -453,33 +446,25 @@ impl OperatorModel {
 /// The paper's operators for `scenario` (docs/model.md#the-operators), from the RON files
 /// shipped with the crate.
 pub fn builtin_operators(scenario: Scenario) -> Vec<OperatorModel> {
-    let sources: &[(&str, &str)] = match scenario {
-        Scenario::Movement => &[
-            (
+    let causes = scenario.causes();
+    let shipped = match scenario {
+        Scenario::Movement => lab::shipped_operators!(
+            causes,
+            [
                 "operators/movement/speed-focused.ron",
-                include_str!("../operators/movement/speed-focused.ron"),
-            ),
-            (
                 "operators/movement/safety-focused.ron",
-                include_str!("../operators/movement/safety-focused.ron"),
-            ),
-            (
                 "operators/movement/balanced.ron",
-                include_str!("../operators/movement/balanced.ron"),
-            ),
-        ],
-        Scenario::Patrol => &[
-            (
+            ]
+        ),
+        Scenario::Patrol => lab::shipped_operators!(
+            causes,
+            [
                 "operators/patrol/speed-focused.ron",
-                include_str!("../operators/patrol/speed-focused.ron"),
-            ),
-            (
                 "operators/patrol/detection-focused.ron",
-                include_str!("../operators/patrol/detection-focused.ron"),
-            ),
-        ],
+            ]
+        ),
     };
-    operator_file::shipped(sources, scenario.causes()).expect("shipped operators are valid")
+    shipped.expect("shipped operators are valid")
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@
 
 use crate::domain::Judgement;
 use rand::{Rng, RngCore};
-use trust::Cause;
+use trust::{Cause, OutcomeKind, OutcomeWeights};
 
 /// The attention of an operator judging one run, and the first problem it overlooked.
 ///
@@ -92,6 +92,21 @@ impl Attending {
             self.overlooked = Some(cause);
         }
         false
+    }
+
+    /// An interruption for `cause` at `t` (s), weighed as `weights` weigh `cause`, when the
+    /// operator reacts to it ([`Attending::react`] with `p`: one draw); `None` when it
+    /// lets the run go on. The usual reaction inside [`crate::patience::Patience::watch`].
+    pub fn interrupts<R: RngCore + ?Sized>(
+        &mut self,
+        rng: &mut R,
+        p: f64,
+        cause: Cause,
+        t: f64,
+        weights: &OutcomeWeights,
+    ) -> Option<Judgement> {
+        self.react(rng, p, cause)
+            .then(|| Judgement::weighed(OutcomeKind::Interrupted, cause, t, weights))
     }
 
     /// The judgement `watch` returns for an operator at `attention`, naming the first

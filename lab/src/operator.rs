@@ -75,8 +75,11 @@
 //! # Ok::<(), lab::operator_file::OperatorFileError>(())
 //! ```
 
+use crate::attention::Attending;
+use crate::domain::Judgement;
 use crate::feedback::FeedbackChannel;
 use crate::patience::{Patience, default_give_up_factor};
+use rand::RngCore;
 use serde::{Deserialize, Serialize};
 use trust::Cause;
 /// The weights' type, re-exported for [`standard_operator!`](crate::standard_operator)'s
@@ -137,6 +140,29 @@ pub trait StandardFields: SimulatedOperator {
             give_up_factor: self.give_up_factor(),
             cause,
         }
+    }
+
+    /// How a run ends for this operator at `attention` (1: the paper's attentive
+    /// operator): the run's `(time, event)` pairs, in time order, watched with `patience`
+    /// ([`Patience::watch`], its endings weighed by the operator's weights), `react`
+    /// saying how each event ends the run (`None`: it goes on; ask the [`Attending`] it is
+    /// handed at each reaction), and the judgement naming the first problem overlooked
+    /// ([`Attending::judge`]). The whole of a domain's `judge_attending` but its
+    /// reactions.
+    fn judge_run<E, R: RngCore + ?Sized>(
+        &self,
+        patience: &Patience,
+        events: impl IntoIterator<Item = (f64, E)>,
+        attention: f64,
+        rng: &mut R,
+        react: impl FnMut(&mut Attending, &mut R, f64, E) -> Option<Judgement>,
+    ) -> Judgement
+    where
+        Self: Sized,
+    {
+        Attending::judge(attention, |attending| {
+            patience.watch(events, self.weights(), attending, rng, react)
+        })
     }
 }
 

@@ -395,6 +395,25 @@ pub fn shipped<O: OperatorData>(
         .collect()
 }
 
+/// [`shipped`] over operator files embedded from the calling crate: each path, relative to
+/// the crate's root (its `Cargo.toml`'s folder), is read at compile time
+/// (`include_str!`) and names the file in errors, and the list is checked against
+/// `causes`:
+/// `lab::shipped_operators!(&CAUSES, ["operators/night.ron", "operators/day.ron"])` is a
+/// `Result<Vec<O>, OperatorFileError<..>>` of the operators in that order.
+#[macro_export]
+macro_rules! shipped_operators {
+    ($causes:expr, [$($path:literal),+ $(,)?]) => {
+        $crate::operator_file::shipped(
+            &[$((
+                $path,
+                ::std::include_str!(::std::concat!(::std::env!("CARGO_MANIFEST_DIR"), "/", $path)),
+            )),+],
+            $causes,
+        )
+    };
+}
+
 /// Operators paired with their names ([`StandardFields::name`]), as a catalog lists them.
 pub fn named<O: StandardFields>(operators: impl IntoIterator<Item = O>) -> Vec<(String, O)> {
     operators.into_iter().map(with_name).collect()

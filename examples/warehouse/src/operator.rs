@@ -13,7 +13,6 @@ use crate::trace::{Event, Trace};
 use rand::RngCore;
 use std::convert::Infallible;
 use std::path::Path;
-use trustcbr::lab::attention::Attending;
 use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use trustcbr::lab::{Judgement, StandardFields};
 use trustcbr::rand;
@@ -82,49 +81,43 @@ impl WarehouseOperator {
         attention: f64,
         rng: &mut dyn RngCore,
     ) -> Judgement {
-        Attending::judge(attention, |attending| self.watch(trace, attending, rng))
-    }
-
-    /// How the pick ends for an operator `attending` to it, before the judgement names
-    /// what it overlooked.
-    fn watch(&self, trace: &Trace, attending: &mut Attending, rng: &mut dyn RngCore) -> Judgement {
-        let patience = self.patience(
-            self.t_complete,
-            self.p_deadline,
-            WarehouseCause::TooSlow.to_trust(),
-        );
-        let ending = |kind, cause: WarehouseCause, t| {
-            Some(Judgement::weighed(kind, cause.to_trust(), t, &self.weights))
+        let too_slow = WarehouseCause::TooSlow.to_trust();
+        let patience = self.patience(self.t_complete, self.p_deadline, too_slow);
+        let failed = |cause: WarehouseCause, t| {
+            Some(Judgement::weighed(
+                OutcomeKind::Failed,
+                cause.to_trust(),
+                t,
+                &self.weights,
+            ))
         };
         let events = trace.events.iter().copied();
-        patience.watch(
+        self.judge_run(
+            &patience,
             events,
-            &self.weights,
-            attending,
+            attention,
             rng,
             |attending, rng, t, event| {
-                let mut react =
-                    |p, cause: WarehouseCause| attending.react(rng, p, cause.to_trust());
                 match event {
                     // The reaction is drawn at every collision, in trace order.
-                    Event::Collision if react(self.p_collision, WarehouseCause::Collision) => {
-                        ending(OutcomeKind::Interrupted, WarehouseCause::Collision, t)
+                    Event::Collision => {
+                        let collision = WarehouseCause::Collision.to_trust();
+                        attending.interrupts(rng, self.p_collision, collision, t, &self.weights)
                     }
-                    Event::ItemNotFound => {
-                        ending(OutcomeKind::Failed, WarehouseCause::ItemNotFound, t)
-                    }
-                    Event::DroppedItem => {
-                        ending(OutcomeKind::Failed, WarehouseCause::DroppedItem, t)
-                    }
+                    Event::ItemNotFound => failed(WarehouseCause::ItemNotFound, t),
+                    Event::DroppedItem => failed(WarehouseCause::DroppedItem, t),
                     Event::Delivered { crushed: true }
-                        if react(self.p_crushed, WarehouseCause::CrushedItem) =>
+                        if attending.react(
+                            rng,
+                            self.p_crushed,
+                            WarehouseCause::CrushedItem.to_trust(),
+                        ) =>
                     {
-                        ending(OutcomeKind::Failed, WarehouseCause::CrushedItem, t)
+                        failed(WarehouseCause::CrushedItem, t)
                     }
                     Event::Delivered { .. } => {
                         Some(Judgement::completed(self.weights.completed, t))
                     }
-                    Event::Collision => None,
                 }
             },
         )
@@ -133,19 +126,13 @@ impl WarehouseOperator {
 
 /// The operators shipped with the crate (`operators/*.ron`), in this order.
 pub fn builtin_operators() -> Vec<WarehouseOperator> {
-    let files = [
-        (
+    let shipped = trustcbr::lab::shipped_operators!(
+        &DECLARED,
+        [
             "operators/throughput-focused.ron",
-            include_str!("../operators/throughput-focused.ron"),
-        ),
-        (
             "operators/care-focused.ron",
-            include_str!("../operators/care-focused.ron"),
-        ),
-        (
             "operators/balanced.ron",
-            include_str!("../operators/balanced.ron"),
-        ),
-    ];
-    operator_file::shipped(&files, &DECLARED).expect("shipped operators are valid")
+        ]
+    );
+    shipped.expect("shipped operators are valid")
 }

@@ -30,4 +30,6 @@ mod retriever;
 mod searcher;
 
 pub use retriever::check_retriever;
-pub use searcher::{SearcherFailure, SearcherRule, check_searcher, searcher_conformance};
+pub use searcher::{
+    SearcherFailure, SearcherRule, check_searcher, check_searcher_on, searcher_conformance,
+};

@@ -447,7 +447,22 @@ pub fn searcher_conformance(
 /// With the rule broken and the failing case (proptest's minimal one) when a property
 /// does not hold ([`searcher_conformance`] returns it instead).
 pub fn check_searcher(build: impl Fn() -> Box<TrustSearcher>) {
-    if let Err(failure) = searcher_conformance(None, &build) {
+    panic_on_failure(searcher_conformance(None, &build));
+}
+
+/// [`check_searcher`] on a domain's own `space` (as [`searcher_conformance`] checks it
+/// there: episodes cut after a few dozen proposals), for a strategy that reads its
+/// components by name: `check_searcher_on(domain.space(), || Box::new(Mine::new()))`.
+///
+/// # Panics
+/// As [`check_searcher`], with the rule broken and the failing case.
+pub fn check_searcher_on(space: &BehaviorSpace, build: impl Fn() -> Box<TrustSearcher>) {
+    panic_on_failure(searcher_conformance(Some(space), &build));
+}
+
+/// Panics with `result`'s failure, its advice and its case, if it has one.
+fn panic_on_failure(result: Result<(), SearcherFailure>) {
+    if let Err(failure) = result {
         panic!(
             "{failure} ({}); on the space {:?} (seed {}), after {:?}, proposing {:?}",
             failure.rule.advice(),
