@@ -49,8 +49,12 @@ pub struct MissionSuiteConfig {
     /// The adapter parameters every arm shares (the mode is always mission).
     #[serde(default, serialize_with = "crate::suite::config::write_suite_adapter")]
     pub adapter: AdapterConfig,
-    /// The domain's readings, by name.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    /// The domain's readings, by name, each once.
+    #[serde(
+        default,
+        skip_serializing_if = "BTreeMap::is_empty",
+        deserialize_with = "cbr_core::unique_keys::each_once"
+    )]
     pub readings: BTreeMap<String, String>,
     /// The arms, by name, written as an experiment suite writes them (a name, or
     /// `(name: NAME, initial: learned)`).
@@ -100,7 +104,8 @@ pub struct MissionSpec {
 #[serde(deny_unknown_fields)]
 pub struct ContextSwitchesSpec {
     /// The contexts a mission may be in, each its variables and values (`{}`: the default
-    /// context); at least two.
+    /// context); at least two, each variable once.
+    #[serde(deserialize_with = "cbr_core::unique_keys::each_variable_once_in_each")]
     pub among: Vec<BTreeMap<String, String>>,
     /// Mean commands between switches.
     pub every: f64,

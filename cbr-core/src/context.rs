@@ -316,7 +316,9 @@ impl ContextSimilarity {
 /// value.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(transparent)]
-pub struct Context(BTreeMap<String, String>);
+pub struct Context(
+    #[serde(deserialize_with = "crate::unique_keys::each_variable_once")] BTreeMap<String, String>,
+);
 
 impl Context {
     /// Whether this is the default context (every variable at its default).

@@ -14,6 +14,7 @@ pub mod space_diff;
 pub mod statement;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;
+pub mod unique_keys;
 
 pub use behavior::{Behavior, BehaviorSpace, MAX_COMPONENTS, SpaceError};
 pub use case::{Case, CaseBase, CaseId};

@@ -136,7 +136,7 @@ impl ContextPreferences {
 fn declared_context<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<BTreeMap<String, String>, D::Error> {
-    let when = BTreeMap::<String, String>::deserialize(d)?;
+    let when = cbr_core::unique_keys::each_variable_once(d)?;
     let named = when.iter().map(|(k, v)| (k.as_str(), v.as_str()));
     crate::context::contexts()
         .context(named)

@@ -143,7 +143,7 @@ struct DomainFile {
     observations: Vec<Cause>,
     #[serde(default)]
     hints: Vec<Hint>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "contexts_named_as_causes")]
     contexts: ContextSpace,
     #[serde(default, deserialize_with = "distinct_statements")]
     statements: Vec<String>,
@@ -257,11 +257,7 @@ fn distinct_statements<'de, D: serde::Deserializer<'de>>(
 ) -> Result<Vec<String>, D::Error> {
     let statements = Vec::<String>::deserialize(deserializer)?;
     for (i, name) in statements.iter().enumerate() {
-        if name.trim().is_empty() {
-            return Err(serde::de::Error::custom(
-                "field `statements`: a statement name cannot be empty",
-            ));
-        }
+        named_as_causes("field `statements`: statement", name)?;
         if statements[..i].contains(name) {
             return Err(serde::de::Error::custom(format_args!(
                 "field `statements`: statement `{name}` is declared twice"
@@ -269,6 +265,34 @@ fn distinct_statements<'de, D: serde::Deserializer<'de>>(
         }
     }
     Ok(statements)
+}
+
+/// The context variables, their names and their values each named as causes are
+/// ([`trust::cause::CAUSE_RULE`]): they become words of requests, reports and file names.
+fn contexts_named_as_causes<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<ContextSpace, D::Error> {
+    let contexts = ContextSpace::deserialize(deserializer)?;
+    for variable in contexts.variables() {
+        named_as_causes("field `contexts`: context variable", &variable.name)?;
+        let value = format!("field `contexts`: a value of `{}`", variable.name);
+        for name in &variable.values {
+            named_as_causes(&value, name)?;
+        }
+    }
+    Ok(contexts)
+}
+
+/// Whether `name` (`what` says what it names) follows the naming rule of causes.
+fn named_as_causes<E: serde::de::Error>(what: &str, name: &str) -> Result<(), E> {
+    match Cause::new(name) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(E::custom(format_args!(
+            "{what} `{}` breaks the naming rule of causes: {}",
+            name.escape_debug(),
+            trust::cause::CAUSE_RULE
+        ))),
+    }
 }
 
 /// The declared causes, each once.

@@ -40,8 +40,12 @@ pub struct SuiteConfig {
     #[serde(default, serialize_with = "write_suite_adapter")]
     pub adapter: AdapterConfig,
     /// The domain's readings, by name ([`Catalog::readings`]; each left out keeps its
-    /// default), e.g. `{"patrol_weights": "three_and_one"}`.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    /// default), e.g. `{"patrol_weights": "three_and_one"}`, each once.
+    #[serde(
+        default,
+        skip_serializing_if = "BTreeMap::is_empty",
+        deserialize_with = "cbr_core::unique_keys::each_once"
+    )]
     pub readings: BTreeMap<String, String>,
     /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
     /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
@@ -351,7 +355,8 @@ fn deserialize_operator<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String
 #[serde(deny_unknown_fields)]
 pub struct ContextsSpec {
     /// Trial `k` runs in context `k` modulo the cycle's length: each context its
-    /// variables and values (`{}`: the default context).
+    /// variables and values (`{}`: the default context), each variable once.
+    #[serde(deserialize_with = "cbr_core::unique_keys::each_variable_once_in_each")]
     pub cycle: Vec<BTreeMap<String, String>>,
     /// Retired (read only to say so): whether the robot is told the context is its arm's
     /// (`NAME+context-blind`), so that a blind arm runs on the same trials as its sighted

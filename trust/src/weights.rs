@@ -30,28 +30,9 @@ pub struct OutcomeWeights {
 fn each_cause_once<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> Result<BTreeMap<Cause, f64>, D::Error> {
-    struct Weights;
-    impl<'de> serde::de::Visitor<'de> for Weights {
-        type Value = BTreeMap<Cause, f64>;
-        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            f.write_str("a map of cause names to weights")
-        }
-        fn visit_map<A: serde::de::MapAccess<'de>>(
-            self,
-            mut map: A,
-        ) -> Result<Self::Value, A::Error> {
-            let mut weights = BTreeMap::new();
-            while let Some((cause, weight)) = map.next_entry::<Cause, f64>()? {
-                if weights.insert(cause, weight).is_some() {
-                    return Err(serde::de::Error::custom(format!(
-                        "`weights.by_cause` gives the cause `{cause}` twice; give each cause once"
-                    )));
-                }
-            }
-            Ok(weights)
-        }
-    }
-    d.deserialize_map(Weights)
+    cbr_core::unique_keys::map_with_unique_keys(d, |cause| {
+        format!("`weights.by_cause` gives the cause `{cause}` twice; give each cause once")
+    })
 }
 
 fn one() -> f64 {
