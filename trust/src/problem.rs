@@ -8,7 +8,10 @@
 
 use crate::evaluated::Evaluated;
 use cbr_core::Context;
+use serde::de::value::{MapAccessDeserializer, SeqAccessDeserializer};
+use serde::de::{MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::fmt;
 
 /// An episode's context and the pairs it evaluated: the problem of a trust case and the
 /// query of Algorithm 1.
@@ -56,14 +59,6 @@ struct InContext<C, E> {
     evaluated: E,
 }
 
-/// Either form a problem is written in.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum Written {
-    Paper(Vec<Evaluated>),
-    InContext(InContext<Context, Vec<Evaluated>>),
-}
-
 impl Serialize for TrustProblem {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         if self.context.is_default() {
@@ -79,20 +74,34 @@ impl Serialize for TrustProblem {
 }
 
 impl<'de> Deserialize<'de> for TrustProblem {
+    /// Either form: a list of pairs (the default context) or the map of `context` and
+    /// `evaluated`; what is wrong inside either (a pair, a context variable written twice)
+    /// is reported as the part says it, at its place.
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        Written::deserialize(deserializer)
-            .map(|written| match written {
-                Written::Paper(evaluated) => Self::new(evaluated),
-                Written::InContext(InContext { context, evaluated }) => {
-                    Self::in_context(context, evaluated)
-                }
-            })
-            .map_err(|_| {
-                serde::de::Error::custom(
-                    "a problem is a list of (behavior, time) pairs, or a map of `context` \
-                     and `evaluated`",
-                )
-            })
+        deserializer.deserialize_any(ProblemVisitor)
+    }
+}
+
+/// Reads a problem in either of its forms ([`TrustProblem`]'s `Deserialize`).
+struct ProblemVisitor;
+
+impl<'de> Visitor<'de> for ProblemVisitor {
+    type Value = TrustProblem;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(
+            "a problem: a list of (behavior, time) pairs, or a map of `context` and `evaluated`",
+        )
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, pairs: A) -> Result<TrustProblem, A::Error> {
+        Vec::<Evaluated>::deserialize(SeqAccessDeserializer::new(pairs)).map(TrustProblem::new)
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, fields: A) -> Result<TrustProblem, A::Error> {
+        let InContext { context, evaluated } =
+            InContext::<Context, Vec<Evaluated>>::deserialize(MapAccessDeserializer::new(fields))?;
+        Ok(TrustProblem::in_context(context, evaluated))
     }
 }
 
@@ -153,9 +162,24 @@ mod tests {
 
     #[test]
     fn a_problem_of_neither_form_is_refused_with_both_named() {
-        let err = serde_json::from_str::<TrustProblem>(r#"{"evaluated":[]}"#).unwrap_err();
+        let err = serde_json::from_str::<TrustProblem>("12").unwrap_err();
         assert!(
-            err.to_string().contains("map of `context` and `evaluated`"),
+            err.to_string().contains(
+                "a list of (behavior, time) pairs, or a map of `context` and `evaluated`"
+            ),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn what_is_wrong_inside_a_form_is_said_as_the_part_says_it() {
+        let err = serde_json::from_str::<TrustProblem>(r#"{"evaluated":[]}"#).unwrap_err();
+        assert!(err.to_string().contains("missing field `context`"), "{err}");
+        let twice = r#"(context: {"cargo": "hazardous", "cargo": "normal"}, evaluated: [])"#;
+        let err = ron::from_str::<TrustProblem>(twice).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("context variable `cargo` is given twice; give each variable once"),
             "{err}"
         );
     }
