@@ -914,7 +914,10 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
             progress.tick(0)
         })?;
     let json = serde_json::to_string_pretty(&accuracy.json())? + "\n";
-    for ((name, rule), text) in own_files::COMPETENCE.iter().zip([accuracy.markdown(), json]) {
+    for ((name, rule), text) in own_files::COMPETENCE
+        .iter()
+        .zip([accuracy.markdown(), json])
+    {
         let path = args.out.join(name);
         rule.write(&path, text.as_bytes())?;
         println!("wrote {}", path.display());

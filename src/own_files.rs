@@ -90,5 +90,7 @@ pub fn is_member_file<C: Catalog>(
 
 /// What a population member's file is, as messages name it.
 pub fn member_file(member: &str, scenario: &str) -> String {
-    format!("an operator file of {scenario} for the member `{member}` written by `trustcbr population`")
+    format!(
+        "an operator file of {scenario} for the member `{member}` written by `trustcbr population`"
+    )
 }

@@ -39,7 +39,10 @@ fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
             let path = e.path();
             let kind = e.file_type().unwrap();
             let bytes = if kind.is_symlink() {
-                fs::read_link(&path).unwrap().into_os_string().into_encoded_bytes()
+                fs::read_link(&path)
+                    .unwrap()
+                    .into_os_string()
+                    .into_encoded_bytes()
             } else if kind.is_file() {
                 fs::read(&path).unwrap()
             } else {
@@ -71,7 +74,10 @@ fn a_report_folder_of_symlinks_is_refused_and_what_they_point_to_stays() {
     }
     let before = (snapshot(&outside), snapshot(&out));
     let stderr = refused(&mut run(dir.path(), "a", &suite(BALANCED, 2), &out));
-    assert!(stderr.contains(": is a symbolic link; nothing is written through one"), "{stderr}");
+    assert!(
+        stderr.contains(": is a symbolic link; nothing is written through one"),
+        "{stderr}"
+    );
     assert_eq!((snapshot(&outside), snapshot(&out)), before);
 
     // The report folder itself a link: refused, whatever it points to.
@@ -165,7 +171,13 @@ fn numbers_spelled_out_in_names_give_short_figure_names() {
 fn population(out: &Path) -> Command {
     let mut command = trustcbr();
     command
-        .args(["population", "--scenario", "movement", "--instance", "dev-5"])
+        .args([
+            "population",
+            "--scenario",
+            "movement",
+            "--instance",
+            "dev-5",
+        ])
         .arg("--out")
         .arg(out);
     command
@@ -203,7 +215,10 @@ fn population_replaces_only_its_own_members_and_never_through_a_link() {
     let before = snapshot(&out);
     let stderr = refused(&mut population(&out));
     assert!(
-        stderr.contains(&format!("{}: exists and is not an operator file", link.display())),
+        stderr.contains(&format!(
+            "{}: exists and is not an operator file",
+            link.display()
+        )),
         "{stderr}"
     );
     assert_eq!(snapshot(&out), before);
@@ -229,7 +244,13 @@ fn competence(out: &Path) -> Command {
 fn landscape(out: &Path) -> Command {
     let mut command = trustcbr();
     command
-        .args(["landscape", "--scenario", "movement", "--operator", "balanced"])
+        .args([
+            "landscape",
+            "--scenario",
+            "movement",
+            "--operator",
+            "balanced",
+        ])
         .args(["--runs", "1", "--out"])
         .arg(out);
     command

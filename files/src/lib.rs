@@ -11,5 +11,5 @@ pub mod staged;
 pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
 pub use output::{FolderError, write_atomically, write_file_in, write_no_follow};
 pub use own::{OwnFile, ReplaceError};
-pub use staged::{StagedFolder, StagingError};
 pub use ron_text::{RonError, parse_ron};
+pub use staged::{StagedFolder, StagingError};

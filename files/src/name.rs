@@ -234,10 +234,20 @@ mod tests {
         let tiny = format!("movement/balanced/g{}", 1e-300_f64);
         let other = format!("movement/balanced/g{}", 2e-300_f64);
         let stems = file_stems([&tiny, &other, &tiny]);
-        assert!(stems.iter().all(|s| s.len() <= MAX_STEM_BYTES + 2), "{stems:?}");
+        assert!(
+            stems.iter().all(|s| s.len() <= MAX_STEM_BYTES + 2),
+            "{stems:?}"
+        );
         assert!(stems[0].starts_with("movement-balanced-g0-000"));
-        assert_ne!(stems[0], stems[1], "labels alike for 103 bytes keep their own stems");
+        assert_ne!(
+            stems[0], stems[1],
+            "labels alike for 103 bytes keep their own stems"
+        );
         assert_eq!(stems[2], format!("{}-2", stems[0]));
-        assert_eq!(file_stems([&tiny]), stems[..1], "the same stem in every run");
+        assert_eq!(
+            file_stems([&tiny]),
+            stems[..1],
+            "the same stem in every run"
+        );
     }
 }

@@ -110,7 +110,10 @@ pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<P
         reason,
     })?;
     // Each folder between `dir` and the file: a link there would lead the file elsewhere.
-    for between in folder.ancestors().take_while(|a| *a != dir && a.starts_with(dir)) {
+    for between in folder
+        .ancestors()
+        .take_while(|a| *a != dir && a.starts_with(dir))
+    {
         if fs::symlink_metadata(between).is_ok_and(|m| m.file_type().is_symlink()) {
             return Err(FileError {
                 path: between.to_owned(),

@@ -134,7 +134,8 @@ fn read_no_follow(path: &Path) -> io::Result<Option<Vec<u8>>> {
         return Ok(None);
     }
     let mut bytes = Vec::new();
-    file.take(MAX_RECOGNIZED_BYTES + 1).read_to_end(&mut bytes)?;
+    file.take(MAX_RECOGNIZED_BYTES + 1)
+        .read_to_end(&mut bytes)?;
     Ok((bytes.len() as u64 <= MAX_RECOGNIZED_BYTES).then_some(bytes))
 }
 

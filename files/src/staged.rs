@@ -78,7 +78,9 @@ impl StagedFolder {
 
     /// The new folder, to write the files into.
     pub fn path(&self) -> &Path {
-        self.staging.as_deref().expect("a staged folder is there until committed")
+        self.staging
+            .as_deref()
+            .expect("a staged folder is there until committed")
     }
 
     /// The folder it will replace.

@@ -218,7 +218,10 @@ const JSON_KEYS: [&str; 8] = [
 pub fn is_competence_json(bytes: &[u8]) -> bool {
     serde_json::from_slice::<serde_json::Value>(bytes)
         .ok()
-        .and_then(|v| v.as_object().map(|o| JSON_KEYS.iter().all(|k| o.contains_key(*k))))
+        .and_then(|v| {
+            v.as_object()
+                .map(|o| JSON_KEYS.iter().all(|k| o.contains_key(*k)))
+        })
         .unwrap_or(false)
 }
 

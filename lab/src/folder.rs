@@ -252,8 +252,7 @@ fn check_earlier_report(dir: &Path) -> Result<(), ReportFolderError> {
         return Err(ReportFolderError::Symlink { path: link });
     }
     let is_operators = |name: &str| {
-        name == REPORT_OPERATORS
-            && fs::symlink_metadata(dir.join(name)).is_ok_and(|m| m.is_dir())
+        name == REPORT_OPERATORS && fs::symlink_metadata(dir.join(name)).is_ok_and(|m| m.is_dir())
     };
     let marked = dir.join(REPORT_MARKER).is_file();
     let entry = foreign_entry(dir, None, |name| {
@@ -390,7 +389,12 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("report");
         fs::create_dir_all(out.join(REPORT_OPERATORS)).unwrap();
-        for name in ["summary.json", "table.md", "curves-a.svg", "operators/x.ron"] {
+        for name in [
+            "summary.json",
+            "table.md",
+            "curves-a.svg",
+            "operators/x.ron",
+        ] {
             fs::write(out.join(name), b"old").unwrap();
         }
         // A failed write: the staged folder dropped.
