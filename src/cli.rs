@@ -10,6 +10,7 @@
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
 use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, SIMULATED_COMMANDS, THREADS, TRIALS};
 use crate::missions::{MissionSuiteConfig, is_mission_suite};
+use crate::own_files;
 use crate::progress::Progress;
 use crate::run::{
     RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
@@ -832,6 +833,7 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
     let (operator_name, operator) =
         find_operator(catalog, &args.scenario, &args.operator, &readings)?;
     files::output::ensure_writable_dir(&args.out)?;
+    own_files::check_all(&args.out, &own_files::LANDSCAPE)?;
     let space = domain.space();
     let components = match &args.components {
         Some(names) => names.clone(),
@@ -866,25 +868,20 @@ fn landscape<C: Catalog>(catalog: &C, args: &LandscapeArgs) -> Result<()> {
         .map(|c| space.components()[c].name.as_str())
         .collect();
     let subtitle = if others.is_empty() {
-        "P(complete) of every behavior".to_owned()
+        format!("{}every behavior", own_files::LANDSCAPE_SUBTITLE)
     } else {
         format!(
-            "P(complete) of each pair of values, the mean over every {}",
+            "{}each pair of values, the mean over every {}",
+            own_files::LANDSCAPE_SUBTITLE,
             others.join(", ")
         )
     };
     let svg_path = args.out.join("landscape.svg");
     let svg = heatmap::landscape_svg(space, &estimate, (x, y), &title, &subtitle, &svg_path)?;
-    for (name, bytes) in [
-        ("landscape.svg", svg.into_bytes()),
-        (
-            "landscape.csv",
-            estimate.csv(space, domain.causes()).into_bytes(),
-        ),
-    ] {
+    let csv = estimate.csv(space, domain.causes());
+    for ((name, rule), text) in own_files::LANDSCAPE.iter().zip([svg, csv]) {
         let path = args.out.join(name);
-        files::write_atomically(&path, &bytes)
-            .with_context(|| format!("writing {}", path.display()))?;
+        rule.write(&path, text.as_bytes())?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -897,6 +894,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
     let (operator_name, operator) =
         find_operator(catalog, &args.scenario, &args.operator, &readings)?;
     files::output::ensure_writable_dir(&args.out)?;
+    own_files::check_all(&args.out, &own_files::COMPETENCE)?;
     let settings = lab::competence::CompetenceSettings {
         behaviors: args.behaviors,
         seen: args.seen.clone(),
@@ -916,13 +914,12 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
             progress.tick(0)
         })?;
     let json = serde_json::to_string_pretty(&accuracy.json())? + "\n";
-    for (name, bytes) in [
-        ("competence.md", accuracy.markdown().into_bytes()),
-        ("competence.json", json.into_bytes()),
-    ] {
+    for ((name, rule), text) in own_files::COMPETENCE
+        .iter()
+        .zip([accuracy.markdown(), json])
+    {
         let path = args.out.join(name);
-        files::write_atomically(&path, &bytes)
-            .with_context(|| format!("writing {}", path.display()))?;
+        rule.write(&path, text.as_bytes())?;
         println!("wrote {}", path.display());
     }
     Ok(())
@@ -954,8 +951,39 @@ fn population<C: Catalog>(catalog: &C, args: &PopulationArgs) -> Result<()> {
             args.scenario
         );
     }
-    for (member, file) in members.iter().zip(&files) {
-        let path = files::write_file_in(&args.out, file, &member.text)?;
+    // A file of a member's name is replaced only when it is that member's, written
+    // earlier; every one is checked before any is written.
+    let readings = &resolve_readings(catalog, &Default::default())?;
+    let what: Vec<String> = members
+        .iter()
+        .map(|m| own_files::member_file(&m.name, &args.scenario))
+        .collect();
+    let rules: Vec<_> = members
+        .iter()
+        .zip(&files)
+        .zip(&what)
+        .map(|((member, file), what)| {
+            let path = args.out.join(file);
+            let is_own = move |_: &[u8]| {
+                own_files::is_member_file(catalog, &args.scenario, readings, &path, &member.name)
+            };
+            (is_own, what)
+        })
+        .collect();
+    let rules: Vec<files::OwnFile<'_>> = rules
+        .iter()
+        .map(|(is_own, what)| files::OwnFile {
+            what,
+            remedy: "give --out an empty or new folder, or move the file away",
+            is_own,
+        })
+        .collect();
+    for (rule, file) in rules.iter().zip(&files) {
+        rule.check(&args.out.join(file))?;
+    }
+    for ((rule, member), file) in rules.iter().zip(&members).zip(&files) {
+        let path = args.out.join(file);
+        rule.write(&path, member.text.as_bytes())?;
         println!("wrote {}", path.display());
     }
     println!(

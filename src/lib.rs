@@ -38,6 +38,7 @@ pub mod cli;
 pub mod config_file;
 pub mod limits;
 pub mod missions;
+pub mod own_files;
 pub mod progress;
 pub mod run;
 pub mod served;

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 /// Where and how a suite runs.
 #[derive(Clone, Debug, Default)]
 pub struct RunSettings {
-    /// The report folder (emptied of an earlier report first); `None` writes no report.
+    /// The report folder (written whole beside it, then swapped for an earlier report); `None` writes no report.
     pub out: Option<PathBuf>,
     /// Start case-reusing arms from the case bases saved in this folder.
     pub starting: Option<StartingCases>,
@@ -155,16 +155,20 @@ pub fn run_with_report_checked<C: Catalog>(
     };
     let written = match &settings.out {
         Some(out) => {
-            lab::folder::remove_previous_report(out)?;
-            write_suite_report(
-                out,
+            let staged = lab::folder::begin_report(out)?;
+            let written = write_suite_report(
+                staged.path(),
                 &config,
                 origin,
                 &results,
                 &estimates,
                 elapsed_s,
                 &provenance,
-            )?
+            )
+            .with_context(|| unwritten(out))?;
+            let written = lab::folder::in_place(&staged, written);
+            lab::folder::finish_report(staged)?;
+            written
         }
         None => Vec::new(),
     };
@@ -240,8 +244,12 @@ pub fn run_missions_with_report<C: Catalog>(
     before_writing()?;
     let written = match out {
         Some(out) => {
-            lab::folder::remove_previous_report(out)?;
-            write_mission_report(out, &config, origin, &results)?
+            let staged = lab::folder::begin_report(out)?;
+            let written = write_mission_report(staged.path(), &config, origin, &results)
+                .with_context(|| unwritten(out))?;
+            let written = lab::folder::in_place(&staged, written);
+            lab::folder::finish_report(staged)?;
+            written
         }
         None => Vec::new(),
     };
@@ -252,6 +260,15 @@ pub fn run_missions_with_report<C: Catalog>(
         threads,
         written,
     })
+}
+
+/// What a report that failed to write says: it was written into a fresh folder beside
+/// `out` (the path its error names), which is removed, and `out` is as it was.
+fn unwritten(out: &Path) -> String {
+    format!(
+        "{}: the report could not be written, and the folder is left as it was (the report is written beside it first, and that folder is removed)",
+        out.display()
+    )
 }
 
 /// The missions of each plan of `config`, for a progress display: (plan name, missions

@@ -142,9 +142,11 @@ fn an_unusable_report_folder_is_refused_before_any_work() {
     let cases = [
         (file.as_path(), "exists and is a regular file, not a folder"),
         (
-            Path::new("/proc/self"),
-            "/proc/self: cannot create a file in this folder: ",
+            Path::new("/proc/self/report"),
+            "/proc/self: cannot create a folder in this folder: ",
         ),
+        // A link is refused whatever it points to (here, the folder just refused).
+        (Path::new("/proc/self"), "/proc/self: is a symbolic link; "),
         (
             notes.as_path(),
             "holds `todo.txt`, which is not part of a trustcbr report",
@@ -184,6 +186,10 @@ fn an_earlier_report_is_replaced_without_its_stale_plots() {
     for name in ["summary.json", "curves-patrol-gone.svg", "notes.txt"] {
         std::fs::write(out.join(name), b"old").unwrap();
     }
+    // The report replaces its folder whole: a file of the user's in it is refused first.
+    let stderr = refused(&mut run_tiny(dir.path(), &out));
+    assert!(stderr.contains("holds `notes.txt`"), "{stderr}");
+    std::fs::rename(out.join("notes.txt"), dir.path().join("notes.txt")).unwrap();
     let output = run_tiny(dir.path(), &out).output().unwrap();
     assert!(
         output.status.success(),
@@ -191,7 +197,7 @@ fn an_earlier_report_is_replaced_without_its_stale_plots() {
         String::from_utf8_lossy(&output.stderr)
     );
     assert!(!out.join("curves-patrol-gone.svg").exists());
-    assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"old");
+    assert_eq!(std::fs::read(dir.path().join("notes.txt")).unwrap(), b"old");
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("\"experiments\""), "{summary}");
 }

@@ -114,9 +114,16 @@ pub fn file_in(
     Ok(dir.join(format!("{name}.{extension}")))
 }
 
+/// The longest stem [`file_stems`] makes before its `-2`, `-3`: with the longest prefix
+/// and extension a report adds (`benchmark-...-ecdf.svg`), a file name stays well within
+/// the 255 bytes a file system allows.
+pub const MAX_STEM_BYTES: usize = 120;
+
 /// A file-name stem per label (experiment names): every character outside
-/// `[A-Za-z0-9_-]` replaced by `-` (an empty label is `-`), and `-2`, `-3`, ... added where
-/// two would collide.
+/// `[A-Za-z0-9_-]` replaced by `-` (an empty label is `-`), a stem longer than
+/// [`MAX_STEM_BYTES`] cut and ended with a hash of the whole label (a label derived from
+/// a number such as `1e-300` spells out hundreds of digits), and `-2`, `-3`, ... added
+/// where two would collide.
 pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<String> {
     let mut stems: Vec<String> = Vec::new();
     for name in names {
@@ -133,6 +140,10 @@ pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<Strin
             .collect();
         let base = if base.is_empty() {
             "-".to_owned()
+        } else if base.len() > MAX_STEM_BYTES {
+            // ASCII alone by now, so any byte is a character boundary.
+            let hash = fnv1a(name.as_ref().as_bytes());
+            format!("{}-{hash:016x}", &base[..MAX_STEM_BYTES - 17])
         } else {
             base
         };
@@ -145,6 +156,14 @@ pub fn file_stems(names: impl IntoIterator<Item = impl AsRef<str>>) -> Vec<Strin
         stems.push(stem);
     }
     stems
+}
+
+/// The 64-bit FNV-1a hash of `bytes`: stable across versions and platforms, so a long
+/// label's stem is the same in every run.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |hash, &b| {
+        (hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 #[cfg(test)]
@@ -208,5 +227,27 @@ mod tests {
                 prop_assert!(stem.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-'));
             }
         }
+    }
+
+    #[test]
+    fn a_long_label_gets_a_short_stem_of_its_own() {
+        let tiny = format!("movement/balanced/g{}", 1e-300_f64);
+        let other = format!("movement/balanced/g{}", 2e-300_f64);
+        let stems = file_stems([&tiny, &other, &tiny]);
+        assert!(
+            stems.iter().all(|s| s.len() <= MAX_STEM_BYTES + 2),
+            "{stems:?}"
+        );
+        assert!(stems[0].starts_with("movement-balanced-g0-000"));
+        assert_ne!(
+            stems[0], stems[1],
+            "labels alike for 103 bytes keep their own stems"
+        );
+        assert_eq!(stems[2], format!("{}-2", stems[0]));
+        assert_eq!(
+            file_stems([&tiny]),
+            stems[..1],
+            "the same stem in every run"
+        );
     }
 }

@@ -27,6 +27,15 @@ pub enum FolderError {
         /// What it is.
         kind: &'static str,
     },
+    /// The path is a symbolic link: nothing is written through one.
+    #[error(
+        "{}: is a symbolic link; nothing is written through one: give the folder itself, or another",
+        path.display()
+    )]
+    Symlink {
+        /// The path given.
+        path: PathBuf,
+    },
     /// The folder could not be created, listed or written in.
     #[error("{}: cannot {action}: {reason}", path.display())]
     Unwritable {
@@ -41,10 +50,15 @@ pub enum FolderError {
 }
 
 /// Checks, before any work starts, that files can be written in the folder `dir`:
-/// creates it if missing, and refuses a path that is not a folder or a folder that cannot
-/// be written in (a temporary file is created and removed to find out: permissions,
-/// read-only file systems).
+/// creates it if missing, and refuses a symbolic link (what it points to is not the folder
+/// named), a path that is not a folder or a folder that cannot be written in (a temporary
+/// file is created and removed to find out: permissions, read-only file systems).
 pub fn ensure_writable_dir(dir: &Path) -> Result<(), FolderError> {
+    if fs::symlink_metadata(dir).is_ok_and(|meta| meta.file_type().is_symlink()) {
+        return Err(FolderError::Symlink {
+            path: dir.to_owned(),
+        });
+    }
     let unwritable = |action| {
         move |reason| FolderError::Unwritable {
             path: dir.to_owned(),
@@ -84,9 +98,10 @@ const MAX_LINKS: usize = 40;
 /// Random characters in a temporary file's name.
 const RANDOM_CHARS: usize = 10;
 
-/// Writes `text` atomically ([`write_atomically`]) as the file `name` in `dir`, creating
-/// `dir` and any folder `name` names first. Returns the file's path; an error names the
-/// file or folder.
+/// Writes `text` atomically as the file `name` in `dir`, creating `dir` and any folder
+/// `name` names first, never through a symbolic link ([`write_no_follow`]): neither the
+/// file nor a folder `name` names below `dir` may be one. Returns the file's path; an
+/// error names the file or folder.
 pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<PathBuf, FileError> {
     let path = dir.join(name);
     let folder = path.parent().unwrap_or(dir);
@@ -94,7 +109,19 @@ pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<P
         path: folder.to_owned(),
         reason,
     })?;
-    write_atomically(&path, text.as_bytes()).map_err(|reason| FileError {
+    // Each folder between `dir` and the file: a link there would lead the file elsewhere.
+    for between in folder
+        .ancestors()
+        .take_while(|a| *a != dir && a.starts_with(dir))
+    {
+        if fs::symlink_metadata(between).is_ok_and(|m| m.file_type().is_symlink()) {
+            return Err(FileError {
+                path: between.to_owned(),
+                reason: symlink_refused(),
+            });
+        }
+    }
+    write_no_follow(&path, text.as_bytes()).map_err(|reason| FileError {
         path: path.clone(),
         reason,
     })?;
@@ -112,8 +139,35 @@ pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<P
 /// stays. A target that is a directory, FIFO, socket or device is refused. Temporary files
 /// of the same target left by writers that no longer run are removed first.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let target = final_target(path)?;
-    let existing = match fs::metadata(&target) {
+    replace_entry(&final_target(path)?, bytes)
+}
+
+/// Writes `bytes` to `path` as [`write_atomically`] does, but never through a symbolic
+/// link: a `path` that is one is refused (the link and what it points to stay as they
+/// were). The rename that puts the file in place replaces a directory entry and never
+/// opens what is there, so even a link planted after the check is replaced, not followed.
+pub fn write_no_follow(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    if fs::symlink_metadata(path).is_ok_and(|meta| meta.file_type().is_symlink()) {
+        return Err(symlink_refused());
+    }
+    replace_entry(path, bytes)
+}
+
+/// The error of a write refused because its target is a symbolic link.
+fn symlink_refused() -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        "is a symbolic link; nothing is written through one: remove the link, or write elsewhere",
+    )
+}
+
+/// Replaces the directory entry `target` (no symbolic link, or one to replace itself)
+/// with a file holding `bytes`: the body of [`write_atomically`].
+fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
+    let target = target.to_owned();
+    let existing = match fs::symlink_metadata(&target) {
+        // A link planted since the caller looked is replaced, so nothing of it is kept.
+        Ok(meta) if meta.file_type().is_symlink() => None,
         Ok(meta) => Some(meta),
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
         Err(e) => return Err(e),
@@ -146,7 +200,7 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
         .permissions(Permissions::from_mode(create_mode))
         .tempfile_in(&dir)
         .map_err(without_temporary_path)?;
-    temp.write_all(bytes)?;
+    temp.write_all(bytes).map_err(without_temporary_path)?;
     if let Some(meta) = &existing {
         let file = temp.as_file();
         let created = file.metadata()?;
@@ -188,7 +242,7 @@ fn final_target(path: &Path) -> io::Result<PathBuf> {
 }
 
 /// `.NAME.tmp-`: what every temporary file of the target `NAME` starts with.
-fn temporary_prefix(name: &OsStr) -> OsString {
+pub(crate) fn temporary_prefix(name: &OsStr) -> OsString {
     let mut prefix = OsString::from(".");
     prefix.push(name);
     prefix.push(".tmp-");
@@ -196,8 +250,9 @@ fn temporary_prefix(name: &OsStr) -> OsString {
 }
 
 /// Removes the temporary files `PREFIX PID[-RANDOM]` in `dir` whose writer `PID` no longer
-/// runs (where `/proc` tells). Best effort: a file that cannot be removed stays.
-fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
+/// runs (where `/proc` tells), and the temporary folders of that name
+/// ([`crate::staged`]). Best effort: a file that cannot be removed stays.
+pub(crate) fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
     let processes = Path::new("/proc");
     if !processes.join("self").exists() {
         return;
@@ -215,14 +270,18 @@ fn remove_stale_temporaries(dir: &Path, prefix: &OsStr) {
         };
         let pid = rest.split(|&b| b == b'-').next().unwrap_or_default();
         let is_pid = !pid.is_empty() && pid.iter().all(u8::is_ascii_digit);
-        let is_file = entry
-            .file_type()
-            .is_ok_and(|t| t.is_file() || t.is_symlink());
-        if is_pid && is_file {
-            let pid = String::from_utf8_lossy(pid);
-            if !processes.join(pid.as_ref()).exists() {
-                fs::remove_file(entry.path()).ok();
-            }
+        let Ok(file_type) = entry.file_type() else {
+            continue;
+        };
+        let pid = String::from_utf8_lossy(pid);
+        if !is_pid || processes.join(pid.as_ref()).exists() {
+            continue;
+        }
+        if file_type.is_dir() {
+            // Removes the folder's entries, never what a link in it points to.
+            fs::remove_dir_all(entry.path()).ok();
+        } else if file_type.is_file() || file_type.is_symlink() {
+            fs::remove_file(entry.path()).ok();
         }
     }
 }

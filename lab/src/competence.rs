@@ -190,6 +190,41 @@ pub fn true_competence(
     }
 }
 
+/// How `competence.md` begins ([`CompetenceAccuracy::markdown`]): what recognizes a
+/// report of this kind ([`is_competence_markdown`]).
+pub const MARKDOWN_TITLE: &str = "# The robot's own competence: ";
+
+/// Whether `bytes` are a `competence.md` this module wrote (it begins with
+/// [`MARKDOWN_TITLE`]).
+pub fn is_competence_markdown(bytes: &[u8]) -> bool {
+    bytes.starts_with(MARKDOWN_TITLE.as_bytes())
+}
+
+/// The keys of `competence.json` ([`CompetenceAccuracy::json`]), all of which a file of
+/// this kind has.
+const JSON_KEYS: [&str; 8] = [
+    "domain",
+    "operator",
+    "behaviors",
+    "truth_runs",
+    "seed",
+    "seen",
+    "standard",
+    "parts",
+];
+
+/// Whether `bytes` are a `competence.json` this module wrote: a JSON object with every
+/// key [`CompetenceAccuracy::json`] writes.
+pub fn is_competence_json(bytes: &[u8]) -> bool {
+    serde_json::from_slice::<serde_json::Value>(bytes)
+        .ok()
+        .and_then(|v| {
+            v.as_object()
+                .map(|o| JSON_KEYS.iter().all(|k| o.contains_key(*k)))
+        })
+        .unwrap_or(false)
+}
+
 impl CompetenceAccuracy {
     /// Part `part`'s error after the `k`-th number of commands of the settings' `seen`;
     /// `None` when the robot knows it for no behavior.
@@ -239,7 +274,7 @@ impl CompetenceAccuracy {
     pub fn markdown(&self) -> String {
         let s = &self.settings;
         let mut out = format!(
-            "# The robot's own competence: {}, operator {}\n\n{} behaviors drawn uniformly from the space (seed {}); the truth of each from {} whole commands with nobody to stop the robot; the robot's estimates after {} commands of each, in front of the operator. Standard: at most {} per command for every part{}.\n\n",
+            "{MARKDOWN_TITLE}{}, operator {}\n\n{} behaviors drawn uniformly from the space (seed {}); the truth of each from {} whole commands with nobody to stop the robot; the robot's estimates after {} commands of each, in front of the operator. Standard: at most {} per command for every part{}.\n\n",
             self.domain,
             self.operator,
             s.behaviors,

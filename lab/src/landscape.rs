@@ -314,6 +314,19 @@ impl Grid {
     }
 }
 
+/// The columns every landscape's CSV has after those of its fixed components
+/// ([`Landscape::csv`]).
+pub const CSV_COLUMNS: &str = "runs,completed,p_complete";
+
+/// Whether `bytes` are a landscape's CSV ([`Landscape::csv`]): its header line holds
+/// [`CSV_COLUMNS`].
+pub fn is_landscape_csv(bytes: &[u8]) -> bool {
+    let header = bytes.split(|&b| b == b'\n').next().unwrap_or_default();
+    header
+        .windows(CSV_COLUMNS.len())
+        .any(|w| w == CSV_COLUMNS.as_bytes())
+}
+
 impl Landscape {
     /// The cells over components `x` (across) and `y` (up), both fixed by the landscape,
     /// pooled over the other fixed components.
@@ -351,7 +364,7 @@ impl Landscape {
         for &c in &self.fixed {
             write!(out, "{},", space.components()[c].name).ok();
         }
-        out.push_str("runs,completed,p_complete");
+        out.push_str(CSV_COLUMNS);
         for cause in causes {
             write!(out, ",{}", cause.name).ok();
         }

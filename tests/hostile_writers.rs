@@ -1,0 +1,307 @@
+//! End-to-end: every writer writes only inside the folder or file the user named, never
+//! through a symbolic link, replaces only what it wrote itself, and a report folder is
+//! swapped in whole, so a failed write leaves the earlier report as it was
+//! (docs/robustness.md, "Writing files").
+
+mod support;
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::os::unix::fs::symlink;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use support::{refused, succeed, trustcbr};
+
+/// A one-experiment suite whose experiment is `experiment`.
+fn suite(experiment: &str, trials: u32) -> String {
+    format!("(seed: 1, trials: {trials}, experiments: [{experiment}])")
+}
+
+const BALANCED: &str = r#"(scenario: "movement", operator: "balanced")"#;
+const SPEED_FOCUSED: &str = r#"(scenario: "movement", operator: "speed-focused")"#;
+
+/// `trustcbr run CONFIG --out OUT`, the suite written to `dir/NAME.ron`.
+fn run(dir: &Path, name: &str, text: &str, out: &Path) -> Command {
+    let config = dir.join(format!("{name}.ron"));
+    fs::write(&config, text).unwrap();
+    let mut command = trustcbr();
+    command.arg("run").arg(config).arg("--out").arg(out);
+    command
+}
+
+/// Every entry of `dir` (not following links) by name, with its bytes (a link: its
+/// target, a folder: nothing).
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let path = e.path();
+            let kind = e.file_type().unwrap();
+            let bytes = if kind.is_symlink() {
+                fs::read_link(&path)
+                    .unwrap()
+                    .into_os_string()
+                    .into_encoded_bytes()
+            } else if kind.is_file() {
+                fs::read(&path).unwrap()
+            } else {
+                Vec::new()
+            };
+            (e.file_name().to_string_lossy().into_owned(), bytes)
+        })
+        .collect()
+}
+
+fn names(dir: &Path) -> Vec<String> {
+    snapshot(dir).into_keys().collect()
+}
+
+#[test]
+fn a_report_folder_of_symlinks_is_refused_and_what_they_point_to_stays() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    succeed(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
+    // Every file of the report replaced by a link to a file outside it.
+    let outside = dir.path().join("outside");
+    fs::create_dir(&outside).unwrap();
+    for name in names(&out) {
+        if out.join(&name).is_file() {
+            fs::write(outside.join(&name), format!("precious {name}")).unwrap();
+            fs::remove_file(out.join(&name)).unwrap();
+            symlink(outside.join(&name), out.join(&name)).unwrap();
+        }
+    }
+    let before = (snapshot(&outside), snapshot(&out));
+    let stderr = refused(&mut run(dir.path(), "a", &suite(BALANCED, 2), &out));
+    assert!(
+        stderr.contains(": is a symbolic link; nothing is written through one"),
+        "{stderr}"
+    );
+    assert_eq!((snapshot(&outside), snapshot(&out)), before);
+
+    // The report folder itself a link: refused, whatever it points to.
+    let link = dir.path().join("link");
+    symlink(&outside, &link).unwrap();
+    let stderr = refused(&mut run(dir.path(), "a", &suite(BALANCED, 1), &link));
+    assert!(
+        stderr.contains(&format!("{}: is a symbolic link", link.display())),
+        "{stderr}"
+    );
+    assert_eq!(snapshot(&outside), before.0);
+    assert_eq!(names(dir.path()), ["a.ron", "link", "out", "outside"]);
+}
+
+#[test]
+fn a_new_report_replaces_the_earlier_one_whole_and_figures_never_mix() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    succeed(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
+    assert!(out.join("curves-movement-balanced.svg").is_file());
+    succeed(&mut run(dir.path(), "b", &suite(SPEED_FOCUSED, 1), &out));
+    let figures: Vec<String> = names(&out)
+        .into_iter()
+        .filter(|n| n.starts_with("curves-"))
+        .collect();
+    assert_eq!(figures, ["curves-movement-speed-focused.svg"]);
+    // Nothing is left beside the folder: the new report's folder was renamed into place
+    // and the earlier one removed.
+    assert_eq!(names(dir.path()), ["a.ron", "b.ron", "out"]);
+    // An earlier report beside a file of the user's is refused, and both stay.
+    fs::write(out.join("notes.txt"), "mine").unwrap();
+    let before = snapshot(&out);
+    let stderr = refused(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
+    assert!(
+        stderr.contains("the folder holds `notes.txt`, which is not part of a trustcbr report"),
+        "{stderr}"
+    );
+    assert_eq!(snapshot(&out), before);
+}
+
+#[test]
+fn a_report_that_fails_to_write_leaves_the_earlier_one_byte_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    succeed(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
+    let before = snapshot(&out);
+    // A write that fails part way, as on a full disk, even for root: files are capped at
+    // 50 KiB (the report's largest files are larger), the signal that would end the
+    // process ignored so the write fails with "File too large".
+    let config = dir.path().join("b.ron");
+    fs::write(&config, suite(SPEED_FOCUSED, 3)).unwrap();
+    let output = Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 100; exec \"$0\" run \"$1\" --out \"$2\"")
+        .arg(env!("CARGO_BIN_EXE_trustcbr"))
+        .arg(&config)
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{}: the report could not be written, and the folder is left as it was",
+            out.display()
+        )),
+        "{stderr}"
+    );
+    assert!(stderr.contains("File too large"), "{stderr}");
+    assert_eq!(snapshot(&out), before);
+    assert_eq!(names(dir.path()), ["a.ron", "b.ron", "out"]);
+}
+
+#[test]
+fn numbers_spelled_out_in_names_give_short_figure_names() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, experiment) in [
+        r#"(scenario: "movement", operator: "balanced", goal_changes: Some((per_hour: 1e-300)))"#,
+        r#"(scenario: "movement", operator: "balanced", stated: Some((said: 1e-300)))"#,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = dir.path().join(format!("out-{k}"));
+        succeed(&mut run(dir.path(), "tiny", &suite(experiment, 1), &out));
+        let longest = names(&out).into_iter().map(|n| n.len()).max().unwrap();
+        assert!(longest <= 150, "a file name of {longest} bytes");
+    }
+}
+
+fn population(out: &Path) -> Command {
+    let mut command = trustcbr();
+    command
+        .args([
+            "population",
+            "--scenario",
+            "movement",
+            "--instance",
+            "dev-5",
+        ])
+        .arg("--out")
+        .arg(out);
+    command
+}
+
+#[test]
+fn population_replaces_only_its_own_members_and_never_through_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("population");
+    succeed(&mut population(&out));
+    let members = names(&out);
+    assert!(members.len() >= 2, "{members:?}");
+    // Its own files, written again.
+    succeed(&mut population(&out));
+    let outside = dir.path().join("victim.ron");
+    fs::write(&outside, "precious").unwrap();
+    let link = out.join(&members[0]);
+    fs::remove_file(&link).unwrap();
+    symlink(&outside, &link).unwrap();
+    let before = snapshot(&out);
+    let stderr = refused(&mut population(&out));
+    assert!(
+        stderr.contains(&format!(
+            "{}: is a symbolic link; nothing is written through one",
+            link.display()
+        )),
+        "{stderr}"
+    );
+    assert_eq!(fs::read(&outside).unwrap(), b"precious");
+    assert_eq!(snapshot(&out), before);
+
+    // A regular file with a member's name that is not that member: refused unchanged.
+    fs::remove_file(&link).unwrap();
+    fs::write(&link, "my own notes").unwrap();
+    let before = snapshot(&out);
+    let stderr = refused(&mut population(&out));
+    assert!(
+        stderr.contains(&format!(
+            "{}: exists and is not an operator file",
+            link.display()
+        )),
+        "{stderr}"
+    );
+    assert_eq!(snapshot(&out), before);
+    // The population folder a link: refused.
+    let folder_link = dir.path().join("elsewhere");
+    symlink(&out, &folder_link).unwrap();
+    let stderr = refused(&mut population(&folder_link));
+    assert!(stderr.contains("is a symbolic link"), "{stderr}");
+    assert_eq!(snapshot(&out), before);
+}
+
+fn competence(out: &Path) -> Command {
+    let mut command = trustcbr();
+    command
+        .args(["competence", "--scenario", "patrol"])
+        .args(["--operator", "detection-focused", "--behaviors", "2"])
+        .args(["--truth-runs", "2", "--seen", "0"])
+        .arg("--out")
+        .arg(out);
+    command
+}
+
+fn landscape(out: &Path) -> Command {
+    let mut command = trustcbr();
+    command
+        .args([
+            "landscape",
+            "--scenario",
+            "movement",
+            "--operator",
+            "balanced",
+        ])
+        .args(["--runs", "1", "--out"])
+        .arg(out);
+    command
+}
+
+/// `command` (writing `files` into `out`) refuses a link and a foreign file in the place
+/// of each file, leaving everything unchanged, and replaces its own earlier files.
+fn refuses_links_and_foreign_files(command: fn(&Path) -> Command, files: [&str; 2]) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    succeed(&mut command(&out));
+    // Its own earlier output is replaced.
+    succeed(&mut command(&out));
+    let outside = dir.path().join("outside");
+    fs::write(&outside, "precious").unwrap();
+    for file in files {
+        let own = fs::read(out.join(file)).unwrap();
+        for planted in ["link", "foreign"] {
+            let path = out.join(file);
+            fs::remove_file(&path).unwrap();
+            if planted == "link" {
+                symlink(&outside, &path).unwrap();
+            } else {
+                fs::write(&path, "my notes").unwrap();
+            }
+            let before = snapshot(&out);
+            let stderr = refused(&mut command(&out));
+            let expected = if planted == "link" {
+                format!("{}: is a symbolic link", path.display())
+            } else {
+                format!("{}: exists and is not a", path.display())
+            };
+            assert!(stderr.contains(&expected), "{stderr}");
+            assert!(stderr.contains("give --out another folder"), "{stderr}");
+            assert_eq!(snapshot(&out), before);
+            assert_eq!(fs::read(&outside).unwrap(), b"precious");
+        }
+        fs::remove_file(out.join(file)).unwrap();
+        fs::write(out.join(file), own).unwrap();
+    }
+    succeed(&mut command(&out));
+    let written: Vec<PathBuf> = files.iter().map(|f| out.join(f)).collect();
+    assert!(written.iter().all(|p| p.is_file() && !p.is_symlink()));
+}
+
+#[test]
+fn competence_replaces_only_its_own_report_and_never_through_a_link() {
+    refuses_links_and_foreign_files(competence, ["competence.md", "competence.json"]);
+}
+
+#[test]
+fn landscape_replaces_only_its_own_files_and_never_through_a_link() {
+    refuses_links_and_foreign_files(landscape, ["landscape.svg", "landscape.csv"]);
+}
