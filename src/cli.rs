@@ -8,7 +8,10 @@
 //! with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 
 use crate::catalog::{Catalog, domain_of, find_operator, resolve_readings};
-use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, SIMULATED_COMMANDS, THREADS, TRIALS};
+use crate::limits::{
+    COMPETENCE_COMMANDS, COMPETENCE_ESTIMATES, LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR,
+    SIMULATED_COMMANDS, THREADS, TRIALS,
+};
 use crate::missions::{MissionSuiteConfig, is_mission_suite};
 use crate::own_files;
 use crate::progress::Progress;
@@ -108,10 +111,10 @@ struct ExplainArgs {
     /// A report folder written by `reproduce`, `run` or `sweep` (its `config.ron` is read).
     report: PathBuf,
     /// The experiment, by its name in the report (`summary.json` lists them).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     experiment: String,
     /// The arm, by name (e.g. `case-based`).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     arm: String,
     /// The trial, from 0.
     #[arg(long)]
@@ -126,6 +129,7 @@ enum CasesCommand {
     /// Write a case base (with its domain and behavior space) to a RON file.
     Export {
         /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        #[arg(value_parser = text())]
         cases: String,
         /// The RON file to write (`*.ron`): absent, or an earlier export to replace; never
         /// the case base itself nor any other file.
@@ -136,14 +140,16 @@ enum CasesCommand {
         /// The RON case file.
         input: PathBuf,
         /// The case base: an SQLite file or a postgres:// URL.
+        #[arg(value_parser = text())]
         cases: String,
         /// The domain the cases were learned in: a scenario name or a RON domain file.
-        #[arg(long)]
+        #[arg(long, value_parser = text())]
         domain: String,
     },
     /// Describe a case base: its domain, behavior space and cases.
     Info {
         /// The case base: an SQLite file, a postgres:// URL or a RON file.
+        #[arg(value_parser = text())]
         cases: String,
     },
 }
@@ -204,18 +210,18 @@ fn parse_shard(text: &str) -> Result<(usize, usize), String> {
 #[derive(Args)]
 struct RenderArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     scenario: String,
     /// The behavior: every component of the scenario's space as NAME=VALUE, comma-separated
     /// (`config` shows the components).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     behavior: String,
     /// Seed of the run.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Operator judging the run: a built-in name or an operator file (default: the first
     /// built-in operator of the scenario).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     operator: Option<String>,
     /// Output SVG file (`--out` too, as the other commands name theirs).
     #[arg(short = 'o', long, visible_alias = "out", default_value = "run.svg")]
@@ -225,14 +231,14 @@ struct RenderArgs {
 #[derive(Args)]
 struct SimulateArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     scenario: String,
     /// Operator judging the commands: a built-in name or an operator file.
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     operator: String,
     /// The behavior: every component of the scenario's space as NAME=VALUE, comma-separated
     /// (`config` shows the components).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     behavior: String,
     /// Seed: the commands are drawn one after the other from its stream (the first is
     /// Python's `trustcbr.simulate(..., seed=N)`).
@@ -244,23 +250,23 @@ struct SimulateArgs {
     /// The operator's attention, in [0, 1]: the chance it notices a problem it would react
     /// to (1, the default: the paper's attentive operator; a problem it overlooks lets the
     /// command go on, named as `overlooked`).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     attention: f64,
 }
 
 #[derive(Args)]
 struct LandscapeArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     scenario: String,
     /// Operator: a built-in name or an operator file.
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     operator: String,
     /// Runs per behavior, 1 to 10000.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(RUNS_PER_BEHAVIOR.min as i64..=RUNS_PER_BEHAVIOR.max as i64))]
     runs: u32,
     /// The two components of the heatmap, across then up (default: the first two).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     components: Option<String>,
     /// Master seed.
     #[arg(long, default_value_t = 0)]
@@ -273,11 +279,11 @@ struct LandscapeArgs {
 #[derive(Args)]
 struct CompetenceArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     scenario: String,
     /// The operator in front of whom the robot runs its commands (its interruptions cut
     /// them short): a built-in name or an operator file.
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     operator: String,
     /// Behaviors drawn uniformly from the space, 1 to 100000.
     #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(1..=100_000))]
@@ -290,7 +296,7 @@ struct CompetenceArgs {
     #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     truth_runs: u32,
     /// The standard: the most any part may fall short per command, in [0, 1].
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
     standard: f64,
     /// Master seed.
     #[arg(long, default_value_t = 0)]
@@ -303,7 +309,7 @@ struct CompetenceArgs {
 #[derive(Args)]
 struct PopulationArgs {
     /// The scenario, by the tool's name for it (an unknown name is refused with the list).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     scenario: String,
     /// The instance: `dev-K` to develop on (seed K), `eval-K` to evaluate on (seed
     /// 1000000000 + K); K from 0 to 999999.
@@ -317,6 +323,18 @@ struct PopulationArgs {
     /// satisfies (to see what the screen removes).
     #[arg(long)]
     unscreened: bool,
+}
+
+/// A parser of an argument that is text: a name, a URL, or a name that may be a file's
+/// (`--operator`, `--domain`, a case base). One that is not UTF-8 is refused as clap
+/// refuses any bad value, naming the argument (clap's own parser says only that some
+/// argument was not UTF-8); a path given alone (`--out`, a config file) may be any bytes.
+fn text() -> impl TypedValueParser<Value = String> {
+    clap::builder::OsStringValueParser::new().try_map(|value| {
+        value.into_string().map_err(|_| {
+            "not UTF-8: names, URLs and files named beside names are read as text (a path given alone, such as --out or a config file, may be any bytes)"
+        })
+    })
 }
 
 /// One name of `--arms`: an empty one is a stray comma, refused as the option's fault.
@@ -339,7 +357,7 @@ struct RunOptions {
     trials: Option<NonZeroU32>,
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
-    #[arg(long, value_delimiter = ',', value_parser = arm_name)]
+    #[arg(long, value_delimiter = ',', value_parser = text().try_map(|name| arm_name(&name)))]
     arms: Option<Vec<String>>,
     /// Save the case base each case-reusing arm ends every experiment with, as
     /// `DIR/EXPERIMENT/ARM.ron`.
@@ -375,16 +393,16 @@ fn at_most<T: TryFrom<NonZeroU64> + Clone + Send + Sync + 'static>(
 struct ServeArgs {
     /// A scenario name (the tool lists them), or a RON domain file declaring a behavior space
     /// (and optionally the adapter config).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     domain: String,
     /// The case base: an SQLite file (created when absent), a postgres:// URL, or a RON
     /// file (served read-only).
-    #[arg(long)]
+    #[arg(long, value_parser = text())]
     cases: String,
     /// Serve an arm's strategy instead of the domain's adapter config: a built-in arm or
     /// one the tool's catalog adds (the same names as `--arms`), e.g. `case-based+conditioned`
     /// (its searcher, its retriever, whether it reuses cases).
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", value_parser = text())]
     arm: Option<String>,
     /// Mission mode: after an episode settles, keep answering outcomes for the settled
     /// behavior, adapt again when its trust falls, and alert when the operator trusts it
@@ -397,7 +415,12 @@ struct ServeArgs {
     /// part, in [0, 1]; a settled behavior the operator trusts while the robot is surely
     /// short of it draws an `overtrust` reply once; with `--arm NAME+competent`, episodes
     /// pass over such a behavior once and search on.
-    #[arg(long, value_name = "AT_MOST", requires = "mission")]
+    #[arg(
+        long,
+        value_name = "AT_MOST",
+        requires = "mission",
+        allow_negative_numbers = true
+    )]
     competence: Option<f64>,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
     /// stdin/stdout. Each connection is its own controller, served concurrently.
@@ -411,12 +434,12 @@ struct ServeArgs {
     #[arg(long, default_value_t = NonZeroUsize::new(Limits::default().max_connections).expect("the default is > 0"))]
     max_connections: NonZeroUsize,
     /// TCP: seconds a connection may stay silent, or take to send a line once begun, before
-    /// it is closed.
-    #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64())]
+    /// it is closed; more than 0, at most 86400 (a day).
+    #[arg(long, default_value_t = Limits::default().read_timeout.as_secs_f64(), allow_negative_numbers = true)]
     idle_timeout: f64,
     /// TCP: seconds a reply may wait for the controller to read it before the connection
-    /// is closed.
-    #[arg(long, default_value_t = Limits::default().write_timeout.as_secs_f64())]
+    /// is closed; more than 0, at most 86400 (a day).
+    #[arg(long, default_value_t = Limits::default().write_timeout.as_secs_f64(), allow_negative_numbers = true)]
     write_timeout: f64,
 }
 
@@ -579,7 +602,11 @@ fn run_experiments<C: Catalog>(
             .map(|dir| StartingCases { dir: dir.clone() }),
         save_cases: options.save_cases.clone(),
         threads: options.threads,
-        command_line: std::env::args().collect(),
+        // As given, whatever its bytes: a path need not be UTF-8 (`std::env::args` would
+        // panic on one that is not).
+        command_line: std::env::args_os()
+            .map(|arg| arg.to_string_lossy().into_owned())
+            .collect(),
     };
     let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());
     let parts: Vec<(String, u64)> = config
@@ -681,6 +708,14 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
 }
 
 fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
+    // Every option is checked, and the address bound, before the case base is opened: a
+    // refused command creates no case base. The timeouts are checked whatever the
+    // transport: an option that is wrong is refused, even where it would not act.
+    let limits = Limits {
+        max_connections: args.max_connections.get(),
+        read_timeout: timeout("--idle-timeout", args.idle_timeout)?,
+        write_timeout: timeout("--write-timeout", args.write_timeout)?,
+    };
     let mut domain = served_domain(catalog, &args.domain)?;
     if let Some(name) = &args.arm {
         domain = serving_arm(catalog, domain, name)?;
@@ -692,24 +727,9 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
         domain = judging_competence(catalog, domain, at_most)?;
     }
     check_preference(&domain)?;
-    // Every option is checked, and the address bound, before the case base is opened: a
-    // refused command creates no case base.
     let listening = match args.listen {
         None => None,
-        Some(addr) => {
-            let seconds = |name: &str, s: f64| {
-                Duration::try_from_secs_f64(s)
-                    .ok()
-                    .filter(|d| !d.is_zero())
-                    .with_context(|| format!("--{name} must be a number of seconds > 0, got {s}"))
-            };
-            let limits = Limits {
-                max_connections: args.max_connections.get(),
-                read_timeout: seconds("idle-timeout", args.idle_timeout)?,
-                write_timeout: seconds("write-timeout", args.write_timeout)?,
-            };
-            Some((transport::listen(addr)?, limits))
-        }
+        Some(addr) => Some((transport::listen(addr)?, limits)),
     };
     let location = Location::parse(&args.cases);
     let cases = Arc::new(SharedCases::open(&domain, &location)?);
@@ -743,6 +763,21 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The timeout `option` gives, `seconds`: more than 0 and at most
+/// [`transport::MAX_TIMEOUT`].
+fn timeout(option: &str, seconds: f64) -> Result<Duration> {
+    Duration::try_from_secs_f64(seconds)
+        .ok()
+        .filter(|d| !d.is_zero() && *d <= transport::MAX_TIMEOUT)
+        .with_context(|| {
+            format!(
+                "{option} must be a number of seconds more than 0 and at most {} (a day), got {}",
+                transport::MAX_TIMEOUT.as_secs(),
+                crate::limits::shown(seconds)
+            )
+        })
 }
 
 fn cases<C: Catalog>(catalog: &C, command: &CasesCommand) -> Result<()> {
@@ -893,6 +928,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
     let readings = resolve_readings(catalog, &Default::default())?;
     let (operator_name, operator) =
         find_operator(catalog, &args.scenario, &args.operator, &readings)?;
+    let measured = check_competence_cost(args, domain.space().size())?;
     files::output::ensure_writable_dir(&args.out)?;
     own_files::check_all(&args.out, &own_files::COMPETENCE)?;
     let settings = lab::competence::CompetenceSettings {
@@ -906,7 +942,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
         "behavior",
         &[(
             format!("competence ({} truth runs each)", args.truth_runs),
-            u64::from(args.behaviors),
+            measured,
         )],
     );
     let accuracy =
@@ -923,6 +959,39 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// Refuses a competence measure whose whole cost is above its limits, before any work:
+/// the commands it simulates ([`COMPETENCE_COMMANDS`]: each behavior measured runs the
+/// largest of `--seen` commands and `--truth-runs` whole ones) and the estimates it
+/// writes ([`COMPETENCE_ESTIMATES`]: one per behavior and number of `--seen`). A space
+/// of `space_size` behaviors measures at most that many; returns how many are measured.
+fn check_competence_cost(args: &CompetenceArgs, space_size: u64) -> Result<u64> {
+    let behaviors = u64::from(args.behaviors).min(space_size);
+    let most_seen = args.seen.iter().copied().max().unwrap_or(0);
+    let per_behavior = u64::from(most_seen) + u64::from(args.truth_runs);
+    let measured = if behaviors < u64::from(args.behaviors) {
+        format!("{behaviors} behaviors, all of the space,")
+    } else {
+        format!("{behaviors} behaviors")
+    };
+    COMPETENCE_COMMANDS.check_total(
+        "--behaviors x (the largest --seen + --truth-runs)",
+        behaviors * per_behavior,
+        format!(
+            " in all ({measured} x ({most_seen} commands seen + {} truth runs))",
+            args.truth_runs
+        ),
+    )?;
+    COMPETENCE_ESTIMATES.check_total(
+        "--behaviors x --seen",
+        behaviors * args.seen.len() as u64,
+        format!(
+            " in competence.json ({measured} x {} numbers of --seen)",
+            args.seen.len()
+        ),
+    )?;
+    Ok(behaviors)
 }
 
 /// Writes the members of an instance of the catalog's prior as operator files.

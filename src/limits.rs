@@ -151,14 +151,9 @@ impl Limit {
 }
 
 /// A number as messages show it: plainly, or in scientific notation when its plain form
-/// would be long (`1e308`, not a 309-digit integer).
-pub fn shown(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e16).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
+/// would be long (`1e308`, not a 309-digit integer); the workspace's one helper,
+/// [`cbr_core::shown`].
+pub use cbr_core::shown;
 
 /// Trials per experiment and arm (`trials`, `--trials`, Python `trials=`).
 pub const TRIALS: Limit = Limit {
@@ -244,6 +239,58 @@ pub const FAMILY_SIZE: Limit = Limit {
     min: 1,
     max: 64,
     why: "each member needs a landscape of its own",
+};
+
+/// Operator files of an experiment or mission plan (`operator_files`): as a family's
+/// members ([`FAMILY_SIZE`]), each operator needs its landscape and its known-operator
+/// limit for the report (1,000 files took 230 s and wrote 1,017 files).
+pub const OPERATOR_FILES: Limit = Limit {
+    counts: "operator files",
+    min: 0,
+    max: FAMILY_SIZE.max,
+    why: "each operator needs a landscape of its own, as a family's member does",
+};
+
+/// Contexts of an experiment's cycle (`contexts.cycle`), each listed once: the report
+/// takes every operator in every context of the cycle apart (a landscape and a
+/// known-operator limit each, and the conflict of every two of them), so its work and
+/// its `summary.json` grow with the square of the cycle (2,001 entries took 20.6 s and
+/// 2.69 GB and wrote a 486 MB `summary.json`).
+pub const CONTEXT_CYCLE: Limit = Limit {
+    counts: "contexts",
+    min: 1,
+    max: 64,
+    why: "the report takes every operator in every context apart, and compares every two",
+};
+
+/// Operators in contexts an experiment's report takes apart: the operators that judge its
+/// trials x the contexts of its cycle. Each needs a landscape and a known-operator limit,
+/// and the report's conflict compares every two (256 make 32,640 pairs).
+pub const OPERATORS_IN_CONTEXTS: Limit = Limit {
+    counts: "operators in contexts",
+    min: 1,
+    max: 256,
+    why: "each needs a landscape and a known-operator limit, and the report compares every two",
+};
+
+/// Commands `trustcbr competence` simulates in all: behaviors x (the largest of `--seen`
+/// + `--truth-runs`). The two cores run about a million a second (`--behaviors 100000
+/// --truth-runs 100000` would take 155 minutes), so this is about two minutes.
+pub const COMPETENCE_COMMANDS: Limit = Limit {
+    counts: "commands",
+    min: 1,
+    max: 100_000_000,
+    why: "about two minutes of simulation",
+};
+
+/// Estimates `trustcbr competence` writes: behaviors x the numbers of `--seen`, each an
+/// entry of `competence.json` of about 1 KB for the UGV's scenarios (measured: 600 of
+/// them, the defaults, take 625 KB; `--seen 0,1,..,10000` wrote 115 MB), so about 50 MB.
+pub const COMPETENCE_ESTIMATES: Limit = Limit {
+    counts: "estimates",
+    min: 1,
+    max: 50_000,
+    why: "each is an entry of competence.json (about 1 KB)",
 };
 
 /// Commands `simulate --count` prints, one JSON line each (about 150 bytes for the UGV
@@ -347,6 +394,11 @@ pub const TABLE: &[(&str, Limit)] = &[
     ("RUNS_PER_BEHAVIOR", RUNS_PER_BEHAVIOR),
     ("LIMIT_RUNS", LIMIT_RUNS),
     ("FAMILY_SIZE", FAMILY_SIZE),
+    ("OPERATOR_FILES", OPERATOR_FILES),
+    ("CONTEXT_CYCLE", CONTEXT_CYCLE),
+    ("OPERATORS_IN_CONTEXTS", OPERATORS_IN_CONTEXTS),
+    ("COMPETENCE_COMMANDS", COMPETENCE_COMMANDS),
+    ("COMPETENCE_ESTIMATES", COMPETENCE_ESTIMATES),
     ("SIMULATED_COMMANDS", SIMULATED_COMMANDS),
     ("THREADS", THREADS),
     ("SWEEP_RUNS", SWEEP_RUNS),

@@ -685,7 +685,7 @@ fn serve_checks_its_options_before_creating_a_case_base() {
         (&["--listen", &port], "cannot listen on"),
         (
             &["--listen", "127.0.0.1:0", "--idle-timeout", "0"],
-            "--idle-timeout must be a number of seconds > 0, got 0",
+            "--idle-timeout must be a number of seconds more than 0 and at most 86400 (a day), got 0",
         ),
     ] {
         let stderr = refused(bases.serve_command(shown).args(options));

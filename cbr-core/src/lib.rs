@@ -9,6 +9,7 @@ pub mod memory;
 pub mod neighbourhood;
 pub mod retrieve;
 pub mod search;
+pub mod shown;
 pub mod similarity;
 pub mod space_diff;
 pub mod statement;
@@ -27,6 +28,7 @@ pub use context::{Context, ContextError, ContextSimilarity, ContextSpace, Contex
 pub use memory::CaseMemory;
 pub use retrieve::{Exclusion, LinearRetriever, Retrieved, Retriever, better};
 pub use search::{Proposal, Rationale, Searcher};
+pub use shown::{Shown, shown};
 pub use similarity::SimilarityMeasure;
 pub use space_diff::SpaceDifference;
 pub use statement::Statement;

@@ -44,7 +44,10 @@ struct ChannelDefinition {
 
 /// A channel whose shares are not probabilities.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("feedback `{field}` must be a probability in [0, 1], got {value}")]
+#[error(
+    "feedback `{field}` must be a probability in [0, 1], got {}",
+    cbr_core::Shown(*.value)
+)]
 pub struct FeedbackError {
     /// `explains`, `wrong` or `goal_changes`.
     pub field: &'static str,

@@ -45,7 +45,8 @@ struct GoalChangesDefinition {
 /// A rate that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error(
-    "goal_changes `per_hour` must be a number in (0, 3600] (goal changes per hour of task time; leave `goal_changes` out for none), got {0}"
+    "goal_changes `per_hour` must be a number in (0, 3600] (goal changes per hour of task time; leave `goal_changes` out for none), got {}",
+    cbr_core::Shown(*.0)
 )]
 pub struct GoalChangesError(pub f64);
 

@@ -87,7 +87,7 @@ impl ContextSwitches {
         if !(self.every.is_finite() && self.every >= 1.0) {
             return Err(format!(
                 "context_switches.every: a mean number of commands >= 1, got {}",
-                self.every
+                cbr_core::Shown(self.every)
             ));
         }
         Ok(())
@@ -138,13 +138,13 @@ impl Complacency {
         if !(self.memory.is_finite() && self.memory >= 1.0) {
             return Err(format!(
                 "complacency.memory: a number of commands >= 1, got {}",
-                self.memory
+                cbr_core::Shown(self.memory)
             ));
         }
         if !(0.0..=1.0).contains(&self.floor) {
             return Err(format!(
                 "complacency.floor: an attention in [0, 1], got {}",
-                self.floor
+                cbr_core::Shown(self.floor)
             ));
         }
         Ok(())
@@ -157,13 +157,13 @@ impl Changes {
         if !(self.every.is_finite() && self.every >= 1.0) {
             return Err(format!(
                 "changes.every: a mean number of commands >= 1, got {}",
-                self.every
+                cbr_core::Shown(self.every)
             ));
         }
         if !(0.0..=1.0).contains(&self.takeover) {
             return Err(format!(
                 "changes.takeover: a share in [0, 1], got {}",
-                self.takeover
+                cbr_core::Shown(self.takeover)
             ));
         }
         Ok(())

@@ -268,7 +268,10 @@ pub enum OperatorFileError<E = Infallible> {
     #[error(transparent)]
     Syntax(#[from] RonError),
     /// A field is out of its allowed range.
-    #[error("{file}: operator `{operator}`: `{field}` must be {allowed}, got {value}")]
+    #[error(
+        "{file}: operator `{operator}`: `{field}` must be {allowed}, got {}",
+        cbr_core::Shown(*.value)
+    )]
     Range {
         /// The file.
         file: PathBuf,

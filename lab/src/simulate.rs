@@ -135,7 +135,10 @@ pub(crate) fn command<D: Domain + ?Sized>(
 #[non_exhaustive]
 pub enum SimulationError {
     /// The attention is not a probability.
-    #[error("attention must be a number in [0, 1] (1: the paper's attentive operator), got {0}")]
+    #[error(
+        "attention must be a number in [0, 1] (1: the paper's attentive operator), got {}",
+        cbr_core::Shown(*.0)
+    )]
     Attention(f64),
     /// The behavior is not one of the domain's space.
     #[error("the value indices {indices:?} are not a behavior of domain `{domain}`")]

@@ -34,7 +34,10 @@ struct StatingDefinition {
 
 /// A stating whose shares are not probabilities.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("stated `{field}` must be a probability in [0, 1], got {value}")]
+#[error(
+    "stated `{field}` must be a probability in [0, 1], got {}",
+    cbr_core::Shown(*.value)
+)]
 pub struct StatingError {
     /// `said` or `wrong`.
     pub field: &'static str,

@@ -447,7 +447,7 @@ pub fn check_case(
                 id: stored.id,
                 reason: format!(
                     "evaluated pair {k}: time must be a finite number >= 0, got {}",
-                    e.time
+                    cbr_core::Shown(e.time)
                 ),
             });
         }

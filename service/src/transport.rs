@@ -99,6 +99,12 @@ pub fn listen(addr: SocketAddr) -> Result<TcpListener, ServeError> {
     TcpListener::bind(addr).map_err(|reason| ServeError::Bind { addr, reason })
 }
 
+/// The longest [`Limits::read_timeout`] and [`Limits::write_timeout`] a server is given
+/// (`serve --idle-timeout`, `--write-timeout`): a day. A silent controller keeps its slot
+/// that long at most, and every deadline (now plus a timeout) stays far from where an
+/// `Instant` overflows.
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(86_400);
+
 /// The bounds that keep one controller from holding up the others.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {

@@ -4,6 +4,7 @@
 
 use super::{SuiteError, invalid};
 use crate::catalog::{Catalog, Family, OperatorOf, Readings, resolve_readings};
+use crate::limits::CONTEXT_CYCLE;
 use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
 use lab::known_operator::LimitSettings;
@@ -385,7 +386,12 @@ impl<'de> Deserialize<'de> for Retired {
 
 impl ContextsSpec {
     /// The trials' contexts, each checked against `space` (the domain's context
-    /// variables); an error names the field under the experiment (`contexts.cycle[1]`).
+    /// variables), at most [`CONTEXT_CYCLE`] of them (counted before any is read), each
+    /// listed once; an error names the field under the experiment (`contexts.cycle[1]`).
+    ///
+    /// A context listed twice is refused rather than merged: merging would change which
+    /// context a trial runs in, and a repeated context only repeats the report's work on
+    /// it (every operator in every context of the cycle is taken apart).
     pub fn trial_contexts(&self, space: &ContextSpace) -> Result<TrialContexts, (String, String)> {
         if self.told.is_written() {
             return Err((
@@ -393,7 +399,25 @@ impl ContextsSpec {
                 "is retired: whether the robot is told its context is its arm's; run the arm `NAME+context-blind` beside `NAME`, on the same trials".to_owned(),
             ));
         }
+        CONTEXT_CYCLE
+            .check_total(
+                "contexts.cycle",
+                self.cycle.len() as u64,
+                " in the cycle".to_owned(),
+            )
+            .map_err(|e| (e.field().to_owned(), e.problem()))?;
         let cycle = contexts_written(&self.cycle, space, "contexts.cycle")?;
+        let mut first_at = BTreeMap::new();
+        for (i, context) in cycle.iter().enumerate() {
+            if let Some(j) = first_at.insert(context, i) {
+                return Err((
+                    format!("contexts.cycle[{i}]"),
+                    format!(
+                        "the context `{context}` is listed already, at contexts.cycle[{j}]; list each context once (trials take them in turn)"
+                    ),
+                ));
+            }
+        }
         TrialContexts::new(cycle).ok_or_else(|| {
             (
                 "contexts.cycle".to_owned(),

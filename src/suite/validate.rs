@@ -13,7 +13,7 @@ use super::{ExperimentSpec, RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named,
 use crate::catalog::{Catalog, OperatorOf, Readings, domain_of, resolve_readings};
 use crate::limits::{
     self, EXPERIMENTS, FAMILY_SIZE, LANDSCAPE_RUNS, LIMIT_RUNS, LimitError, MAX_COMMANDS,
-    SUITE_TRIALS, TRIALS, shown,
+    OPERATOR_FILES, OPERATORS_IN_CONTEXTS, SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
 use lab::{Domain, NameOptions, prefers_competent};
@@ -252,11 +252,20 @@ impl ExperimentSpec {
         let invalid = |field: String, message: String| invalid(origin, field, message);
         let domain = domain_of(catalog, &self.scenario)
             .map_err(|unknown| invalid(format!("{field}.scenario"), unknown.to_string()))?;
-        if let Some(contexts) = &self.contexts {
-            contexts
+        let contexts = match &self.contexts {
+            Some(contexts) => contexts
                 .trial_contexts(domain.contexts())
-                .map_err(|(name, reason)| invalid(format!("{field}.{name}"), reason))?;
-        }
+                .map_err(|(name, reason)| invalid(format!("{field}.{name}"), reason))?
+                .cycle()
+                .len(),
+            None => 1,
+        };
+        OPERATOR_FILES
+            .check(
+                &format!("{field}.operator_files"),
+                self.operator_files.len() as u64,
+            )
+            .map_err(|e| over(origin, e))?;
         if self.goal_changes.is_none() && self.feedback.is_some_and(|c| c.goal_changes > 0.0) {
             return Err(invalid(
                 format!("{field}.feedback.goal_changes"),
@@ -336,6 +345,16 @@ impl ExperimentSpec {
                 field.to_owned(),
                 "the experiment has no operator".into(),
             ));
+        }
+        let judges = self.judges(&operators).count();
+        if self.contexts.is_some() {
+            OPERATORS_IN_CONTEXTS
+                .check_total(
+                    &format!("{field}.contexts.cycle"),
+                    (judges * contexts) as u64,
+                    format!(" ({judges} operators x {contexts} contexts)"),
+                )
+                .map_err(|e| over(origin, e))?;
         }
         // Files come after the built-in operators (or the family's members).
         let first_file = operators.len() - self.operator_files.len();

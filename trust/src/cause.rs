@@ -244,7 +244,10 @@ pub struct DeclaredCause {
 
 /// A declared default weight that is negative or not a number.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
-#[error("the default weight of cause `{cause}` must be a finite number >= 0, got {weight}")]
+#[error(
+    "the default weight of cause `{cause}` must be a finite number >= 0, got {}",
+    cbr_core::Shown(*.weight)
+)]
 pub struct DefaultWeightError {
     /// The cause.
     pub cause: Cause,
@@ -270,7 +273,8 @@ fn deserialize_default_weight<'de, D: Deserializer<'de>>(
         Ok(Some(weight))
     } else {
         Err(de::Error::custom(format_args!(
-            "`default_weight` must be a finite number >= 0, got {weight}"
+            "`default_weight` must be a finite number >= 0, got {}",
+            cbr_core::Shown(weight)
         )))
     }
 }

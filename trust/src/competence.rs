@@ -262,7 +262,10 @@ pub struct CompetenceStandard {
 
 /// A standard's bound outside `[0, 1]`.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("the competence standard of `{part}` is {value}; it must be a chance in [0, 1]")]
+#[error(
+    "the competence standard of `{part}` is {}; it must be a chance in [0, 1]",
+    cbr_core::Shown(*.value)
+)]
 pub struct StandardError {
     /// The part (`at_most` for the bound of every part).
     pub part: String,

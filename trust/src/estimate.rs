@@ -200,13 +200,13 @@ pub struct Outcome {
 #[non_exhaustive]
 pub enum OutcomeError {
     /// The weight is negative or not a number.
-    #[error("weight must be a finite number >= 0, got {0}")]
+    #[error("weight must be a finite number >= 0, got {}", cbr_core::Shown(*.0))]
     Weight(f64),
     /// The duration is negative or not a number.
-    #[error("duration_s must be a finite number >= 0, got {0}")]
+    #[error("duration_s must be a finite number >= 0, got {}", cbr_core::Shown(*.0))]
     Duration(f64),
     /// The self-assessed confidence is not a probability.
-    #[error("confidence must be a number in [0, 1], got {0}")]
+    #[error("confidence must be a number in [0, 1], got {}", cbr_core::Shown(*.0))]
     Confidence(f64),
     /// A goal change said of an outcome that is not an interruption, or beside a stated
     /// reason.
@@ -357,7 +357,9 @@ impl Default for Thresholds {
 /// Thresholds that cannot be used.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error(
-    "thresholds must be finite with untrustworthy < 0 < trustworthy, each more than 1e-9 from 0 (every behavior's estimate starts at 0, so a verdict needs evidence), got untrustworthy = {untrustworthy}, trustworthy = {trustworthy}"
+    "thresholds must be finite with untrustworthy < 0 < trustworthy, each more than 1e-9 from 0 (every behavior's estimate starts at 0, so a verdict needs evidence), got untrustworthy = {}, trustworthy = {}",
+    cbr_core::Shown(*.untrustworthy),
+    cbr_core::Shown(*.trustworthy)
 )]
 pub struct ThresholdError {
     /// The trustworthy threshold given.

@@ -50,7 +50,7 @@ pub struct SetSimilarity<T = RelativeTime> {
 
 /// A `lambda` outside `(0, 1]`.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("lambda must be in (0, 1], got {0}")]
+#[error("lambda must be in (0, 1], got {}", cbr_core::Shown(*.0))]
 pub struct LambdaError(pub f64);
 
 /// Checks that `lambda` lies in `(0, 1]`.

@@ -54,7 +54,7 @@ impl Default for OutcomeWeights {
 #[non_exhaustive]
 pub enum WeightsError {
     /// A weight is negative or not a finite number.
-    #[error("`{field}` must be a finite number >= 0, got {value}")]
+    #[error("`{field}` must be a finite number >= 0, got {}", cbr_core::Shown(*.value))]
     Range {
         /// The field, e.g. `weights.by_cause.too-slow`.
         field: String,

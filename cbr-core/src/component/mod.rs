@@ -154,7 +154,7 @@ pub enum ComponentError {
         count: usize,
     },
     /// A numeric grid with a step that is not a positive finite number, or a non-finite min.
-    #[error("component `{name}`: {field} must be {allowed}, got {value}")]
+    #[error("component `{name}`: {field} must be {allowed}, got {}", crate::Shown(*.value))]
     OutOfRange {
         /// Component name.
         name: String,

@@ -177,8 +177,10 @@ fn deserialize_ruled<'de, D: Deserializer<'de>>(d: D, rule: &Rule) -> Result<f64
         Ok(value)
     } else {
         Err(serde::de::Error::custom(format_args!(
-            "field `{}` must be {}, got {value}",
-            rule.field, rule.allowed
+            "field `{}` must be {}, got {}",
+            rule.field,
+            rule.allowed,
+            crate::Shown(value)
         )))
     }
 }
