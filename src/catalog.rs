@@ -255,7 +255,7 @@ pub trait Catalog: Send + Sync {
     /// The weight a completion carries for `operator`, when the operator has one: a suite
     /// refuses an experiment whose operators could never reach the trustworthy threshold
     /// within its `max_commands`. By default what the operator says
-    /// ([`SimulatedOperator::completion_weight`](lab::SimulatedOperator::completion_weight):
+    /// ([`SimulatedOperator::completion_weight`]:
     /// its `weights.completed` for an operator with the standard fields); `None` skips
     /// that check.
     fn completion_weight(&self, operator: &OperatorOf<Self>) -> Option<f64> {

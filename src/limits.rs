@@ -152,7 +152,7 @@ impl Limit {
 
 /// A number as messages show it: plainly, or in scientific notation when its plain form
 /// would be long (`1e308`, not a 309-digit integer); the workspace's one helper,
-/// [`cbr_core::shown`].
+/// [`cbr_core::shown()`].
 pub use cbr_core::shown;
 
 /// Trials per experiment and arm (`trials`, `--trials`, Python `trials=`).

@@ -227,6 +227,12 @@ impl MissionSuiteConfig {
                     "goal changes are simulated in experiment suites, not yet in missions: leave `goal_changes` out of a mission plan (docs/missions.md)".into(),
                 ));
             }
+            if spec.operators.stated.is_some() {
+                return Err(invalid(
+                    field("operators.stated"),
+                    "what operators state up front is simulated in experiment suites, not yet in missions: leave `stated` out of a mission plan (docs/missions.md)".into(),
+                ));
+            }
             spec.changes
                 .validate()
                 .map_err(|e| invalid(field("changes"), e))?;

@@ -1,12 +1,13 @@
 //! Stated preferences through the binary: an experiment's operators state what their files
 //! say they mind (`stated`), each trial's line of `trials.jsonl` says what was stated, an arm
 //! `NAME+ignores-statements` runs on the same trials as `NAME` without hearing it, and an arm
-//! ignoring statements where none are stated, or shares that are not probabilities, are
-//! refused, leaving nothing behind.
+//! ignoring statements where none are stated, shares that are not probabilities, and
+//! statements in a mission plan (where nothing would hear them), are refused, leaving
+//! nothing behind.
 
 mod support;
 
-use support::{refused, run_suite, succeed};
+use support::{one_mission_suite, refused, run_suite, succeed};
 
 fn suite(stated: &str, arms: &str) -> String {
     format!(
@@ -86,6 +87,20 @@ fn ignoring_statements_none_state_and_shares_out_of_range_are_refused() {
     ));
     assert!(
         stderr.contains("stated `wrong` must be a probability in [0, 1], got 1.3"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn a_mission_plan_s_operators_state_nothing_and_saying_they_do_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mission = one_mission_suite(
+        r#"(scenario: "movement", operator: "random", stated: Some((said: 1.0, wrong: 0.0)))"#,
+    );
+    let stderr = refused(&mut run_suite(dir.path(), &mission));
+    assert!(
+        stderr.contains("missions[0].operators.stated: what operators state up front is simulated in experiment suites, not yet in missions"),
         "{stderr}"
     );
     assert!(!dir.path().join("out").exists());

@@ -2,7 +2,8 @@
 //! keep the last silently (an experiment's context `cycle`, a suite's `readings`, an
 //! operator file's `when`, a RON case file's context), and a domain file's context
 //! variables, their values and its statement names follow the naming rule of causes.
-//! Each refusal leaves nothing behind.
+//! A population named as a benchmark instance must hold that instance's members. Each
+//! refusal leaves nothing behind.
 
 mod support;
 
@@ -157,4 +158,57 @@ fn a_domain_file_s_context_and_statement_names_follow_the_rule_of_causes() {
             .contains("field `statements`: statement `Hurry Up!` breaks the naming rule of causes"),
         "{stderr}"
     );
+}
+
+/// A suite whose one experiment's population `name` lists `members` (movement operator
+/// files written beside it, each named as given).
+fn population_suite(dir: &Path, name: &str, members: &[&str]) -> String {
+    let mut files = Vec::new();
+    for member in members {
+        let file = format!("{member}.ron");
+        let text =
+            format!(r#"(name: "{member}", t_complete: 15.0, p_deadline: 0.5, p_collision: 0.5)"#);
+        std::fs::write(dir.join(&file), text).unwrap();
+        files.push(format!("{file:?}"));
+    }
+    format!(
+        r#"(
+    seed: 7,
+    trials: 4,
+    landscape_runs: 0,
+    limit: (runs: 20, budget: 0, candidates: 0, candidate_runs: 0),
+    arms: ["case-based"],
+    experiments: [
+        (scenario: "movement", operator: "random", population: Some((name: "{name}")),
+         operator_files: [{}]),
+    ],
+)"#,
+        files.join(", ")
+    )
+}
+
+#[test]
+fn a_population_named_as_a_benchmark_instance_holds_that_instance_s_members() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = population_suite(dir.path(), "dev-0", &["dev-1-0", "dev-1-1"]);
+    let stderr = refused(&mut run_suite(dir.path(), &text));
+    assert!(
+        stderr.contains("experiments[0].operator_files[0]: member `dev-1-0` is not one of instance `dev-0`'s members"),
+        "{stderr}"
+    );
+    let text = population_suite(dir.path(), "eval-99999999", &["eval-99999999-0"]);
+    let stderr = refused(&mut run_suite(dir.path(), &text));
+    assert!(
+        stderr.contains("population `eval-99999999` is named as a benchmark instance but is none: instance `eval-99999999` does not exist"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out").exists());
+    // The instance's own members, and a population of another name, run.
+    for (name, members) in [
+        ("dev-1", ["dev-1-0", "dev-1-1"]),
+        ("mine", ["dev-1-0", "dev-1-1"]),
+    ] {
+        let text = population_suite(dir.path(), name, &members);
+        support::succeed(&mut run_suite(dir.path(), &text));
+    }
 }

@@ -1,7 +1,8 @@
 //! Durability of `trustcbr serve` on an SQLite case base: the server is killed (SIGKILL)
 //! at random points, many of them while retentions are being committed, and after every
 //! kill the database must open and hold, exactly once, every case whose retention a reply
-//! had acknowledged before the kill.
+//! had acknowledged before the kill; a server killed while it creates a new case base
+//! leaves it whole or absent.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -116,4 +117,48 @@ fn load(path: &Path, domain: &DomainDefinition) -> BTreeMap<StoreId, Value> {
         return BTreeMap::new();
     }
     support::stored_solutions(&Location::Sqlite(path.to_owned()), &domain.space)
+}
+
+/// Servers started on a new case base and killed a few milliseconds in, many of them
+/// while they create it: after each, the case base is absent or whole (`cases info`
+/// reads it), never a file that looks like a database and is no case base.
+#[test]
+fn a_server_killed_while_it_creates_its_case_base_leaves_it_whole_or_absent() {
+    let dir = tempfile::tempdir().unwrap();
+    let domain_path = dir.path().join("quick.ron");
+    std::fs::write(&domain_path, support::quick_domain(false)).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let (mut whole, mut absent) = (0, 0);
+    for round in 0..40 {
+        let cases = dir.path().join(format!("cases-{round}.db"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+            .args(["serve", "--domain"])
+            .arg(&domain_path)
+            .arg("--cases")
+            .arg(&cases)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_micros(rng.random_range(0..20_000)));
+        child.kill().unwrap();
+        child.wait().unwrap();
+        if !cases.exists() {
+            absent += 1;
+            continue;
+        }
+        let info = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+            .args(["cases", "info"])
+            .arg(&cases)
+            .output()
+            .unwrap();
+        assert!(
+            info.status.success(),
+            "round {round}: {}",
+            String::from_utf8_lossy(&info.stderr)
+        );
+        whole += 1;
+    }
+    eprintln!("{whole} case bases whole, {absent} absent after the kill");
 }

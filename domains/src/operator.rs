@@ -31,7 +31,7 @@
 //! perceives itself ([`crate::causes::PERCEIVED`]); the UGV's own rule refuses a
 //! preference whose cause the scenario does not declare ([`UndeclaredPreference`]). An
 //! operator's attention scales its reactions through [`lab::attention::Attending`], and its
-//! deadline and giving up are the lab's [`Patience`].
+//! deadline and giving up are the lab's [`Patience`](lab::patience::Patience).
 
 use crate::Scenario;
 use crate::causes::{

@@ -219,6 +219,62 @@ fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
     Ok(())
 }
 
+/// Creates the file `path` complete or not at all: `fill` makes it at a fresh temporary
+/// path beside `path` (an empty file to start from, in the same folder, so the move is
+/// atomic), and it is moved into place only if nothing is at `path` yet, never over
+/// anything. Returns `true` when this call created it, `false` when another writer did
+/// first (its file is kept; this one is dropped). A writer killed meanwhile leaves only a
+/// temporary file, which the next writer for the same name removes; a reader never sees a
+/// half-made file.
+///
+/// ```
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("base.txt");
+/// let fill = |temp: &std::path::Path| std::fs::write(temp, "complete");
+/// assert!(files::output::create_whole(&path, fill)?);
+/// // Something is there now: it is kept.
+/// assert!(!files::output::create_whole(&path, |temp| std::fs::write(temp, "other"))?);
+/// assert_eq!(std::fs::read_to_string(&path)?, "complete");
+/// assert_eq!(std::fs::read_dir(dir.path())?.count(), 1);
+/// # Ok::<(), std::io::Error>(())
+/// ```
+pub fn create_whole<E: From<io::Error>>(
+    path: &Path,
+    fill: impl FnOnce(&Path) -> Result<(), E>,
+) -> Result<bool, E> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let prefix = temporary_prefix(name);
+    remove_stale_temporaries(&dir, &prefix);
+    let mut own_prefix = prefix;
+    own_prefix.push(format!("{}-", std::process::id()));
+    let temp = tempfile::Builder::new()
+        .prefix(&own_prefix)
+        .rand_bytes(RANDOM_CHARS)
+        .permissions(Permissions::from_mode(0o666))
+        .tempfile_in(&dir)
+        .map_err(without_temporary_path)?;
+    fill(temp.path())?;
+    temp.as_file().sync_all()?;
+    match temp.persist_noclobber(path) {
+        Ok(_) => {
+            // Persist the directory entry; not every platform lets a directory be opened.
+            if let Ok(d) = fs::File::open(&dir) {
+                d.sync_all().ok();
+            }
+            Ok(true)
+        }
+        // The temporary file is removed as the error drops it.
+        Err(e) if e.error.kind() == io::ErrorKind::AlreadyExists => Ok(false),
+        Err(e) => Err(e.error.into()),
+    }
+}
+
 /// The file `path` finally names: `path` itself unless it is a symbolic link, else the
 /// end of its chain of links (which need not exist yet).
 fn final_target(path: &Path) -> io::Result<PathBuf> {

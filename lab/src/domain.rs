@@ -108,7 +108,7 @@ pub trait Domain: Send + Sync {
     /// By default, [`Domain::run_attending`] at attention 1 (the paper's attentive
     /// operator), so a domain that models attention writes its command once. A domain
     /// must override one of the two: one that overrides neither panics here, naming
-    /// itself, on its first command (the domain kit, [`crate::testing::check_domain`],
+    /// itself, on its first command (the domain kit, `lab::testing::check_domain`,
     /// runs one first).
     fn run(
         &self,

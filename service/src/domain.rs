@@ -670,7 +670,7 @@ mod tests {
     }
 
     #[test]
-    fn statements_are_declared_once_each_and_not_empty() {
+    fn statements_are_declared_once_each_and_named_as_causes() {
         let with = |names: &str| {
             GOOD.replacen(
                 "adapter: (",
@@ -697,7 +697,11 @@ mod tests {
             ),
             (
                 r#"" ""#,
-                "field `statements`: a statement name cannot be empty",
+                "field `statements`: statement ` ` breaks the naming rule of causes: a cause is 1 to 32 bytes",
+            ),
+            (
+                r#""Hurry Up!""#,
+                "field `statements`: statement `Hurry Up!` breaks the naming rule of causes",
             ),
         ] {
             let error = DomainDefinition::from_ron(&with(names), Path::new("robot.ron"))

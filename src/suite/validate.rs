@@ -16,7 +16,7 @@ use crate::limits::{
     OPERATOR_FILES, OPERATORS_IN_CONTEXTS, SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
-use lab::{Domain, NameOptions, prefers_competent};
+use lab::{Domain, Instance, NameOptions, Split, prefers_competent};
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
@@ -387,6 +387,16 @@ impl ExperimentSpec {
             };
             return Err(invalid(place(k), problem));
         }
+        if let Some(population) = &self.population
+            && let Err((k, problem)) = instance_members(&population.name, &operators)
+        {
+            let place = if population.family.is_some() {
+                format!("{field}.population")
+            } else {
+                place(k)
+            };
+            return Err(invalid(place, problem));
+        }
         Ok(operators)
     }
 
@@ -422,6 +432,44 @@ impl ExperimentSpec {
             ));
         }
         Ok(())
+    }
+}
+
+/// Whether a population named like a benchmark instance (`dev-K`, `eval-K`: a split's
+/// prefix and a hyphen) holds that instance's members: the name must be an instance
+/// ([`lab::Instance`], within its split's range) and each member named `NAME-J`, as
+/// `trustcbr population` writes an instance's members, so a report never labels one
+/// instance's operators as another's. The first member that is not, and why.
+fn instance_members<O>(name: &str, members: &[(String, O)]) -> Result<(), (usize, String)> {
+    let looks_like_instance = Split::ALL
+        .iter()
+        .any(|split| name.starts_with(&format!("{}-", split.prefix())));
+    if !looks_like_instance {
+        return Ok(());
+    }
+    if let Err(e) = name.parse::<Instance>() {
+        return Err((
+            0,
+            format!(
+                "population `{name}` is named as a benchmark instance but is none: {e}; give the population another name"
+            ),
+        ));
+    }
+    let prefix = format!("{name}-");
+    let stray = members.iter().position(|(member, _)| {
+        member
+            .strip_prefix(&prefix)
+            .is_none_or(|j| j.is_empty() || !j.bytes().all(|b| b.is_ascii_digit()))
+    });
+    match stray {
+        None => Ok(()),
+        Some(k) => Err((
+            k,
+            format!(
+                "member `{}` is not one of instance `{name}`'s members (named `{name}-J`, as `trustcbr population` writes them), so the report would label it `{name}`: list that instance's operator files, or give the population another name",
+                members[k].0
+            ),
+        )),
     }
 }
 

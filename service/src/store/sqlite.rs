@@ -51,11 +51,19 @@ impl SqliteStore {
     /// unreadable identity) is refused before anything is written to it. The space
     /// recorded is not compared here (see [`super::open`]).
     pub fn open(path: &Path, identity: Option<&Identity>) -> Result<Self, StoreError> {
-        let exists = check_file(path)?;
-        if !exists && identity.is_none() {
-            return Err(StoreError::Missing(path.display().to_string()));
-        }
+        let mut exists = check_file(path)?;
         let location = path.display().to_string();
+        match identity {
+            None if !exists => return Err(StoreError::Missing(location)),
+            Some(identity) if !exists => {
+                // A new case base appears whole or not at all: a process killed while it
+                // is made leaves no file a reader would take for an empty store.
+                files::output::create_whole(path, |temp| create(temp, identity))
+                    .map_err(|e| e.into_store_error(&location))?;
+                exists = true;
+            }
+            _ => {}
+        }
         if exists && !starts_like_a_database(path) {
             return Err(StoreError::Corrupt {
                 location,
@@ -73,8 +81,7 @@ impl SqliteStore {
                 Err(Failure::Sqlite(e)) if is_busy(&e) && Instant::now() < deadline => {
                     std::thread::sleep(Duration::from_millis(10));
                 }
-                Err(Failure::Sqlite(e)) => return Err(database_error(&location, e)),
-                Err(Failure::Store(e)) => return Err(e),
+                Err(failure) => return Err(failure.into_store_error(&location)),
             }
         }
     }
@@ -118,6 +125,24 @@ impl SqliteStore {
             identity,
         })
     }
+}
+
+/// Makes a new case base recording `identity` in the (empty) file at `path`: WAL mode,
+/// the schema and the identity, committed, and the connection closed (which folds the
+/// write-ahead log back into the file), so the file alone holds all of it.
+fn create(path: &Path, identity: &Identity) -> Result<(), Failure> {
+    let flags = OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    let mut connection = Connection::open_with_flags(path, flags)?;
+    connection.pragma_update(None, "journal_mode", "WAL")?;
+    connection.pragma_update(None, "synchronous", "FULL")?;
+    let transaction = connection.transaction_with_behavior(TransactionBehavior::Immediate)?;
+    transaction.execute_batch(SCHEMA)?;
+    transaction.execute(
+        "INSERT INTO trustcbr_identity (singleton, format, domain, space) VALUES (1, ?1, ?2, ?3)",
+        params![FORMAT, identity.domain, row::encode_space(&identity.space)],
+    )?;
+    transaction.commit()?;
+    connection.close().map_err(|(_, e)| Failure::Sqlite(e))
 }
 
 /// Opens `path` read-only and reads its identity. A reader of a database in WAL mode needs
@@ -261,11 +286,32 @@ fn recorded(connection: &Connection, location: &str) -> Result<Option<Identity>,
 enum Failure {
     Sqlite(rusqlite::Error),
     Store(StoreError),
+    Io(std::io::Error),
 }
 
 impl From<rusqlite::Error> for Failure {
     fn from(e: rusqlite::Error) -> Self {
         Self::Sqlite(e)
+    }
+}
+
+impl From<std::io::Error> for Failure {
+    fn from(e: std::io::Error) -> Self {
+        Self::Io(e)
+    }
+}
+
+impl Failure {
+    /// The store's error for this failure at `location`.
+    fn into_store_error(self, location: &str) -> StoreError {
+        match self {
+            Self::Sqlite(e) => database_error(location, e),
+            Self::Store(e) => e,
+            Self::Io(e) => StoreError::Database {
+                location: location.to_owned(),
+                reason: format!("cannot create the case base beside it: {e}"),
+            },
+        }
     }
 }
 
