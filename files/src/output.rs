@@ -14,6 +14,7 @@ use std::fs::{self, Permissions};
 use std::io::{self, Write};
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+use tempfile::NamedTempFile;
 
 /// Why a folder cannot take the files to be written in it.
 #[derive(Debug, thiserror::Error)]
@@ -181,25 +182,9 @@ fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
             format!("is {kind}, not a regular file; refusing to write over it"),
         ));
     }
-    let name = target
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    let dir = match target.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let prefix = temporary_prefix(name);
-    remove_stale_temporaries(&dir, &prefix);
-    let mut own_prefix = prefix;
-    own_prefix.push(format!("{}-", std::process::id()));
     // A new target gets the usual mode of new files (0666 less the umask).
     let create_mode = if existing.is_some() { 0o600 } else { 0o666 };
-    let mut temp = tempfile::Builder::new()
-        .prefix(&own_prefix)
-        .rand_bytes(RANDOM_CHARS)
-        .permissions(Permissions::from_mode(create_mode))
-        .tempfile_in(&dir)
-        .map_err(without_temporary_path)?;
+    let (dir, mut temp) = temporary_beside(&target, create_mode)?;
     temp.write_all(bytes).map_err(without_temporary_path)?;
     if let Some(meta) = &existing {
         let file = temp.as_file();
@@ -217,6 +202,30 @@ fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
         d.sync_all().ok();
     }
     Ok(())
+}
+
+/// A fresh temporary file beside `target` (in its folder, `.NAME.tmp-PID-RANDOM`, created
+/// with `mode` less the umask), with that folder, after removing the temporaries that
+/// writers of the same name left and no longer run to remove.
+fn temporary_beside(target: &Path, mode: u32) -> io::Result<(PathBuf, NamedTempFile)> {
+    let name = target
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let prefix = temporary_prefix(name);
+    remove_stale_temporaries(&dir, &prefix);
+    let mut own_prefix = prefix;
+    own_prefix.push(format!("{}-", std::process::id()));
+    let temp = tempfile::Builder::new()
+        .prefix(&own_prefix)
+        .rand_bytes(RANDOM_CHARS)
+        .permissions(Permissions::from_mode(mode))
+        .tempfile_in(&dir)
+        .map_err(without_temporary_path)?;
+    Ok((dir, temp))
 }
 
 /// Creates the file `path` complete or not at all: `fill` makes it at a fresh temporary
@@ -242,23 +251,7 @@ pub fn create_whole<E: From<io::Error>>(
     path: &Path,
     fill: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<bool, E> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let prefix = temporary_prefix(name);
-    remove_stale_temporaries(&dir, &prefix);
-    let mut own_prefix = prefix;
-    own_prefix.push(format!("{}-", std::process::id()));
-    let temp = tempfile::Builder::new()
-        .prefix(&own_prefix)
-        .rand_bytes(RANDOM_CHARS)
-        .permissions(Permissions::from_mode(0o666))
-        .tempfile_in(&dir)
-        .map_err(without_temporary_path)?;
+    let (dir, temp) = temporary_beside(path, 0o666)?;
     fill(temp.path())?;
     temp.as_file().sync_all()?;
     match temp.persist_noclobber(path) {
@@ -353,11 +346,12 @@ fn without_temporary_path(error: io::Error) -> io::Error {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use std::os::unix::fs::{FileTypeExt, symlink};
 
-    fn names_in(dir: &Path) -> Vec<String> {
+    /// The names in `dir`, sorted (for this crate's tests).
+    pub(crate) fn names_in(dir: &Path) -> Vec<String> {
         let mut names: Vec<String> = fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

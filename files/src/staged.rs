@@ -187,16 +187,8 @@ fn fresh_path(parent: &Path, prefix: &OsString) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::tests::names_in;
     use std::os::unix::fs::symlink;
-
-    fn names_in(dir: &Path) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
 
     #[test]
     fn a_new_folder_replaces_the_earlier_one_whole() {
