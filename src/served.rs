@@ -6,7 +6,7 @@ use crate::catalog::Catalog;
 use crate::suite::arm_named;
 use cbr_core::Behavior;
 use lab::Domain;
-use lab::{Initial, NameOptions, PREFERS_COMPETENT};
+use lab::{CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, PREFERS_COMPETENT};
 use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
@@ -42,26 +42,33 @@ pub fn serving_arm<C: Catalog>(
     mut domain: DomainDefinition,
     name: &str,
 ) -> anyhow::Result<DomainDefinition> {
+    // The options `serve` refuses are looked for first, wherever and however often the name
+    // writes them, so that the name it suggests is one it serves.
+    let refused = [
+        (
+            CONTEXT_BLIND,
+            "is blind to the robot's context, which a controller tells `serve` (`begin` with a context, a `context` request): to serve a robot blind to it, send none",
+        ),
+        (
+            IGNORES_STATEMENTS,
+            "ignores what operators state up front, which a controller tells `serve` (`begin`'s `preferences`): to serve a robot that hears none, send none",
+        ),
+        (
+            LEARNED_START,
+            "starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one)",
+        ),
+    ];
+    if let Some((_, why)) = refused.iter().find(|(suffix, _)| name.contains(suffix)) {
+        let served = refused.iter().fold(name.to_owned(), |left, (suffix, _)| {
+            left.replace(suffix, "")
+        });
+        anyhow::bail!("--arm: `{name}` {why}; serve `{served}`");
+    }
     let arm = arm_named(catalog, name, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
-    if arm.is_context_blind() {
-        anyhow::bail!(
-            "--arm: `{name}` is blind to the robot's context, which a controller tells `serve` (`begin` with a context, a `context` request): to serve a robot blind to it, send none; serve `{}`",
-            NameOptions::of_name(name).map_or(name, |(base, _)| base)
-        );
-    }
-    if arm.ignores_statements() {
-        anyhow::bail!(
-            "--arm: `{name}` ignores what operators state up front, which a controller tells `serve` (`begin`'s `preferences`): to serve a robot that hears none, send none; serve `{}`",
-            name.replacen(lab::IGNORES_STATEMENTS, "", 1)
-        );
-    }
-    if arm.initial() != Initial::Random {
-        anyhow::bail!(
-            "--arm: `{name}` starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one); serve `{}`",
-            Initial::of_name(name).0
-        );
-    }
+    debug_assert!(
+        !arm.is_context_blind() && !arm.ignores_statements() && arm.initial() == Initial::Random
+    );
     domain.adapter.reuse_cases = arm.reuses_cases();
     let passes = arm.competent_passes();
     let (searcher, retriever) = (arm.clone(), arm);

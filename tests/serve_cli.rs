@@ -383,5 +383,18 @@ fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base(
         "{stderr}"
     );
     assert!(stderr.contains("send none; serve `case-based`"), "{stderr}");
+    // Written twice, or beside another option serve refuses: the name suggested is one
+    // serve serves.
+    for (arm, served) in [
+        ("case-based+context-blind+context-blind", "case-based"),
+        ("uniform+ignores-statements+learned-start", "uniform"),
+        ("case-based+learned-start+competent", "case-based+competent"),
+    ] {
+        let stderr = refused_arm(arm);
+        assert!(
+            stderr.contains(&format!("; serve `{served}`")),
+            "{arm}: {stderr}"
+        );
+    }
     assert!(!fresh.exists());
 }
