@@ -116,6 +116,27 @@ fn trials_take_the_contexts_in_turn_and_a_told_arm_learns_cases_in_them() {
     let untold_text = std::fs::read_to_string(cases.join("case-based+context-blind.ron")).unwrap();
     assert!(told_text.contains("hazardous"), "{told_text}");
     assert!(!untold_text.is_empty() && !untold_text.contains("hazardous"));
+    // `explain` says the context a trial ran in, and what a blind arm was told.
+    let explain = |arm: &str, trial: &str| {
+        succeed(
+            Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+                .arg("explain")
+                .arg(dir.path().join("out"))
+                .args(["--experiment", "movement/carrier/contexts", "--arm", arm])
+                .args(["--trial", trial]),
+        )
+    };
+    let story = explain("case-based", "1");
+    assert!(
+        story.lines().nth(1) == Some("in context cargo=hazardous"),
+        "{story}"
+    );
+    let story = explain("case-based+context-blind", "1");
+    assert!(
+        story.contains("in context cargo=hazardous (the arm was told default: it is blind to it)"),
+        "{story}"
+    );
+    assert!(!explain("case-based", "0").contains("in context"));
 }
 
 #[test]

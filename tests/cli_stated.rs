@@ -7,7 +7,7 @@
 
 mod support;
 
-use support::{one_mission_suite, refused, run_suite, succeed};
+use support::{one_mission_suite, refused, run_suite, succeed, trustcbr};
 
 fn suite(stated: &str, arms: &str) -> String {
     format!(
@@ -104,4 +104,44 @@ fn a_mission_plan_s_operators_state_nothing_and_saying_they_do_is_refused() {
         "{stderr}"
     );
     assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn explain_says_what_the_trial_s_operator_stated() {
+    let dir = tempfile::tempdir().unwrap();
+    let arms = r#""case-based+cause-aware""#;
+    succeed(&mut run_suite(
+        dir.path(),
+        &suite(", stated: Some((said: 1.0))", arms),
+    ));
+    let line = std::fs::read_to_string(dir.path().join("out/trials.jsonl")).unwrap();
+    let trial: serde_json::Value = serde_json::from_str(line.lines().next().unwrap()).unwrap();
+    let said: Vec<String> = trial["stated"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            let name = s["name"].as_str().unwrap();
+            if s["minds"] == true {
+                name.to_owned()
+            } else {
+                format!("not {name}")
+            }
+        })
+        .collect();
+    assert!(!said.is_empty());
+    let story = succeed(
+        trustcbr()
+            .arg("explain")
+            .arg(dir.path().join("out"))
+            .args(["--experiment", trial["experiment"].as_str().unwrap()])
+            .args(["--arm", "case-based+cause-aware", "--trial", "0"]),
+    );
+    assert!(
+        story.contains(&format!(
+            "the operator stated up front: {}",
+            said.join(", ")
+        )),
+        "{story}"
+    );
 }

@@ -767,3 +767,29 @@ fn operator_files_name_each_cause_once_and_have_a_name() {
         assert!(stderr.contains(expected), "{stderr}");
     }
 }
+
+#[test]
+fn explain_reads_a_report_s_config_ron_as_what_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("report");
+    std::fs::create_dir(&report).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", report.join("config.ron")).unwrap();
+    let explain = |report: &Path| {
+        refused(
+            trustcbr()
+                .arg("explain")
+                .arg(report)
+                .args(["--experiment", "movement/balanced", "--arm", "case-based"])
+                .args(["--trial", "0"]),
+        )
+    };
+    let stderr = explain(&report);
+    assert!(
+        stderr.contains("config.ron") && stderr.contains("not a regular file"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("no config.ron"), "{stderr}");
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    assert!(explain(&empty).contains("not a report folder (it has no config.ron)"));
+}

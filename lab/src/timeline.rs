@@ -143,6 +143,21 @@ pub fn story(timeline: &Timeline, space: &BehaviorSpace) -> String {
         timeline.thresholds.trustworthy,
         timeline.thresholds.untrustworthy,
     );
+    if !r.context.is_default() {
+        let _ = write!(text, "in context {}", r.context);
+        if r.report.context != r.context {
+            let _ = write!(
+                text,
+                " (the arm was told {}: it is blind to it)",
+                r.report.context
+            );
+        }
+        text.push('\n');
+    }
+    if !r.stated.is_empty() {
+        let said: Vec<String> = r.stated.iter().map(ToString::to_string).collect();
+        let _ = writeln!(text, "the operator stated up front: {}", said.join(", "));
+    }
     let rows: Vec<[String; 7]> = timeline
         .commands
         .iter()

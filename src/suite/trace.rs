@@ -168,7 +168,9 @@ pub fn trace_report_trial<C: Catalog>(
     trial: u32,
 ) -> Result<ReplayedTrial, TraceError> {
     let origin = report.join("config.ron");
-    if !origin.is_file() {
+    // Absent is no report; anything else there is read, and refused as what it is (a
+    // link to a device, a folder) if it is no regular file.
+    if std::fs::symlink_metadata(&origin).is_err() {
         return Err(TraceError::NotAReport(report.to_owned()));
     }
     let text = read_text(&origin).map_err(SuiteError::from)?;
