@@ -387,3 +387,27 @@ fn an_overtrust_alert_offers_a_behavior_operators_trusted_before_and_the_operato
             .starts_with("no offer to accept")
     );
 }
+
+/// Told the context it is already in, a mission's episode goes on as it was: trust and
+/// commands kept, no new episode (it restarted the episode).
+#[test]
+fn a_context_request_naming_the_current_context_changes_nothing() {
+    let same = r#"{"request": "context", "context": {}}"#;
+    let hazardous = r#"{"request": "context", "context": {"cargo": "hazardous"}}"#;
+    let lines = [
+        BEGIN, DONE, DONE, STATE, same, STATE, DONE, hazardous, hazardous,
+    ];
+    let r = exchange(true, &lines);
+    assert_eq!(r[4]["ok"], "context");
+    assert_eq!(r[4]["from"], "kept", "{}", r[4]);
+    assert_eq!(r[4]["gave_up_watch"], false);
+    assert_eq!(r[4]["behavior"], behavior());
+    // The episode's state before and after is the same: two commands, trust +2.
+    assert_eq!(r[3], r[5], "{} then {}", r[3], r[5]);
+    // The third completion goes on from there (trust 3 of the threshold 5).
+    assert_eq!(r[6]["trust"], 3.0, "{}", r[6]);
+    // A switch to another context does begin again there; told it twice, the second
+    // changes nothing.
+    assert_ne!(r[7]["from"], "kept", "{}", r[7]);
+    assert_eq!(r[8]["from"], "kept", "{}", r[8]);
+}

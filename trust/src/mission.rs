@@ -81,8 +81,9 @@ pub struct ContextSwitch {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SwitchStart {
-    /// The watched behavior, still watched: nothing the robot knows of the new context
-    /// says otherwise.
+    /// The behavior in use, as it was: the watched behavior still watched (nothing the
+    /// robot knows of the new context says otherwise), or, told the context it is already
+    /// in, the episode or watch under way going on unchanged.
     Kept,
     /// The behavior the robot last settled on, trusted, in the new context since its
     /// operator began: an episode begins from it.
@@ -162,6 +163,15 @@ impl<'p> Mission<'p> {
         guess: impl FnOnce(&Adaptation) -> Option<Behavior>,
     ) -> Result<ContextSwitch, AdapterError> {
         let in_use = self.in_use(adaptation).ok_or(AdapterError::NoEpisode)?.0;
+        if context == *adaptation.context() {
+            // Told the context it is in: nothing switched, so the episode or the watch
+            // goes on as it was (its estimate and commands kept).
+            return Ok(ContextSwitch {
+                behavior: in_use,
+                from: SwitchStart::Kept,
+                gave_up_watch: false,
+            });
+        }
         let watching = self.watch.is_some();
         adaptation.abandon_episode();
         adaptation.set_context(context)?;
