@@ -785,3 +785,86 @@ fn a_case_base_of_another_domain_of_the_same_space_is_refused_untouched() {
         .arg(moved.join("quick.ron"));
     succeed(&mut again);
 }
+
+/// A tmpfs mounted at a folder of its own for the life of the value (root only), so a
+/// test can turn it read-only; unmounted when dropped, even when the test fails.
+struct Tmpfs(PathBuf);
+
+impl Tmpfs {
+    /// A fresh tmpfs at `dir`, or `None` where this process may not mount one.
+    fn at(dir: &Path) -> Option<Self> {
+        std::fs::create_dir_all(dir).unwrap();
+        let mounted = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=8m", "tmpfs"])
+            .arg(dir)
+            .status()
+            .is_ok_and(|s| s.success());
+        mounted.then(|| Self(dir.to_owned()))
+    }
+
+    fn read_only(&self) {
+        let status = Command::new("mount")
+            .args(["-o", "remount,ro"])
+            .arg(&self.0)
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+}
+
+impl Drop for Tmpfs {
+    fn drop(&mut self) {
+        Command::new("umount").arg(&self.0).status().ok();
+    }
+}
+
+/// `serve` of a case base on a read-only file system says why it cannot open it (it said
+/// only "unable to open database file"), and a new one there why it cannot be made;
+/// `cases info` still reads it.
+#[test]
+fn serve_on_a_read_only_file_system_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(fs) = Tmpfs::at(&dir.path().join("ro")) else {
+        eprintln!("skipped: this process may not mount a tmpfs (it needs root)");
+        return;
+    };
+    let base = fs.0.join("cases.db");
+    let serve = |cases: &Path| {
+        let output = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+            .args(["serve", "--domain", "movement", "--cases"])
+            .arg(cases)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        (
+            output.status.success(),
+            String::from_utf8_lossy(&output.stderr).into_owned(),
+        )
+    };
+    let (created, stderr) = serve(&base);
+    assert!(created, "{stderr}");
+    fs.read_only();
+    let (served, stderr) = serve(&base);
+    assert!(!served);
+    assert!(
+        stderr.contains("the file cannot be opened for writing (Read-only file system")
+            && stderr.contains("give a writable place"),
+        "{stderr}"
+    );
+    let (served, stderr) = serve(&fs.0.join("new.db"));
+    assert!(!served);
+    assert!(
+        stderr.contains("cannot create the case base beside it: Read-only file system"),
+        "{stderr}"
+    );
+    let info = Command::new(env!("CARGO_BIN_EXE_trustcbr"))
+        .args(["cases", "info"])
+        .arg(&base)
+        .output()
+        .unwrap();
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+}

@@ -81,6 +81,9 @@ impl SqliteStore {
                 Err(Failure::Sqlite(e)) if is_busy(&e) && Instant::now() < deadline => {
                     std::thread::sleep(Duration::from_millis(10));
                 }
+                Err(Failure::Sqlite(e)) if identity.is_some() && cannot_write(&e) => {
+                    return Err(unwritable(path, &location, e));
+                }
                 Err(failure) => return Err(failure.into_store_error(&location)),
             }
         }
@@ -322,6 +325,43 @@ impl From<StoreError> for Failure {
 }
 
 /// Whether SQLite refused because another connection holds a lock.
+/// Whether SQLite could not open or write a database (it does not say why).
+fn cannot_write(e: &rusqlite::Error) -> bool {
+    matches!(
+        e.sqlite_error_code(),
+        Some(rusqlite::ErrorCode::CannotOpen | rusqlite::ErrorCode::ReadOnly)
+    )
+}
+
+/// The error of a case base at `path` that SQLite could not open to write (`e`), with the
+/// reason it does not give: what the system says when the file, or its folder (where the
+/// write-ahead log goes), is opened for writing (a read-only file system, no permission).
+fn unwritable(path: &Path, location: &str, e: rusqlite::Error) -> StoreError {
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let refused = std::fs::OpenOptions::new()
+        .append(true)
+        .open(path)
+        .err()
+        .map(|why| format!("the file cannot be opened for writing ({why})"))
+        .or_else(|| {
+            files::output::ensure_writable_dir(folder).err().map(|why| {
+                format!("its folder takes no new file, as the write-ahead log needs ({why})")
+            })
+        });
+    match refused {
+        Some(reason) => StoreError::Database {
+            location: location.to_owned(),
+            reason: format!(
+                "{e}: {reason}; a served case base is written: give a writable place (`cases export` and `cases info` read it as it is)"
+            ),
+        },
+        None => database_error(location, e),
+    }
+}
+
 fn is_busy(e: &rusqlite::Error) -> bool {
     matches!(
         e.sqlite_error_code(),
