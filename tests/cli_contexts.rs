@@ -160,9 +160,26 @@ fn a_blind_arm_without_contexts_and_the_retired_told_are_refused() {
     let err = refused(&mut run(dir.path(), &suite("")));
     assert!(err.contains("arms[1]"), "{err}");
     assert!(
-        err.contains("`case-based+context-blind` is blind to the robot's context, and no experiment here has `contexts`"),
+        err.contains("`case-based+context-blind` is blind to the robot's context, and no trial here runs in a context other than the default"),
         "{err}"
     );
+    // Contexts that are all the default one change nothing either.
+    let err = refused(&mut run(dir.path(), &suite_in("[{}]")));
+    assert!(
+        err.contains("arms[1]: `case-based+context-blind` is blind to the robot's context, and no trial here runs in a context other than the default"),
+        "{err}"
+    );
+    // A blind arm that reuses no case, of a search that ignores the context, is its twin.
+    let text = suite_in(r#"[{}, {"cargo": "hazardous"}]"#).replace(
+        r#"arms: ["case-based", "case-based+context-blind"]"#,
+        r#"arms: ["random-walk", "random-walk+context-blind"]"#,
+    );
+    let err = refused(&mut run(dir.path(), &text));
+    assert!(
+        err.contains("arms[1]: `random-walk+context-blind` is blind to the robot's context, but it reuses no case and its search (`random-walk`) ignores the context"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists());
     let err = refused(&mut run(
         dir.path(),
         &suite(r#", contexts: Some((cycle: [{}], told: false))"#),

@@ -145,3 +145,18 @@ fn explain_says_what_the_trial_s_operator_stated() {
         "{story}"
     );
 }
+
+#[test]
+fn an_arm_deaf_to_statements_whose_search_hears_none_is_its_twin_and_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let arms = r#""random-walk", "random-walk+ignores-statements""#;
+    let stderr = refused(&mut run_suite(
+        dir.path(),
+        &suite(", stated: Some((said: 1.0))", arms),
+    ));
+    assert!(
+        stderr.contains("arms[1]: `random-walk+ignores-statements` ignores what operators state up front, but its search (`random-walk`) hears no statement: the arm is its twin that hears"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("out").exists());
+}

@@ -115,6 +115,21 @@ pub trait Searcher: Send {
         false
     }
 
+    /// Whether what the robot is told of its context ([`Searcher::enter_context`]) can
+    /// change what the strategy proposes. `true` by default (a strategy that does not say
+    /// may read it); one that ignores the context says `false`, and an arm of it that
+    /// reuses no case and is blind to the context is then refused as its own twin.
+    fn reads_context(&self) -> bool {
+        true
+    }
+
+    /// Whether what users state up front ([`Searcher::hear`]) can change what the strategy
+    /// proposes. `true` by default; one that ignores statements says `false`, and an arm
+    /// of it ignoring statements is then refused as its own twin.
+    fn hears_statements(&self) -> bool {
+        true
+    }
+
     /// Called when the robot is told its context, between episodes: the episodes that
     /// follow are in `context` until it is told another. A strategy that weighs what it
     /// learned by the context it was learned in reads it here; the default ignores it.

@@ -16,7 +16,10 @@ use crate::limits::{
     OPERATOR_FILES, OPERATORS_IN_CONTEXTS, SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
-use lab::{Domain, Instance, NameOptions, Split, prefers_competent};
+use lab::{
+    Arm, BUILTIN_ARMS, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split,
+    prefers_competent,
+};
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
@@ -78,17 +81,6 @@ impl SuiteConfig {
                 format!("arms[{i}]"),
                 format!(
                     "`{}` prefers behaviors the robot judges competent, which only a mission plan with a competence standard judges (docs/missions.md); an experiment's episodes settle on the first trusted behavior",
-                    self.arms[i]
-                ),
-            ));
-        }
-        if !self.experiments.iter().any(|e| e.contexts.is_some())
-            && let Some(i) = self.arms.iter().position(|a| is_context_blind(a))
-        {
-            return Err(invalid(
-                format!("arms[{i}]"),
-                format!(
-                    "`{}` is blind to the robot's context, and no experiment here has `contexts`: every trial runs in the default context, where the arm is its sighted twin; give an experiment `contexts` or drop the arm's +context-blind",
                     self.arms[i]
                 ),
             ));
@@ -156,6 +148,71 @@ impl SuiteConfig {
         }
         let names: Vec<String> = self.experiments.iter().map(ExperimentSpec::name).collect();
         check_distinct("experiments", "experiment", &names, origin)?;
+        self.check_twins(catalog, origin)
+    }
+
+    /// Refuses an arm that is blind to the context, or deaf to statements, where that
+    /// changes nothing, so it would run as its twin under another name: a blind arm where
+    /// no trial runs in a context other than the default; a built-in blind arm that reuses
+    /// no case and whose search ignores the context; a built-in deaf arm whose search
+    /// hears no statement ([`cbr_core::Searcher::reads_context`],
+    /// [`cbr_core::Searcher::hears_statements`]). A user's arm is taken at its word: its
+    /// searcher says it may read both unless it says otherwise, and it is not built here.
+    fn check_twins<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
+        let invalid = |i: usize, message: String| invalid(origin, format!("arms[{i}]"), message);
+        let Some(first) = self.experiments.first() else {
+            return Ok(());
+        };
+        let domain = domain_of(catalog, &first.scenario)
+            .map_err(|unknown| invalid(0, unknown.to_string()))?;
+        let space = domain.space();
+        let told_a_context = self.experiments.iter().any(|e| {
+            let domain = domain_of(catalog, &e.scenario);
+            match (&e.contexts, domain) {
+                (Some(contexts), Ok(domain)) => contexts
+                    .trial_contexts(domain.contexts())
+                    .is_ok_and(|t| t.cycle().iter().any(|c| !c.is_default())),
+                _ => false,
+            }
+        });
+        for (i, name) in self.arms.iter().enumerate() {
+            let Ok((base, options)) = NameOptions::of_name(name) else {
+                continue;
+            };
+            if options.context_blind && !told_a_context {
+                return Err(invalid(
+                    i,
+                    format!(
+                        "`{name}` is blind to the robot's context, and no trial here runs in a context other than the default: the arm is its sighted twin; give an experiment `contexts` with another context, or drop the arm's {CONTEXT_BLIND}"
+                    ),
+                ));
+            }
+            if !BUILTIN_ARMS.contains(&base) {
+                continue;
+            }
+            let Ok(arm) = Arm::builtin(name, self.adapter.retriever) else {
+                continue;
+            };
+            let searcher = arm.build_searcher(space);
+            if options.context_blind && !arm.reads_cases() && !searcher.reads_context() {
+                return Err(invalid(
+                    i,
+                    format!(
+                        "`{name}` is blind to the robot's context, but it reuses no case and its search (`{}`) ignores the context: the arm is its sighted twin; drop the arm's {CONTEXT_BLIND}",
+                        searcher.name()
+                    ),
+                ));
+            }
+            if options.ignores_statements && !searcher.hears_statements() {
+                return Err(invalid(
+                    i,
+                    format!(
+                        "`{name}` ignores what operators state up front, but its search (`{}`) hears no statement: the arm is its twin that hears; drop the arm's {IGNORES_STATEMENTS}",
+                        searcher.name()
+                    ),
+                ));
+            }
+        }
         Ok(())
     }
 }

@@ -59,6 +59,14 @@ where
         self.first.learns_across_episodes() || self.second.learns_across_episodes()
     }
 
+    fn reads_context(&self) -> bool {
+        self.first.reads_context() || self.second.reads_context()
+    }
+
+    fn hears_statements(&self) -> bool {
+        self.first.hears_statements() || self.second.hears_statements()
+    }
+
     fn enter_context(&mut self, context: &Context) {
         self.first.enter_context(context);
         self.second.enter_context(context);

@@ -249,6 +249,12 @@ impl Searcher for CauseAware {
         "cause-aware"
     }
 
+    // It weighs signals by what earlier operators who stated the same bore, in every
+    // context alike.
+    fn reads_context(&self) -> bool {
+        false
+    }
+
     fn learns_across_episodes(&self) -> bool {
         true
     }

@@ -360,6 +360,16 @@ impl Searcher for ModelBased {
         "model-based"
     }
 
+    // It proposes from the episode's own outcomes alone: told a context or statements, it
+    // proposes the same.
+    fn reads_context(&self) -> bool {
+        false
+    }
+
+    fn hears_statements(&self) -> bool {
+        false
+    }
+
     fn learns_across_episodes(&self) -> bool {
         true
     }

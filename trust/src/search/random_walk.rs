@@ -76,6 +76,16 @@ impl Searcher for RandomWalk {
         "random-walk"
     }
 
+    // It proposes from the episode's evidence alone: told a context or statements, it
+    // proposes the same.
+    fn reads_context(&self) -> bool {
+        false
+    }
+
+    fn hears_statements(&self) -> bool {
+        false
+    }
+
     fn propose(
         &mut self,
         space: &BehaviorSpace,
