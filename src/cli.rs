@@ -840,7 +840,7 @@ fn render<C: Catalog>(catalog: &C, args: &RenderArgs) -> Result<()> {
                 args.scenario
             )
         })?;
-    files::write_atomically(&args.output, svg.as_bytes())
+    files::write_no_follow(&args.output, svg.as_bytes())
         .with_context(|| format!("writing {}", args.output.display()))?;
     println!("wrote {}", args.output.display());
     Ok(())

@@ -147,7 +147,7 @@ fn an_export_never_writes_over_its_source_or_another_case_base() {
     let stderr = refused(&mut export(&base, &to_other));
     assert!(
         stderr.contains(&format!(
-            "{}: exists and is not an earlier export (an SQLite database); `cases export` writes over nothing else: give a new file name",
+            "{}: exists and is not an earlier export (a symbolic link: nothing is written through one, nor is what it points to changed); `cases export` writes over nothing else: give a new file name",
             to_other.display()
         )),
         "{stderr}"

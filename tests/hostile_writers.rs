@@ -305,3 +305,71 @@ fn competence_replaces_only_its_own_report_and_never_through_a_link() {
 fn landscape_replaces_only_its_own_files_and_never_through_a_link() {
     refuses_links_and_foreign_files(landscape, ["landscape.svg", "landscape.csv"]);
 }
+
+/// `render -o`, `cases export` and `--save-cases` write nothing through a symbolic link:
+/// a link at the file they would write is refused and it, and what it points to, stay as
+/// they were (they wrote the file the link pointed to).
+#[test]
+fn render_export_and_saved_cases_never_write_through_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let outside = dir.path().join("outside.txt");
+    fs::write(&outside, "keep me").unwrap();
+    let link = |name: &str| {
+        let path = dir.path().join(name);
+        symlink(&outside, &path).unwrap();
+        path
+    };
+    let unchanged = |path: &Path| {
+        assert!(fs::symlink_metadata(path).unwrap().file_type().is_symlink());
+        assert_eq!(fs::read_to_string(&outside).unwrap(), "keep me");
+    };
+
+    let svg = link("walk.svg");
+    let stderr = refused(
+        trustcbr()
+            .args(["render", "--scenario", "movement", "--behavior"])
+            .arg("speed=2,padding=0.3")
+            .arg("--out")
+            .arg(&svg),
+    );
+    assert!(stderr.contains("is a symbolic link"), "{stderr}");
+    unchanged(&svg);
+
+    // A case base to export, saved by a small run with --save-cases.
+    let saved = dir.path().join("saved");
+    succeed(
+        run(
+            dir.path(),
+            "small",
+            &suite(BALANCED, 4),
+            &dir.path().join("report"),
+        )
+        .arg("--save-cases")
+        .arg(&saved),
+    );
+    let base = saved.join("movement-balanced").join("case-based.ron");
+    assert!(base.is_file());
+    let export = link("export.ron");
+    let stderr = refused(trustcbr().args(["cases", "export"]).arg(&base).arg(&export));
+    assert!(
+        stderr.contains("a symbolic link: nothing is written through one"),
+        "{stderr}"
+    );
+    unchanged(&export);
+
+    // The saved case base itself replaced by a link: the next run refuses before any work.
+    fs::remove_file(&base).unwrap();
+    symlink(&outside, &base).unwrap();
+    let text = r#"(seed: 1, trials: 4, arms: ["case-based"], experiments: [(scenario: "movement", operator: "balanced")])"#;
+    let stderr = refused(
+        run(dir.path(), "again", text, &dir.path().join("report2"))
+            .arg("--save-cases")
+            .arg(&saved),
+    );
+    assert!(
+        stderr.contains("case-based.ron: exists and is not a case base saved earlier (a symbolic link: nothing is written through one"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("report2").exists(), "{stderr}");
+    unchanged(&base);
+}

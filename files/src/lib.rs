@@ -9,7 +9,7 @@ pub mod ron_text;
 pub mod staged;
 
 pub use input::{FileError, MAX_CASE_BASE_BYTES, MAX_CONFIG_BYTES, read_text, read_text_at_most};
-pub use output::{FolderError, write_atomically, write_file_in, write_no_follow};
+pub use output::{FolderError, write_file_in, write_no_follow};
 pub use own::{OwnFile, ReplaceError};
 pub use ron_text::{RonError, parse_ron};
 pub use staged::{StagedFolder, StagingError};

@@ -1,9 +1,9 @@
 //! Writing output files safely.
 //!
-//! [`write_atomically`] replaces a file so that readers see either the old content or all
-//! of the new, never through a link planted beside it, keeping the file's mode and owner
-//! and, when the path is a symbolic link, replacing the file the link points to.
-//! [`write_file_in`] writes a file in a folder, creating the folder first, and
+//! [`write_no_follow`] replaces a file so that readers see either the old content or all
+//! of the new, never through a symbolic link (a target that is one is refused, as is a link
+//! planted beside it), keeping the file's mode and owner. [`create_whole`] makes a new
+//! file complete or not at all. [`write_file_in`] writes a file in a folder, creating the folder first, and
 //! [`ensure_writable_dir`] checks before any work starts that a folder can take files.
 //! What makes a folder a *report* folder is not this crate's business (the lab's
 //! `folder` module).
@@ -87,14 +87,11 @@ pub fn ensure_writable_dir(dir: &Path) -> Result<(), FolderError> {
     Ok(())
 }
 
-/// Whether `name` is a temporary file of [`write_atomically`] (`.NAME.tmp-...`), which
+/// Whether `name` is a temporary file of [`write_no_follow`] (`.NAME.tmp-...`), which
 /// an interrupted write may leave.
 pub fn is_temporary_name(name: &str) -> bool {
     name.starts_with('.') && name.contains(".tmp-")
 }
-
-/// How many symbolic links [`write_atomically`] follows before giving up (as the kernel).
-const MAX_LINKS: usize = 40;
 
 /// Random characters in a temporary file's name.
 const RANDOM_CHARS: usize = 10;
@@ -129,24 +126,19 @@ pub fn write_file_in(dir: &Path, name: impl AsRef<Path>, text: &str) -> Result<P
     Ok(path)
 }
 
-/// Writes `bytes` to `path` so that readers see either the old content or all of the new.
+/// Writes `bytes` to `path` so that readers see either the old content or all of the new,
+/// never through a symbolic link.
 ///
 /// The bytes go to a new temporary file beside the target, named `.NAME.tmp-PID-RANDOM`
 /// and created exclusively (an existing file or link of that name is never opened), with
 /// mode 0600; it is synced, given the target's mode and owner (where permitted), renamed
 /// over the target, and the directory is synced so the rename survives a power cut.
 ///
-/// When `path` is a symbolic link, the file it finally points to is replaced and the link
-/// stays. A target that is a directory, FIFO, socket or device is refused. Temporary files
-/// of the same target left by writers that no longer run are removed first.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    replace_entry(&final_target(path)?, bytes)
-}
-
-/// Writes `bytes` to `path` as [`write_atomically`] does, but never through a symbolic
-/// link: a `path` that is one is refused (the link and what it points to stay as they
-/// were). The rename that puts the file in place replaces a directory entry and never
-/// opens what is there, so even a link planted after the check is replaced, not followed.
+/// A `path` that is a symbolic link is refused (the link and what it points to stay as
+/// they were); the rename that puts the file in place replaces a directory entry and
+/// never opens what is there, so even a link planted after the check is replaced, not
+/// followed. A target that is a directory, FIFO, socket or device is refused. Temporary
+/// files of the same target left by writers that no longer run are removed first.
 pub fn write_no_follow(path: &Path, bytes: &[u8]) -> io::Result<()> {
     if fs::symlink_metadata(path).is_ok_and(|meta| meta.file_type().is_symlink()) {
         return Err(symlink_refused());
@@ -163,7 +155,7 @@ fn symlink_refused() -> io::Error {
 }
 
 /// Replaces the directory entry `target` (no symbolic link, or one to replace itself)
-/// with a file holding `bytes`: the body of [`write_atomically`].
+/// with a file holding `bytes`: the body of [`write_no_follow`].
 fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
     let target = target.to_owned();
     let existing = match fs::symlink_metadata(&target) {
@@ -268,28 +260,6 @@ pub fn create_whole<E: From<io::Error>>(
     }
 }
 
-/// The file `path` finally names: `path` itself unless it is a symbolic link, else the
-/// end of its chain of links (which need not exist yet).
-fn final_target(path: &Path) -> io::Result<PathBuf> {
-    let mut current = path.to_owned();
-    for _ in 0..=MAX_LINKS {
-        match fs::symlink_metadata(&current) {
-            Ok(meta) if meta.file_type().is_symlink() => {
-                let link = fs::read_link(&current)?;
-                current = match current.parent() {
-                    Some(dir) => dir.join(link),
-                    None => link,
-                };
-            }
-            _ => return Ok(current),
-        }
-    }
-    Err(io::Error::new(
-        io::ErrorKind::InvalidInput,
-        format!("more than {MAX_LINKS} levels of symbolic links"),
-    ))
-}
-
 /// `.NAME.tmp-`: what every temporary file of the target `NAME` starts with.
 pub(crate) fn temporary_prefix(name: &OsStr) -> OsString {
     let mut prefix = OsString::from(".");
@@ -364,15 +334,15 @@ pub(crate) mod tests {
     fn writes_and_replaces_leaving_no_temporary_file() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("out.txt");
-        write_atomically(&path, b"one").unwrap();
-        write_atomically(&path, b"two").unwrap();
+        write_no_follow(&path, b"one").unwrap();
+        write_no_follow(&path, b"two").unwrap();
         assert_eq!(fs::read(&path).unwrap(), b"two");
         assert_eq!(names_in(dir.path()), ["out.txt"]);
     }
 
     #[test]
     fn a_missing_folder_is_reported_without_the_temporary_name() {
-        let err = write_atomically(Path::new("/nonexistent/dir/out.txt"), b"x").unwrap_err();
+        let err = write_no_follow(Path::new("/nonexistent/dir/out.txt"), b"x").unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::NotFound);
         assert_eq!(err.to_string(), "No such file or directory (os error 2)");
     }
@@ -388,7 +358,7 @@ pub(crate) mod tests {
             .path()
             .join(format!(".cases.ron.tmp-{}", std::process::id()));
         symlink(&victim, &planted).unwrap();
-        write_atomically(&path, b"cases").unwrap();
+        write_no_follow(&path, b"cases").unwrap();
         assert_eq!(fs::read(&victim).unwrap(), b"precious");
         assert_eq!(fs::read(&path).unwrap(), b"cases");
         assert!(fs::symlink_metadata(&path).unwrap().file_type().is_file());
@@ -396,21 +366,16 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn a_symlinked_target_stays_a_link_and_its_file_is_replaced() {
+    fn a_symlinked_target_is_refused_and_it_and_its_file_stay() {
         let dir = tempfile::tempdir().unwrap();
-        let real_dir = dir.path().join("real");
-        fs::create_dir(&real_dir).unwrap();
-        let real = real_dir.join("cases.ron");
+        let real = dir.path().join("real.ron");
         fs::write(&real, b"old").unwrap();
         let link = dir.path().join("cases.ron");
-        // A relative link through a second link.
-        symlink("real/cases.ron", dir.path().join("hop")).unwrap();
-        symlink("hop", &link).unwrap();
-        write_atomically(&link, b"new").unwrap();
+        symlink("real.ron", &link).unwrap();
+        let err = write_no_follow(&link, b"new").unwrap_err();
+        assert!(err.to_string().starts_with("is a symbolic link"), "{err}");
         assert!(fs::symlink_metadata(&link).unwrap().is_symlink());
-        assert_eq!(fs::read_link(&link).unwrap(), Path::new("hop"));
-        assert_eq!(fs::read(&real).unwrap(), b"new");
-        assert_eq!(names_in(&real_dir), ["cases.ron"]);
+        assert_eq!(fs::read(&real).unwrap(), b"old");
     }
 
     #[test]
@@ -419,10 +384,10 @@ pub(crate) mod tests {
         let path = dir.path().join("cases.ron");
         fs::write(&path, b"old").unwrap();
         fs::set_permissions(&path, Permissions::from_mode(0o640)).unwrap();
-        write_atomically(&path, b"new").unwrap();
+        write_no_follow(&path, b"new").unwrap();
         assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o640);
         fs::set_permissions(&path, Permissions::from_mode(0o604)).unwrap();
-        write_atomically(&path, b"newer").unwrap();
+        write_no_follow(&path, b"newer").unwrap();
         assert_eq!(fs::metadata(&path).unwrap().mode() & 0o7777, 0o604);
     }
 
@@ -436,7 +401,7 @@ pub(crate) mod tests {
         if std::os::unix::fs::chown(&path, Some(4321), Some(4321)).is_err() {
             return;
         }
-        write_atomically(&path, b"new").unwrap();
+        write_no_follow(&path, b"new").unwrap();
         let meta = fs::metadata(&path).unwrap();
         assert_eq!((meta.uid(), meta.gid()), (4321, 4321));
     }
@@ -446,26 +411,23 @@ pub(crate) mod tests {
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("pipe");
         crate::input::tests::make_fifo(&fifo);
-        let err = write_atomically(&fifo, b"x").unwrap_err();
+        let err = write_no_follow(&fifo, b"x").unwrap_err();
         assert_eq!(
             err.to_string(),
             "is a FIFO (named pipe), not a regular file; refusing to write over it"
         );
         assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
-        let err = write_atomically(Path::new("/dev/null"), b"x").unwrap_err();
+        let err = write_no_follow(Path::new("/dev/null"), b"x").unwrap_err();
         assert!(
             err.to_string().starts_with("is a character device"),
             "{err}"
         );
-        // A link to a device is refused too, and stays.
+        // A link to a device is refused too, as a link, and stays.
         let link = dir.path().join("null");
         symlink("/dev/null", &link).unwrap();
-        let err = write_atomically(&link, b"x").unwrap_err();
-        assert!(
-            err.to_string().starts_with("is a character device"),
-            "{err}"
-        );
-        let err = write_atomically(dir.path(), b"x").unwrap_err();
+        let err = write_no_follow(&link, b"x").unwrap_err();
+        assert!(err.to_string().starts_with("is a symbolic link"), "{err}");
+        let err = write_no_follow(dir.path(), b"x").unwrap_err();
         assert!(err.to_string().starts_with("is a directory"), "{err}");
         assert_eq!(names_in(dir.path()), ["null", "pipe"]);
     }
@@ -485,7 +447,7 @@ pub(crate) mod tests {
         ] {
             fs::write(dir.path().join(name), b"partial").unwrap();
         }
-        write_atomically(&path, b"cases").unwrap();
+        write_no_follow(&path, b"cases").unwrap();
         assert_eq!(
             names_in(dir.path()),
             [

@@ -2,7 +2,7 @@
 //!
 //! [`StagedFolder::beside`] creates a fresh, empty folder next to the target (same parent,
 //! so renames between them are atomic), named `.NAME.tmp-PID-RANDOM` like the temporary
-//! files of [`write_atomically`](crate::write_atomically) (so
+//! files of [`write_no_follow`](crate::write_no_follow) (so
 //! [`is_temporary_name`](crate::output::is_temporary_name) recognizes it). The writer
 //! fills it; [`StagedFolder::commit`] moves the earlier folder aside, renames the new one
 //! into its place and only then removes the earlier one. Dropped without a commit (a

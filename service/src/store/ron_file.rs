@@ -142,6 +142,12 @@ impl CaseStore for RonStore {
 /// Checks that the existing file at `path` is one an export may write over: an earlier
 /// export, that is a RON case file recording its behavior space; otherwise says what it is.
 pub fn check_earlier_export(path: &Path) -> Result<(), String> {
+    if std::fs::symlink_metadata(path).is_ok_and(|meta| meta.file_type().is_symlink()) {
+        return Err(
+            "a symbolic link: nothing is written through one, nor is what it points to changed"
+                .to_owned(),
+        );
+    }
     if super::sqlite_file::is_database(path) {
         return Err("an SQLite database".to_owned());
     }
@@ -156,7 +162,8 @@ pub fn check_earlier_export(path: &Path) -> Result<(), String> {
     }
 }
 
-/// Writes every case of `store`, with its identity, to the RON file `out` (atomically).
+/// Writes every case of `store`, with its identity, to the RON file `out` (atomically,
+/// never through a symbolic link).
 /// Returns how many cases were written.
 pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError> {
     let mut cases = Vec::new();
@@ -168,7 +175,8 @@ pub fn export(store: &mut dyn CaseStore, out: &Path) -> Result<usize, StoreError
     Ok(cases.len())
 }
 
-/// Writes `cases`, learned in `identity`, to the RON file `out` (atomically), in the
+/// Writes `cases`, learned in `identity`, to the RON file `out` (atomically, never
+/// through a symbolic link: an `out` that is one is refused), in the
 /// layout [`RonStore`] reads: a file that names its domain and space, so that `cases info`,
 /// `cases import` and `serve` need nothing else to read it.
 pub fn save(out: &Path, identity: &Identity, cases: &[TrustCase]) -> Result<(), CaseBaseError> {
@@ -184,7 +192,7 @@ pub fn save(out: &Path, identity: &Identity, cases: &[TrustCase]) -> Result<(), 
                 message: e.to_string(),
             }
         })?;
-    files::write_atomically(out, text.as_bytes()).map_err(|reason| {
+    files::write_no_follow(out, text.as_bytes()).map_err(|reason| {
         CaseBaseError::Io(FileError {
             path: out.to_owned(),
             reason,
