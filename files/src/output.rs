@@ -196,6 +196,14 @@ fn replace_entry(target: &Path, bytes: &[u8]) -> io::Result<()> {
     Ok(())
 }
 
+/// The folder `path` is in: its parent, or `.` for a bare file name.
+pub fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
 /// A fresh temporary file beside `target` (in its folder, `.NAME.tmp-PID-RANDOM`, created
 /// with `mode` less the umask), with that folder, after removing the temporaries that
 /// writers of the same name left and no longer run to remove.
@@ -203,10 +211,7 @@ fn temporary_beside(target: &Path, mode: u32) -> io::Result<(PathBuf, NamedTempF
     let name = target
         .file_name()
         .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    let dir = match target.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
+    let dir = folder_of(target).to_owned();
     let prefix = temporary_prefix(name);
     remove_stale_temporaries(&dir, &prefix);
     let mut own_prefix = prefix;

@@ -11,7 +11,7 @@
 //! goes into the folder this module created.
 
 use crate::input::special_file_kind;
-use crate::output::{FolderError, remove_stale_temporaries, temporary_prefix};
+use crate::output::{FolderError, folder_of, remove_stale_temporaries, temporary_prefix};
 use std::collections::hash_map::RandomState;
 use std::ffi::OsString;
 use std::fs;
@@ -163,11 +163,7 @@ fn parent_and_name(target: &Path) -> Result<(PathBuf, OsString), FolderError> {
             "the path ends in `..` or `/`: give the folder's own name",
         ),
     })?;
-    let parent = match target.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    Ok((parent, name.to_owned()))
+    Ok((folder_of(target).to_owned(), name.to_owned()))
 }
 
 /// `PREFIX PID-RANDOM` in `parent`, a name nothing there has.

@@ -406,10 +406,7 @@ pub fn check_file(path: &Path) -> Result<bool, StoreError> {
             },
         }),
         Err(_) => {
-            let dir = match path.parent() {
-                Some(d) if !d.as_os_str().is_empty() => d,
-                _ => Path::new("."),
-            };
+            let dir = files::output::folder_of(path);
             if dir.is_dir() {
                 Ok(false)
             } else {

@@ -337,10 +337,7 @@ fn cannot_write(e: &rusqlite::Error) -> bool {
 /// reason it does not give: what the system says when the file, or its folder (where the
 /// write-ahead log goes), is opened for writing (a read-only file system, no permission).
 fn unwritable(path: &Path, location: &str, e: rusqlite::Error) -> StoreError {
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let folder = files::output::folder_of(path);
     let refused = std::fs::OpenOptions::new()
         .append(true)
         .open(path)
