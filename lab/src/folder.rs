@@ -192,16 +192,6 @@ pub fn foreign_entry(
         .find(|name| !is_temporary_name(name) && !may_hold(name)))
 }
 
-/// Refuses a path that is a symbolic link.
-fn refuse_symlink(path: &Path) -> Result<(), ReportFolderError> {
-    match fs::symlink_metadata(path) {
-        Ok(meta) if meta.file_type().is_symlink() => Err(ReportFolderError::Symlink {
-            path: path.to_owned(),
-        }),
-        _ => Ok(()),
-    }
-}
-
 /// The first entry of the folder `dir` that is a symbolic link, if any.
 fn first_symlink(dir: &Path) -> Result<Option<PathBuf>, FolderError> {
     let listing = fs::read_dir(dir).map_err(|reason| FolderError::Unwritable {
@@ -231,8 +221,12 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), ReportFolderError> {
 /// The check of [`prepare_output_dir`], without the probe: asked again just before the
 /// new report replaces the folder.
 fn check_earlier_report(dir: &Path) -> Result<(), ReportFolderError> {
-    refuse_symlink(dir)?;
     let meta = match fs::symlink_metadata(dir) {
+        Ok(meta) if meta.file_type().is_symlink() => {
+            return Err(ReportFolderError::Symlink {
+                path: dir.to_owned(),
+            });
+        }
         Ok(meta) => meta,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
         Err(reason) => {
