@@ -144,11 +144,11 @@ pub struct CatalogError {
 }
 
 /// An operator file's error as a catalog's: the error names its file already.
-impl<E> From<lab::operator_file::OperatorFileError<E>> for CatalogError
+impl<E> From<lab::contract::operator_file::OperatorFileError<E>> for CatalogError
 where
     E: std::error::Error + Send + Sync + 'static,
 {
-    fn from(error: lab::operator_file::OperatorFileError<E>) -> Self {
+    fn from(error: lab::contract::operator_file::OperatorFileError<E>) -> Self {
         Self {
             path: None,
             reason: Box::new(error),

@@ -26,7 +26,9 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use lab::{Domain, Instance, Simulation, heatmap, landscape};
+use lab::report::heatmap;
+use lab::reference::landscape;
+use lab::{Domain, Instance, Simulation};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
@@ -510,7 +512,7 @@ fn explain<C: Catalog>(catalog: &C, args: &ExplainArgs) -> Result<()> {
     }
     print!(
         "{}",
-        lab::timeline::story(&replayed.timeline, &replayed.space)
+        lab::report::timeline::story(&replayed.timeline, &replayed.space)
     );
     Ok(())
 }
@@ -931,7 +933,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
     let measured = check_competence_cost(args, domain.space().size())?;
     files::output::ensure_writable_dir(&args.out)?;
     own_files::check_all(&args.out, &own_files::COMPETENCE)?;
-    let settings = lab::competence::CompetenceSettings {
+    let settings = lab::reference::competence::CompetenceSettings {
         behaviors: args.behaviors,
         seen: args.seen.clone(),
         truth_runs: args.truth_runs,
@@ -946,7 +948,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
         )],
     );
     let accuracy =
-        lab::competence::measure(&domain, &operator_name, &operator, &settings, &|| {
+        lab::reference::competence::measure(&domain, &operator_name, &operator, &settings, &|| {
             progress.tick(0)
         })?;
     let json = serde_json::to_string_pretty(&accuracy.json())? + "\n";

@@ -198,7 +198,7 @@ pub const MAX_COMMANDS: Limit = Limit {
 pub const TRACED_COMMANDS: Limit = Limit {
     counts: "commands",
     min: 0,
-    max: lab::runner::MAX_TRACED_COMMANDS,
+    max: lab::experiment::record::MAX_TRACED_COMMANDS,
     why: "a longer trial is not drawn as the sample timeline",
 };
 

@@ -24,14 +24,14 @@ use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Domain;
-use lab::known_operator::LimitSettings;
+use lab::reference::known_operator::LimitSettings;
 use lab::mission::{
     Changes, Complacency, ContextSwitches, MissionPlan, MissionResult, check_competence,
     run_missions,
 };
-use lab::mission_figure::mission_figure;
-use lab::mission_report::{missions_json, missions_jsonl, missions_markdown};
-use lab::plot::svg;
+use lab::mission::figure::mission_figure;
+use lab::mission::report::{missions_json, missions_jsonl, missions_markdown};
+use lab::report::plot::svg;
 use lab::report::file_stems;
 use lab::{Arm, PREFERS_COMPETENT, check_attention, prefers_competent};
 use serde::{Deserialize, Serialize};

@@ -205,17 +205,17 @@ pub struct MissionsRan {
 impl MissionsRan {
     /// The report's `missions.jsonl`: one JSON object per mission.
     pub fn missions_jsonl(&self) -> String {
-        lab::mission_report::missions_jsonl(&self.results)
+        lab::mission::report::missions_jsonl(&self.results)
     }
 
     /// The report's `summary.json` document.
     pub fn summary(&self) -> serde_json::Value {
-        lab::mission_report::missions_json(&self.results)
+        lab::mission::report::missions_json(&self.results)
     }
 
     /// The report's `missions.md`.
     pub fn table_md(&self) -> String {
-        lab::mission_report::missions_markdown(&self.results)
+        lab::mission::report::missions_markdown(&self.results)
     }
 }
 

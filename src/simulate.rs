@@ -6,7 +6,7 @@
 //! and `overlooked`, the problem an inattentive operator let pass, when there was one.
 
 use lab::Domain;
-use lab::simulate::SimulatedCommand;
+use lab::experiment::simulate::SimulatedCommand;
 use serde_json::{Value, json};
 use service::reply;
 

@@ -6,7 +6,7 @@
 //! taken, the place that covers least.
 
 use crate::geometry::Vec2;
-use lab::plot::text_width;
+use lab::report::plot::text_width;
 
 /// How a label's text is anchored at its point, horizontally.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -26,12 +26,12 @@
 //! docs/simulation.md#context).
 //!
 //! An operator is read against the causes its scenario declares ([`crate::causes`]) by
-//! the lab's loader ([`lab::operator_file`]): `weights.by_cause` may name only those
+//! the lab's loader ([`lab::contract::operator_file`]): `weights.by_cause` may name only those
 //! (quoted, `by_cause: {"detonation": 1.0}`), and of those only the causes the robot
 //! perceives itself ([`crate::causes::PERCEIVED`]); the UGV's own rule refuses a
 //! preference whose cause the scenario does not declare ([`UndeclaredPreference`]). An
-//! operator's attention scales its reactions through [`lab::attention::Attending`], and its
-//! deadline and giving up are the lab's [`Patience`](lab::patience::Patience).
+//! operator's attention scales its reactions through [`lab::contract::attention::Attending`], and its
+//! deadline and giving up are the lab's [`Patience`](lab::contract::patience::Patience).
 
 use crate::Scenario;
 use crate::causes::{
@@ -40,7 +40,7 @@ use crate::causes::{
 };
 use crate::trace::{EventKind, Trace};
 use cbr_core::Context;
-use lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
+use lab::contract::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use lab::{FeedbackChannel, Judgement, SimulatedOperator, StandardFields};
 use rand::RngCore;
 use serde::{Deserialize, Serialize};
@@ -164,7 +164,7 @@ pub struct OperatorModel {
     pub p_false_alarm: f64,
     /// The operator gives up at this multiple of `t_complete`: the run fails (cause
     /// deadline).
-    #[serde(default = "lab::patience::default_give_up_factor")]
+    #[serde(default = "lab::contract::patience::default_give_up_factor")]
     pub give_up_factor: f64,
     /// Outcome weights.
     #[serde(default)]
@@ -326,7 +326,7 @@ impl OperatorModel {
     /// Parses and validates an operator for a scenario that declares `causes` (its
     /// `weights.by_cause` may name only those, and of those only the causes the robot
     /// perceives itself; their declared default weights fill the causes it leaves out);
-    /// `origin` names the source in errors ([`lab::operator_file::from_ron`]).
+    /// `origin` names the source in errors ([`lab::contract::operator_file::from_ron`]).
     pub fn from_ron(
         text: &str,
         origin: &Path,
@@ -336,7 +336,7 @@ impl OperatorModel {
     }
 
     /// Reads, parses and validates an operator file for a scenario that declares `causes`
-    /// ([`lab::operator_file::load`]).
+    /// ([`lab::contract::operator_file::load`]).
     pub fn load(path: &Path, causes: &[DeclaredCause]) -> Result<Self, OperatorError> {
         operator_file::load(path, causes)
     }

@@ -19,11 +19,11 @@
 //!
 //! A member at position `x` in `[-1, 1]` is the base moved `|x|` of the way to the
 //! dispatcher (`x < 0`) or the supervisor (`x > 0`): the deadline geometrically, the
-//! reaction probabilities linearly ([`lab::population::geometric`] and
-//! [`lab::population::linear`]), each supervisor preference on with probability `0.95 x`.
+//! reaction probabilities linearly ([`lab::population::family::geometric`] and
+//! [`lab::population::family::linear`]), each supervisor preference on with probability `0.95 x`.
 //! The weights are the paper's for the scenario.
 //!
-//! [`family`] draws `size` members through [`lab::population::two_pole_family`], the
+//! [`family`] draws `size` members through [`lab::population::family::two_pole_family`], the
 //! supervisor on the positive side: each draws a side and a spread `u` in `[0, 1)`, and
 //! sits at `x = -+lambda` with `lambda = conflict (1 - (1 - conflict) u)`. At conflict 0
 //! every member is the base (one preference set); at conflict 1 every member is one of
@@ -32,7 +32,7 @@
 
 use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
-use lab::population::{geometric, linear, toward, two_pole_family};
+use lab::population::family::{geometric, linear, toward, two_pole_family};
 use trust::OutcomeWeights;
 
 /// An operator's deadline and reaction probabilities.
@@ -144,7 +144,7 @@ pub fn rung_positions(conflict: f64) -> [f64; 2] {
 }
 
 /// `size` operators drawn from the family at `conflict` in `[0, 1]` with a seeded,
-/// portable generator ([`lab::population::two_pole_family`]); named
+/// portable generator ([`lab::population::family::two_pole_family`]); named
 /// `family-c{conflict:.2}-{i}`.
 pub fn family(scenario: Scenario, conflict: f64, size: usize, seed: u64) -> Vec<OperatorModel> {
     two_pole_family(conflict, size, seed, |x, name| member(scenario, x, name))

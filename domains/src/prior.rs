@@ -23,7 +23,7 @@
 //! episode running to the command limit: such an instance says nothing about a strategy.
 //! A drawn member is kept only when one of its behaviors is in its trustworthy region (a
 //! positive mean weighted outcome per command) twice over: in the landscape estimate
-//! ([`lab::landscape::estimate`], [`screen_runs`] runs per behavior, seeded with the
+//! ([`lab::reference::landscape::estimate`], [`screen_runs`] runs per behavior, seeded with the
 //! instance's seed), and again in [`CONFIRM_RUNS`] runs of its own (the candidates tried
 //! best first), so that one of thousands of near misses that looked trustworthy by chance
 //! does not pass; otherwise the member's stream draws again. The screen reads how the
@@ -33,7 +33,7 @@ use crate::Scenario;
 use crate::operator::{Clearance, Comfort, OperatorModel, ScanStandard};
 use crate::ugv::UgvDomain;
 use lab::Instance;
-use lab::landscape::{self, Tally};
+use lab::reference::landscape::{self, Tally};
 use lab::{Domain, FeedbackChannel};
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;

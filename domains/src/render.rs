@@ -11,7 +11,7 @@ use crate::trace::EventKind;
 use crate::ugv::{Run, UgvDomain};
 use crate::world::ObstacleKind;
 use cbr_core::Behavior;
-use lab::plot::{Area, DrawResult, svg, text_width};
+use lab::report::plot::{Area, DrawResult, svg, text_width};
 use lab::{Domain, Judgement};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;

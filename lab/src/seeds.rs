@@ -34,16 +34,16 @@ pub enum Purpose {
     Truth = 8,
     /// The benchmark report's bootstrap over populations of an arm's ratio to the limit
     /// (here "experiment" is the scenario's place among the benchmark's, "trial" the arm's
-    /// place times the metrics plus the metric's: [`crate::benchmark`]).
+    /// place times the metrics plus the metric's: [`crate::population::benchmark`]).
     Benchmark = 9,
-    /// The measure of the robot's own competence ([`crate::competence`]): here
+    /// The measure of the robot's own competence ([`crate::reference::competence`]): here
     /// "experiment" is 0 for the behaviors drawn, 1 for the commands the robot runs of
     /// behavior "trial", 2 for the truth's whole commands of it.
     Competence = 10,
     /// A mission plan's truth of a behavior's competence (here "experiment" is the plan,
     /// "trial" the behavior's rank in the space).
     CompetenceTruth = 11,
-    /// The moments at which the operator's goals change ([`crate::goal_change`]), drawn
+    /// The moments at which the operator's goals change ([`crate::experiment::goal_change`]), drawn
     /// only by experiments with goal changes.
     GoalChange = 12,
     /// Whether a mission's operator trusts the safer behavior an overtrust alert offers
@@ -52,7 +52,7 @@ pub enum Purpose {
     /// A mission's context switches ([`crate::mission::ContextSwitches`]): its first
     /// context and when it switches to which, drawn only by plans with switches.
     ContextSwitch = 14,
-    /// What the trial's operator states up front ([`crate::stating`]), drawn only by
+    /// What the trial's operator states up front ([`crate::contract::stating`]), drawn only by
     /// experiments with `stated`.
     Statements = 15,
 }

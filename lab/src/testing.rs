@@ -12,8 +12,9 @@
 //! `trustcbr`'s `testing` feature). The UGV's movement and patrol domains and the warehouse example pass it
 //! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
-use crate::domain::{Domain, Judgement};
-use crate::operator::SimulatedOperator;
+use crate::contract::domain::Domain;
+use crate::contract::judgement::Judgement;
+use crate::contract::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, NamedComponent};
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;

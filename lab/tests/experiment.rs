@@ -3,7 +3,7 @@
 
 use cbr_core::{Behavior, BehaviorSpace};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
-use lab::known_operator::{ExperimentLimit, LimitSettings, known_operator};
+use lab::reference::known_operator::{ExperimentLimit, LimitSettings, known_operator};
 use lab::report::{
     Provenance, ReportEntry, arms_table, population_table, summary, table, trials_jsonl,
     versus_reference, write_report,

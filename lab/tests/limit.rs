@@ -1,6 +1,6 @@
 //! Property tests of the limit module and of the limit's law.
-use lab::limit::*;
-use lab::limit_law::{LAW_HORIZON, WalkLaw, paper_protocol_law, walk_law};
+use lab::reference::limit::*;
+use lab::reference::limit_law::{LAW_HORIZON, WalkLaw, paper_protocol_law, walk_law};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use trust::Thresholds;

@@ -3,7 +3,7 @@
 //! commands) falls below the limit by more than its noise.
 
 use lab::Judgement;
-use lab::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
+use lab::reference::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
 use lab::testing::ToyDomain;
 use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, run_experiments};
 use proptest::prelude::*;

@@ -4,15 +4,16 @@
 //! and the report gives the switches apart from the operator changes.
 
 use cbr_core::{Behavior, Case, Context, ContextSpace, ContextVariable};
-use lab::known_operator::LimitSettings;
 use lab::mission::ChangeRecord;
+use lab::mission::contexts::{
+    SwitchFigures, switch_targets, switches_back_by_start, versus_blind_twins,
+};
+use lab::mission::report::{missions_json, missions_markdown};
+use lab::mission::summary::MissionSummary;
 use lab::mission::{
     ChangeKind, Changes, ContextSwitches, MissionPlan, MissionResult, run_missions,
 };
-use lab::mission_contexts::{
-    SwitchFigures, switch_targets, switches_back_by_start, versus_blind_twins,
-};
-use lab::mission_report::{MissionSummary, missions_json, missions_markdown};
+use lab::reference::known_operator::LimitSettings;
 use lab::testing::ToyDomain;
 use lab::{Arm, Domain, Judgement, PlanError};
 use rand::Rng;

@@ -5,15 +5,15 @@
 
 use cbr_core::{Behavior, Case};
 use lab::Arm;
-use lab::known_operator::LimitSettings;
+use lab::mission::noticing::Noticing;
+use lab::mission::report::{missions_json, missions_markdown};
+use lab::mission::summary::{
+    MissionSummary, OracleFigure, OracleSummary, harm_comparisons, oracle_multiple,
+};
 use lab::mission::{
     ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
 };
-use lab::mission_noticing::Noticing;
-use lab::mission_report::{
-    MissionSummary, OracleFigure, OracleSummary, harm_comparisons, missions_json,
-    missions_markdown, oracle_multiple,
-};
+use lab::reference::known_operator::LimitSettings;
 use lab::testing::{Bare, ToyDomain};
 use lab::{Domain, Judgement, PlanError};
 use rand::Rng;

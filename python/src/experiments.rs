@@ -450,6 +450,6 @@ pub fn explain<C: Catalog + Clone>(
     }
     let replayed = traced.map_err(error)?;
     let record = serde_json::to_string(&replayed.timeline.record).map_err(error)?;
-    let story = trustcbr::lab::timeline::story(&replayed.timeline, &replayed.space);
+    let story = trustcbr::lab::report::timeline::story(&replayed.timeline, &replayed.space);
     Ok((story, record, replayed.warnings))
 }

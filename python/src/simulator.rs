@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 use serde_json::json;
 use trustcbr::Readings;
 use trustcbr::catalog::{Catalog, domain_of, find_operator, resolve_readings};
-use trustcbr::lab::landscape as estimates;
+use trustcbr::lab::reference::landscape as estimates;
 use trustcbr::lab::{Domain, LandscapeError, Simulation};
 use trustcbr::limits::RUNS_PER_BEHAVIOR;
 use trustcbr::simulate::command_json;

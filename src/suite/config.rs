@@ -7,9 +7,9 @@ use crate::catalog::{Catalog, Family, OperatorOf, Readings, resolve_readings};
 use crate::limits::CONTEXT_CYCLE;
 use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
-use lab::known_operator::LimitSettings;
+use lab::reference::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
-use lab::stating::Stating;
+use lab::contract::stating::Stating;
 use lab::{BUILTIN_ARMS, Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use lab::{FeedbackChannel, GoalChanges, TrialContexts};
 use serde::{Deserialize, Serialize};
@@ -77,7 +77,7 @@ pub struct SuiteConfig {
     pub limit: LimitSettings,
     /// Whether the suite is a benchmark: its population experiments are instances of their
     /// scenarios, and the report aggregates every arm over each scenario's populations
-    /// against their limits ([`lab::benchmark`]). Left out of a config that is not (every
+    /// against their limits ([`lab::population::benchmark`]). Left out of a config that is not (every
     /// other config and report reads and writes as before).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub benchmark: bool,
@@ -299,7 +299,7 @@ pub struct ExperimentSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub feedback: Option<FeedbackChannel>,
     /// How often the operators' goals change (`(per_hour: 1.0)`): commands interrupted
-    /// for reasons that are not the behavior's (lab::goal_change); absent: never, the
+    /// for reasons that are not the behavior's (lab::experiment::goal_change); absent: never, the
     /// paper's assumption. Whether an operator says so is its channel's
     /// (`feedback: (goal_changes: 1.0)`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -310,7 +310,7 @@ pub struct ExperimentSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contexts: Option<ContextsSpec>,
     /// What the operators state up front (`(said: 1.0, wrong: 0.3)`: each true statement
-    /// said with chance `said`, the wrong way round with chance `wrong`; lab::stating,
+    /// said with chance `said`, the wrong way round with chance `wrong`; lab::contract::stating,
     /// docs/simulation.md#stated-preferences); absent: nothing, as the paper's operators.
     /// Named in the experiment's name (`/s1w0.3`).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -4,9 +4,9 @@
 
 use super::portable::{OperatorCopy, copy_operator_files, relocate_operator_files};
 use super::{ReportEstimates, SuiteConfig, SuiteError, SuiteResults};
-use lab::benchmark::{BenchmarkPopulation, ScenarioBenchmark, benchmarks};
-use lab::known_operator::ExperimentLimit;
-use lab::landscape::Landscape;
+use lab::population::benchmark::{BenchmarkPopulation, ScenarioBenchmark, benchmarks};
+use lab::reference::known_operator::ExperimentLimit;
+use lab::reference::landscape::Landscape;
 use lab::report::{Provenance, ReportEntry, write_report};
 use std::path::{Path, PathBuf};
 

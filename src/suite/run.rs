@@ -9,7 +9,7 @@ use super::{StartingCases, SuiteConfig, SuiteError};
 use crate::catalog::Catalog;
 use cbr_core::BehaviorSpace;
 use lab::Domain;
-use lab::timeline::{Timeline, sample_trial};
+use lab::report::timeline::{Timeline, sample_trial};
 use lab::{ExperimentResult, run_experiments};
 use std::path::Path;
 use std::sync::Arc;
@@ -22,7 +22,7 @@ pub struct SuiteResults {
     /// The behavior space of each experiment, in config order.
     pub spaces: Vec<Arc<BehaviorSpace>>,
     /// A sample trial of each experiment traced command by command
-    /// ([`lab::timeline::sample_trial`]), in config order.
+    /// ([`lab::report::timeline::sample_trial`]), in config order.
     pub timelines: Vec<Option<Timeline>>,
 }
 

@@ -10,7 +10,7 @@ use crate::catalog::Catalog;
 use cbr_core::BehaviorSpace;
 use files::read_text;
 use lab::Domain;
-use lab::timeline::Timeline;
+use lab::report::timeline::Timeline;
 use lab::{Arm, ExperimentPlan, PlanError, TracedCommand, TrialRecord, trace_trial};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

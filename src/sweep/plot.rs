@@ -3,7 +3,7 @@
 
 use super::report::{Series, aggregate};
 use super::{Parameter, Sweep, SweepError};
-use lab::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
+use lab::report::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use lab::report::category_label;
 use plotters::prelude::*;
 use std::path::Path;
@@ -46,7 +46,7 @@ pub(super) fn plot_parameter(
         panel_width * columns as u32 + legend_width,
         300 * rows as u32 + 60,
     );
-    let svg = lab::plot::svg_with(path, size, |area, overlay| {
+    let svg = lab::report::plot::svg_with(path, size, |area, overlay| {
         let (title, body) = area.split_vertically(40);
         title.titled(
             &format!(

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::sync::Arc;
 use trustcbr::cbr_core::BehaviorSpace;
 use trustcbr::lab::Arm;
-use trustcbr::lab::operator_file::{named, with_name};
+use trustcbr::lab::contract::operator_file::{named, with_name};
 use trustcbr::trust::RetrieverKind;
 use trustcbr::{Catalog, CatalogError, Family, Readings, ToolInfo};
 

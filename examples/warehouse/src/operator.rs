@@ -13,7 +13,7 @@ use crate::trace::{Event, Trace};
 use rand::RngCore;
 use std::convert::Infallible;
 use std::path::Path;
-use trustcbr::lab::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
+use trustcbr::lab::contract::operator_file::{self, OperatorData, OperatorFileError, RangeCheck};
 use trustcbr::lab::{Judgement, StandardFields};
 use trustcbr::rand;
 use trustcbr::serde::{Deserialize, Serialize};
@@ -69,7 +69,7 @@ impl WarehouseOperator {
     }
 
     /// [`WarehouseOperator::judge`] by an operator whose `attention`, in `[0, 1]`, is the
-    /// chance it notices what it would react to (`lab::attention`): interrupting at the
+    /// chance it notices what it would react to (`lab::contract::attention`): interrupting at the
     /// deadline or at a collision, and the packer's look at a crushed item, each happen
     /// with probability `p * attention` on the same draw, so at attention 1 this is
     /// exactly `judge`. What it overlooks lets the pick go on, and the first such cause is

@@ -20,8 +20,8 @@
 //! the base and the poles are the shipped operators.
 
 use crate::operator::{WarehouseOperator, builtin_operators};
-use trustcbr::lab::operator_file;
-use trustcbr::lab::population::{geometric, linear, toward, two_pole_family};
+use trustcbr::lab::contract::operator_file;
+use trustcbr::lab::population::family::{geometric, linear, toward, two_pole_family};
 
 /// The shipped operator of `name`.
 fn shipped(name: &str) -> WarehouseOperator {

@@ -490,6 +490,6 @@ fn the_kits_reach_a_plug_in_through_the_tool() {
 /// operator.
 #[test]
 fn the_warehouse_keeps_the_simulation_contract() {
-    let operators = trustcbr::lab::operator_file::named(warehouse::operator::builtin_operators());
+    let operators = trustcbr::lab::contract::operator_file::named(warehouse::operator::builtin_operators());
     trustcbr::lab::testing::check_domain(&WarehouseDomain::new(), &operators);
 }

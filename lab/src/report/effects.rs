@@ -2,8 +2,8 @@
 //! effect sizes (each arm's mean behaviors evaluated as a ratio to the reference's, with a
 //! paired bootstrap interval) and the paired tests behind the p-values.
 
-use super::ReportEntry;
-use crate::runner::PairedTests;
+use super::entry::ReportEntry;
+use crate::experiment::record::PairedTests;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{RatioCi, paired_bootstrap_ratio, paired_t_test, wilcoxon_signed_rank};
 use rayon::prelude::*;

@@ -3,7 +3,7 @@
 //! report's provenance), `trials.jsonl`, the config used, SVG plots (learning curves,
 //! and where the final behaviors land in the behavior space, over the operator's
 //! landscape) and `report.html`, the page that holds them all; for a benchmark suite,
-//! every arm over the populations of each scenario ([`crate::benchmark`]) in the three.
+//! every arm over the populations of each scenario ([`crate::population::benchmark`]) in the three.
 //! Every file is written atomically.
 //!
 //! This module is what a report is made of ([`ReportEntry`]) and the folder it writes
@@ -13,17 +13,27 @@
 //! - `tables`: the Markdown tables and `table.md`;
 //! - `summary_json` and `trials_jsonl`: the two machine-readable files;
 //! - `page`: `report.html`;
-//! - `figures`: the SVG figures, one submodule per kind.
+//! - `figures`: the SVG figures, one submodule per kind;
+//! - [`plot`], [`heatmap`] and [`timeline`]: the figure kinds other folders draw too
+//!   (mission figures among them).
+//!
+//! Imports every folder but [`mission`](crate::mission).
 
 mod effects;
+mod entry;
 mod figures;
+mod goal_changes;
+pub mod heatmap;
 mod page;
+pub mod plot;
 mod summary_json;
 mod tables;
+pub mod timeline;
 mod trials_jsonl;
 
-pub use crate::plot::category_label;
+pub use crate::report::plot::category_label;
 pub use effects::{all_effect_sizes, effect_sizes, versus_reference};
+pub use entry::{Provenance, Replay, ReportEntry, ReportError};
 pub use figures::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
 pub use files::name::file_stems;
 pub use summary_json::summary;
@@ -33,85 +43,10 @@ pub use tables::{
 };
 pub use trials_jsonl::trials_jsonl;
 
-use crate::benchmark::ScenarioBenchmark;
-use crate::known_operator::ExperimentLimit;
-use crate::landscape::Landscape;
-use crate::plot::PlotError;
-use crate::runner::ExperimentResult;
-use crate::timeline::Timeline;
-use cbr_core::BehaviorSpace;
-use files::{FileError, write_file_in};
-use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
+use crate::population::benchmark::ScenarioBenchmark;
+use files::write_file_in;
+
 use std::path::{Path, PathBuf};
-
-/// One experiment's results with what the report needs to describe them.
-pub struct ReportEntry<'a> {
-    /// The results.
-    pub result: &'a ExperimentResult,
-    /// The scenario (domain) name, e.g. `movement`.
-    pub scenario: &'a str,
-    /// The configured operator: a name, `random`, or the name of a population.
-    pub operator: &'a str,
-    /// The behavior space, to show behaviors in real units.
-    pub space: &'a BehaviorSpace,
-    /// The operator's landscapes the final behaviors are drawn over, one per pair of
-    /// [`component_pairs`] ([`finals_landscapes`]); empty to draw them on white.
-    pub landscapes: &'a [Landscape],
-    /// The known-operator limit of the experiment ([`crate::known_operator`]), when
-    /// computed.
-    pub limit: Option<&'a ExperimentLimit>,
-    /// A sample trial traced command by command ([`crate::timeline`]), when traced.
-    pub timeline: Option<&'a Timeline>,
-    /// The arm every other arm is tested against (p-values) and measured against (effect
-    /// sizes); when it is not among the arms, no arm is.
-    pub reference: &'a str,
-    /// The master seed of the experiments, from which the effect sizes' bootstrap
-    /// streams derive ([`crate::seeds::Purpose::Bootstrap`]).
-    pub seed: u64,
-}
-
-/// Why the report could not be written.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum ReportError {
-    /// A file or folder could not be written.
-    #[error(transparent)]
-    Io(#[from] FileError),
-    /// A plot could not be drawn.
-    #[error(transparent)]
-    Plot(#[from] PlotError),
-}
-
-/// Where the report came from: the tool, its version and commit, the command line, and
-/// what a replay of its trials must find unchanged.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct Provenance {
-    /// The program that wrote the report.
-    pub tool: String,
-    /// Its version.
-    pub version: String,
-    /// The source commit it was built from, when known.
-    pub git_commit: Option<String>,
-    /// The command line, program first.
-    pub command_line: Vec<String>,
-    /// What `explain` checks before it replays a trial of the report (absent in reports
-    /// of earlier versions).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub replay: Option<Replay>,
-}
-
-/// What a faithful replay of a report's trials needs unchanged, besides the tool and its
-/// version: the config it ran, and the cases each arm started from, by content hash.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Replay {
-    /// The content hash of the report's `config.ron`, as written.
-    pub config: String,
-    /// The content hash of the cases each arm started from (a run given saved case bases),
-    /// by experiment, then arm; an arm that started from none is not listed.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub starting_cases: BTreeMap<String, BTreeMap<String, String>>,
-}
 
 /// `table.md`: every arm of every experiment, with what it costs the operator, its effect
 /// against the reference arm and the known-operator limit, and the benchmark of a

@@ -2,16 +2,17 @@
 //! a contents list, the glossary of arms and metrics, every table (a benchmark suite's
 //! benchmark among them), every figure with its caption, the config and the provenance.
 
+use super::entry::{Provenance, ReportEntry};
 use super::tables::{
     BENCHMARK_NOTE, BENCHMARK_TITLE, CONTEXTS_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE,
     NO_BENCHMARK, POPULATION_TITLE, arms_table, benchmark_table, benchmark_title, contexts_table,
     effects_table, explanations_table, found_note, free_first_table, goal_changes_table,
     limit_table, population_table, sample_explanations, table,
 };
-use super::{Provenance, ReportEntry, file_stems};
-use crate::arm::Initial;
-use crate::benchmark::ScenarioBenchmark;
+use crate::experiment::arm::Initial;
+use crate::population::benchmark::ScenarioBenchmark;
 use crate::stats::RatioCi;
+use files::name::file_stems;
 use std::fmt::Write as _;
 
 /// A figure of the page: its section, its SVG text and its caption (HTML).
@@ -128,7 +129,7 @@ fn glossary(entries: &[ReportEntry<'_>]) -> String {
             continue;
         }
         seen.push(&arm.name);
-        let what = crate::arm::describe(&arm.name).unwrap_or_else(|| {
+        let what = crate::experiment::arm::describe(&arm.name).unwrap_or_else(|| {
             let what = if arm.reuses_cases {
                 "an arm of the catalog's own that reuses cases"
             } else {

@@ -3,17 +3,17 @@
 //! explanations' accuracy (and its goal changes, in a suite with some; and by context,
 //! against its blind twin, in a suite whose trials ran in contexts); the limit and the
 //! population's measures; the provenance; and
-//! for a benchmark suite, the benchmark of each scenario ([`crate::benchmark`]).
+//! for a benchmark suite, the benchmark of each scenario ([`crate::population::benchmark`]).
 
 use super::effects::{all_effect_sizes, versus_reference};
+use super::entry::{Provenance, ReportEntry};
 use super::tables::ratios;
-use super::{Provenance, ReportEntry};
-use crate::arm::Initial;
-use crate::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
-use crate::context::{ArmInContext, any_contexts, by_context};
-use crate::goal_change::{ArmGoalChanges, any_goal_changes};
-use crate::limit::Costs;
-use crate::runner::{ArmResult, ExplanationCheck};
+use crate::experiment::arm::Initial;
+use crate::experiment::context::{ArmInContext, any_contexts, by_context};
+use crate::experiment::record::{ArmResult, ExplanationCheck};
+use crate::population::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
+use crate::reference::limit::Costs;
+use crate::report::goal_changes::{ArmGoalChanges, any_goal_changes};
 use crate::stats::RatioCi;
 use serde_json::{Map, Value, json};
 
@@ -169,8 +169,8 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
     json!({
         "scenario": benchmark.scenario,
         "populations": benchmark.populations,
-        "bootstrap_resamples": crate::benchmark::BOOTSTRAP_RESAMPLES,
-        "significance": crate::benchmark::SIGNIFICANCE,
+        "bootstrap_resamples": crate::population::benchmark::BOOTSTRAP_RESAMPLES,
+        "significance": crate::population::benchmark::SIGNIFICANCE,
         "references": benchmark.references,
         "limit_untrustworthy_mean": benchmark.limit_untrustworthy,
         "limit_ecdf": {

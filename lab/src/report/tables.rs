@@ -6,15 +6,15 @@
 //! blind twin, when trials ran in contexts; every arm over the populations of a scenario
 //! (a benchmark suite's); and the one line per experiment printed after a run.
 
-use super::ReportEntry;
 use super::effects::versus_reference;
-use crate::arm::Initial;
-use crate::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
-use crate::context::{any_contexts, by_context};
-use crate::goal_change::{ArmGoalChanges, any_goal_changes};
-use crate::known_operator::{ExperimentLimit, RATE_GAP};
-use crate::limit::Costs;
-use crate::runner::ArmResult;
+use super::entry::ReportEntry;
+use crate::experiment::arm::Initial;
+use crate::experiment::context::{any_contexts, by_context};
+use crate::experiment::record::ArmResult;
+use crate::population::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
+use crate::reference::known_operator::{ExperimentLimit, RATE_GAP};
+use crate::reference::limit::Costs;
+use crate::report::goal_changes::{ArmGoalChanges, any_goal_changes};
 use crate::stats::{MeanCi, RatioCi};
 use std::fmt::Write as _;
 
@@ -584,7 +584,7 @@ fn wins_ties_losses_cell(tally: Option<WinsTiesLosses>) -> String {
     })
 }
 
-/// A scenario's benchmark ([`crate::benchmark`]), one row per arm: its geometric mean
+/// A scenario's benchmark ([`crate::population::benchmark`]), one row per arm: its geometric mean
 /// ratios to the limit over the populations with their bootstrap intervals, its wins,
 /// ties and losses against each reference arm that ran, and its untrustworthy commands'
 /// ratio to the limit over the windows of trials.

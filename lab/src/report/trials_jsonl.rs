@@ -1,9 +1,9 @@
 //! `trials.jsonl`: one JSON line per trial, experiments and arms in order, with each
 //! given-up behavior's attributed and true reasons.
 
-use super::ReportEntry;
-use crate::goal_change::GoalChangeRecord;
-use crate::runner::{GivenUpRecord, TrialRecord};
+use super::entry::ReportEntry;
+use crate::experiment::goal_change::GoalChangeRecord;
+use crate::experiment::record::{GivenUpRecord, TrialRecord};
 use cbr_core::{Context, Statement};
 use serde::Serialize;
 use serde_json::{Map, Value};

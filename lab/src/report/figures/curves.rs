@@ -1,9 +1,12 @@
 //! The learning curves of an experiment: each arm's moving average of behaviors evaluated
 //! over the trials in order, with its 95% band.
 
-use super::{Key, LEGEND_WIDTH, MOVING_AVERAGE_WINDOW, legend, moving_average, thinned};
-use crate::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order, log_ticks, tick_label};
-use crate::report::ReportEntry;
+use super::legend::{Key, LEGEND_WIDTH, legend};
+use super::series::{MOVING_AVERAGE_WINDOW, moving_average, thinned};
+use crate::report::entry::ReportEntry;
+use crate::report::plot::{
+    Area, DrawResult, Overlay, arm_styles, drawing_order, log_ticks, tick_label,
+};
 use crate::stats::mean_ci95;
 use plotters::prelude::*;
 

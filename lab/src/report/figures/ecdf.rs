@@ -1,12 +1,12 @@
-//! A scenario's benchmark as a distribution ([`crate::benchmark::Ecdf`]): for each arm, the
+//! A scenario's benchmark as a distribution ([`crate::population::benchmark::Ecdf`]): for each arm, the
 //! share of its (population, trial) pairs that settled on a trustworthy behavior within
 //! `N` untrustworthy commands, as `N` grows; and, dashed, the probability that the
 //! known-operator limit's agent settles within `N` ([`ScenarioBenchmark::limit_law`]).
 
-use super::{Key, LEGEND_WIDTH, legend};
-use crate::benchmark::ScenarioBenchmark;
-use crate::limit_law::UntrustworthyLaw;
-use crate::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order};
+use super::legend::{Key, LEGEND_WIDTH, legend};
+use crate::population::benchmark::ScenarioBenchmark;
+use crate::reference::limit_law::UntrustworthyLaw;
+use crate::report::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order};
 use plotters::prelude::*;
 
 /// Places along each arm's curve its marker is drawn at.
@@ -116,8 +116,8 @@ pub(super) fn ecdf_figure(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::benchmark::Ecdf;
-    use crate::limit_law::CountLaw;
+    use crate::population::benchmark::Ecdf;
+    use crate::reference::limit_law::CountLaw;
 
     #[test]
     fn the_staircase_by_hand() {

@@ -3,13 +3,13 @@
 //! untrustworthy commands per trial, the known-operator limit as bars) and the effect
 //! sizes (ratios to the reference arm, a bar at 1).
 
-use super::{Key, LEGEND_WIDTH, legend};
-use crate::limit::Costs;
-use crate::plot::{
+use super::legend::{Key, LEGEND_WIDTH, legend};
+use crate::experiment::record::ArmResult;
+use crate::reference::limit::Costs;
+use crate::report::entry::ReportEntry;
+use crate::report::plot::{
     Area, DrawResult, Overlay, arm_style, category_label, drawing_order, log_ticks, tick_label,
 };
-use crate::report::ReportEntry;
-use crate::runner::ArmResult;
 use crate::stats::{MeanCi, RatioCi};
 use plotters::prelude::*;
 

@@ -3,11 +3,11 @@
 //! caption.
 
 use crate::Domain;
-use crate::heatmap::{self, KEY_WIDTH};
-use crate::landscape::{self, Grid, Landscape};
-use crate::plot::{Area, DrawResult, Overlay, Shape, wrap};
-use crate::report::ReportEntry;
+use crate::reference::landscape::{self, Grid, Landscape};
+use crate::report::entry::ReportEntry;
+use crate::report::heatmap::{self, KEY_WIDTH};
 use crate::report::page::escape;
+use crate::report::plot::{Area, DrawResult, Overlay, Shape, wrap};
 use crate::seeds::{Purpose, stream_seed};
 use cbr_core::BehaviorSpace;
 use plotters::prelude::*;

@@ -9,29 +9,29 @@ mod curves;
 mod ecdf;
 mod every_arm;
 mod finals;
+mod legend;
 mod over_trials;
+mod series;
 
 pub use finals::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
 
 use super::effects::BOOTSTRAP_RESAMPLES;
 use super::page::{Figure, escape};
-use super::{ReportEntry, ReportError, file_stems};
-use crate::benchmark::ScenarioBenchmark;
-use crate::plot::{Area, ArmStyle, DrawResult, Overlay, PlotError, svg, svg_with};
+use crate::population::benchmark::ScenarioBenchmark;
+use crate::report::entry::{ReportEntry, ReportError};
+use crate::report::plot::{PlotError, svg, svg_with};
+use crate::report::timeline::{Timeline, timeline_figure};
 use crate::stats::RatioCi;
-use crate::timeline::{Timeline, timeline_figure};
 use cbr_core::BehaviorSpace;
 use curves::learning_curves;
 use ecdf::ecdf_figure;
 use every_arm::{SUMMARY_METRICS, effects_figure, every_arm_figure, summary_figure};
+use files::name::file_stems;
 use finals::{FinalsLayout, final_behaviors, finals_caption, finals_subtitle};
 use over_trials::{over_trials_figures, small_multiples};
-use plotters::prelude::*;
+use series::MOVING_AVERAGE_WINDOW;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// Trials averaged by the moving average of the learning-curve plots.
-const MOVING_AVERAGE_WINDOW: usize = 25;
 
 /// Draws every figure of the report from `entries`, their `effects` and the `benchmark` of
 /// a benchmark suite, writes each as its own SVG file in `dir` through `write`, and returns
@@ -220,101 +220,4 @@ fn timeline_caption(timeline: &Timeline, space: &BehaviorSpace) -> String {
     }
     caption.push_str("</ol>");
     caption
-}
-
-fn moving_average(values: &[f64], window: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(values.len());
-    let mut sum = 0.0;
-    for (i, v) in values.iter().enumerate() {
-        sum += v;
-        if i >= window {
-            sum -= values[i - window];
-        }
-        out.push(sum / (i + 1).min(window) as f64);
-    }
-    out
-}
-
-/// Width of the legend strip right of a chart, in pixels.
-const LEGEND_WIDTH: u32 = 250;
-
-/// What a legend entry draws before its label.
-enum Key {
-    /// A line (a series drawn as a line).
-    Line(RGBColor),
-    /// The arm's marker (a series drawn as markers).
-    Marker(ArmStyle),
-    /// A line with the arm's marker on it.
-    LineMarker(ArmStyle),
-}
-
-/// Draws a legend of `entries` (label, key) in `area`, top to bottom; markers go into
-/// `overlay`.
-fn legend(area: &Area<'_>, overlay: &mut Overlay, entries: &[(String, Key)]) -> DrawResult {
-    let (left, top) = area.get_base_pixel();
-    for (k, (label, key)) in entries.iter().enumerate() {
-        let y = 60 + 22 * k as i32;
-        let (line, marker) = match key {
-            Key::Line(color) => (Some(*color), None),
-            Key::Marker(style) => (None, Some(style)),
-            Key::LineMarker(style) => (Some(style.color), Some(style)),
-        };
-        if let Some(color) = line {
-            area.draw(&PathElement::new(
-                vec![(8, y), (32, y)],
-                color.stroke_width(3),
-            ))?;
-        }
-        if let Some(style) = marker {
-            let at = (f64::from(left + 20), f64::from(top + y));
-            overlay.markers(
-                style.shape,
-                Some((style.color, 1.0)),
-                Some((WHITE, 1.0)),
-                [(at, 5.0)],
-            );
-        }
-        area.draw(&Text::new(
-            label.clone(),
-            (40, y - 7),
-            ("sans-serif", 13).into_font(),
-        ))?;
-    }
-    Ok(())
-}
-
-/// Points a curve of `n` trials is drawn through: at most `points` (and the last),
-/// evenly spaced, the first and the last always (a moving average of
-/// [`MOVING_AVERAGE_WINDOW`] changes little from one trial to the next).
-fn thinned(n: usize, points: usize) -> impl Iterator<Item = usize> {
-    let step = n.div_ceil(points).max(1);
-    (0..n)
-        .step_by(step)
-        .chain((n > 0 && !(n - 1).is_multiple_of(step)).then(|| n - 1))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn moving_average_by_hand() {
-        // Window 2 over 1, 3, 5, 7: 1, (1+3)/2, (3+5)/2, (5+7)/2.
-        assert_eq!(
-            moving_average(&[1.0, 3.0, 5.0, 7.0], 2),
-            vec![1.0, 2.0, 4.0, 6.0]
-        );
-    }
-
-    #[test]
-    fn curves_are_thinned_to_about_200_points() {
-        assert_eq!(thinned(3, 200).collect::<Vec<_>>(), [0, 1, 2]);
-        assert_eq!(thinned(10, 4).collect::<Vec<_>>(), [0, 3, 6, 9]);
-        let points: Vec<usize> = thinned(500, 200).collect();
-        assert_eq!(
-            (points.len(), points[1], points.last()),
-            (168, 3, Some(&499))
-        );
-        assert_eq!(thinned(0, 200).count(), 0);
-    }
 }

@@ -2,10 +2,13 @@
 //! untrustworthy commands summed so far, the case base's size, the share of adaptations
 //! from a case, and each arm's distribution of behaviors evaluated.
 
-use super::{Key, LEGEND_WIDTH, MOVING_AVERAGE_WINDOW, legend, moving_average, thinned};
-use crate::plot::{Area, DrawResult, Overlay, arm_style, drawing_order, log_ticks, tick_label};
-use crate::report::ReportEntry;
-use crate::runner::ArmResult;
+use super::legend::{Key, LEGEND_WIDTH, legend};
+use super::series::{MOVING_AVERAGE_WINDOW, moving_average, thinned};
+use crate::experiment::record::ArmResult;
+use crate::report::entry::ReportEntry;
+use crate::report::plot::{
+    Area, DrawResult, Overlay, arm_style, drawing_order, log_ticks, tick_label,
+};
 use plotters::prelude::*;
 
 /// At most this many points per curve of a panel of [`small_multiples`].

@@ -1,0 +1,476 @@
+//! Missions: long runs of commands in which the operator changes without the robot being
+//! told, and operators may grow complacent (docs/missions.md).
+//!
+//! A *mission* is `commands` commands from one population. It starts with a member drawn
+//! at random and the arm's first behavior (the paper's random one, or the case memory's
+//! guess for an arm that starts from it, drawn as a trial's first behavior is); at random
+//! times (exponential gaps of mean [`Changes::every`] commands) the operator changes:
+//! another operator *takes over* (a new person, who starts without trust in the robot) or
+//! the same operator's preferences *shift* to another member's (the context changed; its
+//! trust in the robot carries over). With [`ContextSwitches`] the robot's context (its
+//! cargo, the situation it was sent into) also switches at random times, and the robot is
+//! *told* (it knows what it carries): the operator then judges as it does in the new
+//! context ([`Domain::operator_in_context`]). The robot runs in mission mode
+//! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
+//! trial's are (the private `drive` module: the first behavior and each command).
+//!
+//! With a [`Complacency`] model the operator's attention falls as its own trust in the
+//! robot builds: each arm then runs twice on the same streams, once ignoring the robot's
+//! alerts and once answering them (the operator is asked to supervise and looks afresh:
+//! its trust restarts from nothing and its attention is whole again), so the harm done
+//! with and without alerts is paired mission by mission.
+//!
+//! The missions of one arm form a chain (the case base carries from one to the next);
+//! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
+//! mission, purpose), the same for every arm.
+use crate::Domain;
+use crate::experiment::arm::{Arm, Initial};
+use crate::experiment::drive::{Command, Drive, first_behavior};
+use crate::experiment::plan::{PlanError, fresh_adapter};
+use crate::mission::course::{Course, Judges, StreamName, begin_change, count_untrustworthy};
+use crate::mission::oracle::run_oracles;
+use crate::mission::plan::{COMPLACENT_BELOW, MissionPlan, RECOVERED_AT};
+use crate::mission::record::{
+    CalibrationRecord, ChangeKind, Mark, MissionArmResult, MissionRecord, MissionResult,
+    MissionStep, MissionTrace, OnsetRecord,
+};
+use crate::reference::competence::{true_competence, true_rates};
+use crate::seeds::{Purpose, stream};
+use cbr_core::Behavior;
+use rand::RngCore;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use trust::{
+    Calibration, Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord, Verdict,
+};
+
+/// The truth of the behaviors' competence on one chain of a plan with a standard, each
+/// behavior's learned once from the plan's truth runs on a stream of its own (so every
+/// chain finds the same truth).
+struct CompetenceTruth<'p, 'a, D: Domain> {
+    plan: &'p MissionPlan<'a, D>,
+    /// The seed and the plan's place, naming the streams.
+    seed: u64,
+    index: u64,
+    known: HashMap<Behavior, bool>,
+}
+
+impl<'p, 'a, D: Domain> CompetenceTruth<'p, 'a, D> {
+    /// Whether `behavior` is truly competent under the plan's standard.
+    fn competent(&mut self, behavior: Behavior) -> bool {
+        let plan = self.plan;
+        let (seed, index) = (self.seed, self.index);
+        *self.known.entry(behavior).or_insert_with(|| {
+            let standard = plan.competence.as_ref().expect("a plan with a standard");
+            let mut rng = stream(
+                seed,
+                index,
+                plan.domain.space().rank(&behavior),
+                Purpose::CompetenceTruth,
+            );
+            let rates = true_rates(plan.domain, &behavior, plan.truth_runs, &mut rng)
+                .expect("checked by MissionPlan::validate");
+            standard.met_by(&true_competence(
+                plan.domain.competence_parts(),
+                behavior,
+                &rates,
+            ))
+        })
+    }
+}
+
+/// Runs every plan: each (plan, arm, whether alerts are answered) is a chain of missions,
+/// chains in parallel on the current rayon pool, and the plan's oracle runs the same
+/// missions ([`crate::mission::oracle::MissionOracle`]). Every plan is checked first
+/// ([`MissionPlan::validate`]): a refused plan stops the run before any mission.
+pub fn run_missions<D: Domain>(
+    plans: &[MissionPlan<'_, D>],
+    seed: u64,
+    progress: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<MissionResult>, PlanError> {
+    for plan in plans {
+        plan.validate()?;
+    }
+    let oracles = run_oracles(plans, seed)?;
+    let chains: Vec<(usize, usize, bool)> = plans
+        .iter()
+        .enumerate()
+        .flat_map(|(p, plan)| {
+            let answers: &[bool] = if plan.complacency.is_some() {
+                &[false, true]
+            } else {
+                &[false]
+            };
+            (0..plan.arms.len()).flat_map(move |a| answers.iter().map(move |&y| (p, a, y)))
+        })
+        .collect();
+    let mut ran = chains
+        .par_iter()
+        .map(|&(p, a, answers)| run_chain(&plans[p], p as u64, a, answers, seed, &|| progress(p)))
+        .collect::<Result<Vec<_>, PlanError>>()?
+        .into_iter();
+    Ok(plans
+        .iter()
+        .zip(oracles)
+        .map(|(plan, oracle)| {
+            let per_arm = if plan.complacency.is_some() { 2 } else { 1 };
+            MissionResult {
+                name: plan.name.clone(),
+                complacency: plan.complacency.is_some(),
+                context_switches: plan.contexts.is_some(),
+                arms: ran.by_ref().take(plan.arms.len() * per_arm).collect(),
+                oracle,
+            }
+        })
+        .collect())
+}
+
+/// How many commands of a mission run between two looks at [`crate::interrupt`].
+const INTERRUPT_EVERY: u32 = 4096;
+
+fn run_chain<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    index: u64,
+    arm_index: usize,
+    answers_alerts: bool,
+    seed: u64,
+    progress: &(dyn Fn() + Sync),
+) -> Result<MissionArmResult, PlanError> {
+    let arm = &plan.arms[arm_index];
+    let adapter =
+        fresh_adapter(plan.domain, &plan.adapter, arm).map_err(|reason| PlanError::Config {
+            plan: plan.name.clone(),
+            reason,
+        })?;
+    let mut adapter = MissionAdapter::new(adapter);
+    if let Some(judge) = plan.judge() {
+        adapter = adapter
+            .with_competence(judge)
+            .preferring_competent(arm.competent_passes());
+    }
+    let mut truth = CompetenceTruth {
+        plan,
+        seed,
+        index,
+        known: HashMap::new(),
+    };
+    let mut missions = Vec::with_capacity(plan.missions as usize);
+    let mut traced = MissionTrace::of(plan.commands);
+    for mission in 0..plan.missions {
+        crate::interrupt::check()?;
+        let trace = (mission == 0).then_some(&mut traced);
+        let named = StreamName {
+            seed,
+            plan: index,
+            mission,
+        };
+        missions.push(run_mission(
+            plan,
+            arm,
+            &mut adapter,
+            named,
+            answers_alerts,
+            &mut truth,
+            trace,
+        )?);
+        progress();
+    }
+    Ok(MissionArmResult {
+        arm: arm.name().to_owned(),
+        answers_alerts,
+        missions,
+        traced,
+    })
+}
+
+/// Whether `behavior` is trustworthy for `operator`: its mean weighted outcome over the
+/// plan's truth runs is above 0 (the expected estimate climbs).
+fn trustworthy<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    behavior: &Behavior,
+    operator: &D::Operator,
+    rng: &mut dyn RngCore,
+) -> bool {
+    let sum: f64 = (0..plan.truth_runs)
+        .map(|_| {
+            plan.domain
+                .run(behavior, operator, rng)
+                .outcome
+                .contribution()
+        })
+        .sum();
+    sum > 0.0
+}
+
+/// The operator's own state in a mission: its trust in the robot and whether it is
+/// complacent.
+struct OperatorState {
+    /// Its trust in the robot, in `[0, 1]`.
+    felt: f64,
+    /// The onset under way, if the operator is complacent.
+    onset: Option<usize>,
+}
+
+impl OperatorState {
+    /// An operator whose trust in the robot starts from nothing, attentive: a new one, or
+    /// one asked by an alert to look afresh.
+    fn fresh() -> Self {
+        Self {
+            felt: 0.0,
+            onset: None,
+        }
+    }
+}
+
+fn run_mission<D: Domain>(
+    plan: &MissionPlan<'_, D>,
+    arm: &Arm,
+    adapter: &mut MissionAdapter<'_>,
+    named: StreamName,
+    answers_alerts: bool,
+    truth: &mut CompetenceTruth<'_, '_, D>,
+    mut trace: Option<&mut MissionTrace>,
+) -> Result<MissionRecord, PlanError> {
+    let StreamName {
+        seed,
+        plan: index,
+        mission,
+    } = named;
+    let m = u64::from(mission);
+    let Course {
+        first,
+        first_context,
+        drawn,
+        scheduled,
+    } = Course::of(plan, named);
+    let told = plan.contexts.is_some() && !arm.is_context_blind();
+    if told {
+        adapter
+            .set_context(plan.context(first_context))
+            .expect("no episode is under way between missions");
+    }
+    let judges = Judges::of(plan);
+    let start = first_behavior(arm.initial(), adapter.adapter(), drawn);
+    let mut drive = Drive::new(
+        &plan.name,
+        arm.name(),
+        plan.domain,
+        plan.feedback,
+        None,
+        seed,
+        index,
+        m,
+        adapter,
+    );
+    adapter
+        .begin_episode(start.behavior)
+        .expect("no episode is under way and the behavior is drawn from the space");
+    let mut record = MissionRecord {
+        mission,
+        learned_start: start.learned.then_some(start.behavior),
+        context: plan.context(first_context),
+        changes: Vec::new(),
+        readaptations: 0,
+        false_alarms: 0,
+        alerts: Vec::new(),
+        onsets: Vec::new(),
+        failures: 0,
+        overlooked: 0,
+        untrustworthy: 0,
+        calibration: plan
+            .competence
+            .as_ref()
+            .map(|_| CalibrationRecord::default()),
+    };
+    let thresholds = adapter.adapter().parameters().thresholds;
+    let (mut operator, mut context) = (first, first_context);
+    let mut state = OperatorState::fresh();
+    let mut behavior = start.behavior;
+    let mut upcoming = scheduled.iter().peekable();
+    // The last change, while the robot has not settled since, and whether any change
+    // happened since the behavior in use settled.
+    let mut waiting: Option<usize> = None;
+    let mut changed_since_settled = false;
+    for c in 0..plan.commands {
+        // A long mission stops within a few milliseconds of a request, not at its end.
+        if c % INTERRUPT_EVERY == 0 {
+            crate::interrupt::check()?;
+        }
+        let mut marks = Vec::new();
+        while let Some(change) = upcoming.next_if(|s| s.at == c) {
+            (operator, context) = (change.operator, change.context);
+            if change.kind == ChangeKind::Takeover {
+                state = OperatorState::fresh();
+            }
+            let mut truth = stream(
+                seed,
+                index,
+                m << 16 | record.changes.len() as u64,
+                Purpose::Truth,
+            );
+            let needed = !trustworthy(plan, &behavior, judges.judge(operator, context), &mut truth);
+            let k = begin_change(&mut record.changes, change, needed);
+            waiting = Some(k);
+            changed_since_settled = true;
+            marks.push(Mark::Change(change.kind));
+            if change.kind == ChangeKind::Context && told {
+                let switched = adapter
+                    .switch_context(plan.context(context), arm.initial() == Initial::Learned)
+                    .expect("a mission always has an episode or a watch, in a declared context");
+                record.changes[k].start = Some(switched.from);
+                if switched.behavior != behavior {
+                    record.changes[k].notice(c);
+                }
+                if switched.gave_up_watch {
+                    record.readaptations += 1;
+                    marks.push(Mark::Readaptation);
+                } else if switched.behavior != behavior {
+                    marks.push(Mark::Switch);
+                }
+                behavior = switched.behavior;
+            }
+        }
+        // `None`: the paper's attentive operator.
+        let attention = plan.complacency.map(|model| model.attention(state.felt));
+        let level = attention.unwrap_or(1.0);
+        if level < COMPLACENT_BELOW && state.onset.is_none() {
+            state.onset = Some(record.onsets.len());
+            record.onsets.push(OnsetRecord {
+                at: c,
+                detected_after: None,
+                perceivable: 0,
+            });
+            marks.push(Mark::Onset);
+        } else if level >= RECOVERED_AT {
+            state.onset = None;
+        }
+        let judge = judges.judge(operator, context);
+        let was_watching = adapter.watching().is_some();
+        if let (Some(calibration), Some(watch), Some(robot)) = (
+            record.calibration.as_mut(),
+            adapter.watching(),
+            adapter.competence_judge(),
+        ) {
+            // The command of a watched behavior: trusted or not, truly competent or not,
+            // and what the robot judges of it, as the command is given.
+            let trusted = thresholds.verdict(watch.estimate.value) == Verdict::Trustworthy;
+            let competent = truth.competent(watch.behavior);
+            let judged = matches!(
+                robot.calibration(watch.behavior, watch.estimate.value, &thresholds),
+                Calibration::Overtrust { .. }
+            );
+            let overtrusted = trusted && !competent;
+            calibration.watched += 1;
+            calibration.competent += u32::from(competent);
+            calibration.overtrusted += u32::from(overtrusted);
+            calibration.judged += u32::from(judged);
+            calibration.both += u32::from(overtrusted && judged);
+        }
+        let Command {
+            judgement,
+            outcome,
+            decision,
+        } = drive.command(adapter, &behavior, judge, attention)?;
+        record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
+        record.overlooked += u32::from(judgement.overlooked.is_some());
+        if let Some(k) = state.onset {
+            let onset = &mut record.onsets[k];
+            if judgement.overlooked.is_some()
+                && OwnRecord::has_signal(&outcome)
+                && onset.detected_after.is_none()
+            {
+                onset.perceivable += 1;
+            }
+        }
+        if outcome.is_untrustworthy() {
+            count_untrustworthy(&mut record.untrustworthy, &mut record.changes, waiting);
+        }
+        if let Some(model) = plan.complacency {
+            state.felt = model.felt_after(state.felt, &outcome);
+        }
+        match decision {
+            MissionDecision::Episode(Decision::Keep) => {}
+            MissionDecision::Alert(_) => {
+                record.alerts.push(c);
+                marks.push(Mark::Alert);
+                if let Some(k) = state.onset {
+                    let onset = &mut record.onsets[k];
+                    onset.detected_after.get_or_insert(c - onset.at);
+                }
+                if answers_alerts {
+                    // Asked to supervise, the operator looks afresh.
+                    state = OperatorState::fresh();
+                }
+            }
+            MissionDecision::Overtrust(alert) => {
+                let competent = truth.competent(alert.behavior);
+                let calibration = record
+                    .calibration
+                    .as_mut()
+                    .expect("only a plan with a standard judges competence");
+                calibration.alerts.push((c, competent));
+                marks.push(Mark::Alert);
+                if answers_alerts {
+                    // Asked to choose, the operator looks afresh at the behavior.
+                    state = OperatorState::fresh();
+                    if let Some(offer) = alert.offer.filter(|_| plan.offer_safer) {
+                        // Offered a safer behavior, it takes it if it trusts it too.
+                        let mut judged = stream(
+                            seed,
+                            index,
+                            m << 16 | u64::from(calibration.offered),
+                            Purpose::Offer,
+                        );
+                        calibration.offered += 1;
+                        if trustworthy(plan, &offer, judge, &mut judged) {
+                            calibration.taken += 1;
+                            adapter
+                                .accept_offer(offer)
+                                .expect("an alert came from a watched behavior of the space");
+                            behavior = offer;
+                        }
+                    }
+                }
+            }
+            MissionDecision::Episode(Decision::Switch { to, .. }) => {
+                if let Some(k) = waiting {
+                    record.changes[k].notice(c + 1);
+                }
+                if was_watching {
+                    record.readaptations += 1;
+                    record.false_alarms += u32::from(!changed_since_settled);
+                    marks.push(Mark::Readaptation);
+                } else {
+                    marks.push(Mark::Switch);
+                }
+                behavior = to;
+            }
+            MissionDecision::Episode(Decision::Settled(report)) => {
+                behavior = report.settled;
+                changed_since_settled = false;
+                if report.found_trustworthy
+                    && let Some(k) = waiting.take()
+                {
+                    record.changes[k].trusted_again = Some(c + 1 - record.changes[k].at);
+                }
+                marks.push(Mark::Settled);
+            }
+        }
+        if let Some(trace) = trace.as_deref_mut() {
+            let estimate = adapter.in_use().map_or(0.0, |(_, e)| e.value);
+            trace.record(
+                c,
+                MissionStep {
+                    estimate,
+                    low: estimate,
+                    high: estimate,
+                    own_record: adapter.watching().map(|_| adapter.own_record().value()),
+                    untrustworthy: outcome.is_untrustworthy(),
+                    marks,
+                },
+            );
+        }
+    }
+    adapter.abandon_episode();
+    Ok(record)
+}
