@@ -6,18 +6,25 @@ its `#[cfg(test)]` tests) is an edge to the module that defines the item, follow
 `pub use` re-exports of lib.rs and the folders' mod.rs. The check fails when
 - two modules import each other, directly or round a loop, or
 - a module imports from a folder listed after its own in FOLDERS, or a shared module at
-  the crate's root imports from a folder.
+  the crate's root imports from a folder, or
+- a source file holds more than MAX_FILE_LINES lines before its tests, or a function is
+  longer than MAX_FN_LINES lines.
 Prints each offending import with its file and line. Run from the repository's root.
 """
 
 import re
 import sys
+from collections.abc import Iterator
 from pathlib import Path
+
+Module = tuple[str, ...]
 
 ROOT = Path("lab/src")
 # The folders, lowest first: a module imports only from the root's shared modules, its
 # own folder and the folders before it.
 FOLDERS = ["contract", "reference", "experiment", "population", "report", "mission"]
+MAX_FILE_LINES = 800
+MAX_FN_LINES = 150
 # Root modules that may import from folders: the conformance kit runs over the contract.
 ROOT_CONSUMERS = {"testing"}
 ITEM = re.compile(
@@ -43,7 +50,7 @@ def code_of(text: str) -> str:
     return re.sub(r"/\*.*?\*/", "", text, flags=re.S)
 
 
-def use_trees(code: str):
+def use_trees(code: str) -> Iterator[tuple[list[str], int]]:
     """Each `crate::a::b::c` path, with `use crate::{x::y, z}` groups expanded."""
     for match in re.finditer(r"(?<![A-Za-z0-9_$])crate((?:::[A-Za-z0-9_]+)*)(::\{)?", code):
         prefix = [p for p in match.group(1).split("::") if p]
@@ -59,7 +66,7 @@ def use_trees(code: str):
             yield prefix, line
 
 
-def expand(group: str):
+def expand(group: str) -> Iterator[list[str]]:
     """The paths of a use group's body `a::b, c::{d, e}, f as g`."""
     items, depth, start = [], 0, 0
     for i, ch in enumerate(group + ","):
@@ -91,8 +98,10 @@ def main() -> int:
         names: dict[str, tuple[str, ...]] = {}
         for match in re.finditer(r"^\s*pub use ([^;]+);", code, re.M):
             body = match.group(1).strip()
-            if body.startswith("crate::") or body.startswith("self::") or not body.startswith(
-                ("trust", "files", "cbr_core")
+            if (
+                body.startswith("crate::")
+                or body.startswith("self::")
+                or not body.startswith(("trust", "files", "cbr_core"))
             ):
                 base = list(module)
                 body = body.removeprefix("self::")
@@ -114,8 +123,9 @@ def main() -> int:
             seen = reexports.get(module, {})
             if part == "*":
                 return module
-            if part in seen or "*" in seen:
-                module = seen.get(part, seen.get("*"))
+            through = seen.get(part, seen.get("*"))
+            if through is not None:
+                module = through
                 continue
             return module
         return module
@@ -128,8 +138,12 @@ def main() -> int:
     for module, path in files.items():
         code = code_of(path.read_text())
         # `super::` is the parent module, `self::` this one: written out from the crate.
-        code = re.sub(r"(?<![A-Za-z0-9_$])super::", "crate::" + "".join(p + "::" for p in module[:-1]), code)
-        code = re.sub(r"(?<![A-Za-z0-9_$:])self::", "crate::" + "".join(p + "::" for p in module), code)
+        code = re.sub(
+            r"(?<![A-Za-z0-9_$])super::", "crate::" + "".join(p + "::" for p in module[:-1]), code
+        )
+        code = re.sub(
+            r"(?<![A-Za-z0-9_$:])self::", "crate::" + "".join(p + "::" for p in module), code
+        )
         for tree, line in use_trees(code):
             target = reach(tree)
             if target is not None and target != module and target != ():
@@ -150,6 +164,8 @@ def main() -> int:
                 problems.append(
                     f"{where}: {module[0]} imports {'::'.join(target)}, of a later folder"
                 )
+    for module, path in files.items():
+        problems.extend(too_long(path))
     for cycle in cycles(edges):
         chain = " -> ".join("::".join(m) for m in cycle + [cycle[0]])
         problems.append(f"{files[cycle[0]]}: modules import each other: {chain}")
@@ -164,17 +180,49 @@ def main() -> int:
     return 0
 
 
-def resolve(files, module: tuple[str, ...]):
+def too_long(path: Path) -> list[str]:
+    """The file's length before its tests, and each function's, over the limits."""
+    text = path.read_text()
+    cut = re.search(r"^#\[cfg\(test\)\]\s*\nmod tests", text, re.M)
+    lines = (text[: cut.start()] if cut else text).split("\n")
+    found = []
+    if len(lines) - 1 > MAX_FILE_LINES:
+        found.append(f"{path}: {len(lines) - 1} lines before its tests (at most {MAX_FILE_LINES})")
+    for i, line in enumerate(lines):
+        signature = re.match(r"^\s*(?:pub(?:\([a-z]+\))?\s+)?(?:const\s+)?fn\s+(\w+)", line)
+        if not signature:
+            continue
+        depth, opened, j = 0, False, i
+        while j < len(lines):
+            if not opened and lines[j].rstrip().endswith(";"):
+                break
+            for ch in lines[j]:
+                depth += {"{": 1, "}": -1}.get(ch, 0)
+                opened = opened or ch == "{"
+            if opened and depth == 0:
+                break
+            j += 1
+        if opened and j - i + 1 > MAX_FN_LINES:
+            name = signature.group(1)
+            found.append(f"{path}:{i + 1}: fn {name} is {j - i + 1} lines (at most {MAX_FN_LINES})")
+    return found
+
+
+def resolve(files: dict[Module, Path], module: Module) -> Module | None:
     while module and module not in files:
         module = module[:-1]
     return module if module in files else None
 
 
-def cycles(edges):
+def cycles(edges: dict[Module, dict[Module, int]]) -> list[list[Module]]:
     """The strongly connected components of more than one module (Tarjan)."""
-    index, low, stack, on, found = {}, {}, [], set(), []
+    index: dict[Module, int] = {}
+    low: dict[Module, int] = {}
+    stack: list[Module] = []
+    on: set[Module] = set()
+    found: list[list[Module]] = []
 
-    def visit(v):
+    def visit(v: Module) -> None:
         index[v] = low[v] = len(index)
         stack.append(v)
         on.add(v)

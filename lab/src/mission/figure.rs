@@ -5,10 +5,14 @@
 //! summarised ([`crate::mission::MissionTrace`]), is drawn a step at a time, with the band
 //! of estimates each step's commands reached.
 
-use crate::mission::{ChangeKind, Mark, MissionArmResult};
+use crate::mission::{ChangeKind, Mark, MissionArmResult, MissionStep};
 use crate::report::plot::{Area, DrawResult, arm_style};
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use trust::Thresholds;
+
+/// The figure's chart: commands of the mission by trust estimate.
+type Chart<'c, 'b> = ChartContext<'c, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const CHANGE: RGBColor = RGBColor(120, 120, 120);
 const READAPTATION: RGBColor = RGBColor(200, 40, 40);
@@ -74,27 +78,7 @@ pub fn mission_figure(
         ))?;
     }
     // Changes first, under the estimate.
-    for (i, step) in steps.iter().enumerate() {
-        for mark in &step.marks {
-            if let Mark::Change(kind) = mark {
-                let x = start(i);
-                chart.draw_series(LineSeries::new(
-                    [(x, low), (x, high)],
-                    CHANGE.stroke_width(2),
-                ))?;
-                let label = match kind {
-                    ChangeKind::Takeover => "takeover",
-                    ChangeKind::Shift => "shift",
-                    ChangeKind::Context => "context",
-                };
-                chart.draw_series(std::iter::once(Text::new(
-                    label,
-                    (x + n * 0.004, high - 0.3),
-                    ("sans-serif", 12).into_font().color(&CHANGE),
-                )))?;
-            }
-        }
-    }
+    draw_changes(&mut chart, steps, &start, n, (low, high))?;
     let color = arm_style(&arm.arm, arm_index).color;
     if arm.traced.every > 1 {
         // The band of estimates each step's commands reached, under the line.
@@ -122,7 +106,50 @@ pub fn mission_figure(
             .map(|(i, s)| (end(i), clamp(s.estimate))),
         color.stroke_width(1),
     ))?;
-    // The own record where a behavior is settled, one segment per watch.
+    draw_own_record(&mut chart, steps, &end, &clamp)?;
+    draw_marks(&mut chart, steps, &end, high - 1.0)?;
+    draw_key(&key, arm.traced.every, color)
+}
+
+/// Draws a vertical line and its label at every change of operator or context.
+fn draw_changes(
+    chart: &mut Chart<'_, '_>,
+    steps: &[MissionStep],
+    start: &dyn Fn(usize) -> f64,
+    n: f64,
+    (low, high): (f64, f64),
+) -> DrawResult {
+    for (i, step) in steps.iter().enumerate() {
+        for mark in &step.marks {
+            if let Mark::Change(kind) = mark {
+                let x = start(i);
+                chart.draw_series(LineSeries::new(
+                    [(x, low), (x, high)],
+                    CHANGE.stroke_width(2),
+                ))?;
+                let label = match kind {
+                    ChangeKind::Takeover => "takeover",
+                    ChangeKind::Shift => "shift",
+                    ChangeKind::Context => "context",
+                };
+                chart.draw_series(std::iter::once(Text::new(
+                    label,
+                    (x + n * 0.004, high - 0.3),
+                    ("sans-serif", 12).into_font().color(&CHANGE),
+                )))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Draws the robot's own record where a behavior is settled, one dashed segment per watch.
+fn draw_own_record(
+    chart: &mut Chart<'_, '_>,
+    steps: &[MissionStep],
+    end: &dyn Fn(usize) -> f64,
+    clamp: &dyn Fn(f64) -> f64,
+) -> DrawResult {
     let mut segment: Vec<(f64, f64)> = Vec::new();
     for (i, step) in steps.iter().enumerate() {
         match step.own_record {
@@ -141,7 +168,16 @@ pub fn mission_figure(
     if !segment.is_empty() {
         chart.draw_series(DashedLineSeries::new(segment, 3, 3, OWN.stroke_width(1)))?;
     }
-    let top = high - 1.0;
+    Ok(())
+}
+
+/// Draws the re-adaptations, alerts and complacency onsets in a row under `top`.
+fn draw_marks(
+    chart: &mut Chart<'_, '_>,
+    steps: &[MissionStep],
+    end: &dyn Fn(usize) -> f64,
+    top: f64,
+) -> DrawResult {
     for (i, step) in steps.iter().enumerate() {
         let x = end(i);
         for mark in &step.marks {
@@ -171,9 +207,15 @@ pub fn mission_figure(
             }
         }
     }
+    Ok(())
+}
+
+/// Draws the figure's key in one row: the estimate (with its band when a step holds
+/// `every` commands), the own record, and the marks.
+fn draw_key(key: &Area<'_>, every: u32, color: RGBColor) -> DrawResult {
     let mut x = 72;
-    let estimate = if arm.traced.every > 1 {
-        format!("estimate (range per {})", arm.traced.every)
+    let estimate = if every > 1 {
+        format!("estimate (range per {})", every)
     } else {
         "estimate".to_owned()
     };

@@ -23,11 +23,12 @@
 //! The missions of one arm form a chain (the case base carries from one to the next);
 //! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
 //! mission, purpose), the same for every arm.
-use crate::Domain;
 use crate::experiment::arm::{Arm, Initial};
 use crate::experiment::drive::{Command, Drive, first_behavior};
 use crate::experiment::plan::{PlanError, fresh_adapter};
-use crate::mission::course::{Course, Judges, StreamName, begin_change, count_untrustworthy};
+use crate::mission::course::{
+    Course, Judges, Scheduled, StreamName, begin_change, count_untrustworthy,
+};
 use crate::mission::oracle::run_oracles;
 use crate::mission::plan::{COMPLACENT_BELOW, MissionPlan, RECOVERED_AT};
 use crate::mission::record::{
@@ -36,12 +37,15 @@ use crate::mission::record::{
 };
 use crate::reference::competence::{true_competence, true_rates};
 use crate::seeds::{Purpose, stream};
+use crate::{Domain, Judgement};
 use cbr_core::Behavior;
 use rand::RngCore;
+use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use trust::{
-    Calibration, Decision, MissionAdapter, MissionDecision, OutcomeKind, OwnRecord, Verdict,
+    Calibration, CompetenceAlert, Decision, MissionAdapter, MissionDecision, Outcome, OutcomeKind,
+    OwnRecord, Thresholds, Verdict,
 };
 
 /// The truth of the behaviors' competence on one chain of a plan with a standard, each
@@ -222,6 +226,11 @@ impl OperatorState {
     }
 }
 
+/// One mission of `arm` on `plan`, its course named by `named`: a command at a time, the
+/// course's changes applied as they come ([`MissionRun::apply`]), the operator's attention
+/// followed ([`MissionRun::attend`]), the watched behavior's calibration counted
+/// ([`MissionRun::calibrate`]), the command driven and what it did recorded
+/// ([`MissionRun::observe`]), then the robot's decision followed ([`MissionRun::decided`]).
 fn run_mission<D: Domain>(
     plan: &MissionPlan<'_, D>,
     arm: &Arm,
@@ -231,66 +240,23 @@ fn run_mission<D: Domain>(
     truth: &mut CompetenceTruth<'_, '_, D>,
     mut trace: Option<&mut MissionTrace>,
 ) -> Result<MissionRecord, PlanError> {
-    let StreamName {
-        seed,
-        plan: index,
-        mission,
-    } = named;
-    let m = u64::from(mission);
-    let Course {
-        first,
-        first_context,
-        drawn,
-        scheduled,
-    } = Course::of(plan, named);
-    let told = plan.contexts.is_some() && !arm.is_context_blind();
-    if told {
-        adapter
-            .set_context(plan.context(first_context))
-            .expect("no episode is under way between missions");
-    }
-    let judges = Judges::of(plan);
-    let start = first_behavior(arm.initial(), adapter.adapter(), drawn);
+    let course = Course::of(plan, named);
+    let mut run = MissionRun::begin(plan, arm, adapter, named, answers_alerts, &course);
     let mut drive = Drive::new(
         &plan.name,
         arm.name(),
         plan.domain,
         plan.feedback,
         None,
-        seed,
-        index,
-        m,
+        named.seed,
+        named.plan,
+        u64::from(named.mission),
         adapter,
     );
     adapter
-        .begin_episode(start.behavior)
+        .begin_episode(run.behavior)
         .expect("no episode is under way and the behavior is drawn from the space");
-    let mut record = MissionRecord {
-        mission,
-        learned_start: start.learned.then_some(start.behavior),
-        context: plan.context(first_context),
-        changes: Vec::new(),
-        readaptations: 0,
-        false_alarms: 0,
-        alerts: Vec::new(),
-        onsets: Vec::new(),
-        failures: 0,
-        overlooked: 0,
-        untrustworthy: 0,
-        calibration: plan
-            .competence
-            .as_ref()
-            .map(|_| CalibrationRecord::default()),
-    };
-    let thresholds = adapter.adapter().parameters().thresholds;
-    let (mut operator, mut context) = (first, first_context);
-    let mut state = OperatorState::fresh();
-    let mut behavior = start.behavior;
-    let mut upcoming = scheduled.iter().peekable();
-    // The last change, while the robot has not settled since, and whether any change
-    // happened since the behavior in use settled.
-    let mut waiting: Option<usize> = None;
-    let mut changed_since_settled = false;
+    let mut upcoming = course.scheduled.iter().peekable();
     for c in 0..plan.commands {
         // A long mission stops within a few milliseconds of a request, not at its end.
         if c % INTERRUPT_EVERY == 0 {
@@ -298,164 +264,19 @@ fn run_mission<D: Domain>(
         }
         let mut marks = Vec::new();
         while let Some(change) = upcoming.next_if(|s| s.at == c) {
-            (operator, context) = (change.operator, change.context);
-            if change.kind == ChangeKind::Takeover {
-                state = OperatorState::fresh();
-            }
-            let mut truth = stream(
-                seed,
-                index,
-                m << 16 | record.changes.len() as u64,
-                Purpose::Truth,
-            );
-            let needed = !trustworthy(plan, &behavior, judges.judge(operator, context), &mut truth);
-            let k = begin_change(&mut record.changes, change, needed);
-            waiting = Some(k);
-            changed_since_settled = true;
-            marks.push(Mark::Change(change.kind));
-            if change.kind == ChangeKind::Context && told {
-                let switched = adapter
-                    .switch_context(plan.context(context), arm.initial() == Initial::Learned)
-                    .expect("a mission always has an episode or a watch, in a declared context");
-                record.changes[k].start = Some(switched.from);
-                if switched.behavior != behavior {
-                    record.changes[k].notice(c);
-                }
-                if switched.gave_up_watch {
-                    record.readaptations += 1;
-                    marks.push(Mark::Readaptation);
-                } else if switched.behavior != behavior {
-                    marks.push(Mark::Switch);
-                }
-                behavior = switched.behavior;
-            }
+            run.apply(c, change, adapter, &mut marks);
         }
-        // `None`: the paper's attentive operator.
-        let attention = plan.complacency.map(|model| model.attention(state.felt));
-        let level = attention.unwrap_or(1.0);
-        if level < COMPLACENT_BELOW && state.onset.is_none() {
-            state.onset = Some(record.onsets.len());
-            record.onsets.push(OnsetRecord {
-                at: c,
-                detected_after: None,
-                perceivable: 0,
-            });
-            marks.push(Mark::Onset);
-        } else if level >= RECOVERED_AT {
-            state.onset = None;
-        }
-        let judge = judges.judge(operator, context);
+        let attention = run.attend(c, &mut marks);
         let was_watching = adapter.watching().is_some();
-        if let (Some(calibration), Some(watch), Some(robot)) = (
-            record.calibration.as_mut(),
-            adapter.watching(),
-            adapter.competence_judge(),
-        ) {
-            // The command of a watched behavior: trusted or not, truly competent or not,
-            // and what the robot judges of it, as the command is given.
-            let trusted = thresholds.verdict(watch.estimate.value) == Verdict::Trustworthy;
-            let competent = truth.competent(watch.behavior);
-            let judged = matches!(
-                robot.calibration(watch.behavior, watch.estimate.value, &thresholds),
-                Calibration::Overtrust { .. }
-            );
-            let overtrusted = trusted && !competent;
-            calibration.watched += 1;
-            calibration.competent += u32::from(competent);
-            calibration.overtrusted += u32::from(overtrusted);
-            calibration.judged += u32::from(judged);
-            calibration.both += u32::from(overtrusted && judged);
-        }
+        run.calibrate(adapter, truth);
+        let judge = run.judges.judge(run.operator, run.context);
         let Command {
             judgement,
             outcome,
             decision,
-        } = drive.command(adapter, &behavior, judge, attention)?;
-        record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
-        record.overlooked += u32::from(judgement.overlooked.is_some());
-        if let Some(k) = state.onset {
-            let onset = &mut record.onsets[k];
-            if judgement.overlooked.is_some()
-                && OwnRecord::has_signal(&outcome)
-                && onset.detected_after.is_none()
-            {
-                onset.perceivable += 1;
-            }
-        }
-        if outcome.is_untrustworthy() {
-            count_untrustworthy(&mut record.untrustworthy, &mut record.changes, waiting);
-        }
-        if let Some(model) = plan.complacency {
-            state.felt = model.felt_after(state.felt, &outcome);
-        }
-        match decision {
-            MissionDecision::Episode(Decision::Keep) => {}
-            MissionDecision::Alert(_) => {
-                record.alerts.push(c);
-                marks.push(Mark::Alert);
-                if let Some(k) = state.onset {
-                    let onset = &mut record.onsets[k];
-                    onset.detected_after.get_or_insert(c - onset.at);
-                }
-                if answers_alerts {
-                    // Asked to supervise, the operator looks afresh.
-                    state = OperatorState::fresh();
-                }
-            }
-            MissionDecision::Overtrust(alert) => {
-                let competent = truth.competent(alert.behavior);
-                let calibration = record
-                    .calibration
-                    .as_mut()
-                    .expect("only a plan with a standard judges competence");
-                calibration.alerts.push((c, competent));
-                marks.push(Mark::Alert);
-                if answers_alerts {
-                    // Asked to choose, the operator looks afresh at the behavior.
-                    state = OperatorState::fresh();
-                    if let Some(offer) = alert.offer.filter(|_| plan.offer_safer) {
-                        // Offered a safer behavior, it takes it if it trusts it too.
-                        let mut judged = stream(
-                            seed,
-                            index,
-                            m << 16 | u64::from(calibration.offered),
-                            Purpose::Offer,
-                        );
-                        calibration.offered += 1;
-                        if trustworthy(plan, &offer, judge, &mut judged) {
-                            calibration.taken += 1;
-                            adapter
-                                .accept_offer(offer)
-                                .expect("an alert came from a watched behavior of the space");
-                            behavior = offer;
-                        }
-                    }
-                }
-            }
-            MissionDecision::Episode(Decision::Switch { to, .. }) => {
-                if let Some(k) = waiting {
-                    record.changes[k].notice(c + 1);
-                }
-                if was_watching {
-                    record.readaptations += 1;
-                    record.false_alarms += u32::from(!changed_since_settled);
-                    marks.push(Mark::Readaptation);
-                } else {
-                    marks.push(Mark::Switch);
-                }
-                behavior = to;
-            }
-            MissionDecision::Episode(Decision::Settled(report)) => {
-                behavior = report.settled;
-                changed_since_settled = false;
-                if report.found_trustworthy
-                    && let Some(k) = waiting.take()
-                {
-                    record.changes[k].trusted_again = Some(c + 1 - record.changes[k].at);
-                }
-                marks.push(Mark::Settled);
-            }
-        }
+        } = drive.command(adapter, &run.behavior, judge, attention)?;
+        run.observe(&judgement, &outcome);
+        run.decided(c, decision, was_watching, adapter, truth, &mut marks);
         if let Some(trace) = trace.as_deref_mut() {
             let estimate = adapter.in_use().map_or(0.0, |(_, e)| e.value);
             trace.record(
@@ -472,5 +293,309 @@ fn run_mission<D: Domain>(
         }
     }
     adapter.abandon_episode();
-    Ok(record)
+    Ok(run.record)
+}
+
+/// A mission under way: what it has recorded, who judges in which context, and where the
+/// robot stands.
+struct MissionRun<'r, 'a, D: Domain> {
+    plan: &'r MissionPlan<'a, D>,
+    arm: &'r Arm,
+    named: StreamName,
+    /// Whether the robot is told its context (the plan switches contexts and the arm is
+    /// not blind to them).
+    told: bool,
+    answers_alerts: bool,
+    judges: Judges<'r, D>,
+    thresholds: Thresholds,
+    record: MissionRecord,
+    /// The operator and the context in force (their places in the population and in the
+    /// switches).
+    operator: usize,
+    context: usize,
+    state: OperatorState,
+    /// The behavior in use.
+    behavior: Behavior,
+    /// The last change, while the robot has not settled since.
+    waiting: Option<usize>,
+    /// Whether any change happened since the behavior in use settled.
+    changed_since_settled: bool,
+}
+
+impl<'r, 'a: 'r, D: Domain> MissionRun<'r, 'a, D> {
+    /// The mission at its start: told its first context (when it is told contexts), its
+    /// first behavior chosen as a trial's is, nothing recorded yet.
+    fn begin(
+        plan: &'r MissionPlan<'a, D>,
+        arm: &'r Arm,
+        adapter: &mut MissionAdapter<'_>,
+        named: StreamName,
+        answers_alerts: bool,
+        course: &Course,
+    ) -> Self {
+        let told = plan.contexts.is_some() && !arm.is_context_blind();
+        if told {
+            adapter
+                .set_context(plan.context(course.first_context))
+                .expect("no episode is under way between missions");
+        }
+        let judges = Judges::of(plan);
+        let start = first_behavior(arm.initial(), adapter.adapter(), course.drawn);
+        let record = MissionRecord {
+            mission: named.mission,
+            learned_start: start.learned.then_some(start.behavior),
+            context: plan.context(course.first_context),
+            changes: Vec::new(),
+            readaptations: 0,
+            false_alarms: 0,
+            alerts: Vec::new(),
+            onsets: Vec::new(),
+            failures: 0,
+            overlooked: 0,
+            untrustworthy: 0,
+            calibration: plan
+                .competence
+                .as_ref()
+                .map(|_| CalibrationRecord::default()),
+        };
+        Self {
+            plan,
+            arm,
+            named,
+            told,
+            answers_alerts,
+            judges,
+            thresholds: adapter.adapter().parameters().thresholds,
+            record,
+            operator: course.first,
+            context: course.first_context,
+            state: OperatorState::fresh(),
+            behavior: start.behavior,
+            waiting: None,
+            changed_since_settled: false,
+        }
+    }
+
+    /// A stream of this mission's, for `purpose`, numbered `k` within it.
+    fn stream(&self, k: u64, purpose: Purpose) -> ChaCha8Rng {
+        let StreamName {
+            seed,
+            plan,
+            mission,
+        } = self.named;
+        stream(seed, plan, u64::from(mission) << 16 | k, purpose)
+    }
+
+    /// The scheduled `change`, at command `c`: the new operator or context takes over, the
+    /// change is recorded (with whether the behavior in use is trustworthy for who judges
+    /// now), and a robot told its context switches it.
+    fn apply(
+        &mut self,
+        c: u32,
+        change: &Scheduled,
+        adapter: &mut MissionAdapter<'_>,
+        marks: &mut Vec<Mark>,
+    ) {
+        (self.operator, self.context) = (change.operator, change.context);
+        if change.kind == ChangeKind::Takeover {
+            self.state = OperatorState::fresh();
+        }
+        let mut truth = self.stream(self.record.changes.len() as u64, Purpose::Truth);
+        let judge = self.judges.judge(self.operator, self.context);
+        let needed = !trustworthy(self.plan, &self.behavior, judge, &mut truth);
+        let k = begin_change(&mut self.record.changes, change, needed);
+        self.waiting = Some(k);
+        self.changed_since_settled = true;
+        marks.push(Mark::Change(change.kind));
+        if change.kind == ChangeKind::Context && self.told {
+            let switched = adapter
+                .switch_context(
+                    self.plan.context(self.context),
+                    self.arm.initial() == Initial::Learned,
+                )
+                .expect("a mission always has an episode or a watch, in a declared context");
+            self.record.changes[k].start = Some(switched.from);
+            if switched.behavior != self.behavior {
+                self.record.changes[k].notice(c);
+            }
+            if switched.gave_up_watch {
+                self.record.readaptations += 1;
+                marks.push(Mark::Readaptation);
+            } else if switched.behavior != self.behavior {
+                marks.push(Mark::Switch);
+            }
+            self.behavior = switched.behavior;
+        }
+    }
+
+    /// The operator's attention for command `c` (`None`: the paper's attentive operator),
+    /// recording a complacency onset when it falls below [`COMPLACENT_BELOW`] and ending
+    /// it when it is back at [`RECOVERED_AT`].
+    fn attend(&mut self, c: u32, marks: &mut Vec<Mark>) -> Option<f64> {
+        let attention = self
+            .plan
+            .complacency
+            .map(|model| model.attention(self.state.felt));
+        let level = attention.unwrap_or(1.0);
+        if level < COMPLACENT_BELOW && self.state.onset.is_none() {
+            self.state.onset = Some(self.record.onsets.len());
+            self.record.onsets.push(OnsetRecord {
+                at: c,
+                detected_after: None,
+                perceivable: 0,
+            });
+            marks.push(Mark::Onset);
+        } else if level >= RECOVERED_AT {
+            self.state.onset = None;
+        }
+        attention
+    }
+
+    /// The command of a watched behavior, on a plan with a competence standard: trusted
+    /// or not, truly competent or not, and what the robot judges of it, as the command is
+    /// given.
+    fn calibrate(&mut self, adapter: &MissionAdapter<'_>, truth: &mut CompetenceTruth<'_, '_, D>) {
+        let (Some(calibration), Some(watch), Some(robot)) = (
+            self.record.calibration.as_mut(),
+            adapter.watching(),
+            adapter.competence_judge(),
+        ) else {
+            return;
+        };
+        let trusted = self.thresholds.verdict(watch.estimate.value) == Verdict::Trustworthy;
+        let competent = truth.competent(watch.behavior);
+        let judged = matches!(
+            robot.calibration(watch.behavior, watch.estimate.value, &self.thresholds),
+            Calibration::Overtrust { .. }
+        );
+        let overtrusted = trusted && !competent;
+        calibration.watched += 1;
+        calibration.competent += u32::from(competent);
+        calibration.overtrusted += u32::from(overtrusted);
+        calibration.judged += u32::from(judged);
+        calibration.both += u32::from(overtrusted && judged);
+    }
+
+    /// What the command did: a failure, a problem overlooked (perceivable by the robot or
+    /// not), an untrustworthy command counted against the change it follows, and the
+    /// operator's trust in the robot after it.
+    fn observe(&mut self, judgement: &Judgement, outcome: &Outcome) {
+        let record = &mut self.record;
+        record.failures += u32::from(outcome.kind == OutcomeKind::Failed);
+        record.overlooked += u32::from(judgement.overlooked.is_some());
+        if let Some(k) = self.state.onset {
+            let onset = &mut record.onsets[k];
+            if judgement.overlooked.is_some()
+                && OwnRecord::has_signal(outcome)
+                && onset.detected_after.is_none()
+            {
+                onset.perceivable += 1;
+            }
+        }
+        if outcome.is_untrustworthy() {
+            count_untrustworthy(&mut record.untrustworthy, &mut record.changes, self.waiting);
+        }
+        if let Some(model) = self.plan.complacency {
+            self.state.felt = model.felt_after(self.state.felt, outcome);
+        }
+    }
+
+    /// The robot's decision after command `c`: an alert (answered or not), an overtrust
+    /// alert ([`MissionRun::overtrusted`]), a switch (a readaptation when it gave up a
+    /// watched behavior, a false alarm when nothing changed since it settled) or a settled
+    /// episode.
+    fn decided(
+        &mut self,
+        c: u32,
+        decision: MissionDecision,
+        was_watching: bool,
+        adapter: &mut MissionAdapter<'_>,
+        truth: &mut CompetenceTruth<'_, '_, D>,
+        marks: &mut Vec<Mark>,
+    ) {
+        match decision {
+            MissionDecision::Episode(Decision::Keep) => {}
+            MissionDecision::Alert(_) => {
+                self.record.alerts.push(c);
+                marks.push(Mark::Alert);
+                if let Some(k) = self.state.onset {
+                    let onset = &mut self.record.onsets[k];
+                    onset.detected_after.get_or_insert(c - onset.at);
+                }
+                if self.answers_alerts {
+                    // Asked to supervise, the operator looks afresh.
+                    self.state = OperatorState::fresh();
+                }
+            }
+            MissionDecision::Overtrust(alert) => {
+                marks.push(Mark::Alert);
+                self.overtrusted(c, &alert, adapter, truth);
+            }
+            MissionDecision::Episode(Decision::Switch { to, .. }) => {
+                if let Some(k) = self.waiting {
+                    self.record.changes[k].notice(c + 1);
+                }
+                if was_watching {
+                    self.record.readaptations += 1;
+                    self.record.false_alarms += u32::from(!self.changed_since_settled);
+                    marks.push(Mark::Readaptation);
+                } else {
+                    marks.push(Mark::Switch);
+                }
+                self.behavior = to;
+            }
+            MissionDecision::Episode(Decision::Settled(report)) => {
+                self.behavior = report.settled;
+                self.changed_since_settled = false;
+                if report.found_trustworthy
+                    && let Some(k) = self.waiting.take()
+                {
+                    self.record.changes[k].trusted_again = Some(c + 1 - self.record.changes[k].at);
+                }
+                marks.push(Mark::Settled);
+            }
+        }
+    }
+
+    /// An overtrust alert at command `c`: recorded with whether the behavior is truly
+    /// competent; an operator who answers alerts looks afresh, and on a plan that offers
+    /// the safer behavior, takes the offer when it trusts it too.
+    fn overtrusted(
+        &mut self,
+        c: u32,
+        alert: &CompetenceAlert,
+        adapter: &mut MissionAdapter<'_>,
+        truth: &mut CompetenceTruth<'_, '_, D>,
+    ) {
+        let competent = truth.competent(alert.behavior);
+        let offered = {
+            let calibration = self
+                .record
+                .calibration
+                .as_mut()
+                .expect("only a plan with a standard judges competence");
+            calibration.alerts.push((c, competent));
+            calibration.offered
+        };
+        if !self.answers_alerts {
+            return;
+        }
+        // Asked to choose, the operator looks afresh at the behavior.
+        self.state = OperatorState::fresh();
+        let Some(offer) = alert.offer.filter(|_| self.plan.offer_safer) else {
+            return;
+        };
+        // Offered a safer behavior, it takes it if it trusts it too.
+        let mut judged = self.stream(u64::from(offered), Purpose::Offer);
+        let calibration = self.record.calibration.as_mut().expect("checked above");
+        calibration.offered += 1;
+        let judge = self.judges.judge(self.operator, self.context);
+        if trustworthy(self.plan, &offer, judge, &mut judged) {
+            calibration.taken += 1;
+            adapter
+                .accept_offer(offer)
+                .expect("an alert came from a watched behavior of the space");
+            self.behavior = offer;
+        }
+    }
 }

@@ -234,28 +234,7 @@ pub(super) fn html_page(
             html_table(&population_table(entries)),
         );
     }
-    let mut explanations = format!(
-        "<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
-        html_table(&explanations_table(entries))
-    );
-    for e in entries {
-        let _ = writeln!(
-            explanations,
-            "<details><summary>Sample explanations: {}</summary><ul>",
-            escape(&e.result.name)
-        );
-        for (arm, samples) in sample_explanations(e) {
-            for sample in samples {
-                let _ = writeln!(
-                    explanations,
-                    "<li><b>{}</b>, {}</li>",
-                    escape(&arm),
-                    escape(&sample)
-                );
-            }
-        }
-        explanations.push_str("</ul></details>\n");
-    }
+    let explanations = explanations_html(entries);
     section(
         "explanations",
         "Explanations against the truth",
@@ -284,19 +263,7 @@ pub(super) fn html_page(
         );
     }
     if let Some(benchmarks) = benchmark {
-        let mut html = format!("<p>{}</p>\n", escape(BENCHMARK_NOTE));
-        if benchmarks.is_empty() {
-            let _ = writeln!(html, "<p>{}</p>", escape(NO_BENCHMARK));
-        }
-        for benchmark in benchmarks {
-            let _ = write!(
-                html,
-                "<h3>{}</h3>\n{}",
-                escape(&benchmark_title(benchmark)),
-                html_table(&benchmark_table(benchmark))
-            );
-        }
-        section("benchmark", BENCHMARK_TITLE, html);
+        section("benchmark", BENCHMARK_TITLE, benchmark_html(benchmarks));
     }
     let mut titles: Vec<&str> = Vec::new();
     for figure in figures {
@@ -321,6 +288,57 @@ pub(super) fn html_page(
         format!("<pre>{}</pre>\n", escape(config_ron)),
     );
 
+    page_of(&sections, provenance)
+}
+
+/// The explanations section: how often an arm's explanations were right, then a sample of
+/// them per experiment.
+fn explanations_html(entries: &[ReportEntry<'_>]) -> String {
+    let mut explanations = format!(
+        "<p>Every behavior an arm gave up was explained from what the robot was told and perceived; the share whose first reason is the operator's most frequent true reason on that behavior (the simulator knows it; the robot does not). Perceivable reasons are those the robot perceives itself (a collision, being stuck, a detonation).</p>\n{}",
+        html_table(&explanations_table(entries))
+    );
+    for e in entries {
+        let _ = writeln!(
+            explanations,
+            "<details><summary>Sample explanations: {}</summary><ul>",
+            escape(&e.result.name)
+        );
+        for (arm, samples) in sample_explanations(e) {
+            for sample in samples {
+                let _ = writeln!(
+                    explanations,
+                    "<li><b>{}</b>, {}</li>",
+                    escape(&arm),
+                    escape(&sample)
+                );
+            }
+        }
+        explanations.push_str("</ul></details>\n");
+    }
+    explanations
+}
+
+/// The benchmark section of a benchmark suite: its note, then each scenario's table.
+fn benchmark_html(benchmarks: &[ScenarioBenchmark]) -> String {
+    let mut html = format!("<p>{}</p>\n", escape(BENCHMARK_NOTE));
+    if benchmarks.is_empty() {
+        let _ = writeln!(html, "<p>{}</p>", escape(NO_BENCHMARK));
+    }
+    for benchmark in benchmarks {
+        let _ = write!(
+            html,
+            "<h3>{}</h3>\n{}",
+            escape(&benchmark_title(benchmark)),
+            html_table(&benchmark_table(benchmark))
+        );
+    }
+    html
+}
+
+/// The page around its `sections` (id, title, HTML): the provenance, the contents, then
+/// each section.
+fn page_of(sections: &[(String, String, String)], provenance: &Provenance) -> String {
     let mut page = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>trustcbr report</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n<h1>Trust-guided behavior adaptation: experiment report</h1>\n"
     );
@@ -339,11 +357,11 @@ pub(super) fn html_page(
         escape(&provenance.command_line.join(" "))
     );
     page.push_str("<nav>\n<h2>Contents</h2>\n<ul>\n");
-    for (id, title, _) in &sections {
+    for (id, title, _) in sections {
         let _ = writeln!(page, "<li><a href=\"#{id}\">{}</a></li>", escape(title));
     }
     page.push_str("</ul>\n</nav>\n");
-    for (id, title, html) in &sections {
+    for (id, title, html) in sections {
         let _ = write!(page, "<h2 id=\"{id}\">{}</h2>\n{html}", escape(title));
     }
     page.push_str("</body>\n</html>\n");

@@ -45,6 +45,27 @@ pub(super) fn write_figures(
 ) -> Result<Vec<Figure>, ReportError> {
     // Every figure is written as its own SVG file and the same text goes into the page.
     let mut figures: Vec<Figure> = Vec::new();
+    every_arm_figures(dir, entries, effects, write, &mut figures)?;
+    for (e, stem) in entries
+        .iter()
+        .zip(file_stems(entries.iter().map(|e| &e.result.name)))
+    {
+        experiment_figures(dir, e, &stem, write, &mut figures)?;
+        finals_figures(dir, e, &stem, write, &mut figures)?;
+    }
+    benchmark_figures(dir, benchmark.unwrap_or_default(), write, &mut figures)?;
+    Ok(figures)
+}
+
+/// The figures of every experiment and arm at once: one per summary metric, the effect
+/// sizes, and the per-trial lines over trials that have a line to draw.
+fn every_arm_figures(
+    dir: &Path,
+    entries: &[ReportEntry<'_>],
+    effects: &[Vec<Option<RatioCi>>],
+    write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
+    figures: &mut Vec<Figure>,
+) -> Result<(), ReportError> {
     for metric in SUMMARY_METRICS {
         let name = format!("{}.svg", metric.stem);
         let summary_svg = svg_with(&dir.join(&name), (1200, 560), |area, overlay| {
@@ -97,82 +118,109 @@ pub(super) fn write_figures(
             caption.to_owned(),
         ));
     }
-    for (e, stem) in entries
-        .iter()
-        .zip(file_stems(entries.iter().map(|e| &e.result.name)))
-    {
-        let name = format!("curves-{stem}.svg");
-        let curves = |dots: bool| {
-            svg_with(&dir.join(&name), (1250, 520), |area, overlay| {
-                learning_curves(area, overlay, e, dots)
-            })
-        };
-        write(&name, &curves(true)?)?;
+    Ok(())
+}
+
+/// One experiment's learning curves and, when a trial was traced, its timeline.
+fn experiment_figures(
+    dir: &Path,
+    e: &ReportEntry<'_>,
+    stem: &str,
+    write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
+    figures: &mut Vec<Figure>,
+) -> Result<(), ReportError> {
+    let name = format!("curves-{stem}.svg");
+    let curves = |dots: bool| {
+        svg_with(&dir.join(&name), (1250, 520), |area, overlay| {
+            learning_curves(area, overlay, e, dots)
+        })
+    };
+    write(&name, &curves(true)?)?;
+    figures.push(Figure::new(
+        &e.result.name,
+        curves(false)?,
+        format!(
+            "Behaviors evaluated in each trial, trials in order: the moving average over \
+             {MOVING_AVERAGE_WINDOW} trials (the line, with the arm's marker at eight places) \
+             and its 95% band, on a log axis (lower is better). An arm that learns across \
+             trials (a growing case base, a searcher's memory) falls as trials go on; one \
+             that does not stays level. Each trial's count is a dot in \
+             <code>{name}</code> and a line of <code>trials.jsonl</code>."
+        ),
+    ));
+    if let Some(timeline) = e.timeline {
+        let name = format!("timeline-{stem}.svg");
+        let switches = timeline
+            .commands
+            .iter()
+            .filter(|c| c.explanation.is_some())
+            .count() as u32;
+        let drawn = svg(&dir.join(&name), (1250, 480 + 22 * switches), |area| {
+            timeline_figure(area, timeline)
+        })?;
+        write(&name, &drawn)?;
         figures.push(Figure::new(
             &e.result.name,
-            curves(false)?,
-            format!(
-                "Behaviors evaluated in each trial, trials in order: the moving average over \
-                 {MOVING_AVERAGE_WINDOW} trials (the line, with the arm's marker at eight places) \
-                 and its 95% band, on a log axis (lower is better). An arm that learns across \
-                 trials (a growing case base, a searcher's memory) falls as trials go on; one \
-                 that does not stays level. Each trial's count is a dot in \
-                 <code>{name}</code> and a line of <code>trials.jsonl</code>."
-            ),
+            drawn,
+            timeline_caption(timeline, e.space),
         ));
-        if let Some(timeline) = e.timeline {
-            let name = format!("timeline-{stem}.svg");
-            let switches = timeline
-                .commands
-                .iter()
-                .filter(|c| c.explanation.is_some())
-                .count() as u32;
-            let drawn = svg(&dir.join(&name), (1250, 480 + 22 * switches), |area| {
-                timeline_figure(area, timeline)
-            })?;
-            write(&name, &drawn)?;
-            figures.push(Figure::new(
-                &e.result.name,
-                drawn,
-                timeline_caption(timeline, e.space),
-            ));
-        }
-        // One figure per pair of components: the first two, then the next two, ...
-        let components = e.space.components();
-        for (k, (x, y)) in component_pairs(e.space).into_iter().enumerate() {
-            let name = if k == 0 {
-                format!("finals-{stem}.svg")
-            } else {
-                format!(
-                    "finals-{stem}-{}-{}.svg",
-                    components[x].name, components[y].name
-                )
-            };
-            // The id of the heatmap every arm's panel shares, unique in the page.
-            let id = format!("cells-{}", name.trim_end_matches(".svg"));
-            let grid = e
-                .landscapes
-                .iter()
-                .find(|l| l.fixed == [x, y])
-                .map(|l| l.grid(e.space, x, y))
-                .transpose()
-                .map_err(|reason| PlotError {
-                    path: dir.join(&name),
-                    message: reason.to_string(),
-                })?;
-            let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
-            let finals = svg_with(&dir.join(&name), layout.size(), |area, overlay| {
-                final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
-            })?;
-            write(&name, &finals)?;
-            figures.push(Figure::new(
-                &e.result.name,
-                finals,
-                finals_caption(e, (x, y), grid.as_ref()),
-            ));
-        }
     }
-    let benchmarks = benchmark.unwrap_or_default();
+    Ok(())
+}
+
+/// Where one experiment's final behaviors land, one figure per pair of components, over
+/// the operator's landscape when it was computed.
+fn finals_figures(
+    dir: &Path,
+    e: &ReportEntry<'_>,
+    stem: &str,
+    write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
+    figures: &mut Vec<Figure>,
+) -> Result<(), ReportError> {
+    // One figure per pair of components: the first two, then the next two, ...
+    let components = e.space.components();
+    for (k, (x, y)) in component_pairs(e.space).into_iter().enumerate() {
+        let name = if k == 0 {
+            format!("finals-{stem}.svg")
+        } else {
+            format!(
+                "finals-{stem}-{}-{}.svg",
+                components[x].name, components[y].name
+            )
+        };
+        // The id of the heatmap every arm's panel shares, unique in the page.
+        let id = format!("cells-{}", name.trim_end_matches(".svg"));
+        let grid = e
+            .landscapes
+            .iter()
+            .find(|l| l.fixed == [x, y])
+            .map(|l| l.grid(e.space, x, y))
+            .transpose()
+            .map_err(|reason| PlotError {
+                path: dir.join(&name),
+                message: reason.to_string(),
+            })?;
+        let layout = FinalsLayout::new(e.result.arms.len(), &finals_subtitle(e, grid.as_ref()));
+        let finals = svg_with(&dir.join(&name), layout.size(), |area, overlay| {
+            final_behaviors(area, overlay, e, (x, y), grid.as_ref(), &layout, &id)
+        })?;
+        write(&name, &finals)?;
+        figures.push(Figure::new(
+            &e.result.name,
+            finals,
+            finals_caption(e, (x, y), grid.as_ref()),
+        ));
+    }
+    Ok(())
+}
+
+/// A benchmark suite's figure per scenario: untrustworthy commands to settle.
+fn benchmark_figures(
+    dir: &Path,
+    benchmarks: &[ScenarioBenchmark],
+    write: &mut impl FnMut(&str, &str) -> Result<(), ReportError>,
+    figures: &mut Vec<Figure>,
+) -> Result<(), ReportError> {
     for (b, stem) in benchmarks
         .iter()
         .zip(file_stems(benchmarks.iter().map(|b| &b.scenario)))
@@ -198,7 +246,7 @@ pub(super) fn write_figures(
             ),
         ));
     }
-    Ok(figures)
+    Ok(())
 }
 
 /// The caption of a timeline: how to read it, and every explanation of the trial in full.
