@@ -26,8 +26,8 @@ use crate::suite::{
 use anyhow::{Context, Result};
 use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use lab::report::heatmap;
 use lab::reference::landscape;
+use lab::report::heatmap;
 use lab::{Domain, Instance, Simulation};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
@@ -947,10 +947,13 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
             measured,
         )],
     );
-    let accuracy =
-        lab::reference::competence::measure(&domain, &operator_name, &operator, &settings, &|| {
-            progress.tick(0)
-        })?;
+    let accuracy = lab::reference::competence::measure(
+        &domain,
+        &operator_name,
+        &operator,
+        &settings,
+        &|| progress.tick(0),
+    )?;
     let json = serde_json::to_string_pretty(&accuracy.json())? + "\n";
     for ((name, rule), text) in own_files::COMPETENCE
         .iter()

@@ -24,15 +24,15 @@ use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Domain;
-use lab::reference::known_operator::LimitSettings;
+use lab::mission::figure::mission_figure;
+use lab::mission::report::{missions_json, missions_jsonl, missions_markdown};
 use lab::mission::{
     Changes, Complacency, ContextSwitches, MissionPlan, MissionResult, check_competence,
     run_missions,
 };
-use lab::mission::figure::mission_figure;
-use lab::mission::report::{missions_json, missions_jsonl, missions_markdown};
-use lab::report::plot::svg;
+use lab::reference::known_operator::LimitSettings;
 use lab::report::file_stems;
+use lab::report::plot::svg;
 use lab::{Arm, PREFERS_COMPETENT, check_attention, prefers_competent};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -437,24 +437,17 @@ pub fn write_mission_report(
     ];
     let stems = file_stems(results.iter().map(|r| r.name.clone()));
     for (result, stem) in results.iter().zip(stems) {
-        let Some((index, arm)) = result
+        let Some(arm) = result
             .arms
             .iter()
-            .enumerate()
-            .find(|(_, a)| a.answers_alerts == result.complacency)
+            .find(|a| a.answers_alerts == result.complacency)
         else {
             continue;
         };
         let name = format!("mission-{stem}.svg");
         let path = dir.join(&name);
         let figure = svg(&path, (1100, 480), |area| {
-            mission_figure(
-                area,
-                &result.name,
-                index / if result.complacency { 2 } else { 1 },
-                arm,
-                &config.adapter.thresholds,
-            )
+            mission_figure(area, &result.name, arm, &config.adapter.thresholds)
         })
         .map_err(|e| SuiteError::Report(e.into()))?;
         written.push(write_file_in(dir, &name, &figure).map_err(report)?);

@@ -2,7 +2,6 @@
 
 mod support;
 
-use lab::BUILTIN_ARMS as ARMS;
 use std::path::Path;
 use support::{outside_view, succeed, svg_texts, trustcbr};
 
@@ -48,7 +47,7 @@ fn run_writes_a_complete_report() {
     assert_eq!(experiments[1]["scenario"], "patrol");
     assert_eq!(experiments[1]["operator"], "random");
     assert_eq!(experiments[1]["trials"], 4);
-    for arm in ARMS {
+    for arm in lab::builtin_arm_names() {
         let s = &experiments[0]["strategies"][arm];
         assert!(s["mean"].as_f64().unwrap() >= 1.0, "{arm}");
         assert!(s["ci95"].as_f64().unwrap() >= 0.0);
@@ -71,7 +70,8 @@ fn run_writes_a_complete_report() {
     assert_eq!(summary["provenance"]["command_line"][1], "run");
 
     let trials = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
-    assert_eq!(trials.lines().count(), 2 * ARMS.len() * 4);
+    let arms = lab::builtin_arm_names();
+    assert_eq!(trials.lines().count(), 2 * arms.len() * 4);
     for line in trials.lines() {
         let t: serde_json::Value = serde_json::from_str(line).unwrap();
         let scenario = t["scenario"].as_str().unwrap();
@@ -79,7 +79,7 @@ fn run_writes_a_complete_report() {
             t["experiment"].as_str().unwrap().split('/').next(),
             Some(scenario)
         );
-        assert!(ARMS.contains(&t["arm"].as_str().unwrap()));
+        assert!(arms.contains(&t["arm"].as_str().unwrap()));
         assert!(t["behaviors_evaluated"].as_u64().unwrap() >= 1);
         assert!(t["commands"].as_u64().unwrap() >= t["untrustworthy"].as_u64().unwrap());
         assert!(t["found_trustworthy"].is_boolean());
@@ -489,7 +489,7 @@ fn explain_tells_a_trial_exactly_as_the_run_ran_it() {
     // Every arm's explanations are measured against the truth in summary.json.
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
-    for arm in ARMS {
+    for arm in lab::builtin_arm_names() {
         let x = &summary["experiments"][1]["strategies"][arm]["explanations"];
         let given_up = x["given_up"].as_u64().unwrap();
         assert_eq!(

@@ -9,7 +9,8 @@ use trustcbr::cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher}
 use trustcbr::lab::Arm;
 use trustcbr::run::{RunSettings, run_with_report};
 use trustcbr::suite::{StartingCases, SuiteConfig};
-use trustcbr::trust::{Evaluated, Outcome, SearchKind, TrustSearcher};
+use trustcbr::trust::search::Uniform;
+use trustcbr::trust::{Evaluated, Outcome, TrustSearcher};
 use trustcbr::{AddedArm, UgvCatalog, WithArms};
 
 /// The UGV catalog with `arm` added, as the Python package adds a Python arm.
@@ -40,7 +41,7 @@ fn an_arm_named_to_leave_its_folder_is_refused_and_nothing_outside_is_written() 
     let catalog = with_arm(|retriever| {
         Arm::case_based(
             "../../victim",
-            |_| SearchKind::Uniform.build(),
+            |_| Box::new(Uniform::new()),
             move |measure| retriever.build_measure(measure),
         )
     });
@@ -196,7 +197,7 @@ impl Searcher for Loud {
 fn a_rationale_s_control_characters_never_reach_the_report_raw() {
     let catalog = with_arm(|_| {
         Arm::search_only("loud", |_| -> Box<TrustSearcher> {
-            Box::new(Loud(SearchKind::Uniform.build()))
+            Box::new(Loud(Box::new(Uniform::new())))
         })
     });
     let dir = tempfile::tempdir().unwrap();

@@ -54,7 +54,7 @@ fn episode(
 fn propose(c: &mut Criterion) {
     let space = domains::spaces::patrol_space();
     let mut group = c.benchmark_group("search");
-    for &kind in SearchKind::ALL {
+    for kind in SearchKind::all() {
         for distinct in [40usize, 200] {
             let mut rng = ChaCha8Rng::seed_from_u64(5);
             let mut searcher = kind.build();

@@ -6,13 +6,17 @@ the development instances dev-0 .. dev-(COUNT-1). `trustcbr population` writes t
 to domains/operators/benchmark/SCENARIO/eval-K/ and domains/operators/benchmark-dev/SCENARIO/dev-K/
 (run it first; docs/search-strategies.md, "The benchmark").
 
-usage: docs/probes/benchmark_suites.py [COUNT]   (default 20 instances of each split; trials
+usage: docs/probes/benchmark_suites.py [COUNT]   (needs the Python package: pip install ./python)
+         (default 20 instances of each split; trials
 per scenario: TRIALS, chosen so that a suite runs within 10 minutes on the project's 2-core
 machine)
 """
 
 import pathlib
 import sys
+
+# Every built-in arm, as the strategies' registry lists them (the Python package reads it).
+import trustcbr
 
 REPO = pathlib.Path(__file__).resolve().parent.parent.parent
 COUNT = int(sys.argv[1]) if __name__ == "__main__" and len(sys.argv) > 1 else 20
@@ -21,19 +25,6 @@ TRIALS = {"movement": 500, "patrol": 300}
 # paper's random walk needs thousands of commands a trial on a population with a small
 # trustworthy region, and would alone exceed the suite's 10 minutes.
 MAX_COMMANDS = 2000
-ARMS = [
-    "random-walk",
-    "case-based",
-    "uniform",
-    "cause-aware",
-    "model-based",
-    "conditioned",
-    "case-based+cause-aware",
-    "case-based+model-based",
-    "case-based+conditioned",
-    "hedged",
-    "case-based+hedged",
-]
 
 
 # Per split (the prefix of its instances' names): the folder of their members under
@@ -88,7 +79,7 @@ def suite(scenario: str, split: str) -> str:
         f"`trustcbr run domains/experiments/{file_name.format(scenario=scenario)} --out DIR`.",
     ]
     lines = [
-        *opening(comment, scenario, ARMS),
+        *opening(comment, scenario, trustcbr.builtin_arms()),
         "    benchmark: true,",
         "    experiments: [",
     ]

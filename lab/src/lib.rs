@@ -28,8 +28,9 @@ pub use contract::judgement::Judgement;
 pub use contract::operator::{GiveUpFactor, SimulatedOperator, StandardFields};
 pub use contract::operator_file::{OperatorFileError, UnperceivedWeight};
 pub use experiment::arm::{
-    Arm, BUILTIN_ARMS, COMPETENT_PASSES, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START,
-    NameOptions, PREFERS_COMPETENT, UnknownArm, prefers_competent,
+    Arm, BuiltinArm, COMPETENT_PASSES, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START,
+    NameOptions, PREFERS_COMPETENT, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
+    prefers_competent,
 };
 pub use experiment::context::TrialContexts;
 pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};

@@ -9,7 +9,7 @@ use lab::report::{
     versus_reference, write_report,
 };
 use lab::testing::ToyDomain;
-use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
+use lab::{Arm, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
 use lab::{Domain, Judgement};
 use rand::{Rng, RngCore};
 use trust::AdapterConfig;
@@ -92,7 +92,7 @@ fn users_retriever(measure: SetSimilarity) -> Box<TrustRetriever> {
 
 /// Every built-in arm, then a user's searcher alone and with a user's retriever.
 fn arms() -> Vec<Arm> {
-    let mut arms: Vec<Arm> = BUILTIN_ARMS
+    let mut arms: Vec<Arm> = lab::builtin_arm_names()
         .iter()
         .map(|name| Arm::builtin(name, RetrieverKind::InvertedIndex).unwrap())
         .collect();
@@ -181,9 +181,12 @@ fn arms_are_paired_and_cases_help() {
     let results = run_experiments(&plans(&toy, &ops, 60), 5, &|_| {}).unwrap();
     for result in &results {
         let names: Vec<&str> = result.arms.iter().map(|a| a.name.as_str()).collect();
-        assert_eq!(names[..BUILTIN_ARMS.len()], BUILTIN_ARMS);
         assert_eq!(
-            names[BUILTIN_ARMS.len()..],
+            names[..lab::builtin_arm_names().len()],
+            lab::builtin_arm_names()
+        );
+        assert_eq!(
+            names[lab::builtin_arm_names().len()..],
             ["smallest-of-four", "case-based+smallest-of-four"]
         );
         let rw = result.arm("random-walk").unwrap();
@@ -313,7 +316,7 @@ fn the_report_folder_holds_every_file() {
     assert_eq!(first["scenario"], "toy");
     assert_eq!(first["operator"], "low");
     assert_eq!(first["trials"], 10);
-    for arm in BUILTIN_ARMS.iter().chain(&["smallest-of-four"]) {
+    for arm in lab::builtin_arm_names().iter().chain(&["smallest-of-four"]) {
         let s = &first["strategies"][arm];
         for key in [
             "mean",
@@ -327,7 +330,10 @@ fn the_report_folder_holds_every_file() {
         assert!(s["cases_acquired"].is_u64(), "{arm}");
     }
     let lines = std::fs::read_to_string(out.join("trials.jsonl")).unwrap();
-    assert_eq!(lines.lines().count(), 2 * (BUILTIN_ARMS.len() + 2) * 10);
+    assert_eq!(
+        lines.lines().count(),
+        2 * (lab::builtin_arm_names().len() + 2) * 10
+    );
     let line: serde_json::Value = serde_json::from_str(lines.lines().next().unwrap()).unwrap();
     assert_eq!(line["experiment"], "toy/low");
     assert_eq!(line["arm"], "random-walk");

@@ -5,7 +5,7 @@
 use lab::Judgement;
 use lab::reference::limit::{DEFAULT_MAX_STATES, Limit, Step, solve_walk};
 use lab::testing::ToyDomain;
-use lab::{Arm, BUILTIN_ARMS, ExperimentPlan, OperatorChoice, run_experiments};
+use lab::{Arm, ExperimentPlan, OperatorChoice, run_experiments};
 use proptest::prelude::*;
 use rand::Rng;
 use trust::AdapterConfig;
@@ -71,7 +71,7 @@ proptest! {
             choice: OperatorChoice::Fixed(0),
             trials: 200,
             adapter: AdapterConfig::default(),
-            arms: BUILTIN_ARMS
+            arms: lab::builtin_arm_names()
                 .iter()
                 .map(|name| Arm::builtin(name, RetrieverKind::Linear).unwrap())
                 .collect(),

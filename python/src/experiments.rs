@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trustcbr::catalog::domain_of;
 use trustcbr::cbr_core::BehaviorSpace;
-use trustcbr::lab::{Arm, BUILTIN_ARMS, Domain, NameOptions};
+use trustcbr::lab::{Arm, Domain, NameOptions};
 use trustcbr::limits::{LANDSCAPE_RUNS, THREADS, TRIALS};
 use trustcbr::missions::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
@@ -28,7 +28,10 @@ use trustcbr::{AddedArm, Catalog, WithArms};
 
 /// The built-in arms' names and the catalog's own, in report order.
 pub fn builtin_arms<C: Catalog>(catalog: &C) -> Vec<String> {
-    let mut names: Vec<String> = BUILTIN_ARMS.iter().map(|&n| n.to_owned()).collect();
+    let mut names: Vec<String> = trustcbr::lab::builtin_arm_names()
+        .into_iter()
+        .map(str::to_owned)
+        .collect();
     for arm in catalog.arms(RetrieverKind::default()) {
         if !names.iter().any(|n| n == arm.name()) {
             names.push(arm.name().to_owned());

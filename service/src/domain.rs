@@ -758,7 +758,7 @@ mod tests {
             "linear"
         );
         let d = d
-            .with_searcher(|_| trust::SearchKind::CauseAware.build())
+            .with_searcher(|_| Box::new(trust::search::CauseAware::new()))
             .with_retriever(|measure| trust::RetrieverKind::ParallelScan.build_measure(measure));
         assert_eq!(d.build_searcher().name(), "cause-aware");
         assert_eq!(

@@ -7,11 +7,11 @@ use crate::catalog::{Catalog, Family, OperatorOf, Readings, resolve_readings};
 use crate::limits::CONTEXT_CYCLE;
 use cbr_core::{Context, ContextSpace};
 use files::{parse_ron, read_text};
+use lab::contract::stating::Stating;
 use lab::reference::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
-use lab::contract::stating::Stating;
-use lab::{BUILTIN_ARMS, Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use lab::{FeedbackChannel, GoalChanges, TrialContexts};
+use lab::{Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -48,7 +48,7 @@ pub struct SuiteConfig {
         deserialize_with = "cbr_core::unique_keys::each_once"
     )]
     pub readings: BTreeMap<String, String>,
-    /// The arms to compare, by name: built-in ([`BUILTIN_ARMS`]) or the catalog's own
+    /// The arms to compare, by name: built-in ([`lab::builtin_arms`]) or the catalog's own
     /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
     /// episode from the case memory's guess); default: every built-in arm. A config may
     /// also write an arm as `(name: "case-based", initial: learned)` (`initial`: `random`,
@@ -195,7 +195,10 @@ fn default_max_commands() -> u64 {
 }
 
 fn default_arms() -> Vec<String> {
-    BUILTIN_ARMS.iter().map(|&a| a.to_owned()).collect()
+    lab::builtin_arm_names()
+        .into_iter()
+        .map(str::to_owned)
+        .collect()
 }
 
 /// Writes a suite's `adapter` without `reuse_cases` and `search`, which the arms choose
@@ -865,8 +868,20 @@ mod tests {
         // The default `reproduce` keeps the nine arms its reports have always had; the
         // built-in arms after them (`hedged`, `case-based+hedged`) run in the benchmark and
         // ladder suites.
-        assert_eq!(config.arms, BUILTIN_ARMS[..9]);
-        assert_eq!(BUILTIN_ARMS[9..], ["hedged", "case-based+hedged"]);
+        assert_eq!(
+            config.arms,
+            [
+                "random-walk",
+                "case-based",
+                "uniform",
+                "cause-aware",
+                "model-based",
+                "conditioned",
+                "case-based+cause-aware",
+                "case-based+model-based",
+                "case-based+conditioned",
+            ]
+        );
     }
 
     #[test]

@@ -7,7 +7,9 @@ use super::{SuiteConfig, SuiteError, invalid};
 use crate::catalog::{Catalog, OperatorOf};
 use cbr_core::Context;
 use lab::Domain;
-use lab::reference::known_operator::{ExperimentLimit, KnownLimitError, KnownOperator, known_operator};
+use lab::reference::known_operator::{
+    ExperimentLimit, KnownLimitError, KnownOperator, known_operator,
+};
 use lab::reference::landscape::Landscape;
 use lab::report::finals_landscapes;
 use lab::seeds::{Purpose, stream_seed};

@@ -159,7 +159,7 @@ mod tests {
         }
         fn arms(&self, _: RetrieverKind) -> Vec<Arm> {
             vec![Arm::search_only("mine", |_| {
-                trust::SearchKind::Uniform.build()
+                Box::new(trust::search::Uniform::new())
             })]
         }
         fn default_suite(&self) -> &str {

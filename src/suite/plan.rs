@@ -8,8 +8,8 @@ use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
 use lab::{
-    Arm, BUILTIN_ARMS, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START,
-    NameOptions, OperatorChoice, PREFERS_COMPETENT,
+    Arm, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START, NameOptions,
+    OperatorChoice, PREFERS_COMPETENT,
 };
 use std::path::Path;
 use trust::RetrieverKind;
@@ -30,9 +30,8 @@ pub fn arm_named<C: Catalog>(
     let arm = match own.iter().find(|a| a.name() == base) {
         Some(arm) => arm.clone(),
         None => Arm::builtin(base, retriever).map_err(|_| {
-            let known: Vec<&str> = BUILTIN_ARMS
-                .iter()
-                .copied()
+            let known: Vec<&str> = lab::builtin_arm_names()
+                .into_iter()
                 .chain(own.iter().map(Arm::name))
                 .collect();
             format!(

@@ -38,7 +38,6 @@ pub(super) fn timeline_of<D: Domain>(
     Timeline {
         experiment: plan.name.clone(),
         arm: plan.arms[arm].name().to_owned(),
-        arm_index: arm,
         record,
         commands,
         thresholds: config.adapter.thresholds,

@@ -17,8 +17,7 @@ use crate::limits::{
 };
 use files::name::check_file_name;
 use lab::{
-    Arm, BUILTIN_ARMS, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split,
-    prefers_competent,
+    Arm, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split, prefers_competent,
 };
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
@@ -187,7 +186,7 @@ impl SuiteConfig {
                     ),
                 ));
             }
-            if !BUILTIN_ARMS.contains(&base) {
+            if lab::builtin_arm(base).is_none() {
                 continue;
             }
             let Ok(arm) = Arm::builtin(name, self.adapter.retriever) else {

@@ -3,8 +3,8 @@
 
 use super::report::{Series, aggregate};
 use super::{Parameter, Sweep, SweepError};
-use lab::report::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use lab::report::category_label;
+use lab::report::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -34,11 +34,7 @@ pub(super) fn plot_parameter(
         axis.push((label.trim_start_matches(&prefix).to_owned(), cell));
     }
     let arms: Vec<String> = arm_order.first().cloned().unwrap_or_default();
-    let styles: Vec<ArmStyle> = arms
-        .iter()
-        .enumerate()
-        .map(|(k, arm)| arm_style(arm, k))
-        .collect();
+    let styles: Vec<ArmStyle> = arms.iter().map(|arm| arm_style(arm)).collect();
     let columns = order.len().clamp(1, 4);
     let rows = order.len().div_ceil(columns).max(1);
     let (panel_width, legend_width) = (340u32, 230u32);

@@ -266,7 +266,7 @@ fn bad_configs_are_rejected() {
     );
     assert!(matches!(parts, Err(trust::ConfigError::Lambda(_))));
     let uniform = AdapterConfig {
-        search: trust::SearchKind::Uniform,
+        search: trust::SearchKind::named("uniform").unwrap(),
         retriever: trust::RetrieverKind::InvertedIndex,
         ..AdapterConfig::default()
     };

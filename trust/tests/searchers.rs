@@ -5,7 +5,7 @@ use trust::testing::check_searcher;
 
 #[test]
 fn every_builtin_searcher_passes_the_kit() {
-    for &kind in SearchKind::ALL {
+    for kind in SearchKind::all() {
         check_searcher(|| kind.build());
     }
 }

@@ -483,13 +483,16 @@ proptest! {
 /// crate depends on `trustcbr` and nothing else of the workspace).
 #[test]
 fn the_kits_reach_a_plug_in_through_the_tool() {
-    trustcbr::trust::testing::check_searcher(|| trustcbr::trust::SearchKind::CauseAware.build());
+    trustcbr::trust::testing::check_searcher(|| {
+        Box::new(trustcbr::trust::search::CauseAware::new())
+    });
 }
 
 /// The warehouse keeps the simulation contract (the lab's domain kit) with every shipped
 /// operator.
 #[test]
 fn the_warehouse_keeps_the_simulation_contract() {
-    let operators = trustcbr::lab::contract::operator_file::named(warehouse::operator::builtin_operators());
+    let operators =
+        trustcbr::lab::contract::operator_file::named(warehouse::operator::builtin_operators());
     trustcbr::lab::testing::check_domain(&WarehouseDomain::new(), &operators);
 }

@@ -18,25 +18,66 @@ use cbr_core::BehaviorSpace;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::sync::Arc;
+use std::sync::LazyLock;
 use trust::retrieval::RetrieverKind;
-use trust::search::{SearchKind, TrustSearcher};
+use trust::search::{Look, Strategy, TrustSearcher, strategies};
 use trust::{RetrieverFactory, SearcherFactory, SetSimilarity};
 use trust::{TrustCaseBase, TrustRetriever};
 
-/// The built-in arms, in report order: the paper's two first.
-pub const BUILTIN_ARMS: [&str; 11] = [
-    "random-walk",
-    "case-based",
-    "uniform",
-    "cause-aware",
-    "model-based",
-    "conditioned",
-    "case-based+cause-aware",
-    "case-based+model-based",
-    "case-based+conditioned",
-    "hedged",
-    "case-based+hedged",
-];
+/// A built-in arm: a registered search strategy ([`trust::search::strategies`]) alone, or
+/// after case reuse (Algorithm 1 first, the strategy when no case fits).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuiltinArm {
+    /// Its name (`cause-aware`, `case-based+cause-aware`; the paper's two are
+    /// `random-walk` and `case-based`).
+    pub name: &'static str,
+    /// What it does, in one line.
+    pub description: &'static str,
+    /// How it looks in figures.
+    pub look: Look,
+    /// The strategy it searches with.
+    pub strategy: &'static Strategy,
+    /// Whether it reuses cases.
+    pub reuses_cases: bool,
+}
+
+/// The built-in arms, read from the strategies' registry: each strategy alone, then after
+/// case reuse where it is offered so; the paper's two first.
+pub fn builtin_arms() -> &'static [BuiltinArm] {
+    static ARMS: LazyLock<Vec<BuiltinArm>> = LazyLock::new(|| {
+        strategies()
+            .iter()
+            .flat_map(|strategy| {
+                let alone = BuiltinArm {
+                    name: strategy.name,
+                    description: strategy.description,
+                    look: strategy.look,
+                    strategy,
+                    reuses_cases: false,
+                };
+                let reusing = strategy.with_cases.map(|with| BuiltinArm {
+                    name: with.name,
+                    description: with.description,
+                    look: with.look,
+                    strategy,
+                    reuses_cases: true,
+                });
+                std::iter::once(alone).chain(reusing)
+            })
+            .collect()
+    });
+    &ARMS
+}
+
+/// The built-in arm named `name` (without suffixes).
+pub fn builtin_arm(name: &str) -> Option<&'static BuiltinArm> {
+    builtin_arms().iter().find(|a| a.name == name)
+}
+
+/// The built-in arms' names, in [`builtin_arms`]' order.
+pub fn builtin_arm_names() -> Vec<&'static str> {
+    builtin_arms().iter().map(|a| a.name).collect()
+}
 
 /// What follows the name of an arm that is not told the robot's context, as the paper's
 /// robot is not ([`Arm::blind_to_context`]): `case-based+context-blind`.
@@ -179,7 +220,7 @@ impl NameOptions {
 /// built in.
 pub fn describe(name: &str) -> Option<String> {
     let (base, options) = NameOptions::of_name(name).ok()?;
-    let what = describe_builtin(base)?;
+    let what = builtin_arm(base)?.description;
     let what = if options.context_blind {
         format!(
             "{what}; blind to the robot's context, as the paper's robot: every episode and case in the default context"
@@ -204,37 +245,6 @@ pub fn describe(name: &str) -> Option<String> {
         )
     } else {
         what
-    })
-}
-
-fn describe_builtin(name: &str) -> Option<&'static str> {
-    Some(match name {
-        "random-walk" => {
-            "the paper's search: from the behavior that resisted longest, an untried behavior at the fewest changes; no case reuse"
-        }
-        "case-based" => {
-            "the paper's strategy: a stored case of a similar situation first (Algorithm 1), the random walk when none fits"
-        }
-        "uniform" => {
-            "an untried behavior uniformly at random: the baseline a learning strategy must beat"
-        }
-        "cause-aware" => {
-            "learns from why commands failed (stated reasons, perceived events) which component values cause trouble, and avoids them"
-        }
-        "model-based" => {
-            "a Gaussian-process model of the current operator's reactions over the behavior space picks the next behavior"
-        }
-        "conditioned" => {
-            "remembers earlier operators' rejected and trusted behaviors, weighed by how much each resembles the current operator"
-        }
-        "case-based+cause-aware" => "case reuse first, the cause-aware search when no case fits",
-        "case-based+model-based" => "case reuse first, the model-based search when no case fits",
-        "case-based+conditioned" => "case reuse first, the conditioned search when no case fits",
-        "hedged" => {
-            "the conditioned search, whose own search when nothing remembered fits lets the cause-aware and model-based searches propose in turn"
-        }
-        "case-based+hedged" => "case reuse first, the hedged search when no case fits",
-        _ => return None,
     })
 }
 
@@ -273,7 +283,7 @@ impl fmt::Debug for Arm {
 
 /// An arm name that is not a built-in one.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{IGNORES_STATEMENTS}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", BUILTIN_ARMS.join(", "))]
+#[error("unknown arm `{name}` (known: {}; each also as NAME{CONTEXT_BLIND}, NAME{IGNORES_STATEMENTS}, NAME{LEARNED_START} and NAME{PREFERS_COMPETENT})", builtin_arm_names().join(", "))]
 pub struct UnknownArm {
     /// The name asked for.
     pub name: String,
@@ -331,10 +341,10 @@ impl Arm {
     /// ```
     /// use lab::Arm;
     /// use trust::RetrieverKind;
-    /// use trust::search::SearchKind;
+    /// use trust::search::Uniform;
     ///
     /// let [alone, reusing] =
-    ///     Arm::search_and_case_based("uniform", |_| SearchKind::Uniform.build(), RetrieverKind::Linear);
+    ///     Arm::search_and_case_based("uniform", |_| Box::new(Uniform::new()), RetrieverKind::Linear);
     /// assert_eq!((alone.name(), alone.reuses_cases()), ("uniform", false));
     /// assert_eq!((reusing.name(), reusing.reuses_cases()), ("case-based+uniform", true));
     /// ```
@@ -421,7 +431,7 @@ impl Arm {
         self.competent_passes
     }
 
-    /// A built-in arm by name ([`BUILTIN_ARMS`]): `NAME` is a search strategy alone and
+    /// A built-in arm by name ([`builtin_arms`]): `NAME` is a search strategy alone and
     /// `case-based+NAME` is Algorithm 1 with it as fallback (`case-based` falls back to
     /// the random walk, as in the paper); case-based arms use `retriever`. Each name
     /// followed by the suffixes of [`NameOptions`] is the same arm with what they add
@@ -431,11 +441,8 @@ impl Arm {
             name: name.to_owned(),
         };
         let (base, options) = NameOptions::of_name(name).map_err(|_| unknown())?;
-        if !BUILTIN_ARMS.contains(&base) {
-            return Err(unknown());
-        }
-        let arm = Self::builtin_random(base, retriever).ok_or_else(unknown)?;
-        Ok(arm.with_name_options(options))
+        let builtin = builtin_arm(base).ok_or_else(unknown)?;
+        Ok(Self::of_builtin(builtin, retriever).with_name_options(options))
     }
 
     /// The same arm with what the suffixes of a name add ([`NameOptions::of_name`]): blind
@@ -460,25 +467,15 @@ impl Arm {
         arm
     }
 
-    /// The built-in arm `name` (one of [`BUILTIN_ARMS`]), starting at random.
-    fn builtin_random(name: &str, retriever: RetrieverKind) -> Option<Self> {
-        let (reuse, search) = match name {
-            "case-based" => (true, "random-walk"),
-            other => match other.strip_prefix("case-based+") {
-                Some(search) => (true, search),
-                None => (false, other),
-            },
-        };
-        let kind = SearchKind::ALL
-            .iter()
-            .copied()
-            .find(|k| k.name() == search)?;
-        let searcher = move |_: &Arc<BehaviorSpace>| kind.build();
-        Some(if reuse {
-            Self::case_based_over(name, searcher, retriever)
+    /// The built-in arm `builtin`, starting at random.
+    fn of_builtin(builtin: &BuiltinArm, retriever: RetrieverKind) -> Self {
+        let build = builtin.strategy.build;
+        let searcher = move |_: &Arc<BehaviorSpace>| build();
+        if builtin.reuses_cases {
+            Self::case_based_over(builtin.name, searcher, retriever)
         } else {
-            Self::search_only(name, searcher)
-        })
+            Self::search_only(builtin.name, searcher)
+        }
     }
 
     /// The arm's name in reports.
@@ -534,7 +531,25 @@ mod tests {
             ])
             .unwrap(),
         );
-        for name in BUILTIN_ARMS {
+        let names = builtin_arm_names();
+        assert_eq!(
+            names,
+            [
+                "random-walk",
+                "case-based",
+                "uniform",
+                "cause-aware",
+                "case-based+cause-aware",
+                "model-based",
+                "case-based+model-based",
+                "conditioned",
+                "case-based+conditioned",
+                "hedged",
+                "case-based+hedged",
+            ],
+            "each strategy alone, then after case reuse where it is offered so"
+        );
+        for name in names {
             let arm = Arm::builtin(name, RetrieverKind::Linear).unwrap();
             assert_eq!(arm.name(), name);
             assert_eq!(arm.reuses_cases(), name.starts_with("case-based"));

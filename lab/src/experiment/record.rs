@@ -42,7 +42,7 @@ pub struct TrialRecord {
     /// Every behavior the trial gave up, in order: the reason its explanation settled on,
     /// how the next one was chosen, and the truth. The full explanations are taken out of
     /// `report` (its `explanations` is empty) to keep an experiment's records small;
-    /// [`trace_trial`] replays a trial with them, and [`ArmResult::samples`] keeps a few.
+    /// [`trace_trial`](crate::trace_trial) replays a trial with them, and [`ArmResult::samples`] keeps a few.
     #[serde(default)]
     pub given_up: Vec<GivenUpRecord>,
     /// What the trial's goal changes were (for evaluation only); `None` when the plan has
@@ -324,7 +324,7 @@ impl ExperimentResult {
     }
 }
 
-/// One command of a trial, as [`trace_trial`] shows it.
+/// One command of a trial, as [`trace_trial`](crate::trace_trial) shows it.
 #[derive(Clone, Copy, Debug)]
 pub struct Step<'a> {
     /// The behavior the command ran with.

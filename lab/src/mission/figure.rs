@@ -24,7 +24,6 @@ const OWN: RGBColor = RGBColor(40, 40, 40);
 pub fn mission_figure(
     area: &Area<'_>,
     plan: &str,
-    arm_index: usize,
     arm: &MissionArmResult,
     thresholds: &Thresholds,
 ) -> DrawResult {
@@ -79,7 +78,7 @@ pub fn mission_figure(
     }
     // Changes first, under the estimate.
     draw_changes(&mut chart, steps, &start, n, (low, high))?;
-    let color = arm_style(&arm.arm, arm_index).color;
+    let color = arm_style(&arm.arm).color;
     if arm.traced.every > 1 {
         // The band of estimates each step's commands reached, under the line.
         let band: Vec<(f64, f64)> = steps

@@ -1,6 +1,6 @@
 //! Missions: long runs of commands in which the operator changes without the robot being
 //! told, and operators may grow complacent (docs/missions.md). A mission suite's plan
-//! ([`plan`]), the course every arm and the oracle share ([`course`]), how missions are run
+//! ([`plan`]), the course every arm and the oracle share (`course`), how missions are run
 //! ([`run`]) and what they leave ([`record`]), the oracle they are measured against
 //! ([`oracle`]), and what a mission suite reports ([`report`], with [`contexts`],
 //! [`noticing`], [`calibration`] and the timeline figure, [`figure`]).
@@ -9,7 +9,7 @@
 
 pub mod calibration;
 pub mod contexts;
-pub mod course;
+pub(crate) mod course;
 pub mod figure;
 pub mod noticing;
 pub mod oracle;

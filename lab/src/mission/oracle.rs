@@ -25,7 +25,7 @@
 //! Each tried behavior's estimate starts at 0 and walks with the outcomes the simulated
 //! operator gives (the runs of the mission's own stream), so its walk, acceptance or
 //! rejection are the adapter's rule ([`trust::Thresholds::verdict`]); its harm follows from
-//! the behaviors it uses. Its records are counted as an arm's are ([`ChangeRecord`]:
+//! the behaviors it uses. Its records are counted as an arm's are ([`ChangeRecord`](crate::mission::ChangeRecord):
 //! untrustworthy commands from the change until it settled again on an accepted behavior,
 //! or the next change, or the end), so each arm's figures are compared with it as
 //! multiples ([`crate::mission::report`]).

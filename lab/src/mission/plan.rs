@@ -174,7 +174,7 @@ pub struct MissionPlan<'a, D: Domain> {
     /// it): every arm then judges every command's behavior ([`trust::competence`]),
     /// raises an overtrust alert once per settled behavior its operator trusts and it
     /// judges not competent, and its records carry the calibration against the truth
-    /// ([`CalibrationRecord`]).
+    /// ([`CalibrationRecord`](crate::mission::CalibrationRecord)).
     pub competence: Option<CompetenceStandard>,
     /// Whether an answered overtrust alert offers a safer behavior
     /// ([`trust::CompetenceAlert::offer`]), which the operator takes when it trusts it

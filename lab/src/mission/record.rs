@@ -70,7 +70,7 @@ impl ChangeRecord {
     }
 }
 
-/// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`]) and
+/// A complacency onset (the operator's attention fell below [`COMPLACENT_BELOW`](crate::mission::COMPLACENT_BELOW)) and
 /// when the robot raised an alert after it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OnsetRecord {
@@ -119,8 +119,8 @@ pub struct MissionRecord {
 }
 
 /// How the robot's judgement of its own competence met the truth during one mission
-/// (the truth of a behavior: the share of [`MissionPlan::truth_runs`] whole commands that
-/// fell short in each part, [`Domain::competence_truth`], against the plan's standard).
+/// (the truth of a behavior: the share of [`MissionPlan::truth_runs`](crate::mission::MissionPlan::truth_runs) whole commands that
+/// fell short in each part, [`Domain::competence_truth`](crate::Domain::competence_truth), against the plan's standard).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CalibrationRecord {
     /// Commands of a watched (settled) behavior.
@@ -137,7 +137,7 @@ pub struct CalibrationRecord {
     /// The overtrust alerts raised: the command, and whether the behavior was truly
     /// competent (a false alert).
     pub alerts: Vec<(u32, bool)>,
-    /// Answered alerts that offered a safer behavior ([`MissionPlan::offer_safer`]).
+    /// Answered alerts that offered a safer behavior ([`MissionPlan::offer_safer`](crate::mission::MissionPlan::offer_safer)).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub offered: u32,
     /// Of those, offers the operator took (it trusts the offered behavior too).
@@ -281,7 +281,7 @@ pub struct MissionResult {
     pub name: String,
     /// Whether operators could grow complacent.
     pub complacency: bool,
-    /// Whether the robot's context switched during missions ([`MissionPlan::contexts`]).
+    /// Whether the robot's context switched during missions ([`MissionPlan::contexts`](crate::mission::MissionPlan::contexts)).
     pub context_switches: bool,
     /// Every arm (answering alerts second, for complacency plans), in the plan's order.
     pub arms: Vec<MissionArmResult>,

@@ -4,17 +4,17 @@
 //! A *mission* is `commands` commands from one population. It starts with a member drawn
 //! at random and the arm's first behavior (the paper's random one, or the case memory's
 //! guess for an arm that starts from it, drawn as a trial's first behavior is); at random
-//! times (exponential gaps of mean [`Changes::every`] commands) the operator changes:
+//! times (exponential gaps of mean [`Changes::every`](crate::mission::Changes::every) commands) the operator changes:
 //! another operator *takes over* (a new person, who starts without trust in the robot) or
 //! the same operator's preferences *shift* to another member's (the context changed; its
-//! trust in the robot carries over). With [`ContextSwitches`] the robot's context (its
+//! trust in the robot carries over). With [`ContextSwitches`](crate::mission::ContextSwitches) the robot's context (its
 //! cargo, the situation it was sent into) also switches at random times, and the robot is
 //! *told* (it knows what it carries): the operator then judges as it does in the new
 //! context ([`Domain::operator_in_context`]). The robot runs in mission mode
 //! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
 //! trial's are (the private `drive` module: the first behavior and each command).
 //!
-//! With a [`Complacency`] model the operator's attention falls as its own trust in the
+//! With a [`Complacency`](crate::mission::Complacency) model the operator's attention falls as its own trust in the
 //! robot builds: each arm then runs twice on the same streams, once ignoring the robot's
 //! alerts and once answering them (the operator is asked to supervise and looks afresh:
 //! its trust restarts from nothing and its attention is whole again), so the harm done

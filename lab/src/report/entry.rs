@@ -23,7 +23,7 @@ pub struct ReportEntry<'a> {
     /// The behavior space, to show behaviors in real units.
     pub space: &'a BehaviorSpace,
     /// The operator's landscapes the final behaviors are drawn over, one per pair of
-    /// [`component_pairs`] ([`finals_landscapes`]); empty to draw them on white.
+    /// [`component_pairs`](crate::report::component_pairs) ([`finals_landscapes`](crate::report::finals_landscapes)); empty to draw them on white.
     pub landscapes: &'a [Landscape],
     /// The known-operator limit of the experiment ([`crate::reference::known_operator`]), when
     /// computed.

@@ -102,28 +102,8 @@ const ARM_COLORS: [RGBColor; 8] = [
     RGBColor(120, 120, 120),
 ];
 
-/// A marker's shape; every shape of one size has about the same area.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shape {
-    /// A disc.
-    Circle,
-    /// A square on its side.
-    Square,
-    /// A square on its corner.
-    Diamond,
-    /// A triangle pointing up.
-    TriangleUp,
-    /// A triangle pointing down.
-    TriangleDown,
-    /// A regular pentagon.
-    Pentagon,
-    /// A regular hexagon.
-    Hexagon,
-    /// A five-pointed star.
-    Star,
-    /// A plus sign with thick arms.
-    Plus,
-}
+/// A marker's shape (as the strategies' registry names it: [`trust::search::Marker`]).
+pub use trust::search::Marker as Shape;
 
 const SHAPES: [Shape; 9] = [
     Shape::Circle,
@@ -137,9 +117,18 @@ const SHAPES: [Shape; 9] = [
     Shape::Plus,
 ];
 
-impl Shape {
+/// How a marker is drawn.
+pub trait Outline {
     /// The vertices of the shape centred on `(x, y)` with the area of a disc of radius
     /// `r` (pixels); `None` for the disc itself.
+    fn vertices(self, at: (f64, f64), r: f64) -> Option<Vec<(f64, f64)>>;
+
+    /// The shape as one SVG element, centred on `at`, of the area of a disc of radius `r`
+    /// (pixels); the style comes from the enclosing group.
+    fn element(self, at: (f64, f64), r: f64) -> String;
+}
+
+impl Outline for Shape {
     fn vertices(self, (x, y): (f64, f64), r: f64) -> Option<Vec<(f64, f64)>> {
         use std::f64::consts::{FRAC_PI_2, PI, TAU};
         // A regular n-gon with circumradius R has area n/2 R^2 sin(2 pi / n).
@@ -195,9 +184,7 @@ impl Shape {
         })
     }
 
-    /// The shape as one SVG element, centred on `(x, y)`, of the area of a disc of radius
-    /// `r` (pixels); the style comes from the enclosing group.
-    pub fn element(self, at: (f64, f64), r: f64) -> String {
+    fn element(self, at: (f64, f64), r: f64) -> String {
         match self.vertices(at, r) {
             None => format!(
                 "<circle cx=\"{}\" cy=\"{}\" r=\"{}\"/>",
@@ -227,29 +214,30 @@ pub struct ArmStyle {
 
 /// The styles of a figure's arms, in the order of `names` ([`arm_style`] of each).
 pub fn arm_styles(names: &[&str]) -> Vec<ArmStyle> {
-    names
-        .iter()
-        .enumerate()
-        .map(|(i, name)| arm_style(name, i))
-        .collect()
+    names.iter().map(|name| arm_style(name)).collect()
 }
 
-/// The style of the arm named `name`, at `index` in its experiment: each built-in arm
-/// ([`crate::experiment::arm::BUILTIN_ARMS`]) has its own, the same in every figure of every report
-/// and sweep (the paper's two: vermillion discs and blue squares); a built-in arm with
-/// suffixes ([`crate::experiment::arm::NameOptions`]: blind to context, starting from the case
-/// memory's guess) has its base arm's shape in another colour for each, never one of the
-/// paper's two; another arm gets one by its index.
-pub fn arm_style(name: &str, index: usize) -> ArmStyle {
+/// The style of the arm named `name`, by its name alone, the same in every figure of every
+/// report and sweep: a built-in arm's is the look the strategies' registry gives it
+/// ([`crate::experiment::arm::builtin_arms`]; the paper's two: vermillion discs and blue
+/// squares); a built-in arm with suffixes ([`crate::experiment::arm::NameOptions`]: blind
+/// to context or deaf to statements, starting from the case memory's guess) has its base
+/// arm's marker in another colour for each, never one of the paper's two; any other arm
+/// (a user's) one of the palette's colours but the paper's two and a marker, both drawn
+/// from its name.
+pub fn arm_style(name: &str) -> ArmStyle {
     let (base, options) =
         crate::experiment::arm::NameOptions::of_name(name).unwrap_or((name, Default::default()));
-    let builtin = crate::experiment::arm::BUILTIN_ARMS
-        .iter()
-        .position(|&a| a == base);
-    let k = builtin.unwrap_or(index);
-    // The paper's two colours are theirs alone; the others take turns, the base arm's
-    // `k + 4` places along them (`k - 2`), each suffix's at its own distance from it.
-    let others = ARM_COLORS.len() - 2;
+    let Some(builtin) = crate::experiment::arm::builtin_arm(base) else {
+        let drawn = name_hash(name);
+        let others = ARM_COLORS.len() as u64 - 2;
+        return ArmStyle {
+            color: ARM_COLORS[2 + (drawn % others) as usize],
+            shape: SHAPES[((drawn / others) % SHAPES.len() as u64) as usize],
+        };
+    };
+    let [r, g, b] = builtin.look.colour;
+    let color = RGBColor(r, g, b);
     // An arm deaf to statements is drawn as one blind to context: each is its twin's
     // counterpart, and a suite compares one kind of twin at a time.
     let unaware = options.context_blind || options.ignores_statements;
@@ -259,15 +247,26 @@ pub fn arm_style(name: &str, index: usize) -> ArmStyle {
         (true, Initial::Random) => Some(5),
         (true, Initial::Learned) => Some(1),
     };
-    let color = match (builtin, shift) {
-        (Some(_), Some(shift)) => 2 + (k + shift) % others,
-        _ if k < 2 => k,
-        _ => 2 + (k - 2) % others,
+    // A variant's colour is its base arm's palette place moved on by its suffixes', among
+    // the colours but the paper's two.
+    let color = match shift {
+        None => color,
+        Some(shift) => {
+            let place = ARM_COLORS.iter().position(|&c| c == color).unwrap_or(0);
+            ARM_COLORS[2 + (place + shift) % (ARM_COLORS.len() - 2)]
+        }
     };
     ArmStyle {
-        color: ARM_COLORS[color],
-        shape: SHAPES[k % SHAPES.len()],
+        color,
+        shape: builtin.look.marker,
     }
+}
+
+/// A stable hash of an arm's name (FNV-1a), from which a user's arm draws its style.
+fn name_hash(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325, |hash, byte| {
+        (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 /// The order in which to draw arms named `names` so that the paper's two
@@ -594,31 +593,26 @@ mod tests {
 
     #[test]
     fn arms_keep_their_style_and_the_paper_s_two_come_last() {
-        assert_eq!(arm_style("case-based", 7), arm_style("case-based", 1));
-        assert_eq!(arm_style("random-walk", 0).color, RGBColor(213, 94, 0));
-        let builtin: Vec<ArmStyle> = crate::experiment::arm::BUILTIN_ARMS
-            .iter()
-            .enumerate()
-            .map(|(i, a)| arm_style(a, i))
-            .collect();
-        // Shapes are told apart first; beyond the shapes there are, colour and shape
-        // together.
+        assert_eq!(arm_style("random-walk").color, RGBColor(213, 94, 0));
+        assert_eq!(arm_style("random-walk").shape, Shape::Circle);
+        assert_eq!(arm_style("case-based").color, RGBColor(0, 114, 178));
+        assert_eq!(arm_style("case-based").shape, Shape::Square);
+        let names = crate::experiment::arm::builtin_arm_names();
+        let builtin: Vec<ArmStyle> = names.iter().map(|a| arm_style(a)).collect();
+        // No two built-in arms alike, and none but the paper's two in their colours.
         for (i, a) in builtin.iter().enumerate() {
-            if i < SHAPES.len() {
-                assert!(builtin[..i].iter().all(|b| b.shape != a.shape));
-            }
             assert!(builtin[..i].iter().all(|b| b != a));
             assert!(i < 2 || builtin[..2].iter().all(|b| b.color != a.color));
         }
         // A learned start, a blind arm and both keep their base arm's shape, each in a
         // colour of its own.
-        for (k, name) in crate::experiment::arm::BUILTIN_ARMS.iter().enumerate() {
+        for (k, name) in names.iter().enumerate() {
             let varied = [
                 "+learned-start",
                 "+context-blind",
                 "+context-blind+learned-start",
             ]
-            .map(|suffixes| arm_style(&format!("{name}{suffixes}"), 0));
+            .map(|suffixes| arm_style(&format!("{name}{suffixes}")));
             for (i, style) in varied.iter().enumerate() {
                 assert_eq!(style.shape, builtin[k].shape);
                 assert_ne!(style.color, builtin[k].color);
@@ -626,6 +620,11 @@ mod tests {
                 assert!(varied[..i].iter().all(|v| v.color != style.color));
             }
         }
+        // A user's arm: its style is its name's, never the paper's colours, wherever it
+        // is listed.
+        let mine = arm_style("my-annealing");
+        assert_eq!(arm_styles(&["x", "my-annealing"])[1], mine);
+        assert!(builtin[..2].iter().all(|b| b.color != mine.color));
         assert_eq!(
             drawing_order(&["uniform", "case-based", "random-walk", "x"]),
             [0, 3, 2, 1]

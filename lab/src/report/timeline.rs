@@ -17,8 +17,6 @@ pub struct Timeline {
     pub experiment: String,
     /// The arm's name.
     pub arm: String,
-    /// The arm's index in the experiment (its colour).
-    pub arm_index: usize,
     /// The trial's record.
     pub record: TrialRecord,
     /// Every command, in order.
@@ -278,7 +276,7 @@ pub fn timeline_figure(area: &Area<'_>, timeline: &Timeline) -> DrawResult {
             ("sans-serif", 13).into_font(),
         )))?;
     }
-    let color = arm_style(&timeline.arm, timeline.arm_index).color;
+    let color = arm_style(&timeline.arm).color;
     // Each behavior's estimate, from zero at its first command.
     let mut segment: Vec<(f64, f64)> = vec![(0.0, 0.0)];
     for (i, c) in timeline.commands.iter().enumerate() {
@@ -414,7 +412,6 @@ mod tests {
         let timeline = Timeline {
             experiment: "picking".into(),
             arm: "random-walk".into(),
-            arm_index: 0,
             record,
             commands,
             thresholds: Thresholds {

@@ -31,6 +31,7 @@
 //! say nothing; no rule about any particular domain or cause is written here.
 
 use super::propose_untried;
+use super::registry::{Look, Marker, Strategy, WithCases};
 use super::untried::{cheapest, draw_untried};
 use super::value_counts::ValueCounts;
 use crate::Cause;
@@ -111,6 +112,25 @@ pub struct CauseAware {
     /// Untried behaviors scored for the last proposal (for its rationale).
     last_pool: usize,
 }
+
+/// The cause-aware search as the tool offers it, alone and after case reuse.
+pub const STRATEGY: Strategy = Strategy {
+    name: "cause-aware",
+    description: "learns from why commands failed (stated reasons, perceived events) which component values cause trouble, and avoids them",
+    look: Look {
+        colour: [230, 159, 0],
+        marker: Marker::TriangleUp,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based+cause-aware",
+        description: "case reuse first, the cause-aware search when no case fits",
+        look: Look {
+            colour: [86, 180, 233],
+            marker: Marker::Hexagon,
+        },
+    }),
+    build: || Box::new(CauseAware::new()),
+};
 
 impl CauseAware {
     /// A cause-aware searcher that knows nothing yet.
@@ -246,7 +266,7 @@ impl Searcher for CauseAware {
     type Feedback = Outcome;
 
     fn name(&self) -> &str {
-        "cause-aware"
+        STRATEGY.name
     }
 
     // It weighs signals by what earlier operators who stated the same bore, in every

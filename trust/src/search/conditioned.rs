@@ -39,6 +39,7 @@
 
 use super::CauseAware;
 use super::propose_untried;
+use super::registry::{Look, Marker, Strategy, WithCases};
 #[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
@@ -122,11 +123,51 @@ impl Default for Conditioned {
     }
 }
 
+/// The conditioned search as the tool offers it, alone and after case reuse.
+pub const STRATEGY: Strategy = Strategy {
+    name: "conditioned",
+    description: "remembers earlier operators' rejected and trusted behaviors, weighed by how much each resembles the current operator",
+    look: Look {
+        colour: [204, 121, 167],
+        marker: Marker::Pentagon,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based+conditioned",
+        description: "case reuse first, the conditioned search when no case fits",
+        look: Look {
+            colour: [0, 0, 0],
+            marker: Marker::Plus,
+        },
+    }),
+    build: || Box::new(Conditioned::new()),
+};
+
+/// The hedged search (the conditioned one falling back to the cause-aware and the
+/// model-based searches in turn) as the tool offers it, alone and after case reuse.
+#[cfg(feature = "model-based")]
+pub const HEDGED: Strategy = Strategy {
+    name: "hedged",
+    description: "the conditioned search, whose own search when nothing remembered fits lets the cause-aware and model-based searches propose in turn",
+    look: Look {
+        colour: [230, 159, 0],
+        marker: Marker::Circle,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based+hedged",
+        description: "case reuse first, the hedged search when no case fits",
+        look: Look {
+            colour: [0, 158, 115],
+            marker: Marker::Square,
+        },
+    }),
+    build: || Box::new(Conditioned::hedged()),
+};
+
 impl Conditioned {
     /// A conditioned searcher that remembers no episode yet, falling back to the
     /// cause-aware search (`conditioned`).
     pub fn new() -> Self {
-        Self::with_fallback("conditioned", CauseAware::new())
+        Self::with_fallback(STRATEGY.name, CauseAware::new())
     }
 }
 
@@ -140,7 +181,7 @@ impl Conditioned<HedgedFallback> {
     /// cause-aware and the model-based searches in turn (`hedged`).
     pub fn hedged() -> Self {
         Self::with_fallback(
-            "hedged",
+            HEDGED.name,
             Alternating::new(CauseAware::new(), ModelBased::new()),
         )
     }

@@ -13,7 +13,8 @@
 //!   `hedged` (the `model-based` feature) it falls back to the cause-aware and the
 //!   model-based searches taking turns ([`Alternating`]).
 //!
-//! [`SearchKind`] names the built-in ones in configs.
+//! Each file declares its strategy (`STRATEGY`), registered in one place
+//! ([`registry::strategies`]); [`SearchKind`] names a registered one in configs.
 
 pub mod alternating;
 pub mod cause_aware;
@@ -21,6 +22,7 @@ pub mod conditioned;
 #[cfg(feature = "model-based")]
 pub mod model_based;
 pub mod random_walk;
+pub mod registry;
 pub mod uniform;
 mod untried;
 pub mod value_counts;
@@ -31,6 +33,7 @@ pub use conditioned::Conditioned;
 #[cfg(feature = "model-based")]
 pub use model_based::ModelBased;
 pub use random_walk::RandomWalk;
+pub use registry::{Look, Marker, Rgb, Strategy, WithCases, strategies, strategy};
 pub use uniform::Uniform;
 pub use untried::{best_untried, cheapest, draw_untried, evaluated_set};
 pub use value_counts::ValueCounts;
@@ -79,75 +82,90 @@ pub fn propose_untried(
     }
 }
 
-/// The built-in search strategies a config can name.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-#[non_exhaustive]
-pub enum SearchKind {
-    /// The paper's random walk ([`RandomWalk`]).
-    #[default]
-    RandomWalk,
-    /// Uniform among untried behaviors ([`Uniform`]).
-    Uniform,
-    /// Cause-aware search ([`CauseAware`]).
-    CauseAware,
-    /// Model-based search (`ModelBased`; the `model-based` feature).
-    #[cfg(feature = "model-based")]
-    ModelBased,
-    /// Conditioned search ([`Conditioned`]).
-    Conditioned,
-    /// Conditioned search falling back to the cause-aware and the model-based searches in
-    /// turn ([`Conditioned::hedged`]; the `model-based` feature).
-    #[cfg(feature = "model-based")]
-    Hedged,
-}
+/// A built-in search strategy as a config names it (`search: cause_aware`): one of
+/// [`registry::strategies`], written with `_` for `-`. The paper's random walk by default.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct SearchKind(&'static Strategy);
 
 impl SearchKind {
-    /// Every kind built in, the paper's first.
-    #[cfg(feature = "model-based")]
-    pub const ALL: &[SearchKind] = &[
-        SearchKind::RandomWalk,
-        SearchKind::Uniform,
-        SearchKind::CauseAware,
-        SearchKind::ModelBased,
-        SearchKind::Conditioned,
-        SearchKind::Hedged,
-    ];
-    /// Every kind built in, the paper's first.
-    #[cfg(not(feature = "model-based"))]
-    pub const ALL: &[SearchKind] = &[
-        SearchKind::RandomWalk,
-        SearchKind::Uniform,
-        SearchKind::CauseAware,
-        SearchKind::Conditioned,
-    ];
+    /// The built-in strategy named `name` (as in arm names: `cause-aware`).
+    pub fn named(name: &str) -> Option<Self> {
+        registry::strategy(name).map(Self)
+    }
 
-    /// A fresh searcher of this kind.
+    /// Every built-in strategy, the paper's first.
+    pub fn all() -> impl Iterator<Item = SearchKind> {
+        registry::strategies().iter().map(Self)
+    }
+
+    /// A fresh searcher of this strategy.
     pub fn build(self) -> Box<TrustSearcher> {
-        match self {
-            SearchKind::RandomWalk => Box::new(RandomWalk::new()),
-            SearchKind::Uniform => Box::new(Uniform::new()),
-            SearchKind::CauseAware => Box::new(CauseAware::new()),
-            #[cfg(feature = "model-based")]
-            SearchKind::ModelBased => Box::new(ModelBased::new()),
-            SearchKind::Conditioned => Box::new(Conditioned::new()),
-            #[cfg(feature = "model-based")]
-            SearchKind::Hedged => Box::new(Conditioned::hedged()),
-        }
+        (self.0.build)()
     }
 
     /// The strategy's name in reports and arm names (`random-walk`, `cause-aware`, ...).
     pub fn name(self) -> &'static str {
-        match self {
-            SearchKind::RandomWalk => "random-walk",
-            SearchKind::Uniform => "uniform",
-            SearchKind::CauseAware => "cause-aware",
-            #[cfg(feature = "model-based")]
-            SearchKind::ModelBased => "model-based",
-            SearchKind::Conditioned => "conditioned",
-            #[cfg(feature = "model-based")]
-            SearchKind::Hedged => "hedged",
+        self.0.name
+    }
+
+    /// The strategy as registered.
+    pub fn strategy(self) -> &'static Strategy {
+        self.0
+    }
+}
+
+impl Default for SearchKind {
+    fn default() -> Self {
+        Self(&registry::strategies()[0])
+    }
+}
+
+impl std::fmt::Debug for SearchKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.0.config_name())
+    }
+}
+
+impl Serialize for SearchKind {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let index = registry::strategies()
+            .iter()
+            .position(|s| s == self.0)
+            .unwrap_or(0);
+        serializer.serialize_unit_variant(
+            "SearchKind",
+            u32::try_from(index).unwrap_or(u32::MAX),
+            self.0.config_name(),
+        )
+    }
+}
+
+impl<'de> Deserialize<'de> for SearchKind {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Name;
+        impl serde::de::Visitor<'_> for Name {
+            type Value = SearchKind;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a search strategy's name")
+            }
+            fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<SearchKind, E> {
+                registry::strategies()
+                    .iter()
+                    .find(|s| s.config_name() == name)
+                    .map(SearchKind)
+                    .ok_or_else(|| {
+                        let known: Vec<&str> = registry::strategies()
+                            .iter()
+                            .map(Strategy::config_name)
+                            .collect();
+                        E::custom(format!(
+                            "unknown search `{name}`, expected one of {}",
+                            known.join(", ")
+                        ))
+                    })
+            }
         }
+        deserializer.deserialize_identifier(Name)
     }
 }
 

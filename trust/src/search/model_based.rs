@@ -25,6 +25,7 @@
 //! depend on threads.
 
 use super::propose_untried;
+use super::registry::{Look, Marker, Strategy, WithCases};
 use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
@@ -128,6 +129,25 @@ pub struct ModelBased {
     population: PopulationMeans,
     largest_weight: f64,
 }
+
+/// The model-based search as the tool offers it, alone and after case reuse.
+pub const STRATEGY: Strategy = Strategy {
+    name: "model-based",
+    description: "a Gaussian-process model of the current operator's reactions over the behavior space picks the next behavior",
+    look: Look {
+        colour: [0, 158, 115],
+        marker: Marker::TriangleDown,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based+model-based",
+        description: "case reuse first, the model-based search when no case fits",
+        look: Look {
+            colour: [120, 120, 120],
+            marker: Marker::Star,
+        },
+    }),
+    build: || Box::new(ModelBased::new()),
+};
 
 impl ModelBased {
     /// A model-based searcher.
@@ -357,7 +377,7 @@ impl Searcher for ModelBased {
     type Feedback = Outcome;
 
     fn name(&self) -> &str {
-        "model-based"
+        STRATEGY.name
     }
 
     // It proposes from the episode's own outcomes alone: told a context or statements, it

@@ -6,6 +6,7 @@
 //! `E_max`'s behavior.
 
 use super::longest_resisting;
+use super::registry::{Look, Marker, Strategy, WithCases};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
 use rand::{Rng, RngCore};
@@ -20,6 +21,26 @@ pub struct RandomWalk {
     seen_prefix: usize,
     first: Option<Behavior>,
 }
+
+/// The paper's random walk as the tool offers it, alone and after case reuse (the paper's
+/// case-based strategy).
+pub const STRATEGY: Strategy = Strategy {
+    name: "random-walk",
+    description: "the paper's search: from the behavior that resisted longest, an untried behavior at the fewest changes; no case reuse",
+    look: Look {
+        colour: [213, 94, 0],
+        marker: Marker::Circle,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based",
+        description: "the paper's strategy: a stored case of a similar situation first (Algorithm 1), the random walk when none fits",
+        look: Look {
+            colour: [0, 114, 178],
+            marker: Marker::Square,
+        },
+    }),
+    build: || Box::new(RandomWalk::new()),
+};
 
 impl RandomWalk {
     /// A new random walk.
@@ -73,7 +94,7 @@ impl Searcher for RandomWalk {
     type Feedback = Outcome;
 
     fn name(&self) -> &str {
-        "random-walk"
+        STRATEGY.name
     }
 
     // It proposes from the episode's evidence alone: told a context or statements, it

@@ -6,6 +6,7 @@
 //! claim about a strategy is made against it as well.
 
 use super::propose_untried;
+use super::registry::{Look, Marker, Strategy};
 use super::untried::draw_untried;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Proposal, Rationale, Searcher};
@@ -15,6 +16,18 @@ use rand::RngCore;
 /// stops and keeps `E_max`, as the random walk does.
 #[derive(Clone, Debug, Default)]
 pub struct Uniform;
+
+/// The uniform search as the tool offers it: alone, the baseline.
+pub const STRATEGY: Strategy = Strategy {
+    name: "uniform",
+    description: "an untried behavior uniformly at random: the baseline a learning strategy must beat",
+    look: Look {
+        colour: [0, 0, 0],
+        marker: Marker::Diamond,
+    },
+    with_cases: None,
+    build: || Box::new(Uniform::new()),
+};
 
 impl Uniform {
     /// The uniform sampler.
@@ -28,7 +41,7 @@ impl Searcher for Uniform {
     type Feedback = Outcome;
 
     fn name(&self) -> &str {
-        "uniform"
+        STRATEGY.name
     }
 
     // It proposes from the episode's evidence alone: told a context or statements, it

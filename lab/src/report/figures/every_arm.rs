@@ -221,11 +221,11 @@ pub(super) fn every_arm_figure(
         .first()
         .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
         .unwrap_or_default();
-    for (a, name) in arm_names.iter().enumerate() {
-        legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name, a))));
+    for name in &arm_names {
+        legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name))));
     }
     for a in drawing_order(&arm_names) {
-        let style = arm_style(arm_names[a], a);
+        let style = arm_style(arm_names[a]);
         let color = style.color;
         let offset = (a as f64 + 0.5) / arms as f64 * 0.7 - 0.35;
         let points: Vec<(f64, Interval)> = figure

@@ -284,7 +284,7 @@ pub(super) fn small_multiples(
             let Some(Some(line)) = series.get(a) else {
                 continue;
             };
-            let style = arm_style(names[a], a);
+            let style = arm_style(names[a]);
             chart.draw_series(LineSeries::new(
                 line.iter().map(|&(x, y)| (scale(x), y)),
                 style.color.stroke_width(2),
@@ -309,7 +309,7 @@ pub(super) fn small_multiples(
                 .iter()
                 .any(|s| matches!(s.get(a), Some(Some(_))))
         })
-        .map(|(a, name)| ((*name).to_owned(), Key::LineMarker(arm_style(name, a))))
+        .map(|(_, name)| ((*name).to_owned(), Key::LineMarker(arm_style(name))))
         .collect();
     legend(&side, overlay, &drawn)
 }
