@@ -12,7 +12,7 @@ use crate::limits::{
     COMPETENCE_COMMANDS, COMPETENCE_ESTIMATES, LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR,
     SIMULATED_COMMANDS, THREADS, TRIALS,
 };
-use crate::missions::{MissionSuiteConfig, is_mission_suite};
+use crate::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use crate::own_files;
 use crate::progress::Progress;
 use crate::run::{
@@ -933,7 +933,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
     let measured = check_competence_cost(args, domain.space().size())?;
     files::output::ensure_writable_dir(&args.out)?;
     own_files::check_all(&args.out, &own_files::COMPETENCE)?;
-    let settings = lab::reference::competence::CompetenceSettings {
+    let settings = lab::reference::competence_truth::CompetenceSettings {
         behaviors: args.behaviors,
         seen: args.seen.clone(),
         truth_runs: args.truth_runs,
@@ -947,7 +947,7 @@ fn competence<C: Catalog>(catalog: &C, args: &CompetenceArgs) -> Result<()> {
             measured,
         )],
     );
-    let accuracy = lab::reference::competence::measure(
+    let accuracy = lab::reference::competence_truth::measure(
         &domain,
         &operator_name,
         &operator,

@@ -14,7 +14,7 @@
 //! - [`limits`]: every cap on what the tool is asked, in one table, with its checks;
 //! - [`suite`]: suite configs (RON) and their runs and reports;
 //! - [`sweep`]: suites over seeds and parameter values, sharded and merged;
-//! - [`missions`]: mission suites (long missions, operator changes, complacency) and
+//! - [`mission_suite`]: mission suites (long missions, operator changes, complacency) and
 //!   their reports;
 //! - [`run`]: a suite run with its report folder, as `run` does it;
 //! - [`served`]: the domain and strategy `serve` serves;
@@ -37,7 +37,7 @@ pub mod catalog;
 pub mod cli;
 pub mod config_file;
 pub mod limits;
-pub mod missions;
+pub mod mission_suite;
 pub mod own_files;
 pub mod progress;
 pub mod run;

@@ -2,9 +2,9 @@
 //! suites (experiment and mission suites), the sweeps and the Python package check their
 //! counts here, so a count refused by one is refused by all, with the same message.
 //!
-//! A [`Limit`] is the range one count may take and why; [`Limit::check`] refuses a count
-//! outside it and [`Limit::check_total`] an estimate (a suite's trials, a mission suite's
-//! commands) above it, each with a [`LimitError`] naming the field, the value or estimate,
+//! A [`Bound`] is the range one count may take and why; [`Bound::check`] refuses a count
+//! outside it and [`Bound::check_total`] an estimate (a suite's trials, a mission suite's
+//! commands) above it, each with a [`BoundError`] naming the field, the value or estimate,
 //! and the range. [`TABLE`] lists them all (docs/robustness.md shows it). The numbers come
 //! from the 2-core, 24 GiB machine of docs/results.md: what a count costs there is said
 //! beside each.
@@ -17,7 +17,7 @@ use trust::Thresholds;
 
 /// The range one count may take, and why.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Limit {
+pub struct Bound {
     /// What is counted, in the plural (`trials`, `worker threads`).
     pub counts: &'static str,
     /// The least allowed.
@@ -28,10 +28,10 @@ pub struct Limit {
     pub why: &'static str,
 }
 
-/// A count or an estimate outside its [`Limit`].
+/// A count or an estimate outside its [`Bound`].
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
-pub enum LimitError {
+pub enum BoundError {
     /// A count outside its range.
     #[error("{field}: {}", self.problem())]
     Range {
@@ -40,7 +40,7 @@ pub enum LimitError {
         /// The count given.
         value: u64,
         /// The limit.
-        limit: Limit,
+        limit: Bound,
     },
     /// An estimate of the whole above its cap.
     #[error("{field}: {}", self.problem())]
@@ -52,7 +52,7 @@ pub enum LimitError {
         /// How it was reached, e.g. ` in all (7 experiments x 2 arms x 500 trials)`.
         detail: String,
         /// The limit.
-        limit: Limit,
+        limit: Bound,
     },
     /// A threshold beyond [`MAX_THRESHOLD`].
     #[error("{field}: {}", self.problem())]
@@ -64,7 +64,7 @@ pub enum LimitError {
     },
 }
 
-impl LimitError {
+impl BoundError {
     /// The field at fault.
     pub fn field(&self) -> &str {
         match self {
@@ -76,7 +76,7 @@ impl LimitError {
 
     /// What is wrong and what is allowed, without the field.
     pub fn problem(&self) -> String {
-        let why = |limit: &Limit| {
+        let why = |limit: &Bound| {
             if limit.why.is_empty() {
                 String::new()
             } else {
@@ -110,18 +110,18 @@ impl LimitError {
     }
 }
 
-impl Limit {
+impl Bound {
     /// The range as an inclusive range.
     pub const fn range(&self) -> std::ops::RangeInclusive<u64> {
         self.min..=self.max
     }
 
     /// Refuses `value` of `field` outside the range.
-    pub fn check(&self, field: &str, value: u64) -> Result<(), LimitError> {
+    pub fn check(&self, field: &str, value: u64) -> Result<(), BoundError> {
         if self.range().contains(&value) {
             Ok(())
         } else {
-            Err(LimitError::Range {
+            Err(BoundError::Range {
                 field: field.to_owned(),
                 value,
                 limit: *self,
@@ -136,11 +136,11 @@ impl Limit {
         field: &str,
         estimate: u64,
         detail: String,
-    ) -> Result<(), LimitError> {
+    ) -> Result<(), BoundError> {
         if estimate <= self.max {
             Ok(())
         } else {
-            Err(LimitError::Total {
+            Err(BoundError::Total {
                 field: field.to_owned(),
                 estimate,
                 detail,
@@ -156,7 +156,7 @@ impl Limit {
 pub use cbr_core::shown;
 
 /// Trials per experiment and arm (`trials`, `--trials`, Python `trials=`).
-pub const TRIALS: Limit = Limit {
+pub const TRIALS: Bound = Bound {
     counts: "trials",
     min: 1,
     max: 100_000,
@@ -165,7 +165,7 @@ pub const TRIALS: Limit = Limit {
 
 /// Experiments of a suite, and mission plans of a mission suite: each writes its own
 /// figures.
-pub const EXPERIMENTS: Limit = Limit {
+pub const EXPERIMENTS: Bound = Bound {
     counts: "experiments",
     min: 1,
     max: 1_000,
@@ -176,7 +176,7 @@ pub const EXPERIMENTS: Limit = Limit {
 /// until the report is written: about 24 KB each (measured: `reproduce --arms
 /// random-walk,case-based` peaks at 207 MB with 7,000 trials and 869 MB with 35,000), so
 /// this is about 6 GB, and some 3 minutes of the two cores for the paper's arms.
-pub const SUITE_TRIALS: Limit = Limit {
+pub const SUITE_TRIALS: Bound = Bound {
     counts: "trials",
     min: 1,
     max: 250_000,
@@ -185,7 +185,7 @@ pub const SUITE_TRIALS: Limit = Limit {
 
 /// Commands after which a trial is abandoned (`max_commands`): the paper's suite uses the
 /// most.
-pub const MAX_COMMANDS: Limit = Limit {
+pub const MAX_COMMANDS: Bound = Bound {
     counts: "commands",
     min: 1,
     max: 1_000_000,
@@ -195,7 +195,7 @@ pub const MAX_COMMANDS: Limit = Limit {
 /// Commands of a traced trial kept for the report's timeline (the sample arm traces its
 /// first trials; a longer trial is not drawn): 25 traces of at most this many commands,
 /// about 300 MB.
-pub const TRACED_COMMANDS: Limit = Limit {
+pub const TRACED_COMMANDS: Bound = Bound {
     counts: "commands",
     min: 0,
     max: lab::experiment::record::MAX_TRACED_COMMANDS,
@@ -205,7 +205,7 @@ pub const TRACED_COMMANDS: Limit = Limit {
 /// Runs per cell of a report's landscapes (`landscape_runs`, `--landscape-runs`; 0: none):
 /// the default, 200, costs about 2.5 s of the two cores for `reproduce`'s landscapes, so
 /// this about 2 minutes.
-pub const LANDSCAPE_RUNS: Limit = Limit {
+pub const LANDSCAPE_RUNS: Bound = Bound {
     counts: "runs",
     min: 0,
     max: 10_000,
@@ -214,7 +214,7 @@ pub const LANDSCAPE_RUNS: Limit = Limit {
 
 /// Runs per behavior of `trustcbr landscape --runs` and the Python `landscape(runs=)`,
 /// and of the known-operator limit's `limit.runs`: as [`LANDSCAPE_RUNS`], at least one.
-pub const RUNS_PER_BEHAVIOR: Limit = Limit {
+pub const RUNS_PER_BEHAVIOR: Bound = Bound {
     counts: "runs",
     min: 1,
     max: 10_000,
@@ -225,7 +225,7 @@ pub const RUNS_PER_BEHAVIOR: Limit = Limit {
 /// and second (`limit.candidates` x `limit.candidate_runs`) estimate each: 50 times the
 /// defaults' 160,000 and 12,800, which with the landscapes take about 2.5 s of the two
 /// cores for `reproduce`.
-pub const LIMIT_RUNS: Limit = Limit {
+pub const LIMIT_RUNS: Bound = Bound {
     counts: "runs",
     min: 0,
     max: 8_000_000,
@@ -234,7 +234,7 @@ pub const LIMIT_RUNS: Limit = Limit {
 
 /// Members of a population drawn from a family (`family.size`): each needs its own
 /// landscape for the report's limit.
-pub const FAMILY_SIZE: Limit = Limit {
+pub const FAMILY_SIZE: Bound = Bound {
     counts: "members",
     min: 1,
     max: 64,
@@ -244,7 +244,7 @@ pub const FAMILY_SIZE: Limit = Limit {
 /// Operator files of an experiment or mission plan (`operator_files`): as a family's
 /// members ([`FAMILY_SIZE`]), each operator needs its landscape and its known-operator
 /// limit for the report (1,000 files took 230 s and wrote 1,017 files).
-pub const OPERATOR_FILES: Limit = Limit {
+pub const OPERATOR_FILES: Bound = Bound {
     counts: "operator files",
     min: 0,
     max: FAMILY_SIZE.max,
@@ -256,7 +256,7 @@ pub const OPERATOR_FILES: Limit = Limit {
 /// known-operator limit each, and the conflict of every two of them), so its work and
 /// its `summary.json` grow with the square of the cycle (2,001 entries took 20.6 s and
 /// 2.69 GB and wrote a 486 MB `summary.json`).
-pub const CONTEXT_CYCLE: Limit = Limit {
+pub const CONTEXT_CYCLE: Bound = Bound {
     counts: "contexts",
     min: 1,
     max: 64,
@@ -266,7 +266,7 @@ pub const CONTEXT_CYCLE: Limit = Limit {
 /// Operators in contexts an experiment's report takes apart: the operators that judge its
 /// trials x the contexts of its cycle. Each needs a landscape and a known-operator limit,
 /// and the report's conflict compares every two (256 make 32,640 pairs).
-pub const OPERATORS_IN_CONTEXTS: Limit = Limit {
+pub const OPERATORS_IN_CONTEXTS: Bound = Bound {
     counts: "operators in contexts",
     min: 1,
     max: 256,
@@ -276,7 +276,7 @@ pub const OPERATORS_IN_CONTEXTS: Limit = Limit {
 /// Commands `trustcbr competence` simulates in all: behaviors x (the largest of `--seen`
 /// + `--truth-runs`). The two cores run about a million a second (`--behaviors 100000
 /// --truth-runs 100000` would take 155 minutes), so this is about two minutes.
-pub const COMPETENCE_COMMANDS: Limit = Limit {
+pub const COMPETENCE_COMMANDS: Bound = Bound {
     counts: "commands",
     min: 1,
     max: 100_000_000,
@@ -286,7 +286,7 @@ pub const COMPETENCE_COMMANDS: Limit = Limit {
 /// Estimates `trustcbr competence` writes: behaviors x the numbers of `--seen`, each an
 /// entry of `competence.json` of about 1 KB for the UGV's scenarios (measured: 600 of
 /// them, the defaults, take 625 KB; `--seen 0,1,..,10000` wrote 115 MB), so about 50 MB.
-pub const COMPETENCE_ESTIMATES: Limit = Limit {
+pub const COMPETENCE_ESTIMATES: Bound = Bound {
     counts: "estimates",
     min: 1,
     max: 50_000,
@@ -295,7 +295,7 @@ pub const COMPETENCE_ESTIMATES: Limit = Limit {
 
 /// Commands `simulate --count` prints, one JSON line each (about 150 bytes for the UGV
 /// scenarios, so some 150 MB at most; the two cores simulate them in seconds).
-pub const SIMULATED_COMMANDS: Limit = Limit {
+pub const SIMULATED_COMMANDS: Bound = Bound {
     counts: "commands",
     min: 1,
     max: 1_000_000,
@@ -303,7 +303,7 @@ pub const SIMULATED_COMMANDS: Limit = Limit {
 };
 
 /// Worker threads (`--threads`, Python `threads=`).
-pub const THREADS: Limit = Limit {
+pub const THREADS: Bound = Bound {
     counts: "worker threads",
     min: 1,
     max: 256,
@@ -311,7 +311,7 @@ pub const THREADS: Limit = Limit {
 };
 
 /// Runs of a sweep (cells x seeds), counted before any cell is built.
-pub const SWEEP_RUNS: Limit = Limit {
+pub const SWEEP_RUNS: Bound = Bound {
     counts: "runs",
     min: 1,
     max: 10_000,
@@ -321,7 +321,7 @@ pub const SWEEP_RUNS: Limit = Limit {
 /// Trials of a sweep over all its runs: runs go one after the other, so this bounds time,
 /// not memory; at the 1,600 trials a second of `reproduce` on the two cores, about 2
 /// hours.
-pub const SWEEP_TRIALS: Limit = Limit {
+pub const SWEEP_TRIALS: Bound = Bound {
     counts: "trials",
     min: 1,
     max: 10_000_000,
@@ -331,7 +331,7 @@ pub const SWEEP_TRIALS: Limit = Limit {
 /// Commands a mission suite simulates in all, with the runs that tell whether a change
 /// needed an adaptation ([`TRUTH_RUNS`] per expected change): at about 80,000 a second on
 /// the two cores, some 20 minutes.
-pub const MISSION_COMMANDS: Limit = Limit {
+pub const MISSION_COMMANDS: Bound = Bound {
     counts: "commands",
     min: 1,
     max: 100_000_000,
@@ -341,7 +341,7 @@ pub const MISSION_COMMANDS: Limit = Limit {
 /// Missions of a mission suite in all (plans x arms x missions, twice for complacency
 /// plans): each keeps its record (about 130 bytes, more with its changes) until the report
 /// is written, and is a line of `missions.jsonl`.
-pub const MISSIONS: Limit = Limit {
+pub const MISSIONS: Bound = Bound {
     counts: "missions",
     min: 1,
     max: 1_000_000,
@@ -350,7 +350,7 @@ pub const MISSIONS: Limit = Limit {
 
 /// Points a figure draws of a trace (a mission's commands): a longer trace is summarised
 /// into this many columns of equal commands (docs/missions.md says what a column keeps).
-pub const FIGURE_POINTS: Limit = Limit {
+pub const FIGURE_POINTS: Bound = Bound {
     counts: "points",
     min: 1,
     max: lab::mission::MAX_TRACE_STEPS as u64,
@@ -362,19 +362,17 @@ pub const FIGURE_POINTS: Limit = Limit {
 /// from 0 with a standard error of about 0.07 at 200 runs.
 pub const TRUTH_RUNS: u32 = 200;
 
-/// The farthest a trust threshold may be from 0: a million unit-weight commands, the
-/// longest trial ([`MAX_COMMANDS`]).
-pub const MAX_THRESHOLD: f64 = 1e6;
+use trust::MAX_THRESHOLD;
 
 /// Refuses thresholds farther from 0 than [`MAX_THRESHOLD`]; `field` names them (e.g.
 /// `adapter.thresholds`). Their order and sign are [`Thresholds::validate`]'s.
-pub fn check_thresholds(field: &str, thresholds: &Thresholds) -> Result<(), LimitError> {
+pub fn check_thresholds(field: &str, thresholds: &Thresholds) -> Result<(), BoundError> {
     for (name, value) in [
         ("trustworthy", thresholds.trustworthy),
         ("untrustworthy", thresholds.untrustworthy),
     ] {
         if value.abs() > MAX_THRESHOLD {
-            return Err(LimitError::Threshold {
+            return Err(BoundError::Threshold {
                 field: format!("{field}.{name}"),
                 value,
             });
@@ -384,7 +382,7 @@ pub fn check_thresholds(field: &str, thresholds: &Thresholds) -> Result<(), Limi
 }
 
 /// Every limit, by the name docs/robustness.md gives it.
-pub const TABLE: &[(&str, Limit)] = &[
+pub const TABLE: &[(&str, Bound)] = &[
     ("TRIALS", TRIALS),
     ("EXPERIMENTS", EXPERIMENTS),
     ("SUITE_TRIALS", SUITE_TRIALS),

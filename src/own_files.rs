@@ -2,7 +2,7 @@
 //! names, and how each is recognized as the tool's own: only such a file (or none) is
 //! replaced, never through a symbolic link ([`files::OwnFile`]).
 //!
-//! - `competence.md` begins with its title (`lab::reference::competence::MARKDOWN_TITLE`);
+//! - `competence.md` begins with its title (`lab::reference::competence_truth::MARKDOWN_TITLE`);
 //!   `competence.json` is a JSON object with every key the tool writes.
 //! - `landscape.csv`'s header holds `runs,completed,p_complete`; `landscape.svg` is an SVG
 //!   whose subtitle begins [`LANDSCAPE_SUBTITLE`].
@@ -26,7 +26,7 @@ pub const COMPETENCE: [(&str, OwnFile<'static>); 2] = [
         OwnFile {
             what: "a competence report written by `trustcbr competence`",
             remedy: REMEDY,
-            is_own: &lab::reference::competence::is_competence_markdown,
+            is_own: &lab::reference::competence_truth::is_competence_markdown,
         },
     ),
     (
@@ -34,7 +34,7 @@ pub const COMPETENCE: [(&str, OwnFile<'static>); 2] = [
         OwnFile {
             what: "a competence report written by `trustcbr competence`",
             remedy: REMEDY,
-            is_own: &lab::reference::competence::is_competence_json,
+            is_own: &lab::reference::competence_truth::is_competence_json,
         },
     ),
 ];

@@ -8,7 +8,7 @@
 //! does the same for a mission suite.
 
 use crate::catalog::Catalog;
-use crate::missions::{MissionSuiteConfig, run_mission_suite, write_mission_report};
+use crate::mission_suite::{MissionSuiteConfig, run_mission_suite, write_mission_report};
 use crate::suite::{
     ReportEstimates, StartingCases, SuiteConfig, SuiteResults, check_save_targets,
     report_benchmark, report_entries, report_replay, run_suite_with_report, save_case_bases,

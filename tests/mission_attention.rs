@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace, NamedComponent};
 use trustcbr::lab::{Domain, Judgement};
-use trustcbr::missions::{MissionSuiteConfig, run_mission_suite};
+use trustcbr::mission_suite::{MissionSuiteConfig, run_mission_suite};
 use trustcbr::trust::{Cause, DeclaredCause};
 use trustcbr::{Catalog, CatalogError, Readings, ToolInfo, UgvCatalog};
 

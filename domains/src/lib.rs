@@ -2,11 +2,10 @@
 #![deny(missing_docs)]
 
 pub mod causes;
-pub mod competence;
-pub mod context;
 pub mod detector;
 pub mod drive;
 pub mod geometry;
+pub mod job_context;
 pub mod map_labels;
 pub mod operator;
 pub mod patrol;
@@ -17,6 +16,7 @@ pub mod prior;
 pub mod profile;
 pub mod render;
 pub mod scenario;
+pub mod self_competence;
 pub mod spaces;
 pub mod statements;
 pub mod trace;

@@ -124,7 +124,7 @@ pub struct ContextPreferences {
 impl ContextPreferences {
     /// Whether `context` gives every variable of `when` its value.
     pub fn applies_in(&self, context: &Context) -> bool {
-        let contexts = crate::context::contexts();
+        let contexts = crate::job_context::contexts();
         self.when
             .iter()
             .all(|(variable, value)| contexts.value(context, variable) == Some(value.as_str()))
@@ -138,7 +138,7 @@ fn declared_context<'de, D: serde::Deserializer<'de>>(
 ) -> Result<BTreeMap<String, String>, D::Error> {
     let when = cbr_core::unique_keys::each_variable_once(d)?;
     let named = when.iter().map(|(k, v)| (k.as_str(), v.as_str()));
-    crate::context::contexts()
+    crate::job_context::contexts()
         .context(named)
         .map_err(|e| serde::de::Error::custom(format_args!("field `when`: {e}")))?;
     Ok(when)
@@ -681,7 +681,7 @@ mod tests {
             Scenario::Movement.causes(),
         )
         .unwrap();
-        let contexts = crate::context::contexts();
+        let contexts = crate::job_context::contexts();
         let at = |settings: &[(&str, &str)]| {
             op.in_context(&contexts.context(settings.iter().copied()).unwrap())
         };

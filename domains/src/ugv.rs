@@ -6,7 +6,6 @@
 //! patrol places, spots, scans and labels the suspicious objects. The result is a
 //! [`Trace`]; the operator model turns it into a [`Judgement`].
 
-use crate::competence;
 use crate::detector::Detector;
 use crate::drive::{Mark, drive};
 use crate::geometry::{Shape, Vec2};
@@ -16,6 +15,7 @@ use crate::perception;
 use crate::planner::{Plan, Problem, VisibilityGraph};
 use crate::profile::point_to_point;
 use crate::scenario::Scenario;
+use crate::self_competence;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
@@ -486,7 +486,7 @@ impl Domain for UgvDomain {
     }
 
     fn contexts(&self) -> &ContextSpace {
-        crate::context::contexts()
+        crate::job_context::contexts()
     }
 
     fn statements(&self) -> &[String] {
@@ -536,11 +536,11 @@ impl Domain for UgvDomain {
     }
 
     fn competence_parts(&self) -> &[CompetencePart] {
-        competence::parts(self.scenario)
+        self_competence::parts(self.scenario)
     }
 
     fn predict_competence(&self, behavior: &Behavior) -> Vec<Option<f64>> {
-        competence::predict(
+        self_competence::predict(
             self.scenario,
             &self.settings(behavior),
             &self.patrol,
@@ -553,7 +553,7 @@ impl Domain for UgvDomain {
         behavior: &Behavior,
         rng: &mut dyn RngCore,
     ) -> Option<Vec<Option<bool>>> {
-        Some(competence::truth(
+        Some(self_competence::truth(
             self.scenario,
             &self.simulate(behavior, rng, false),
         ))

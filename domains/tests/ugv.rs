@@ -291,7 +291,7 @@ fn the_robot_perceives_what_ended_a_run_when_it_can_and_nothing_else() {
 fn the_paper_operators_in_contexts_follow_the_sites_rules() {
     use domains::operator::Comfort;
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("operators");
-    let space = domains::context::contexts();
+    let space = domains::job_context::contexts();
     let context = |pairs: &[(&str, &str)]| space.context(pairs.iter().copied()).unwrap();
     let emergency = context(&[("situation", "emergency")]);
     let hazardous = [

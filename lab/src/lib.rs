@@ -32,7 +32,7 @@ pub use experiment::arm::{
     NameOptions, PREFERS_COMPETENT, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
     prefers_competent,
 };
-pub use experiment::context::TrialContexts;
+pub use experiment::trial_contexts::TrialContexts;
 pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};
 pub use experiment::plan::{ExperimentPlan, OperatorChoice, PlanError};
 pub use experiment::record::{

@@ -36,7 +36,7 @@ pub enum Purpose {
     /// (here "experiment" is the scenario's place among the benchmark's, "trial" the arm's
     /// place times the metrics plus the metric's: [`crate::population::benchmark`]).
     Benchmark = 9,
-    /// The measure of the robot's own competence ([`crate::reference::competence`]): here
+    /// The measure of the robot's own competence ([`crate::reference::competence_truth`]): here
     /// "experiment" is 0 for the behaviors drawn, 1 for the commands the robot runs of
     /// behavior "trial", 2 for the truth's whole commands of it.
     Competence = 10,

@@ -16,7 +16,7 @@ use trustcbr::catalog::domain_of;
 use trustcbr::cbr_core::BehaviorSpace;
 use trustcbr::lab::{Arm, Domain, NameOptions};
 use trustcbr::limits::{LANDSCAPE_RUNS, THREADS, TRIALS};
-use trustcbr::missions::{MissionSuiteConfig, is_mission_suite};
+use trustcbr::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
     RunSettings, missions_per_plan, run_missions_with_report, run_with_report_checked,
 };

@@ -388,7 +388,7 @@ impl DomainDefinition {
         Self { statements, ..self }
     }
 
-    /// The same domain served in mission mode ([`trust::mission`]): outcomes keep coming
+    /// The same domain served in mission mode ([`trust::mission_mode`]): outcomes keep coming
     /// after an episode settles (`serve --mission`, docs/protocol.md#mission-mode).
     #[must_use]
     pub fn in_mission_mode(mut self) -> Self {

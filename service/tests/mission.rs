@@ -302,7 +302,7 @@ fn a_domain_file_may_ask_for_mission_mode() {
 #[test]
 fn a_context_switch_mid_mission_goes_back_to_what_was_settled_on_there() {
     let dir = tempfile::tempdir().unwrap();
-    let domain = movement(true).with_contexts(domains::context::contexts().clone());
+    let domain = movement(true).with_contexts(domains::job_context::contexts().clone());
     let mut s = session(dir.path(), domain);
     settle(&mut s);
     let hazardous = r#"{"request":"context","context":{"cargo":"hazardous"}}"#;

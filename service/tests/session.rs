@@ -19,7 +19,7 @@ fn quick_movement() -> DomainDefinition {
         trust::AdapterConfig::default(),
     )
     .with_observations(domains::perception::MOVEMENT.to_vec())
-    .with_contexts(domains::context::contexts().clone());
+    .with_contexts(domains::job_context::contexts().clone());
     domain.adapter.thresholds.trustworthy = 1.0;
     domain.adapter.thresholds.untrustworthy = -1.0;
     domain

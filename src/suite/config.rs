@@ -554,7 +554,7 @@ impl SuiteConfig {
     /// Parses a suite config as written, unchecked (a mission suite refused by name, not
     /// as a field `SuiteConfig` lacks); `origin` names the source in errors.
     pub(super) fn parse(text: &str, origin: &Path) -> Result<Self, SuiteError> {
-        if crate::missions::is_mission_suite(text) {
+        if crate::mission_suite::is_mission_suite(text) {
             return Err(mission_suite_here(origin));
         }
         parse_ron(text, origin).map_err(|mut e| {

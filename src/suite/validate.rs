@@ -12,7 +12,7 @@
 use super::{ExperimentSpec, RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named, invalid};
 use crate::catalog::{Catalog, OperatorOf, Readings, domain_of, resolve_readings};
 use crate::limits::{
-    self, EXPERIMENTS, FAMILY_SIZE, LANDSCAPE_RUNS, LIMIT_RUNS, LimitError, MAX_COMMANDS,
+    self, BoundError, EXPERIMENTS, FAMILY_SIZE, LANDSCAPE_RUNS, LIMIT_RUNS, MAX_COMMANDS,
     OPERATOR_FILES, OPERATORS_IN_CONTEXTS, SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
@@ -22,8 +22,8 @@ use lab::{
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
 
-/// A [`LimitError`] of the file `origin`, as a [`SuiteError`].
-pub(crate) fn over(origin: &Path, error: LimitError) -> SuiteError {
+/// A [`BoundError`] of the file `origin`, as a [`SuiteError`].
+pub(crate) fn over(origin: &Path, error: BoundError) -> SuiteError {
     invalid(origin, error.field().to_owned(), error.problem())
 }
 
@@ -218,7 +218,7 @@ impl SuiteConfig {
 
 /// Checks the adapter parameters every suite kind shares: the adapter's own rules
 /// ([`AdapterConfig::validate`]: thresholds that bracket 0, lambda in `(0, 1]`),
-/// thresholds at most [`limits::MAX_THRESHOLD`] from 0, and nothing set that is each
+/// thresholds at most [`trust::MAX_THRESHOLD`] from 0, and nothing set that is each
 /// arm's choice (case reuse, search).
 pub(crate) fn check_adapter(adapter: &AdapterConfig, origin: &Path) -> Result<(), SuiteError> {
     adapter.validate()?;
@@ -765,7 +765,7 @@ mod tests {
 
     #[test]
     fn a_mission_plan_may_leave_its_operator_out_beside_a_population() {
-        use crate::missions::MissionSuiteConfig;
+        use crate::mission_suite::MissionSuiteConfig;
         let plan = |operators: &str| {
             let (dir, config) = beside_two_operators("");
             let text = format!(

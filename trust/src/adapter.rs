@@ -10,7 +10,7 @@
 //! memory each drive their own `Adaptation`.
 //!
 //! This module knows nothing of missions: a robot that keeps listening after an episode
-//! ends wraps an `Adaptation` or a `TrustAdapter` in [`crate::mission`], which drives them
+//! ends wraps an `Adaptation` or a `TrustAdapter` in [`crate::mission_mode`], which drives them
 //! through the few episode-level calls made for it ([`Adaptation::account_kept`],
 //! [`Adaptation::restart_account`], [`Adaptation::give_up_kept`]).
 
@@ -352,7 +352,7 @@ fn matched_by_case(
 /// [`Adaptation::case_to_retain`] names, in its memory, after the episode ends.
 ///
 /// After an episode ends the robot keeps the behavior it settled on. A caller that goes on
-/// judging that *kept* behavior (a robot on a long mission, [`crate::mission`]) tells its
+/// judging that *kept* behavior (a robot on a long mission, [`crate::mission_mode`]) tells its
 /// commands to [`Adaptation::account_kept`], and when the behavior has fallen to the
 /// untrustworthy threshold begins the next episode from it with
 /// [`Adaptation::give_up_kept`]; the paper's adapter never does either.
@@ -521,7 +521,7 @@ impl Adaptation {
     /// that `pass_over` names (asked once, with the behavior) is not settled on: it is
     /// given up as an untrustworthy one is (its evaluated pair, the next behavior from
     /// `memory`), so the episode searches on past a behavior its operator trusts (a
-    /// mission preferring behaviors the robot judges competent, [`crate::mission`]).
+    /// mission preferring behaviors the robot judges competent, [`crate::mission_mode`]).
     pub fn record_passing(
         &mut self,
         outcome: &Outcome,

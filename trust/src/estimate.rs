@@ -457,6 +457,12 @@ impl TrustEstimate {
     }
 }
 
+/// The farthest from 0 a trust threshold may be for the tool to accept it: a million
+/// unit-weight commands, the longest trial it runs; it also keeps the known-operator
+/// limit's states (estimates in integer steps) within `i64`. Checked where thresholds come
+/// in (a suite's `adapter.thresholds`, a `serve` domain file) and by the limit itself.
+pub const MAX_THRESHOLD: f64 = 1e6;
+
 #[cfg(test)]
 mod tests {
     use super::*;

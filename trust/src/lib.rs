@@ -8,7 +8,7 @@ pub mod estimate;
 pub mod evaluated;
 pub mod explain;
 pub mod goal_change;
-pub mod mission;
+pub mod mission_mode;
 pub mod named;
 pub mod overtrust;
 pub mod problem;
@@ -33,15 +33,17 @@ pub use competence::{
     CompetenceStandard, PartEstimate, Predictor, calibrate,
 };
 pub use estimate::{
-    Observations, Outcome, OutcomeError, OutcomeKind, THRESHOLD_TOLERANCE, ThresholdError,
-    Thresholds, TrustEstimate, Verdict,
+    MAX_THRESHOLD, Observations, Outcome, OutcomeError, OutcomeKind, THRESHOLD_TOLERANCE,
+    ThresholdError, Thresholds, TrustEstimate, Verdict,
 };
 pub use evaluated::LambdaError;
 pub use evaluated::{Evaluated, RelativeTime, SetSimilarity};
 pub use explain::{
     Account, AttributedReason, Attribution, Explanation, Grounds, Hint, Next, Vocabulary,
 };
-pub use mission::{ContextSwitch, MissionAdaptation, MissionAdapter, MissionDecision, SwitchStart};
+pub use mission_mode::{
+    ContextSwitch, MissionAdaptation, MissionAdapter, MissionDecision, SwitchStart,
+};
 pub use overtrust::{Alert, OwnRecord};
 pub use problem::TrustProblem;
 pub use retrieval::{InvertedIndex, ParallelScan, RetrieverFactory, RetrieverKind};

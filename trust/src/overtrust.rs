@@ -3,7 +3,7 @@
 //! An operator who has come to trust a robot watches it less: problems it would have
 //! stopped the robot for go unnoticed, its reactions keep the robot's trust estimate high,
 //! and the adapter, which listens only to the operator, sees nothing wrong. So in mission
-//! mode ([`crate::mission`]) the robot also keeps its **own record** of the behavior it has
+//! mode ([`crate::mission_mode`]) the robot also keeps its **own record** of the behavior it has
 //! settled on, from what it perceives itself and from the self-assessment its domain may
 //! give ([`Outcome::confidence`]), and raises an [`Alert`] when the operator's trust is
 //! high while its own record says it is not earning it.

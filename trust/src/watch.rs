@@ -1,4 +1,4 @@
-//! The watch of a settled behavior: how a robot on a mission ([`crate::mission`]) keeps
+//! The watch of a settled behavior: how a robot on a mission ([`crate::mission_mode`]) keeps
 //! estimating the trust of the behavior an episode settled on.
 //!
 //! The paper's adapter stops at the first trustworthy behavior (the end of an *episode*).
@@ -6,7 +6,7 @@
 //! command after command, and adapts again when that estimate falls to the untrustworthy
 //! threshold: the operator's preferences changed, another operator took over, or the
 //! behavior was trusted by luck. This module is the estimate kept meanwhile ([`Watch`]);
-//! what the robot does with it is [`crate::mission`]'s.
+//! what the robot does with it is [`crate::mission_mode`]'s.
 //!
 //! **How the estimate is kept.** The paper's sum of weighted outcomes would bank every
 //! completion: after a hundred good commands it would take a hundred failures to notice a

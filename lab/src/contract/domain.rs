@@ -192,7 +192,7 @@ pub trait Domain: Send + Sync {
     /// [`Domain::competence_parts`] (in their order) whether it fell short in it, or
     /// `None` where the part does not apply to this command (a patrol that never set out
     /// passed no object). `None`, the default: the domain gives no truth to measure the
-    /// robot's competence against ([`crate::reference::competence::measure`] refuses it).
+    /// robot's competence against ([`crate::reference::competence_truth::measure`] refuses it).
     fn competence_truth(
         &self,
         behavior: &Behavior,

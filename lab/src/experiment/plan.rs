@@ -52,7 +52,7 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// paper's assumption: never.
     pub goal_changes: Option<GoalChanges>,
     /// The contexts the trials run in, and whether the robot is told them
-    /// ([`crate::experiment::context`]); `None`: every trial in the default context, as the paper's.
+    /// ([`crate::experiment::trial_contexts`]); `None`: every trial in the default context, as the paper's.
     pub contexts: Option<TrialContexts>,
     /// What the operators state up front ([`crate::contract::stating`]); `None`, the paper's
     /// operators: nothing.

@@ -10,10 +10,10 @@
 //! are paired trial by trial and results do not depend on the number of threads; an arm
 //! that starts from the case memory's guess draws the random behavior all the same. A
 //! trial's first behavior and its commands are driven as a mission's are
-//! (the private `drive` module).
+//! (the private `driver` module).
 
 use crate::experiment::arm::Arm;
-use crate::experiment::drive::{Command, Drive, first_behavior};
+use crate::experiment::driver::{Command, Drive, first_behavior};
 use crate::experiment::plan::*;
 use crate::experiment::record::*;
 use crate::seeds::{Purpose, stream};

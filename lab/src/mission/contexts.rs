@@ -6,7 +6,7 @@
 //! each told arm by what it went on with ([`SwitchStart`]), beside what the oracle paid
 //! on the same switches, which says where an arm's excess over the oracle comes from.
 
-use crate::experiment::context::blind_twin;
+use crate::experiment::trial_contexts::blind_twin;
 use crate::mission::record::OracleRecord;
 use crate::mission::summary::{
     ChangeFigures, OracleFigure, arm_label, fine_ci, interval_json, oracle_multiple, times,

@@ -5,7 +5,7 @@
 use crate::contract::domain::check_attention;
 use crate::experiment::arm::Arm;
 use crate::experiment::plan::PlanError;
-use crate::reference::competence::{CompetenceError, empty_record};
+use crate::reference::competence_truth::{CompetenceError, empty_record};
 use crate::reference::known_operator::LimitSettings;
 use crate::{Domain, FeedbackChannel};
 use cbr_core::{Behavior, Context};

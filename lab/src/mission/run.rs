@@ -12,7 +12,7 @@
 //! *told* (it knows what it carries): the operator then judges as it does in the new
 //! context ([`Domain::operator_in_context`]). The robot runs in mission mode
 //! ([`trust::MissionAdapter`]) and is told only outcomes; its commands are driven as a
-//! trial's are (the private `drive` module: the first behavior and each command).
+//! trial's are (the private `driver` module: the first behavior and each command).
 //!
 //! With a [`Complacency`](crate::mission::Complacency) model the operator's attention falls as its own trust in the
 //! robot builds: each arm then runs twice on the same streams, once ignoring the robot's
@@ -24,7 +24,7 @@
 //! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
 //! mission, purpose), the same for every arm.
 use crate::experiment::arm::{Arm, Initial};
-use crate::experiment::drive::{Command, Drive, first_behavior};
+use crate::experiment::driver::{Command, Drive, first_behavior};
 use crate::experiment::plan::{PlanError, fresh_adapter};
 use crate::mission::course::{
     Course, Judges, Scheduled, StreamName, begin_change, count_untrustworthy,
@@ -35,7 +35,7 @@ use crate::mission::record::{
     CalibrationRecord, ChangeKind, Mark, MissionArmResult, MissionRecord, MissionResult,
     MissionStep, MissionTrace, OnsetRecord,
 };
-use crate::reference::competence::{true_competence, true_rates};
+use crate::reference::competence_truth::{true_competence, true_rates};
 use crate::seeds::{Purpose, stream};
 use crate::{Domain, Judgement};
 use cbr_core::Behavior;

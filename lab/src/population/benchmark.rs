@@ -135,7 +135,7 @@ pub struct LimitRatio {
 
 /// How a paired comparison of an arm with a reference ended on one population.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
+pub enum Comparison {
     /// Significantly fewer untrustworthy commands than the reference.
     Win,
     /// No significant difference.
@@ -155,14 +155,14 @@ pub struct WinsTiesLosses {
     pub losses: usize,
 }
 
-impl FromIterator<Verdict> for WinsTiesLosses {
-    fn from_iter<I: IntoIterator<Item = Verdict>>(verdicts: I) -> Self {
+impl FromIterator<Comparison> for WinsTiesLosses {
+    fn from_iter<I: IntoIterator<Item = Comparison>>(verdicts: I) -> Self {
         let mut tally = Self::default();
         for verdict in verdicts {
             match verdict {
-                Verdict::Win => tally.wins += 1,
-                Verdict::Tie => tally.ties += 1,
-                Verdict::Loss => tally.losses += 1,
+                Comparison::Win => tally.wins += 1,
+                Comparison::Tie => tally.ties += 1,
+                Comparison::Loss => tally.losses += 1,
             }
         }
         tally
@@ -322,14 +322,14 @@ pub fn bootstrap_geometric_mean<R: Rng + ?Sized>(
 /// commands per trial, paired by trial: a win when the arm's are significantly fewer by
 /// the Wilcoxon signed-rank test, a loss when significantly more. `None` if the slices
 /// differ in length or are empty.
-pub fn paired_verdict(arm: &[f64], reference: &[f64]) -> Option<Verdict> {
+pub fn paired_comparison(arm: &[f64], reference: &[f64]) -> Option<Comparison> {
     let test = signed_rank_test(arm, reference)?;
     Some(if test.p >= SIGNIFICANCE {
-        Verdict::Tie
+        Comparison::Tie
     } else if test.z < 0.0 {
-        Verdict::Win
+        Comparison::Win
     } else {
-        Verdict::Loss
+        Comparison::Loss
     })
 }
 
@@ -441,7 +441,7 @@ fn scenario_benchmark(
                         runs.iter()
                             .filter_map(|(p, arm)| {
                                 let base = p.result.arm(reference)?;
-                                paired_verdict(
+                                paired_comparison(
                                     &per_trial(arm, Metric::Untrustworthy, every_trial),
                                     &per_trial(base, Metric::Untrustworthy, every_trial),
                                 )
@@ -546,18 +546,23 @@ mod tests {
         // z = (0 - 7.5) / sqrt(13.75) = -2.0226, p = 0.0431 < 0.05: fewer, a win.
         let arm = [2.0, 2.0, 2.0, 2.0, 2.0, 9.0];
         let reference = [3.0, 4.0, 5.0, 6.0, 7.0, 9.0];
-        assert_eq!(paired_verdict(&arm, &reference), Some(Verdict::Win));
+        assert_eq!(paired_comparison(&arm, &reference), Some(Comparison::Win));
         // The other way round: significantly more, a loss.
-        assert_eq!(paired_verdict(&reference, &arm), Some(Verdict::Loss));
+        assert_eq!(paired_comparison(&reference, &arm), Some(Comparison::Loss));
         // Differences -1, 1, 2, 2: p = 0.19, a tie; and equal counts are a tie.
-        let tie = paired_verdict(&[0.0, 1.0, 2.0, 2.0], &[1.0, 0.0, 0.0, 0.0]);
-        assert_eq!(tie, Some(Verdict::Tie));
-        assert_eq!(paired_verdict(&arm, &arm), Some(Verdict::Tie));
-        assert_eq!(paired_verdict(&arm, &reference[1..]), None);
+        let tie = paired_comparison(&[0.0, 1.0, 2.0, 2.0], &[1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(tie, Some(Comparison::Tie));
+        assert_eq!(paired_comparison(&arm, &arm), Some(Comparison::Tie));
+        assert_eq!(paired_comparison(&arm, &reference[1..]), None);
         // Four populations: won, lost, tied twice.
-        let tally: WinsTiesLosses = [Verdict::Win, Verdict::Loss, Verdict::Tie, Verdict::Tie]
-            .into_iter()
-            .collect();
+        let tally: WinsTiesLosses = [
+            Comparison::Win,
+            Comparison::Loss,
+            Comparison::Tie,
+            Comparison::Tie,
+        ]
+        .into_iter()
+        .collect();
         assert_eq!(
             tally,
             WinsTiesLosses {

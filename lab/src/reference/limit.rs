@@ -79,9 +79,6 @@ pub const PROBABILITY_SUM_TOLERANCE: f64 = 1e-6;
 /// end the sums of [`order_cost`], [`free_first_cost`] and [`paper_protocol_cost`].
 pub const SURVIVAL_CUTOFF: f64 = 1e-15;
 
-/// The largest absolute threshold accepted (keeps the state keys within `i64`).
-const MAX_ABS_THRESHOLD: f64 = 1e6;
-
 /// Why a walk or a limit could not be computed.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -265,8 +262,8 @@ impl WalkChain {
             && lo.is_finite()
             && lo < -SUM_TOLERANCE
             && hi > SUM_TOLERANCE
-            && hi <= MAX_ABS_THRESHOLD
-            && lo >= -MAX_ABS_THRESHOLD)
+            && hi <= trust::MAX_THRESHOLD
+            && lo >= -trust::MAX_THRESHOLD)
         {
             return Err(LimitError::InvalidThresholds {
                 trustworthy: hi,

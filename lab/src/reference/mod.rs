@@ -1,12 +1,12 @@
 //! What an arm is measured against: the known-operator limit ([`limit`], its law
 //! [`limit_law`], estimated for a domain's operator by [`known_operator`]), the operator's
 //! landscape over the behavior space ([`landscape`]), and the robot's true competence
-//! ([`competence`]).
+//! ([`competence_truth`]).
 //!
 //! Imports only the [`contract`](crate::contract) folder and the crate root's shared
 //! modules: a reference knows nothing of arms or experiments.
 
-pub mod competence;
+pub mod competence_truth;
 pub mod known_operator;
 pub mod landscape;
 pub mod limit;

@@ -9,8 +9,8 @@
 use super::effects::versus_reference;
 use super::entry::ReportEntry;
 use crate::experiment::arm::Initial;
-use crate::experiment::context::{any_contexts, by_context};
 use crate::experiment::record::ArmResult;
+use crate::experiment::trial_contexts::{any_contexts, by_context};
 use crate::population::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
 use crate::reference::known_operator::{ExperimentLimit, RATE_GAP};
 use crate::reference::limit::Costs;
