@@ -16,6 +16,7 @@ pub mod folder;
 pub mod interrupt;
 pub mod seeds;
 pub mod stats;
+pub mod targets;
 #[cfg(feature = "testing")]
 pub mod testing;
 
@@ -32,7 +33,6 @@ pub use experiment::arm::{
     NameOptions, PREFERS_COMPETENT, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
     prefers_competent,
 };
-pub use experiment::trial_contexts::TrialContexts;
 pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};
 pub use experiment::plan::{ExperimentPlan, OperatorChoice, PlanError};
 pub use experiment::record::{
@@ -41,6 +41,7 @@ pub use experiment::record::{
 };
 pub use experiment::runner::{run_experiments, trace_trial};
 pub use experiment::simulate::{SimulatedCommand, Simulation, SimulationError};
+pub use experiment::trial_contexts::TrialContexts;
 pub use interrupt::Interrupted;
 pub use population::instance::{Instance, InstanceError, Split};
 pub use reference::known_operator::KnownLimitError;

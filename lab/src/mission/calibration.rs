@@ -8,6 +8,9 @@
 use crate::experiment::arm::prefers_competent;
 use crate::mission::{CalibrationRecord, MissionArmResult};
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
+use crate::targets::{
+    FALSE_OVERTRUST_ALERTS, PREFERENCE_COST, PREFERENCE_HARM_CUT, PREFERENCE_SIGNIFICANCE,
+};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -99,10 +102,6 @@ pub struct Preference {
     pub wilcoxon_p: f64,
 }
 
-/// The cut in harm the preference must reach, and the most untrustworthy commands it may
-/// cost, as a multiple of the base arm's.
-const PREFERENCE_TARGET: (f64, f64) = (0.3, 1.2);
-
 impl Preference {
     /// The preference of every arm named `X+competent` whose base `X` ran beside it (with
     /// alerts answered alike).
@@ -138,9 +137,10 @@ impl Preference {
 
     /// The target, checked.
     fn target(&self) -> String {
-        let (cut, cost) = PREFERENCE_TARGET;
-        let met =
-            self.harm_cut >= cut && self.untrustworthy_ratio <= cost && self.wilcoxon_p < 0.01;
+        let (cut, cost) = (PREFERENCE_HARM_CUT, PREFERENCE_COST);
+        let met = self.harm_cut >= cut
+            && self.untrustworthy_ratio <= cost
+            && self.wilcoxon_p < PREFERENCE_SIGNIFICANCE;
         format!(
             "{}{}: harm per mission {:.2} -> {:.2} against `{}` ({:+.0}%, paired Wilcoxon p = {:.2e}) at {:.2} x its untrustworthy commands (target: a cut of at least {:.0}% at most {cost} x, significant): {}",
             self.arm,
@@ -230,10 +230,15 @@ pub fn calibration_markdown(arms: &[MissionArmResult]) -> Option<String> {
 fn false_alert_target(s: &CalibrationSummary) -> String {
     match s.false_alert_rate() {
         Some(rate) => format!(
-            "{}: false overtrust alerts on {:.1}% of the missions whose watched behavior was competent (target at most 5%): {}",
+            "{}: false overtrust alerts on {:.1}% of the missions whose watched behavior was competent (target at most {:.0}%): {}",
             s.arm,
             100.0 * rate,
-            if rate <= 0.05 { "met" } else { "missed" }
+            100.0 * FALSE_OVERTRUST_ALERTS,
+            if rate <= FALSE_OVERTRUST_ALERTS {
+                "met"
+            } else {
+                "missed"
+            }
         ),
         None => format!(
             "{}: no mission watched a competent behavior, so no false overtrust alert could be judged",

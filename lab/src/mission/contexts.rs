@@ -13,6 +13,7 @@ use crate::mission::summary::{
 };
 use crate::mission::{ChangeKind, ChangeRecord, MissionArmResult, MissionResult};
 use crate::stats::{MeanCi, RatioCi, mean_ci95_or_zero, wilcoxon_signed_rank};
+use crate::targets::{SIGNIFICANCE, SWITCH_BACK_TIMES_ORACLE};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use trust::SwitchStart;
@@ -191,13 +192,17 @@ pub fn switch_targets(result: &MissionResult, plan: usize) -> Vec<String> {
         .min_by(|a, b| a.2.total_cmp(&b.2));
     if let (Some((a, arm, value)), Some(reference)) = (best, oracle.per_switch_back()) {
         lines.push(format!(
-            "best arm after a switch back ({arm}): {value:.2} untrustworthy commands per switch, {} x the oracle's {reference:.2} (target at most 1.5 x): {}",
+            "best arm after a switch back ({arm}): {value:.2} untrustworthy commands per switch, {} x the oracle's {reference:.2} (target at most {SWITCH_BACK_TIMES_ORACLE} x): {}",
             times(oracle_multiple(result, plan, a, OracleFigure::UntrustworthyPerSwitchBack)),
-            if value <= 1.5 * reference { "met" } else { "missed" }
+            if value <= SWITCH_BACK_TIMES_ORACLE * reference {
+                "met"
+            } else {
+                "missed"
+            }
         ));
     }
     for v in versus_blind_twins(result) {
-        let better = v.difference.mean < 0.0 && v.wilcoxon_p < 0.05;
+        let better = v.difference.mean < 0.0 && v.wilcoxon_p < SIGNIFICANCE;
         lines.push(format!(
             "{}: {:.2} untrustworthy commands per switch back, its blind twin {:.2} (paired difference {:.2} ± {:.2} over {} switches, Wilcoxon p = {:.2e}): {}",
             v.arm,

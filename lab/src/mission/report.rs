@@ -13,6 +13,7 @@ use crate::mission::summary::{
     oracle_multiple, share, times,
 };
 use crate::mission::{DETECTION_WINDOW, MissionResult};
+use crate::targets::{FALSE_ALERTS, ONSETS_DETECTED, SIGNIFICANCE};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
@@ -24,18 +25,19 @@ pub fn targets(result: &MissionResult, summaries: &[MissionSummary]) -> Vec<Stri
         for s in summaries.iter().filter(|s| !s.answers_alerts) {
             let rate = (s.onsets > 0).then(|| s.detected_in_window as f64 / s.onsets as f64);
             lines.push(format!(
-                "{}: {} of complacency onsets detected within {DETECTION_WINDOW} commands (target at least 90%): {}",
+                "{}: {} of complacency onsets detected within {DETECTION_WINDOW} commands (target at least {:.0}%): {}",
                 s.arm,
                 rate.map_or("none".to_owned(), |r| format!("{:.0}%", 100.0 * r)),
+                100.0 * ONSETS_DETECTED,
                 match rate {
-                    Some(r) if r >= 0.9 => "met",
+                    Some(r) if r >= ONSETS_DETECTED => "met",
                     Some(_) => "missed",
                     None => "no onset",
                 }
             ));
         }
         for h in harm_comparisons(result) {
-            let lower = h.difference.mean > 0.0 && h.wilcoxon_p < 0.05;
+            let lower = h.difference.mean > 0.0 && h.wilcoxon_p < SIGNIFICANCE;
             lines.push(format!(
                 "{}: harm per mission {:.2} without alerts, {:.2} with (paired difference {:.2} ± {:.2}, Wilcoxon p = {:.2e}): {}",
                 h.arm,
@@ -51,10 +53,11 @@ pub fn targets(result: &MissionResult, summaries: &[MissionSummary]) -> Vec<Stri
         for s in summaries {
             let rate = s.missions_alerted as f64 / s.missions.max(1) as f64;
             lines.push(format!(
-                "{}: false alerts on {:.1}% of missions without complacency (target at most 5%): {}",
+                "{}: false alerts on {:.1}% of missions without complacency (target at most {:.0}%): {}",
                 s.arm,
                 100.0 * rate,
-                if rate <= 0.05 { "met" } else { "missed" }
+                100.0 * FALSE_ALERTS,
+                if rate <= FALSE_ALERTS { "met" } else { "missed" }
             ));
         }
     }

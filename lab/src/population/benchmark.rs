@@ -49,13 +49,11 @@ use crate::reference::limit::Costs;
 use crate::reference::limit_law::UntrustworthyLaw;
 use crate::seeds::{Purpose, stream};
 use crate::stats::{RatioCi, percentile, signed_rank_test};
+use crate::targets::SIGNIFICANCE;
 use rand::Rng;
 
 /// Resamples of the bootstrap over populations.
 pub const BOOTSTRAP_RESAMPLES: usize = 2000;
-
-/// The level under which a paired test decides a win or a loss.
-pub const SIGNIFICANCE: f64 = 0.05;
 
 /// The arms every arm is counted wins, ties and losses against, when they ran: the honest
 /// baseline and the paper's case-based arm.

@@ -170,7 +170,7 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
         "scenario": benchmark.scenario,
         "populations": benchmark.populations,
         "bootstrap_resamples": crate::population::benchmark::BOOTSTRAP_RESAMPLES,
-        "significance": crate::population::benchmark::SIGNIFICANCE,
+        "significance": crate::targets::SIGNIFICANCE,
         "references": benchmark.references,
         "limit_untrustworthy_mean": benchmark.limit_untrustworthy,
         "limit_ecdf": {
