@@ -1,9 +1,10 @@
 #![doc = include_str!("../README.md")]
 #![deny(missing_docs)]
 
-// The crate's folders, each a `//!` of its own, in the order their imports run: a module
-// imports only from the root's shared modules, its own folder and the folders listed
-// before its own (`contract` is the lowest, `mission` the highest).
+// The crate's folders, each a `//!` of its own. Their imports run one way, in this order:
+// contract, reference, experiment, population, report, mission; a module imports only from
+// the root's shared modules, its own folder and the folders before its own
+// (.ci/check-lab-layers.py checks it).
 pub mod contract;
 pub mod experiment;
 pub mod mission;
@@ -11,7 +12,8 @@ pub mod population;
 pub mod reference;
 pub mod report;
 
-// Shared by every folder, importing none of them.
+// Shared by every folder, importing none of them (`testing`, the conformance kit, runs
+// over the contract).
 pub mod folder;
 pub mod interrupt;
 pub mod seeds;
