@@ -238,13 +238,15 @@ fn a_sweep_report_folder_is_replaced_whole_and_never_holds_other_files_or_links(
     // work, and everything stays.
     fs::write(out.join("report/notes.txt"), "mine").unwrap();
     let before = snapshot(&out.join("report"));
-    let stderr = refused(&mut sweep());
-    assert!(
-        stderr.contains(&format!(
-            "{}: the folder holds `notes.txt`, which is not part of a trustcbr sweep report",
-            out.join("report").display()
-        )),
-        "{stderr}"
+    // Refused, naming `name` in the sweep's folder and saying `what`.
+    let refused_at = |name: &str, what: &str| {
+        let stderr = refused(&mut sweep());
+        let expected = format!("{}: {what}", out.join(name).display());
+        assert!(stderr.contains(&expected), "{stderr}");
+    };
+    refused_at(
+        "report",
+        "the folder holds `notes.txt`, which is not part of a trustcbr sweep report",
     );
     assert_eq!(snapshot(&out.join("report")), before);
     fs::remove_file(out.join("report/notes.txt")).unwrap();
@@ -253,25 +255,11 @@ fn a_sweep_report_folder_is_replaced_whole_and_never_holds_other_files_or_links(
     fs::write(&outside, "precious").unwrap();
     fs::remove_file(out.join("report/sweep.md")).unwrap();
     symlink(&outside, out.join("report/sweep.md")).unwrap();
-    let stderr = refused(&mut sweep());
-    assert!(
-        stderr.contains(&format!(
-            "{}: is a symbolic link",
-            out.join("report/sweep.md").display()
-        )),
-        "{stderr}"
-    );
+    refused_at("report/sweep.md", "is a symbolic link");
     let elsewhere = dir.path().join("elsewhere");
     fs::rename(out.join("report"), &elsewhere).unwrap();
     symlink(&elsewhere, out.join("report")).unwrap();
-    let stderr = refused(&mut sweep());
-    assert!(
-        stderr.contains(&format!(
-            "{}: is a symbolic link",
-            out.join("report").display()
-        )),
-        "{stderr}"
-    );
+    refused_at("report", "is a symbolic link");
     assert_eq!(fs::read(&outside).unwrap(), b"precious");
     assert!(
         fs::symlink_metadata(out.join("report"))
