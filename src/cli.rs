@@ -163,7 +163,8 @@ struct SweepArgs {
     merge: Option<SweepCommand>,
     /// The sweep config (RON).
     file: Option<PathBuf>,
-    /// Report folder.
+    /// The sweep's folder: its `sweep.ron`, its run files (`runs/`) and its report folder
+    /// (`report/`).
     #[arg(long, default_value = "sweep")]
     out: PathBuf,
     /// Run only shard I of N (every N-th run, from the I-th) and write its run files; merge
@@ -184,7 +185,8 @@ enum SweepCommand {
         /// The shard folders.
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
-        /// Report folder.
+        /// The folder of the merged report, which is written into its `report/` (as a
+        /// sweep's is).
         #[arg(long, default_value = "sweep")]
         out: PathBuf,
     },
@@ -643,7 +645,9 @@ fn run_experiments<C: Catalog>(
 }
 
 fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
-    use crate::sweep::{Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run};
+    use crate::sweep::{
+        REPORT_DIR, Sweep, merge, prepare_dir, remove_earlier_sweep, write_config, write_run,
+    };
     if let Some(SweepCommand::Merge { file, dirs, out }) = &args.merge {
         let sweep = Sweep::load(catalog, file)?;
         let text = files::read_text(file)?;
@@ -653,7 +657,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
             "merged {} runs from {} folders; report in {} ({} files)",
             sweep.runs().len(),
             dirs.len(),
-            out.display(),
+            out.join(REPORT_DIR).display(),
             written.len()
         );
         return Ok(());
@@ -703,7 +707,7 @@ fn sweep<C: Catalog>(catalog: &C, args: &SweepArgs) -> Result<()> {
         "{} cells x {} seeds on {threads} threads in {elapsed:.1} s; report in {} ({} files)",
         sweep.cells.len(),
         sweep.config.seeds.len(),
-        args.out.display(),
+        args.out.join(REPORT_DIR).display(),
         written.len()
     );
     Ok(())

@@ -251,7 +251,7 @@ impl MissionSuiteConfig {
                     .validate()
                     .map_err(|e| invalid(field("complacency"), e))?;
             }
-            let operators =
+            let (operators, _) =
                 spec.operators
                     .check(catalog, &field("operators"), origin, &readings)?;
             if spec.complacency.is_some()

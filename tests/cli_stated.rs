@@ -78,6 +78,17 @@ fn ignoring_statements_none_state_and_shares_out_of_range_are_refused() {
         stderr.contains("arms[1]: `cause-aware+ignores-statements` ignores what operators state up front, and no experiment here has `stated`"),
         "{stderr}"
     );
+    // An experiment that cannot run is named first: the arms are weighed against the
+    // experiments once those hold.
+    let stderr = refused(&mut run_suite(
+        dir.path(),
+        &suite("", r#""cause-aware", "cause-aware+ignores-statements""#)
+            .replace(r#"operator: "random""#, r#"operator: "nobody""#),
+    ));
+    assert!(
+        stderr.contains("experiments[0].operator: unknown operator `nobody`"),
+        "{stderr}"
+    );
     let stderr = refused(&mut run_suite(
         dir.path(),
         &suite(

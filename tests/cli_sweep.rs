@@ -19,17 +19,28 @@ const SWEEP: &str = r#"(
     parameters: [retention([any_search, final_from_search]), time_unit([task_seconds, commands])],
 )"#;
 
+/// The report of the sweep folder `dir`: the files of its `report/` folder, by name, with
+/// their bytes; it holds the report alone.
 fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut found: Vec<(String, Vec<u8>)> = [
-        "sweep.md",
-        "sweep.json",
-        "sweep-retention.svg",
-        "sweep-time_unit.svg",
-    ]
-    .iter()
-    .map(|name| (name.to_string(), std::fs::read(dir.join(name)).unwrap()))
-    .collect();
+    let mut found: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir.join("report"))
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            let name = e.file_name().to_string_lossy().into_owned();
+            (name, std::fs::read(e.path()).unwrap())
+        })
+        .collect();
     found.sort();
+    let names: Vec<&str> = found.iter().map(|(name, _)| name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "sweep-retention.svg",
+            "sweep-time_unit.svg",
+            "sweep.json",
+            "sweep.md"
+        ]
+    );
     found
 }
 
@@ -42,7 +53,7 @@ fn shards_merge_into_the_report_of_one_run() {
     let whole = dir.path().join("whole");
     let stdout = succeed(trustcbr().arg("sweep").arg(&sweep).arg("--out").arg(&whole));
     assert!(stdout.contains("3 cells x 3 seeds"), "{stdout}");
-    let md = std::fs::read_to_string(whole.join("sweep.md")).unwrap();
+    let md = std::fs::read_to_string(whole.join("report/sweep.md")).unwrap();
     for cell in ["base", "retention=final_from_search", "time_unit=commands"] {
         assert!(md.contains(&format!("| {cell} | case-based |")), "{md}");
     }
@@ -57,7 +68,7 @@ fn shards_merge_into_the_report_of_one_run() {
                 .args(["--shard", &format!("{i}/3"), "--threads", "1", "--out"])
                 .arg(&shard),
         );
-        assert!(!shard.join("sweep.md").exists(), "a shard writes no report");
+        assert!(!shard.join("report").exists(), "a shard writes no report");
         shards.push(shard);
     }
     let merged = dir.path().join("merged");

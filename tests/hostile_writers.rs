@@ -118,23 +118,16 @@ fn a_new_report_replaces_the_earlier_one_whole_and_figures_never_mix() {
     assert_eq!(snapshot(&out), before);
 }
 
-#[test]
-fn a_report_that_fails_to_write_leaves_the_earlier_one_byte_identical() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    succeed(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
-    let before = snapshot(&out);
-    // A write that fails part way, as on a full disk, even for root: files are capped at
-    // 50 KiB (the report's largest files are larger), the signal that would end the
-    // process ignored so the write fails with "File too large".
-    let config = dir.path().join("b.ron");
-    fs::write(&config, suite(SPEED_FOCUSED, 3)).unwrap();
+/// `trustcbr ARGS` with files capped at 8 blocks of 512 bytes and the signal that would
+/// end the process ignored, so a write past the cap fails with "File too large" as on a
+/// full disk, even for root; asserts that it failed so, saying that the report `folder`
+/// is left as it was.
+fn fails_to_write(args: &[&Path], folder: &Path) {
     let output = Command::new("sh")
         .arg("-c")
-        .arg("trap '' XFSZ; ulimit -f 100; exec \"$0\" run \"$1\" --out \"$2\"")
+        .arg("trap '' XFSZ; ulimit -f 8; exec \"$0\" \"$@\"")
         .arg(env!("CARGO_BIN_EXE_trustcbr"))
-        .arg(&config)
-        .arg(&out)
+        .args(args)
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
@@ -142,13 +135,141 @@ fn a_report_that_fails_to_write_leaves_the_earlier_one_byte_identical() {
     assert!(
         stderr.contains(&format!(
             "{}: the report could not be written, and the folder is left as it was",
-            out.display()
+            folder.display()
         )),
         "{stderr}"
     );
     assert!(stderr.contains("File too large"), "{stderr}");
+}
+
+#[test]
+fn a_report_that_fails_to_write_leaves_the_earlier_one_byte_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    succeed(&mut run(dir.path(), "a", &suite(BALANCED, 1), &out));
+    let before = snapshot(&out);
+    // A write that fails part way: the report's larger files are over the cap.
+    let config = dir.path().join("b.ron");
+    fs::write(&config, suite(SPEED_FOCUSED, 3)).unwrap();
+    fails_to_write(&[Path::new("run"), &config, Path::new("--out"), &out], &out);
     assert_eq!(snapshot(&out), before);
     assert_eq!(names(dir.path()), ["a.ron", "b.ron", "out"]);
+}
+
+/// The sweep of [`sweep_config`].
+const SWEEP: &str = r#"(suite: file("suite.ron"), seeds: [1, 2], parameters: [lambda([0.8])])"#;
+
+/// A sweep of 2 cells x 2 seeds over one experiment and two arms, its suite and config
+/// ([`SWEEP`]) in `dir`; returns the config's path.
+fn sweep_config(dir: &Path) -> PathBuf {
+    let suite = format!(
+        r#"(seed: 1, trials: 2, arms: ["random-walk", "case-based"], experiments: [{BALANCED}])"#
+    );
+    fs::write(dir.join("suite.ron"), suite).unwrap();
+    let config = dir.join("sweep.ron");
+    fs::write(&config, SWEEP).unwrap();
+    config
+}
+
+#[test]
+fn a_sweep_report_that_fails_to_write_leaves_the_earlier_one_byte_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = sweep_config(dir.path());
+    let out = dir.path().join("out");
+    succeed(trustcbr().arg("sweep").arg(&config).arg("--out").arg(&out));
+    let report = out.join("report");
+    let before = (snapshot(&report), snapshot(&out.join("runs/base")));
+    // Capped below the report's largest file (its plot, written last) and above the run
+    // files: the runs are written again, the report fails part way.
+    let largest = before.0.values().map(Vec::len).max().unwrap();
+    let runs = before.1.values().map(Vec::len).max().unwrap();
+    assert!(runs < 8 * 512 && largest > 8 * 512, "{runs} {largest}");
+    fails_to_write(
+        &[Path::new("sweep"), &config, Path::new("--out"), &out],
+        &report,
+    );
+    assert_eq!(
+        (snapshot(&report), snapshot(&out.join("runs/base"))),
+        before
+    );
+    assert_eq!(names(&out), ["report", "runs", "sweep.ron"]);
+    // A merge's report likewise.
+    let merged = dir.path().join("merged");
+    let merge: [&Path; 6] = [
+        Path::new("sweep"),
+        Path::new("merge"),
+        &config,
+        &out,
+        Path::new("--out"),
+        &merged,
+    ];
+    succeed(trustcbr().args(merge));
+    let earlier = snapshot(&merged.join("report"));
+    assert_eq!(earlier, before.0, "a merged report is one machine's");
+    fails_to_write(&merge, &merged.join("report"));
+    assert_eq!(snapshot(&merged.join("report")), earlier);
+    assert_eq!(names(&merged), ["report"]);
+}
+
+#[test]
+fn a_sweep_report_folder_is_replaced_whole_and_never_holds_other_files_or_links() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = sweep_config(dir.path());
+    let out = dir.path().join("out");
+    let sweep = || {
+        let mut command = trustcbr();
+        command.arg("sweep").arg(&config).arg("--out").arg(&out);
+        command
+    };
+    // A folder of an earlier version, its report beside its runs: the report moves into
+    // `report/`, and nothing of the old one stays beside the runs.
+    fs::create_dir(&out).unwrap();
+    fs::write(out.join("sweep.ron"), SWEEP).unwrap();
+    for name in ["sweep.md", "sweep.json", "sweep-old.svg"] {
+        fs::write(out.join(name), "earlier").unwrap();
+    }
+    succeed(&mut sweep());
+    assert_eq!(names(&out), ["report", "runs", "sweep.ron"]);
+    assert_eq!(
+        names(&out.join("report")),
+        ["sweep-lambda.svg", "sweep.json", "sweep.md"]
+    );
+    // A file of the user's in the report folder would go with it: refused before any
+    // work, and everything stays.
+    fs::write(out.join("report/notes.txt"), "mine").unwrap();
+    let before = snapshot(&out.join("report"));
+    // Refused, naming `name` in the sweep's folder and saying `what`.
+    let refused_at = |name: &str, what: &str| {
+        let stderr = refused(&mut sweep());
+        let expected = format!("{}: {what}", out.join(name).display());
+        assert!(stderr.contains(&expected), "{stderr}");
+    };
+    refused_at(
+        "report",
+        "the folder holds `notes.txt`, which is not part of a trustcbr sweep report",
+    );
+    assert_eq!(snapshot(&out.join("report")), before);
+    fs::remove_file(out.join("report/notes.txt")).unwrap();
+    // A link in it, or the report folder a link: refused, what they point to unchanged.
+    let outside = dir.path().join("outside.md");
+    fs::write(&outside, "precious").unwrap();
+    fs::remove_file(out.join("report/sweep.md")).unwrap();
+    symlink(&outside, out.join("report/sweep.md")).unwrap();
+    refused_at("report/sweep.md", "is a symbolic link");
+    let elsewhere = dir.path().join("elsewhere");
+    fs::rename(out.join("report"), &elsewhere).unwrap();
+    symlink(&elsewhere, out.join("report")).unwrap();
+    refused_at("report", "is a symbolic link");
+    assert_eq!(fs::read(&outside).unwrap(), b"precious");
+    assert!(
+        fs::symlink_metadata(out.join("report"))
+            .unwrap()
+            .is_symlink()
+    );
+    assert_eq!(
+        names(dir.path()),
+        ["elsewhere", "out", "outside.md", "suite.ron", "sweep.ron"]
+    );
 }
 
 #[test]

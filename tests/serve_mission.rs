@@ -411,3 +411,45 @@ fn a_context_request_naming_the_current_context_changes_nothing() {
     assert_ne!(r[7]["from"], "kept", "{}", r[7]);
     assert_eq!(r[8]["from"], "kept", "{}", r[8]);
 }
+
+/// Switching back to a context does not resume a behavior the same operator gave up
+/// there: settled on in the default context, it is resumed on the way back from
+/// hazardous cargo; once it has fallen in the default context, the next switch back
+/// carries on with the behavior in use instead (issue 52, item 11).
+#[test]
+fn a_switch_back_never_resumes_a_behavior_given_up_in_that_context() {
+    let default = r#"{"request": "context", "context": {}}"#;
+    let hazardous = r#"{"request": "context", "context": {"cargo": "hazardous"}}"#;
+    let lines: Vec<&str> = [BEGIN]
+        .into_iter()
+        .chain(repeat(DONE, 5)) // 1..=5: settled in the default context
+        .chain([hazardous]) // 6: kept, now watched with hazardous cargo
+        .chain(repeat(STOPPED, 10)) // 7..=16: it falls there, the tenth switches
+        .chain(repeat(DONE, 5)) // 17..=21: settled with hazardous cargo
+        .chain([default]) // 22: back, resumed
+        .chain(repeat(DONE, 5)) // 23..=27: settled again
+        .chain(repeat(STOPPED, 10)) // 28..=37: it falls in the default context too
+        .chain([hazardous, default, STATE]) // 38, 39, 40
+        .collect();
+    let r = exchange(true, &lines);
+    assert_eq!(r[5]["ok"], "settled");
+    assert_eq!(r[6]["from"], "kept", "{}", r[6]);
+    assert_eq!(r[16]["ok"], "switch", "{}", r[16]);
+    let there = r[16]["behavior"].clone();
+    assert_eq!(r[21]["ok"], "settled", "{}", r[21]);
+    assert_eq!(r[21]["behavior"], there);
+    assert_eq!(r[22]["from"], "resumed", "{}", r[22]);
+    assert_eq!(r[22]["behavior"], behavior());
+    assert_eq!(r[22]["gave_up_watch"], true);
+    assert_eq!(r[27]["ok"], "settled", "{}", r[27]);
+    assert_eq!(r[37]["ok"], "switch", "{}", r[37]);
+    assert_eq!(r[37]["explanation"]["given_up"]["behavior"], behavior());
+    assert_eq!(r[38]["from"], "resumed", "{}", r[38]);
+    assert_eq!(r[38]["behavior"], there);
+    // Back in the default context: the behavior given up there is not resumed; the
+    // episode under way begins again from the behavior in use.
+    assert_eq!(r[39]["from"], "restarted", "{}", r[39]);
+    assert_eq!(r[39]["behavior"], there);
+    assert_eq!(r[40]["episode"]["behavior"], there, "{}", r[40]);
+    assert_eq!(r[40]["episode"]["commands"], 0, "{}", r[40]);
+}

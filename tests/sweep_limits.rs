@@ -247,14 +247,15 @@ fn one_seed_gives_a_mean_without_an_interval() {
     );
     let out = dir.path().join("out");
     succeed(trustcbr().arg("sweep").arg(&file).arg("--out").arg(&out));
-    let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
+    let md = std::fs::read_to_string(out.join("report/sweep.md")).unwrap();
     let row = md
         .lines()
         .find(|l| l.starts_with("| base | random-walk |"))
         .unwrap_or_else(|| panic!("{md}"));
     assert!(!row.contains('±'), "{row}");
     let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("sweep.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(out.join("report/sweep.json")).unwrap())
+            .unwrap();
     let result = &json["results"][0];
     assert!(result["behaviors_ci95"].is_null(), "{result}");
     assert!(result["commands_ci95"].is_null(), "{result}");

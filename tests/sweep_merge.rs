@@ -279,7 +279,7 @@ fn a_sweep_folder_holds_one_sweep_and_nothing_else() {
             .arg("--out")
             .arg(&out),
     );
-    assert!(out.join("sweep-lambda.svg").is_file());
+    assert!(out.join("report/sweep-lambda.svg").is_file());
     assert!(out.join("runs/lambda-0-8/seed-1.json").is_file());
     std::fs::write(
         sweep.path("sweep.ron"),
@@ -293,7 +293,7 @@ fn a_sweep_folder_holds_one_sweep_and_nothing_else() {
             .arg("--out")
             .arg(&out),
     );
-    assert!(out.join("sweep-time_unit.svg").is_file());
-    assert!(!out.join("sweep-lambda.svg").exists());
+    assert!(out.join("report/sweep-time_unit.svg").is_file());
+    assert!(!out.join("report/sweep-lambda.svg").exists());
     assert!(!out.join("runs/lambda-0-8").exists());
 }

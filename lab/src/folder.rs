@@ -7,8 +7,8 @@
 //! leaves it exactly as it was. The rule: the folder may be missing, empty, or hold an
 //! earlier report (it has a `summary.json`) and nothing else; a folder holding anything
 //! else, a symbolic link (as the folder or in it) is refused. Sweeps, whose folder holds
-//! their runs too, follow [`FolderRule`] in place: checked the same way, their report
-//! files replaced one by one, never through a link.
+//! their runs too, check it by [`FolderRule`] and keep their report in a folder of its own
+//! in it, swapped in whole the same way.
 
 use files::FileError;
 use files::output::{FolderError, ensure_writable_dir, is_temporary_name};

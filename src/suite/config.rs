@@ -609,6 +609,19 @@ fn mission_suite_here(origin: &Path) -> SuiteError {
 }
 
 impl ExperimentSpec {
+    /// The contexts its trials run in, when it has `contexts`
+    /// ([`ContextsSpec::trial_contexts`], checked against `space`); an error names the
+    /// field under the experiment (`contexts.cycle[1]`).
+    pub(crate) fn trial_contexts(
+        &self,
+        space: &ContextSpace,
+    ) -> Result<Option<TrialContexts>, (String, String)> {
+        self.contexts
+            .as_ref()
+            .map(|c| c.trial_contexts(space))
+            .transpose()
+    }
+
     /// The report name, e.g. `movement/speed-focused` (`movement/speed-focused/f0.3w0.1`
     /// with a feedback channel of its own, `movement/rung-2` for a population; with goal
     /// changes, `/g1` at one an hour, `/g1s0.5` when half of them are said; in contexts,

@@ -154,10 +154,7 @@ pub(super) fn plans<'p, C: Catalog>(
             )
         };
         let contexts = spec
-            .contexts
-            .as_ref()
-            .map(|c| c.trial_contexts(domain.contexts()))
-            .transpose()
+            .trial_contexts(domain.contexts())
             .map_err(|(field, reason)| invalid(format!("experiments[{k}].{field}"), reason))?;
         plans.push(ExperimentPlan {
             name: spec.name(),

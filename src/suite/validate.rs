@@ -17,7 +17,8 @@ use crate::limits::{
 };
 use files::name::check_file_name;
 use lab::{
-    Arm, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split, prefers_competent,
+    Arm, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split, TrialContexts,
+    prefers_competent,
 };
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
@@ -84,17 +85,6 @@ impl SuiteConfig {
                 ),
             ));
         }
-        if !self.experiments.iter().any(|e| e.stated.is_some())
-            && let Some(i) = self.arms.iter().position(|a| ignores_statements(a))
-        {
-            return Err(invalid(
-                format!("arms[{i}]"),
-                format!(
-                    "`{}` ignores what operators state up front, and no experiment here has `stated`: nothing is stated, so the arm is its twin that hears; give an experiment `stated` or drop the arm's +ignores-statements",
-                    self.arms[i]
-                ),
-            ));
-        }
         if let Some(reference) = &self.reference
             && !self.arms.contains(reference)
         {
@@ -108,9 +98,11 @@ impl SuiteConfig {
         }
         let readings = resolve_readings(catalog, &self.readings)
             .map_err(|e| invalid("readings".into(), e.to_string()))?;
+        let mut told_a_context = false;
         for (i, spec) in self.experiments.iter().enumerate() {
             let field = format!("experiments[{i}]");
-            let operators = spec.check(catalog, &field, origin, &readings)?;
+            let (operators, contexts) = spec.check(catalog, &field, origin, &readings)?;
+            told_a_context |= contexts.is_some_and(|t| t.cycle().iter().any(|c| !c.is_default()));
             if spec.operator != RANDOM_OPERATOR
                 && !operators.iter().any(|(name, _)| *name == spec.operator)
             {
@@ -147,33 +139,42 @@ impl SuiteConfig {
         }
         let names: Vec<String> = self.experiments.iter().map(ExperimentSpec::name).collect();
         check_distinct("experiments", "experiment", &names, origin)?;
-        self.check_twins(catalog, origin)
+        self.check_twins(catalog, origin, told_a_context)
     }
 
     /// Refuses an arm that is blind to the context, or deaf to statements, where that
-    /// changes nothing, so it would run as its twin under another name: a blind arm where
-    /// no trial runs in a context other than the default; a built-in blind arm that reuses
+    /// changes nothing, so it would run as its twin under another name: a deaf arm where no
+    /// experiment has operators state anything; a blind arm where no trial runs in a
+    /// context other than the default (`told_a_context`, as the experiments' checks
+    /// resolved their contexts); a built-in blind arm that reuses
     /// no case and whose search ignores the context; a built-in deaf arm whose search
     /// hears no statement ([`cbr_core::Searcher::reads_context`],
     /// [`cbr_core::Searcher::hears_statements`]). A user's arm is taken at its word: its
     /// searcher says it may read both unless it says otherwise, and it is not built here.
-    fn check_twins<C: Catalog>(&self, catalog: &C, origin: &Path) -> Result<(), SuiteError> {
+    fn check_twins<C: Catalog>(
+        &self,
+        catalog: &C,
+        origin: &Path,
+        told_a_context: bool,
+    ) -> Result<(), SuiteError> {
         let invalid = |i: usize, message: String| invalid(origin, format!("arms[{i}]"), message);
+        if !self.experiments.iter().any(|e| e.stated.is_some())
+            && let Some(i) = self.arms.iter().position(|a| ignores_statements(a))
+        {
+            return Err(invalid(
+                i,
+                format!(
+                    "`{}` ignores what operators state up front, and no experiment here has `stated`: nothing is stated, so the arm is its twin that hears; give an experiment `stated` or drop the arm's +ignores-statements",
+                    self.arms[i]
+                ),
+            ));
+        }
         let Some(first) = self.experiments.first() else {
             return Ok(());
         };
         let domain = domain_of(catalog, &first.scenario)
             .map_err(|unknown| invalid(0, unknown.to_string()))?;
         let space = domain.space();
-        let told_a_context = self.experiments.iter().any(|e| {
-            let domain = domain_of(catalog, &e.scenario);
-            match (&e.contexts, domain) {
-                (Some(contexts), Ok(domain)) => contexts
-                    .trial_contexts(domain.contexts())
-                    .is_ok_and(|t| t.cycle().iter().any(|c| !c.is_default())),
-                _ => false,
-            }
-        });
         for (i, name) in self.arms.iter().enumerate() {
             let Ok((base, options)) = NameOptions::of_name(name) else {
                 continue;
@@ -291,31 +292,32 @@ pub(crate) fn check_distinct(
     Ok(())
 }
 
+/// What [`ExperimentSpec::check`] finds: the experiment's operators by name, and the
+/// contexts its trials run in when it has `contexts`.
+pub(crate) type Checked<C> = (Vec<(String, OperatorOf<C>)>, Option<TrialContexts>);
+
 impl ExperimentSpec {
     /// Checks who operates an experiment or a mission plan (at `field`), whatever the
     /// suite's kind: its scenario, its population (a family's conflict and size, its
     /// members listed or drawn, not both; built-in members named only in a population,
     /// each known and named once), an `operator` left out with nothing to choose it by
     /// ([`ExperimentSpec::operator`]), and its operators, loaded as `readings` read them
-    /// (file names as names, none named twice or `random`). Returns the operators.
+    /// (file names as names, none named twice or `random`). Returns the operators, and the
+    /// contexts its trials run in when it has `contexts`.
     pub(crate) fn check<C: Catalog>(
         &self,
         catalog: &C,
         field: &str,
         origin: &Path,
         readings: &Readings,
-    ) -> Result<Vec<(String, OperatorOf<C>)>, SuiteError> {
+    ) -> Result<Checked<C>, SuiteError> {
         let invalid = |field: String, message: String| invalid(origin, field, message);
         let domain = domain_of(catalog, &self.scenario)
             .map_err(|unknown| invalid(format!("{field}.scenario"), unknown.to_string()))?;
-        let contexts = match &self.contexts {
-            Some(contexts) => contexts
-                .trial_contexts(domain.contexts())
-                .map_err(|(name, reason)| invalid(format!("{field}.{name}"), reason))?
-                .cycle()
-                .len(),
-            None => 1,
-        };
+        let trial_contexts = self
+            .trial_contexts(domain.contexts())
+            .map_err(|(name, reason)| invalid(format!("{field}.{name}"), reason))?;
+        let contexts = trial_contexts.as_ref().map_or(1, |t| t.cycle().len());
         OPERATOR_FILES
             .check(
                 &format!("{field}.operator_files"),
@@ -453,7 +455,7 @@ impl ExperimentSpec {
             };
             return Err(invalid(place, problem));
         }
-        Ok(operators)
+        Ok((operators, trial_contexts))
     }
 
     /// Refuses an experiment or mission plan (at `field`) of which an operator that may

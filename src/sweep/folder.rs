@@ -1,22 +1,33 @@
 //! The folder a sweep writes into: checked before any work, cleared of an earlier sweep
-//! of another config, and marked with the sweep's `sweep.ron`.
+//! of another config, and marked with the sweep's `sweep.ron`. Its report is a folder of
+//! its own in it, [`REPORT_DIR`], written whole beside its place and swapped in
+//! ([`write_report`](super::write_report)): the runs stay where they are, and a report that
+//! fails to write leaves the earlier one as it was.
 
 use super::SweepError;
+use files::output::ensure_writable_dir;
 use files::{FileError, read_text, write_file_in};
-use lab::folder::FolderRule;
+use lab::folder::{FolderRule, ReportFolderError, foreign_entry};
+use std::fs;
+use std::io;
 use std::path::{Path, PathBuf};
 
-/// A sweep's folder: marked by its `sweep.ron`; its report is `sweep.md`, `sweep.json`
-/// and the plots, which an unmarked folder may hold too (what [`merge`](super::merge)
-/// writes).
+/// The folder of a sweep's report in the sweep's folder (or a merge's `--out`):
+/// `sweep.md`, `sweep.json` and the plots.
+pub const REPORT_DIR: &str = "report";
+
+/// A sweep's folder: marked by its `sweep.ron`, holding `runs/` and [`REPORT_DIR`]. An
+/// unmarked one (a merge's) may hold the report folder; the report files it owns are
+/// those earlier versions wrote into the folder itself, removed once a new report is in
+/// place.
 pub const SWEEP_FOLDER: FolderRule = FolderRule {
     holds: "sweep",
     marker: "sweep.ron",
     owns: is_report_file,
-    unmarked_may_hold: is_report_file,
+    unmarked_may_hold: |name| name == REPORT_DIR || is_report_file(name),
 };
 
-/// The files of a sweep's report in its folder: `sweep.md`, `sweep.json` and the plots.
+/// The files of a sweep's report: `sweep.md`, `sweep.json` and the plots.
 fn is_report_file(name: &str) -> bool {
     name == "sweep.md"
         || name == "sweep.json"
@@ -25,9 +36,46 @@ fn is_report_file(name: &str) -> bool {
 
 /// Checks, before any work starts, that `dir` can take a sweep's files: it is created if
 /// missing, must be writable, and may hold nothing but an earlier sweep (marked by its
-/// `sweep.ron`) or a report (the files [`merge`](super::merge) writes), or be empty.
+/// `sweep.ron`) or a report (what [`merge`](super::merge) writes), or be empty; its report
+/// folder, if any, must be one ([`check_report_folder`]).
 pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
-    Ok(SWEEP_FOLDER.prepare(dir)?)
+    SWEEP_FOLDER.prepare(dir)?;
+    check_report_folder(&dir.join(REPORT_DIR))
+}
+
+/// Checks the report folder `report` of a sweep's folder, if there is one, before any work
+/// and again just before a new report replaces it whole: it is a folder, not a symbolic
+/// link, and holds a sweep report's files alone, none a link (anything else would go with
+/// it).
+pub(super) fn check_report_folder(report: &Path) -> Result<(), SweepError> {
+    match fs::symlink_metadata(report) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        // Refuses a link or what is not a folder, naming it.
+        _ => ensure_writable_dir(report).map_err(ReportFolderError::from)?,
+    }
+    let unlisted = |reason| {
+        ReportFolderError::from(files::FolderError::Unwritable {
+            path: report.to_owned(),
+            action: "list this folder",
+            reason,
+        })
+    };
+    for entry in fs::read_dir(report).map_err(unlisted)? {
+        let entry = entry.map_err(unlisted)?;
+        if entry.file_type().is_ok_and(|t| t.is_symlink()) {
+            return Err(ReportFolderError::Symlink { path: entry.path() }.into());
+        }
+    }
+    match foreign_entry(report, None, is_report_file).map_err(ReportFolderError::from)? {
+        Some(entry) => Err(ReportFolderError::Foreign {
+            path: report.to_owned(),
+            entry,
+            holds: "sweep report",
+            marker: "sweep.json",
+        }
+        .into()),
+        None => Ok(()),
+    }
 }
 
 /// Removes from `dir` the run files (`runs/CELL/seed-SEED.json`, and the folders they
@@ -54,24 +102,33 @@ pub fn remove_earlier_sweep(dir: &Path, text: &str) -> Result<(), SweepError> {
             {
                 let name = run.file_name().to_string_lossy().into_owned();
                 if name.starts_with("seed-") && name.ends_with(".json") {
-                    remove(&run.path())?;
+                    let path = run.path();
+                    removed(&path, fs::remove_file(&path))?;
                 }
             }
             std::fs::remove_dir(cell.path()).ok();
         }
         std::fs::remove_dir(&runs).ok();
     }
-    remove_earlier_report(dir)
+    let report = dir.join(REPORT_DIR);
+    check_report_folder(&report)?;
+    if report.is_dir() {
+        // Checked: a folder of report files, no link (remove_dir_all follows none anyway).
+        removed(&report, fs::remove_dir_all(&report))?;
+    }
+    remove_report_files_beside(dir)
 }
 
-/// Removes an earlier sweep report's files from `dir`.
-pub(super) fn remove_earlier_report(dir: &Path) -> Result<(), SweepError> {
+/// Removes from `dir` the report files earlier versions wrote into a sweep's folder
+/// itself, beside its runs: a report now lives in [`REPORT_DIR`].
+pub(super) fn remove_report_files_beside(dir: &Path) -> Result<(), SweepError> {
     SWEEP_FOLDER.remove_files(dir)?;
     Ok(())
 }
 
-fn remove(path: &Path) -> Result<(), SweepError> {
-    std::fs::remove_file(path).map_err(|reason| {
+/// The outcome of removing `path`, as a sweep's error naming it.
+fn removed(path: &Path, outcome: io::Result<()>) -> Result<(), SweepError> {
+    outcome.map_err(|reason| {
         SweepError::from(FileError {
             path: path.to_owned(),
             reason,

@@ -7,7 +7,8 @@ use files::read_text;
 use std::path::{Path, PathBuf};
 
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
-/// `dirs` and writes the report into `out`. Every folder must carry the same `sweep.ron`;
+/// `dirs` and writes the report into `out`'s report folder (`out/report`, swapped in
+/// whole). Every folder must carry the same `sweep.ron`;
 /// every run must be in some folder (all missing runs are named), and where several hold
 /// it, with the same bytes; every run file must be the run of its place (its cell, seed,
 /// suite content hash, trials, experiments and arms, and values a run can have). Nothing

@@ -6,8 +6,9 @@
 //! and any reading the catalog's domain declares, such as the UGV patrol weight reading). Its *cells* are the base and, one parameter at a time, each
 //! of its other values (or, with `design: grid`, every combination). Every (cell, seed)
 //! pair is one *run* of the suite, summarised into a small JSON file
-//! (`runs/CELL/seed-SEED.json`); the report aggregates the runs of each cell across seeds
-//! (mean of the per-seed means, with a 95% confidence interval over seeds).
+//! (`runs/CELL/seed-SEED.json`); the report (the folder `report/` beside the runs, swapped
+//! in whole) aggregates the runs of each cell across seeds (mean of the per-seed means,
+//! with a 95% confidence interval over seeds).
 //!
 //! Runs are independent, so a sweep can be split: `--shard I/N` runs every N-th run and
 //! writes only its run files, and [`merge`] rebuilds the report from shard folders. The
@@ -29,7 +30,7 @@ mod runs;
 
 pub use cells::{Cell, RunId, Sweep};
 pub use config::{Design, Parameter, SuiteSource, SweepConfig};
-pub use folder::{prepare_dir, remove_earlier_sweep, write_config};
+pub use folder::{REPORT_DIR, prepare_dir, remove_earlier_sweep, write_config};
 pub use merge::merge;
 pub use report::write_report;
 pub use runs::{ArmMeans, RunSummary, write_run};
@@ -80,6 +81,17 @@ pub enum SweepError {
     /// A folder for a sweep's files cannot be used, or holds other files.
     #[error(transparent)]
     Folder(#[from] lab::folder::ReportFolderError),
+    /// The report could not be written: the earlier report is left as it was.
+    #[error(
+        "{}: the report could not be written, and the folder is left as it was (the report is written beside it first, and that folder is removed): {reason}",
+        path.display()
+    )]
+    Unwritten {
+        /// The report's folder.
+        path: PathBuf,
+        /// The file that could not be written, and why.
+        reason: files::FileError,
+    },
     /// A plot could not be drawn.
     #[error("plot {path}: {message}")]
     Plot {

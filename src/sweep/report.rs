@@ -1,10 +1,11 @@
 //! A sweep's report from its runs' summaries alone: `sweep.md` and `sweep.json`, each
 //! cell's means over seeds with their 95% intervals, and a plot per parameter.
 
-use super::folder::remove_earlier_report;
+use super::folder::{REPORT_DIR, check_report_folder, remove_report_files_beside};
 use super::plot::plot_parameter;
 use super::{Design, RunId, RunSummary, Sweep, SweepError};
-use files::write_file_in;
+use files::{StagedFolder, write_file_in};
+use lab::folder::ReportFolderError;
 use lab::stats::mean_ci95;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -32,8 +33,12 @@ fn with_interval(mean: f64, ci: Option<f64>, decimals: usize) -> String {
     }
 }
 
-/// Writes `sweep.md`, `sweep.json` and one plot per parameter (`sweep-NAME.svg`) into
-/// `out`, from the runs' summaries. Returns the files written.
+/// Writes the report folder `out/report` ([`REPORT_DIR`]): `sweep.md`, `sweep.json` and
+/// one plot per parameter (`sweep-NAME.svg`), from the runs' summaries. The folder is
+/// written whole beside its place and swapped in only once every file is written, so a
+/// report that fails to write leaves the earlier one as it was; the report files earlier
+/// versions wrote into `out` itself are removed once it is in place. Returns the files
+/// written, in place.
 pub fn write_report(
     sweep: &Sweep,
     summaries: &[(RunId, RunSummary)],
@@ -113,18 +118,27 @@ pub fn write_report(
             serde_json::to_string_pretty(&json).expect("plain data serializes") + "\n",
         ),
     ];
+    let report = out.join(REPORT_DIR);
     if sweep.config.design == Design::OneAtATime {
         for p in &sweep.config.parameters {
             let name = format!("sweep-{}.svg", p.name());
-            let svg = plot_parameter(sweep, p, &series, &order, &arm_order, &out.join(&name))?;
+            let svg = plot_parameter(sweep, p, &series, &order, &arm_order, &report.join(&name))?;
             files.push((name, svg));
         }
     }
-    // Written only once every file is computed, so a failure leaves no partial report;
-    // an earlier report's files go first, so no stale plot stays beside the new ones.
-    remove_earlier_report(out)?;
-    files
-        .iter()
-        .map(|(name, text)| Ok(write_file_in(out, name, text)?))
-        .collect()
+    // Written only once every file is computed, into a fresh folder beside the report's
+    // place, swapped in whole: the earlier report goes only once the new one is in place,
+    // with every plot of it.
+    check_report_folder(&report)?;
+    let staged = StagedFolder::beside(&report).map_err(ReportFolderError::from)?;
+    for (name, text) in &files {
+        write_file_in(staged.path(), name, text).map_err(|reason| SweepError::Unwritten {
+            path: report.clone(),
+            reason,
+        })?;
+    }
+    check_report_folder(&report)?;
+    staged.commit().map_err(ReportFolderError::from)?;
+    remove_report_files_beside(out)?;
+    Ok(files.iter().map(|(name, _)| report.join(name)).collect())
 }

@@ -28,8 +28,9 @@
 //! context switched ([`MissionAdapter::switch_context`]) mid-mission ends an episode under
 //! way (its behaviors were evaluated in the old context) and forgets how its operator
 //! reacts (that holds in the context it was learned in); the robot then goes back to the
-//! behavior it last settled on, trusted, in the new context since its operator began, or
-//! else to the case memory's first guess there when asked, or else carries on with the
+//! behavior it last settled on, trusted, in the new context since its operator began (and
+//! has not given up there since), or else to the case memory's first guess there when
+//! asked, or else carries on with the
 //! behavior in use ([`ContextSwitch`]). The episode machine knows
 //! nothing of this: a mission drives it through its episode-level calls (an episode's
 //! outcomes, the account of the behavior kept after it, the episode begun from a kept
@@ -86,7 +87,7 @@ pub enum SwitchStart {
     /// in, the episode or watch under way going on unchanged.
     Kept,
     /// The behavior the robot last settled on, trusted, in the new context since its
-    /// operator began: an episode begins from it.
+    /// operator began, and has not given up there since: an episode begins from it.
     Resumed,
     /// The case memory's first guess for the new context ([`crate::start`]): an episode
     /// begins from it.
@@ -107,6 +108,16 @@ fn guess(memory: Option<&TrustMemory>, adaptation: &Adaptation) -> Option<Behavi
         adaptation.context(),
     )
     .map(|g| g.behavior)
+}
+
+/// Whether the episode gave up the behavior it had in use: a switch, or its end with every
+/// behavior tried (it settles on the one that held out longest, untrusted).
+fn gives_up(decision: &Decision) -> bool {
+    match decision {
+        Decision::Keep => false,
+        Decision::Switch { .. } => true,
+        Decision::Settled(report) => !report.found_trustworthy,
+    }
 }
 
 impl From<Decision> for MissionDecision {
@@ -132,7 +143,7 @@ struct Mission<'p> {
     /// How many the episode under way has passed over.
     passed: u32,
     /// Per context, the behavior the robot last settled on, trusted, in it since its
-    /// operator began.
+    /// operator began; forgotten once given up there (`forget_settled`).
     settled_in: Vec<(Context, Behavior)>,
 }
 
@@ -218,6 +229,15 @@ impl<'p> Mission<'p> {
         }
     }
 
+    /// Forgets `behavior` as the one last settled on in `adaptation`'s context, if it is:
+    /// the robot has given it up there (its estimate fell, or an episode gave it up), so a
+    /// switch back to the context must not resume it.
+    fn forget_settled(&mut self, adaptation: &Adaptation, behavior: Behavior) {
+        let context = adaptation.context();
+        self.settled_in
+            .retain(|(c, b)| !(c == context && *b == behavior));
+    }
+
     /// One command: of the episode under way, or of the watched behavior.
     fn record(
         &mut self,
@@ -258,6 +278,9 @@ impl<'p> Mission<'p> {
             }
             None => adaptation.record(outcome, memory)?,
         };
+        if gives_up(&decision) {
+            self.forget_settled(adaptation, in_use);
+        }
         self.after(adaptation, &decision);
         Ok(decision.into())
     }
@@ -282,6 +305,7 @@ impl<'p> Mission<'p> {
         let watch = *watch;
         if watch.fallen(&thresholds) {
             self.watch = None;
+            self.forget_settled(adaptation, watch.behavior);
             let decision = adaptation
                 .give_up_kept(watch.behavior, watch.estimate, watch.untrustworthy, memory)
                 .expect("no episode runs while a behavior of the space is watched, and it fell");
@@ -573,7 +597,8 @@ impl<'p> MissionAdapter<'p> {
     /// The robot's context switched to `context` mid-mission, and it is told: an episode
     /// under way ends, what the robot learned of how its operator reacts is forgotten, and
     /// it goes back to the behavior it last settled on, trusted, in `context` since its
-    /// operator began, or else (with `learned_start`) to the case memory's first guess in
+    /// operator began and has not given up there since (its watch fell, an episode gave it
+    /// up or passed it over), or else (with `learned_start`) to the case memory's first guess in
     /// `context`, or else carries on with the behavior in use (an episode under way
     /// begins again from it; a watched one stays watched). Refused with neither an
     /// episode nor a watch.

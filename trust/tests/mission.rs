@@ -580,3 +580,62 @@ fn a_context_switch_goes_back_to_what_the_robot_settled_on_there() {
         (hazardous, SwitchStart::Restarted)
     );
 }
+
+/// Settled on `[0, 0]` in normal cargo, then (`[0, 0]` having fallen with hazardous cargo)
+/// on another behavior there, the robot back in normal cargo resumes `[0, 0]`, an episode
+/// from it. Returns the two behaviors.
+fn resumed_in_normal_cargo(a: &mut MissionAdapter) -> (Behavior, Behavior) {
+    let first = Behavior::new(&[0, 0]);
+    a.begin_episode(first).unwrap();
+    settle(a);
+    a.switch_context(cargo("hazardous"), false).unwrap();
+    let hazardous = fall(a);
+    settle(a);
+    let back = a.switch_context(Context::default(), false).unwrap();
+    assert_eq!((back.behavior, back.from), (first, SwitchStart::Resumed));
+    (first, hazardous)
+}
+
+/// To hazardous cargo (its behavior resumed) and back to normal cargo, where the behavior
+/// last settled on was given up since: the episode under way begins again from the
+/// behavior in use instead of resuming it.
+fn back_and_forth_resumes_nothing_given_up(a: &mut MissionAdapter, hazardous: Behavior) {
+    let there = a.switch_context(cargo("hazardous"), false).unwrap();
+    assert_eq!(
+        (there.behavior, there.from),
+        (hazardous, SwitchStart::Resumed)
+    );
+    let again = a.switch_context(Context::default(), false).unwrap();
+    assert_eq!(
+        (again.behavior, again.from),
+        (hazardous, SwitchStart::Restarted),
+        "the behavior given up in this context was resumed"
+    );
+}
+
+/// A behavior the robot gave up in a context is not resumed there: settled on in normal
+/// cargo, it is resumed on the way back from hazardous cargo; once it has fallen there, a
+/// later switch back does not go back to it (issue 52, item 11).
+#[test]
+fn a_context_switch_never_resumes_a_behavior_given_up_there() {
+    let mut a = mission_adapter();
+    let (first, hazardous) = resumed_in_normal_cargo(&mut a);
+    settle(&mut a);
+    assert_eq!(a.watching().unwrap().behavior, first);
+    // Now the same operator minds it in normal cargo too: it falls, given up there, and
+    // an episode searches on.
+    assert_ne!(fall(&mut a), first);
+    assert!(a.adapter().episode().is_some());
+    back_and_forth_resumes_nothing_given_up(&mut a, hazardous);
+}
+
+/// An episode that gives up the behavior it resumed forgets it too: a switch away and
+/// back mid-episode does not resume it again.
+#[test]
+fn an_episode_giving_up_a_resumed_behavior_forgets_it() {
+    let mut a = mission_adapter();
+    let (first, hazardous) = resumed_in_normal_cargo(&mut a);
+    // Resumed, it begins an episode at 0: five interruptions give it up in that episode.
+    assert_ne!(fall(&mut a), first);
+    back_and_forth_resumes_nothing_given_up(&mut a, hazardous);
+}

@@ -219,7 +219,7 @@ fn landscape_sweep_serve_and_render() {
     let stdout = succeed(warehouse().arg("sweep").arg(&sweep).arg("--out").arg(&out));
     assert!(stdout.contains("2 cells x 2 seeds"), "{stdout}");
     assert!(
-        std::fs::read_to_string(out.join("sweep.md"))
+        std::fs::read_to_string(out.join("report/sweep.md"))
             .unwrap()
             .contains("| lambda=0.9 |")
     );
