@@ -1,7 +1,9 @@
 //! The Gymnasium environment's inner loop, natively: an episode is one operator of a
-//! catalog's scenario; a step runs one behavior's commands in front of it, each judged by
-//! the domain and recorded in the library's trust estimate ([`TrustEstimate`], the
-//! paper's thresholds), until the estimate reaches a threshold or `max_commands` pass. The
+//! catalog's scenario; a step runs one behavior's commands in front of it through the
+//! laboratory's simulated command ([`Simulation`]: the operator's attention and its
+//! feedback channel apply, as in every experiment and mission), each recorded in the
+//! library's trust estimate ([`TrustEstimate`], the paper's thresholds), until the estimate
+//! reaches a threshold or `max_commands` pass. The
 //! Python `trustcbr.gym.TrustEnv` checks actions, builds observations and owns the
 //! episode's bookkeeping; this is what makes a step cost microseconds.
 //!
@@ -9,23 +11,25 @@
 
 use crate::error;
 use pyo3::prelude::*;
-use rand::SeedableRng;
+use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Mutex;
 use std::thread::{self, ThreadId};
 use trustcbr::Catalog;
 use trustcbr::catalog::{OperatorOf, domain_of, find_operator, resolve_readings};
 use trustcbr::cbr_core::Behavior;
-use trustcbr::lab::Domain;
+use trustcbr::lab::{Domain, SimulatedCommand, Simulation, check_attention};
 use trustcbr::trust::{OutcomeKind, Thresholds, TrustEstimate, Verdict};
 
 /// What one step did: the commands in each outcome kind (completed, failed,
-/// interrupted), how many perceived each declared observation, the estimate at the end,
-/// and how the behavior ended (`trusted`, `given-up` or `undecided`).
+/// interrupted), how many perceived each declared observation, how many the operator
+/// stated a reason for, the estimate at the end, and how the behavior ended (`trusted`,
+/// `given-up` or `undecided`).
 #[derive(IntoPyObject)]
 pub struct StepResult {
     kinds: [u32; 3],
     observed: Vec<u32>,
+    stated: u32,
     trust: f64,
     end: &'static str,
 }
@@ -49,6 +53,8 @@ struct DomainEpisodes<C: Catalog> {
     operator: Option<usize>,
     rng: ChaCha8Rng,
     max_commands: u32,
+    /// The operators' attention, in `[0, 1]` (1: the paper's attentive operator).
+    attention: f64,
     thresholds: Thresholds,
 }
 
@@ -79,13 +85,17 @@ where
             None => return Err(error("call reset() before step()")),
         };
         let behavior = Behavior::new(action);
+        // Each step's commands come from a stream of their own, drawn from the episode's.
+        let seed = self.rng.next_u64();
+        let simulation = Simulation::new(&self.domain, behavior, operator, self.attention, seed)
+            .map_err(error)?;
         let mut estimate = TrustEstimate::default();
         let mut kinds = [0u32; 3];
         let mut observed = vec![0u32; self.domain.observations().len()];
+        let mut stated = 0;
         let mut end = "undecided";
-        for _ in 0..self.max_commands {
-            let judgement = self.domain.run(&behavior, operator, &mut self.rng);
-            let outcome = judgement.outcome;
+        for command in simulation.take(self.max_commands as usize) {
+            let SimulatedCommand { outcome, .. } = command.map_err(error)?;
             kinds[match outcome.kind {
                 OutcomeKind::Completed => 0,
                 OutcomeKind::Failed => 1,
@@ -96,6 +106,7 @@ where
                     *count += 1;
                 }
             }
+            stated += u32::from(outcome.stated.is_some());
             estimate.record(&outcome);
             match estimate.verdict(&self.thresholds) {
                 Verdict::Trustworthy => {
@@ -112,6 +123,7 @@ where
         Ok(StepResult {
             kinds,
             observed,
+            stated,
             trust: estimate.value,
             end,
         })
@@ -134,12 +146,14 @@ pub struct Episodes {
 impl Episodes {
     /// Episodes of `scenario` of `catalog` among `operators` (built-in names or operator
     /// files, each loaded now so an unknown one is refused here), each behavior given at
-    /// most `max_commands` commands.
+    /// most `max_commands` commands, the operators at `attention` (in `[0, 1]`; below 1
+    /// only on a domain that models attention, refused here otherwise).
     pub fn new<C: Catalog + Clone + Send + 'static>(
         catalog: &C,
         scenario: &str,
         operators: Vec<String>,
         max_commands: u32,
+        attention: f64,
     ) -> PyResult<Self>
     where
         C::Domain: Send + 'static,
@@ -150,6 +164,15 @@ impl Episodes {
             .iter()
             .map(|name| find_operator(catalog, scenario, name, &readings).map_err(error))
             .collect::<PyResult<Vec<_>>>()?;
+        if !(0.0..=1.0).contains(&attention) {
+            return Err(error(format!(
+                "attention: a share from 0 to 1 (1: the paper's attentive operator), got {attention}"
+            )));
+        }
+        if attention < 1.0 {
+            check_attention(&domain, &operators)
+                .map_err(|reason| error(format!("attention: {reason}")))?;
+        }
         let stepper = DomainEpisodes {
             catalog: catalog.clone(),
             scenario: scenario.to_owned(),
@@ -158,6 +181,7 @@ impl Episodes {
             operator: None,
             rng: ChaCha8Rng::seed_from_u64(0),
             max_commands,
+            attention,
             thresholds: Thresholds::default(),
         };
         Ok(Self {

@@ -198,8 +198,9 @@ macro_rules! catalog_module {
                 scenario: &str,
                 operators: Vec<String>,
                 max_commands: u32,
+                attention: f64,
             ) -> PyResult<Episodes> {
-                Episodes::new(&$catalog, scenario, operators, max_commands)
+                Episodes::new(&$catalog, scenario, operators, max_commands, attention)
             }
         }
     };

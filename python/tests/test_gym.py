@@ -163,3 +163,45 @@ def test_another_thread_is_refused_with_a_sentence() -> None:
     thread.join()
     assert len(raised) == 1 and isinstance(raised[0], trustcbr.TrustcbrError)
     assert "belongs to the thread that made it" in str(raised[0])
+
+
+def total(env: Any, behavior: List[int], seeds: range) -> Any:
+    """The step results of `behavior`, one step per episode seeded by each of `seeds`."""
+    kinds = np.zeros(3)
+    stated = 0
+    for seed in seeds:
+        env.reset(seed=seed)
+        observation, _, _, _, info = env.step(np.array(behavior))
+        kinds += observation[1:4]
+        stated += info["stated"]
+    return kinds, stated
+
+
+def test_a_step_states_reasons_through_the_operator_s_feedback_channel(tmp_path: Any) -> None:
+    # The balanced operator, made to say why every time it stops or fails a command.
+    talkative = tmp_path / "talkative.ron"
+    talkative.write_text(
+        '(name: "talkative", t_complete: 15.0, p_deadline: 0.95, p_collision: 0.95,'
+        " feedback: (explains: 1.0, wrong: 0.0))"
+    )
+    fast = [len(c["values"]) - 1 for c in trustcbr.space("movement")["components"]]
+    kinds, stated = total(TrustEnv("movement", operators=[str(talkative)]), fast, range(20))
+    assert kinds[1] + kinds[2] > 0, "the fastest behavior draws untrustworthy commands"
+    assert stated == kinds[1] + kinds[2], "every one explained"
+    silent, said = total(TrustEnv("movement", operators=["balanced"]), fast, range(20))
+    assert said == 0 and silent[1] + silent[2] > 0
+
+
+def test_a_step_s_operator_pays_the_attention_it_is_given() -> None:
+    # The fastest speed with no padding: an attentive operator stops the robot before it
+    # hits someone; one paying no attention stops nothing, and the collisions happen.
+    speed = len(trustcbr.space("movement")["components"][0]["values"]) - 1
+    reckless = [speed, 0]
+    attentive, _ = total(TrustEnv("movement", operators=["balanced"]), reckless, range(20))
+    distracted, _ = total(
+        TrustEnv("movement", operators=["balanced"], attention=0.0), reckless, range(20)
+    )
+    assert attentive[2] > 0 and distracted[2] == 0
+    assert distracted[1] > attentive[1], "failures no one stopped"
+    with pytest.raises(trustcbr.TrustcbrError, match="attention: a share from 0 to 1"):
+        TrustEnv("movement", attention=1.5)

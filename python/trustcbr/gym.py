@@ -61,7 +61,13 @@ class TrustEnv(gymnasium.Env[Any, Any]):
     1,000,000) ends a behavior's step when its trust stays between the thresholds that
     long (the episode is then truncated); ``max_behaviors`` truncates an episode after
     that many steps (``None``: no cap, as for the registered ids, which ``TimeLimit``
-    caps); ``catalog`` is another catalog's extension module.
+    caps); ``catalog`` is another catalog's extension module; ``attention`` (0 to 1, default
+    1: the paper's attentive operator) is the operators' attention, below 1 only in a
+    scenario whose domain models it (they then overlook some of what they would stop).
+
+    A step's commands are simulated as every experiment's and mission's are: the
+    operator's attention applies, and its feedback channel states reasons
+    (``info["stated"]``: the step's commands the operator said why it stopped or failed).
     """
 
     metadata: Dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 1}
@@ -74,6 +80,7 @@ class TrustEnv(gymnasium.Env[Any, Any]):
         max_behaviors: Optional[int] = MAX_EPISODE_STEPS,
         render_mode: Optional[str] = None,
         catalog: Any = None,
+        attention: float = 1.0,
     ) -> None:
         super().__init__()
         if render_mode not in (None, "rgb_array"):
@@ -99,6 +106,8 @@ class TrustEnv(gymnasium.Env[Any, Any]):
             raise TrustcbrError(
                 f"max_behaviors: a whole number from 1, or None, got {max_behaviors!r}"
             )
+        if isinstance(attention, bool) or not isinstance(attention, (int, float)):
+            raise TrustcbrError(f"attention: a share from 0 to 1, got {attention!r}")
         module: Any = trustcbr._native if catalog is None else catalog
         described = trustcbr.space(scenario, catalog=catalog)
         self.scenario = scenario
@@ -115,7 +124,10 @@ class TrustEnv(gymnasium.Env[Any, Any]):
         self.max_behaviors = max_behaviors
         self.render_mode = render_mode
         # Every operator is loaded now: an unknown one is refused here, not at reset.
-        self._episodes: Any = module.episodes(scenario, self.operators, max_commands)
+        self._episodes: Any = module.episodes(
+            scenario, self.operators, max_commands, float(attention)
+        )
+        self.attention = float(attention)
         sizes = [len(c["values"]) for c in self.components]
         self.action_space = spaces.MultiDiscrete(sizes)
         counts = 1 + len(KINDS) + len(self.observations)
@@ -213,6 +225,7 @@ class TrustEnv(gymnasium.Env[Any, Any]):
             "trusted": terminated,
             "end": end,
             "trust": result["trust"],
+            "stated": result["stated"],
         }
         return observation, -float(failed + interrupted), terminated, truncated, info
 
