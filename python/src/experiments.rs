@@ -26,6 +26,28 @@ use trustcbr::suite::{
 use trustcbr::trust::{Cause, RetrieverKind};
 use trustcbr::{AddedArm, Catalog, WithArms};
 
+/// One registered search strategy as Python sees it (`trustcbr.strategies()`).
+#[derive(IntoPyObject)]
+pub struct StrategyRow {
+    name: &'static str,
+    description: &'static str,
+    case_based: Option<&'static str>,
+    learns_across_episodes: bool,
+}
+
+/// The strategies' registry (`trust::search::strategies`), the paper's first.
+pub fn strategies() -> Vec<StrategyRow> {
+    trustcbr::trust::search::strategies()
+        .iter()
+        .map(|s| StrategyRow {
+            name: s.name,
+            description: s.description,
+            case_based: s.with_cases.map(|w| w.name),
+            learns_across_episodes: s.learns_across_episodes(),
+        })
+        .collect()
+}
+
 /// The built-in arms' names and the catalog's own, in report order.
 pub fn builtin_arms<C: Catalog>(catalog: &C) -> Vec<String> {
     let mut names: Vec<String> = trustcbr::lab::builtin_arm_names()

@@ -121,6 +121,11 @@ macro_rules! catalog_module {
             }
 
             #[pyfunction]
+            fn strategies() -> Vec<$crate::experiments::StrategyRow> {
+                $crate::experiments::strategies()
+            }
+
+            #[pyfunction]
             fn builtin_arms() -> Vec<String> {
                 $crate::experiments::builtin_arms(&$catalog)
             }

@@ -352,3 +352,18 @@ def test_the_command_lines_explain_reads_a_report_with_python_arms(tmp_path: Pat
     assert refused.returncode != 0
     assert "arm `py-uniform` cannot be replayed" in refused.stderr
     assert "replayable arms: random-walk" in refused.stderr
+
+
+def test_the_built_in_arms_are_the_registry_s_strategies_alone_then_after_case_reuse() -> None:
+    strategies = trustcbr.strategies()
+    assert strategies[0]["name"] == "random-walk"
+    assert strategies[0]["case_based"] == "case-based"
+    expected = []
+    for strategy in strategies:
+        assert strategy["description"]
+        expected.append(strategy["name"])
+        if strategy["case_based"] is not None:
+            expected.append(strategy["case_based"])
+    assert trustcbr.builtin_arms()[: len(expected)] == expected
+    learning = {s["name"] for s in strategies if s["learns_across_episodes"]}
+    assert "conditioned" in learning and "random-walk" not in learning

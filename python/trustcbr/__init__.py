@@ -52,6 +52,7 @@ from trustcbr._types import (
     SearcherFactory,
     SimulatedOutcome,
     Space,
+    Strategy,
 )
 
 __version__: str = _native.__version__
@@ -75,6 +76,7 @@ __all__ = [
     "SearcherFactory",
     "SimulatedOutcome",
     "Space",
+    "Strategy",
     "TrustcbrError",
     "builtin_arms",
     "check_searcher",
@@ -87,6 +89,7 @@ __all__ = [
     "scenarios",
     "simulate",
     "space",
+    "strategies",
 ]
 
 Catalog = Optional[ModuleType]
@@ -467,8 +470,18 @@ def default_suite(*, catalog: Catalog = None) -> str:
 
 
 def builtin_arms(*, catalog: Catalog = None) -> List[str]:
-    """The built-in arms and the catalog's own, in report order."""
+    """The built-in arms and the catalog's own, in report order: each registered strategy
+    alone, then after case reuse where it is offered so (:func:`strategies`), then the
+    catalog's."""
     return list(_module(catalog).builtin_arms())
+
+
+def strategies() -> List[Strategy]:
+    """The search strategies' registry, the paper's random walk first: every built-in
+    strategy with what it does and the arms it is offered as (the same list the command
+    line, the reports and :func:`builtin_arms` read)."""
+    rows: List[Strategy] = _native.strategies()
+    return rows
 
 
 def _suite_form(

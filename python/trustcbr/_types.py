@@ -44,6 +44,17 @@ class SimulatedOutcome(Outcome):
     truth: Optional[str]
 
 
+class Strategy(TypedDict):
+    """A registered search strategy (:func:`trustcbr.strategies`): its name (the arm of it
+    alone), what it does, the arm of it after case reuse (``None``: not offered so) and
+    whether what it learns carries from one episode to the next."""
+
+    name: str
+    description: str
+    case_based: Optional[str]
+    learns_across_episodes: bool
+
+
 class Component(TypedDict):
     """One component of a behavior space and its values in real units."""
 
