@@ -622,7 +622,6 @@ fn run_experiments<C: Catalog>(
         .with_afterwards("finishing the report's landscapes and limits");
     let ran = run_with_report(catalog, config, origin, &settings, &|i| progress.tick(i))?;
     let (config, results) = (&ran.config, &ran.results);
-    println!("Behaviors evaluated per trial (mean ± 95% CI), the first two arms:\n");
     println!("{}", suite_table(config, results));
     print!("{}", suite_best_arms(config, results));
     println!(
