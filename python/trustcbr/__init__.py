@@ -413,8 +413,9 @@ class Adapter:
 
     def tell_outcome(self, outcome: Mapping[str, Any]) -> Decision:
         """Reports an outcome given as a dict, such as :func:`simulate` returns (its
-        ``truth`` is left out: a robot is never told it)."""
-        request = {k: v for k, v in outcome.items() if k != "truth"}
+        ``truth`` is left out: a robot is never told it; and the ``seed`` it was drawn
+        from)."""
+        request = {k: v for k, v in outcome.items() if k not in ("truth", "seed")}
         return Decision(self._tell(request))
 
     def accept_offer(self) -> Behavior:
@@ -471,17 +472,31 @@ def space(scenario: str, *, catalog: Catalog = None) -> Space:
 
 
 def simulate(
-    scenario: str, behavior: Behavior, operator: str, seed: int = 0, *, catalog: Catalog = None
+    scenario: str,
+    behavior: Behavior,
+    operator: str,
+    seed: Optional[int] = None,
+    *,
+    catalog: Catalog = None,
 ) -> SimulatedOutcome:
     """Runs one command of a scenario with ``behavior`` in front of ``operator`` (a
-    built-in name or an operator file), every random draw from ``seed``.
+    built-in name or an operator file), every random draw from ``seed``: the same seed
+    gives the same command. Without ``seed`` a fresh one is drawn for each call (from the
+    operating system), so calls in a loop meet the operator afresh each time; the seed
+    used is returned, to run the command again.
 
     Returns the outcome as the adapter is told it (``outcome``, ``weight``, ``duration_s``,
     ``observed``: what the robot perceived, ``stated``: the reason the operator gave, if
-    any, and ``confidence`` when the robot assesses itself) and ``truth``, the operator's
-    true reason, for evaluation only.
+    any, and ``confidence`` when the robot assesses itself), ``truth``, the operator's
+    true reason, for evaluation only, and ``seed``, the seed it was drawn from.
+    :meth:`Adapter.tell_outcome` takes it as it is.
     """
+    if seed is None:
+        seed = secrets.randbits(64)
+    elif isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
+        raise TrustcbrError(f"seed: a whole number from 0 to 2**64 - 1, got {seed!r}")
     result: SimulatedOutcome = _module(catalog).simulate(scenario, dict(behavior), operator, seed)
+    result["seed"] = seed
     return result
 
 

@@ -39,9 +39,11 @@ class Outcome(TypedDict):
 
 
 class SimulatedOutcome(Outcome):
-    """A simulated command's outcome, with the operator's true reason (evaluation only)."""
+    """A simulated command's outcome, with the operator's true reason (evaluation only)
+    and the seed it was drawn from (the same seed gives the same command)."""
 
     truth: Optional[str]
+    seed: int
 
 
 class Component(TypedDict):
