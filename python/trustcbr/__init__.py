@@ -335,8 +335,9 @@ class Adapter:
         (docs/missions.md, "Context switches"). An episode under way ends, what the robot
         learned of how its operator reacts is forgotten, and it goes back to the behavior it
         last settled on, trusted, in the new context since its operator began (unless it
-        gave it up there since), or else carries on with the behavior in use. Raises ``TrustcbrError``, changing nothing,
-        outside mission mode or before the first ``begin`` (use ``set_context`` there)."""
+        gave it up there since), or else carries on with the behavior in use. Raises
+        ``TrustcbrError``, changing nothing, outside mission mode or before the first
+        ``begin`` (use ``set_context`` there)."""
         state = self.state()
         if "watching" not in state or (state["episode"] is None and state["watching"] is None):
             raise TrustcbrError(

@@ -146,8 +146,9 @@ class ContextSwitch:
     (``Adapter.switch_context``): ``behavior`` is the behavior to use from now on;
     ``origin`` says where it comes from: ``kept`` (the watched behavior, still watched),
     ``resumed`` (the behavior last settled on, trusted, in the new context since the
-    operator began, and not given up there since: an episode begins from it), ``restarted`` (the episode under way begins
-    again, in the new context, from the behavior in use); ``gave_up_watch`` whether a
+    operator began, and not given up there since: an episode begins from it),
+    ``restarted`` (the episode under way begins again, in the new context, from the
+    behavior in use); ``gave_up_watch`` whether a
     watched behavior was given up; ``context`` the robot's context now, its defaults left
     out."""
 
