@@ -18,7 +18,7 @@ use crate::progress::Progress;
 use crate::run::{
     RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
 };
-use crate::served::{check_preference, judging_competence, served_domain, serving_arm};
+use crate::served::{Spelling, check_preference, judging_competence, served_domain, serving_arm};
 use crate::simulate::command_json;
 use crate::suite::{
     EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_best_arms, suite_table, trace_report_trial,
@@ -622,7 +622,6 @@ fn run_experiments<C: Catalog>(
         .with_afterwards("finishing the report's landscapes and limits");
     let ran = run_with_report(catalog, config, origin, &settings, &|i| progress.tick(i))?;
     let (config, results) = (&ran.config, &ran.results);
-    println!("Behaviors evaluated per trial (mean ± 95% CI), the first two arms:\n");
     println!("{}", suite_table(config, results));
     print!("{}", suite_best_arms(config, results));
     println!(
@@ -724,15 +723,15 @@ fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result<()> {
     };
     let mut domain = served_domain(catalog, &args.domain)?;
     if let Some(name) = &args.arm {
-        domain = serving_arm(catalog, domain, name)?;
+        domain = serving_arm(catalog, domain, name, Spelling::CommandLine)?;
     }
     if args.mission {
         domain = domain.in_mission_mode();
     }
     if let Some(at_most) = args.competence {
-        domain = judging_competence(catalog, domain, at_most)?;
+        domain = judging_competence(catalog, domain, at_most, Spelling::CommandLine)?;
     }
-    check_preference(&domain)?;
+    check_preference(&domain, Spelling::CommandLine)?;
     let listening = match args.listen {
         None => None,
         Some(addr) => Some((transport::listen(addr)?, limits)),

@@ -52,6 +52,9 @@ pub struct Ran {
     pub written: Vec<PathBuf>,
     /// The case bases saved, when asked for.
     pub saved: Vec<PathBuf>,
+    /// What the config's operator files are relative to (made absolute, so a report
+    /// written later reads the same files wherever the process has moved to).
+    pub origin: PathBuf,
 }
 
 impl Ran {
@@ -72,6 +75,24 @@ impl Ran {
             &entries,
             report_benchmark(&self.config, &entries).as_deref(),
         )
+    }
+
+    /// Writes the report folder `out` after the run, byte for byte the folder the run
+    /// would have written there (`--out`, [`RunSettings::out`]): the same results,
+    /// estimates, run time and provenance. An earlier report at `out` is replaced, as a
+    /// run replaces it. Returns the files written.
+    pub fn write_report(&self, out: &Path) -> Result<Vec<PathBuf>> {
+        write_staged(out, |dir| {
+            write_suite_report(
+                dir,
+                &self.config,
+                &self.origin,
+                &self.results,
+                &self.estimates,
+                self.elapsed_s,
+                &self.provenance,
+            )
+        })
     }
 
     /// The report's `summary.json` document.
@@ -153,39 +174,42 @@ pub fn run_with_report_checked<C: Catalog>(
         command_line: settings.command_line.clone(),
         replay: Some(replay),
     };
-    let written = match &settings.out {
-        Some(out) => {
-            let staged = lab::folder::begin_report(out)?;
-            let written = write_suite_report(
-                staged.path(),
-                &config,
-                origin,
-                &results,
-                &estimates,
-                elapsed_s,
-                &provenance,
-            )
-            .with_context(|| unwritten(out))?;
-            let written = lab::folder::in_place(&staged, written);
-            lab::folder::finish_report(staged)?;
-            written
-        }
-        None => Vec::new(),
-    };
-    let saved = match &settings.save_cases {
-        Some(dir) => save_case_bases(dir, &config, &results)?,
-        None => Vec::new(),
-    };
-    Ok(Ran {
+    let mut ran = Ran {
         config,
         results,
         estimates,
         elapsed_s,
         threads,
         provenance,
-        written,
-        saved,
-    })
+        written: Vec::new(),
+        saved: Vec::new(),
+        origin: absolute(origin),
+    };
+    if let Some(out) = &settings.out {
+        ran.written = ran.write_report(out)?;
+    }
+    if let Some(dir) = &settings.save_cases {
+        ran.saved = save_case_bases(dir, &ran.config, &ran.results)?;
+    }
+    Ok(ran)
+}
+
+/// `origin` made absolute against the working directory (as it is when it cannot be).
+fn absolute(origin: &Path) -> PathBuf {
+    std::path::absolute(origin).unwrap_or_else(|_| origin.to_owned())
+}
+
+/// Writes a report whole into a fresh folder beside `out` with `write`, then swaps it in
+/// for `out` (an earlier report there is replaced); returns the files as named in `out`.
+fn write_staged(
+    out: &Path,
+    write: impl FnOnce(&Path) -> Result<Vec<PathBuf>, crate::SuiteError>,
+) -> Result<Vec<PathBuf>> {
+    let staged = lab::folder::begin_report(out)?;
+    let written = write(staged.path()).with_context(|| unwritten(out))?;
+    let written = lab::folder::in_place(&staged, written);
+    lab::folder::finish_report(staged)?;
+    Ok(written)
 }
 
 /// A finished mission suite run.
@@ -200,9 +224,20 @@ pub struct MissionsRan {
     pub threads: usize,
     /// The report's files, when a folder was asked for.
     pub written: Vec<PathBuf>,
+    /// What the config's operator files are relative to (made absolute).
+    pub origin: PathBuf,
 }
 
 impl MissionsRan {
+    /// Writes the report folder `out` after the run, byte for byte the folder the run
+    /// would have written there; an earlier report at `out` is replaced. Returns the
+    /// files written.
+    pub fn write_report(&self, out: &Path) -> Result<Vec<PathBuf>> {
+        write_staged(out, |dir| {
+            write_mission_report(dir, &self.config, &self.origin, &self.results)
+        })
+    }
+
     /// The report's `missions.jsonl`: one JSON object per mission.
     pub fn missions_jsonl(&self) -> String {
         lab::mission::report::missions_jsonl(&self.results)
@@ -242,24 +277,18 @@ pub fn run_missions_with_report<C: Catalog>(
     let results = pool.install(|| run_mission_suite(catalog, &config, origin, progress))?;
     let elapsed_s = started.elapsed().as_secs_f64();
     before_writing()?;
-    let written = match out {
-        Some(out) => {
-            let staged = lab::folder::begin_report(out)?;
-            let written = write_mission_report(staged.path(), &config, origin, &results)
-                .with_context(|| unwritten(out))?;
-            let written = lab::folder::in_place(&staged, written);
-            lab::folder::finish_report(staged)?;
-            written
-        }
-        None => Vec::new(),
-    };
-    Ok(MissionsRan {
+    let mut ran = MissionsRan {
         config,
         results,
         elapsed_s,
         threads,
-        written,
-    })
+        written: Vec::new(),
+        origin: absolute(origin),
+    };
+    if let Some(out) = out {
+        ran.written = ran.write_report(out)?;
+    }
+    Ok(ran)
 }
 
 /// What a report that failed to write says: it was written into a fresh folder beside

@@ -11,6 +11,27 @@ use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
 
+/// Who named the options an error speaks of: the command line (`--arm`, `--competence`)
+/// or the Python `Adapter` (`arm=`, `competence=`), so each reads its own words.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Spelling {
+    /// `serve`'s flags.
+    #[default]
+    CommandLine,
+    /// The Python `Adapter`'s keyword arguments.
+    Python,
+}
+
+impl Spelling {
+    /// The command line's `flag` or Python's `argument`, as this spelling writes it.
+    pub fn of(self, flag: &'static str, argument: &'static str) -> &'static str {
+        match self {
+            Self::CommandLine => flag,
+            Self::Python => argument,
+        }
+    }
+}
+
 /// The domain `name` names: a scenario of the catalog (its space, causes, observations
 /// and hints, with the paper's adapter defaults) or a RON domain file.
 pub fn served_domain<C: Catalog>(
@@ -37,11 +58,14 @@ pub fn served_domain<C: Catalog>(
 /// `domain` served with the strategy of the arm `name` (the catalog's own arms, then the
 /// built-in ones): its searcher, its retriever and whether it reuses cases. An arm that
 /// starts from the case memory's guess is refused: the controller's `begin` chooses.
+/// Errors name the option as `spelling` writes it.
 pub fn serving_arm<C: Catalog>(
     catalog: &C,
     mut domain: DomainDefinition,
     name: &str,
+    spelling: Spelling,
 ) -> anyhow::Result<DomainDefinition> {
+    let option = spelling.of("--arm", "arm");
     // The options `serve` refuses are looked for first, wherever and however often the name
     // writes them, so that the name it suggests is one it serves.
     let refused = [
@@ -62,10 +86,10 @@ pub fn serving_arm<C: Catalog>(
         let served = refused.iter().fold(name.to_owned(), |left, (suffix, _)| {
             left.replace(suffix, "")
         });
-        anyhow::bail!("--arm: `{name}` {why}; serve `{served}`");
+        anyhow::bail!("{option}: `{name}` {why}; serve `{served}`");
     }
     let arm = arm_named(catalog, name, domain.adapter.retriever)
-        .map_err(|reason| anyhow::anyhow!("--arm: {reason}"))?;
+        .map_err(|reason| anyhow::anyhow!("{option}: {reason}"))?;
     debug_assert!(
         !arm.is_context_blind() && !arm.ignores_statements() && arm.initial() == Initial::Random
     );
@@ -81,10 +105,15 @@ pub fn serving_arm<C: Catalog>(
 /// Refuses a served `domain` that prefers competent behaviors (`--arm NAME+competent`)
 /// while its robot judges nothing: a mission session with a competence standard is where
 /// the preference acts, so anywhere else it would be accepted and do nothing.
-pub fn check_preference(domain: &DomainDefinition) -> anyhow::Result<()> {
+pub fn check_preference(domain: &DomainDefinition, spelling: Spelling) -> anyhow::Result<()> {
     if domain.competent_passes() > 0 && !(domain.mission() && domain.judges_competence()) {
         anyhow::bail!(
-            "--arm: an arm NAME{PREFERS_COMPETENT} prefers behaviors the robot judges competent, which it judges only in mission mode with a standard: add --mission --competence AT_MOST (Python: mission=True, competence=AT_MOST)"
+            "{}: an arm NAME{PREFERS_COMPETENT} prefers behaviors the robot judges competent, which it judges only in mission mode with a standard: {}",
+            spelling.of("--arm", "arm"),
+            spelling.of(
+                "add --mission --competence AT_MOST",
+                "pass mission=True, competence=AT_MOST"
+            )
         );
     }
     Ok(())
@@ -94,24 +123,27 @@ pub fn check_preference(domain: &DomainDefinition) -> anyhow::Result<()> {
 /// `at_most` per command in every part (`serve --competence`, the Python `Adapter`'s
 /// `competence`): the parts and models of the catalog's scenario of the same name. A
 /// domain file declares neither, and is refused, as is a scenario that declares no part.
+/// Errors name the option as `spelling` writes it.
 pub fn judging_competence<C: Catalog>(
     catalog: &C,
     domain: DomainDefinition,
     at_most: f64,
+    spelling: Spelling,
 ) -> anyhow::Result<DomainDefinition> {
+    let option = spelling.of("--competence", "competence");
     let Some(robot) = catalog.domain(&domain.name) else {
         anyhow::bail!(
-            "--competence: `{}` is not a scenario of {}; only a scenario's robot has competence parts and models to judge itself by",
+            "{option}: `{}` is not a scenario of {}; only a scenario's robot has competence parts and models to judge itself by",
             domain.name,
             catalog.tool().name
         );
     };
     let standard =
-        CompetenceStandard::uniform(at_most).map_err(|e| anyhow::anyhow!("--competence: {e}"))?;
+        CompetenceStandard::uniform(at_most).map_err(|e| anyhow::anyhow!("{option}: {e}"))?;
     let parts = robot.competence_parts().to_vec();
     let predict: Predictor<'static> =
         Arc::new(move |behavior: &Behavior| robot.predict_competence(behavior));
     domain
         .judging_competence(parts, predict, standard)
-        .map_err(|e| anyhow::anyhow!("--competence: {e}"))
+        .map_err(|e| anyhow::anyhow!("{option}: {e}"))
 }

@@ -9,7 +9,7 @@
 //! An adapter belongs to the thread that made it: a call from another thread raises
 //! `TrustcbrError` saying so, and the adapter may be dropped on any thread.
 
-use crate::arms::{FirstError, python_arm};
+use crate::arms::{FirstError, PythonArmSpec, python_arm};
 use crate::calls::Caller;
 use crate::{anyhow_error, error};
 use pyo3::prelude::*;
@@ -17,7 +17,9 @@ use std::sync::{Arc, Mutex};
 use std::thread::{self, ThreadId};
 use trustcbr::Catalog;
 use trustcbr::WithArms;
-use trustcbr::served::{check_preference, judging_competence, served_domain, serving_arm};
+use trustcbr::served::{
+    Spelling, check_preference, judging_competence, served_domain, serving_arm,
+};
 use trustcbr::service::{Location, Session as ServedSession, SharedCases};
 
 /// One controller's adapter over a case base (`trustcbr serve` for one controller).
@@ -64,8 +66,8 @@ impl Session {
                 return Err(error("serve a built-in arm or a Python strategy, not both"));
             }
             (Some(name), None) => {
-                definition =
-                    serving_arm(catalog, definition, name).map_err(|e| anyhow_error(&e))?;
+                definition = serving_arm(catalog, definition, name, Spelling::Python)
+                    .map_err(|e| anyhow_error(&e))?;
             }
             (None, Some((name, factory, reuses))) => {
                 let served = name.clone();
@@ -73,15 +75,18 @@ impl Session {
                     definition.space.clone(),
                     definition.observations.clone(),
                 )]);
-                let factory = Arc::new(factory);
+                let spec = PythonArmSpec {
+                    name,
+                    factory: Arc::new(factory),
+                    reuses_cases: reuses,
+                    label: Arc::from("strategy"),
+                };
                 let (caller, kept) = (Caller::Here, errors.clone());
                 let with = WithArms {
                     inner: catalog.clone(),
                     arms: vec![Arc::new(move |retriever| {
                         python_arm(
-                            name.clone(),
-                            factory.clone(),
-                            reuses,
+                            &spec,
                             observations.clone(),
                             retriever,
                             kept.clone(),
@@ -89,8 +94,8 @@ impl Session {
                         )
                     })],
                 };
-                definition =
-                    serving_arm(&with, definition, &served).map_err(|e| anyhow_error(&e))?;
+                definition = serving_arm(&with, definition, &served, Spelling::Python)
+                    .map_err(|e| anyhow_error(&e))?;
             }
             (None, None) => {}
         }
@@ -103,10 +108,10 @@ impl Session {
                     "competence: the robot judges its own competence in mission mode: pass mission=True",
                 ));
             }
-            definition =
-                judging_competence(catalog, definition, at_most).map_err(|e| anyhow_error(&e))?;
+            definition = judging_competence(catalog, definition, at_most, Spelling::Python)
+                .map_err(|e| anyhow_error(&e))?;
         }
-        check_preference(&definition).map_err(|e| anyhow_error(&e))?;
+        check_preference(&definition, Spelling::Python).map_err(|e| anyhow_error(&e))?;
         let shared = SharedCases::open(&definition, &Location::parse(cases)).map_err(error)?;
         let (location, writable) = (shared.location().to_owned(), shared.writable());
         let session = ServedSession::new(definition, Arc::new(shared), seed).map_err(error)?;

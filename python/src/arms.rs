@@ -22,7 +22,7 @@
 //! kept exception when the run returns.
 
 use crate::calls::Caller;
-use crate::convert::{behavior_from_py, to_py};
+use crate::convert::{behavior_from_py, component_names, to_py};
 use crate::error;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -69,6 +69,9 @@ pub struct PySearcher {
     factory: Arc<Py<PyAny>>,
     object: Option<Arc<Py<PyAny>>>,
     name: String,
+    /// Where the user gave the factory, as its errors name it (`python_arms['mine']`,
+    /// `strategy`, `factory`).
+    label: Arc<str>,
     learns: bool,
     space: Option<Arc<BehaviorSpace>>,
     observations: Vec<Cause>,
@@ -83,12 +86,22 @@ pub fn space_value(space: &BehaviorSpace) -> Value {
     json!({ "components": named_space(space), "behaviors": space.size() })
 }
 
+/// `e` with a note saying where it was raised (Python 3.11's `add_note`; on an older
+/// Python, `e` as it is).
+fn noted(py: Python<'_>, e: PyErr, note: String) -> PyErr {
+    if let Ok(add_note) = e.value(py).getattr("add_note") {
+        let _ = add_note.call1((note,));
+    }
+    e
+}
+
 impl PySearcher {
     /// A searcher the arm `name` builds with `factory(space)`, for `space` when known,
-    /// calling Python through `caller`.
+    /// calling Python through `caller`; `label` is where the user gave the factory, as
+    /// errors name it.
     pub fn new(
         factory: Arc<Py<PyAny>>,
-        name: &str,
+        (name, label): (&str, Arc<str>),
         space: Option<&Arc<BehaviorSpace>>,
         observations: Vec<Cause>,
         errors: FirstError,
@@ -98,6 +111,7 @@ impl PySearcher {
             factory,
             object: None,
             name: name.to_owned(),
+            label,
             learns: false,
             space: None,
             observations,
@@ -118,8 +132,29 @@ impl PySearcher {
             return;
         }
         let (factory, described) = (self.factory.clone(), space_value(space));
+        let (label, components) = (self.label.clone(), component_names(space));
         let built = self.caller.call(move |py| {
-            let object = factory.bind(py).call1((to_py(py, &described)?,))?;
+            let object = factory
+                .bind(py)
+                .call1((to_py(py, &described)?,))
+                .map_err(|e| {
+                    let failed = error(format_args!(
+                        "{label}: the factory raised {} when called with the space ({components}): a factory takes the space and returns a searcher (a class whose __init__(self, space) it is, or a function of the space)",
+                        e.value(py)
+                            .repr()
+                            .map_or_else(|_| "an exception".to_owned(), |r| r.to_string())
+                    ));
+                    failed.set_cause(py, Some(e));
+                    failed
+                })?;
+            if object.getattr_opt("propose")?.is_none() {
+                return Err(error(format_args!(
+                    "{label}: the factory returned {}, which has no propose(evaluated, rng): a factory returns a searcher",
+                    object
+                        .repr()
+                        .map_or_else(|_| "an object".to_owned(), |r| r.to_string())
+                )));
+            }
             let learns = match object.getattr_opt("learns_across_episodes")? {
                 Some(l) if !l.is_none() => l.extract::<bool>()?,
                 _ => false,
@@ -145,13 +180,15 @@ impl PySearcher {
         let Some(object) = self.live() else {
             return;
         };
+        let label = self.label.clone();
         let called = self.caller.call(move |py| {
             if let Some(f) = object.bind(py).getattr_opt(method)? {
                 let args = args
                     .iter()
                     .map(|a| to_py(py, a))
                     .collect::<PyResult<Vec<_>>>()?;
-                f.call1(PyTuple::new(py, args)?)?;
+                f.call1(PyTuple::new(py, args)?)
+                    .map_err(|e| noted(py, e, format!("raised by {method}() of {label}")))?;
             }
             Ok(())
         });
@@ -212,18 +249,19 @@ impl Searcher for PySearcher {
             return Self::give_up(space, evaluated, rng);
         };
         let seed = rng.next_u64();
-        let (list, name) = (reply::evaluated(space, evaluated), self.name.clone());
+        let (list, label) = (reply::evaluated(space, evaluated), self.label.clone());
         let searched = Arc::new(space.clone());
         let proposed = self.caller.call(move |py| -> PyResult<Option<Behavior>> {
             let random = py.import("random")?.getattr("Random")?.call1((seed,))?;
             let answer = object
                 .bind(py)
-                .call_method1("propose", (to_py(py, &list)?, random))?;
+                .call_method1("propose", (to_py(py, &list)?, random))
+                .map_err(|e| noted(py, e, format!("raised by propose() of {label}")))?;
             if answer.is_none() {
                 return Ok(None);
             }
             let behavior = behavior_from_py(&searched, &answer)
-                .map_err(|e| error(format_args!("{name}: propose returned {answer}: {e}")))?;
+                .map_err(|e| error(format_args!("{label}: propose returned {answer}: {e}")))?;
             Ok(Some(behavior))
         });
         match proposed {
@@ -240,10 +278,12 @@ impl Searcher for PySearcher {
         let (Some(object), Some(space)) = (self.live(), self.space.as_deref()) else {
             return Rationale::unstated();
         };
-        let behavior = reply::behavior(space, proposed);
+        let (behavior, label) = (reply::behavior(space, proposed), self.label.clone());
         let said = self.caller.call(move |py| -> PyResult<Option<Rationale>> {
             match object.bind(py).getattr_opt("rationale")? {
-                Some(f) => rationale_from_py(&f.call1((to_py(py, &behavior)?,))?).map(Some),
+                Some(f) => rationale_from_py(&f.call1((to_py(py, &behavior)?,))?)
+                    .map(Some)
+                    .map_err(|e| noted(py, e, format!("raised by rationale() of {label}"))),
                 None => Ok(None),
             }
         });
@@ -282,21 +322,35 @@ impl Searcher for PySearcher {
     }
 }
 
+/// A Python arm as the Python layer gives it: its name, its factory, whether it reuses
+/// cases, and where the user gave it, as errors name it (`python_arms['mine']`,
+/// `strategy`).
+#[derive(Clone)]
+pub struct PythonArmSpec {
+    /// The arm's name in the reports.
+    pub name: String,
+    /// `factory(space)` builds its searcher.
+    pub factory: Arc<Py<PyAny>>,
+    /// Whether it reuses cases first.
+    pub reuses_cases: bool,
+    /// Where the user gave it.
+    pub label: Arc<str>,
+}
+
 /// An arm of a Python factory: search only, or case reuse first (Algorithm 1, with the
 /// suite's retriever) with the Python searcher as its fallback.
 ///
 /// `observations` are the observation names of each space the arm may search (a domain's
 /// declared ones), so an outcome's perceptions reach Python by name.
 pub fn python_arm(
-    name: String,
-    factory: Arc<Py<PyAny>>,
-    reuses_cases: bool,
+    spec: &PythonArmSpec,
     observations: Arc<Vec<(Arc<BehaviorSpace>, Vec<Cause>)>>,
     retriever: trustcbr::trust::RetrieverKind,
     errors: FirstError,
     caller: Caller,
 ) -> Arm {
-    let arm = name.clone();
+    let (name, reuses_cases) = (spec.name.clone(), spec.reuses_cases);
+    let (arm, label, factory) = (name.clone(), spec.label.clone(), spec.factory.clone());
     let searcher = move |space: &Arc<BehaviorSpace>| -> Box<TrustSearcher> {
         let named = observations
             .iter()
@@ -305,7 +359,7 @@ pub fn python_arm(
             .unwrap_or_default();
         Box::new(PySearcher::new(
             factory.clone(),
-            &arm,
+            (&arm, label.clone()),
             Some(space),
             named,
             errors.clone(),

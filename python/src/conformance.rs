@@ -69,7 +69,7 @@ pub fn check_searcher<'py, C: Catalog>(
     let build = || -> Box<TrustSearcher> {
         Box::new(PySearcher::new(
             factory.clone(),
-            "python",
+            ("python", Arc::from("factory")),
             None,
             observations.clone(),
             errors.clone(),

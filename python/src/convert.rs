@@ -59,18 +59,23 @@ fn value_text(name: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
     }
 }
 
+/// A behavior space's components by name, for messages (`speed, padding`).
+pub fn component_names(space: &BehaviorSpace) -> String {
+    space
+        .components()
+        .iter()
+        .map(|c| c.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A behavior from a dict of component name to real value; the error names the component
 /// and its allowed values, as the service's do.
 pub fn behavior_from_py(space: &BehaviorSpace, dict: &Bound<'_, PyAny>) -> PyResult<Behavior> {
     let dict = dict.cast::<PyDict>().map_err(|_| {
         error(format_args!(
             "a behavior is a dict of component name to value (components: {})",
-            space
-                .components()
-                .iter()
-                .map(|c| c.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
+            component_names(space)
         ))
     })?;
     let mut pairs: Vec<(String, String)> = Vec::with_capacity(dict.len());

@@ -5,20 +5,22 @@
 //! folder's config read back; and one trial of a report replayed (`trustcbr explain`).
 //! Returns the report's records, summary and tables as text.
 
-use crate::arms::{FirstError, python_arm};
+use crate::arms::{FirstError, PythonArmSpec, python_arm};
 use crate::calls::{Caller, Counts, Watch, run_watched};
 use crate::{anyhow_error, error};
 use pyo3::prelude::*;
 use std::num::{NonZeroU32, NonZeroUsize};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use trustcbr::catalog::domain_of;
 use trustcbr::cbr_core::BehaviorSpace;
+use trustcbr::config_file::from_json;
 use trustcbr::lab::{Arm, Domain, NameOptions};
-use trustcbr::limits::{LANDSCAPE_RUNS, THREADS, TRIALS};
+use trustcbr::limits::{Bound, LANDSCAPE_RUNS, MISSION_COMMANDS, MISSIONS, THREADS, TRIALS};
 use trustcbr::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
-    RunSettings, missions_per_plan, run_missions_with_report, run_with_report_checked,
+    MissionsRan, Ran, RunSettings, missions_per_plan, run_missions_with_report,
+    run_with_report_checked,
 };
 use trustcbr::suite::{
     EMBEDDED_ORIGIN, StartingCases, SuiteConfig, suite_table, trace_report_trial,
@@ -63,17 +65,23 @@ pub fn builtin_arms<C: Catalog>(catalog: &C) -> Vec<String> {
 }
 
 /// What `trustcbr.run` asks for (a dict, read by key): the suite in one of its forms
-/// (`kind` is `file`, with `origin` the path; `ron` or `json`, with `text`, operator files
-/// relative to `origin`; or `embedded`), `run`'s overrides, the Python arms as `(name,
-/// factory, reuses_cases)`, and the progress callback.
+/// (`kind` is `file`, with `origin` the path; `ron` or `json`, with `text` and `origin` its
+/// name, operator files relative to `base`, else to the working directory; or
+/// `embedded`), the kind of suite the caller runs (`expect`: `experiments` for `run`,
+/// `missions` for `run_missions`), `run`'s overrides (a mission suite's `count` and `commands` for every
+/// plan), the Python arms as `(name, factory, reuses_cases)`, and the progress callback.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub struct RunRequest {
     kind: String,
     text: String,
     origin: PathBuf,
+    base: Option<PathBuf>,
+    expect: String,
     out: Option<PathBuf>,
     trials: Option<u64>,
+    count: Option<u64>,
+    commands: Option<u64>,
     seed: Option<u64>,
     landscape_runs: Option<u64>,
     arms: Option<Vec<String>>,
@@ -86,8 +94,8 @@ pub struct RunRequest {
 
 /// What a run returns (a dict): `kind` (`experiments` or `missions`), the records as
 /// JSON lines (`trials.jsonl` or `missions.jsonl`), `summary.json`, the full table
-/// (`table.md` or `missions.md`), the paper's two-arm table (experiments only) and the
-/// config that ran, as JSON.
+/// (`table.md` or `missions.md`), the paper's two-arm table (experiments only), the
+/// config that ran, as JSON, and the run itself, to write its report folder later.
 #[derive(IntoPyObject)]
 pub struct RunOutput {
     kind: &'static str,
@@ -96,6 +104,32 @@ pub struct RunOutput {
     table: String,
     paper_table: String,
     config: String,
+    report: Report,
+}
+
+/// A finished run, kept to write its report folder on demand (`Results.save`): byte for
+/// byte the folder `out=` writes, from the same results, run time and provenance.
+#[pyclass(module = "trustcbr._native", frozen)]
+pub struct Report(Mutex<Finished>);
+
+/// What a [`Report`] keeps: an experiment suite's run or a mission suite's.
+enum Finished {
+    Experiments(Box<Ran>),
+    Missions(Box<MissionsRan>),
+}
+
+#[pymethods]
+impl Report {
+    /// Writes the report folder `out` (replacing an earlier report there, as a run does);
+    /// returns the files written.
+    fn save(&self, py: Python<'_>, out: PathBuf) -> PyResult<Vec<PathBuf>> {
+        let finished = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        py.detach(|| match &*finished {
+            Finished::Experiments(ran) => ran.write_report(&out),
+            Finished::Missions(ran) => ran.write_report(&out),
+        })
+        .map_err(|e| error(format_args!("{e:#}")))
+    }
 }
 
 /// The observation names of every scenario's space, so an outcome's perceptions reach a
@@ -113,14 +147,15 @@ fn observations_of<C: Catalog>(catalog: &C) -> Observations {
     )
 }
 
-/// A Python arm as the Python layer gives it: its name, its factory, whether it reuses
-/// cases.
-type PythonArmSpec = (String, Arc<Py<PyAny>>, bool);
-
-/// The Python arms of a request, their factories shared.
+/// The Python arms of a request (`python_arms`), their factories shared.
 fn python_arm_specs(arms: Vec<(String, Py<PyAny>, bool)>) -> Vec<PythonArmSpec> {
     arms.into_iter()
-        .map(|(name, factory, reuses)| (name, Arc::new(factory), reuses))
+        .map(|(name, factory, reuses_cases)| PythonArmSpec {
+            label: Arc::from(format!("python_arms['{name}']")),
+            name,
+            factory: Arc::new(factory),
+            reuses_cases,
+        })
         .collect()
 }
 
@@ -135,19 +170,16 @@ fn with_python_arms<C: Catalog + Clone>(
     let observations = observations_of(catalog);
     let added: Vec<AddedArm> = python_arms
         .iter()
-        .map(|(name, factory, reuses)| -> AddedArm {
-            let (name, reuses) = (name.clone(), *reuses);
-            let (factory, observations, errors, caller) = (
-                factory.clone(),
+        .map(|spec| -> AddedArm {
+            let (spec, observations, errors, caller) = (
+                spec.clone(),
                 observations.clone(),
                 errors.clone(),
                 caller.clone(),
             );
             Arc::new(move |retriever| -> Arm {
                 python_arm(
-                    name.clone(),
-                    factory.clone(),
-                    reuses,
+                    &spec,
                     observations.clone(),
                     retriever,
                     errors.clone(),
@@ -189,14 +221,24 @@ fn check_python_arm_names<C: Catalog>(
     Ok(())
 }
 
-/// The suite's text and origin, and whether it is a mission suite.
-fn suite_text(kind: &str, text: &str, origin: &Path) -> PyResult<(String, PathBuf, bool)> {
+/// The suite's text and origin, and whether it is a mission suite. A suite given as text
+/// or a dict is named `origin` in `base` (its operator files are read from there), or in
+/// the working directory.
+fn suite_text(
+    kind: &str,
+    text: &str,
+    origin: &Path,
+    base: Option<&Path>,
+) -> PyResult<(String, PathBuf, bool)> {
     let (text, origin) = match kind {
         "file" => (
             trustcbr::files::read_text(origin).map_err(error)?,
             origin.to_owned(),
         ),
-        "ron" | "json" => (text.to_owned(), origin.to_owned()),
+        "ron" | "json" => (
+            text.to_owned(),
+            base.map_or_else(|| origin.to_owned(), |base| base.join(origin)),
+        ),
         "embedded" => (String::new(), PathBuf::from(EMBEDDED_ORIGIN)),
         other => return Err(error(format_args!("unknown suite form `{other}`"))),
     };
@@ -225,13 +267,75 @@ fn experiment_suite<C: Catalog>(
     .map_err(error)
 }
 
-/// A mission suite in one of its forms, parsed (checked when it runs).
-fn mission_suite(kind: &str, text: &str, origin: &Path) -> PyResult<MissionSuiteConfig> {
+/// A suite in one of its forms, parsed as `T` and not checked: a dict's error names the
+/// field by its path.
+fn parsed<T: serde::de::DeserializeOwned>(kind: &str, text: &str, origin: &Path) -> PyResult<T> {
     if kind == "json" {
-        serde_json::from_str(text).map_err(|e| error(format_args!("{}: {e}", origin.display())))
+        from_json(text, origin).map_err(error)
     } else {
         trustcbr::files::parse_ron(text, origin).map_err(error)
     }
+}
+
+/// Refuses an operator file of a suite given as text or a dict (`kind` `ron` or `json`)
+/// that is not there, saying where it was looked for: in `base`, or the working
+/// directory when `base` is not given. `files` are each file's field and path.
+fn check_operator_files<'a>(
+    kind: &str,
+    base: Option<&Path>,
+    files: impl Iterator<Item = (String, &'a Path)>,
+) -> PyResult<()> {
+    if !matches!(kind, "ron" | "json") {
+        return Ok(());
+    }
+    let folder = base.unwrap_or(Path::new(""));
+    for (field, file) in files {
+        if !folder.join(file).is_file() {
+            let looked = match base {
+                Some(base) => format!("in base={}", base.display()),
+                None => format!(
+                    "in the working directory ({}), as no base= was given",
+                    std::env::current_dir()
+                        .map_or_else(|_| ".".into(), |d| d.display().to_string())
+                ),
+            };
+            let form = if kind == "ron" { "text" } else { "a dict" };
+            return Err(error(format_args!(
+                "{field}: no operator file `{}` {looked}: a suite given as {form} reads its operator files relative to base=, the folder they are in",
+                file.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Every plan of a mission suite with `count` missions and `commands` commands each, when
+/// given, checked as the suite's own (1 to the most missions and commands of a suite; its
+/// totals are checked when it runs).
+fn resize_plans(
+    config: &mut MissionSuiteConfig,
+    count: Option<u64>,
+    commands: Option<u64>,
+) -> PyResult<()> {
+    let count = count.map(|n| within(&MISSIONS, "count", n)).transpose()?;
+    let commands = commands
+        .map(|n| within(&MISSION_COMMANDS, "commands", n))
+        .transpose()?;
+    for plan in &mut config.missions {
+        plan.count = count.unwrap_or(plan.count);
+        plan.commands = commands.unwrap_or(plan.commands);
+    }
+    Ok(())
+}
+
+/// `value` of the option `option` checked against `limit` (each of these is 1 to at most
+/// `u32::MAX`), as the count a config holds.
+fn within(limit: &Bound, option: &str, value: u64) -> PyResult<NonZeroU32> {
+    limit.check(option, value).map_err(error)?;
+    Ok(u32::try_from(value)
+        .ok()
+        .and_then(NonZeroU32::new)
+        .expect("checked to be 1 to the limit's most"))
 }
 
 /// Removes the folder `dir` when a failed or stopped run created it and left it empty.
@@ -250,7 +354,23 @@ pub fn run_suite<C: Catalog + Clone>(
     catalog: &C,
     request: RunRequest,
 ) -> PyResult<RunOutput> {
-    let (text, origin, missions) = suite_text(&request.kind, &request.text, &request.origin)?;
+    let base = request.base.as_deref();
+    let (text, origin, missions) = suite_text(&request.kind, &request.text, &request.origin, base)?;
+    match (request.expect.as_str(), missions) {
+        ("experiments", true) => {
+            return Err(error(format_args!(
+                "{}: a mission suite (it lists `missions`): run it with trustcbr.run_missions(), which returns MissionResults",
+                origin.display()
+            )));
+        }
+        ("missions", false) => {
+            return Err(error(format_args!(
+                "{}: an experiment suite (it lists no `missions`): run it with trustcbr.run(), which returns Results",
+                origin.display()
+            )));
+        }
+        _ => {}
+    }
     if let Some(threads) = request.threads {
         THREADS.check("threads", threads).map_err(error)?;
     }
@@ -270,19 +390,24 @@ pub fn run_suite<C: Catalog + Clone>(
     let out_existed = request.out.as_ref().is_some_and(|d| d.exists());
     let cases_existed = request.save_cases.as_ref().is_some_and(|d| d.exists());
     let output = if missions {
-        let experiments_only = [
-            ("trials", request.trials.is_some()),
-            ("landscape_runs", request.landscape_runs.is_some()),
-            ("cases", request.cases.is_some()),
-            ("save_cases", request.save_cases.is_some()),
-        ];
-        if let Some((option, _)) = experiments_only.iter().find(|(_, given)| *given) {
-            return Err(error(format_args!(
-                "{option} applies to experiment suites; {} is a mission suite (its plans set `count` and `commands`)",
-                origin.display()
-            )));
-        }
-        let mut config = mission_suite(&request.kind, &text, &origin)?;
+        let mut config: MissionSuiteConfig = parsed(&request.kind, &text, &origin)?;
+        check_operator_files(
+            &request.kind,
+            base,
+            config.missions.iter().enumerate().flat_map(|(k, plan)| {
+                plan.operators
+                    .operator_files
+                    .iter()
+                    .enumerate()
+                    .map(move |(i, f)| {
+                        (
+                            format!("missions[{k}].operators.operator_files[{i}]"),
+                            f.as_path(),
+                        )
+                    })
+            }),
+        )?;
+        resize_plans(&mut config, request.count, request.commands)?;
         if let Some(seed) = request.seed {
             config.seed = seed;
         }
@@ -316,15 +441,36 @@ pub fn run_suite<C: Catalog + Clone>(
             table: ran.table_md(),
             paper_table: String::new(),
             config: serde_json::to_string(&ran.config).map_err(error)?,
+            report: Report(Mutex::new(Finished::Missions(Box::new(ran)))),
         }
     } else {
+        if request.kind != "embedded" {
+            let written: SuiteConfig = parsed(&request.kind, &text, &origin)?;
+            check_operator_files(
+                &request.kind,
+                base,
+                written
+                    .experiments
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(k, spec)| {
+                        spec.operator_files.iter().enumerate().map(move |(i, f)| {
+                            (format!("experiments[{k}].operator_files[{i}]"), f.as_path())
+                        })
+                    }),
+            )?;
+        }
+        if let Some(dir) = &request.cases
+            && !dir.is_dir()
+        {
+            return Err(error(format_args!(
+                "cases: no folder {} (give the folder a run's save_cases= wrote)",
+                dir.display()
+            )));
+        }
         let mut config = experiment_suite(&reading, &request.kind, &text, &origin)?;
         if let Some(trials) = request.trials {
-            TRIALS.check("trials", trials).map_err(error)?;
-            config.trials = u32::try_from(trials)
-                .ok()
-                .and_then(NonZeroU32::new)
-                .expect("checked to be 1 to the most trials");
+            config.trials = within(&TRIALS, "trials", trials)?;
         }
         if let Some(seed) = request.seed {
             config.seed = seed;
@@ -376,6 +522,7 @@ pub fn run_suite<C: Catalog + Clone>(
             table: ran.table_md(),
             paper_table: suite_table(&ran.config, &ran.results),
             config: serde_json::to_string(&ran.config).map_err(error)?,
+            report: Report(Mutex::new(Finished::Experiments(Box::new(ran)))),
         }
     };
     Ok(output)
@@ -419,16 +566,12 @@ pub fn read_config<C: Catalog>(
     text: &str,
     origin: &str,
 ) -> PyResult<String> {
-    let (text, origin, missions) = suite_text(kind, text, Path::new(origin))?;
+    let (text, origin, missions) = suite_text(kind, text, Path::new(origin), None)?;
     if missions {
-        let config = mission_suite(kind, &text, &origin)?;
+        let config: MissionSuiteConfig = parsed(kind, &text, &origin)?;
         return serde_json::to_string(&config).map_err(error);
     }
-    let mut config: SuiteConfig = if kind == "json" {
-        serde_json::from_str(&text).map_err(error)?
-    } else {
-        trustcbr::files::parse_ron(&text, &origin).map_err(error)?
-    };
+    let mut config: SuiteConfig = parsed(kind, &text, &origin)?;
     // An experiment's operator left out beside one file is named, as a run names it.
     config.choose_left_out_operators(catalog, &origin);
     serde_json::to_string(&config).map_err(error)

@@ -66,6 +66,8 @@ macro_rules! catalog_module {
             #[pymodule_export]
             use $crate::adapter::Session;
             #[pymodule_export]
+            use $crate::experiments::Report;
+            #[pymodule_export]
             use $crate::gym::Episodes;
 
             #[pymodule_init]

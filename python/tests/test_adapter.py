@@ -66,9 +66,12 @@ def test_unknown_domains_and_arms_are_refused_naming_the_known_ones(tmp_path: Pa
         trustcbr.TrustcbrError, match=r"neither a built-in domain \(movement, patrol\)"
     ):
         trustcbr.Adapter("warehouse", tmp_path / "c.db")
-    with pytest.raises(trustcbr.TrustcbrError, match=r"--arm: unknown arm `annealing` \(known: "):
+    # In the words of the call (arm=), not the command line's (--arm).
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^arm: unknown arm `annealing` \(known: "):
         trustcbr.Adapter("movement", tmp_path / "c.db", arm="annealing")
     assert not (tmp_path / "c.db").exists()
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^competence: .* is 2; it must be a chance"):
+        trustcbr.Adapter("movement", tmp_path / "c.db", mission=True, competence=2.0)
 
 
 def test_a_domain_file_and_an_arm_are_served(tmp_path: Path) -> None:
@@ -212,7 +215,9 @@ def test_an_arm_preferring_competent_behaviors_passes_over_one(tmp_path: Path) -
     # Trusted on the fifth, but surely not competent: given up, and the search goes on.
     assert [d.kind for d in decisions] == ["keep"] * 4 + ["switch"]
     assert decisions[-1].behavior != start
-    with pytest.raises(trustcbr.TrustcbrError, match="add --mission --competence"):
+    with pytest.raises(
+        trustcbr.TrustcbrError, match="^arm: .* pass mission=True, competence=AT_MOST$"
+    ):
         trustcbr.Adapter("movement", tmp_path / "other.db", arm="uniform+competent", mission=True)
     assert not (tmp_path / "other.db").exists()
 

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import os
 import random
+import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 from typing import Any, List, Optional
 
@@ -142,7 +144,7 @@ def test_the_conformance_kit_names_the_property_a_searcher_breaks() -> None:
                 return evaluated[0]["behavior"]
             return super().propose(evaluated, rng)
 
-    with pytest.raises(trustcbr.SearcherCheckError, match="was already evaluated"):
+    with pytest.raises(trustcbr.SearcherCheckError, match="already evaluated"):
         trustcbr.check_searcher(Repeating)
 
 
@@ -274,10 +276,12 @@ def test_the_kit_raises_one_exception_with_the_rule_the_case_and_the_right_advic
 
 def test_the_kit_names_the_repeated_behavior_as_a_dict() -> None:
     class Repeating(UniformSearcher):
+        """Repeats the first behavior while others are untried."""
+
         def propose(
             self, evaluated: List[trustcbr.Evaluated], rng: random.Random
         ) -> Optional[trustcbr.Behavior]:
-            if evaluated:
+            if len(evaluated) == 1 and self.size > 1:
                 return evaluated[0]["behavior"]
             return super().propose(evaluated, rng)
 
@@ -286,7 +290,11 @@ def test_the_kit_names_the_repeated_behavior_as_a_dict() -> None:
     assert raised.value.rule == "untried"
     assert raised.value.proposal is not None
     assert raised.value.proposal["returned"] == raised.value.evaluated[0]["behavior"]
-    assert "return a behavior not in `evaluated`" in str(raised.value)
+    message = str(raised.value)
+    assert re.search(
+        r"which was already evaluated, while \d+ of \d+ behaviors were untried", message
+    )
+    assert "To fix it: return a behavior not in `evaluated` while any is untried" in message
 
 
 def test_a_strategy_for_a_named_domain_is_checked_on_its_space() -> None:
@@ -367,3 +375,81 @@ def test_the_built_in_arms_are_the_registry_s_strategies_alone_then_after_case_r
     assert trustcbr.builtin_arms()[: len(expected)] == expected
     learning = {s["name"] for s in strategies if s["learns_across_episodes"]}
     assert "conditioned" in learning and "random-walk" not in learning
+
+
+def test_the_kit_tells_a_searcher_that_repeats_once_all_were_tried_to_return_none() -> None:
+    class NeverDone(UniformSearcher):
+        """Repeats the first behavior once every behavior was tried, instead of None."""
+
+        def propose(
+            self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+        ) -> Optional[trustcbr.Behavior]:
+            chosen = super().propose(evaluated, rng)
+            return chosen if chosen is not None else evaluated[0]["behavior"]
+
+    with pytest.raises(trustcbr.SearcherCheckError) as raised:
+        trustcbr.check_searcher(NeverDone)
+    message = str(raised.value)
+    assert raised.value.rule == "untried"
+    assert "when every behavior of the space was evaluated" in message
+    assert "To fix it: return None once every behavior of the space is in `evaluated`" in message
+    assert "while any is untried" not in message
+
+
+def test_the_kit_tells_a_searcher_that_stops_early_to_return_an_untried_one() -> None:
+    class Quitter(UniformSearcher):
+        def propose(
+            self, evaluated: List[trustcbr.Evaluated], rng: random.Random
+        ) -> Optional[trustcbr.Behavior]:
+            return None if evaluated else super().propose(evaluated, rng)
+
+    with pytest.raises(trustcbr.SearcherCheckError) as raised:
+        trustcbr.check_searcher(Quitter)
+    message = str(raised.value)
+    assert raised.value.rule == "exhausted-only-when-all-tried"
+    assert re.search(r"propose\(\) returned None while \d+ of \d+ behaviors were untried", message)
+    assert "To fix it: return one of the untried behaviors" in message
+
+
+class NoSpace:
+    """A factory that forgot the space: ``NoSpace(space)`` raises TypeError."""
+
+    def __init__(self) -> None:
+        pass
+
+    def propose(self, evaluated: Any, rng: random.Random) -> None:
+        return None
+
+
+def test_a_bad_factory_is_named_by_its_arm(tmp_path: Path) -> None:
+    suite = small_suite(arms=["random-walk", "mine"])
+    with pytest.raises(trustcbr.TrustcbrError) as raised:
+        trustcbr.run(suite, python_arms={"mine": NoSpace})
+    message = str(raised.value)
+    assert message.startswith("python_arms['mine']: the factory raised TypeError(")
+    assert "when called with the space (speed, padding)" in message
+    assert isinstance(raised.value.__cause__, TypeError)
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^python_arms\['mine'\]: a factory .*int 42"):
+        trustcbr.run(suite, python_arms={"mine": 42})  # type: ignore[dict-item]
+    with pytest.raises(
+        trustcbr.TrustcbrError,
+        match=r"^python_arms\['mine'\]: the factory returned 'a str'.*propose",
+    ):
+        trustcbr.run(suite, python_arms={"mine": lambda space: "a str"})  # type: ignore[dict-item]
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^strategy: the factory raised TypeError"):
+        trustcbr.Adapter("movement", tmp_path / "c.db", strategy=NoSpace)  # type: ignore[arg-type]
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^factory: a factory"):
+        trustcbr.check_searcher("UniformSearcher")  # type: ignore[arg-type]
+
+
+@pytest.mark.skipif(sys.version_info < (3, 11), reason="exception notes are Python 3.11's")
+def test_a_searchers_exception_says_which_arm_raised_it() -> None:
+    class Failing(UniformSearcher):
+        def propose(self, evaluated: Any, rng: random.Random) -> Optional[trustcbr.Behavior]:
+            raise ValueError("no idea what to try")
+
+    with pytest.raises(ValueError) as raised:
+        trustcbr.run(small_suite(arms=["random-walk", "failing"]), python_arms={"failing": Failing})
+    assert getattr(raised.value, "__notes__", []) == [
+        "raised by propose() of python_arms['failing']"
+    ]

@@ -237,14 +237,24 @@ def test_a_mission_suite_runs_and_loads(tmp_path: Path) -> None:
         ],
     }
     out = tmp_path / "missions"
-    results = trustcbr.run(suite, out=out)
+    results = trustcbr.run_missions(suite, out=out)
     assert isinstance(results, trustcbr.MissionResults)
     assert len(results.missions) == 3
     assert repr(results).startswith("MissionResults(3 missions; plans: short; arms: case-based")
-    loaded = trustcbr.load(out)
+    loaded = trustcbr.load_missions(out)
     assert loaded.missions == results.missions
-    with pytest.raises(trustcbr.TrustcbrError, match="trials applies to experiment suites"):
-        trustcbr.run(suite, trials=5)
+    # Each kind of suite has its function, typed by what it returns.
+    with pytest.raises(
+        trustcbr.TrustcbrError, match=r"a mission suite .*trustcbr.run_missions\(\)"
+    ):
+        trustcbr.run(suite)
+    with pytest.raises(trustcbr.TrustcbrError, match=r"an experiment suite .*trustcbr.run\(\)"):
+        trustcbr.run_missions(small_suite())
+    with pytest.raises(trustcbr.TrustcbrError, match=r"trustcbr.load_missions\(\)"):
+        trustcbr.load(out)
+    trustcbr.run(small_suite(), out=tmp_path / "experiments")
+    with pytest.raises(trustcbr.TrustcbrError, match=r"trustcbr.load\(\)"):
+        trustcbr.load_missions(tmp_path / "experiments")
 
 
 def test_progress_reaches_a_callback_and_can_be_silenced(capfd: Any) -> None:
@@ -293,3 +303,39 @@ def test_ctrl_c_stops_a_landscape() -> None:
     interrupt_soon()
     with pytest.raises(KeyboardInterrupt):
         trustcbr.landscape("patrol", "detection-focused", runs=10000)
+
+
+def test_errors_speak_of_the_call_not_the_command_line(tmp_path: Path) -> None:
+    # A bad field of a dict is named by its path in the dict, not a line and column of
+    # JSON text the user never wrote.
+    with pytest.raises(trustcbr.TrustcbrError) as raised:
+        trustcbr.run(small_suite(trials="many"))
+    assert (
+        str(raised.value) == '<dict>: trials: invalid type: string "many", expected a nonzero u32'
+    )
+    nested = small_suite(
+        experiments=[
+            {"scenario": "movement", "operator": "balanced", "feedback": {"explains": "x"}}
+        ]
+    )
+    with pytest.raises(trustcbr.TrustcbrError) as raised:
+        trustcbr.run(nested)
+    assert str(raised.value).startswith("<dict>: experiments[0].feedback.explains: invalid type")
+    assert "line" not in str(raised.value) and "column" not in str(raised.value)
+    plan = {"name": "p", "operators": {"scenario": "movement", "operator": "random"}}
+    missions = {"seed": 1, "arms": ["case-based"], "missions": [dict(plan, count=-3)]}
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^<dict>: missions\[0\].count: invalid"):
+        trustcbr.run_missions(missions)
+    # Paths and numpy numbers are taken as the values they stand for; other objects are
+    # refused by their place.
+    import numpy as np
+
+    ran = trustcbr.run(small_suite(trials=np.int64(3), seed=np.uint64(7)))
+    assert len(ran.trials) == 2 * 3
+    with pytest.raises(trustcbr.TrustcbrError, match=r"field `experiments\[0\].operator`: a set"):
+        trustcbr.run(small_suite(experiments=[{"scenario": "movement", "operator": {"a"}}]))
+    # Options are named as the call names them.
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^cases: no folder .*nowhere"):
+        trustcbr.run(small_suite(), cases=tmp_path / "nowhere")
+    with pytest.raises(trustcbr.TrustcbrError, match=r"^trials: a whole number, got '5'"):
+        trustcbr.run(small_suite(), trials="5")  # type: ignore[arg-type]

@@ -73,3 +73,18 @@ def test_landscapes_are_arrays_over_the_components() -> None:
     assert set(landscape.behavior(tuple(int(i) for i in best))) == {"speed", "padding"}
     again = trustcbr.landscape("movement", "balanced", runs=10, seed=2)
     assert np.array_equal(landscape.p_complete, again.p_complete)
+
+
+def test_without_a_seed_each_call_draws_one_and_returns_it() -> None:
+    behavior = {"speed": 9.5, "padding": 0.2}
+    outcomes = [trustcbr.simulate("movement", behavior, "balanced") for _ in range(20)]
+    # Repeated calls meet the operator afresh: as many seeds and runs as calls.
+    assert len({o["seed"] for o in outcomes}) == 20
+    assert len({o["duration_s"] for o in outcomes}) > 1
+    # The seed returned runs the same command again; a pinned seed always does.
+    first = outcomes[0]
+    assert trustcbr.simulate("movement", behavior, "balanced", seed=first["seed"]) == first
+    pinned = [trustcbr.simulate("movement", behavior, "balanced", seed=5) for _ in range(3)]
+    assert pinned[0] == pinned[1] == pinned[2] and pinned[0]["seed"] == 5
+    with pytest.raises(trustcbr.TrustcbrError, match="seed: a whole number from 0 to 2"):
+        trustcbr.simulate("movement", behavior, "balanced", seed=-1)

@@ -31,17 +31,27 @@ from __future__ import annotations
 import json
 import math
 import os
+import secrets
 import warnings
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from trustcbr import _native
 from trustcbr._errors import SearcherCheckError, TrustcbrError
 from trustcbr._progress import Progress, ProgressCallback, ProgressOption, Reporter
-from trustcbr._results import MissionResults, Results, load_report
+from trustcbr._results import (
+    ArmSummary,
+    ExperimentSummary,
+    MissionResults,
+    Results,
+    Summary,
+    Trial,
+    load_mission_report,
+    load_report,
+)
 from trustcbr._types import (
     Behavior,
     ContextSwitch,
@@ -59,10 +69,12 @@ __version__: str = _native.__version__
 
 __all__ = [
     "Adapter",
+    "ArmSummary",
     "Behavior",
     "ContextSwitch",
     "Decision",
     "Evaluated",
+    "ExperimentSummary",
     "Explained",
     "Landscape",
     "MissionResults",
@@ -77,6 +89,9 @@ __all__ = [
     "SimulatedOutcome",
     "Space",
     "Strategy",
+    "Suite",
+    "Summary",
+    "Trial",
     "TrustcbrError",
     "builtin_arms",
     "check_searcher",
@@ -84,8 +99,10 @@ __all__ = [
     "explain",
     "landscape",
     "load",
+    "load_missions",
     "operators",
     "run",
+    "run_missions",
     "scenarios",
     "simulate",
     "space",
@@ -100,32 +117,70 @@ def _module(catalog: Catalog) -> Any:
     return _native if catalog is None else catalog
 
 
-def _non_finite_path(value: Any, path: str) -> Optional[str]:
-    """The path of the first NaN or infinity inside ``value`` (``weight``,
+def _first_path(value: Any, bad: Callable[[Any], bool], path: str = "") -> Optional[str]:
+    """The path of the first value inside ``value`` that is ``bad`` (``weight``,
     ``experiments[0].feedback.explains``), or ``None``."""
-    if isinstance(value, float) and not math.isfinite(value):
+    if bad(value):
         return path or "value"
     if isinstance(value, Mapping):
         for k, v in value.items():
-            found = _non_finite_path(v, f"{path}.{k}" if path else str(k))
+            found = _first_path(v, bad, f"{path}.{k}" if path else str(k))
             if found is not None:
                 return found
     if isinstance(value, (list, tuple)):
         for i, v in enumerate(value):
-            found = _non_finite_path(v, f"{path}[{i}]")
+            found = _first_path(v, bad, f"{path}[{i}]")
             if found is not None:
                 return found
     return None
 
 
+def _plain(value: Any) -> Any:
+    """A value JSON has no form for, as the suite means it: a path as its text, a numpy
+    number as the number."""
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(type(value).__name__)
+
+
+def _not_json(value: Any) -> bool:
+    return not isinstance(
+        value, (str, int, float, bool, type(None), Mapping, list, tuple, os.PathLike, np.generic)
+    )
+
+
 def _dumps(value: Mapping[str, Any]) -> str:
-    """JSON text of a request or a suite; JSON has no NaN or infinity, so they are refused
+    """JSON text of a request or a suite (paths and numpy numbers as JSON writes them);
+    JSON has no NaN or infinity, and no form for other objects, so they are refused
     naming where they are."""
     try:
-        return json.dumps(value, allow_nan=False)
+        return json.dumps(value, allow_nan=False, default=_plain)
     except ValueError:
-        bad = _non_finite_path(value, "")
-        raise TrustcbrError(f"field `{bad}`: a finite number is required") from None
+        found = _first_path(value, lambda v: isinstance(v, float) and not math.isfinite(v))
+        raise TrustcbrError(f"field `{found}`: a finite number is required") from None
+    except TypeError:
+        found = _first_path(value, _not_json)
+        if found is None:
+            raise TrustcbrError("a dict's keys are field names (str)") from None
+        kind = type(_at(value, found)).__name__
+        raise TrustcbrError(
+            f"field `{found}`: a {kind} has no form in a suite; give a str, a number, a bool, "
+            "None, a list or a dict"
+        ) from None
+
+
+def _at(value: Any, path: Optional[str]) -> Any:
+    """The value at ``path`` (as :func:`_first_path` writes it) inside ``value``."""
+    if not path or path == "value":
+        return value
+    for part in path.replace("[", ".[").split("."):
+        if part.startswith("["):
+            value = value[int(part[1:-1])]
+        elif part:
+            value = value[part]
+    return value
 
 
 def _names(option: str, names: Optional[Sequence[str]]) -> Optional[List[str]]:
@@ -153,6 +208,15 @@ class PythonArm:
     reuses_cases: bool = False
 
 
+def _check_factory(label: str, factory: Any) -> None:
+    """Refuses a factory that cannot be called, naming where it was given (``label``)."""
+    if not callable(factory):
+        raise TrustcbrError(
+            f"{label}: a factory (a class or a function taking the space and returning a "
+            f"searcher), got {type(factory).__name__} {factory!r}"
+        )
+
+
 def _python_arms(
     python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]],
 ) -> List[Any]:
@@ -162,9 +226,12 @@ def _python_arms(
         raise TrustcbrError("python_arms: a dict of arm name to factory (or PythonArm)")
     added = []
     for name, arm in python_arms.items():
+        if not isinstance(name, str):
+            raise TrustcbrError(f"python_arms: arm names are str, got {name!r}")
         if not isinstance(arm, PythonArm):
             arm = PythonArm(arm)
-        added.append((str(name), arm.factory, arm.reuses_cases))
+        _check_factory(f"python_arms[{name!r}]", arm.factory)
+        added.append((name, arm.factory, arm.reuses_cases))
     return added
 
 
@@ -209,6 +276,7 @@ class Adapter:
         if strategy is not None:
             if not isinstance(strategy, PythonArm):
                 strategy = PythonArm(strategy)
+            _check_factory("strategy", strategy.factory)
             name = getattr(strategy.factory, "__name__", "python")
             served = (str(name), strategy.factory, strategy.reuses_cases)
         self._session = _module(catalog).session(
@@ -268,10 +336,11 @@ class Adapter:
     def switch_context(self, context: Mapping[str, str]) -> ContextSwitch:
         """In mission mode, once a behavior is in use: tells the robot its context switched
         (docs/missions.md, "Context switches"). An episode under way ends, what the robot
-        learned of how its operator reacts is forgotten, and it goes back to the behavior it last
-        settled on, trusted, in the new context since its operator began (unless it gave it up there
-        since), or else carries on with the behavior in use. Raises ``TrustcbrError``, changing
-        nothing, outside mission mode or before the first ``begin`` (use ``set_context`` there)."""
+        learned of how its operator reacts is forgotten, and it goes back to the behavior it
+        last settled on, trusted, in the new context since its operator began (unless it
+        gave it up there since), or else carries on with the behavior in use. Raises
+        ``TrustcbrError``, changing nothing, outside mission mode or before the first
+        ``begin`` (use ``set_context`` there)."""
         state = self.state()
         if "watching" not in state or (state["episode"] is None and state["watching"] is None):
             raise TrustcbrError(
@@ -348,8 +417,9 @@ class Adapter:
 
     def tell_outcome(self, outcome: Mapping[str, Any]) -> Decision:
         """Reports an outcome given as a dict, such as :func:`simulate` returns (its
-        ``truth`` is left out: a robot is never told it)."""
-        request = {k: v for k, v in outcome.items() if k != "truth"}
+        ``truth`` is left out: a robot is never told it; and the ``seed`` it was drawn
+        from)."""
+        request = {k: v for k, v in outcome.items() if k not in ("truth", "seed")}
         return Decision(self._tell(request))
 
     def accept_offer(self) -> Behavior:
@@ -406,17 +476,31 @@ def space(scenario: str, *, catalog: Catalog = None) -> Space:
 
 
 def simulate(
-    scenario: str, behavior: Behavior, operator: str, seed: int = 0, *, catalog: Catalog = None
+    scenario: str,
+    behavior: Behavior,
+    operator: str,
+    seed: Optional[int] = None,
+    *,
+    catalog: Catalog = None,
 ) -> SimulatedOutcome:
     """Runs one command of a scenario with ``behavior`` in front of ``operator`` (a
-    built-in name or an operator file), every random draw from ``seed``.
+    built-in name or an operator file), every random draw from ``seed``: the same seed
+    gives the same command. Without ``seed`` a fresh one is drawn for each call (from the
+    operating system), so calls in a loop meet the operator afresh each time; the seed
+    used is returned, to run the command again.
 
     Returns the outcome as the adapter is told it (``outcome``, ``weight``, ``duration_s``,
     ``observed``: what the robot perceived, ``stated``: the reason the operator gave, if
-    any, and ``confidence`` when the robot assesses itself) and ``truth``, the operator's
-    true reason, for evaluation only.
+    any, and ``confidence`` when the robot assesses itself), ``truth``, the operator's
+    true reason, for evaluation only, and ``seed``, the seed it was drawn from.
+    :meth:`Adapter.tell_outcome` takes it as it is.
     """
+    if seed is None:
+        seed = secrets.randbits(64)
+    elif isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**64:
+        raise TrustcbrError(f"seed: a whole number from 0 to 2**64 - 1, got {seed!r}")
     result: SimulatedOutcome = _module(catalog).simulate(scenario, dict(behavior), operator, seed)
+    result["seed"] = seed
     return result
 
 
@@ -484,12 +568,20 @@ def strategies() -> List[Strategy]:
     return rows
 
 
-def _suite_form(
-    suite: Union[None, str, "os.PathLike[str]", Mapping[str, Any]], text: Optional[str]
-) -> Any:
+Suite = Union[None, str, "os.PathLike[str]", Mapping[str, Any]]
+"""A suite: a RON file's path, a dict with the file's fields, or ``None`` for the embedded
+one."""
+
+PathArg = Union[str, "os.PathLike[str]"]
+"""A path, as a str or a :class:`pathlib.Path`."""
+
+
+def _suite_form(suite: Suite, text: Optional[str]) -> Tuple[str, str, str]:
     if text is not None:
         if suite is not None:
             raise TrustcbrError("give a suite or its text, not both")
+        if not isinstance(text, str):
+            raise TrustcbrError(f"text: RON text (a str), got {type(text).__name__}")
         return "ron", text, "<text>"
     if suite is None:
         return "embedded", "", ""
@@ -500,88 +592,203 @@ def _suite_form(
     raise TrustcbrError(f"suite: a RON file's path, a dict or None, got {type(suite).__name__}")
 
 
+def _base(base: Optional[PathArg], kind: str) -> Optional[str]:
+    """The folder a suite given as text or a dict reads its files from (``None``: the
+    working directory); refused beside a file, whose own folder is its base."""
+    if base is None:
+        return None
+    if kind == "file":
+        raise TrustcbrError(
+            "base: a suite file's operator files are read relative to the file itself; "
+            "base= is for a suite given as text= or a dict"
+        )
+    if kind == "embedded":
+        raise TrustcbrError("base: the embedded suite reads no files; base= is for text= or a dict")
+    folder = os.fspath(base)
+    if not os.path.isdir(folder):
+        raise TrustcbrError(f"base: no folder {folder}")
+    return os.path.abspath(folder)
+
+
+def _path(value: Optional[PathArg]) -> Optional[str]:
+    return None if value is None else os.fspath(value)
+
+
+def _run(
+    expect: str,
+    suite: Suite,
+    text: Optional[str],
+    base: Optional[PathArg],
+    out: Optional[PathArg],
+    options: Dict[str, Any],
+    python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]],
+    progress: ProgressOption,
+    catalog: Catalog,
+) -> Dict[str, Any]:
+    """Runs a suite through the native runner, refusing one of the other kind (``expect``
+    is ``experiments`` or ``missions``) with the function that runs it."""
+    kind, body, origin = _suite_form(suite, text)
+    request: Dict[str, Any] = {
+        "kind": kind,
+        "text": body,
+        "origin": origin,
+        "base": _base(base, kind),
+        "expect": expect,
+        "out": _path(out),
+        "trials": None,
+        "count": None,
+        "commands": None,
+        "seed": None,
+        "landscape_runs": None,
+        "arms": None,
+        "threads": None,
+        "save_cases": None,
+        "cases": None,
+    }
+    request.update(options)
+    request["arms"] = _names("arms", request["arms"])
+    request["python_arms"] = _python_arms(python_arms)
+    for option in ("trials", "count", "commands", "seed", "landscape_runs", "threads"):
+        _count(option, request[option])
+    unit = "trial" if expect == "experiments" else "mission"
+    reporter = Reporter(progress, "run", unit)
+    request["progress"] = reporter.native()
+    try:
+        ran: Dict[str, Any] = _module(catalog).run_suite(request)
+    finally:
+        reporter.close()
+    return ran
+
+
+def _count(option: str, value: Any) -> None:
+    """Refuses a count that is not an int (a bool, a float, a str) naming the option; its
+    range is the command line's, checked natively."""
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TrustcbrError(f"{option}: a whole number, got {value!r}")
+    if value < 0:
+        raise TrustcbrError(f"{option}: must not be negative, got {value}")
+
+
 def run(
-    suite: Union[None, str, "os.PathLike[str]", Mapping[str, Any]] = None,
+    suite: Suite = None,
     *,
     text: Optional[str] = None,
-    out: Union[None, str, "os.PathLike[str]"] = None,
+    base: Optional[PathArg] = None,
+    out: Optional[PathArg] = None,
     trials: Optional[int] = None,
     seed: Optional[int] = None,
     arms: Optional[Sequence[str]] = None,
     landscape_runs: Optional[int] = None,
     threads: Optional[int] = None,
     python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]] = None,
-    save_cases: Union[None, str, "os.PathLike[str]"] = None,
-    cases: Union[None, str, "os.PathLike[str]"] = None,
+    save_cases: Optional[PathArg] = None,
+    cases: Optional[PathArg] = None,
     progress: ProgressOption = True,
     catalog: Catalog = None,
-) -> Any:
-    """Runs a suite as ``trustcbr run`` does: an experiment suite (returns
-    :class:`Results`) or a mission suite, one with a ``missions`` field (returns
-    :class:`MissionResults`).
+) -> Results:
+    """Runs an experiment suite as ``trustcbr run`` does and returns its :class:`Results`
+    (a mission suite, one with a ``missions`` field, is :func:`run_missions`'s).
 
     ``suite`` is a RON file's path, a dict with the file's fields, or ``None`` for the
-    embedded suite; ``text`` gives RON text instead. ``trials``, ``seed``, ``arms``,
-    ``landscape_runs``, ``threads``, ``save_cases`` and ``cases`` are ``run``'s options,
-    with its limits (a mission suite takes ``seed``, ``arms`` and ``threads``).
+    embedded suite; ``text`` gives RON text instead. A file's operator files are read
+    relative to the file; those of text or a dict relative to ``base`` (a folder), by
+    default the working directory, and one missing there is refused saying where it was
+    looked for. ``trials``, ``seed``, ``arms``, ``landscape_runs``, ``threads``,
+    ``save_cases`` and ``cases`` are ``run``'s options, with its limits.
     ``python_arms`` maps arm names to :class:`PythonArm` (or a bare factory); name them in
     ``arms`` (or the suite's) to run them, paired trial by trial with the built-in arms;
     a name of a built-in arm, or one not run, is refused. With Python arms the run is
     single-threaded (Python runs one thread at a time). ``out`` writes the report folder
     (``report.html``, ``table.md``, ``summary.json``, ``trials.jsonl``, ...) as ``trustcbr
-    run --out`` does.
+    run --out`` does; :meth:`Results.save` writes the same folder after the run.
 
     ``progress``: ``True`` shows a bar on stderr when it is a terminal, ``False`` shows
     nothing, a callable is called with a :class:`Progress` about ten times a second.
     Ctrl-C stops the run within a second (a Python arm included) and writes nothing.
     """
-    kind, body, origin = _suite_form(suite, text)
-    reporter = Reporter(progress, "run", "trial")
-    request = {
-        "kind": kind,
-        "text": body,
-        "origin": origin,
-        "out": None if out is None else os.fspath(out),
+    options = {
         "trials": trials,
         "seed": seed,
+        "arms": arms,
         "landscape_runs": landscape_runs,
-        "arms": _names("arms", arms),
         "threads": threads,
-        "python_arms": _python_arms(python_arms),
-        "save_cases": None if save_cases is None else os.fspath(save_cases),
-        "cases": None if cases is None else os.fspath(cases),
-        "progress": reporter.native(),
+        "save_cases": _path(save_cases),
+        "cases": _path(cases),
     }
-    try:
-        ran = _module(catalog).run_suite(request)
-    finally:
-        reporter.close()
-    where = None if out is None else os.fspath(out)
-    records = [json.loads(line) for line in ran["records"].splitlines() if line]
-    if ran["kind"] == "missions":
-        return MissionResults(
-            missions=records,
-            summary=json.loads(ran["summary"]),
-            table=ran["table"],
-            config=json.loads(ran["config"]),
-            out=where,
-        )
+    ran = _run("experiments", suite, text, base, out, options, python_arms, progress, catalog)
     return Results(
-        trials=records,
+        trials=[json.loads(line) for line in ran["records"].splitlines() if line],
         summary=json.loads(ran["summary"]),
         table=ran["table"],
         paper_table=ran["paper_table"],
         config=json.loads(ran["config"]),
-        out=where,
+        out=_path(out),
+        _report=ran["report"],
     )
 
 
-def load(report_dir: Union[str, "os.PathLike[str]"], *, catalog: Catalog = None) -> Any:
-    """The results in a report folder, written by ``trustcbr run``/``reproduce`` or by
-    :func:`run` with ``out``: :class:`Results` for an experiment suite (its
-    ``paper_table`` is empty: the folder keeps ``table.md``, every arm), or
-    :class:`MissionResults` for a mission suite."""
+def run_missions(
+    suite: Suite,
+    *,
+    text: Optional[str] = None,
+    base: Optional[PathArg] = None,
+    out: Optional[PathArg] = None,
+    count: Optional[int] = None,
+    commands: Optional[int] = None,
+    seed: Optional[int] = None,
+    arms: Optional[Sequence[str]] = None,
+    threads: Optional[int] = None,
+    python_arms: Optional[Mapping[str, Union[PythonArm, SearcherFactory]]] = None,
+    progress: ProgressOption = True,
+    catalog: Catalog = None,
+) -> MissionResults:
+    """Runs a mission suite (one with a ``missions`` field, docs/missions.md) as ``trustcbr
+    run`` does and returns its :class:`MissionResults`.
+
+    ``suite``, ``text``, ``base``, ``out``, ``seed``, ``arms``, ``threads``,
+    ``python_arms`` and ``progress`` are as :func:`run` takes them. ``count`` and
+    ``commands`` set every plan's missions per arm and commands per mission, to shrink a
+    suite (or grow it) without editing it: 1 to the most a suite may hold (1,000,000
+    missions, 100,000,000 commands), the suite's own totals checked as it runs. The
+    options of experiments (trials, landscapes, case bases) are not taken.
+    """
+    if suite is None and text is None:
+        raise TrustcbrError(
+            "suite: a mission suite's file, dict or text (there is no embedded one)"
+        )
+    options = {
+        "count": count,
+        "commands": commands,
+        "seed": seed,
+        "arms": arms,
+        "threads": threads,
+    }
+    ran = _run("missions", suite, text, base, out, options, python_arms, progress, catalog)
+    return MissionResults(
+        missions=[json.loads(line) for line in ran["records"].splitlines() if line],
+        summary=json.loads(ran["summary"]),
+        table=ran["table"],
+        config=json.loads(ran["config"]),
+        out=_path(out),
+        _report=ran["report"],
+    )
+
+
+def load(report_dir: PathArg, *, catalog: Catalog = None) -> Results:
+    """The results in an experiment suite's report folder, written by ``trustcbr
+    run``/``reproduce`` or by :func:`run` with ``out`` (or :meth:`Results.save`), as
+    :class:`Results` (its ``paper_table`` is empty: the folder's ``table.md`` is
+    :attr:`Results.table`, every arm). A mission suite's folder is
+    :func:`load_missions`'s."""
     return load_report(report_dir, _module(catalog).read_config)
+
+
+def load_missions(report_dir: PathArg, *, catalog: Catalog = None) -> MissionResults:
+    """The results in a mission suite's report folder, written by ``trustcbr run`` or by
+    :func:`run_missions` with ``out`` (or :meth:`MissionResults.save`)."""
+    return load_mission_report(report_dir, _module(catalog).read_config)
 
 
 @dataclass(frozen=True)
@@ -627,21 +834,76 @@ def explain(
     return Explained(story=story, record=json.loads(record))
 
 
-# What to change, per rule of the conformance kit, in a Python strategy's terms.
-_ADVICE = {
-    "in-space": "return a dict with every component of the space and one of its values",
-    "untried": "return a behavior not in `evaluated` while any is untried",
-    "exhausted-only-when-all-tried": "return None only when every behavior of the space "
-    "is in `evaluated`",
-    "keeps-an-evaluated": "return None only when every behavior was tried",
-    "one-proposal-per-behavior": "return None once every behavior was tried",
-    "rationale": "return from rationale() one plain line of at most 160 bytes, or "
-    '{"expects": ..., "confidence": p} with p in [0, 1]',
-    "deterministic": "draw every random number from the `rng` given to propose(), not from "
-    "the module `random`, numpy's global state or the clock",
-    "forgets-unless-it-learns": "set `learns_across_episodes = True` on the searcher: it "
-    "carries something from one episode to the next",
-}
+def _distinct(behaviors: Sequence[Mapping[str, Any]]) -> int:
+    return len({tuple(sorted(b.items())) for b in behaviors})
+
+
+def _searcher_failure(failure: Mapping[str, Any]) -> Tuple[str, str]:
+    """What went wrong in a broken rule's case, and the change that fixes that case, in a
+    Python strategy's terms."""
+    rule = str(failure["rule"])
+    space = failure["space"]
+    size = int(space["behaviors"])
+    evaluated = [e["behavior"] for e in failure["evaluated"]]
+    untried = size - _distinct(evaluated)
+    proposal = failure["proposal"]
+    returned = None if proposal is None else proposal["returned"]
+    if rule == "in-space":
+        return (
+            f"propose() returned {returned!r}, which is not a behavior of the space",
+            "return a dict with every component of the space (space['components']) "
+            "and one of its values",
+        )
+    if rule == "untried" and untried == 0:
+        return (
+            "propose() returned a behavior already evaluated when every behavior of the "
+            "space was evaluated",
+            "return None once every behavior of the space is in `evaluated` (the one that "
+            "resisted longest is kept)",
+        )
+    if rule == "untried":
+        return (
+            f"propose() returned {returned!r}, which was already evaluated, while "
+            f"{untried} of {size} behaviors were untried",
+            "return a behavior not in `evaluated` while any is untried",
+        )
+    if rule == "exhausted-only-when-all-tried" and not evaluated:
+        return (
+            "propose() returned None with nothing evaluated yet",
+            "return a behavior of the space while any is untried (here, its one behavior)",
+        )
+    if rule == "exhausted-only-when-all-tried":
+        return (
+            f"propose() returned None while {untried} of {size} behaviors were untried",
+            "return one of the untried behaviors; return None only once every behavior of "
+            "the space is in `evaluated`",
+        )
+    if rule in ("keeps-an-evaluated", "one-proposal-per-behavior"):
+        return (
+            str(failure["message"]),
+            "return None once every behavior of the space is in `evaluated`, and never "
+            "a behavior already in it",
+        )
+    if rule == "rationale":
+        return (
+            str(failure["message"]),
+            "return from rationale() one plain line (not empty, no newline) of at most "
+            '160 bytes, or {"expects": ..., "confidence": p} with p in [0, 1] or None',
+        )
+    if rule == "deterministic":
+        return (
+            "two fresh searchers proposed differently for the same seed and evidence",
+            "draw every random number from the `rng` given to propose(), not from the "
+            "module `random`, numpy's global state or the clock",
+        )
+    if rule == "forgets-unless-it-learns":
+        return (
+            "a searcher proposed differently after an earlier episode than a fresh one, "
+            "though it does not say it learns",
+            "set `learns_across_episodes = True` on the searcher: it carries something "
+            "from one episode to the next",
+        )
+    return str(failure["message"]), "see docs/python.md, *The conformance kit*"
 
 
 def check_searcher(
@@ -655,24 +917,24 @@ def check_searcher(
     change after an episode unless ``learns_across_episodes``.
 
     Raises :class:`SearcherCheckError` with the rule broken, the failing case in Python
-    terms and what to change, or the searcher's own exception.
+    terms and the change that fixes that case (a searcher that repeats a behavior once
+    every one was tried is told to return ``None``; one that repeats while some are
+    untried, to return an untried one), or the searcher's own exception.
     """
+    _check_factory("factory", factory)
     failure = _module(catalog).check_searcher(factory, scenario)
     if failure is None:
         return
     rule = failure["rule"]
     proposal = failure["proposal"]
     evaluated = [e["behavior"] for e in failure["evaluated"]]
-    shown = "propose()" if proposal is None else f"propose() returned {proposal['returned']!r}"
+    what, fix = _searcher_failure(failure)
     case = (
         f"on a space of {failure['space']['behaviors']} behaviors "
         f"({', '.join(c['name'] for c in failure['space']['components'])}), "
-        f"after evaluating {evaluated!r}, {shown}"
+        f"after evaluating {evaluated!r}"
     )
-    message = (
-        f"the searcher breaks the rule `{rule}`: {failure['message']}; {case}. "
-        f"To fix it: {_ADVICE.get(rule, 'see docs/python.md')}."
-    )
+    message = f"the searcher breaks the rule `{rule}`: {what}; {case}. To fix it: {fix}."
     raise SearcherCheckError(
         message,
         rule=rule,

@@ -39,9 +39,11 @@ class Outcome(TypedDict):
 
 
 class SimulatedOutcome(Outcome):
-    """A simulated command's outcome, with the operator's true reason (evaluation only)."""
+    """A simulated command's outcome, with the operator's true reason (evaluation only)
+    and the seed it was drawn from (the same seed gives the same command)."""
 
     truth: Optional[str]
+    seed: int
 
 
 class Strategy(TypedDict):
@@ -153,11 +155,12 @@ class Decision:
 class ContextSwitch:
     """What a robot on a mission did when told its context switched
     (``Adapter.switch_context``): ``behavior`` is the behavior to use from now on;
-    ``origin`` says where it comes from: ``kept`` (the watched behavior, still watched), ``resumed``
-    (the behavior last settled on, trusted, in the new context since the operator began, and not
-    given up there since: an episode begins from it), ``restarted`` (the episode under way begins
-    again, in the new context, from the behavior in use); ``gave_up_watch`` whether a watched
-    behavior was given up; ``context`` the robot's context now, its defaults left
+    ``origin`` says where it comes from: ``kept`` (the watched behavior, still watched),
+    ``resumed`` (the behavior last settled on, trusted, in the new context since the
+    operator began, and not given up there since: an episode begins from it),
+    ``restarted`` (the episode under way begins again, in the new context, from the
+    behavior in use); ``gave_up_watch`` whether a
+    watched behavior was given up; ``context`` the robot's context now, its defaults left
     out."""
 
     behavior: Behavior

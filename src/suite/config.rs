@@ -585,8 +585,7 @@ impl SuiteConfig {
         {
             return Err(mission_suite_here(origin));
         }
-        let mut config: Self = serde_json::from_str(text)
-            .map_err(|e| invalid(origin, "config".into(), e.to_string()))?;
+        let mut config: Self = crate::config_file::from_json(text, origin)?;
         config.choose_left_out_operators(catalog, origin);
         config.validate(catalog, origin)?;
         Ok(config)

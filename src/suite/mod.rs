@@ -35,7 +35,8 @@ pub(crate) use portable::{copy_operator_files, relocate_operator_files};
 pub(crate) use replay::report_replay;
 pub use replay::{ReplayError, check_replay};
 pub use report::{
-    report_benchmark, report_entries, suite_best_arms, suite_table, write_suite_report,
+    PAPER_TABLE_HEADING, report_benchmark, report_entries, suite_best_arms, suite_table,
+    write_suite_report,
 };
 pub use run::{SuiteResults, run_suite, run_suite_with_report};
 pub use saved_cases::{StartingCases, check_save_targets, save_case_bases};

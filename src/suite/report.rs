@@ -77,10 +77,22 @@ pub fn report_benchmark(
     })
 }
 
-/// The results table in Markdown.
+/// The paper's Table 1 in Markdown (the first two arms of every experiment), under a line
+/// saying what its numbers are ([`PAPER_TABLE_HEADING`]), as `reproduce` and `run` print
+/// it and Python's `Results.paper_table` holds it.
 pub fn suite_table(config: &SuiteConfig, results: &SuiteResults) -> String {
-    lab::report::table(&entries(config, results, &[], &[]))
+    format!(
+        "{PAPER_TABLE_HEADING}\n\n{}",
+        lab::report::table(&entries(config, results, &[], &[]))
+    )
 }
+
+/// What the paper's table shows, above it wherever it is printed alone (two lines that
+/// fit a terminal of 100 columns, as the rest of `reproduce`'s output does).
+pub const PAPER_TABLE_HEADING: &str = concat!(
+    "Behaviors evaluated per trial, the first two arms: mean ± the half-width of its 95% confidence\n",
+    "interval (Student's t over the trials); the cases the second arm acquired; the paired t-test's p."
+);
 
 /// One line per experiment: the arm that needed the fewest behaviors, against the first.
 pub fn suite_best_arms(config: &SuiteConfig, results: &SuiteResults) -> String {

@@ -37,7 +37,7 @@ fn is_report_file(name: &str) -> bool {
 /// Checks, before any work starts, that `dir` can take a sweep's files: it is created if
 /// missing, must be writable, and may hold nothing but an earlier sweep (marked by its
 /// `sweep.ron`) or a report (what [`merge`](super::merge) writes), or be empty; its report
-/// folder, if any, must be one ([`check_report_folder`]).
+/// folder, if any, must be one (`check_report_folder`).
 pub fn prepare_dir(dir: &Path) -> Result<(), SweepError> {
     SWEEP_FOLDER.prepare(dir)?;
     check_report_folder(&dir.join(REPORT_DIR))
