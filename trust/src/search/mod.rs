@@ -142,8 +142,9 @@ impl Serialize for SearchKind {
 
 impl<'de> Deserialize<'de> for SearchKind {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct Name;
-        impl serde::de::Visitor<'_> for Name {
+        /// A unit variant of the registry's names (RON writes it bare, JSON as a string).
+        struct Named;
+        impl<'de> serde::de::Visitor<'de> for Named {
             type Value = SearchKind;
             fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
                 f.write_str("a search strategy's name")
@@ -153,19 +154,36 @@ impl<'de> Deserialize<'de> for SearchKind {
                     .iter()
                     .find(|s| s.config_name() == name)
                     .map(SearchKind)
-                    .ok_or_else(|| {
-                        let known: Vec<&str> = registry::strategies()
-                            .iter()
-                            .map(Strategy::config_name)
-                            .collect();
-                        E::custom(format!(
-                            "unknown search `{name}`, expected one of {}",
-                            known.join(", ")
-                        ))
-                    })
+                    .ok_or_else(|| E::unknown_variant(name, registry::config_names()))
+            }
+            fn visit_enum<A: serde::de::EnumAccess<'de>>(
+                self,
+                data: A,
+            ) -> Result<SearchKind, A::Error> {
+                use serde::de::VariantAccess;
+                let (VariantName(name), variant) = data.variant()?;
+                variant.unit_variant()?;
+                self.visit_str(&name)
             }
         }
-        deserializer.deserialize_identifier(Name)
+        /// A variant's name, read as an identifier (RON writes it bare).
+        struct VariantName(String);
+        impl<'de> Deserialize<'de> for VariantName {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                struct Identifier;
+                impl serde::de::Visitor<'_> for Identifier {
+                    type Value = VariantName;
+                    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                        f.write_str("a search strategy's name")
+                    }
+                    fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<VariantName, E> {
+                        Ok(VariantName(name.to_owned()))
+                    }
+                }
+                d.deserialize_identifier(Identifier)
+            }
+        }
+        deserializer.deserialize_enum("SearchKind", registry::config_names(), Named)
     }
 }
 

@@ -129,6 +129,20 @@ pub fn strategy(name: &str) -> Option<&'static Strategy> {
     strategies().iter().find(|s| s.name == name)
 }
 
+/// Every strategy's name in configs (`random_walk`, `cause_aware`, ...), in registry order.
+pub fn config_names() -> &'static [&'static str] {
+    static NAMES: LazyLock<&'static [&'static str]> = LazyLock::new(|| {
+        Box::leak(
+            strategies()
+                .iter()
+                .map(Strategy::config_name)
+                .collect::<Vec<_>>()
+                .into_boxed_slice(),
+        )
+    });
+    &NAMES
+}
+
 /// Each strategy's name in configs, made once (`'static`, as a serialized enum variant's
 /// must be).
 static CONFIG_NAMES: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
@@ -156,6 +170,7 @@ mod tests {
             assert_eq!(s.config_name(), s.name.replace('-', "_"));
         }
         assert_eq!(strategy("case-based"), None, "an arm, not a strategy");
+        assert_eq!(config_names().len(), strategies().len());
     }
 
     #[test]
@@ -165,5 +180,34 @@ mod tests {
         assert!(!walk.learns_across_episodes());
         assert!(strategy("conditioned").unwrap().learns_across_episodes());
         assert_eq!(strategy("uniform").unwrap().with_cases, None);
+    }
+}
+
+#[cfg(test)]
+mod config_tests {
+    use crate::SearchKind;
+
+    #[test]
+    fn a_config_names_a_strategy_bare_in_ron_and_as_a_string_in_json() {
+        #[derive(serde::Deserialize, serde::Serialize, Debug, PartialEq)]
+        struct Config {
+            search: SearchKind,
+        }
+        let read: Config = ron::from_str("(search: cause_aware)").unwrap();
+        assert_eq!(read.search.name(), "cause-aware");
+        assert_eq!(ron::to_string(&read).unwrap(), "(search:cause_aware)");
+        let json: Config = serde_json::from_str(r#"{"search": "uniform"}"#).unwrap();
+        assert_eq!(json.search.name(), "uniform");
+        assert_eq!(
+            serde_json::to_string(&json).unwrap(),
+            r#"{"search":"uniform"}"#
+        );
+        let wrong = ron::from_str::<Config>("(search: annealing)")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            wrong.contains("annealing") && wrong.contains("random_walk"),
+            "{wrong}"
+        );
     }
 }
