@@ -84,10 +84,10 @@ impl Strategy {
 
     /// Its name in a config's `search`: the name with `_` for `-` (`cause_aware`).
     pub fn config_name(&self) -> &'static str {
-        CONFIG_NAMES
+        strategies()
             .iter()
-            .find(|(name, _)| *name == self.name)
-            .map_or(self.name, |&(_, config)| config)
+            .position(|s| s == self)
+            .map_or(self.name, |k| config_names()[k])
     }
 }
 
@@ -129,31 +129,20 @@ pub fn strategy(name: &str) -> Option<&'static Strategy> {
     strategies().iter().find(|s| s.name == name)
 }
 
-/// Every strategy's name in configs (`random_walk`, `cause_aware`, ...), in registry order.
+/// Every strategy's name in configs (`random_walk`, `cause_aware`, ...), in registry order:
+/// made once and kept (`'static`, as a serialized enum variant's name must be).
 pub fn config_names() -> &'static [&'static str] {
     static NAMES: LazyLock<&'static [&'static str]> = LazyLock::new(|| {
         Box::leak(
             strategies()
                 .iter()
-                .map(Strategy::config_name)
-                .collect::<Vec<_>>()
+                .map(|s| &*Box::leak(s.name.replace('-', "_").into_boxed_str()))
+                .collect::<Vec<&'static str>>()
                 .into_boxed_slice(),
         )
     });
     &NAMES
 }
-
-/// Each strategy's name in configs, made once (`'static`, as a serialized enum variant's
-/// must be).
-static CONFIG_NAMES: LazyLock<Vec<(&'static str, &'static str)>> = LazyLock::new(|| {
-    strategies()
-        .iter()
-        .map(|s| {
-            let config: &'static str = Box::leak(s.name.replace('-', "_").into_boxed_str());
-            (s.name, config)
-        })
-        .collect()
-});
 
 #[cfg(test)]
 mod tests {
