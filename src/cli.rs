@@ -28,7 +28,7 @@ use clap::builder::TypedValueParser;
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use lab::reference::landscape;
 use lab::report::heatmap;
-use lab::{Domain, Instance, Simulation};
+use lab::{ArmName, Domain, Instance, Simulation};
 use service::{Limits, Location, Session, SharedCases, exchange, transport};
 use std::io::Write;
 use std::net::SocketAddr;
@@ -341,12 +341,13 @@ fn text() -> impl TypedValueParser<Value = String> {
     })
 }
 
-/// One name of `--arms`: an empty one is a stray comma, refused as the option's fault.
-fn arm_name(name: &str) -> Result<String, &'static str> {
+/// One name of `--arms`, read: an empty one is a stray comma, refused as the option's
+/// fault, and so are suffixes written twice or out of order.
+fn arm_name(name: &str) -> Result<ArmName, String> {
     if name.is_empty() {
-        Err("an empty arm name (a stray comma?)")
+        Err("an empty arm name (a stray comma?)".to_owned())
     } else {
-        Ok(name.to_owned())
+        ArmName::parse(name).map_err(|e| e.to_string())
     }
 }
 
@@ -362,7 +363,7 @@ struct RunOptions {
     /// The arms to compare, by name, comma-separated (overrides the config), e.g.
     /// `random-walk,case-based`.
     #[arg(long, value_delimiter = ',', value_parser = text().try_map(|name| arm_name(&name)))]
-    arms: Option<Vec<String>>,
+    arms: Option<Vec<ArmName>>,
     /// Save the case base each case-reusing arm ends every experiment with, as
     /// `DIR/EXPERIMENT/ARM.ron`.
     #[arg(long, value_name = "DIR")]

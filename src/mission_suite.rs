@@ -16,8 +16,7 @@ use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
     ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, contexts_written, copy_operator_files, ignores_statements, invalid,
-    is_context_blind, over, relocate_operator_files,
+    check_distinct, contexts_written, copy_operator_files, invalid, over, relocate_operator_files,
 };
 use cbr_core::ContextSpace;
 use files::name::check_label;
@@ -33,7 +32,7 @@ use lab::mission::{
 use lab::reference::known_operator::LimitSettings;
 use lab::report::file_stems;
 use lab::report::plot::svg;
-use lab::{Arm, PREFERS_COMPETENT, check_attention, prefers_competent};
+use lab::{Arm, ArmName, PREFERS_COMPETENT, check_attention};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -59,7 +58,7 @@ pub struct MissionSuiteConfig {
     /// The arms, by name, written as an experiment suite writes them (a name, or
     /// `(name: NAME, initial: learned)`).
     #[serde(deserialize_with = "arm_names")]
-    pub arms: Vec<String>,
+    pub arms: Vec<ArmName>,
     /// The mission plans, in report order.
     pub missions: Vec<MissionSpec>,
 }
@@ -161,7 +160,7 @@ impl MissionSuiteConfig {
             .map_err(over)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
         if !self.missions.iter().any(|m| m.context_switches.is_some())
-            && let Some(i) = self.arms.iter().position(|a| is_context_blind(a))
+            && let Some(i) = self.arms.iter().position(|a| a.options().context_blind)
         {
             return Err(invalid(
                 format!("arms[{i}]"),
@@ -171,7 +170,11 @@ impl MissionSuiteConfig {
                 ),
             ));
         }
-        if let Some(i) = self.arms.iter().position(|a| ignores_statements(a)) {
+        if let Some(i) = self
+            .arms
+            .iter()
+            .position(|a| a.options().ignores_statements)
+        {
             return Err(invalid(
                 format!("arms[{i}]"),
                 format!(
@@ -237,7 +240,7 @@ impl MissionSuiteConfig {
                 .validate()
                 .map_err(|e| invalid(field("changes"), e))?;
             if spec.competence.is_none()
-                && let Some(arm) = self.arms.iter().find(|a| prefers_competent(a).1)
+                && let Some(arm) = self.arms.iter().find(|a| a.options().prefers_competent)
             {
                 return Err(invalid(
                     field("competence"),

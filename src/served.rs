@@ -6,7 +6,7 @@ use crate::catalog::Catalog;
 use crate::suite::arm_named;
 use cbr_core::Behavior;
 use lab::Domain;
-use lab::{CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, PREFERS_COMPETENT};
+use lab::{ArmName, Initial, NameOptions, PREFERS_COMPETENT};
 use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
@@ -66,29 +66,39 @@ pub fn serving_arm<C: Catalog>(
     spelling: Spelling,
 ) -> anyhow::Result<DomainDefinition> {
     let option = spelling.of("--arm", "arm");
-    // The options `serve` refuses are looked for first, wherever and however often the name
-    // writes them, so that the name it suggests is one it serves.
+    // The options `serve` refuses are looked for first, in the name as it was evidently
+    // meant (however it orders or repeats its suffixes), so that the name it suggests is
+    // one it serves.
+    let (read, misread) = match ArmName::parse(name) {
+        Ok(read) => (read, None),
+        Err(error) => (error.meant.clone(), Some(error)),
+    };
+    let options = read.options();
     let refused = [
         (
-            CONTEXT_BLIND,
+            options.context_blind,
             "is blind to the robot's context, which a controller tells `serve` (`begin` with a context, a `context` request): to serve a robot blind to it, send none",
         ),
         (
-            IGNORES_STATEMENTS,
+            options.ignores_statements,
             "ignores what operators state up front, which a controller tells `serve` (`begin`'s `preferences`): to serve a robot that hears none, send none",
         ),
         (
-            LEARNED_START,
+            options.initial == Initial::Learned,
             "starts each episode from the case memory's guess, which `serve` does not choose: a controller's `begin` names the first behavior (or the server draws one)",
         ),
     ];
-    if let Some((_, why)) = refused.iter().find(|(suffix, _)| name.contains(suffix)) {
-        let served = refused.iter().fold(name.to_owned(), |left, (suffix, _)| {
-            left.replace(suffix, "")
+    if let Some((_, why)) = refused.iter().find(|(on, _)| *on) {
+        let served = read.with_options(NameOptions {
+            prefers_competent: options.prefers_competent,
+            ..NameOptions::default()
         });
         anyhow::bail!("{option}: `{name}` {why}; serve `{served}`");
     }
-    let arm = arm_named(catalog, name, domain.adapter.retriever)
+    if let Some(error) = misread {
+        anyhow::bail!("{option}: {error}");
+    }
+    let arm = arm_named(catalog, &read, domain.adapter.retriever)
         .map_err(|reason| anyhow::anyhow!("{option}: {reason}"))?;
     debug_assert!(
         !arm.is_context_blind() && !arm.ignores_statements() && arm.initial() == Initial::Random

@@ -63,7 +63,7 @@ fn an_arm_named_to_leave_its_folder_is_refused_and_nothing_outside_is_written() 
         Path::new("suite.ron"),
     )
     .unwrap();
-    config.arms = vec!["../../victim".into()];
+    config.arms = vec!["../../victim".parse().unwrap()];
     for settings in [
         RunSettings {
             save_cases: Some(saves.clone()),

@@ -17,7 +17,7 @@ fn each_strategy_gives_its_arm_and_its_case_based_arm_in_registry_order() {
     }
     assert_eq!(lab::builtin_arm_names(), expected);
     for arm in lab::builtin_arms() {
-        let described = lab::experiment::arm::describe(arm.name).unwrap();
+        let described = lab::experiment::arm::describe(&arm.name.parse().unwrap()).unwrap();
         assert_eq!(described, arm.description, "{}", arm.name);
         let built = lab::Arm::builtin(arm.name, trustcbr::trust::RetrieverKind::Linear).unwrap();
         assert_eq!(built.reuses_cases(), arm.reuses_cases, "{}", arm.name);

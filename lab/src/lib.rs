@@ -31,9 +31,11 @@ pub use contract::judgement::Judgement;
 pub use contract::operator::{GiveUpFactor, SimulatedOperator, StandardFields};
 pub use contract::operator_file::{OperatorFileError, UnperceivedWeight};
 pub use experiment::arm::{
-    Arm, BuiltinArm, COMPETENT_PASSES, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START,
-    NameOptions, PREFERS_COMPETENT, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
-    prefers_competent,
+    Arm, BuiltinArm, COMPETENT_PASSES, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
+};
+pub use experiment::arm_name::{
+    ArmName, ArmNameError, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, NameOptions,
+    PREFERS_COMPETENT,
 };
 pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};
 pub use experiment::plan::{ExperimentPlan, OperatorChoice, PlanError};

@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex};
 use trustcbr::catalog::domain_of;
 use trustcbr::cbr_core::BehaviorSpace;
 use trustcbr::config_file::from_json;
-use trustcbr::lab::{Arm, Domain, NameOptions};
+use trustcbr::lab::{Arm, ArmName, Domain};
 use trustcbr::limits::{Bound, LANDSCAPE_RUNS, MISSION_COMMANDS, MISSIONS, THREADS, TRIALS};
 use trustcbr::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
@@ -194,12 +194,21 @@ fn with_python_arms<C: Catalog + Clone>(
     }
 }
 
+/// The arms a run was given (`arms=`), each read once, or the first that is no arm's
+/// name, said with its place.
+fn read_arms(arms: Vec<String>) -> PyResult<Vec<ArmName>> {
+    arms.iter()
+        .enumerate()
+        .map(|(i, name)| ArmName::parse(name).map_err(|e| error(format_args!("arms[{i}]: {e}"))))
+        .collect()
+}
+
 /// Refuses a Python arm named like one of the catalog's (it would hide it under the same
 /// label) or left out of the arms run (it would silently not run).
 fn check_python_arm_names<C: Catalog>(
     catalog: &C,
     names: &[String],
-    arms_run: &[String],
+    arms_run: &[ArmName],
 ) -> PyResult<()> {
     let builtin = builtin_arms(catalog);
     for name in names {
@@ -210,11 +219,11 @@ fn check_python_arm_names<C: Catalog>(
         }
         if !arms_run
             .iter()
-            .any(|a| NameOptions::of_name(a).is_ok_and(|(base, _)| base == name.as_str()))
+            .any(|a| a.base() == name.as_str())
         {
             return Err(error(format_args!(
                 "python_arms: `{name}` is not among the arms run ({}); name it in `arms` to run it",
-                arms_run.join(", ")
+                ArmName::join(arms_run, ", ")
             )));
         }
     }
@@ -412,7 +421,7 @@ pub fn run_suite<C: Catalog + Clone>(
             config.seed = seed;
         }
         if let Some(arms) = request.arms {
-            config.arms = arms;
+            config.arms = read_arms(arms)?;
         }
         check_python_arm_names(catalog, &names, &config.arms)?;
         let watch = Watch {
@@ -482,7 +491,7 @@ pub fn run_suite<C: Catalog + Clone>(
             config.landscape_runs = u32::try_from(runs).expect("checked to fit");
         }
         if let Some(arms) = request.arms {
-            config.arms = arms;
+            config.arms = read_arms(arms)?;
         }
         check_python_arm_names(catalog, &names, &config.arms)?;
         let settings = RunSettings {

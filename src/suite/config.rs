@@ -10,8 +10,8 @@ use files::{parse_ron, read_text};
 use lab::contract::stating::Stating;
 use lab::reference::known_operator::LimitSettings;
 use lab::report::FINALS_LANDSCAPE_RUNS;
+use lab::{ArmName, Initial, NameOptions};
 use lab::{FeedbackChannel, GoalChanges, TrialContexts};
-use lab::{Initial, LEARNED_START, PREFERS_COMPETENT, prefers_competent};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::num::NonZeroU32;
@@ -49,13 +49,13 @@ pub struct SuiteConfig {
     )]
     pub readings: BTreeMap<String, String>,
     /// The arms to compare, by name: built-in ([`lab::builtin_arms`]) or the catalog's own
-    /// ([`Catalog::arms`]), each optionally followed by [`LEARNED_START`] (it starts each
+    /// ([`Catalog::arms`]), each optionally followed by [`lab::LEARNED_START`] (it starts each
     /// episode from the case memory's guess); default: every built-in arm. A config may
     /// also write an arm as `(name: "case-based", initial: learned)` (`initial`: `random`,
     /// the default, or `learned`), which is read as the name `case-based+learned-start`
     /// (`case-based+learned-start+competent` for `(name: "case-based+competent", ...)`).
     #[serde(default = "default_arms", deserialize_with = "arm_names")]
-    pub arms: Vec<String>,
+    pub arms: Vec<ArmName>,
     /// The arm the report tests every other arm against (p-values), one of `arms`;
     /// default ([`SuiteConfig::reference`]): `case-based` when it runs, else the first arm.
     #[serde(
@@ -95,25 +95,26 @@ fn some_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D
 }
 
 /// Reads the arms of a suite: each a name, or `(name: NAME, initial: random | learned)`
-/// read as the name of the arm it stands for ([`Initial::of_name`]). Mission suites and
-/// sweeps read their arms with it too.
-pub(crate) fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<String>, D::Error> {
-    Vec::<ArmName>::deserialize(d).map(|arms| arms.into_iter().map(|a| a.0).collect())
+/// read as the name of the arm it stands for (`NAME+learned-start` for `learned`), each
+/// read once into an [`ArmName`] (suffixes written twice or out of order are refused
+/// here, where the file says them). Mission suites and sweeps read their arms with it too.
+pub(crate) fn arm_names<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<ArmName>, D::Error> {
+    Vec::<WrittenArm>::deserialize(d).map(|arms| arms.into_iter().map(|a| a.0).collect())
 }
 
 /// [`arm_names`] of an optional list (a sweep's `arms`).
 pub(crate) fn some_arm_names<'de, D: serde::Deserializer<'de>>(
     d: D,
-) -> Result<Option<Vec<String>>, D::Error> {
-    Option::<Vec<ArmName>>::deserialize(d)
+) -> Result<Option<Vec<ArmName>>, D::Error> {
+    Option::<Vec<WrittenArm>>::deserialize(d)
         .map(|arms| arms.map(|arms| arms.into_iter().map(|a| a.0).collect()))
 }
 
 /// [`arm_names`] of each list of a list (a sweep's `arms([...])` parameter).
 pub(crate) fn arm_name_lists<'de, D: serde::Deserializer<'de>>(
     d: D,
-) -> Result<Vec<Vec<String>>, D::Error> {
-    Vec::<Vec<ArmName>>::deserialize(d).map(|lists| {
+) -> Result<Vec<Vec<ArmName>>, D::Error> {
+    Vec::<Vec<WrittenArm>>::deserialize(d).map(|lists| {
         lists
             .into_iter()
             .map(|arms| arms.into_iter().map(|a| a.0).collect())
@@ -121,26 +122,26 @@ pub(crate) fn arm_name_lists<'de, D: serde::Deserializer<'de>>(
     })
 }
 
-/// One arm as a suite writes it, read as its name.
-struct ArmName(String);
+/// One arm as a suite writes it, read.
+struct WrittenArm(ArmName);
 
-impl<'de> Deserialize<'de> for ArmName {
+impl<'de> Deserialize<'de> for WrittenArm {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        d.deserialize_any(ArmVisitor).map(ArmName)
+        d.deserialize_any(ArmVisitor).map(WrittenArm)
     }
 }
 
 struct ArmVisitor;
 
 impl<'de> serde::de::Visitor<'de> for ArmVisitor {
-    type Value = String;
+    type Value = ArmName;
     fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("an arm's name as a string, or `(name: \"case-based\", initial: learned)`")
     }
-    fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<String, E> {
-        Ok(name.to_owned())
+    fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<ArmName, E> {
+        ArmName::parse(name).map_err(E::custom)
     }
-    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<String, A::Error> {
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<ArmName, A::Error> {
         use serde::de::Error;
         /// The fields of an arm's options (read as identifiers, as RON writes them).
         #[derive(Deserialize)]
@@ -165,24 +166,22 @@ impl<'de> serde::de::Visitor<'de> for ArmVisitor {
             }
         }
         let name = name.ok_or_else(|| A::Error::missing_field("name"))?;
-        // A preference for competent behaviors stays last (`x+learned-start+competent`).
-        let (started, prefers) = prefers_competent(&name);
-        if Initial::of_name(started).1 == Initial::Learned {
+        let read =
+            ArmName::parse(&name).map_err(|e| A::Error::custom(format!("field `name`: {e}")))?;
+        let options = read.options();
+        if options.initial == Initial::Learned {
+            let unstarted = read.with_options(NameOptions {
+                initial: Initial::Random,
+                ..options
+            });
             return Err(A::Error::custom(format!(
-                "field `name`: `{name}` already names how its episodes start; write the arm `{}{}` and set `initial`",
-                Initial::of_name(started).0,
-                if prefers { PREFERS_COMPETENT } else { "" }
+                "field `name`: `{name}` already names how its episodes start; write the arm `{unstarted}` and set `initial`"
             )));
         }
-        let named = match initial.unwrap_or_default() {
-            Initial::Random => started.to_owned(),
-            Initial::Learned => started.to_owned() + LEARNED_START,
-        };
-        Ok(if prefers {
-            named + PREFERS_COMPETENT
-        } else {
-            named
-        })
+        Ok(read.with_options(NameOptions {
+            initial: initial.unwrap_or_default(),
+            ..options
+        }))
     }
 }
 
@@ -194,10 +193,10 @@ fn default_max_commands() -> u64 {
     1_000_000
 }
 
-fn default_arms() -> Vec<String> {
-    lab::builtin_arm_names()
-        .into_iter()
-        .map(str::to_owned)
+fn default_arms() -> Vec<ArmName> {
+    lab::builtin_arms()
+        .iter()
+        .map(|arm| ArmName::new(arm.name, NameOptions::default()))
         .collect()
 }
 
@@ -506,9 +505,9 @@ impl SuiteConfig {
                 self.arms
                     .iter()
                     .find(|a| *a == "case-based")
-                    .map(String::as_str)
+                    .map(ArmName::as_str)
             })
-            .or_else(|| self.arms.first().map(String::as_str))
+            .or_else(|| self.arms.first().map(ArmName::as_str))
             .unwrap_or_default()
     }
 
@@ -800,7 +799,7 @@ mod tests {
         #[derive(Deserialize)]
         struct Arms {
             #[serde(deserialize_with = "arm_names")]
-            arms: Vec<String>,
+            arms: Vec<ArmName>,
         }
         let read = |text: &str| ron::from_str::<Arms>(text).map(|a| a.arms);
         assert_eq!(
@@ -987,19 +986,17 @@ mod tests {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("domains/experiments/contexts.ron");
         let suite = SuiteConfig::load(&UgvCatalog, &file).unwrap();
         assert!(suite.experiments.iter().all(|e| e.contexts.is_some()));
-        let sighted: Vec<&String> = suite
+        let sighted: Vec<&ArmName> = suite
             .arms
             .iter()
-            .filter(|a| a.starts_with("case-based") && !a.contains("+context-blind"))
+            .filter(|a| a.base().starts_with("case-based") && !a.options().context_blind)
             .collect();
         assert_eq!(sighted.len(), 4);
         for arm in sighted {
-            let (base, options) = lab::NameOptions::of_name(arm).unwrap();
-            let blind = lab::NameOptions {
+            let twin = arm.with_options(NameOptions {
                 context_blind: true,
-                ..options
-            };
-            let twin = format!("{base}{}", blind.suffixes());
+                ..arm.options()
+            });
             assert!(suite.arms.contains(&twin), "{twin}");
         }
     }
@@ -1011,7 +1008,7 @@ mod tests {
         let suite = SuiteConfig::load(&UgvCatalog, &file).unwrap();
         assert_eq!(suite.experiments.len(), 7 + 2 * 5);
         for pair in suite.arms.chunks(2) {
-            assert_eq!(pair[1], format!("{}+learned-start", pair[0]));
+            assert_eq!(pair[1].as_str(), format!("{}+learned-start", pair[0]));
         }
     }
 }

@@ -43,9 +43,7 @@ pub use saved_cases::{StartingCases, check_save_targets, save_case_bases};
 pub use trace::{
     Replayable, ReplayedTrial, TraceError, replayable_config, trace_report_trial, trace_suite_trial,
 };
-pub(crate) use validate::{
-    check_adapter, check_arms, check_distinct, ignores_statements, is_context_blind, over,
-};
+pub(crate) use validate::{check_adapter, check_arms, check_distinct, over};
 
 use crate::catalog::CatalogError;
 use crate::config_file::{ConfigFileError, from_config_file_errors};

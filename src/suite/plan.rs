@@ -8,28 +8,26 @@ use files::name::check_file_name;
 use lab::Domain;
 use lab::report::file_stems;
 use lab::{
-    Arm, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START, NameOptions,
-    OperatorChoice, PREFERS_COMPETENT,
+    Arm, ArmName, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START, OperatorChoice,
+    PREFERS_COMPETENT,
 };
 use std::path::Path;
 use trust::RetrieverKind;
 
-/// The arm `name`: the catalog's own arm of that name, or else a built-in one, either
-/// followed by the suffixes of [`NameOptions`] ([`CONTEXT_BLIND`], [`IGNORES_STATEMENTS`], [`LEARNED_START`],
-/// [`PREFERS_COMPETENT`], each once, in that order); the error lists every name
+/// The arm `name` names: the catalog's own arm of its base, or else a built-in one, with
+/// the options its suffixes add ([`lab::NameOptions`]); the error lists every name
 /// known. An arm's name is a file name (its saved case base is `EXPERIMENT/ARM.ron`), so a
 /// name that is not one ([`check_file_name`]) is refused here, for every suite kind, sweep
 /// and `serve --arm`, and so is an arm whose name would differ from the one asked for.
 pub fn arm_named<C: Catalog>(
     catalog: &C,
-    name: &str,
+    name: &ArmName,
     retriever: RetrieverKind,
 ) -> Result<Arm, String> {
     let own = catalog.arms(retriever);
-    let (base, options) = NameOptions::of_name(name)?;
-    let arm = match own.iter().find(|a| a.name() == base) {
+    let arm = match own.iter().find(|a| a.name() == name.base()) {
         Some(arm) => arm.clone(),
-        None => Arm::builtin(base, retriever).map_err(|_| {
+        None => Arm::builtin(name.base(), retriever).map_err(|_| {
             let known: Vec<&str> = lab::builtin_arm_names()
                 .into_iter()
                 .chain(own.iter().map(Arm::name))
@@ -40,9 +38,9 @@ pub fn arm_named<C: Catalog>(
             )
         })?,
     };
-    let arm = arm.with_name_options(options);
+    let arm = arm.with_name_options(name.options());
     check_file_name("arm", arm.name()).map_err(|e| e.to_string())?;
-    if arm.name() != name {
+    if arm.arm_name() != name {
         return Err(format!(
             "the arm `{name}` calls itself `{}`; an arm must keep the name it is given",
             arm.name()

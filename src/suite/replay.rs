@@ -13,8 +13,8 @@ use super::saved_cases::saved_file;
 use super::{StartingCases, SuiteConfig, SuiteError, arm_named};
 use crate::catalog::Catalog;
 use crate::config_file::content_hash;
-use lab::Domain;
 use lab::report::{Replay, file_stems};
+use lab::{ArmName, Domain};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use trust::TrustCaseBase;
@@ -104,13 +104,13 @@ pub(crate) fn report_replay<C: Catalog>(
                 if reads_cases(catalog, config, arm)
                     && let Some(cases) = starting.load(
                         stem,
-                        arm,
+                        arm.as_str(),
                         &spec.scenario,
                         domain.space(),
                         domain.contexts(),
                     )?
                 {
-                    arms.insert(arm.clone(), cases_hash(&cases));
+                    arms.insert(arm.to_string(), cases_hash(&cases));
                 }
             }
             if !arms.is_empty() {
@@ -223,6 +223,9 @@ fn starting_hash<C: Catalog>(
     let Some(starting) = starting else {
         return Ok(None);
     };
+    let Some(arm) = config.arms.iter().find(|a| *a == arm) else {
+        return Ok(None);
+    };
     if !reads_cases(catalog, config, arm) {
         return Ok(None);
     }
@@ -238,11 +241,11 @@ fn starting_hash<C: Catalog>(
     let parts = Parts::of(catalog, config, &origin)?;
     let spec = &config.experiments[k];
     let domain = parts.domain(k);
-    let file = saved_file(&starting.dir, &stems[k], arm)?;
+    let file = saved_file(&starting.dir, &stems[k], arm.as_str())?;
     Ok(starting
         .load(
             &stems[k],
-            arm,
+            arm.as_str(),
             &spec.scenario,
             domain.space(),
             domain.contexts(),
@@ -252,6 +255,6 @@ fn starting_hash<C: Catalog>(
 
 /// Whether the arm named `arm` of `config` reads cases, so starts from saved ones when a
 /// run is given them (an unknown name reads none: the replay refuses it anyway).
-fn reads_cases<C: Catalog>(catalog: &C, config: &SuiteConfig, arm: &str) -> bool {
+fn reads_cases<C: Catalog>(catalog: &C, config: &SuiteConfig, arm: &ArmName) -> bool {
     arm_named(catalog, arm, config.adapter.retriever).is_ok_and(|a| a.reads_cases())
 }

@@ -76,7 +76,7 @@ fn save_targets<C: Catalog>(
             .map_err(|e| super::invalid(dir, "arms".into(), e))?;
         if arm.reads_cases() {
             for stem in &stems {
-                targets.push(saved_file(dir, stem, name)?);
+                targets.push(saved_file(dir, stem, name.as_str())?);
             }
         }
     }
@@ -137,7 +137,7 @@ pub fn save_case_bases(
             let Some(cases) = &arm.final_cases else {
                 continue;
             };
-            let path = saved_file(dir, stem, &arm.name)?;
+            let path = saved_file(dir, stem, arm.name.as_str())?;
             let folder = path.parent().expect("a saved case base is in a folder");
             std::fs::create_dir_all(folder).map_err(|reason| FileError {
                 path: folder.to_owned(),

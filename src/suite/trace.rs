@@ -11,7 +11,7 @@ use cbr_core::BehaviorSpace;
 use files::read_text;
 use lab::Domain;
 use lab::report::timeline::Timeline;
-use lab::{Arm, ExperimentPlan, PlanError, TracedCommand, TrialRecord, trace_trial};
+use lab::{Arm, ArmName, ExperimentPlan, PlanError, TracedCommand, TrialRecord, trace_trial};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -37,7 +37,7 @@ pub(super) fn timeline_of<D: Domain>(
 ) -> Timeline {
     Timeline {
         experiment: plan.name.clone(),
-        arm: plan.arms[arm].name().to_owned(),
+        arm: plan.arms[arm].arm_name().clone(),
         record,
         commands,
         thresholds: config.adapter.thresholds,
@@ -85,7 +85,7 @@ pub enum TraceError {
         /// The tool's name.
         tool: String,
         /// The report's arms it can replay.
-        replayable: Vec<String>,
+        replayable: Vec<ArmName>,
     },
     /// The report's config, case bases or tool differ from what ran ([`check_replay`]).
     #[error(transparent)]
@@ -103,11 +103,14 @@ pub enum TraceError {
 }
 
 /// `the report's replayable arms: a, b`, or that it has none.
-fn replayable_arms(arms: &[String]) -> String {
+fn replayable_arms(arms: &[ArmName]) -> String {
     if arms.is_empty() {
         "no arm of the report can be replayed".to_owned()
     } else {
-        format!("the report's replayable arms: {}", arms.join(", "))
+        format!(
+            "the report's replayable arms: {}",
+            ArmName::join(arms, ", ")
+        )
     }
 }
 
@@ -119,7 +122,7 @@ pub struct Replayable {
     /// not one of them).
     pub config: SuiteConfig,
     /// The arms left out, in config order.
-    pub left_out: Vec<String>,
+    pub left_out: Vec<ArmName>,
 }
 
 /// Reads the suite config `text` (from `origin`) for replay ([`Replayable`]).
@@ -131,14 +134,14 @@ pub fn replayable_config<C: Catalog>(
     let mut config = SuiteConfig::parse(text, origin)?;
     config.choose_left_out_operators(catalog, origin);
     let retriever = config.adapter.retriever;
-    let (kept, left_out): (Vec<String>, Vec<String>) = config
+    let (kept, left_out): (Vec<ArmName>, Vec<ArmName>) = config
         .arms
         .iter()
         .cloned()
         .partition(|name| arm_named(catalog, name, retriever).is_ok());
     if kept.is_empty() {
         return Err(TraceError::NotReplayable {
-            arm: left_out.first().cloned().unwrap_or_default(),
+            arm: left_out.first().map(ArmName::to_string).unwrap_or_default(),
             tool: catalog.tool().name,
             replayable: Vec::new(),
         });
@@ -147,7 +150,7 @@ pub fn replayable_config<C: Catalog>(
     if config
         .reference
         .as_ref()
-        .is_some_and(|r| left_out.contains(r))
+        .is_some_and(|r| left_out.iter().any(|a| a == r.as_str()))
     {
         config.reference = None;
     }

@@ -17,8 +17,7 @@ use crate::limits::{
 };
 use files::name::check_file_name;
 use lab::{
-    Arm, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, NameOptions, Split, TrialContexts,
-    prefers_competent,
+    Arm, ArmName, CONTEXT_BLIND, Domain, IGNORES_STATEMENTS, Instance, Split, TrialContexts,
 };
 use std::path::Path;
 use trust::{AdapterConfig, RetrieverKind, Verdict};
@@ -76,7 +75,7 @@ impl SuiteConfig {
             .map_err(over)?;
         check_adapter(&self.adapter, origin)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
-        if let Some(i) = self.arms.iter().position(|a| prefers_competent(a).1) {
+        if let Some(i) = self.arms.iter().position(|a| a.options().prefers_competent) {
             return Err(invalid(
                 format!("arms[{i}]"),
                 format!(
@@ -86,13 +85,13 @@ impl SuiteConfig {
             ));
         }
         if let Some(reference) = &self.reference
-            && !self.arms.contains(reference)
+            && !self.arms.iter().any(|arm| arm == reference.as_str())
         {
             return Err(invalid(
                 "reference".into(),
                 format!(
                     "`{reference}` is not one of the suite's arms ({})",
-                    self.arms.join(", ")
+                    ArmName::join(&self.arms, ", ")
                 ),
             ));
         }
@@ -159,7 +158,10 @@ impl SuiteConfig {
     ) -> Result<(), SuiteError> {
         let invalid = |i: usize, message: String| invalid(origin, format!("arms[{i}]"), message);
         if !self.experiments.iter().any(|e| e.stated.is_some())
-            && let Some(i) = self.arms.iter().position(|a| ignores_statements(a))
+            && let Some(i) = self
+                .arms
+                .iter()
+                .position(|a| a.options().ignores_statements)
         {
             return Err(invalid(
                 i,
@@ -176,9 +178,7 @@ impl SuiteConfig {
             .map_err(|unknown| invalid(0, unknown.to_string()))?;
         let space = domain.space();
         for (i, name) in self.arms.iter().enumerate() {
-            let Ok((base, options)) = NameOptions::of_name(name) else {
-                continue;
-            };
+            let options = name.options();
             if options.context_blind && !told_a_context {
                 return Err(invalid(
                     i,
@@ -187,10 +187,7 @@ impl SuiteConfig {
                     ),
                 ));
             }
-            if lab::builtin_arm(base).is_none() {
-                continue;
-            }
-            let Ok(arm) = Arm::builtin(name, self.adapter.retriever) else {
+            let Ok(arm) = Arm::builtin_named(name, self.adapter.retriever) else {
                 continue;
             };
             let searcher = arm.build_searcher(space);
@@ -228,23 +225,11 @@ pub(crate) fn check_adapter(adapter: &AdapterConfig, origin: &Path) -> Result<()
     super::config::check_arms_choose(adapter, origin)
 }
 
-/// Whether the arm named `name` is blind to the robot's context (`NAME+context-blind`;
-/// a name [`check_arms`] refuses is not).
-pub(crate) fn is_context_blind(name: &str) -> bool {
-    NameOptions::of_name(name).is_ok_and(|(_, options)| options.context_blind)
-}
-
-/// Whether the arm named `name` ignores what operators state (`NAME+ignores-statements`;
-/// a name [`check_arms`] refuses does not).
-pub(crate) fn ignores_statements(name: &str) -> bool {
-    NameOptions::of_name(name).is_ok_and(|(_, options)| options.ignores_statements)
-}
-
 /// Checks a suite's arms, whatever its kind: at least one, each known to `catalog` (or
 /// built in), a file name, and listed once.
 pub(crate) fn check_arms<C: Catalog>(
     catalog: &C,
-    arms: &[String],
+    arms: &[ArmName],
     retriever: RetrieverKind,
     origin: &Path,
 ) -> Result<(), SuiteError> {

@@ -2,6 +2,7 @@
 //! labels and sets its values) and design.
 
 use crate::suite::{SuiteConfig, arm_name_lists, some_arm_names};
+use lab::ArmName;
 use serde::{Deserialize, Serialize};
 use std::num::NonZeroU32;
 use std::path::PathBuf;
@@ -19,7 +20,7 @@ pub struct SweepConfig {
     pub trials: Option<NonZeroU32>,
     /// The arms (overrides the suite's), written as a suite writes them.
     #[serde(default, deserialize_with = "some_arm_names")]
-    pub arms: Option<Vec<String>>,
+    pub arms: Option<Vec<ArmName>>,
     /// The master seeds; every cell runs once per seed.
     pub seeds: Vec<u64>,
     /// The parameters to vary.
@@ -71,7 +72,7 @@ pub enum Parameter {
     /// `reading("patrol_weights", ["as_written", "three_and_one"])`.
     Reading(String, Vec<String>),
     /// The arms compared, each list written as a suite writes its arms.
-    Arms(#[serde(deserialize_with = "arm_name_lists")] Vec<Vec<String>>),
+    Arms(#[serde(deserialize_with = "arm_name_lists")] Vec<Vec<ArmName>>),
 }
 
 impl Parameter {
@@ -106,7 +107,7 @@ impl Parameter {
             Parameter::Retention(v) => ron_name(&v[i]),
             Parameter::TimeUnit(v) => ron_name(&v[i]),
             Parameter::Reading(_, v) => v[i].clone(),
-            Parameter::Arms(v) => v[i].join("+"),
+            Parameter::Arms(v) => ArmName::join(&v[i], "+"),
         }
     }
 

@@ -4,6 +4,7 @@
 use super::runs::suite_hash;
 use super::{RunId, RunSummary, Sweep, SweepError, write_report};
 use files::read_text;
+use lab::ArmName;
 use std::path::{Path, PathBuf};
 
 /// Reads the run files of every run of `sweep` (whose config file says `text`) from
@@ -107,10 +108,10 @@ impl Sweep {
                 "holds {} trials of experiments [{}] and arms [{}]; this cell runs {} trials of [{}] and [{}]",
                 summary.trials,
                 summary.order.join(", "),
-                summary.arms.join(", "),
+                ArmName::join(&summary.arms, ", "),
                 suite.trials,
                 experiments.join(", "),
-                suite.arms.join(", ")
+                ArmName::join(&suite.arms, ", ")
             ));
         }
         let shape_fits = summary.experiments.len() == experiments.len()

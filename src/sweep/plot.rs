@@ -3,6 +3,7 @@
 
 use super::report::{Series, aggregate};
 use super::{Parameter, Sweep, SweepError};
+use lab::ArmName;
 use lab::report::category_label;
 use lab::report::plot::{ArmStyle, arm_style, drawing_order, log_ticks, sparse_labels, tick_label};
 use plotters::prelude::*;
@@ -17,7 +18,7 @@ pub(super) fn plot_parameter(
     parameter: &Parameter,
     series: &Series,
     order: &[String],
-    arm_order: &[Vec<String>],
+    arm_order: &[Vec<ArmName>],
     path: &Path,
 ) -> Result<String, SweepError> {
     // The cells on this parameter's axis: the base, and those varying it, in value order.
@@ -33,8 +34,8 @@ pub(super) fn plot_parameter(
             .unwrap_or(0);
         axis.push((label.trim_start_matches(&prefix).to_owned(), cell));
     }
-    let arms: Vec<String> = arm_order.first().cloned().unwrap_or_default();
-    let styles: Vec<ArmStyle> = arms.iter().map(|arm| arm_style(arm)).collect();
+    let arms: Vec<ArmName> = arm_order.first().cloned().unwrap_or_default();
+    let styles: Vec<ArmStyle> = arms.iter().map(arm_style).collect();
     let columns = order.len().clamp(1, 4);
     let rows = order.len().div_ceil(columns).max(1);
     let (panel_width, legend_width) = (340u32, 230u32);
@@ -94,7 +95,7 @@ pub(super) fn plot_parameter(
                 .x_desc(parameter.name())
                 .y_desc("behaviors evaluated (log scale)")
                 .draw()?;
-            for k in drawing_order(&arms) {
+            for k in drawing_order(&arms.iter().collect::<Vec<_>>()) {
                 let (arm, style) = (&arms[k], styles[k]);
                 let points: Vec<(f64, f64, Option<f64>)> = axis
                     .iter()

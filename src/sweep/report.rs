@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 /// (cell, experiment, arm) -> the per-seed mean behaviors, the per-seed mean commands, and
 /// the trials cut off over all seeds.
-pub(super) type Series = BTreeMap<(usize, String, String), (Vec<f64>, Vec<f64>, usize)>;
+pub(super) type Series = BTreeMap<(usize, String, lab::ArmName), (Vec<f64>, Vec<f64>, usize)>;
 
 /// One cell's aggregate for one experiment and arm: mean of the per-seed means and the
 /// half-width of its 95% confidence interval over seeds (none from a single seed).
@@ -46,7 +46,7 @@ pub fn write_report(
 ) -> Result<Vec<PathBuf>, SweepError> {
     let mut series: Series = BTreeMap::new();
     let mut order: Vec<String> = Vec::new();
-    let mut arm_order: Vec<Vec<String>> = vec![Vec::new(); sweep.cells.len()];
+    let mut arm_order: Vec<Vec<lab::ArmName>> = vec![Vec::new(); sweep.cells.len()];
     for (run, summary) in summaries {
         for name in &summary.order {
             if !order.contains(name) {

@@ -6,6 +6,7 @@ use crate::catalog::Catalog;
 use crate::config_file::content_hash;
 use crate::suite::{SuiteConfig, SuiteResults, run_suite};
 use files::write_file_in;
+use lab::ArmName;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -63,11 +64,11 @@ pub struct RunSummary {
     /// Trials per experiment and arm.
     pub trials: u32,
     /// Experiment name -> arm name -> means.
-    pub experiments: BTreeMap<String, BTreeMap<String, ArmMeans>>,
+    pub experiments: BTreeMap<String, BTreeMap<ArmName, ArmMeans>>,
     /// Experiments in suite order.
     pub order: Vec<String>,
     /// Arms in suite order.
-    pub arms: Vec<String>,
+    pub arms: Vec<ArmName>,
 }
 
 /// One arm's means in one run.

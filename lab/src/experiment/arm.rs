@@ -14,8 +14,11 @@
 //! is not competent, on missions that judge it ([`Arm::preferring_competent`]); the
 //! suffixes are written in that order ([`NameOptions`]).
 
+pub use super::arm_name::{
+    ArmName, ArmNameError, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, NameOptions,
+    PREFERS_COMPETENT,
+};
 use cbr_core::BehaviorSpace;
-use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::sync::Arc;
 use std::sync::LazyLock;
@@ -79,148 +82,18 @@ pub fn builtin_arm_names() -> Vec<&'static str> {
     builtin_arms().iter().map(|a| a.name).collect()
 }
 
-/// What follows the name of an arm that is not told the robot's context, as the paper's
-/// robot is not ([`Arm::blind_to_context`]): `case-based+context-blind`.
-pub const CONTEXT_BLIND: &str = "+context-blind";
-
-/// What follows the name of an arm that does not hear what operators state up front
-/// ([`Arm::ignoring_statements`]): `case-based+cause-aware+ignores-statements`.
-pub const IGNORES_STATEMENTS: &str = "+ignores-statements";
-
-/// What ends the name of an arm that starts each episode from the memory's guess
-/// ([`Initial::Learned`]): `case-based+conditioned+learned-start`.
-pub const LEARNED_START: &str = "+learned-start";
-
-/// What ends the name of an arm that prefers behaviors the robot judges competent
-/// ([`Arm::preferring_competent`]): `case-based+conditioned+competent`.
-pub const PREFERS_COMPETENT: &str = "+competent";
-
 /// How many trusted behaviors an episode of an arm preferring competent ones passes over
 /// before it settles on the next whatever its competence: one more look. Each pass costs
 /// another search for a trusted behavior, so more would multiply what the operator
 /// endures for a preference the operator did not state.
 pub const COMPETENT_PASSES: u32 = 1;
 
-/// How each episode of an arm starts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Initial {
-    /// The trial's uniformly random behavior (the paper's protocol).
-    #[default]
-    Random,
-    /// The case memory's best guess for an operator it does not yet know
-    /// ([`trust::start`]); the trial's random behavior while the memory is empty.
-    Learned,
-}
-
-impl Initial {
-    /// The arm name `name` split into the name of the arm it is built on and how its
-    /// episodes start: `x+learned-start` is `x`, learned; any other name starts at random.
-    pub fn of_name(name: &str) -> (&str, Initial) {
-        match name.strip_suffix(LEARNED_START) {
-            Some(base) => (base, Initial::Learned),
-            None => (name, Initial::Random),
-        }
-    }
-}
-
-/// The arm name `name` split into the name of the arm it is built on and whether it
-/// prefers behaviors the robot judges competent: `x+competent` is `x`, preferring.
-pub fn prefers_competent(name: &str) -> (&str, bool) {
-    with_suffix(name, PREFERS_COMPETENT)
-}
-
-/// `name` without `suffix`, and whether it ended with it: how [`NameOptions::of_name`]
-/// reads each on-or-off suffix where it sits among the others.
-fn with_suffix<'a>(name: &'a str, suffix: &str) -> (&'a str, bool) {
-    match name.strip_suffix(suffix) {
-        Some(base) => (base, true),
-        None => (name, false),
-    }
-}
-
-/// What the suffixes of an arm's name add to the arm it is built on, each at most once and
-/// in this order: `NAME[+context-blind][+ignores-statements][+learned-start][+competent]`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct NameOptions {
-    /// Not told the robot's context ([`CONTEXT_BLIND`]).
-    pub context_blind: bool,
-    /// Not hearing what operators state up front ([`IGNORES_STATEMENTS`]).
-    pub ignores_statements: bool,
-    /// How each episode starts ([`LEARNED_START`]).
-    pub initial: Initial,
-    /// Passing over trusted behaviors the robot is sure are not competent
-    /// ([`PREFERS_COMPETENT`]).
-    pub prefers_competent: bool,
-}
-
-impl NameOptions {
-    /// `name` split into the name of the arm it is built on and the options its suffixes
-    /// add; a suffix written twice, or out of order, is refused with what to write.
-    pub fn of_name(name: &str) -> Result<(&str, Self), String> {
-        let (started, prefers_competent) = self::prefers_competent(name);
-        let (hearing, initial) = Initial::of_name(started);
-        let (sighted, ignores_statements) = with_suffix(hearing, IGNORES_STATEMENTS);
-        let (base, context_blind) = with_suffix(sighted, CONTEXT_BLIND);
-        let options = Self {
-            context_blind,
-            ignores_statements,
-            initial,
-            prefers_competent,
-        };
-        let misplaced = [
-            CONTEXT_BLIND,
-            IGNORES_STATEMENTS,
-            LEARNED_START,
-            PREFERS_COMPETENT,
-        ]
-        .into_iter()
-        .find(|suffix| base.ends_with(suffix));
-        let Some(suffix) = misplaced else {
-            return Ok((base, options));
-        };
-        let mut meant = options;
-        let already = match suffix {
-            CONTEXT_BLIND => std::mem::replace(&mut meant.context_blind, true),
-            IGNORES_STATEMENTS => std::mem::replace(&mut meant.ignores_statements, true),
-            LEARNED_START => {
-                std::mem::replace(&mut meant.initial, Initial::Learned) == Initial::Learned
-            }
-            _ => std::mem::replace(&mut meant.prefers_competent, true),
-        };
-        let write = format!("{}{}", &base[..base.len() - suffix.len()], meant.suffixes());
-        Err(if already {
-            format!("`{name}` says {suffix} twice; write `{write}`")
-        } else {
-            format!(
-                "`{name}` writes {suffix} out of order (NAME{CONTEXT_BLIND}{IGNORES_STATEMENTS}{LEARNED_START}{PREFERS_COMPETENT}); write `{write}`"
-            )
-        })
-    }
-
-    /// The suffixes, in order (empty for an arm with none).
-    pub fn suffixes(self) -> String {
-        let mut suffixes = String::new();
-        for (on, suffix) in [
-            (self.context_blind, CONTEXT_BLIND),
-            (self.ignores_statements, IGNORES_STATEMENTS),
-            (self.initial == Initial::Learned, LEARNED_START),
-            (self.prefers_competent, PREFERS_COMPETENT),
-        ] {
-            if on {
-                suffixes.push_str(suffix);
-            }
-        }
-        suffixes
-    }
-}
-
 /// What each built-in arm does, in one line (docs/search-strategies.md tells more),
 /// followed for a [`LEARNED_START`] arm by how it starts; `None` for an arm that is not
 /// built in.
-pub fn describe(name: &str) -> Option<String> {
-    let (base, options) = NameOptions::of_name(name).ok()?;
-    let what = builtin_arm(base)?.description;
+pub fn describe(name: &ArmName) -> Option<String> {
+    let options = name.options();
+    let what = builtin_arm(name.base())?.description;
     let what = if options.context_blind {
         format!(
             "{what}; blind to the robot's context, as the paper's robot: every episode and case in the default context"
@@ -251,17 +124,11 @@ pub fn describe(name: &str) -> Option<String> {
 /// One strategy of an experiment.
 #[derive(Clone)]
 pub struct Arm {
-    name: String,
+    /// Its name, which also carries its options (blind, deaf, learned start, competent).
+    name: ArmName,
     searcher: SearcherFactory,
     retriever: Option<RetrieverFactory>,
-    initial: Initial,
     starting_cases: Option<Arc<TrustCaseBase>>,
-    /// Trusted behaviors an episode passes over for being surely not competent.
-    competent_passes: u32,
-    /// Not told the robot's context.
-    context_blind: bool,
-    /// Not hearing what operators state up front.
-    ignores_statements: bool,
 }
 
 impl fmt::Debug for Arm {
@@ -269,10 +136,6 @@ impl fmt::Debug for Arm {
         f.debug_struct("Arm")
             .field("name", &self.name)
             .field("reuses_cases", &self.reuses_cases())
-            .field("initial", &self.initial)
-            .field("competent_passes", &self.competent_passes)
-            .field("context_blind", &self.context_blind)
-            .field("ignores_statements", &self.ignores_statements)
             .field(
                 "starting_cases",
                 &self.starting_cases.as_ref().map(|c| c.len()),
@@ -292,19 +155,17 @@ pub struct UnknownArm {
 impl Arm {
     /// The search strategy alone: every adaptation comes from `searcher` (cases are still
     /// retained as docs/model.md#cases-and-retention says, and counted, but never read).
+    /// `name` is the arm's own, taken as it is: the options its suffixes would name are
+    /// added by the methods below ([`Arm::with_name_options`]).
     pub fn search_only(
         name: impl Into<String>,
         searcher: impl Fn(&Arc<BehaviorSpace>) -> Box<TrustSearcher> + Send + Sync + 'static,
     ) -> Self {
         Self {
-            name: name.into(),
+            name: ArmName::new(&name.into(), NameOptions::default()),
             searcher: Arc::new(searcher),
             retriever: None,
-            initial: Initial::Random,
             starting_cases: None,
-            competent_passes: 0,
-            context_blind: false,
-            ignores_statements: false,
         }
     }
 
@@ -367,68 +228,66 @@ impl Arm {
 
     /// The same arm not told the robot's context, as the paper's robot is not: its
     /// episodes, and the cases they retain, are all in the default context whatever the
-    /// trial's context is. Named with [`CONTEXT_BLIND`] after its name (once; before any
-    /// other suffix, so build it first).
-    pub fn blind_to_context(mut self) -> Self {
-        if !self.context_blind {
-            self.context_blind = true;
-            self.name.push_str(CONTEXT_BLIND);
-        }
-        self
+    /// trial's context is. Named with [`CONTEXT_BLIND`] after its name.
+    pub fn blind_to_context(self) -> Self {
+        self.with_name_options(NameOptions {
+            context_blind: true,
+            ..NameOptions::default()
+        })
     }
 
     /// Whether the arm is not told the robot's context ([`Arm::blind_to_context`]).
     pub fn is_context_blind(&self) -> bool {
-        self.context_blind
+        self.name.options().context_blind
     }
 
     /// The same arm not hearing what operators state up front, as the paper's robot: its
     /// episodes begin as if nothing were stated, on the same trials as the arm that hears
-    /// (so the two pair trial by trial). Named with [`IGNORES_STATEMENTS`] after its name
-    /// (once; after [`CONTEXT_BLIND`] and before the other suffixes).
-    pub fn ignoring_statements(mut self) -> Self {
-        if !self.ignores_statements {
-            self.ignores_statements = true;
-            self.name.push_str(IGNORES_STATEMENTS);
-        }
-        self
+    /// (so the two pair trial by trial). Named with [`IGNORES_STATEMENTS`] after its name.
+    pub fn ignoring_statements(self) -> Self {
+        self.with_name_options(NameOptions {
+            ignores_statements: true,
+            ..NameOptions::default()
+        })
     }
 
     /// Whether the arm does not hear what operators state ([`Arm::ignoring_statements`]).
     pub fn ignores_statements(&self) -> bool {
-        self.ignores_statements
+        self.name.options().ignores_statements
     }
 
     /// The same arm starting each episode from the case memory's guess
-    /// ([`Initial::Learned`]), named with [`LEARNED_START`] after its name (once: an arm
-    /// that already starts so is returned as it is). Its trials read the cases earlier
-    /// ones retained, so they run in order even where the arm reuses no case.
-    pub fn learned_start(mut self) -> Self {
-        if self.initial == Initial::Random {
-            self.initial = Initial::Learned;
-            self.name.push_str(LEARNED_START);
-        }
-        self
+    /// ([`Initial::Learned`]), named with [`LEARNED_START`] after its name. Its trials read
+    /// the cases earlier ones retained, so they run in order even where the arm reuses no
+    /// case.
+    pub fn learned_start(self) -> Self {
+        self.with_name_options(NameOptions {
+            initial: Initial::Learned,
+            ..NameOptions::default()
+        })
     }
 
     /// The same arm preferring behaviors the robot judges competent, named with
-    /// [`PREFERS_COMPETENT`] after its name (once): on a mission that judges the robot's
+    /// [`PREFERS_COMPETENT`] after its name: on a mission that judges the robot's
     /// competence, each episode passes over up to [`COMPETENT_PASSES`] behaviors its
     /// operator trusts while the robot is sure they fall short of the standard, searching
     /// on past each ([`trust::MissionAdapter::preferring_competent`]). Elsewhere it is
     /// refused (an experiment, or a mission plan without a standard, judges nothing).
-    pub fn preferring_competent(mut self) -> Self {
-        if self.competent_passes == 0 {
-            self.competent_passes = COMPETENT_PASSES;
-            self.name.push_str(PREFERS_COMPETENT);
-        }
-        self
+    pub fn preferring_competent(self) -> Self {
+        self.with_name_options(NameOptions {
+            prefers_competent: true,
+            ..NameOptions::default()
+        })
     }
 
     /// Trusted behaviors an episode of the arm passes over for being surely not
     /// competent (0 unless [`Arm::preferring_competent`]).
     pub fn competent_passes(&self) -> u32 {
-        self.competent_passes
+        if self.name.options().prefers_competent {
+            COMPETENT_PASSES
+        } else {
+            0
+        }
     }
 
     /// A built-in arm by name ([`builtin_arms`]): `NAME` is a search strategy alone and
@@ -437,34 +296,39 @@ impl Arm {
     /// followed by the suffixes of [`NameOptions`] is the same arm with what they add
     /// ([`Arm::with_name_options`]).
     pub fn builtin(name: &str, retriever: RetrieverKind) -> Result<Self, UnknownArm> {
-        let unknown = || UnknownArm {
+        let name = ArmName::parse(name).map_err(|_| UnknownArm {
             name: name.to_owned(),
-        };
-        let (base, options) = NameOptions::of_name(name).map_err(|_| unknown())?;
-        let builtin = builtin_arm(base).ok_or_else(unknown)?;
-        Ok(Self::of_builtin(builtin, retriever).with_name_options(options))
+        })?;
+        Self::builtin_named(&name, retriever)
     }
 
-    /// The same arm with what the suffixes of a name add ([`NameOptions::of_name`]): blind
-    /// to the robot's context ([`Arm::blind_to_context`]), deaf to statements
-    /// ([`Arm::ignoring_statements`]), starting as `initial`
+    /// The built-in arm `name` names ([`Arm::builtin`], for a name already read).
+    pub fn builtin_named(name: &ArmName, retriever: RetrieverKind) -> Result<Self, UnknownArm> {
+        let builtin = builtin_arm(name.base()).ok_or_else(|| UnknownArm {
+            name: name.to_string(),
+        })?;
+        Ok(Self::of_builtin(builtin, retriever).with_name_options(name.options()))
+    }
+
+    /// The same arm with the options `options` turns on added to its own (an option it
+    /// has stays): blind to the robot's context ([`Arm::blind_to_context`]), deaf to
+    /// statements ([`Arm::ignoring_statements`]), starting from the memory's guess
     /// ([`Arm::learned_start`]), and preferring competent behaviors
-    /// ([`Arm::preferring_competent`]), each named in that order.
-    pub fn with_name_options(self, options: NameOptions) -> Self {
-        let mut arm = self;
-        if options.context_blind {
-            arm = arm.blind_to_context();
-        }
-        if options.ignores_statements {
-            arm = arm.ignoring_statements();
-        }
-        if options.initial == Initial::Learned {
-            arm = arm.learned_start();
-        }
-        if options.prefers_competent {
-            arm = arm.preferring_competent();
-        }
-        arm
+    /// ([`Arm::preferring_competent`]), its name's suffixes written in that order.
+    pub fn with_name_options(mut self, options: NameOptions) -> Self {
+        let own = self.name.options();
+        let learned = own.initial == Initial::Learned || options.initial == Initial::Learned;
+        self.name = self.name.with_options(NameOptions {
+            context_blind: own.context_blind || options.context_blind,
+            ignores_statements: own.ignores_statements || options.ignores_statements,
+            initial: if learned {
+                Initial::Learned
+            } else {
+                Initial::Random
+            },
+            prefers_competent: own.prefers_competent || options.prefers_competent,
+        });
+        self
     }
 
     /// The built-in arm `builtin`, starting at random.
@@ -480,6 +344,11 @@ impl Arm {
 
     /// The arm's name in reports.
     pub fn name(&self) -> &str {
+        self.name.as_str()
+    }
+
+    /// The arm's name, read: its base and its options.
+    pub fn arm_name(&self) -> &ArmName {
         &self.name
     }
 
@@ -490,13 +359,13 @@ impl Arm {
 
     /// How the arm's episodes start.
     pub fn initial(&self) -> Initial {
-        self.initial
+        self.name.options().initial
     }
 
     /// Whether the arm reads the cases earlier episodes retained: it reuses them, or it
     /// starts each episode from their guess.
     pub fn reads_cases(&self) -> bool {
-        self.reuses_cases() || self.initial == Initial::Learned
+        self.reuses_cases() || self.initial() == Initial::Learned
     }
 
     /// The case base the arm starts from, if any.
@@ -590,7 +459,7 @@ mod tests {
             let err = Arm::builtin(bad, RetrieverKind::Linear).unwrap_err();
             assert!(err.to_string().contains("NAME+competent"), "{err}");
         }
-        assert!(describe("uniform+competent").unwrap().ends_with(
+        assert!(describe(&ArmName::parse("uniform+competent").unwrap()).unwrap().ends_with(
             "passes over a trusted behavior the robot is sure falls short, once, and searches on"
         ));
     }
@@ -613,61 +482,10 @@ mod tests {
         let blind = plain.blind_to_context().blind_to_context();
         assert_eq!(blind.name(), "case-based+context-blind");
         assert!(
-            describe("case-based+context-blind")
+            describe(&ArmName::parse("case-based+context-blind").unwrap())
                 .unwrap()
                 .ends_with("every episode and case in the default context")
         );
-    }
-
-    #[test]
-    fn name_options_are_read_in_one_order_and_a_wrong_one_says_what_to_write() {
-        assert_eq!(
-            NameOptions::of_name("mine+context-blind+competent"),
-            Ok((
-                "mine",
-                NameOptions {
-                    context_blind: true,
-                    ignores_statements: false,
-                    initial: Initial::Random,
-                    prefers_competent: true,
-                }
-            ))
-        );
-        let all = NameOptions {
-            context_blind: true,
-            ignores_statements: true,
-            initial: Initial::Learned,
-            prefers_competent: true,
-        };
-        assert_eq!(
-            all.suffixes(),
-            "+context-blind+ignores-statements+learned-start+competent"
-        );
-        assert_eq!(
-            NameOptions::of_name("hedged+learned-start+ignores-statements"),
-            Err("`hedged+learned-start+ignores-statements` writes +learned-start out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `hedged+ignores-statements+learned-start`".to_owned())
-        );
-        assert_eq!(NameOptions::default().suffixes(), "");
-        for (name, expected) in [
-            (
-                "uniform+learned-start+context-blind",
-                "`uniform+learned-start+context-blind` writes +learned-start out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `uniform+context-blind+learned-start`",
-            ),
-            (
-                "uniform+competent+learned-start",
-                "`uniform+competent+learned-start` writes +competent out of order (NAME+context-blind+ignores-statements+learned-start+competent); write `uniform+learned-start+competent`",
-            ),
-            (
-                "uniform+context-blind+context-blind",
-                "`uniform+context-blind+context-blind` says +context-blind twice; write `uniform+context-blind`",
-            ),
-            (
-                "uniform+learned-start+learned-start+competent",
-                "`uniform+learned-start+learned-start+competent` says +learned-start twice; write `uniform+learned-start+competent`",
-            ),
-        ] {
-            assert_eq!(NameOptions::of_name(name), Err(expected.to_owned()));
-        }
     }
 
     #[test]
@@ -696,19 +514,18 @@ mod tests {
             let err = Arm::builtin(bad, RetrieverKind::Linear).unwrap_err();
             assert!(err.to_string().contains("NAME+learned-start"), "{err}");
         }
-        assert_eq!(
-            Initial::of_name("mine+learned-start"),
-            ("mine", Initial::Learned)
-        );
         assert!(
-            describe("case-based+learned-start")
+            describe(&ArmName::parse("case-based+learned-start").unwrap())
                 .unwrap()
                 .contains("not at random")
         );
         assert_eq!(
-            describe("uniform").unwrap(),
+            describe(&ArmName::parse("uniform").unwrap()).unwrap(),
             "an untried behavior uniformly at random: the baseline a learning strategy must beat"
         );
-        assert_eq!(describe("mine+learned-start"), None);
+        assert_eq!(
+            describe(&ArmName::parse("mine+learned-start").unwrap()),
+            None
+        );
     }
 }

@@ -7,6 +7,7 @@
 //! Imports the [`contract`](crate::contract) and [`reference`](crate::reference) folders.
 
 pub mod arm;
+pub mod arm_name;
 pub(crate) mod driver;
 pub mod goal_change;
 pub mod plan;

@@ -2,7 +2,7 @@
 //! results ([`ArmResult`]) with its paired tests and the check of its explanations
 //! ([`ExplanationCheck`]), and an experiment's ([`ExperimentResult`]).
 
-use crate::experiment::arm::{Arm, Initial};
+use crate::experiment::arm::{Arm, ArmName, Initial};
 
 use crate::GoalChangeRecord;
 use crate::stats::MeanCi;
@@ -198,7 +198,7 @@ pub struct PairedTests {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArmResult {
     /// The arm's name.
-    pub name: String,
+    pub name: ArmName,
     /// Whether the arm reuses cases.
     pub reuses_cases: bool,
     /// How the arm's episodes start.
@@ -284,7 +284,7 @@ impl ArmResult {
             })
             .collect();
         ArmResult {
-            name: name.to_owned(),
+            name: ArmName::parse(name).expect("a test's arm name"),
             reuses_cases: false,
             initial: Initial::Random,
             starting_cases: 0,
@@ -315,7 +315,7 @@ pub struct ExperimentResult {
 impl ExperimentResult {
     /// The arm named `name`.
     pub fn arm(&self, name: &str) -> Option<&ArmResult> {
-        self.arms.iter().find(|a| a.name == name)
+        self.arms.iter().find(|a| a.name == *name)
     }
 
     /// Trials per arm.

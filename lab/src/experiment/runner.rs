@@ -165,7 +165,7 @@ fn run_chain<D: Domain>(
         explained.add(&t.explained);
     }
     Ok(ArmResult {
-        name: arm.name().to_owned(),
+        name: arm.arm_name().clone(),
         reuses_cases: arm.reuses_cases(),
         initial: arm.initial(),
         starting_cases,

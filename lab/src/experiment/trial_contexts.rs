@@ -7,7 +7,7 @@
 //! context). [`by_context`] breaks an experiment's results down by context, each arm
 //! against its blind twin on the same trials, for the reports.
 
-use crate::experiment::arm::NameOptions;
+use crate::experiment::arm_name::{ArmName, NameOptions};
 use crate::experiment::record::{ArmResult, TrialRecord};
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use cbr_core::Context;
@@ -86,17 +86,15 @@ pub fn by_context(arms: &[ArmResult]) -> Vec<(&str, Vec<ArmInContext>)> {
 }
 
 /// The name of the arm `name`'s twin blind to the context; `None` for an arm already
-/// blind, or a name that is no arm's.
-pub(crate) fn blind_twin(name: &str) -> Option<String> {
-    let (base, options) = NameOptions::of_name(name).ok()?;
-    if options.context_blind {
-        return None;
-    }
-    let blind = NameOptions {
-        context_blind: true,
-        ..options
-    };
-    Some(format!("{base}{}", blind.suffixes()))
+/// blind.
+pub(crate) fn blind_twin(name: &ArmName) -> Option<ArmName> {
+    let options = name.options();
+    (!options.context_blind).then(|| {
+        name.with_options(NameOptions {
+            context_blind: true,
+            ..options
+        })
+    })
 }
 
 fn in_contexts(arm: &ArmResult, twin: Option<&ArmResult>) -> Vec<ArmInContext> {
@@ -221,10 +219,11 @@ mod tests {
         assert_eq!(told[2].untrustworthy.mean, 4.0);
         // The blind arm has no twin of its own.
         assert!(rows[1].1.iter().all(|r| r.versus_blind.is_none()));
+        let twin = |name: &str| blind_twin(&ArmName::parse(name).unwrap());
         assert_eq!(
-            blind_twin("x+learned-start+competent").as_deref(),
-            Some("x+context-blind+learned-start+competent")
+            twin("x+learned-start+competent").unwrap(),
+            "x+context-blind+learned-start+competent"
         );
-        assert_eq!(blind_twin("x+context-blind"), None);
+        assert_eq!(twin("x+context-blind"), None);
     }
 }

@@ -5,7 +5,8 @@
 //! for an arm preferring competent behaviors beside the arm it is built on
 //! ([`crate::PREFERS_COMPETENT`]), what the preference cut and cost, paired by mission.
 
-use crate::experiment::arm::prefers_competent;
+use crate::experiment::arm_name::ArmName;
+use crate::experiment::arm_name::NameOptions;
 use crate::mission::{CalibrationRecord, MissionArmResult};
 use crate::stats::{MeanCi, mean_ci95_or_zero, wilcoxon_signed_rank};
 use crate::targets::{
@@ -18,7 +19,7 @@ use std::fmt::Write as _;
 #[derive(Clone, Debug, PartialEq)]
 pub struct CalibrationSummary {
     /// The arm's name.
-    pub arm: String,
+    pub arm: ArmName,
     /// Whether the operator answered the robot's alerts.
     pub answers_alerts: bool,
     /// Missions run.
@@ -72,7 +73,7 @@ impl CalibrationSummary {
         if self.answers_alerts {
             format!("{}, alerts answered", self.arm)
         } else {
-            self.arm.clone()
+            self.arm.to_string()
         }
     }
 
@@ -87,9 +88,9 @@ impl CalibrationSummary {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Preference {
     /// The arm preferring competent behaviors.
-    pub arm: String,
+    pub arm: ArmName,
     /// The arm it is built on.
-    pub base: String,
+    pub base: ArmName,
     /// Whether the operator answered the robot's alerts (both arms alike).
     pub answers_alerts: bool,
     /// Harm per mission of the base arm and of the preferring one.
@@ -108,9 +109,15 @@ impl Preference {
     pub fn all(arms: &[MissionArmResult]) -> Vec<Self> {
         arms.iter()
             .filter_map(|arm| {
-                let (base_name, prefers) = prefers_competent(&arm.arm);
+                let options = arm.arm.options();
+                let base_name = arm.arm.with_options(NameOptions {
+                    prefers_competent: false,
+                    ..options
+                });
                 let base = arms.iter().find(|b| {
-                    prefers && b.arm == base_name && b.answers_alerts == arm.answers_alerts
+                    options.prefers_competent
+                        && b.arm == base_name
+                        && b.answers_alerts == arm.answers_alerts
                 })?;
                 Some(Self::between(base, arm))
             })
@@ -307,7 +314,7 @@ mod tests {
     #[test]
     fn a_preference_is_its_arm_against_the_arm_it_is_built_on_mission_by_mission() {
         let arm = |name: &str, harms: &[u32], untrustworthy: u32| MissionArmResult {
-            arm: name.into(),
+            arm: name.parse().unwrap(),
             answers_alerts: false,
             missions: harms
                 .iter()
@@ -360,7 +367,7 @@ mod tests {
             alerts,
         };
         let arm = MissionArmResult {
-            arm: "a".into(),
+            arm: "a".parse().unwrap(),
             answers_alerts: false,
             missions: vec![
                 mission(Some(calibrated(10, 10, vec![(3, true)])), 1),

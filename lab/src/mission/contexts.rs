@@ -6,6 +6,7 @@
 //! each told arm by what it went on with ([`SwitchStart`]), beside what the oracle paid
 //! on the same switches, which says where an arm's excess over the oracle comes from.
 
+use crate::experiment::arm_name::ArmName;
 use crate::experiment::trial_contexts::blind_twin;
 use crate::mission::record::OracleRecord;
 use crate::mission::summary::{
@@ -126,9 +127,9 @@ fn start_name(start: SwitchStart) -> String {
 #[derive(Clone, Debug, PartialEq)]
 pub struct VersusBlindTwin {
     /// The arm told its context.
-    pub arm: String,
+    pub arm: ArmName,
     /// Its twin blind to the context.
-    pub twin: String,
+    pub twin: ArmName,
     /// The switches back paired.
     pub switches: usize,
     /// The told arm's untrustworthy commands per switch back.

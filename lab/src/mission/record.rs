@@ -3,6 +3,7 @@
 //! ([`MissionTrace`]), and an arm's and a plan's results ([`MissionArmResult`],
 //! [`MissionResult`]).
 
+use crate::experiment::arm_name::ArmName;
 use cbr_core::{Behavior, Context};
 use serde::{Deserialize, Serialize};
 use trust::SwitchStart;
@@ -258,7 +259,7 @@ impl MissionTrace {
 #[derive(Clone, Debug, PartialEq)]
 pub struct MissionArmResult {
     /// The arm's name.
-    pub arm: String,
+    pub arm: ArmName,
     /// Whether the operator answered the robot's alerts.
     pub answers_alerts: bool,
     /// Every mission, in order.

@@ -290,7 +290,7 @@ mod tests {
     #[test]
     fn a_summary_by_hand() {
         let arm = MissionArmResult {
-            arm: "a".into(),
+            arm: "a".parse().unwrap(),
             answers_alerts: false,
             missions: vec![
                 mission(

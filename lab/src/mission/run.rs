@@ -180,7 +180,7 @@ fn run_chain<D: Domain>(
         progress();
     }
     Ok(MissionArmResult {
-        arm: arm.name().to_owned(),
+        arm: arm.arm_name().clone(),
         answers_alerts,
         missions,
         traced,

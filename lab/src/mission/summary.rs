@@ -3,6 +3,7 @@
 //! ([`OracleFigure`], [`oracle_multiple`]), harm with and without alerts answered
 //! ([`HarmComparison`]), and how a figure is printed.
 
+use crate::experiment::arm_name::ArmName;
 use crate::mission::record::OracleRecord;
 use crate::mission::{
     ChangeKind, ChangeRecord, DETECTION_WINDOW, MissionArmResult, MissionRecord, MissionResult,
@@ -17,7 +18,7 @@ use serde_json::{Value, json};
 #[derive(Clone, Debug, PartialEq)]
 pub struct MissionSummary {
     /// The arm's name.
-    pub arm: String,
+    pub arm: ArmName,
     /// Whether the operator answered the robot's alerts.
     pub answers_alerts: bool,
     /// Missions run.
@@ -273,11 +274,11 @@ impl MissionSummary {
 }
 
 /// An arm's name in a report's tables: `ARM`, or `ARM, alerts answered`.
-pub(crate) fn arm_label(arm: &str, answers_alerts: bool) -> String {
+pub(crate) fn arm_label(arm: &ArmName, answers_alerts: bool) -> String {
     if answers_alerts {
         format!("{arm}, alerts answered")
     } else {
-        arm.to_owned()
+        arm.to_string()
     }
 }
 
@@ -285,7 +286,7 @@ pub(crate) fn arm_label(arm: &str, answers_alerts: bool) -> String {
 #[derive(Clone, Debug, PartialEq)]
 pub struct HarmComparison {
     /// The arm.
-    pub arm: String,
+    pub arm: ArmName,
     /// Harm per mission when alerts are ignored.
     pub ignored: MeanCi,
     /// Harm per mission when alerts are answered.

@@ -44,6 +44,7 @@
 //! Everything here is computed from results; the report draws and writes it
 //! ([`crate::report`]).
 
+use crate::experiment::arm_name::ArmName;
 use crate::experiment::record::{ArmResult, ExperimentResult, TrialRecord};
 use crate::reference::limit::Costs;
 use crate::reference::limit_law::UntrustworthyLaw;
@@ -241,7 +242,7 @@ impl TrialRange {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ArmBenchmark {
     /// The arm's name.
-    pub arm: String,
+    pub arm: ArmName,
     /// Per [`Metric::ALL`], the geometric mean ratio to the limit (`None`: no population
     /// has a usable ratio).
     pub to_limit: [Option<LimitRatio>; 3],
@@ -384,13 +385,13 @@ fn scenario_benchmark(
     seed: u64,
     index: u64,
 ) -> ScenarioBenchmark {
-    let arm_names: Vec<&str> = populations
+    let arm_names: Vec<&ArmName> = populations
         .first()
-        .map(|p| p.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .map(|p| p.result.arms.iter().map(|a| &a.name).collect())
         .unwrap_or_default();
     let references: Vec<&str> = REFERENCE_ARMS
         .into_iter()
-        .filter(|r| arm_names.contains(r))
+        .filter(|r| arm_names.iter().any(|name| name == r))
         .collect();
     let trials = populations
         .iter()
@@ -409,7 +410,7 @@ fn scenario_benchmark(
             // The populations with this arm, each with the arm's results there.
             let runs: Vec<(&BenchmarkPopulation<'_>, &ArmResult)> = populations
                 .iter()
-                .filter_map(|p| p.result.arm(name).map(|arm| (*p, arm)))
+                .filter_map(|p| p.result.arm(name.as_str()).map(|arm| (*p, arm)))
                 .collect();
             let geometric_ratio = |metric: Metric, window: TrialRange| {
                 usable(
@@ -435,7 +436,7 @@ fn scenario_benchmark(
             let versus = references
                 .iter()
                 .map(|reference| {
-                    (reference != name).then(|| {
+                    (*reference != name.as_str()).then(|| {
                         runs.iter()
                             .filter_map(|(p, arm)| {
                                 let base = p.result.arm(reference)?;
@@ -460,7 +461,7 @@ fn scenario_benchmark(
                 })
                 .collect();
             ArmBenchmark {
-                arm: (*name).to_owned(),
+                arm: (*name).clone(),
                 to_limit,
                 versus,
                 ecdf,

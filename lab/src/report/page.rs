@@ -128,7 +128,7 @@ fn glossary(entries: &[ReportEntry<'_>]) -> String {
         if seen.contains(&arm.name.as_str()) {
             continue;
         }
-        seen.push(&arm.name);
+        seen.push(arm.name.as_str());
         let what = crate::experiment::arm::describe(&arm.name).unwrap_or_else(|| {
             let what = if arm.reuses_cases {
                 "an arm of the catalog's own that reuses cases"
@@ -145,7 +145,7 @@ fn glossary(entries: &[ReportEntry<'_>]) -> String {
         let _ = writeln!(
             html,
             "<dt><code>{}</code></dt><dd>{}</dd>",
-            escape(&arm.name),
+            escape(arm.name.as_str()),
             escape(&what)
         );
     }

@@ -3,7 +3,7 @@
 //! labels for categories and counts, and a conservative estimate of text width for
 //! layouts (plotters' SVG backend cannot measure text, and underestimates it).
 
-use crate::experiment::arm::Initial;
+use crate::experiment::arm_name::{ArmName, Initial};
 use cbr_core::NamedComponent;
 use plotters::prelude::*;
 use std::fmt::Write as _;
@@ -213,7 +213,7 @@ pub struct ArmStyle {
 }
 
 /// The styles of a figure's arms, in the order of `names` ([`arm_style`] of each).
-pub fn arm_styles(names: &[&str]) -> Vec<ArmStyle> {
+pub fn arm_styles(names: &[&ArmName]) -> Vec<ArmStyle> {
     names.iter().map(|name| arm_style(name)).collect()
 }
 
@@ -225,11 +225,10 @@ pub fn arm_styles(names: &[&str]) -> Vec<ArmStyle> {
 /// arm's marker in another colour for each, never one of the paper's two; any other arm
 /// (a user's) one of the palette's colours but the paper's two and a marker, both drawn
 /// from its name.
-pub fn arm_style(name: &str) -> ArmStyle {
-    let (base, options) =
-        crate::experiment::arm::NameOptions::of_name(name).unwrap_or((name, Default::default()));
-    let Some(builtin) = crate::experiment::arm::builtin_arm(base) else {
-        let drawn = name_hash(name);
+pub fn arm_style(name: &ArmName) -> ArmStyle {
+    let options = name.options();
+    let Some(builtin) = crate::experiment::arm::builtin_arm(name.base()) else {
+        let drawn = name_hash(name.as_str());
         let others = ARM_COLORS.len() as u64 - 2;
         return ArmStyle {
             color: ARM_COLORS[2 + (drawn % others) as usize],
@@ -271,14 +270,16 @@ fn name_hash(name: &str) -> u64 {
 
 /// The order in which to draw arms named `names` so that the paper's two
 /// (`random-walk`, then `case-based`) come last, on top of the others.
-pub fn drawing_order<S: AsRef<str>>(names: &[S]) -> Vec<usize> {
-    let rank = |name: &str| match name {
-        "random-walk" => 1,
-        "case-based" => 2,
-        _ => 0,
+pub fn drawing_order(names: &[&ArmName]) -> Vec<usize> {
+    let paper = &crate::experiment::arm::builtin_arms()[..2];
+    let rank = |name: &ArmName| {
+        paper
+            .iter()
+            .position(|arm| *name == arm.name)
+            .map_or(0, |place| place + 1)
     };
     let mut order: Vec<usize> = (0..names.len()).collect();
-    order.sort_by_key(|&i| rank(names[i].as_ref()));
+    order.sort_by_key(|&i| rank(names[i]));
     order
 }
 
@@ -593,6 +594,10 @@ mod tests {
 
     #[test]
     fn arms_keep_their_style_and_the_paper_s_two_come_last() {
+        let arm_style = |name: &str| arm_style(&ArmName::parse(name).unwrap());
+        let names_of = |names: &[&str]| -> Vec<ArmName> {
+            names.iter().map(|n| ArmName::parse(n).unwrap()).collect()
+        };
         assert_eq!(arm_style("random-walk").color, RGBColor(213, 94, 0));
         assert_eq!(arm_style("random-walk").shape, Shape::Circle);
         assert_eq!(arm_style("case-based").color, RGBColor(0, 114, 178));
@@ -623,10 +628,15 @@ mod tests {
         // A user's arm: its style is its name's, never the paper's colours, wherever it
         // is listed.
         let mine = arm_style("my-annealing");
-        assert_eq!(arm_styles(&["x", "my-annealing"])[1], mine);
+        let listed = names_of(&["x", "my-annealing"]);
+        assert_eq!(arm_styles(&listed.iter().collect::<Vec<_>>())[1], mine);
         assert!(builtin[..2].iter().all(|b| b.color != mine.color));
         assert_eq!(
-            drawing_order(&["uniform", "case-based", "random-walk", "x"]),
+            drawing_order(
+                &names_of(&["uniform", "case-based", "random-walk", "x"])
+                    .iter()
+                    .collect::<Vec<_>>()
+            ),
             [0, 3, 2, 1]
         );
         // A disc's element, and a square of the same area (side r sqrt(pi)).

@@ -98,7 +98,7 @@ pub(super) fn summary_of(
                 if let Some((_, rows)) = by_arm.next() {
                     summary["contexts"] = rows.iter().map(context_summary).collect();
                 }
-                strategies.insert(arm.name.clone(), summary);
+                strategies.insert(arm.name.to_string(), summary);
             }
             let limit = e.limit.map(|l| {
                 let costs = |c: &Costs| {
@@ -161,7 +161,7 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
         .iter()
         .map(|arm| {
             (
-                arm.arm.clone(),
+                arm.arm.to_string(),
                 arm_benchmark_summary(arm, benchmark, &windows),
             )
         })

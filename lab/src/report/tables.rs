@@ -358,7 +358,7 @@ pub fn sample_explanations(e: &ReportEntry<'_>) -> Vec<(String, Vec<String>)> {
                     )
                 })
                 .collect();
-            (arm.name.clone(), samples)
+            (arm.name.to_string(), samples)
         })
         .collect()
 }

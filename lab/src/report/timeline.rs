@@ -3,6 +3,7 @@
 //! a sample trial per experiment, the paper's central idea drawn: an estimate that climbs
 //! and falls between two thresholds).
 
+use crate::experiment::arm_name::ArmName;
 use crate::experiment::record::{ExperimentResult, TracedCommand, TrialRecord};
 use crate::report::plot::{Area, DrawResult, arm_style, text_width};
 use cbr_core::BehaviorSpace;
@@ -16,7 +17,7 @@ pub struct Timeline {
     /// The experiment's name.
     pub experiment: String,
     /// The arm's name.
-    pub arm: String,
+    pub arm: ArmName,
     /// The trial's record.
     pub record: TrialRecord,
     /// Every command, in order.
@@ -411,7 +412,7 @@ mod tests {
         .to_vec();
         let timeline = Timeline {
             experiment: "picking".into(),
-            arm: "random-walk".into(),
+            arm: "random-walk".parse().unwrap(),
             record,
             commands,
             thresholds: Thresholds {

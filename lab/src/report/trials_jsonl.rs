@@ -79,8 +79,7 @@ pub fn trials_jsonl(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
     for e in entries {
         for arm in &e.result.arms {
-            let deaf =
-                crate::NameOptions::of_name(&arm.name).is_ok_and(|(_, o)| o.ignores_statements);
+            let deaf = arm.name.options().ignores_statements;
             for t in &arm.trials {
                 let line = trial_line(e, t, deaf);
                 out.push_str(&serde_json::to_string(&line).expect("plain data serializes"));

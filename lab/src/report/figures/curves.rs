@@ -3,6 +3,7 @@
 
 use super::legend::{Key, LEGEND_WIDTH, legend};
 use super::series::{MOVING_AVERAGE_WINDOW, moving_average, thinned};
+use crate::experiment::arm_name::ArmName;
 use crate::report::entry::ReportEntry;
 use crate::report::plot::{
     Area, DrawResult, Overlay, arm_styles, drawing_order, log_ticks, tick_label,
@@ -66,7 +67,7 @@ pub(super) fn learning_curves(
         .y_desc("behaviors evaluated (log scale)")
         .y_label_formatter(&tick_label)
         .draw()?;
-    let names: Vec<&str> = e.result.arms.iter().map(|a| a.name.as_str()).collect();
+    let names: Vec<&ArmName> = e.result.arms.iter().map(|a| &a.name).collect();
     let styles = arm_styles(&names);
     for index in drawing_order(&names) {
         let (s, style) = (&e.result.arms[index], styles[index]);
@@ -120,7 +121,7 @@ pub(super) fn learning_curves(
     let entries: Vec<(String, Key)> = names
         .iter()
         .zip(&styles)
-        .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
+        .map(|(name, &style)| (name.to_string(), Key::LineMarker(style)))
         .collect();
     legend(&side, overlay, &entries)
 }

@@ -4,6 +4,7 @@
 //! known-operator limit's agent settles within `N` ([`ScenarioBenchmark::limit_law`]).
 
 use super::legend::{Key, LEGEND_WIDTH, legend};
+use crate::experiment::arm_name::ArmName;
 use crate::population::benchmark::ScenarioBenchmark;
 use crate::reference::limit_law::UntrustworthyLaw;
 use crate::report::plot::{Area, DrawResult, Overlay, arm_styles, drawing_order};
@@ -81,7 +82,7 @@ pub(super) fn ecdf_figure(
         4,
         BLACK.stroke_width(2),
     ))?;
-    let names: Vec<&str> = benchmark.arms.iter().map(|a| a.arm.as_str()).collect();
+    let names: Vec<&ArmName> = benchmark.arms.iter().map(|a| &a.arm).collect();
     let styles = arm_styles(&names);
     for index in drawing_order(&names) {
         let (ecdf, style) = (&benchmark.arms[index].ecdf, styles[index]);
@@ -107,7 +108,7 @@ pub(super) fn ecdf_figure(
     let mut entries: Vec<(String, Key)> = names
         .iter()
         .zip(&styles)
-        .map(|(name, &style)| ((*name).to_owned(), Key::LineMarker(style)))
+        .map(|(name, &style)| (name.to_string(), Key::LineMarker(style)))
         .collect();
     entries.push(("known-operator limit (dashed)".to_owned(), Key::Line(BLACK)));
     legend(&side, overlay, &entries)

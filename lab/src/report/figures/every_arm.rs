@@ -4,6 +4,7 @@
 //! sizes (ratios to the reference arm, a bar at 1).
 
 use super::legend::{Key, LEGEND_WIDTH, legend};
+use crate::experiment::arm_name::ArmName;
 use crate::experiment::record::ArmResult;
 use crate::reference::limit::Costs;
 use crate::report::entry::ReportEntry;
@@ -217,12 +218,12 @@ pub(super) fn every_arm_figure(
         .y_label_formatter(&tick_label)
         .draw()?;
     let mut legend_entries = Vec::new();
-    let arm_names: Vec<&str> = entries
+    let arm_names: Vec<&ArmName> = entries
         .first()
-        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .map(|e| e.result.arms.iter().map(|a| &a.name).collect())
         .unwrap_or_default();
     for name in &arm_names {
-        legend_entries.push(((*name).to_owned(), Key::Marker(arm_style(name))));
+        legend_entries.push((name.to_string(), Key::Marker(arm_style(name))));
     }
     for a in drawing_order(&arm_names) {
         let style = arm_style(arm_names[a]);

@@ -258,7 +258,7 @@ pub(super) fn final_behaviors(
     {
         // Ticks on the outer axes only: the bottom panel of each column, the first column.
         let style = heatmap::PanelStyle {
-            caption: &arm.name,
+            caption: arm.name.as_str(),
             write_values: false,
             id,
             ticks: (k + layout.columns >= arms, k % layout.columns == 0),

@@ -258,7 +258,7 @@ fn timeline_caption(timeline: &Timeline, space: &BehaviorSpace) -> String {
          kept when it reaches the trustworthy one. The numbered lines are the adapter's decisions, \
          explained as it explained them (only from what it was told and perceived):<ol>",
         timeline.record.trial,
-        escape(&timeline.arm),
+        escape(timeline.arm.as_str()),
         escape(&timeline.record.operator)
     );
     for c in &timeline.commands {

@@ -4,6 +4,7 @@
 
 use super::legend::{Key, LEGEND_WIDTH, legend};
 use super::series::{MOVING_AVERAGE_WINDOW, moving_average, thinned};
+use crate::experiment::arm_name::ArmName;
 use crate::experiment::record::ArmResult;
 use crate::report::entry::ReportEntry;
 use crate::report::plot::{
@@ -219,9 +220,9 @@ pub(super) fn small_multiples(
     let (panels_area, side) = body.split_horizontally(width.saturating_sub(LEGEND_WIDTH));
     let columns = entries.len().clamp(1, 4);
     let panels = panels_area.split_evenly((entries.len().div_ceil(4).max(1), columns));
-    let names: Vec<&str> = entries
+    let names: Vec<&ArmName> = entries
         .first()
-        .map(|e| e.result.arms.iter().map(|a| a.name.as_str()).collect())
+        .map(|e| e.result.arms.iter().map(|a| &a.name).collect())
         .unwrap_or_default();
     let scale = |v: f64| if figure.log_x { v.max(1e-9).log10() } else { v };
     for ((panel, e), series) in panels.iter().zip(entries).zip(&figure.series) {
@@ -309,7 +310,7 @@ pub(super) fn small_multiples(
                 .iter()
                 .any(|s| matches!(s.get(a), Some(Some(_))))
         })
-        .map(|(_, name)| ((*name).to_owned(), Key::LineMarker(arm_style(name))))
+        .map(|(_, name)| (name.to_string(), Key::LineMarker(arm_style(name))))
         .collect();
     legend(&side, overlay, &drawn)
 }
