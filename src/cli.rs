@@ -16,7 +16,7 @@ use crate::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use crate::own_files;
 use crate::progress::Progress;
 use crate::run::{
-    RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
+    MissionSettings, RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
 };
 use crate::served::{Spelling, check_preference, judging_competence, served_domain, serving_arm};
 use crate::simulate::command_json;
@@ -341,6 +341,14 @@ fn text() -> impl TypedValueParser<Value = String> {
     })
 }
 
+/// The command line as given, whatever its bytes: a path need not be UTF-8
+/// (`std::env::args` would panic on one that is not).
+fn command_line() -> Vec<String> {
+    std::env::args_os()
+        .map(|arg| arg.to_string_lossy().into_owned())
+        .collect()
+}
+
 /// One name of `--arms`, read: an empty one is a stray comma, refused as the option's
 /// fault, and so are suffixes written twice or out of order.
 fn arm_name(name: &str) -> Result<ArmName, String> {
@@ -558,12 +566,16 @@ fn run_mission_file<C: Catalog>(
         config.arms = arms.clone();
     }
     let progress = Progress::new("mission", &missions_per_plan(&config));
+    let settings = MissionSettings {
+        out: Some(options.out.clone()),
+        threads: options.threads,
+        command_line: command_line(),
+    };
     let ran = run_missions_with_report(
         catalog,
         config,
         origin,
-        Some(&options.out),
-        options.threads,
+        &settings,
         &|i| progress.tick(i),
         &|| Ok(()),
     )?;
@@ -609,9 +621,7 @@ fn run_experiments<C: Catalog>(
         threads: options.threads,
         // As given, whatever its bytes: a path need not be UTF-8 (`std::env::args` would
         // panic on one that is not).
-        command_line: std::env::args_os()
-            .map(|arg| arg.to_string_lossy().into_owned())
-            .collect(),
+        command_line: command_line(),
     };
     let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());
     let parts: Vec<(String, u64)> = config

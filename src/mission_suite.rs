@@ -30,7 +30,7 @@ use lab::mission::{
     run_missions,
 };
 use lab::reference::known_operator::LimitSettings;
-use lab::report::file_stems;
+use lab::report::{Provenance, file_stems};
 use lab::report::plot::svg;
 use lab::{Arm, ArmName, PREFERS_COMPETENT, check_attention};
 use serde::{Deserialize, Serialize};
@@ -406,7 +406,8 @@ pub fn run_mission_suite<C: Catalog>(
 
 /// Writes the report of a mission suite into `dir`: the tables, the data, a timeline per
 /// plan (the first arm's first mission, alerts answered where operators grow
-/// complacent) and the config. The report reruns by itself: every operator file the
+/// complacent), the config and `provenance.json` (what wrote it, as an experiment
+/// report's `summary.json` records it). The report reruns by itself: every operator file the
 /// config names (relative to `origin`) is copied into `DIR/operators/`, and the
 /// `config.ron` written names those copies. Returns the files written.
 pub fn write_mission_report(
@@ -414,6 +415,7 @@ pub fn write_mission_report(
     config: &MissionSuiteConfig,
     origin: &Path,
     results: &[MissionResult],
+    provenance: &Provenance,
 ) -> Result<Vec<PathBuf>, SuiteError> {
     let report = |e: FileError| SuiteError::Report(e.into());
     let mut portable = config.clone();
@@ -430,6 +432,15 @@ pub fn write_mission_report(
         )
         .map_err(report)?,
         write_file_in(dir, "missions.jsonl", &missions_jsonl(results)).map_err(report)?,
+        write_file_in(
+            dir,
+            "provenance.json",
+            &format!(
+                "{:#}\n",
+                serde_json::to_value(provenance).expect("a provenance serializes")
+            ),
+        )
+        .map_err(report)?,
         write_file_in(
             dir,
             "config.ron",

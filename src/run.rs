@@ -212,6 +212,18 @@ fn write_staged(
     Ok(written)
 }
 
+/// Where and how a mission suite runs.
+#[derive(Clone, Debug, Default)]
+pub struct MissionSettings {
+    /// The report folder (written whole beside it, then swapped for an earlier report);
+    /// `None` writes no report.
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: one per core).
+    pub threads: Option<NonZeroUsize>,
+    /// The command line recorded in the report's provenance.
+    pub command_line: Vec<String>,
+}
+
 /// A finished mission suite run.
 pub struct MissionsRan {
     /// The config that ran.
@@ -226,6 +238,8 @@ pub struct MissionsRan {
     pub written: Vec<PathBuf>,
     /// What the config's operator files are relative to (made absolute).
     pub origin: PathBuf,
+    /// What wrote the report: the tool, its version and commit, the command line.
+    pub provenance: Provenance,
 }
 
 impl MissionsRan {
@@ -234,7 +248,13 @@ impl MissionsRan {
     /// files written.
     pub fn write_report(&self, out: &Path) -> Result<Vec<PathBuf>> {
         write_staged(out, |dir| {
-            write_mission_report(dir, &self.config, &self.origin, &self.results)
+            write_mission_report(
+                dir,
+                &self.config,
+                &self.origin,
+                &self.results,
+                &self.provenance,
+            )
         })
     }
 
@@ -263,20 +283,20 @@ pub fn run_missions_with_report<C: Catalog>(
     catalog: &C,
     config: MissionSuiteConfig,
     origin: &Path,
-    out: Option<&Path>,
-    threads: Option<NonZeroUsize>,
+    settings: &MissionSettings,
     progress: &(dyn Fn(usize) + Sync),
     before_writing: &dyn Fn() -> Result<()>,
 ) -> Result<MissionsRan> {
     config.validate(catalog, origin)?;
-    if let Some(out) = out {
+    if let Some(out) = &settings.out {
         lab::folder::prepare_output_dir(out)?;
     }
-    let (pool, threads) = worker_pool(threads)?;
+    let (pool, threads) = worker_pool(settings.threads)?;
     let started = std::time::Instant::now();
     let results = pool.install(|| run_mission_suite(catalog, &config, origin, progress))?;
     let elapsed_s = started.elapsed().as_secs_f64();
     before_writing()?;
+    let tool = catalog.tool();
     let mut ran = MissionsRan {
         config,
         results,
@@ -284,8 +304,15 @@ pub fn run_missions_with_report<C: Catalog>(
         threads,
         written: Vec::new(),
         origin: absolute(origin),
+        provenance: Provenance {
+            tool: tool.name,
+            version: tool.version,
+            git_commit: tool.git_commit,
+            command_line: settings.command_line.clone(),
+            replay: None,
+        },
     };
-    if let Some(out) = out {
+    if let Some(out) = &settings.out {
         ran.written = ran.write_report(out)?;
     }
     Ok(ran)

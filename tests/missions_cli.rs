@@ -81,9 +81,17 @@ fn a_mission_suite_writes_its_report_and_reruns_into_the_same_folder() {
             "mission-patrol-paper-complacent.svg",
             "missions.jsonl",
             "missions.md",
+            "provenance.json",
             "summary.json"
         ]
     );
+    // What wrote it, as an experiment report's summary records it.
+    let provenance: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("provenance.json")).unwrap())
+            .unwrap();
+    assert_eq!(provenance["tool"], "trustcbr");
+    assert_eq!(provenance["version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(provenance["command_line"][1], "run");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary[0]["plan"], "movement/paper");

@@ -15,11 +15,12 @@
 //!   ([`select_behavior`] with the paper's [`RandomWalk`]: one-change steps from the
 //!   behavior that resisted longest). The case's final behavior is the walk's next
 //!   proposal, so it is never in `E_past`, as in a real case.
-//! - **Times.** The time of each pair is the task time a [`SyntheticOperator`] (speed- or
-//!   detection-focused, drawn per case) takes to reach a verdict on the behavior under the
-//!   paper's thresholds. A real episode ends at the first trustworthy verdict; a synthetic
-//!   case must go on to `L` pairs, so a behavior this operator would trust counts with the
-//!   time its verdict took and the walk continues.
+//! - **Times.** The time of each pair is the task time one of the paper's two patrol
+//!   operators (speed- or detection-focused, drawn per case) takes to reach a verdict on the
+//!   behavior under the paper's thresholds, each command the patrol domain's own run
+//!   through the lab's driver ([`verdict_time`]). A real episode ends at the first
+//!   trustworthy verdict; a synthetic case must go on to `L` pairs, so a behavior this
+//!   operator would trust counts with the time its verdict took and the walk continues.
 //!
 //! Queries are drawn the same way from another seed. `docs/benchmarks.md` gives the
 //! achieved statistics and how to measure the real lengths again.
@@ -33,103 +34,39 @@ pub mod retrieval;
 
 use cbr_core::{Behavior, BehaviorSpace, Case};
 use rand::seq::SliceRandom;
-use rand::{Rng, RngCore, SeedableRng};
+use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 use std::fmt;
 use trust::search::RandomWalk;
 use trust::{
-    Evaluated, Outcome, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate,
-    TrustProblem, Verdict, select_behavior,
+    Evaluated, Selection, Thresholds, TrustCase, TrustCaseBase, TrustEstimate, TrustProblem,
+    Verdict, select_behavior,
 };
 
-/// What the operator cares about (the two patrol operators of docs/model.md#the-operators).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Focus {
-    /// Interrupts late runs (`p_alpha = 0.95`).
-    Speed,
-    /// Tolerates late runs (`p_alpha = 0.05`); explosives and false alarms dominate.
-    Detection,
-}
-
-/// A made-up patrol world and operator: one command is one patrol of a 120 m route with six
-/// suspicious objects, 0 to 3 of them explosive.
-///
-/// With the behavior's speed `v` (m/s), padding `d` (m), scan time `s` (s) and scan
-/// distance `r` (m):
-/// - the run takes `120 / v + 5 s + 20 d` seconds (route, scans, detours);
-/// - past the 120 s deadline the operator interrupts with probability `p_alpha`;
-/// - the robot collides with probability `0.5 (1 - d / 2)^2 v / 10`, and the operator then
-///   interrupts with probability `p_gamma = 0.05`;
-/// - each object is passed unscanned with probability `0.15 (v / 10)^2` (interruption);
-/// - each explosive is labelled harmless with probability `0.6 exp(-s / 1.2) (0.5 + r)`
-///   (detonation: a failure of weight 1);
-/// - each harmless object is labelled explosive with probability `0.2 exp(-s / 2) r`
-///   (interruption).
-///
-/// Every other outcome weighs 1/3 (the default patrol weights of docs/model.md#open-readings).
-#[derive(Clone, Copy, Debug)]
-pub struct SyntheticOperator {
-    /// What the operator watches most.
-    pub focus: Focus,
-}
-
-const HEAVY: f64 = 1.0;
-const LIGHT: f64 = 1.0 / 3.0;
-
-impl SyntheticOperator {
-    /// The outcome of one command performed with `behavior` (a patrol-space behavior).
-    pub fn command(
-        &self,
-        space: &BehaviorSpace,
-        behavior: &Behavior,
-        rng: &mut dyn RngCore,
-    ) -> Outcome {
-        let value = |k: usize| space.components()[k].numeric_value(behavior.get(k));
-        let (v, d, s, r) = (value(0), value(1), value(2), value(3));
-        let duration = 120.0 / v + 5.0 * s + 20.0 * d;
-        let p_alpha = match self.focus {
-            Focus::Speed => 0.95,
-            Focus::Detection => 0.05,
-        };
-        if duration > 120.0 && rng.random_bool(p_alpha) {
-            return Outcome::interrupted(LIGHT, 120.0);
+/// The task seconds `operator` takes to reach a verdict, either one, on `behavior` of the
+/// patrol `domain` under the paper's thresholds: the time of an evaluated pair. Every
+/// command is the lab's simulated command ([`lab::Simulation`], the driver every trial
+/// goes through), its draws from `seed`.
+pub fn verdict_time(
+    domain: &UgvDomain,
+    operator: &OperatorModel,
+    behavior: &Behavior,
+    seed: u64,
+) -> f64 {
+    let thresholds = Thresholds::default();
+    let mut estimate = TrustEstimate::default();
+    let commands = lab::Simulation::new(domain, behavior.clone(), operator, 1.0, seed)
+        .expect("a patrol behavior at full attention");
+    for command in commands {
+        let command = command.expect("the patrol domain declares every cause it reports");
+        estimate.record(&command.outcome);
+        if estimate.verdict(&thresholds) != Verdict::Undecided {
+            break;
         }
-        let collision = 0.5 * (1.0 - d / 2.0).powi(2) * v / 10.0;
-        if rng.random_bool(collision * 0.05) {
-            return Outcome::interrupted(LIGHT, rng.random_range(0.0..duration));
-        }
-        let explosives = rng.random_range(0..=3u32);
-        for object in 0..6 {
-            if rng.random_bool(0.15 * (v / 10.0).powi(2)) {
-                return Outcome::interrupted(LIGHT, duration);
-            }
-            if object < explosives {
-                if rng.random_bool((0.6 * (-s / 1.2).exp() * (0.5 + r)).min(1.0)) {
-                    return Outcome::failed(HEAVY, duration);
-                }
-            } else if rng.random_bool(0.2 * (-s / 2.0).exp() * r) {
-                return Outcome::interrupted(LIGHT, duration);
-            }
-        }
-        Outcome::completed(LIGHT, duration)
     }
-
-    /// The task seconds this operator takes to reach a verdict, either one, on `behavior`
-    /// under the paper's thresholds: the time of an evaluated pair.
-    pub fn verdict_time(
-        &self,
-        space: &BehaviorSpace,
-        behavior: &Behavior,
-        rng: &mut dyn RngCore,
-    ) -> f64 {
-        let thresholds = Thresholds::default();
-        let mut estimate = TrustEstimate::default();
-        while estimate.verdict(&thresholds) == Verdict::Undecided {
-            estimate.record(&self.command(space, behavior, rng));
-        }
-        estimate.elapsed_s
-    }
+    estimate.elapsed_s
 }
 
 /// The embedded measurement (its `about` field says how it was taken).
@@ -150,17 +87,32 @@ pub fn patrol_case_lengths() -> Vec<usize> {
 /// steps all come from one stream, so the same seed gives the same cases.
 pub struct Episodes<'a> {
     space: &'a BehaviorSpace,
+    domain: UgvDomain,
+    /// The paper's two patrol operators, speed- then detection-focused.
+    operators: [OperatorModel; 2],
     rng: ChaCha8Rng,
     deck: Vec<usize>,
     dealt: usize,
 }
 
 impl<'a> Episodes<'a> {
-    /// Cases over `space` (the patrol space) drawn from `seed`.
+    /// Cases over `space` (the patrol space, which the patrol domain runs) drawn from
+    /// `seed`.
     pub fn new(space: &'a BehaviorSpace, seed: u64) -> Self {
         let deck = patrol_case_lengths();
+        let domain = UgvDomain::new(Scenario::Patrol);
+        assert_eq!(
+            lab::Domain::space(&domain).as_ref(),
+            space,
+            "synthetic cases are patrol episodes: give the patrol space"
+        );
+        let [speed, detection, ..] = &builtin_operators(Scenario::Patrol)[..] else {
+            unreachable!("the paper's two patrol operators are built in")
+        };
         Self {
             space,
+            domain,
+            operators: [speed.clone(), detection.clone()],
             rng: ChaCha8Rng::seed_from_u64(seed),
             dealt: deck.len(),
             deck,
@@ -182,18 +134,12 @@ impl<'a> Episodes<'a> {
     /// start, its final behavior the walk's next proposal.
     pub fn case_of_length(&mut self, len: usize) -> TrustCase {
         assert!(len > 0, "a case holds at least one evaluated pair");
-        let operator = SyntheticOperator {
-            focus: if self.rng.random_bool(0.5) {
-                Focus::Speed
-            } else {
-                Focus::Detection
-            },
-        };
+        let operator = &self.operators[usize::from(self.rng.random_bool(0.5))];
         let mut walk = RandomWalk::new();
         let mut e_past = TrustProblem::new(Vec::with_capacity(len));
         let mut current = self.space.draw(&mut self.rng);
         loop {
-            let time = operator.verdict_time(self.space, &current, &mut self.rng);
+            let time = verdict_time(&self.domain, operator, &current, self.rng.random());
             e_past.evaluated.push(Evaluated {
                 behavior: current,
                 time,
@@ -280,6 +226,30 @@ impl fmt::Display for LengthStats {
 mod tests {
     use super::*;
     use std::collections::HashSet;
+
+    #[test]
+    fn a_pair_s_time_is_the_driver_s_commands_until_a_verdict() {
+        let domain = UgvDomain::new(Scenario::Patrol);
+        let operator = &builtin_operators(Scenario::Patrol)[0];
+        let behavior = lab::Domain::space(&domain).draw(&mut ChaCha8Rng::seed_from_u64(5));
+        let time = verdict_time(&domain, operator, &behavior, 11);
+        // The same commands, drawn by the lab's simulation from the same seed, summed by
+        // hand until the paper's estimate leaves "undecided".
+        let mut estimate = TrustEstimate::default();
+        let mut summed = 0.0;
+        for command in lab::Simulation::new(&domain, behavior.clone(), operator, 1.0, 11).unwrap()
+        {
+            let outcome = command.unwrap().outcome;
+            summed += outcome.duration_s;
+            estimate.record(&outcome);
+            if estimate.verdict(&Thresholds::default()) != Verdict::Undecided {
+                break;
+            }
+        }
+        assert!(time > 0.0);
+        assert!((time - summed).abs() < 1e-9, "{time} vs {summed}");
+        assert_eq!(verdict_time(&domain, operator, &behavior, 11), time);
+    }
 
     #[test]
     fn lengths_follow_the_real_distribution() {

@@ -29,6 +29,7 @@ pub const REPORT_FILES: &[&str] = &[
     "config.ron",
     "missions.md",
     "missions.jsonl",
+    "provenance.json",
 ];
 
 /// The extensions of a report's plots: removed with an earlier report.

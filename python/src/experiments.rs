@@ -19,7 +19,7 @@ use trustcbr::lab::{Arm, ArmName, Domain};
 use trustcbr::limits::{Bound, LANDSCAPE_RUNS, MISSION_COMMANDS, MISSIONS, THREADS, TRIALS};
 use trustcbr::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use trustcbr::run::{
-    MissionsRan, Ran, RunSettings, missions_per_plan, run_missions_with_report,
+    MissionSettings, MissionsRan, Ran, RunSettings, missions_per_plan, run_missions_with_report,
     run_with_report_checked,
 };
 use trustcbr::suite::{
@@ -192,6 +192,11 @@ fn with_python_arms<C: Catalog + Clone>(
         inner: catalog.clone(),
         arms: added,
     }
+}
+
+/// What a report from Python records as its command line.
+fn python_command_line() -> Vec<String> {
+    vec!["python".into(), "trustcbr.run".into()]
 }
 
 /// The arms a run was given (`arms=`), each read once, or the first that is no arm's
@@ -429,15 +434,18 @@ pub fn run_suite<C: Catalog + Clone>(
             counts: Counts::of(missions_per_plan(&config).iter().map(|(_, n)| n).sum()),
         };
         let counts = watch.counts.clone();
-        let out = request.out.clone();
+        let settings = MissionSettings {
+            out: request.out.clone(),
+            threads,
+            command_line: python_command_line(),
+        };
         let ran = run_watched(py, &watch, |caller| {
             let catalog = with_python_arms(catalog, &python_arms, &errors, &caller);
             run_missions_with_report(
                 &catalog,
                 config,
                 &origin,
-                out.as_deref(),
-                threads,
+                &settings,
                 &|_| counts.tick(),
                 &|| stop_before_writing(&errors),
             )
@@ -499,7 +507,7 @@ pub fn run_suite<C: Catalog + Clone>(
             starting: request.cases.map(|dir| StartingCases { dir }),
             save_cases: request.save_cases.clone(),
             threads,
-            command_line: vec!["python".into(), "trustcbr.run".into()],
+            command_line: python_command_line(),
         };
         let per_experiment = config.arms.len() as u64 * u64::from(config.trials.get());
         let watch = Watch {
