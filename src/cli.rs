@@ -16,7 +16,8 @@ use crate::mission_suite::{MissionSuiteConfig, is_mission_suite};
 use crate::own_files;
 use crate::progress::Progress;
 use crate::run::{
-    MissionSettings, RunSettings, missions_per_plan, run_missions_with_report, run_with_report, worker_pool,
+    MissionSettings, RunSettings, missions_per_plan, run_missions_with_report, run_with_report,
+    worker_pool,
 };
 use crate::served::{Spelling, check_preference, judging_competence, served_domain, serving_arm};
 use crate::simulate::command_json;

@@ -363,8 +363,7 @@ fn an_answered_alert_may_offer_a_safer_behavior_the_operator_takes_when_it_trust
             commands: 300,
             changes: (every: 150.0, takeover: 0.5),
             complacency: Some((memory: 20.0, floor: 0.3)),
-            competence: Some((at_most: 0.1)),
-            offer_safer: true,
+            competence: Some((at_most: 0.1, offer_safer: true)),
         ),
     ],
 )
@@ -400,10 +399,22 @@ fn an_answered_alert_may_offer_a_safer_behavior_the_operator_takes_when_it_trust
     assert!(text.contains(&format!(
         "\"offers\":{{\"offered\":{offered},\"taken\":{taken}}}"
     )));
-    // Offers need alerts to offer them: without a standard the plan is refused.
-    let stderr = refused_without_standard(&config, suite, &dir.path().join("none"));
+    // Offers need alerts to offer them: an offer is part of the competence section, and
+    // a plan cannot write one outside it.
+    std::fs::write(
+        &config,
+        suite.replace(
+            "competence: Some((at_most: 0.1, offer_safer: true)),",
+            "offer_safer: true,",
+        ),
+    )
+    .unwrap();
+    let none = dir.path().join("none");
+    let refused = run(&config, &none, &[]);
+    assert!(!refused.status.success() && !none.exists());
+    let stderr = String::from_utf8(refused.stderr).unwrap();
     assert!(
-        stderr.contains("offer.ron: missions[0].offer_safer: an overtrust alert offers a safer behavior, and this plan raises none"),
+        stderr.contains("offer.ron:12:") && stderr.contains("offer_safer"),
         "{stderr}"
     );
 }

@@ -33,8 +33,8 @@
 pub mod retrieval;
 
 use cbr_core::{Behavior, BehaviorSpace, Case};
-use rand::seq::SliceRandom;
 use domains::{OperatorModel, Scenario, UgvDomain, builtin_operators};
+use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
@@ -237,8 +237,7 @@ mod tests {
         // hand until the paper's estimate leaves "undecided".
         let mut estimate = TrustEstimate::default();
         let mut summed = 0.0;
-        for command in lab::Simulation::new(&domain, behavior.clone(), operator, 1.0, 11).unwrap()
-        {
+        for command in lab::Simulation::new(&domain, behavior.clone(), operator, 1.0, 11).unwrap() {
             let outcome = command.unwrap().outcome;
             summed += outcome.duration_s;
             estimate.record(&outcome);

@@ -63,12 +63,12 @@ def main() -> None:
     suite = Path(sys.argv[1])
     binary = os.environ.get("TRUSTCBR_BIN", "target/release/trustcbr")
     text = suite.read_text()
-    if "offer_safer: true," not in text:
-        sys.exit(f"{suite}: no plan sets `offer_safer: true,`")
+    if ", offer_safer: true" not in text:
+        sys.exit(f"{suite}: no plan's competence sets `, offer_safer: true`")
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
         twin = folder / "twin.ron"
-        twin.write_text(text.replace("offer_safer: true,", ""))
+        twin.write_text(text.replace(", offer_safer: true", ""))
         run(binary, suite, folder / "offered")
         run(binary, twin, folder / "attention")
         offered = answered_missions(folder / "offered")

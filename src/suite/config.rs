@@ -331,15 +331,6 @@ fn experiments_read<'de, D: serde::Deserializer<'de>>(
     Ok(experiments)
 }
 
-/// [`experiments_read`] of one experiment (a mission plan's `operators`).
-pub(crate) fn experiment_read<'de, D: serde::Deserializer<'de>>(
-    d: D,
-) -> Result<ExperimentSpec, D::Error> {
-    let mut spec = ExperimentSpec::deserialize(d)?;
-    spec.random_when_left_out();
-    Ok(spec)
-}
-
 /// An experiment's `operator` as written: a name, never empty (an empty name would read as
 /// one left out).
 fn deserialize_operator<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
@@ -463,7 +454,9 @@ pub struct Population {
 
 /// A scenario name: a string. A bare identifier (`scenario: movement`, as configs spelled
 /// it before scenarios were the catalog's) is refused with the spelling to use.
-fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+pub(crate) fn deserialize_scenario<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<String, D::Error> {
     struct Name;
     impl serde::de::Visitor<'_> for Name {
         type Value = String;

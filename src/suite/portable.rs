@@ -4,7 +4,7 @@
 //! is. Experiment suites and mission suites share it: each hands over its
 //! [`ExperimentSpec`]s (an experiment's, a mission plan's operators).
 
-use super::{ExperimentSpec, SuiteError};
+use super::SuiteError;
 use files::name::file_stems;
 use files::{read_text, write_file_in};
 use std::path::{Path, PathBuf};
@@ -21,17 +21,17 @@ pub(crate) struct OperatorCopy {
     pub copy: PathBuf,
 }
 
-/// Rewrites the `operator_files` of `specs` (relative to `origin`'s directory) to name
+/// Rewrites the lists of operator files `lists` (relative to `origin`'s directory) to name
 /// their copies in a report, one copy per distinct file (named after its file stem, made
 /// unique), and returns the copies to make.
 pub(crate) fn relocate_operator_files<'a>(
-    specs: impl IntoIterator<Item = &'a mut ExperimentSpec>,
+    lists: impl IntoIterator<Item = &'a mut Vec<PathBuf>>,
     origin: &Path,
 ) -> Vec<OperatorCopy> {
     let base = origin.parent().unwrap_or(Path::new("."));
-    let specs: Vec<&mut ExperimentSpec> = specs.into_iter().collect();
+    let mut lists: Vec<&'a mut Vec<PathBuf>> = lists.into_iter().collect();
     let mut sources: Vec<PathBuf> = Vec::new();
-    for file in specs.iter().flat_map(|spec| &spec.operator_files) {
+    for file in lists.iter().flat_map(|files| files.iter()) {
         let source = base.join(file);
         if !sources.contains(&source) {
             sources.push(source);
@@ -49,8 +49,8 @@ pub(crate) fn relocate_operator_files<'a>(
             copy: Path::new(REPORT_OPERATORS).join(format!("{stem}.ron")),
         })
         .collect();
-    for spec in specs {
-        for file in &mut spec.operator_files {
+    for files in &mut lists {
+        for file in files.iter_mut() {
             let source = base.join(&*file);
             file.clone_from(
                 &copies
@@ -79,6 +79,7 @@ pub(crate) fn copy_operator_files(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::suite::ExperimentSpec;
 
     fn spec(files: &[&str]) -> ExperimentSpec {
         ExperimentSpec {
@@ -100,7 +101,10 @@ mod tests {
             spec(&["ops/a/dispatcher.ron", "ops/b/dispatcher.ron"]),
             spec(&["ops/a/dispatcher.ron", "/abs/hasty.ron"]),
         ];
-        let copies = relocate_operator_files(&mut specs, Path::new("suites/x.ron"));
+        let copies = relocate_operator_files(
+            specs.iter_mut().map(|spec| &mut spec.operator_files),
+            Path::new("suites/x.ron"),
+        );
         let pairs: Vec<(&str, &str)> = copies
             .iter()
             .map(|c| (c.source.to_str().unwrap(), c.copy.to_str().unwrap()))

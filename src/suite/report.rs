@@ -137,7 +137,13 @@ impl SuiteConfig {
     /// (relative to `origin`), and the copies to make.
     fn portable(&self, origin: &Path) -> (Self, Vec<OperatorCopy>) {
         let mut portable = self.clone();
-        let copies = relocate_operator_files(&mut portable.experiments, origin);
+        let copies = relocate_operator_files(
+            portable
+                .experiments
+                .iter_mut()
+                .map(|spec| &mut spec.operator_files),
+            origin,
+        );
         (portable, copies)
     }
 }

@@ -751,7 +751,7 @@ mod tests {
     }
 
     #[test]
-    fn a_mission_plan_may_leave_its_operator_out_beside_a_population() {
+    fn a_mission_plan_draws_its_operators_and_may_write_no_other() {
         use crate::mission_suite::MissionSuiteConfig;
         let plan = |operators: &str| {
             let (dir, config) = beside_two_operators("");
@@ -764,14 +764,38 @@ mod tests {
             read
         };
         let suite = plan("(scenario: \"movement\", population: Some((name: \"pair\")), operator_files: [\"night.ron\", \"owl.ron\"])").unwrap();
-        assert_eq!(suite.missions[0].operators.operator, RANDOM_OPERATOR);
-        let err = plan("(scenario: \"movement\", operator_files: [\"night.ron\"])")
-            .unwrap_err()
-            .to_string();
+        // Left out, it is written as configs always wrote it.
+        let written = ron::to_string(&suite.missions[0].operators).unwrap();
+        assert!(written.contains("operator:\"random\""), "{written}");
+        assert!(plan("(scenario: \"movement\", operator_files: [\"night.ron\"])").is_ok());
+        let err =
+            plan("(scenario: \"movement\", operator: \"night\", operator_files: [\"night.ron\"])")
+                .unwrap_err()
+                .to_string();
         assert!(
-            err.ends_with("missions[0].operators.operator: a mission draws its operators from the population: write `operator: \"random\"` (left out, it is `random` only beside a `population` or several `operator_files`)"),
+            err.contains(":1:") && err.contains("a mission draws its operators from the plan's operators (the scenario's, its files', or its population's): write `operator: \"random\"` or leave it out, not `night`"),
             "{err}"
         );
+        // What only experiments simulate cannot be written, each refused with what to write.
+        for (field, says) in [
+            (
+                "contexts: Some((cycle: [{}]))",
+                "write the plan's `context_switches",
+            ),
+            (
+                "goal_changes: Some((per_hour: 1.0))",
+                "goal changes are simulated in experiment suites",
+            ),
+            (
+                "stated: Some((said: 1.0))",
+                "what operators state up front is simulated in experiment suites",
+            ),
+        ] {
+            let err = plan(&format!("(scenario: \"movement\", {field})"))
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(says), "{field}: {err}");
+        }
     }
 
     #[test]

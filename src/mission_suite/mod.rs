@@ -15,29 +15,28 @@
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
 use crate::suite::{
-    ExperimentSpec, RANDOM_OPERATOR, SuiteError, arm_named, arm_names, check_adapter, check_arms,
-    check_distinct, contexts_written, copy_operator_files, invalid, over, relocate_operator_files,
+    SuiteError, arm_named, arm_names, check_adapter, check_arms, check_distinct,
+    copy_operator_files, invalid, over, relocate_operator_files,
 };
-use cbr_core::ContextSpace;
 use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Domain;
 use lab::mission::figure::mission_figure;
 use lab::mission::report::{missions_json, missions_jsonl, missions_markdown};
-use lab::mission::{
-    Changes, Complacency, ContextSwitches, MissionPlan, MissionResult, check_competence,
-    run_missions,
-};
+use lab::mission::{MissionPlan, MissionResult, check_competence, run_missions};
 use lab::reference::known_operator::LimitSettings;
-use lab::report::{Provenance, file_stems};
 use lab::report::plot::svg;
+use lab::report::{Provenance, file_stems};
 use lab::{Arm, ArmName, PREFERS_COMPETENT, check_attention};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
-use trust::{AdapterConfig, CompetenceStandard};
+use trust::AdapterConfig;
+
+mod spec;
+
+pub use spec::{CompetenceSpec, ContextSwitchesSpec, MissionOperators, MissionSpec};
 
 /// A mission suite.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -61,69 +60,6 @@ pub struct MissionSuiteConfig {
     pub arms: Vec<ArmName>,
     /// The mission plans, in report order.
     pub missions: Vec<MissionSpec>,
-}
-
-/// One mission plan.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MissionSpec {
-    /// Its name in the report.
-    pub name: String,
-    /// Who operates: a scenario and its population (`operator: "random"`, which a plan
-    /// with a `population` or several `operator_files` may leave out).
-    #[serde(deserialize_with = "crate::suite::config::experiment_read")]
-    pub operators: ExperimentSpec,
-    /// Missions per arm.
-    pub count: NonZeroU32,
-    /// Commands per mission.
-    pub commands: NonZeroU32,
-    /// When the operator changes.
-    pub changes: Changes,
-    /// When the robot's context switches, and the robot is told
-    /// (`Some((among: [{}, {"cargo": "hazardous"}], every: 100.0))`); absent: every
-    /// mission in the default context.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub context_switches: Option<ContextSwitchesSpec>,
-    /// How operators grow complacent; absent: they stay attentive.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub complacency: Option<Complacency>,
-    /// The standard the robot holds its own competence to (`Some((at_most: 0.1))`: at
-    /// most one command in ten falling short in any part); absent: it does not judge it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub competence: Option<CompetenceStandard>,
-    /// Whether an answered overtrust alert offers a safer behavior, which the operator
-    /// takes when it trusts it too (needs `competence`); absent: false, the operator only
-    /// looks afresh.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub offer_safer: bool,
-}
-
-/// A plan's context switches as a suite writes them ([`ContextSwitches`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContextSwitchesSpec {
-    /// The contexts a mission may be in, each its variables and values (`{}`: the default
-    /// context); at least two, each variable once.
-    #[serde(deserialize_with = "cbr_core::unique_keys::each_variable_once_in_each")]
-    pub among: Vec<BTreeMap<String, String>>,
-    /// Mean commands between switches.
-    pub every: f64,
-}
-
-impl ContextSwitchesSpec {
-    /// The switches, each context checked against `space` (the domain's context
-    /// variables); an error names the field under the plan (`context_switches.among[1]`).
-    pub fn switches(&self, space: &ContextSpace) -> Result<ContextSwitches, (String, String)> {
-        let among = contexts_written(&self.among, space, "context_switches.among")?;
-        let switches = ContextSwitches {
-            among,
-            every: self.every,
-        };
-        switches
-            .validate()
-            .map_err(|e| ("context_switches".to_owned(), e))?;
-        Ok(switches)
-    }
 }
 
 /// Whether `text` is a mission suite: a RON structure with a `missions` field.
@@ -195,47 +131,6 @@ impl MissionSuiteConfig {
         let (mut commands, mut missions) = (0u64, 0u64);
         for (k, spec) in self.missions.iter().enumerate() {
             let field = |name: &str| format!("missions[{k}].{name}");
-            if spec.operators.operator.is_empty() {
-                return Err(invalid(
-                    field("operators.operator"),
-                    format!(
-                        "a mission draws its operators from the population: write `operator: \"{RANDOM_OPERATOR}\"` (left out, it is `{RANDOM_OPERATOR}` only beside a `population` or several `operator_files`)"
-                    ),
-                ));
-            }
-            if spec.operators.operator != RANDOM_OPERATOR {
-                return Err(invalid(
-                    field("operators.operator"),
-                    format!(
-                        "a mission draws its operators from the population: write `operator: \"{RANDOM_OPERATOR}\"`, got `{}`",
-                        spec.operators.operator
-                    ),
-                ));
-            }
-            if spec.offer_safer && spec.competence.is_none() {
-                return Err(invalid(
-                    field("offer_safer"),
-                    "an overtrust alert offers a safer behavior, and this plan raises none: set a standard (`competence: Some((at_most: 0.1))`) or leave `offer_safer` out".into(),
-                ));
-            }
-            if spec.operators.contexts.is_some() {
-                return Err(invalid(
-                    field("operators.contexts"),
-                    "an experiment's trials take contexts in turn; a mission's context switches at random times: write the plan's `context_switches: Some((among: [...], every: N))` instead (docs/missions.md#context-switches)".into(),
-                ));
-            }
-            if spec.operators.goal_changes.is_some() {
-                return Err(invalid(
-                    field("operators.goal_changes"),
-                    "goal changes are simulated in experiment suites, not yet in missions: leave `goal_changes` out of a mission plan (docs/missions.md)".into(),
-                ));
-            }
-            if spec.operators.stated.is_some() {
-                return Err(invalid(
-                    field("operators.stated"),
-                    "what operators state up front is simulated in experiment suites, not yet in missions: leave `stated` out of a mission plan (docs/missions.md)".into(),
-                ));
-            }
             spec.changes
                 .validate()
                 .map_err(|e| invalid(field("changes"), e))?;
@@ -254,9 +149,9 @@ impl MissionSuiteConfig {
                     .validate()
                     .map_err(|e| invalid(field("complacency"), e))?;
             }
+            let experiment = spec.operators.as_experiment();
             let (operators, _) =
-                spec.operators
-                    .check(catalog, &field("operators"), origin, &readings)?;
+                experiment.check(catalog, &field("operators"), origin, &readings)?;
             if spec.complacency.is_some()
                 || spec.competence.is_some()
                 || spec.context_switches.is_some()
@@ -273,11 +168,11 @@ impl MissionSuiteConfig {
                         .map_err(|e| invalid(field("complacency"), e.to_string()))?;
                 }
                 if let Some(standard) = &spec.competence {
-                    check_competence(&domain, standard)
+                    check_competence(&domain, &standard.standard())
                         .map_err(|e| invalid(field("competence"), e.to_string()))?;
                 }
             }
-            spec.operators.check_reachable(
+            experiment.check_reachable(
                 catalog,
                 &operators,
                 &format!("missions[{k}]"),
@@ -362,7 +257,11 @@ pub fn run_mission_suite<C: Catalog>(
     let operators: Vec<Vec<(String, OperatorOf<C>)>> = config
         .missions
         .iter()
-        .map(|spec| spec.operators.operators(catalog, origin, &readings))
+        .map(|spec| {
+            spec.operators
+                .as_experiment()
+                .operators(catalog, origin, &readings)
+        })
         .collect::<Result<_, _>>()?;
     let switches = config
         .missions
@@ -392,8 +291,8 @@ pub fn run_mission_suite<C: Catalog>(
             changes: spec.changes,
             contexts,
             complacency: spec.complacency,
-            competence: spec.competence.clone(),
-            offer_safer: spec.offer_safer,
+            competence: spec.competence.as_ref().map(CompetenceSpec::standard),
+            offer_safer: spec.competence.as_ref().is_some_and(|c| c.offer_safer),
             adapter: config.adapter.clone(),
             arms: arms.clone(),
             feedback: spec.operators.feedback,
@@ -420,7 +319,10 @@ pub fn write_mission_report(
     let report = |e: FileError| SuiteError::Report(e.into());
     let mut portable = config.clone();
     let copies = relocate_operator_files(
-        portable.missions.iter_mut().map(|spec| &mut spec.operators),
+        portable
+            .missions
+            .iter_mut()
+            .map(|spec| &mut spec.operators.operator_files),
         origin,
     );
     let mut written = vec![
