@@ -111,7 +111,7 @@ fn a_mission_plan_s_operators_state_nothing_and_saying_they_do_is_refused() {
     );
     let stderr = refused(&mut run_suite(dir.path(), &mission));
     assert!(
-        stderr.contains("missions[0].operators.stated: what operators state up front is simulated in experiment suites, not yet in missions"),
+        stderr.contains("`stated`: what operators state up front is simulated in experiment suites, not yet in missions"),
         "{stderr}"
     );
     assert!(!dir.path().join("out").exists());

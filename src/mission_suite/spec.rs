@@ -173,21 +173,21 @@ fn refused<'de, D: serde::Deserializer<'de>>(d: D, why: &str) -> Result<(), D::E
 fn refuse_contexts<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
     refused(
         d,
-        "an experiment's trials take contexts in turn; a mission's context switches at random times: write the plan's `context_switches: Some((among: [...], every: N))` instead (docs/missions.md#context-switches)",
+        "`contexts`: an experiment's trials take contexts in turn; a mission's context switches at random times: write the plan's `context_switches: Some((among: [...], every: N))` instead (docs/missions.md#context-switches)",
     )
 }
 
 fn refuse_goal_changes<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
     refused(
         d,
-        "goal changes are simulated in experiment suites, not yet in missions: leave `goal_changes` out of a mission plan (docs/missions.md)",
+        "`goal_changes`: goal changes are simulated in experiment suites, not yet in missions: leave `goal_changes` out of a mission plan (docs/missions.md)",
     )
 }
 
 fn refuse_stated<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
     refused(
         d,
-        "what operators state up front is simulated in experiment suites, not yet in missions: leave `stated` out of a mission plan (docs/missions.md)",
+        "`stated`: what operators state up front is simulated in experiment suites, not yet in missions: leave `stated` out of a mission plan (docs/missions.md)",
     )
 }
 
