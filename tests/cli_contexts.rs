@@ -201,9 +201,8 @@ fn a_mission_plan_with_an_experiment_s_contexts_is_refused() {
     );
     let err = refused(&mut run(dir.path(), &mission));
     assert!(
-        err.contains(
-            "suite.ron:6:92: `contexts`: an experiment's trials take contexts in turn"
-        ) && err.contains("context_switches: Some((among: [...], every: N))"),
+        err.contains("suite.ron:6:92: `contexts`: an experiment's trials take contexts in turn")
+            && err.contains("context_switches: Some((among: [...], every: N))"),
         "{err}"
     );
     assert!(!dir.path().join("out").exists());

@@ -114,7 +114,9 @@ fn goal_changes_that_cannot_mean_anything_are_refused() {
     );
     let stderr = refused(&mut run_suite(dir.path(), &mission));
     assert!(
-        stderr.contains("`goal_changes`: goal changes are simulated in experiment suites, not yet in missions"),
+        stderr.contains(
+            "`goal_changes`: goal changes are simulated in experiment suites, not yet in missions"
+        ),
         "{stderr}"
     );
     assert!(!dir.path().join("out").exists());

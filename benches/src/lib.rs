@@ -57,7 +57,7 @@ pub fn verdict_time(
 ) -> f64 {
     let thresholds = Thresholds::default();
     let mut estimate = TrustEstimate::default();
-    let commands = lab::Simulation::new(domain, behavior.clone(), operator, 1.0, seed)
+    let commands = lab::Simulation::new(domain, *behavior, operator, 1.0, seed)
         .expect("a patrol behavior at full attention");
     for command in commands {
         let command = command.expect("the patrol domain declares every cause it reports");
@@ -237,7 +237,7 @@ mod tests {
         // hand until the paper's estimate leaves "undecided".
         let mut estimate = TrustEstimate::default();
         let mut summed = 0.0;
-        for command in lab::Simulation::new(&domain, behavior.clone(), operator, 1.0, 11).unwrap() {
+        for command in lab::Simulation::new(&domain, behavior, operator, 1.0, 11).unwrap() {
             let outcome = command.unwrap().outcome;
             summed += outcome.duration_s;
             estimate.record(&outcome);
