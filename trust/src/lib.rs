@@ -42,7 +42,7 @@ pub use explain::{
     Account, AttributedReason, Attribution, Explanation, Grounds, Hint, Next, Vocabulary,
 };
 pub use mission_mode::{
-    ContextSwitch, MissionAdaptation, MissionAdapter, MissionDecision, SwitchStart,
+    ContextSwitch, EpisodeMachine, MissionAdaptation, MissionAdapter, MissionDecision, SwitchStart,
 };
 pub use overtrust::{Alert, OwnRecord};
 pub use problem::TrustProblem;

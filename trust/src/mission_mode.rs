@@ -420,26 +420,60 @@ impl<'p> Mission<'p> {
     }
 }
 
-/// Mission mode around an [`Adaptation`]: one robot's episodes and watch over a case
-/// memory it is handed (`serve --mission`, where sessions share one memory). The caller
-/// retains the case [`Adaptation::case_to_retain`] names when an episode settles.
-pub struct MissionAdaptation<'p> {
-    adaptation: Adaptation,
+/// The episode machine a [`MissionAdapter`] wraps: an [`Adaptation`] alone (over a case
+/// memory the caller hands in, [`MissionAdaptation`]) or a [`TrustAdapter`] with the memory
+/// it owns.
+pub trait EpisodeMachine {
+    /// The episode machine itself.
+    fn adaptation(&self) -> &Adaptation;
+    /// The episode machine itself, to drive.
+    fn adaptation_mut(&mut self) -> &mut Adaptation;
+}
+
+impl EpisodeMachine for Adaptation {
+    fn adaptation(&self) -> &Adaptation {
+        self
+    }
+    fn adaptation_mut(&mut self) -> &mut Adaptation {
+        self
+    }
+}
+
+impl EpisodeMachine for TrustAdapter {
+    fn adaptation(&self) -> &Adaptation {
+        &self.adaptation
+    }
+    fn adaptation_mut(&mut self) -> &mut Adaptation {
+        &mut self.adaptation
+    }
+}
+
+/// Mission mode around an episode machine `M`: its episodes, and the watch of a settled
+/// behavior between them. Around a [`TrustAdapter`] (the default) it retains a case when
+/// an episode settles, over the memory the adapter owns (an experiment's missions); around
+/// an [`Adaptation`] ([`MissionAdaptation`]) it selects from a memory handed in with each
+/// outcome, and the caller retains the case [`Adaptation::case_to_retain`] names
+/// (`serve --mission`, where sessions share one memory).
+pub struct MissionAdapter<'p, M: EpisodeMachine = TrustAdapter> {
+    machine: M,
     mission: Mission<'p>,
 }
 
-impl<'p> MissionAdaptation<'p> {
-    /// `adaptation` on a mission, watching nothing yet.
-    pub fn new(adaptation: Adaptation) -> Self {
+/// Mission mode around an [`Adaptation`] over a memory handed in ([`MissionAdapter`]).
+pub type MissionAdaptation<'p> = MissionAdapter<'p, Adaptation>;
+
+impl<'p, M: EpisodeMachine> MissionAdapter<'p, M> {
+    /// `machine` on a mission, watching nothing yet.
+    pub fn new(machine: M) -> Self {
         Self {
-            adaptation,
+            machine,
             mission: Mission::default(),
         }
     }
 
     /// The episode machine (its episode, space, parameters and strategy).
     pub fn adaptation(&self) -> &Adaptation {
-        &self.adaptation
+        self.machine.adaptation()
     }
 
     /// A new operator: begins an episode with `initial` in use, ending the watch of a
@@ -449,66 +483,41 @@ impl<'p> MissionAdaptation<'p> {
     }
 
     /// A new operator who stated `stated` up front
-    /// ([`Adaptation::begin_episode_hearing`]): as [`MissionAdaptation::begin_episode`].
+    /// ([`Adaptation::begin_episode_hearing`]): as [`MissionAdapter::begin_episode`].
     pub fn begin_episode_hearing(
         &mut self,
         initial: Behavior,
         stated: Vec<Statement>,
     ) -> Result<(), AdapterError> {
         self.mission
-            .begin_episode(&mut self.adaptation, initial, stated)
+            .begin_episode(self.machine.adaptation_mut(), initial, stated)
     }
 
     /// The robot's context from now on ([`Adaptation::set_context`]): a watched behavior
     /// stays in use, the episodes begun afterwards run in it, and the own record weighs
-    /// signals by how operators react in it ([`OwnRecord::enter_context`]). Refused while an episode
-    /// is under way.
+    /// signals by how operators react in it ([`OwnRecord::enter_context`]). Refused while
+    /// an episode is under way.
     pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
-        self.adaptation.set_context(context)?;
-        self.mission
-            .own_record
-            .enter_context(self.adaptation.context());
+        let adaptation = self.machine.adaptation_mut();
+        adaptation.set_context(context)?;
+        self.mission.own_record.enter_context(adaptation.context());
         Ok(())
-    }
-
-    /// The robot's context switched to `context` mid-mission, and it is told (see
-    /// [`MissionAdapter::switch_context`]); `learned_start`: the case memory whose first
-    /// guess in `context` to take when nothing was settled on there, if the robot starts
-    /// from it.
-    pub fn switch_context(
-        &mut self,
-        context: Context,
-        learned_start: Option<&TrustMemory>,
-    ) -> Result<ContextSwitch, AdapterError> {
-        self.mission
-            .switch_context(&mut self.adaptation, context, |a| guess(learned_start, a))
-    }
-
-    /// Records one command's outcome (of the episode under way, or of the watched
-    /// behavior) and decides what to do next, selecting from `memory` when a behavior is
-    /// given up. Refused only with neither an episode nor a watch, or an unusable outcome.
-    pub fn record(
-        &mut self,
-        outcome: &Outcome,
-        memory: &TrustMemory,
-    ) -> Result<MissionDecision, AdapterError> {
-        self.mission.record(&mut self.adaptation, outcome, memory)
     }
 
     /// Ends the episode under way (returning its report) or the watch (returning `None`).
     pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
-        self.mission.abandon(&mut self.adaptation)
+        self.mission.abandon(self.machine.adaptation_mut())
     }
 
     /// The behavior in use and its estimate: the episode's, or the watched behavior's.
     pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        self.mission.in_use(&self.adaptation)
+        self.mission.in_use(self.machine.adaptation())
     }
 
     /// The account of the behavior in use: the episode's, or the watched behavior's since
     /// its estimate last stood at the cap.
     pub fn standing(&self) -> Option<Account> {
-        self.mission.standing(&self.adaptation)
+        self.mission.standing(self.machine.adaptation())
     }
 
     /// The settled behavior under watch between episodes, if any.
@@ -536,7 +545,7 @@ impl<'p> MissionAdaptation<'p> {
     }
 
     /// The same mission preferring behaviors its judge finds competent (given one with
-    /// [`MissionAdaptation::with_competence`]): an episode passes over up to `passes`
+    /// [`MissionAdapter::with_competence`]): an episode passes over up to `passes`
     /// behaviors its operator trusts while the judge is sure they fall short, searching
     /// on past each, and settles on the next trusted one whatever its competence.
     #[must_use]
@@ -549,131 +558,74 @@ impl<'p> MissionAdaptation<'p> {
     /// ([`CompetenceAlert::offer`]): the watch moves to it, as if an episode had settled
     /// on it. Refused with no behavior under watch, or one outside the space.
     pub fn accept_offer(&mut self, offer: Behavior) -> Result<(), AdapterError> {
-        self.mission.accept_offer(&mut self.adaptation, offer)
+        self.mission
+            .accept_offer(self.machine.adaptation_mut(), offer)
     }
 }
 
-/// Mission mode around a [`TrustAdapter`]: its episodes and watch over the memory it owns,
-/// retaining a case when an episode settles (an experiment's missions).
-pub struct MissionAdapter<'p> {
-    adapter: TrustAdapter,
-    mission: Mission<'p>,
-}
-
-impl<'p> MissionAdapter<'p> {
-    /// `adapter` on a mission, watching nothing yet.
-    pub fn new(adapter: TrustAdapter) -> Self {
-        Self {
-            adapter,
-            mission: Mission::default(),
-        }
+impl MissionAdapter<'_, Adaptation> {
+    /// The robot's context switched to `context` mid-mission, and it is told (see
+    /// [`MissionAdapter::switch_context`]); `learned_start`: the case memory whose first
+    /// guess in `context` to take when nothing was settled on there, if the robot starts
+    /// from it.
+    pub fn switch_context(
+        &mut self,
+        context: Context,
+        learned_start: Option<&TrustMemory>,
+    ) -> Result<ContextSwitch, AdapterError> {
+        self.mission
+            .switch_context(&mut self.machine, context, |a| guess(learned_start, a))
     }
 
+    /// Records one command's outcome (of the episode under way, or of the watched
+    /// behavior) and decides what to do next, selecting from `memory` when a behavior is
+    /// given up. Refused only with neither an episode nor a watch, or an unusable outcome.
+    pub fn record(
+        &mut self,
+        outcome: &Outcome,
+        memory: &TrustMemory,
+    ) -> Result<MissionDecision, AdapterError> {
+        self.mission.record(&mut self.machine, outcome, memory)
+    }
+}
+
+impl MissionAdapter<'_, TrustAdapter> {
     /// The episode machine and its memory (its episode, cases and first guess).
     pub fn adapter(&self) -> &TrustAdapter {
-        &self.adapter
+        &self.machine
     }
 
     /// Restarts the search randomness from `seed`.
     pub fn reseed(&mut self, seed: u64) {
-        self.adapter.reseed(seed);
-    }
-
-    /// The robot's context from now on (see [`MissionAdaptation::set_context`]).
-    pub fn set_context(&mut self, context: Context) -> Result<(), AdapterError> {
-        self.adapter.set_context(context)?;
-        self.mission
-            .own_record
-            .enter_context(self.adapter.adaptation.context());
-        Ok(())
-    }
-
-    /// A new operator (see [`MissionAdaptation::begin_episode`]).
-    pub fn begin_episode(&mut self, initial: Behavior) -> Result<(), AdapterError> {
-        self.mission
-            .begin_episode(&mut self.adapter.adaptation, initial, Vec::new())
+        self.machine.reseed(seed);
     }
 
     /// The robot's context switched to `context` mid-mission, and it is told: an episode
     /// under way ends, what the robot learned of how its operator reacts is forgotten, and
     /// it goes back to the behavior it last settled on, trusted, in `context` since its
     /// operator began and has not given up there since (its watch fell, an episode gave it
-    /// up or passed it over), or else (with `learned_start`) to the case memory's first guess in
-    /// `context`, or else carries on with the behavior in use (an episode under way
-    /// begins again from it; a watched one stays watched). Refused with neither an
+    /// up or passed it over), or else (with `learned_start`) to the case memory's first
+    /// guess in `context`, or else carries on with the behavior in use (an episode under
+    /// way begins again from it; a watched one stays watched). Refused with neither an
     /// episode nor a watch.
     pub fn switch_context(
         &mut self,
         context: Context,
         learned_start: bool,
     ) -> Result<ContextSwitch, AdapterError> {
-        let TrustAdapter { adaptation, memory } = &mut self.adapter;
+        let TrustAdapter { adaptation, memory } = &mut self.machine;
         let memory = learned_start.then_some(&*memory);
         self.mission
             .switch_context(adaptation, context, |a| guess(memory, a))
     }
 
-    /// Records one command's outcome (see [`MissionAdaptation::record`]); a settled
+    /// Records one command's outcome (as the [`MissionAdaptation`]'s own); a settled
     /// episode retains its case before the report is returned.
     pub fn record(&mut self, outcome: &Outcome) -> Result<MissionDecision, AdapterError> {
-        let TrustAdapter { adaptation, memory } = &mut self.adapter;
+        let TrustAdapter { adaptation, memory } = &mut self.machine;
         Ok(match self.mission.record(adaptation, outcome, memory)? {
-            MissionDecision::Episode(decision) => self.adapter.retaining(decision).into(),
+            MissionDecision::Episode(decision) => self.machine.retaining(decision).into(),
             alert @ (MissionDecision::Alert(_) | MissionDecision::Overtrust(_)) => alert,
         })
-    }
-
-    /// Ends the episode under way (returning its report) or the watch (returning `None`).
-    pub fn abandon_episode(&mut self) -> Option<EpisodeReport> {
-        self.mission.abandon(&mut self.adapter.adaptation)
-    }
-
-    /// The behavior in use and its estimate: the episode's, or the watched behavior's.
-    pub fn in_use(&self) -> Option<(Behavior, TrustEstimate)> {
-        self.mission.in_use(&self.adapter.adaptation)
-    }
-
-    /// The account of the behavior in use (see [`MissionAdaptation::standing`]).
-    pub fn standing(&self) -> Option<Account> {
-        self.mission.standing(&self.adapter.adaptation)
-    }
-
-    /// The settled behavior under watch between episodes, if any.
-    pub fn watching(&self) -> Option<&Watch> {
-        self.mission.watch.as_ref()
-    }
-
-    /// The robot's own record of the watched behavior.
-    pub fn own_record(&self) -> &OwnRecord {
-        &self.mission.own_record
-    }
-
-    /// The same mission judging its own competence with `judge`: every command is
-    /// recorded, and a watched behavior the operator trusts while the judge finds it not
-    /// competent raises [`MissionDecision::Overtrust`] once.
-    #[must_use]
-    pub fn with_competence(mut self, judge: CompetenceJudge<'p>) -> Self {
-        self.mission.judge = Some(judge);
-        self
-    }
-
-    /// The robot's judge of its own competence, if it has one.
-    pub fn competence_judge(&self) -> Option<&CompetenceJudge<'p>> {
-        self.mission.judge.as_ref()
-    }
-
-    /// The operator took the behavior an overtrust alert offered: see
-    /// [`MissionAdaptation::accept_offer`].
-    pub fn accept_offer(&mut self, offer: Behavior) -> Result<(), AdapterError> {
-        self.mission
-            .accept_offer(&mut self.adapter.adaptation, offer)
-    }
-
-    /// The same mission preferring behaviors its judge finds competent: see
-    /// [`MissionAdaptation::preferring_competent`].
-    #[must_use]
-    pub fn preferring_competent(mut self, passes: u32) -> Self {
-        self.mission.passes = passes;
-        self
     }
 }

@@ -72,11 +72,11 @@ impl Records for MissionAdapter<'_> {
     type Decision = MissionDecision;
 
     fn record(&mut self, outcome: &Outcome) -> Result<MissionDecision, AdapterError> {
-        MissionAdapter::record(self, outcome)
+        MissionAdapter::<TrustAdapter>::record(self, outcome)
     }
 
     fn reseed(&mut self, seed: u64) {
-        MissionAdapter::reseed(self, seed);
+        MissionAdapter::<TrustAdapter>::reseed(self, seed);
     }
 
     fn episode(&self) -> Option<EpisodeView<'_>> {
