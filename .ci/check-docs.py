@@ -48,6 +48,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional
@@ -222,71 +223,95 @@ def run_python(blocks: List[Block], cwd: Path) -> Dict[str, Optional[str]]:
     return results
 
 
+@dataclass
+class PageResult:
+    """What checking one page printed, and its counts."""
+
+    lines: List[str] = field(default_factory=list)
+    passed: int = 0
+    failed: int = 0
+    skipped: int = 0
+
+
+def check_page(path: Path, lib: str) -> PageResult:
+    """Runs every runnable block of `path` in a scratch folder of its own, so that pages
+    are independent of each other and may be checked side by side."""
+    result = PageResult()
+
+    def report(block: Block, problem: Optional[str]) -> None:
+        if problem is None:
+            result.passed += 1
+            taken = SECONDS_TAKEN.get(block.where)
+            timing = "" if taken is None else f", {taken:.1f} s"
+            result.lines.append(f"ok      {block.where} ({block.language}{timing})")
+        else:
+            result.failed += 1
+            result.lines.append(f"FAILED  {block.where} ({block.language}): {problem}")
+
+    blocks = [b for b in blocks_of(path) if b.language in RUN_LANGUAGES]
+    runnable = []
+    for block in blocks:
+        reason = block.attributes.get("no-run")
+        if reason is not None:
+            if not reason.strip():
+                report(block, "no-run needs a reason")
+                continue
+            result.skipped += 1
+            result.lines.append(f"skipped {block.where} ({block.language}): {reason}")
+        else:
+            runnable.append(block)
+    rust = [b for b in runnable if b.language == "rust"]
+    if rust:
+        included = f'include_str!("../{path.relative_to(REPO)}")' in lib
+        for block in rust:
+            report(
+                block,
+                None if included else "the page is not a doctest: include it in src/lib.rs",
+            )
+    with tempfile.TemporaryDirectory(prefix="trustcbr-docs-") as scratch:
+        empty = Path(scratch) / "empty"
+        empty.mkdir()
+        mirror = Path(scratch) / "repo"
+        mirror.mkdir()
+        mirror_of_repo(mirror)
+        python = [b for b in runnable if b.language == "python"]
+        if python:
+            # One session per working directory a page asks for.
+            for cwd, group in (
+                (empty, [b for b in python if b.attributes.get("cwd") != "repo"]),
+                (mirror, [b for b in python if b.attributes.get("cwd") == "repo"]),
+            ):
+                if group:
+                    try:
+                        results = run_python(group, cwd)
+                    except (ValueError, subprocess.TimeoutExpired) as e:
+                        results = {b.where: str(e) for b in group}
+                    for b in group:
+                        report(b, results[b.where])
+        for block in runnable:
+            if block.language in {"sh", "bash", "console"}:
+                try:
+                    report(block, run_shell(block, mirror))
+                except (ValueError, subprocess.TimeoutExpired) as e:
+                    report(block, str(e))
+    return result
+
+
 def main() -> int:
     files = [Path(a).resolve() for a in sys.argv[1:]] or [REPO / "README.md"] + sorted(
         (REPO / "docs").glob("*.md")
     )
     lib = (REPO / "src" / "lib.rs").read_text(encoding="utf-8")
-    passed = failed = skipped = 0
-
-    def report(block: Block, problem: Optional[str]) -> None:
-        nonlocal passed, failed
-        if problem is None:
-            passed += 1
-            taken = SECONDS_TAKEN.get(block.where)
-            timing = "" if taken is None else f", {taken:.1f} s"
-            print(f"ok      {block.where} ({block.language}{timing})")
-        else:
-            failed += 1
-            print(f"FAILED  {block.where} ({block.language}): {problem}")
-
-    for path in files:
-        blocks = [b for b in blocks_of(path) if b.language in RUN_LANGUAGES]
-        runnable = []
-        for block in blocks:
-            reason = block.attributes.get("no-run")
-            if reason is not None:
-                if not reason.strip():
-                    report(block, "no-run needs a reason")
-                    continue
-                skipped += 1
-                print(f"skipped {block.where} ({block.language}): {reason}")
-            else:
-                runnable.append(block)
-        rust = [b for b in runnable if b.language == "rust"]
-        if rust:
-            included = f'include_str!("../{path.relative_to(REPO)}")' in lib
-            for block in rust:
-                report(
-                    block,
-                    None if included else "the page is not a doctest: include it in src/lib.rs",
-                )
-        with tempfile.TemporaryDirectory(prefix="trustcbr-docs-") as scratch:
-            empty = Path(scratch) / "empty"
-            empty.mkdir()
-            mirror = Path(scratch) / "repo"
-            mirror.mkdir()
-            mirror_of_repo(mirror)
-            python = [b for b in runnable if b.language == "python"]
-            if python:
-                # One session per working directory a page asks for.
-                for cwd, group in (
-                    (empty, [b for b in python if b.attributes.get("cwd") != "repo"]),
-                    (mirror, [b for b in python if b.attributes.get("cwd") == "repo"]),
-                ):
-                    if group:
-                        try:
-                            results = run_python(group, cwd)
-                        except (ValueError, subprocess.TimeoutExpired) as e:
-                            results = {b.where: str(e) for b in group}
-                        for b in group:
-                            report(b, results[b.where])
-            for block in runnable:
-                if block.language in {"sh", "bash", "console"}:
-                    try:
-                        report(block, run_shell(block, mirror))
-                    except (ValueError, subprocess.TimeoutExpired) as e:
-                        report(block, str(e))
+    # Pages side by side, one per core: each runs in its own scratch folder, and its lines
+    # are printed whole, in the pages' order.
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        pages = list(pool.map(lambda path: check_page(path, lib), files))
+    for page in pages:
+        for line in page.lines:
+            print(line)
+    passed = sum(p.passed for p in pages)
+    failed = sum(p.failed for p in pages)
+    skipped = sum(p.skipped for p in pages)
     print(f"docs: {passed} passed, {failed} failed, {skipped} skipped")
     return 1 if failed else 0
 

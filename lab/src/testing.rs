@@ -10,7 +10,7 @@
 //! A domain author calls `lab::testing::check_domain(&domain, &operators)` from a test of
 //! the domain's crate, with the lab's `testing` feature (a plug-in gets it through
 //! `trustcbr`'s `testing` feature). The UGV's movement and patrol domains and the warehouse example pass it
-//! (`domains/tests/conformance.rs`, `examples/warehouse/tests/model.rs`).
+//! (`domains/tests/integration/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::contract::domain::Domain;
 use crate::contract::judgement::Judgement;

@@ -243,7 +243,7 @@ fn an_alert_when_the_operator_lets_pass_what_it_reacted_to() {
     let mut s = session(dir.path(), movement(true));
     ok(&mut s, BEGIN);
     // While deciding, the operator interrupted all three bumps and let the eight
-    // completions pass: a bump's own reaction rate is 45/49 (trust/tests/mission.rs), so
+    // completions pass: a bump's own reaction rate is 45/49 (trust/tests/integration/mission.rs), so
     // a bump it lets pass adds ln 6.625 to the evidence of a lapse.
     for _ in 0..3 {
         assert_eq!(ok(&mut s, BUMP_STOPPED)["ok"], "keep");

@@ -7,7 +7,7 @@
 //!
 //! Every kind returns the linear scan's answer (same case, bit-identical similarity, ties
 //! to the smallest id), so the choice changes speed and memory, never results;
-//! `trust/tests/retrievers.rs` checks this for every kind in [`RetrieverKind::ALL`].
+//! `trust/tests/integration/retrievers.rs` checks this for every kind in [`RetrieverKind::ALL`].
 
 mod inverted;
 mod parallel;

@@ -9,8 +9,8 @@
 //!   (same case, same similarity, ties to the smallest id), told of cases incrementally,
 //!   under exclusions, and inside an adapter.
 //!
-//! Every built-in searcher and retriever passes them (`trust/tests/searchers.rs`,
-//! `trust/tests/retrievers.rs`), and a user's parts are checked the same way, from a test
+//! Every built-in searcher and retriever passes them (`trust/tests/integration/searchers.rs`,
+//! `trust/tests/integration/retrievers.rs`), and a user's parts are checked the same way, from a test
 //! of the user's crate with `trust = { ..., features = ["testing"] }`:
 //!
 //! ```

@@ -3,7 +3,7 @@
 //! refused (unknown, twice, with a family, without a population, a file's name taken), and a suite held in a
 //! string, as a catalog embeds one, run through the binary with only its members judging.
 
-mod support;
+use crate::support;
 
 use std::collections::BTreeSet;
 use std::path::Path;

@@ -15,7 +15,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-mod support;
+use crate::support;
 
 /// Kill rounds; each restarts the server on the case base the previous round left.
 const ROUNDS: usize = 50;

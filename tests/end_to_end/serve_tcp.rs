@@ -9,7 +9,7 @@ use std::net::TcpStream;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-mod support;
+use crate::support;
 
 const CONTROLLERS: usize = 32;
 const EPISODES_EACH: usize = 5;

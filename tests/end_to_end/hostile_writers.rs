@@ -3,7 +3,7 @@
 //! swapped in whole, so a failed write leaves the earlier report as it was
 //! (docs/robustness.md, "Writing files").
 
-mod support;
+use crate::support;
 
 use std::collections::BTreeMap;
 use std::fs;

@@ -4,7 +4,7 @@
 //! all in the default context; a context the domain does not declare, a blind arm with no
 //! contexts to be blind to and the retired `told` are refused, leaving nothing behind.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::process::Command;

@@ -1,6 +1,6 @@
 //! End-to-end tests of `trustcbr run`, `reproduce` and `config` on small configs.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{outside_view, succeed, svg_texts, trustcbr};

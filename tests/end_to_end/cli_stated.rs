@@ -5,7 +5,7 @@
 //! statements in a mission plan (where nothing would hear them), are refused, leaving
 //! nothing behind.
 
-mod support;
+use crate::support;
 
 use support::{one_mission_suite, refused, run_suite, succeed, trustcbr};
 

@@ -68,7 +68,7 @@ struct WalkVector {
 }
 
 fn load() -> Vectors {
-    let text = include_str!("data/paper-algorithms.json");
+    let text = include_str!("../data/paper-algorithms.json");
     serde_json::from_str(text).expect("the vectors parse")
 }
 

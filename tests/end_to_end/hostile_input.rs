@@ -1,7 +1,7 @@
 //! End-to-end: hostile command-line input is refused at once, with a message naming the
 //! problem, before any work is done.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::process::Command;

@@ -2,7 +2,7 @@
 //! files that the tool's own loader reads back to exactly the drawn members, that the
 //! tool's other commands take, and refuses to mix two populations in one folder.
 
-mod support;
+use crate::support;
 
 use domains::{Scenario, UgvDomain, prior};
 use lab::Instance;

@@ -6,7 +6,7 @@
 //! whatever the transport, with their real range; numbers in messages are short; a
 //! negative `--competence` reaches its range check.
 
-mod support;
+use crate::support;
 
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;

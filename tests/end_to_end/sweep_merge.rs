@@ -5,7 +5,7 @@
 //! its runs are named missing); nothing of the report is written when a merge is
 //! refused, and a huge value is refused at once instead of hanging the report.
 
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -9,7 +9,7 @@ use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
-mod support;
+use crate::support;
 
 fn serve(args: &[&str], cases: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_trustcbr"));

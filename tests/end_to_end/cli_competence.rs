@@ -2,7 +2,7 @@
 //! simulator's truth and writes its report; bad settings are refused before anything is
 //! written.
 
-mod support;
+use crate::support;
 
 use support::{succeed, trustcbr};
 

@@ -2,7 +2,7 @@
 //! figures, said and unsaid; configs that cannot mean anything are refused, leaving
 //! nothing behind; `serve` counts a said goal change against nothing.
 
-mod support;
+use crate::support;
 
 use std::io::Write;
 use std::process::Stdio;

@@ -3,7 +3,7 @@
 //! limit; a sweep's seeds and each parameter's values are distinct, and one seed gives a
 //! mean without an interval.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::process::Command;

@@ -2,7 +2,7 @@
 //! the seed's stream, and an operator who minds nothing but a deadline no command can meet
 //! interrupts every command at that deadline.
 
-mod support;
+use crate::support;
 
 use serde_json::{Value, json};
 use std::process::Command;

@@ -8,7 +8,7 @@ use serde_json::{Value, json};
 use std::io::Write;
 use std::process::Stdio;
 
-mod support;
+use crate::support;
 
 const BEGIN: &str = r#"{"request": "begin", "behavior": {"speed": 3.5, "padding": 0.4}}"#;
 const DONE: &str = r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0}"#;
@@ -140,7 +140,7 @@ fn an_operator_who_lets_pass_what_it_reacted_to_gets_an_alert() {
     let bump_passed =
         r#"{"outcome": "completed", "weight": 1.0, "duration_s": 2.0, "observed": ["collision"]}"#;
     // Three bumps interrupted while deciding, eight completions settle at +5 (a bump's own
-    // reaction rate is then 45/49: trust/tests/mission.rs); each bump let pass adds
+    // reaction rate is then 45/49: trust/tests/integration/mission.rs); each bump let pass adds
     // ln 6.625 to the evidence of a lapse, and the third passes ln 100.
     let lines: Vec<&str> = [BEGIN]
         .into_iter()

@@ -1,7 +1,7 @@
 //! End-to-end: the `render` and `landscape` subcommands write the files they promise, and
 //! their pictures hold what they should, inside their view box.
 
-mod support;
+use crate::support;
 
 use support::{outside_view, succeed, svg_texts as texts, trustcbr};
 

@@ -17,7 +17,7 @@ use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-mod support;
+use crate::support;
 
 const SERVERS: usize = 4;
 const EPISODES: usize = 200;

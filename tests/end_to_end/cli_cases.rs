@@ -7,7 +7,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-mod support;
+use crate::support;
 
 fn trustcbr(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_trustcbr"))

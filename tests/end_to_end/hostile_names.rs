@@ -5,7 +5,7 @@
 //! A population named as a benchmark instance must hold that instance's members. Each
 //! refusal leaves nothing behind.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{refused, run_suite, trustcbr};

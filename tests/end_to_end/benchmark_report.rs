@@ -1,7 +1,7 @@
 //! End to end: a benchmark suite (`benchmark: true`) of two populations of one scenario
 //! writes its benchmark into `table.md`, `summary.json` and the page, with its ECDF figure.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{succeed, trustcbr};

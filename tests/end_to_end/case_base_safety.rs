@@ -5,7 +5,7 @@
 //! is ever shown. The PostgreSQL tests use the server named by `TRUSTCBR_TEST_POSTGRES`
 //! (`.ci/run` starts one) and are skipped with a message without it, except under CI.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

@@ -1,7 +1,7 @@
 //! End-to-end tests of `trustcbr sweep`: a sweep over seeds and a parameter, split into
 //! shards and merged into the same report byte for byte.
 
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{succeed, trustcbr};
