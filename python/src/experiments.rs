@@ -222,10 +222,7 @@ fn check_python_arm_names<C: Catalog>(
                 "python_arms: `{name}` is the name of a built-in arm; give the Python arm a name of its own"
             )));
         }
-        if !arms_run
-            .iter()
-            .any(|a| a.base() == name.as_str())
-        {
+        if !arms_run.iter().any(|a| a.base() == name.as_str()) {
             return Err(error(format_args!(
                 "python_arms: `{name}` is not among the arms run ({}); name it in `arms` to run it",
                 ArmName::join(arms_run, ", ")
