@@ -95,7 +95,9 @@ pub struct RunRequest {
 /// What a run returns (a dict): `kind` (`experiments` or `missions`), the records as
 /// JSON lines (`trials.jsonl` or `missions.jsonl`), `summary.json`, the full table
 /// (`table.md` or `missions.md`), the paper's two-arm table (experiments only), the
-/// config that ran, as JSON, and the run itself, to write its report folder later.
+/// config that ran, as JSON, what wrote the report (`provenance.json`, missions only: an
+/// experiment's `summary.json` holds its own), and the run itself, to write its report
+/// folder later.
 #[derive(IntoPyObject)]
 pub struct RunOutput {
     kind: &'static str,
@@ -104,6 +106,7 @@ pub struct RunOutput {
     table: String,
     paper_table: String,
     config: String,
+    provenance: String,
     report: Report,
 }
 
@@ -455,6 +458,7 @@ pub fn run_suite<C: Catalog + Clone>(
             table: ran.table_md(),
             paper_table: String::new(),
             config: serde_json::to_string(&ran.config).map_err(error)?,
+            provenance: serde_json::to_string(&ran.provenance).map_err(error)?,
             report: Report(Mutex::new(Finished::Missions(Box::new(ran)))),
         }
     } else {
@@ -536,6 +540,7 @@ pub fn run_suite<C: Catalog + Clone>(
             table: ran.table_md(),
             paper_table: suite_table(&ran.config, &ran.results),
             config: serde_json::to_string(&ran.config).map_err(error)?,
+            provenance: String::new(),
             report: Report(Mutex::new(Finished::Experiments(Box::new(ran)))),
         }
     };

@@ -243,6 +243,11 @@ def test_a_mission_suite_runs_and_loads(tmp_path: Path) -> None:
     assert repr(results).startswith("MissionResults(3 missions; plans: short; arms: case-based")
     loaded = trustcbr.load_missions(out)
     assert loaded.missions == results.missions
+    # What wrote the report, as the run said and as its folder keeps it.
+    assert results.provenance is not None
+    assert results.provenance["tool"] == "trustcbr"
+    assert results.provenance["command_line"] == ["python", "trustcbr.run"]
+    assert loaded.provenance == results.provenance
     # Each kind of suite has its function, typed by what it returns.
     with pytest.raises(
         trustcbr.TrustcbrError, match=r"a mission suite .*trustcbr.run_missions\(\)"

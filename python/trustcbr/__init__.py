@@ -772,6 +772,7 @@ def run_missions(
         table=ran["table"],
         config=json.loads(ran["config"]),
         out=_path(out),
+        provenance=json.loads(ran["provenance"]),
         _report=ran["report"],
     )
 

@@ -324,13 +324,16 @@ class Results:
 class MissionResults:
     """What a mission suite run returns: ``missions``, one record per mission
     (``missions.jsonl``); ``summary`` (``summary.json``: one entry per plan); ``table``
-    (``missions.md``); ``config``; ``out``. :meth:`save` writes the report folder."""
+    (``missions.md``); ``config``; ``out``; ``provenance`` (``provenance.json``: the
+    tool, its version and commit, the command line; ``None`` for a report written before
+    mission reports had one). :meth:`save` writes the report folder."""
 
     missions: List[Dict[str, Any]]
     summary: List[Dict[str, Any]]
     table: str
     config: Dict[str, Any]
     out: Optional[str] = field(default=None)
+    provenance: Optional[Dict[str, Any]] = field(default=None)
     _report: Any = field(default=None, compare=False)
 
     def __repr__(self) -> str:
@@ -454,10 +457,12 @@ def load_mission_report(
             "which returns Results"
         )
     config = json.loads(read_config("file", "", os.path.join(root, "config.ron")))
+    provenance = os.path.join(root, "provenance.json")
     return MissionResults(
         missions=_jsonl(os.path.join(root, "missions.jsonl")),
         summary=json.loads(_read(os.path.join(root, "summary.json"))),
         table=_read(os.path.join(root, "missions.md")),
         config=config,
         out=root,
+        provenance=json.loads(_read(provenance)) if os.path.isfile(provenance) else None,
     )
