@@ -15,7 +15,7 @@ use crate::suite::{
     write_suite_report,
 };
 use anyhow::{Context, Result};
-use lab::report::Provenance;
+use lab::report::{Provenance, Replay};
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 
@@ -166,14 +166,7 @@ pub fn run_with_report_checked<C: Catalog>(
         )
     })?;
     before_writing()?;
-    let tool = catalog.tool();
-    let provenance = Provenance {
-        tool: tool.name,
-        version: tool.version,
-        git_commit: tool.git_commit,
-        command_line: settings.command_line.clone(),
-        replay: Some(replay),
-    };
+    let provenance = provenance(catalog, &settings.command_line, Some(replay));
     let mut ran = Ran {
         config,
         results,
@@ -296,7 +289,6 @@ pub fn run_missions_with_report<C: Catalog>(
     let results = pool.install(|| run_mission_suite(catalog, &config, origin, progress))?;
     let elapsed_s = started.elapsed().as_secs_f64();
     before_writing()?;
-    let tool = catalog.tool();
     let mut ran = MissionsRan {
         config,
         results,
@@ -304,18 +296,29 @@ pub fn run_missions_with_report<C: Catalog>(
         threads,
         written: Vec::new(),
         origin: absolute(origin),
-        provenance: Provenance {
-            tool: tool.name,
-            version: tool.version,
-            git_commit: tool.git_commit,
-            command_line: settings.command_line.clone(),
-            replay: None,
-        },
+        provenance: provenance(catalog, &settings.command_line, None),
     };
     if let Some(out) = &settings.out {
         ran.written = ran.write_report(out)?;
     }
     Ok(ran)
+}
+
+/// What wrote a report: `catalog`'s tool, its version and commit, `command_line`, and for
+/// an experiment report what a replay of it checks.
+fn provenance<C: Catalog>(
+    catalog: &C,
+    command_line: &[String],
+    replay: Option<Replay>,
+) -> Provenance {
+    let tool = catalog.tool();
+    Provenance {
+        tool: tool.name,
+        version: tool.version,
+        git_commit: tool.git_commit,
+        command_line: command_line.to_vec(),
+        replay,
+    }
 }
 
 /// What a report that failed to write says: it was written into a fresh folder beside
