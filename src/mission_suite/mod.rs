@@ -3,14 +3,15 @@
 //! ([`lab::mission`], docs/missions.md).
 //!
 //! A mission suite names its seed, the adapter parameters and arms as an experiment suite
-//! does, and a list of mission plans. A plan's `operators` are an experiment's (a scenario
-//! and its operator files or population; `operator` must be `random`); `count` missions of
-//! `commands` commands each; `changes` and, optionally, `context_switches` (announced
-//! switches of the robot's context) and `complacency` (only over a domain that models its
-//! operators' attention, [`lab::Domain::run_attending`]). The report
-//! folder holds `missions.md`, `summary.json` (the summaries), `missions.jsonl`, a
-//! timeline figure per plan, and the config with copies of its operator files, so it
-//! reruns by itself.
+//! does, and a list of mission plans ([`MissionSpec`]). A plan's `operators` are its own
+//! ([`MissionOperators`]: a scenario and its operator files or population, without what
+//! only experiments simulate); `count` missions of `commands` commands each; `changes`
+//! and, optionally, `context_switches` (announced switches of the robot's context),
+//! `complacency` (only over a domain that models its operators' attention,
+//! [`lab::Domain::run_attending`]) and `competence` ([`CompetenceSpec`], with whether
+//! alerts offer a safer behavior). The report folder holds `missions.md`, `summary.json`
+//! (the summaries), `missions.jsonl`, `provenance.json`, a timeline figure per plan, and
+//! the config with copies of its operator files, so it reruns by itself.
 
 use crate::catalog::{Catalog, OperatorOf, domain_of, resolve_readings};
 use crate::limits::{EXPERIMENTS, MISSION_COMMANDS, MISSIONS, TRUTH_RUNS};
