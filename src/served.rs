@@ -150,9 +150,17 @@ pub fn judging_competence<C: Catalog>(
     };
     let standard =
         CompetenceStandard::uniform(at_most).map_err(|e| anyhow::anyhow!("{option}: {e}"))?;
-    let parts = robot.competence_parts().to_vec();
-    let predict: Predictor<'static> =
-        Arc::new(move |behavior: &Behavior| robot.predict_competence(behavior));
+    let Some(judging) = robot.self_judging() else {
+        anyhow::bail!(
+            "{option}: scenario `{}` does not model its robot's competence (its domain does not implement `SelfJudging`)",
+            domain.name
+        );
+    };
+    let parts = judging.competence_parts().to_vec();
+    let predict: Predictor<'static> = Arc::new(move |behavior: &Behavior| {
+        let judging = robot.self_judging().expect("asked above");
+        judging.predict_competence(behavior)
+    });
     domain
         .judging_competence(parts, predict, standard)
         .map_err(|e| anyhow::anyhow!("{option}: {e}"))

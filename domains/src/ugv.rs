@@ -19,7 +19,7 @@ use crate::self_competence;
 use crate::trace::{EventKind, Trace};
 use crate::world::World;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
-use lab::{Domain, Judgement};
+use lab::{Attentive, Domain, GoalChanging, Judgement, SelfJudging};
 use rand::{Rng, RngCore};
 use std::sync::{Arc, OnceLock};
 use trust::{Cause, CompetencePart, DeclaredCause, Hint};
@@ -514,16 +514,32 @@ impl Domain for UgvDomain {
         self.run_at(behavior, operator, 1.0, f64::INFINITY, rng)
     }
 
+    fn attentive(&self) -> Option<&dyn Attentive<Operator = OperatorModel>> {
+        Some(self)
+    }
+
+    fn goal_changing(&self) -> Option<&dyn GoalChanging<Operator = OperatorModel>> {
+        Some(self)
+    }
+
+    fn self_judging(&self) -> Option<&dyn SelfJudging<Operator = OperatorModel>> {
+        Some(self)
+    }
+}
+
+impl Attentive for UgvDomain {
     fn run_attending(
         &self,
         behavior: &Behavior,
         operator: &OperatorModel,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        Some(self.run_at(behavior, operator, attention, f64::INFINITY, rng))
+    ) -> Judgement {
+        self.run_at(behavior, operator, attention, f64::INFINITY, rng)
     }
+}
 
+impl GoalChanging for UgvDomain {
     fn run_redirected(
         &self,
         behavior: &Behavior,
@@ -531,10 +547,12 @@ impl Domain for UgvDomain {
         attention: f64,
         at_s: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        Some(self.run_at(behavior, operator, attention, at_s, rng))
+    ) -> Judgement {
+        self.run_at(behavior, operator, attention, at_s, rng)
     }
+}
 
+impl SelfJudging for UgvDomain {
     fn competence_parts(&self) -> &[CompetencePart] {
         self_competence::parts(self.scenario)
     }
@@ -548,14 +566,7 @@ impl Domain for UgvDomain {
         )
     }
 
-    fn competence_truth(
-        &self,
-        behavior: &Behavior,
-        rng: &mut dyn RngCore,
-    ) -> Option<Vec<Option<bool>>> {
-        Some(self_competence::truth(
-            self.scenario,
-            &self.simulate(behavior, rng, false),
-        ))
+    fn competence_truth(&self, behavior: &Behavior, rng: &mut dyn RngCore) -> Vec<Option<bool>> {
+        self_competence::truth(self.scenario, &self.simulate(behavior, rng, false))
     }
 }

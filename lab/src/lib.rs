@@ -22,10 +22,10 @@ pub mod targets;
 #[cfg(feature = "testing")]
 pub mod testing;
 
-pub use contract::domain::{
-    AttentionNotModelled, Domain, GoalChangesNotModelled, check_attention, check_goal_changes,
-    vocabulary,
+pub use contract::capability::{
+    AttentionNotModelled, GoalChangesNotModelled, check_attention, check_goal_changes,
 };
+pub use contract::domain::{Attentive, Domain, GoalChanging, SelfJudging, vocabulary};
 pub use contract::feedback::{FeedbackChannel, FeedbackError};
 pub use contract::judgement::Judgement;
 pub use contract::operator::{GiveUpFactor, SimulatedOperator, StandardFields};
@@ -37,7 +37,7 @@ pub use experiment::arm_name::{
     ArmName, ArmNameError, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, NameOptions,
     PREFERS_COMPETENT,
 };
-pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError};
+pub use experiment::goal_change::{GoalChangeRecord, GoalChanges, GoalChangesError, GoalChangesOn};
 pub use experiment::plan::{ExperimentPlan, OperatorChoice, PlanError};
 pub use experiment::record::{
     ArmResult, ExperimentResult, ExplanationCheck, ExplanationSample, GivenUpRecord, PairedTests,

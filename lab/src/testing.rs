@@ -13,6 +13,7 @@
 //! (`domains/tests/integration/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
 use crate::contract::domain::Domain;
+use crate::contract::domain::{Attentive, GoalChanging};
 use crate::contract::judgement::Judgement;
 use crate::contract::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, NamedComponent};
@@ -49,10 +50,12 @@ pub struct Violation {
 ///   the feedback channel's);
 /// - a completion has no true reason, and every true reason is a declared cause;
 /// - an attentive run overlooks nothing;
-/// - [`Domain::run_attending`] models attention for every operator and behavior or for
-///   none (`None` at every attention: the default); where it does, at attention 1 it is
+/// - a domain that models attention ([`Domain::attentive`]) runs, at attention 1,
 ///   exactly [`Domain::run`], draw for draw, and whatever an inattentive run overlooks is
-///   a declared cause.
+///   a declared cause;
+/// - a domain that models goal changes ([`Domain::goal_changing`]) runs exactly
+///   [`Domain::run`] when the goals change after the command's end, and cuts a command
+///   halfway through when they change then.
 ///
 /// # Panics
 /// With the rule broken and the case that shows it.
@@ -116,8 +119,6 @@ pub fn try_check_domain<D: Domain>(
     // Bits at and above the number of declared observations name none.
     let undeclared_bits = u32::MAX.checked_shl(observations.len() as u32).unwrap_or(0);
     let space = domain.space();
-    // Whether the domain models attention, as its first answer says.
-    let mut models_attention: Option<bool> = None;
     for (name, operator) in operators {
         let channel = domain.feedback(operator);
         if crate::FeedbackChannel::new(channel.explains, channel.wrong).is_err() {
@@ -132,8 +133,9 @@ pub fn try_check_domain<D: Domain>(
             let case = || Some(describe(name, space, &behavior, seed));
             let rng = || ChaCha8Rng::seed_from_u64(seed);
             let run = || domain.run(&behavior, operator, &mut rng());
-            let attending =
-                |attention| domain.run_attending(&behavior, operator, attention, &mut rng());
+            let attending = |attentive: &dyn Attentive<Operator = D::Operator>, attention| {
+                attentive.run_attending(&behavior, operator, attention, &mut rng())
+            };
             let judgement = run();
             if run() != judgement {
                 return Err(broken(
@@ -149,22 +151,14 @@ pub fn try_check_domain<D: Domain>(
                     case(),
                 ));
             }
-            let (attentive, inattentive) = (attending(1.0), attending(0.0));
-            let modelled = attentive.is_some();
-            if inattentive.is_some() != modelled
-                || models_attention.is_some_and(|known| known != modelled)
-            {
-                return Err(broken(
-                    "`run_attending` answers for some runs and not others: a domain models its operators' attention for every behavior, operator and attention, or for none (`None`, the default)".to_owned(),
-                    case(),
-                ));
+            if let Some(changing) = domain.goal_changing() {
+                check_goal_change(changing, operator, &behavior, seed, &judgement)
+                    .map_err(|rule| broken(rule, case()))?;
             }
-            models_attention = Some(modelled);
-            check_goal_change(domain, operator, &behavior, seed, &judgement)
-                .map_err(|rule| broken(rule, case()))?;
-            let (Some(attentive), Some(inattentive)) = (attentive, inattentive) else {
+            let Some(modelled) = domain.attentive() else {
                 continue;
             };
+            let (attentive, inattentive) = (attending(modelled, 1.0), attending(modelled, 0.0));
             if attentive != judgement {
                 return Err(broken(
                     "`run_attending` at attention 1 differs from `run` on the same stream: at full attention it must be exactly `run`".to_owned(),
@@ -186,13 +180,13 @@ pub fn try_check_domain<D: Domain>(
     Ok(())
 }
 
-/// The rules of [`Domain::run_redirected`] for a domain that models goal changes, as a
-/// sentence for the first one broken: a goal change after the command's end changes
-/// nothing (`judgement` is [`Domain::run`]'s on the same stream), and one halfway through
-/// a command that lasts cuts it there, as an interruption with no true reason.
-fn check_goal_change<D: Domain>(
-    domain: &D,
-    operator: &D::Operator,
+/// The rules of [`GoalChanging::run_redirected`], as a sentence for the first one
+/// broken: a goal change after the command's end changes nothing (`judgement` is
+/// [`Domain::run`]'s on the same stream), and one halfway through a command that lasts
+/// cuts it there, as an interruption with no true reason.
+fn check_goal_change<O: SimulatedOperator + Send + Sync>(
+    domain: &dyn GoalChanging<Operator = O>,
+    operator: &O,
     behavior: &Behavior,
     seed: u64,
     judgement: &Judgement,
@@ -206,19 +200,14 @@ fn check_goal_change<D: Domain>(
             &mut ChaCha8Rng::seed_from_u64(seed),
         )
     };
-    let Some(never) = redirected(f64::INFINITY) else {
-        return Ok(());
-    };
-    if never != *judgement {
+    if redirected(f64::INFINITY) != *judgement {
         return Err("`run_redirected` with no goal change before the command's end differs from `run` on the same stream: it must be exactly `run`".to_owned());
     }
     let duration = judgement.outcome.duration_s;
     if duration <= 0.0 {
         return Ok(());
     }
-    let halfway = redirected(duration / 2.0).ok_or(
-        "`run_redirected` answers for some moments and not others: a domain models goal changes for every behavior, operator, attention and moment, or for none",
-    )?;
+    let halfway = redirected(duration / 2.0);
     let cut = halfway.redirected
         && halfway.truth.is_none()
         && halfway.outcome.kind == OutcomeKind::Interrupted
@@ -293,9 +282,9 @@ fn describe(
     )
 }
 
-/// `D` reduced to [`Domain`]'s required methods (its name, space, causes and runs), every
-/// optional hook at its default: what a plug-in that implements no more than it must is,
-/// for tests of the plans that need a hook (attention, goal changes) and refuse it.
+/// `D` reduced to [`Domain`]'s required methods (its name, space, causes and runs), with
+/// no capability: what a plug-in that implements no more than it must is, for tests of
+/// the plans that need a capability (attention, goal changes) and refuse it.
 pub struct Bare<D>(pub D);
 
 impl<D: Domain> Domain for Bare<D> {
@@ -433,16 +422,28 @@ impl<O: SimulatedOperator + Send + Sync> Domain for ToyDomain<O> {
         (self.rule)(behavior, operator, 1.0, rng)
     }
 
+    fn attentive(&self) -> Option<&dyn Attentive<Operator = O>> {
+        Some(self)
+    }
+
+    fn goal_changing(&self) -> Option<&dyn GoalChanging<Operator = O>> {
+        Some(self)
+    }
+}
+
+impl<O: SimulatedOperator + Send + Sync> Attentive for ToyDomain<O> {
     fn run_attending(
         &self,
         behavior: &Behavior,
         operator: &O,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        Some((self.rule)(behavior, operator, attention, rng))
+    ) -> Judgement {
+        (self.rule)(behavior, operator, attention, rng)
     }
+}
 
+impl<O: SimulatedOperator + Send + Sync> GoalChanging for ToyDomain<O> {
     /// The rule's command, cut at `at_s` when it would last longer: the toy's rule says
     /// nothing of when it perceived what, so a cut command perceived nothing; it weighs
     /// what the whole command would have.
@@ -453,13 +454,13 @@ impl<O: SimulatedOperator + Send + Sync> Domain for ToyDomain<O> {
         attention: f64,
         at_s: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
+    ) -> Judgement {
         let judgement = (self.rule)(behavior, operator, attention, rng);
-        Some(if at_s < judgement.outcome.duration_s {
+        if at_s < judgement.outcome.duration_s {
             Judgement::redirected(judgement.outcome.weight, at_s)
         } else {
             judgement
-        })
+        }
     }
 }
 
@@ -571,7 +572,7 @@ mod tests {
     }
 
     /// An attending hook a test writes over the `fair` domain.
-    type Hook = fn(&ToyDomain<u16>, &Behavior, &u16, f64, &mut dyn RngCore) -> Option<Judgement>;
+    type Hook = fn(&ToyDomain<u16>, &Behavior, &u16, f64, &mut dyn RngCore) -> Judgement;
 
     /// The `fair` domain with an attending hook of the test's.
     struct Attending {
@@ -593,18 +594,24 @@ mod tests {
         fn run(&self, b: &Behavior, k: &u16, rng: &mut dyn RngCore) -> Judgement {
             self.fair.run(b, k, rng)
         }
+        fn attentive(&self) -> Option<&dyn Attentive<Operator = u16>> {
+            Some(self)
+        }
+    }
+
+    impl Attentive for Attending {
         fn run_attending(
             &self,
             b: &Behavior,
             k: &u16,
             attention: f64,
             rng: &mut dyn RngCore,
-        ) -> Option<Judgement> {
+        ) -> Judgement {
             (self.hook)(&self.fair, b, k, attention, rng)
         }
     }
 
-    /// A domain keeping the default attending hook.
+    /// A domain that models neither attention nor goal changes.
     struct Unmodelled<'a>(&'a ToyDomain<u16>);
 
     impl Domain for Unmodelled<'_> {
@@ -632,32 +639,32 @@ mod tests {
     fn a_domain_that_does_not_model_attention_keeps_the_contract() {
         let fair = fair();
         check_domain(&Unmodelled(&fair), &operators());
-        assert!(crate::check_attention(&Unmodelled(&fair), &operators()).is_err());
-        assert!(crate::check_attention(&fair, &operators()).is_ok());
+        let lacking = crate::check_attention(&Unmodelled(&fair)).err().unwrap();
+        assert_eq!(lacking.domain, "unmodelled");
+        assert!(crate::check_goal_changes(&Unmodelled(&fair)).is_err());
+        assert!(crate::check_attention(&fair).is_ok());
+        assert!(crate::check_goal_changes(&fair).is_ok());
     }
 
     #[test]
     fn an_attending_hook_that_breaks_the_contract_is_named() {
         // At attention 1 it is not the plain run.
-        let rule = attending_rule_broken(|_, _, _, _, _| Some(Judgement::completed(1.0, 1.0)));
+        let rule = attending_rule_broken(|_, _, _, _, _| Judgement::completed(1.0, 1.0));
         assert!(
             rule.starts_with("`run_attending` at attention 1 differs"),
             "{rule}"
         );
-        // It answers at full attention only.
+        // Inattentive, it overlooks a cause the domain does not declare.
         let rule = attending_rule_broken(|fair, b, k, attention, rng| {
-            (attention == 1.0).then(|| fair.run(b, k, rng))
+            let run = fair.run_attending(b, k, attention, rng);
+            if attention < 1.0 {
+                run.overlooking(Some(Cause::from_static("unheard-of")))
+            } else {
+                run
+            }
         });
         assert!(
-            rule.starts_with("`run_attending` answers for some runs and not others"),
-            "{rule}"
-        );
-        // It answers for operator 3 only.
-        let rule = attending_rule_broken(|fair, b, &k, attention, rng| {
-            (k == 3).then(|| fair.run_attending(b, &k, attention, rng))?
-        });
-        assert!(
-            rule.starts_with("`run_attending` answers for some runs and not others"),
+            rule.starts_with("an inattentive run overlooked `unheard-of`"),
             "{rule}"
         );
     }

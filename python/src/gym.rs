@@ -170,8 +170,7 @@ impl Episodes {
             )));
         }
         if attention < 1.0 {
-            check_attention(&domain, &operators)
-                .map_err(|reason| error(format!("attention: {reason}")))?;
+            check_attention(&domain).map_err(|reason| error(format!("attention: {reason}")))?;
         }
         let stepper = DomainEpisodes {
             catalog: catalog.clone(),

@@ -8,7 +8,7 @@
 //! only experiments simulate); `count` missions of `commands` commands each; `changes`
 //! and, optionally, `context_switches` (announced switches of the robot's context),
 //! `complacency` (only over a domain that models its operators' attention,
-//! [`lab::Domain::run_attending`]) and `competence` ([`CompetenceSpec`], with whether
+//! [`lab::Attentive`]) and `competence` ([`CompetenceSpec`], with whether
 //! alerts offer a safer behavior). The report folder holds `missions.md`, `summary.json`
 //! (the summaries), `missions.jsonl`, `provenance.json`, a timeline figure per plan, and
 //! the config with copies of its operator files, so it reruns by itself.
@@ -23,9 +23,12 @@ use files::name::check_label;
 use files::write_file_in;
 use files::{FileError, parse_ron, read_text};
 use lab::Domain;
+use lab::contract::capability::Needing;
 use lab::mission::figure::mission_figure;
 use lab::mission::report::{missions_json, missions_jsonl, missions_markdown};
-use lab::mission::{MissionPlan, MissionResult, check_competence, run_missions};
+use lab::mission::{
+    CompetenceOn, ComplacencyOn, MissionPlan, MissionResult, check_competence, run_missions,
+};
 use lab::reference::known_operator::LimitSettings;
 use lab::report::plot::svg;
 use lab::report::{Provenance, file_stems};
@@ -164,14 +167,7 @@ impl MissionSuiteConfig {
                         .switches(domain.contexts())
                         .map_err(|(name, e)| invalid(field(&name), e))?;
                 }
-                if spec.complacency.is_some() {
-                    check_attention(&domain, &operators)
-                        .map_err(|e| invalid(field("complacency"), e.to_string()))?;
-                }
-                if let Some(standard) = &spec.competence {
-                    check_competence(&domain, &standard.standard())
-                        .map_err(|e| invalid(field("competence"), e.to_string()))?;
-                }
+                capabilities(spec, &domain).map_err(|(name, e)| invalid(field(name), e))?;
             }
             experiment.check_reachable(
                 catalog,
@@ -277,31 +273,74 @@ pub fn run_mission_suite<C: Catalog>(
                 .map_err(|(name, e)| invalid(origin, format!("missions[{k}].{name}"), e))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let plans: Vec<MissionPlan<'_, C::Domain>> = config
+    let plans = config
         .missions
         .iter()
         .zip(&domains)
         .zip(&operators)
         .zip(switches)
-        .map(|(((spec, domain), operators), contexts)| MissionPlan {
-            name: spec.name.clone(),
-            domain,
-            operators,
-            missions: spec.count.get(),
-            commands: spec.commands.get(),
-            changes: spec.changes,
-            contexts,
-            complacency: spec.complacency,
-            competence: spec.competence.as_ref().map(CompetenceSpec::standard),
-            offer_safer: spec.competence.as_ref().is_some_and(|c| c.offer_safer),
-            adapter: config.adapter.clone(),
-            arms: arms.clone(),
-            feedback: spec.operators.feedback,
-            truth_runs: TRUTH_RUNS,
-            limit: LimitSettings::default(),
+        .enumerate()
+        .map(|(k, (((spec, domain), operators), contexts))| {
+            let (complacency, competence) = capabilities(spec, domain)
+                .map_err(|(name, e)| invalid(origin, format!("missions[{k}].{name}"), e))?;
+            Ok(MissionPlan {
+                name: spec.name.clone(),
+                domain,
+                operators,
+                missions: spec.count.get(),
+                commands: spec.commands.get(),
+                changes: spec.changes,
+                contexts,
+                complacency,
+                competence,
+                offer_safer: spec.competence.as_ref().is_some_and(|c| c.offer_safer),
+                adapter: config.adapter.clone(),
+                arms: arms.clone(),
+                feedback: spec.operators.feedback,
+                truth_runs: TRUTH_RUNS,
+                limit: LimitSettings::default(),
+            })
         })
-        .collect();
+        .collect::<Result<Vec<MissionPlan<'_, C::Domain>>, SuiteError>>()?;
     Ok(run_missions(&plans, config.seed, progress)?)
+}
+
+/// A plan's complacency and competence standard, each with the domain as the capability
+/// it needs.
+type Capabilities<'d, O> = (Option<ComplacencyOn<'d, O>>, Option<CompetenceOn<'d, O>>);
+
+/// The settings of plan `spec` that need a capability of its domain, each with `domain`
+/// as that capability: complacency needs attention ([`check_attention`]), a competence
+/// standard a robot that judges itself ([`check_competence`]). Refused with the field
+/// that needs what the domain lacks, and why.
+fn capabilities<'d, D: Domain>(
+    spec: &MissionSpec,
+    domain: &'d D,
+) -> Result<Capabilities<'d, D::Operator>, (&'static str, String)> {
+    let complacency = spec
+        .complacency
+        .map(|model| {
+            let attentive = check_attention(domain).map_err(|e| ("complacency", e.to_string()))?;
+            Ok(Needing {
+                setting: model,
+                capability: attentive,
+            })
+        })
+        .transpose()?;
+    let competence = spec
+        .competence
+        .as_ref()
+        .map(|spec| {
+            let standard = spec.standard();
+            let judging =
+                check_competence(domain, &standard).map_err(|e| ("competence", e.to_string()))?;
+            Ok(Needing {
+                setting: standard,
+                capability: judging,
+            })
+        })
+        .transpose()?;
+    Ok((complacency, competence))
 }
 
 /// Writes the report of a mission suite into `dir`: the tables, the data, a timeline per

@@ -6,10 +6,11 @@ use super::{RANDOM_OPERATOR, StartingCases, SuiteConfig, SuiteError, invalid};
 use crate::catalog::{Catalog, OperatorOf, UnknownScenario, domain_of, resolve_readings};
 use files::name::check_file_name;
 use lab::Domain;
+use lab::contract::capability::Needing;
 use lab::report::file_stems;
 use lab::{
     Arm, ArmName, CONTEXT_BLIND, ExperimentPlan, IGNORES_STATEMENTS, LEARNED_START, OperatorChoice,
-    PREFERS_COMPETENT,
+    PREFERS_COMPETENT, check_goal_changes,
 };
 use std::path::Path;
 use trust::RetrieverKind;
@@ -154,6 +155,16 @@ pub(super) fn plans<'p, C: Catalog>(
         let contexts = spec
             .trial_contexts(domain.contexts())
             .map_err(|(field, reason)| invalid(format!("experiments[{k}].{field}"), reason))?;
+        let goal_changes = spec
+            .goal_changes
+            .map(|changes| {
+                check_goal_changes(domain).map(|changing| Needing {
+                    setting: changes,
+                    capability: changing,
+                })
+            })
+            .transpose()
+            .map_err(|e| invalid(format!("experiments[{k}].goal_changes"), e.to_string()))?;
         plans.push(ExperimentPlan {
             name: spec.name(),
             domain,
@@ -164,7 +175,7 @@ pub(super) fn plans<'p, C: Catalog>(
             arms: plan_arms,
             max_commands: config.max_commands,
             feedback: spec.feedback,
-            goal_changes: spec.goal_changes,
+            goal_changes,
             contexts,
             stated: spec.stated,
         });

@@ -1,6 +1,6 @@
 //! Mission suites whose operators grow complacent need a domain that models attention
-//! (`lab::Domain::run_attending`): over a catalog whose domain keeps the default hook,
-//! such a suite is refused before anything runs, naming the plan's field and the hook,
+//! (`lab::Attentive`): over a catalog whose domain does not implement it,
+//! such a suite is refused before anything runs, naming the plan's field and the trait,
 //! while its attentive plans run; the UGV domain models attention and runs both.
 
 use rand::{Rng, RngCore};
@@ -15,7 +15,7 @@ use trustcbr::{Catalog, CatalogError, Readings, ToolInfo, UgvCatalog};
 const GLARE: Cause = Cause::from_static("glare");
 
 /// A lamp of 11 brightness levels; an operator interrupts it for glare the further it is
-/// from the level it wants. Its operators' attention is not modelled: no `run_attending`.
+/// from the level it wants. Its operators' attention is not modelled: it does not implement `Attentive`.
 struct Lamp(Arc<BehaviorSpace>);
 
 impl Domain for Lamp {
@@ -118,18 +118,13 @@ fn a_complacency_plan_is_refused_on_a_domain_that_does_not_model_attention() {
         .validate(&LampCatalog, origin)
         .unwrap_err()
         .to_string();
-    assert_eq!(
-        err,
-        "lamp.ron: missions[1].complacency: domain `lamp` does not model its operators' attention: it keeps the default `Domain::run_attending`, so operators who grow complacent would still notice everything and alerts could change nothing; a plan with `complacency` needs a domain that overrides `Domain::run_attending` (docs/plugin-guide.md)"
-    );
-    // Running it unchecked is refused too, before any mission, by the plan's name.
+    let expected = "lamp.ron: missions[1].complacency: domain `lamp` does not model its operators' attention: it does not implement `Attentive` (its `Domain::attentive` answers None), so operators who grow complacent would still notice everything and alerts could change nothing; a plan with `complacency` needs a domain that models attention (docs/plugin-guide.md)";
+    assert_eq!(err, expected);
+    // Running it unchecked is refused too, before any mission, where its plan is built.
     let err = run_mission_suite(&LampCatalog, &parse(&suite("lamp", true)), origin, &|_| {})
         .unwrap_err()
         .to_string();
-    assert!(
-        err.contains("complacent: domain `lamp` does not model its operators' attention"),
-        "{err}"
-    );
+    assert_eq!(err, expected);
     // Attentive operators need no model of attention.
     let attentive = parse(&suite("lamp", false));
     attentive.validate(&LampCatalog, origin).unwrap();

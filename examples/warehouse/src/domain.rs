@@ -5,7 +5,7 @@
 //! the slot or not (the map), grasps (the gripper and its force), drives back carrying
 //! the item (braking for crossings may shake it loose) and sets it down. The result is a
 //! [`Trace`]; the operator turns it into a `Judgement`, at the attention a mission gives
-//! it (`run_attending`; the default `run` is attention 1), which carries what the robot perceived
+//! it (`Attentive::run_attending`; `run` is attention 1), which carries what the robot perceived
 //! ([`perception`]). Every draw comes from the generator passed in, in a fixed order, so
 //! a seed gives one pick.
 
@@ -22,7 +22,7 @@ use std::convert::Infallible;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use trustcbr::cbr_core::{Behavior, BehaviorSpace};
-use trustcbr::lab::{Domain, Judgement};
+use trustcbr::lab::{Attentive, Domain, Judgement};
 use trustcbr::rand;
 use trustcbr::trust::{Cause, DeclaredCause, Hint};
 
@@ -189,13 +189,28 @@ impl Domain for WarehouseDomain {
         &perception::HINTS
     }
 
+    fn run(
+        &self,
+        behavior: &Behavior,
+        operator: &WarehouseOperator,
+        rng: &mut dyn RngCore,
+    ) -> Judgement {
+        self.pick(behavior, operator, 1.0, rng)
+    }
+
+    fn attentive(&self) -> Option<&dyn Attentive<Operator = WarehouseOperator>> {
+        Some(self)
+    }
+}
+
+impl Attentive for WarehouseDomain {
     fn run_attending(
         &self,
         behavior: &Behavior,
         operator: &WarehouseOperator,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        Some(self.pick(behavior, operator, attention, rng))
+    ) -> Judgement {
+        self.pick(behavior, operator, attention, rng)
     }
 }

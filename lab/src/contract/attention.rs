@@ -5,7 +5,7 @@
 //!
 //! One draw per reaction, compared with `p * attention`, is what makes an operator at
 //! attention 1 judge exactly as the operator without attention, draw for draw: the
-//! contract [`Domain::run_attending`](crate::Domain::run_attending) states and
+//! contract [`Attentive::run_attending`](crate::Attentive::run_attending) states and
 //! `lab::testing::check_domain` checks (feature `testing`). A domain's `judge_attending`
 //! is [`Attending::judge`] over its way of watching a run, which asks the [`Attending`] it
 //! is handed at each reaction; its `judge` is `judge_attending` at attention 1.

@@ -5,9 +5,11 @@
 //! of an operator, returning the command's [`Judgement`]: the [`Outcome`](trust::Outcome) the robot is
 //! told (with what it perceived) and, separately, the operator's true reason, which only
 //! evaluation reads. The experiment runner needs nothing else, so a new robot or task
-//! plugs in by implementing [`Domain`]. Missions whose operators grow complacent need one
-//! more hook, [`Domain::run_attending`]: a domain that keeps its default does not model
-//! attention, and [`check_attention`] says so before such a mission runs.
+//! plugs in by implementing [`Domain`]. What a domain may model beyond that is a trait
+//! each, here too: its operators' attention ([`Attentive`]), goal changes
+//! ([`GoalChanging`]) and its robot's own competence ([`SelfJudging`]), which the domain
+//! answers for through [`Domain::attentive`] and its siblings; how a plan holds the one it
+//! needs is [`crate::contract::capability`].
 //!
 //! The contract lives here, with the runner, and not in `trust`, the crate a robot
 //! embeds: `trust` does not depend on this crate, so nothing in it can name a
@@ -18,8 +20,7 @@ use crate::contract::feedback::FeedbackChannel;
 use crate::contract::judgement::Judgement;
 use crate::contract::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace};
-use rand::{RngCore, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use rand::RngCore;
 use std::sync::Arc;
 use trust::{Cause, CompetencePart, DeclaredCause, Hint, Vocabulary};
 
@@ -102,64 +103,57 @@ pub trait Domain: Send + Sync {
     /// `rng`, and returns how it ended: what the robot is told and perceives (nothing
     /// stated: the runner applies the operator's feedback channel on a stream of its own)
     /// and the operator's true reason.
-    ///
-    /// By default, [`Domain::run_attending`] at attention 1 (the paper's attentive
-    /// operator), so a domain that models attention writes its command once. A domain
-    /// must override one of the two: one that overrides neither panics here, naming
-    /// itself, on its first command (the domain kit, `lab::testing::check_domain`,
-    /// runs one first).
     fn run(
         &self,
         behavior: &Behavior,
         operator: &Self::Operator,
         rng: &mut dyn RngCore,
-    ) -> Judgement {
-        self.run_attending(behavior, operator, 1.0, rng)
-            .unwrap_or_else(|| {
-                panic!(
-                    "domain `{}` overrides neither `Domain::run` nor `Domain::run_attending`: it cannot run a command",
-                    self.name()
-                )
-            })
+    ) -> Judgement;
+
+    /// This domain as one that models its operators' attention ([`Attentive`]): a domain
+    /// that implements it answers `Some(self)`. `None` by default.
+    fn attentive(&self) -> Option<&dyn Attentive<Operator = Self::Operator>> {
+        None
     }
 
+    /// This domain as one that models goal changes ([`GoalChanging`]): a domain that
+    /// implements it answers `Some(self)`. `None` by default.
+    fn goal_changing(&self) -> Option<&dyn GoalChanging<Operator = Self::Operator>> {
+        None
+    }
+
+    /// This domain as one whose robot judges its own competence ([`SelfJudging`]): a
+    /// domain that implements it answers `Some(self)`. `None` by default.
+    fn self_judging(&self) -> Option<&dyn SelfJudging<Operator = Self::Operator>> {
+        None
+    }
+}
+
+/// A domain whose operators may overlook what they would react to when attentive.
+pub trait Attentive: Domain {
     /// [`Domain::run`] under an operator whose `attention`, in `[0, 1]`, is the chance it
     /// notices a problem it would react to when attentive (1: the paper's operator, who
     /// notices everything it minds). A problem it overlooks lets the run go on, and is
-    /// named in the judgement's [`Judgement::overlooked`] for evaluation.
-    ///
-    /// `None`, the default, says the domain does not model its operators' attention: only
-    /// the domain knows which of its reactions an operator can overlook and how the run
-    /// goes on past one, so no rule can stand in for it. A mission plan with operators who
-    /// grow complacent ([`crate::mission::Complacency`]) is refused on such a domain
-    /// before anything runs ([`check_attention`]). A domain that models attention
-    /// overrides this, answers `Some` for every behavior, operator and attention, and at
-    /// attention 1 returns exactly [`Domain::run`]'s judgement, draw for draw.
+    /// named in the judgement's [`Judgement::overlooked`] for evaluation. Only the domain
+    /// knows which of its reactions an operator can overlook and how the run goes on past
+    /// one. At attention 1 this is exactly [`Domain::run`]'s judgement, draw for draw.
     fn run_attending(
         &self,
         behavior: &Behavior,
         operator: &Self::Operator,
         attention: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        let _ = (behavior, operator, attention, rng);
-        None
-    }
+    ) -> Judgement;
+}
 
-    /// [`Domain::run_attending`] (at `attention`) when the operator's goals change
-    /// `at_s` seconds into the command (a threat appears, it sends the robot elsewhere):
-    /// a command that has not ended by then is interrupted then, for that reason and not
-    /// the behavior's ([`Judgement::redirected`]), with what the robot perceived until
-    /// then. A command that ends first is judged as if nothing had changed.
-    ///
-    /// `None`, the default, says the domain does not model goal changes: only the domain
-    /// knows what its robot perceived until a moment, and how an operator weighs an
-    /// interruption the robot cannot attribute. A plan with goal changes
-    /// ([`crate::experiment::goal_change::GoalChanges`]) is refused on such a domain before anything
-    /// runs ([`check_goal_changes`]). A domain that models them overrides this, answers
-    /// `Some` for every behavior, operator, attention and moment, and at an `at_s` past
-    /// the command's end returns exactly [`Domain::run_attending`]'s judgement, draw for
-    /// draw.
+/// A domain whose operators' goals may change during a command (a threat appears, the
+/// operator sends the robot elsewhere).
+pub trait GoalChanging: Domain {
+    /// The command at `attention` ([`Attentive::run_attending`]; 1 for a domain that does
+    /// not model attention) when the operator's goals change `at_s` seconds into it: a
+    /// command that has not ended by then is interrupted then, for that reason and not the
+    /// behavior's ([`Judgement::redirected`]), with what the robot perceived until then. A
+    /// command that ends first is judged as if nothing had changed, draw for draw.
     fn run_redirected(
         &self,
         behavior: &Behavior,
@@ -167,112 +161,27 @@ pub trait Domain: Send + Sync {
         attention: f64,
         at_s: f64,
         rng: &mut dyn RngCore,
-    ) -> Option<Judgement> {
-        let _ = (behavior, operator, attention, at_s, rng);
-        None
-    }
+    ) -> Judgement;
+}
 
+/// A domain whose robot judges its own competence ([`trust::competence`]) and whose
+/// simulator knows the truth to measure that judgement against.
+pub trait SelfJudging: Domain {
     /// The ways a command can fall short that the robot judges itself, each seen (one of
-    /// [`Domain::observations`]) or unseen ([`trust::competence`]); none by default.
-    fn competence_parts(&self) -> &[CompetencePart] {
-        &[]
-    }
+    /// [`Domain::observations`]) or unseen.
+    fn competence_parts(&self) -> &[CompetencePart];
 
     /// What the robot's own models predict of `behavior`: per part of
-    /// [`Domain::competence_parts`], the chance a command falls short that way, `None`
-    /// where no model says. Only what the robot knows may enter (its sensors' tables, its
-    /// settings, its briefing), never the operator. Nothing predicted by default.
-    fn predict_competence(&self, behavior: &Behavior) -> Vec<Option<f64>> {
-        let _ = behavior;
-        vec![None; self.competence_parts().len()]
-    }
+    /// [`SelfJudging::competence_parts`], the chance a command falls short that way,
+    /// `None` where no model says. Only what the robot knows may enter (its sensors'
+    /// tables, its settings, its briefing), never the operator.
+    fn predict_competence(&self, behavior: &Behavior) -> Vec<Option<f64>>;
 
     /// For evaluation only, as the truth: one whole command of `behavior` with nobody to
-    /// stop it, drawing all randomness from `rng`, and for each part of
-    /// [`Domain::competence_parts`] (in their order) whether it fell short in it, or
-    /// `None` where the part does not apply to this command (a patrol that never set out
-    /// passed no object). `None`, the default: the domain gives no truth to measure the
-    /// robot's competence against ([`crate::reference::competence_truth::measure`] refuses it).
-    fn competence_truth(
-        &self,
-        behavior: &Behavior,
-        rng: &mut dyn RngCore,
-    ) -> Option<Vec<Option<bool>>> {
-        let _ = (behavior, rng);
-        None
-    }
-}
-
-/// A domain asked to run operators who may overlook problems, which keeps the default
-/// [`Domain::run_attending`]: its operators notice everything they mind, so a
-/// complacent operator could not be simulated.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "domain `{domain}` does not model its operators' attention: it keeps the default `Domain::run_attending`, so operators who grow complacent would still notice everything and alerts could change nothing; a plan with `complacency` needs a domain that overrides `Domain::run_attending` (docs/plugin-guide.md)"
-)]
-pub struct AttentionNotModelled {
-    /// The domain's name.
-    pub domain: String,
-}
-
-/// Whether `domain` models its operators' attention: [`Domain::run_attending`] is asked
-/// once per operator of `operators` (a behavior of the space at attention 1, on a stream
-/// of its own, so no stream of a run is touched), and must answer for each.
-pub fn check_attention<D: Domain + ?Sized>(
-    domain: &D,
-    operators: &[(String, D::Operator)],
-) -> Result<(), AttentionNotModelled> {
-    let answers = every_operator_answers(domain, operators, |behavior, operator, probe| {
-        domain
-            .run_attending(behavior, operator, 1.0, probe)
-            .is_some()
-    });
-    answers.then_some(()).ok_or_else(|| AttentionNotModelled {
-        domain: domain.name().to_owned(),
-    })
-}
-
-/// Whether `hook` answers for every one of `operators` on the space's first behavior,
-/// asked once each on one probe stream: how a plan tells whether its domain overrides an
-/// optional hook (a domain overrides it for every run or none).
-fn every_operator_answers<D: Domain + ?Sized>(
-    domain: &D,
-    operators: &[(String, D::Operator)],
-    hook: impl Fn(&Behavior, &D::Operator, &mut ChaCha8Rng) -> bool,
-) -> bool {
-    let behavior = domain.space().unrank(0);
-    let mut probe = ChaCha8Rng::seed_from_u64(0);
-    operators
-        .iter()
-        .all(|(_, operator)| hook(&behavior, operator, &mut probe))
-}
-
-/// A domain asked to run operators whose goals change, which keeps the default
-/// [`Domain::run_redirected`].
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "domain `{domain}` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
-)]
-pub struct GoalChangesNotModelled {
-    /// The domain's name.
-    pub domain: String,
-}
-
-/// Whether `domain` models goal changes: [`Domain::run_redirected`] is asked once per
-/// operator of `operators` (a behavior of the space, its goals changing at once, on a
-/// stream of its own, so no stream of a run is touched), and must answer for each.
-pub fn check_goal_changes<D: Domain + ?Sized>(
-    domain: &D,
-    operators: &[(String, D::Operator)],
-) -> Result<(), GoalChangesNotModelled> {
-    let answers = every_operator_answers(domain, operators, |behavior, operator, probe| {
-        domain
-            .run_redirected(behavior, operator, 1.0, 0.0, probe)
-            .is_some()
-    });
-    answers.then_some(()).ok_or_else(|| GoalChangesNotModelled {
-        domain: domain.name().to_owned(),
-    })
+    /// stop it, drawing all randomness from `rng`, and for each part (in their order)
+    /// whether it fell short in it, or `None` where the part does not apply to this
+    /// command (a patrol that never set out passed no object).
+    fn competence_truth(&self, behavior: &Behavior, rng: &mut dyn RngCore) -> Vec<Option<bool>>;
 }
 
 /// The names an adaptation explains itself in: `domain`'s declared causes, its

@@ -18,11 +18,11 @@ pub struct Judgement {
     /// completion.
     pub truth: Option<Cause>,
     /// A problem an attentive operator would have reacted to but this one overlooked (its
-    /// attention was low: [`Domain::run_attending`](crate::Domain::run_attending)); the run went on past it.
+    /// attention was low: [`Attentive::run_attending`](crate::Attentive::run_attending)); the run went on past it.
     /// `None` for an attentive operator. For evaluation only, as the truth.
     pub overlooked: Option<Cause>,
     /// The operator stopped the command because its goals changed, not because of the
-    /// behavior ([`Domain::run_redirected`](crate::Domain::run_redirected)); `truth` is then `None`. For evaluation only,
+    /// behavior ([`GoalChanging::run_redirected`](crate::GoalChanging::run_redirected)); `truth` is then `None`. For evaluation only,
     /// as the truth: the robot is told only if the operator says so
     /// ([`trust::Outcome::goal_change`]).
     pub redirected: bool,

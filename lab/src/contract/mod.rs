@@ -1,5 +1,5 @@
-//! The contract a domain implements: the [`Domain`](domain::Domain) trait and what its
-//! runs return ([`Judgement`](judgement::Judgement)), and the operator it simulates: the
+//! The contract a domain implements: the [`Domain`](domain::Domain) trait, the
+//! capabilities a domain may add ([`capability`]) and what its runs return ([`Judgement`](judgement::Judgement)), and the operator it simulates: the
 //! standard fields every operator has ([`operator`]), operator files read and checked
 //! ([`operator_file`]), patience and attention ([`patience`], [`attention`]), the reasons an
 //! operator states ([`feedback`]) and what it states up front ([`stating`]).
@@ -8,6 +8,7 @@
 //! shared modules at the crate's root.
 
 pub mod attention;
+pub mod capability;
 pub mod domain;
 pub mod feedback;
 pub mod judgement;

@@ -19,10 +19,11 @@
 //! breach stops the plan with [`PlanError::Searcher`], naming the arm and the behavior.
 
 use crate::experiment::arm::Initial;
+use crate::experiment::goal_change::GoalChangesOn;
 use crate::experiment::plan::PlanError;
-use crate::experiment::simulate::{self, Conditions, SimulatedCommand};
+use crate::experiment::simulate::{self, Attention, Conditions, SimulatedCommand};
 use crate::seeds::{Purpose, stream, stream_seed};
-use crate::{Domain, FeedbackChannel, GoalChanges, Judgement};
+use crate::{Domain, FeedbackChannel, Judgement};
 use cbr_core::Behavior;
 use rand_chacha::ChaCha8Rng;
 use trust::{
@@ -141,8 +142,9 @@ pub(crate) struct Drive<'a, D: Domain> {
     /// The channel every operator of the plan explains itself through (`None`: each its
     /// own).
     feedback: Option<FeedbackChannel>,
-    /// How often the operators' goals change (`None`: never).
-    goal_changes: Option<GoalChanges>,
+    /// How often the operators' goals change, with the domain as one that models them
+    /// (`None`: never).
+    goal_changes: Option<GoalChangesOn<'a, D::Operator>>,
     /// The simulated runs.
     runs: ChaCha8Rng,
     /// The operators' stated reasons.
@@ -161,7 +163,7 @@ impl<'a, D: Domain> Drive<'a, D> {
         arm: &'a str,
         domain: &'a D,
         feedback: Option<FeedbackChannel>,
-        goal_changes: Option<GoalChanges>,
+        goal_changes: Option<GoalChangesOn<'a, D::Operator>>,
         seed: u64,
         index: u64,
         unit: u64,
@@ -182,23 +184,23 @@ impl<'a, D: Domain> Drive<'a, D> {
 
     /// Runs one command with `behavior` in front of `operator` and records it with
     /// `adapter`: an attentive operator's ([`Domain::run`]) when `attention` is `None`, else
-    /// one at that attention ([`Domain::run_attending`]; a domain that does not model
-    /// attention stops the plan); with goal changes, the moment of the next is drawn first
-    /// and the domain runs the command up to it ([`Domain::run_redirected`]). A truth the domain does not declare stops the plan, and
+    /// one at that attention ([`crate::Attentive::run_attending`]); with goal changes, the moment of the next is drawn first
+    /// and the domain runs the command up to it ([`crate::GoalChanging::run_redirected`]). A truth the domain does not declare stops the plan, and
     /// so does a decision that breaks the searcher's contract ([`Drive::check_contract`]).
     pub(crate) fn command<A: Records>(
         &mut self,
         adapter: &mut A,
         behavior: &Behavior,
         operator: &D::Operator,
-        attention: Option<f64>,
+        attention: Option<Attention<'_, D::Operator>>,
     ) -> Result<Command<A::Decision>, PlanError> {
         let channel = self
             .feedback
             .unwrap_or_else(|| self.domain.feedback(operator));
-        let goal_change_at = self
-            .goal_changes
-            .map(|changes| changes.next_at(&mut self.goal_change_moments));
+        let goal_change_at = self.goal_changes.map(|changes| {
+            let at_s = changes.setting.next_at(&mut self.goal_change_moments);
+            (at_s, changes.capability)
+        });
         let SimulatedCommand { judgement, outcome } = simulate::command(
             self.domain,
             behavior,

@@ -6,7 +6,7 @@
 //! [`GoalChanges`] lets them happen: the operator's goals change at moments of a Poisson
 //! process over task time (a threat appearing, a new tasking arriving, neither of which
 //! the robot's behavior causes), at `per_hour` on average; a command under way at such a
-//! moment is interrupted then ([`Domain::run_redirected`](crate::Domain::run_redirected)).
+//! moment is interrupted then ([`GoalChanging::run_redirected`](crate::GoalChanging::run_redirected)).
 //! The process is memoryless, so each command draws the moment of the next change afresh
 //! from its start, on a stream of its own ([`crate::seeds::Purpose::GoalChange`]): an
 //! experiment without goal changes draws nothing from it and runs as before.
@@ -22,6 +22,15 @@ use crate::Judgement;
 use rand::{Rng, RngCore};
 use serde::{Deserialize, Serialize};
 use trust::{Outcome, OutcomeKind};
+
+/// Goal changes, with the plan's domain as one that models them
+/// ([`crate::contract::capability`]: a plan over a domain that does not is refused by the
+/// compiler, or where a file's plan enters).
+pub type GoalChangesOn<'a, O> = crate::contract::capability::Needing<
+    'a,
+    GoalChanges,
+    dyn crate::GoalChanging<Operator = O> + 'a,
+>;
 
 /// How often an operator's goals change, as an experiment sets it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

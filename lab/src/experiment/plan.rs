@@ -2,11 +2,10 @@
 //! trials and conditions), which operator judges each trial ([`OperatorChoice`]), why a
 //! plan cannot run ([`PlanError`]), and the fresh adapter each arm starts from.
 
-use crate::contract::domain::{AttentionNotModelled, GoalChangesNotModelled, check_goal_changes};
 use crate::contract::stating::Stating;
 use crate::experiment::arm::Arm;
 use crate::reference::known_operator::KnownLimitError;
-use crate::{Domain, FeedbackChannel, GoalChanges, TrialContexts};
+use crate::{Domain, FeedbackChannel, GoalChangesOn, TrialContexts};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
@@ -48,9 +47,9 @@ pub struct ExperimentPlan<'a, D: Domain> {
     /// How every operator of the plan explains itself, overriding each operator's own
     /// channel ([`Domain::feedback`]); `None` keeps the operators' own.
     pub feedback: Option<FeedbackChannel>,
-    /// How often the operators' goals change ([`crate::experiment::goal_change`]); `None`, the
-    /// paper's assumption: never.
-    pub goal_changes: Option<GoalChanges>,
+    /// How often the operators' goals change ([`crate::experiment::goal_change`]), with the
+    /// domain as one that models them; `None`, the paper's assumption: never.
+    pub goal_changes: Option<GoalChangesOn<'a, D::Operator>>,
     /// The contexts the trials run in, and whether the robot is told them
     /// ([`crate::experiment::trial_contexts`]); `None`: every trial in the default context, as the paper's.
     pub contexts: Option<TrialContexts>,
@@ -138,24 +137,6 @@ pub enum PlanError {
         /// Why.
         reason: String,
     },
-    /// A plan's operators grow complacent, but its domain does not model attention
-    /// ([`crate::contract::domain::check_attention`]).
-    #[error("{plan}: {reason}")]
-    AttentionNotModelled {
-        /// The plan's name.
-        plan: String,
-        /// The domain that keeps the default [`Domain::run_attending`].
-        reason: AttentionNotModelled,
-    },
-    /// A plan's operators' goals change, but its domain does not model goal changes
-    /// ([`crate::contract::domain::check_goal_changes`]).
-    #[error("{plan}: {reason}")]
-    GoalChangesNotModelled {
-        /// The plan's name.
-        plan: String,
-        /// The domain that keeps the default [`Domain::run_redirected`].
-        reason: GoalChangesNotModelled,
-    },
     /// A mission plan's oracle could not learn an operator's landscape
     /// ([`crate::mission::oracle`]).
     #[error("{plan}: the mission oracle, operator `{operator}`: {reason}")]
@@ -197,14 +178,6 @@ impl<D: Domain> ExperimentPlan<'_, D> {
                 plan: self.name.clone(),
                 domain: self.domain.name().to_owned(),
             });
-        }
-        if self.goal_changes.is_some() {
-            check_goal_changes(self.domain, self.operators).map_err(|reason| {
-                PlanError::GoalChangesNotModelled {
-                    plan: self.name.clone(),
-                    reason,
-                }
-            })?;
         }
         Ok(())
     }

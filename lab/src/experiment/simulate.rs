@@ -14,7 +14,10 @@
 //! command of `Simulation::new(.., S)`.
 
 use crate::experiment::plan::PlanError;
-use crate::{AttentionNotModelled, Domain, FeedbackChannel, GoalChangesNotModelled, Judgement};
+use crate::{
+    AttentionNotModelled, Attentive, Domain, FeedbackChannel, GoalChanging, Judgement,
+    check_attention,
+};
 use cbr_core::Behavior;
 use rand::{RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -35,56 +38,41 @@ pub struct SimulatedCommand {
     pub outcome: Outcome,
 }
 
-/// Why [`command`] could not simulate a command.
+/// Why [`command`] could not simulate a command: the run's truth is not a cause the
+/// domain declares.
 #[derive(Debug)]
-pub(crate) enum Refused {
-    /// The run's truth is not a cause the domain declares.
-    UndeclaredCause(Box<UndeclaredCause>),
-    /// An attention was asked of a domain that keeps the default [`Domain::run_attending`].
-    AttentionNotModelled(AttentionNotModelled),
-    /// A goal change was asked of a domain that keeps the default
-    /// [`Domain::run_redirected`].
-    GoalChangesNotModelled(GoalChangesNotModelled),
-}
+pub(crate) struct Refused(Box<UndeclaredCause>);
 
 impl Refused {
     /// The error that stops the plan named `plan` over the domain named `domain`.
     pub(crate) fn in_plan(self, plan: &str, domain: &str) -> PlanError {
-        match self {
-            Refused::UndeclaredCause(reason) => PlanError::UndeclaredCause {
-                plan: plan.to_owned(),
-                domain: domain.to_owned(),
-                reason,
-            },
-            Refused::AttentionNotModelled(reason) => PlanError::AttentionNotModelled {
-                plan: plan.to_owned(),
-                reason,
-            },
-            Refused::GoalChangesNotModelled(reason) => PlanError::GoalChangesNotModelled {
-                plan: plan.to_owned(),
-                reason,
-            },
+        PlanError::UndeclaredCause {
+            plan: plan.to_owned(),
+            domain: domain.to_owned(),
+            reason: self.0,
         }
     }
 }
 
+/// An operator's attention below 1, with the domain as one that models it.
+pub(crate) type Attention<'c, O> = (f64, &'c dyn Attentive<Operator = O>);
+
 /// What the operator of a simulated command is like at that moment.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Conditions {
+pub(crate) struct Conditions<'c, O> {
     /// Its attention (`None`: the paper's attentive operator).
-    pub(crate) attention: Option<f64>,
-    /// Seconds into the command at which its goals change (`None`: they do not).
-    pub(crate) goal_change_at: Option<f64>,
+    pub(crate) attention: Option<Attention<'c, O>>,
+    /// Seconds into the command at which its goals change, with the domain as one that
+    /// models them (`None`: they do not).
+    pub(crate) goal_change_at: Option<(f64, &'c dyn GoalChanging<Operator = O>)>,
 }
 
 /// Runs one command of `domain` with `behavior` in front of `operator`, the paper's
 /// attentive one ([`Domain::run`]) when its `attention` is `None`, else one at that
-/// attention ([`Domain::run_attending`]); with `goal_change_at`, the operator's goals
-/// change that many seconds in ([`Domain::run_redirected`], at `attention` or 1). The run draws from
+/// attention ([`crate::Attentive::run_attending`]); with `goal_change_at`, the operator's goals
+/// change that many seconds in ([`crate::GoalChanging::run_redirected`], at `attention` or 1). The run draws from
 /// `runs`; `channel` states a reason, or says a goal change, from `stated`. A truth the
 /// domain does not declare is refused (the runs stream has drawn the run; nothing is
-/// drawn from `stated`), and so is an attention or a goal change the domain does not
-/// model (nothing drawn).
+/// drawn from `stated`).
 pub(crate) fn command<D: Domain + ?Sized>(
     domain: &D,
     behavior: &Behavior,
@@ -92,31 +80,24 @@ pub(crate) fn command<D: Domain + ?Sized>(
     Conditions {
         attention,
         goal_change_at,
-    }: Conditions,
+    }: Conditions<'_, D::Operator>,
     channel: FeedbackChannel,
     runs: &mut dyn RngCore,
     stated: &mut dyn RngCore,
 ) -> Result<SimulatedCommand, Refused> {
     let judgement = match (attention, goal_change_at) {
         (None, None) => domain.run(behavior, operator, runs),
-        (Some(attention), None) => domain
-            .run_attending(behavior, operator, attention, runs)
-            .ok_or_else(|| {
-                Refused::AttentionNotModelled(AttentionNotModelled {
-                    domain: domain.name().to_owned(),
-                })
-            })?,
-        (attention, Some(at_s)) => domain
-            .run_redirected(behavior, operator, attention.unwrap_or(1.0), at_s, runs)
-            .ok_or_else(|| {
-                Refused::GoalChangesNotModelled(GoalChangesNotModelled {
-                    domain: domain.name().to_owned(),
-                })
-            })?,
+        (Some((attention, attentive)), None) => {
+            attentive.run_attending(behavior, operator, attention, runs)
+        }
+        (attention, Some((at_s, changing))) => {
+            let attention = attention.map_or(1.0, |(attention, _)| attention);
+            changing.run_redirected(behavior, operator, attention, at_s, runs)
+        }
     };
     let causes = domain.causes();
     if let Some(cause) = judgement.truth {
-        find_declared(causes, cause).map_err(|e| Refused::UndeclaredCause(Box::new(e)))?;
+        find_declared(causes, cause).map_err(|e| Refused(Box::new(e)))?;
     }
     let outcome = if judgement.redirected {
         judgement
@@ -167,7 +148,8 @@ pub struct Simulation<'a, D: Domain + ?Sized> {
     domain: &'a D,
     behavior: Behavior,
     operator: &'a D::Operator,
-    attention: f64,
+    /// The attention below 1, with the domain as one that models it (`None`: 1).
+    attention: Option<Attention<'a, D::Operator>>,
     channel: FeedbackChannel,
     runs: ChaCha8Rng,
     stated: ChaCha8Rng,
@@ -175,8 +157,9 @@ pub struct Simulation<'a, D: Domain + ?Sized> {
 
 impl<'a, D: Domain + ?Sized> Simulation<'a, D> {
     /// The commands of `behavior` (of `domain`'s space) in front of `operator` at
-    /// `attention` (in `[0, 1]`), every draw from `seed`; the operator states reasons
-    /// through its own feedback channel ([`Domain::feedback`]).
+    /// `attention` (in `[0, 1]`; below 1 only on a domain that models it,
+    /// [`crate::Attentive`]), every draw from `seed`; the operator states reasons through
+    /// its own feedback channel ([`Domain::feedback`]).
     pub fn new(
         domain: &'a D,
         behavior: Behavior,
@@ -193,6 +176,15 @@ impl<'a, D: Domain + ?Sized> Simulation<'a, D> {
                 indices: behavior.indices().to_vec(),
             });
         }
+        // At full attention, the paper's operator: `Domain::run`, which every domain has
+        // and `Attentive::run_attending` equals there.
+        let attention = if attention < 1.0 {
+            let attentive =
+                check_attention(domain).map_err(SimulationError::AttentionNotModelled)?;
+            Some((attention, attentive))
+        } else {
+            None
+        };
         let mut stated = ChaCha8Rng::seed_from_u64(seed);
         stated.set_stream(FEEDBACK_STREAM);
         Ok(Self {
@@ -217,26 +209,16 @@ impl<D: Domain + ?Sized> Iterator for Simulation<'_, D> {
                 &self.behavior,
                 self.operator,
                 Conditions {
-                    // At full attention, the paper's operator: `Domain::run`, which every
-                    // domain has and `run_attending` equals there.
-                    attention: (self.attention < 1.0).then_some(self.attention),
+                    attention: self.attention,
                     goal_change_at: None,
                 },
                 self.channel,
                 &mut self.runs,
                 &mut self.stated,
             )
-            .map_err(|refused| match refused {
-                Refused::UndeclaredCause(reason) => SimulationError::UndeclaredCause {
-                    domain: self.domain.name().to_owned(),
-                    reason,
-                },
-                Refused::AttentionNotModelled(reason) => {
-                    SimulationError::AttentionNotModelled(reason)
-                }
-                Refused::GoalChangesNotModelled(_) => {
-                    unreachable!("a simulation asks for no goal change")
-                }
+            .map_err(|Refused(reason)| SimulationError::UndeclaredCause {
+                domain: self.domain.name().to_owned(),
+                reason,
             }),
         )
     }

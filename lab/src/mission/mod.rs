@@ -20,8 +20,8 @@ pub mod run;
 pub mod summary;
 
 pub use plan::{
-    COMPLACENT_BELOW, Changes, Complacency, ContextSwitches, DETECTION_WINDOW, MissionPlan,
-    RECOVERED_AT, check_competence,
+    COMPLACENT_BELOW, Changes, CompetenceOn, Complacency, ComplacencyOn, ContextSwitches,
+    DETECTION_WINDOW, MissionPlan, RECOVERED_AT, check_competence,
 };
 pub use record::{
     CalibrationRecord, ChangeKind, ChangeRecord, MAX_TRACE_STEPS, Mark, MissionArmResult,

@@ -237,7 +237,9 @@ impl MissionOracle {
                     episode = Some(fresh);
                 }
             }
-            let attention = plan.complacency.map(|model| model.attention(felt));
+            let attention = plan
+                .complacency
+                .map(|c| (c.setting.attention(felt), c.capability));
             let operator = judges.judge(member, context);
             let channel = plan
                 .feedback
@@ -260,8 +262,8 @@ impl MissionOracle {
             if outcome.is_untrustworthy() {
                 count_untrustworthy(&mut record.untrustworthy, &mut record.changes, waiting);
             }
-            if let Some(model) = plan.complacency {
-                felt = model.felt_after(felt, &outcome);
+            if let Some(c) = plan.complacency {
+                felt = c.setting.felt_after(felt, &outcome);
             }
             let Some(e) = episode.as_mut() else {
                 continue;

@@ -2,15 +2,14 @@
 //! context switches ([`ContextSwitches`]), the complacency model ([`Complacency`]) and the
 //! plan itself ([`MissionPlan`]), checked before any mission runs.
 
-use crate::contract::domain::check_attention;
+use crate::contract::capability::{Needing, check_self_judging};
 use crate::experiment::arm::Arm;
 use crate::experiment::plan::PlanError;
 use crate::reference::competence_truth::{CompetenceError, empty_record};
 use crate::reference::known_operator::LimitSettings;
+use crate::{Attentive, SelfJudging};
 use crate::{Domain, FeedbackChannel};
 use cbr_core::{Behavior, Context};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceJudge, CompetenceStandard, Outcome};
@@ -140,6 +139,14 @@ impl Changes {
     }
 }
 
+/// Operators who grow complacent, with the plan's domain as one that models attention
+/// ([`crate::contract::capability`]: a plan over a domain that does not is refused by the
+/// compiler, or where a file's plan enters).
+pub type ComplacencyOn<'a, O> = Needing<'a, Complacency, dyn Attentive<Operator = O> + 'a>;
+
+/// A competence standard, with the plan's domain as one whose robot judges itself.
+pub type CompetenceOn<'a, O> = Needing<'a, CompetenceStandard, dyn SelfJudging<Operator = O> + 'a>;
+
 /// Missions to run: a population, the changes, maybe complacency, and the arms.
 pub struct MissionPlan<'a, D: Domain> {
     /// Its name in reports.
@@ -156,8 +163,9 @@ pub struct MissionPlan<'a, D: Domain> {
     pub changes: Changes,
     /// When the robot's context switches (`None`: every mission in the default context).
     pub contexts: Option<ContextSwitches>,
-    /// How operators grow complacent (`None`: they stay attentive, the paper's).
-    pub complacency: Option<Complacency>,
+    /// How operators grow complacent, with the domain as one that models attention
+    /// (`None`: they stay attentive, the paper's).
+    pub complacency: Option<ComplacencyOn<'a, D::Operator>>,
     /// The adapter every arm starts from (see [`ExperimentPlan`](crate::ExperimentPlan)'s `adapter`).
     pub adapter: AdapterConfig,
     /// The arms.
@@ -174,8 +182,9 @@ pub struct MissionPlan<'a, D: Domain> {
     /// it): every arm then judges every command's behavior ([`trust::competence`]),
     /// raises an overtrust alert once per settled behavior its operator trusts and it
     /// judges not competent, and its records carry the calibration against the truth
-    /// ([`CalibrationRecord`](crate::mission::CalibrationRecord)).
-    pub competence: Option<CompetenceStandard>,
+    /// ([`CalibrationRecord`](crate::mission::CalibrationRecord)). With it, the domain as
+    /// one whose robot judges itself.
+    pub competence: Option<CompetenceOn<'a, D::Operator>>,
     /// Whether an answered overtrust alert offers a safer behavior
     /// ([`trust::CompetenceAlert::offer`]), which the operator takes when it trusts it
     /// too (judged on [`MissionPlan::truth_runs`] commands, as a change's need is);
@@ -203,8 +212,9 @@ impl<D: Domain> MissionPlan<'_, D> {
             .map_or_else(Context::default, |c| c.among[context].clone())
     }
 
-    /// Refuses a plan whose operators grow complacent over a domain that does not model
-    /// attention ([`check_attention`]): it would run, and its alerts could change nothing.
+    /// Refuses a plan whose context switches are not usable, an arm that prefers
+    /// competent behaviors without a standard, and a standard the domain's parts cannot
+    /// be held to.
     pub fn validate(&self) -> Result<(), PlanError> {
         if let Some(switches) = &self.contexts {
             switches.validate().map_err(|reason| PlanError::Contexts {
@@ -223,17 +233,11 @@ impl<D: Domain> MissionPlan<'_, D> {
                 ),
             });
         }
-        if let Some(standard) = &self.competence {
-            check_competence(self.domain, standard).map_err(|e| PlanError::Competence {
-                plan: self.name.clone(),
-                reason: e.to_string(),
-            })?;
-        }
-        if self.complacency.is_some() {
-            check_attention(self.domain, self.operators).map_err(|reason| {
-                PlanError::AttentionNotModelled {
+        if let Some(competence) = &self.competence {
+            empty_record(competence.capability, &competence.setting).map_err(|e| {
+                PlanError::Competence {
                     plan: self.name.clone(),
-                    reason,
+                    reason: e.to_string(),
                 }
             })?;
         }
@@ -241,37 +245,31 @@ impl<D: Domain> MissionPlan<'_, D> {
     }
 }
 
-/// Whether `domain` lets its robot judge its own competence under `standard`: it
-/// declares parts its robot can record, gives a truth to measure them against (asked once,
-/// on a stream of its own, so no stream of a run is touched), and the standard's bounds
-/// are chances.
-pub fn check_competence<D: Domain + ?Sized>(
-    domain: &D,
+/// Whether `domain` lets its robot judge its own competence under `standard`, checked
+/// where a plan read from a file enters: it models it ([`crate::SelfJudging`]), declares
+/// parts its robot can record, and the standard's bounds are chances. The domain as one
+/// whose robot judges itself when it does.
+pub fn check_competence<'d, D: Domain + ?Sized>(
+    domain: &'d D,
     standard: &CompetenceStandard,
-) -> Result<(), CompetenceError> {
-    empty_record(domain, standard)?;
-    let mut probe = ChaCha8Rng::seed_from_u64(0);
-    if domain
-        .competence_truth(&domain.space().unrank(0), &mut probe)
-        .is_none()
-    {
-        return Err(CompetenceError::NoTruth {
-            domain: domain.name().to_owned(),
-        });
-    }
-    Ok(())
+) -> Result<&'d dyn SelfJudging<Operator = D::Operator>, CompetenceError> {
+    let judging = check_self_judging(domain)?;
+    empty_record(judging, standard)?;
+    Ok(judging)
 }
 
 impl<'a, D: Domain> MissionPlan<'a, D> {
     /// The robot's judge of its own competence for one arm's chain, on a plan with a
     /// standard: an empty record, the domain's predictions, the standard.
     pub(crate) fn judge(&self) -> Option<CompetenceJudge<'a>> {
-        let standard = self.competence.clone()?;
-        let domain = self.domain;
-        let record = empty_record(domain, &standard).expect("checked by MissionPlan::validate");
+        let Needing {
+            setting: standard,
+            capability: judging,
+        } = self.competence.clone()?;
+        let record = empty_record(judging, &standard).expect("checked by MissionPlan::validate");
         Some(CompetenceJudge::new(
             record,
-            Arc::new(move |behavior: &Behavior| domain.predict_competence(behavior)),
+            Arc::new(move |behavior: &Behavior| judging.predict_competence(behavior)),
             standard,
         ))
     }

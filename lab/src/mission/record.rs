@@ -121,7 +121,7 @@ pub struct MissionRecord {
 
 /// How the robot's judgement of its own competence met the truth during one mission
 /// (the truth of a behavior: the share of [`MissionPlan::truth_runs`](crate::mission::MissionPlan::truth_runs) whole commands that
-/// fell short in each part, [`Domain::competence_truth`](crate::Domain::competence_truth), against the plan's standard).
+/// fell short in each part, [`SelfJudging::competence_truth`](crate::SelfJudging::competence_truth), against the plan's standard).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct CalibrationRecord {
     /// Commands of a watched (settled) behavior.

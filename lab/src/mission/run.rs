@@ -26,6 +26,7 @@
 use crate::experiment::arm::{Arm, Initial};
 use crate::experiment::driver::{Command, Drive, first_behavior};
 use crate::experiment::plan::{PlanError, fresh_adapter};
+use crate::experiment::simulate::Attention;
 use crate::mission::course::{
     Course, Judges, Scheduled, StreamName, begin_change, count_untrustworthy,
 };
@@ -72,10 +73,13 @@ impl<'p, 'a, D: Domain> CompetenceTruth<'p, 'a, D> {
                 plan.domain.space().rank(&behavior),
                 Purpose::CompetenceTruth,
             );
-            let rates = true_rates(plan.domain, &behavior, plan.truth_runs, &mut rng)
+            let judging = plan
+                .domain
+                .self_judging()
                 .expect("checked by MissionPlan::validate");
-            standard.met_by(&true_competence(
-                plan.domain.competence_parts(),
+            let rates = true_rates(judging, &behavior, plan.truth_runs, &mut rng);
+            standard.setting.met_by(&true_competence(
+                judging.competence_parts(),
                 behavior,
                 &rates,
             ))
@@ -431,12 +435,14 @@ impl<'r, 'a: 'r, D: Domain> MissionRun<'r, 'a, D> {
     /// The operator's attention for command `c` (`None`: the paper's attentive operator),
     /// recording a complacency onset when it falls below [`COMPLACENT_BELOW`] and ending
     /// it when it is back at [`RECOVERED_AT`].
-    fn attend(&mut self, c: u32, marks: &mut Vec<Mark>) -> Option<f64> {
-        let attention = self
-            .plan
-            .complacency
-            .map(|model| model.attention(self.state.felt));
-        let level = attention.unwrap_or(1.0);
+    fn attend(&mut self, c: u32, marks: &mut Vec<Mark>) -> Option<Attention<'a, D::Operator>> {
+        let attention = self.plan.complacency.map(|complacent| {
+            (
+                complacent.setting.attention(self.state.felt),
+                complacent.capability,
+            )
+        });
+        let level = attention.map_or(1.0, |(level, _)| level);
         if level < COMPLACENT_BELOW && self.state.onset.is_none() {
             self.state.onset = Some(self.record.onsets.len());
             self.record.onsets.push(OnsetRecord {
@@ -495,8 +501,8 @@ impl<'r, 'a: 'r, D: Domain> MissionRun<'r, 'a, D> {
         if outcome.is_untrustworthy() {
             count_untrustworthy(&mut record.untrustworthy, &mut record.changes, self.waiting);
         }
-        if let Some(model) = self.plan.complacency {
-            self.state.felt = model.felt_after(self.state.felt, outcome);
+        if let Some(c) = self.plan.complacency {
+            self.state.felt = c.setting.felt_after(self.state.felt, outcome);
         }
     }
 

@@ -1,6 +1,6 @@
 //! How well the robot judges its own competence: its estimates of behaviors drawn from
 //! the space ([`trust::competence`]), after as many commands as it has run of each,
-//! against the simulator's truth ([`Domain::competence_truth`]).
+//! against the simulator's truth ([`SelfJudging::competence_truth`]).
 //!
 //! For each of distinct behaviors drawn uniformly from the space, the robot runs commands in front of
 //! an operator (who may interrupt them: the robot perceives only what happened until the
@@ -11,9 +11,10 @@
 //! share of `truth_runs` whole commands, with nobody to stop the robot, that fell short
 //! in it. Both are judged against the experiment's [`CompetenceStandard`].
 
-use crate::Domain;
+use crate::contract::capability::{SelfJudgingNotModelled, check_self_judging};
 use crate::seeds::{Purpose, stream};
 use crate::stats::{MeanCi, mean_ci95};
+use crate::{Domain, SelfJudging};
 use cbr_core::Behavior;
 use rand::RngCore;
 use rayon::prelude::*;
@@ -43,19 +44,14 @@ pub struct CompetenceSettings {
 #[derive(Debug, thiserror::Error)]
 pub enum CompetenceError {
     /// The domain declares no competence part.
-    #[error("domain `{domain}` declares no competence part (`Domain::competence_parts`)")]
+    #[error("domain `{domain}` declares no competence part (`SelfJudging::competence_parts`)")]
     NoParts {
         /// The domain.
         domain: String,
     },
-    /// The domain gives no truth to measure against.
-    #[error(
-        "domain `{domain}` gives no truth to measure the robot's competence against: it keeps the default `Domain::competence_truth`"
-    )]
-    NoTruth {
-        /// The domain.
-        domain: String,
-    },
+    /// The domain does not model its robot's competence ([`SelfJudging`]).
+    #[error(transparent)]
+    NotModelled(#[from] SelfJudgingNotModelled),
     /// A seen part names an observation the robot does not perceive.
     #[error(transparent)]
     Observation(#[from] UnknownObservation),
@@ -138,20 +134,20 @@ impl Agreement {
 }
 
 /// The truth of `behavior` in `domain`: per part, the share of `runs` whole commands it
-/// applied to that fell short in it (`None`: it applied to none), drawn from `rng`;
-/// `None` when the domain gives no truth ([`Domain::competence_truth`]).
-pub fn true_rates<D: Domain + ?Sized>(
+/// applied to that fell short in it (`None`: it applied to none), drawn from `rng`
+/// ([`SelfJudging::competence_truth`]).
+pub fn true_rates<D: SelfJudging + ?Sized>(
     domain: &D,
     behavior: &Behavior,
     runs: u32,
     rng: &mut dyn RngCore,
-) -> Option<Vec<Option<f64>>> {
+) -> Vec<Option<f64>> {
     // Per part: commands it fell short in, and commands it applied to.
     let mut fell_short = vec![(0u32, 0u32); domain.competence_parts().len()];
     for _ in 0..runs {
         for (count, short) in fell_short
             .iter_mut()
-            .zip(domain.competence_truth(behavior, rng)?)
+            .zip(domain.competence_truth(behavior, rng))
         {
             if let Some(short) = short {
                 count.0 += u32::from(short);
@@ -159,12 +155,10 @@ pub fn true_rates<D: Domain + ?Sized>(
             }
         }
     }
-    Some(
-        fell_short
-            .iter()
-            .map(|&(short, applied)| (applied > 0).then(|| f64::from(short) / f64::from(applied)))
-            .collect(),
-    )
+    fell_short
+        .iter()
+        .map(|&(short, applied)| (applied > 0).then(|| f64::from(short) / f64::from(applied)))
+        .collect()
 }
 
 /// The truth of `behavior` as a [`Competence`] of `parts`: every part's rate its true
@@ -370,8 +364,8 @@ impl CompetenceAccuracy {
 /// An empty record of `domain`'s competence parts, for a robot held to `standard`; refused
 /// when the domain declares no part, a bound of the standard is not a chance, or a seen
 /// part is not one of the domain's observations.
-pub fn empty_record<D: Domain + ?Sized>(
-    domain: &D,
+pub fn empty_record<O: crate::SimulatedOperator + Send + Sync>(
+    domain: &dyn SelfJudging<Operator = O>,
     standard: &CompetenceStandard,
 ) -> Result<CompetenceRecord, CompetenceError> {
     let parts = domain.competence_parts();
@@ -394,8 +388,9 @@ pub fn measure<D: Domain>(
     settings: &CompetenceSettings,
     progress: &(dyn Fn() + Sync),
 ) -> Result<CompetenceAccuracy, CompetenceError> {
-    let empty = empty_record(domain, &settings.standard)?;
-    let parts = domain.competence_parts();
+    let judging = check_self_judging(domain)?;
+    let empty = empty_record(judging, &settings.standard)?;
+    let parts = judging.competence_parts();
     if settings.behaviors == 0
         || settings.truth_runs == 0
         || settings.seen.windows(2).any(|w| w[0] >= w[1])
@@ -425,25 +420,21 @@ pub fn measure<D: Domain>(
     };
     let most = settings.seen.last().copied().unwrap_or(0);
     // Per behavior: the outcomes of its commands, and its truth.
-    let runs =
-        behaviors
-            .par_iter()
-            .enumerate()
-            .map(|(i, behavior)| {
-                crate::interrupt::check()?;
-                let mut commands = stream(settings.seed, 1, i as u64, Purpose::Competence);
-                let outcomes: Vec<trust::Outcome> = (0..most)
-                    .map(|_| domain.run(behavior, operator, &mut commands).outcome)
-                    .collect();
-                let mut whole = stream(settings.seed, 2, i as u64, Purpose::Competence);
-                let truth = true_rates(domain, behavior, settings.truth_runs, &mut whole)
-                    .ok_or_else(|| CompetenceError::NoTruth {
-                        domain: domain.name().to_owned(),
-                    })?;
-                progress();
-                Ok((outcomes, truth))
-            })
-            .collect::<Result<Vec<_>, CompetenceError>>()?;
+    let runs = behaviors
+        .par_iter()
+        .enumerate()
+        .map(|(i, behavior)| {
+            crate::interrupt::check()?;
+            let mut commands = stream(settings.seed, 1, i as u64, Purpose::Competence);
+            let outcomes: Vec<trust::Outcome> = (0..most)
+                .map(|_| domain.run(behavior, operator, &mut commands).outcome)
+                .collect();
+            let mut whole = stream(settings.seed, 2, i as u64, Purpose::Competence);
+            let truth = true_rates(judging, behavior, settings.truth_runs, &mut whole);
+            progress();
+            Ok((outcomes, truth))
+        })
+        .collect::<Result<Vec<_>, CompetenceError>>()?;
     // Per number of commands: a record holding every behavior's first commands.
     let records: Vec<CompetenceRecord> = settings
         .seen
@@ -462,7 +453,7 @@ pub fn measure<D: Domain>(
         .iter()
         .zip(runs)
         .map(|(&behavior, (_, truth))| {
-            let predicted = domain.predict_competence(&behavior);
+            let predicted = judging.predict_competence(&behavior);
             BehaviorCompetence {
                 behavior,
                 truth,
@@ -540,20 +531,22 @@ mod tests {
             Judgement::completed(1.0, 1.0)
                 .observing(Observations::named(&[BUMP], bumped.then_some(BUMP)))
         }
+        fn self_judging(&self) -> Option<&dyn SelfJudging<Operator = ()>> {
+            Some(self)
+        }
+    }
+
+    impl SelfJudging for TwoWays {
         fn competence_parts(&self) -> &[CompetencePart] {
             &self.parts
         }
         fn predict_competence(&self, _: &Behavior) -> Vec<Option<f64>> {
             vec![None, Some(0.5)]
         }
-        fn competence_truth(
-            &self,
-            behavior: &Behavior,
-            _: &mut dyn RngCore,
-        ) -> Option<Vec<Option<bool>>> {
+        fn competence_truth(&self, behavior: &Behavior, _: &mut dyn RngCore) -> Vec<Option<bool>> {
             // Way 1 never reaches what could go wrong.
             let bumps = behavior.get(0) == 0;
-            Some(vec![Some(bumps), bumps.then_some(false)])
+            vec![Some(bumps), bumps.then_some(false)]
         }
     }
 
@@ -597,7 +590,7 @@ mod tests {
     }
 
     #[test]
-    fn a_domain_without_parts_or_truth_is_refused() {
+    fn a_domain_that_does_not_judge_itself_is_refused() {
         struct Blind(TwoWays);
         impl Domain for Blind {
             type Operator = ();
@@ -616,9 +609,6 @@ mod tests {
             fn run(&self, b: &Behavior, o: &(), rng: &mut dyn RngCore) -> Judgement {
                 self.0.run(b, o, rng)
             }
-            fn competence_parts(&self) -> &[CompetencePart] {
-                &self.0.parts
-            }
         }
         let settings = CompetenceSettings {
             behaviors: 2,
@@ -628,7 +618,14 @@ mod tests {
             standard: CompetenceStandard::uniform(0.1).unwrap(),
         };
         let error = measure(&Blind(TwoWays::new()), "x", &(), &settings, &|| {}).unwrap_err();
-        assert!(matches!(error, CompetenceError::NoTruth { .. }), "{error}");
+        assert!(
+            matches!(error, CompetenceError::NotModelled { .. }),
+            "{error}"
+        );
+        assert!(
+            error.to_string().contains("`blind` does not model"),
+            "{error}"
+        );
         let mut backwards = settings.clone();
         backwards.seen = vec![5, 2];
         assert!(matches!(

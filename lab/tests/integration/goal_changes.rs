@@ -3,8 +3,8 @@
 
 use lab::testing::{Bare, ToyDomain};
 use lab::{
-    Arm, Domain, ExperimentPlan, FeedbackChannel, GoalChanges, Judgement, OperatorChoice,
-    PlanError, run_experiments,
+    Arm, Domain, ExperimentPlan, FeedbackChannel, GoalChanges, GoalChangesOn, Judgement,
+    OperatorChoice, check_goal_changes, run_experiments,
 };
 use trust::AdapterConfig;
 use trust::Cause;
@@ -24,7 +24,7 @@ fn plan<'a, D: Domain<Operator = ()>>(
     domain: &'a D,
     operators: &'a [(String, ())],
     feedback: Option<FeedbackChannel>,
-    goal_changes: Option<GoalChanges>,
+    goal_changes: Option<GoalChangesOn<'a, ()>>,
 ) -> ExperimentPlan<'a, D> {
     ExperimentPlan {
         name: "steady".into(),
@@ -42,21 +42,33 @@ fn plan<'a, D: Domain<Operator = ()>>(
     }
 }
 
-/// Goal changes every 20 s on average: half the 10 s commands are cut.
-fn often() -> Option<GoalChanges> {
-    Some(GoalChanges::new(180.0).unwrap())
+/// Goal changes every 20 s on average, on `domain`: half the 10 s commands are cut.
+fn often(domain: &ToyDomain<()>) -> Option<GoalChangesOn<'_, ()>> {
+    Some(GoalChangesOn::goal_changing(
+        GoalChanges::new(180.0).unwrap(),
+        domain,
+    ))
 }
 
 #[test]
 fn unsaid_goal_changes_give_up_behaviors_the_operator_trusts_and_said_ones_do_not() {
     let domain = steady();
     let operators = [("any".to_owned(), ())];
-    let unsaid = &run_experiments(&[plan(&domain, &operators, None, often())], 1, &|_| {}).unwrap()
-        [0]
-    .arms[0];
+    let unsaid = &run_experiments(
+        &[plan(&domain, &operators, None, often(&domain))],
+        1,
+        &|_| {},
+    )
+    .unwrap()[0]
+        .arms[0];
     let said_channel = FeedbackChannel::SILENT.saying_goal_changes(1.0).unwrap();
     let said = &run_experiments(
-        &[plan(&domain, &operators, Some(said_channel), often())],
+        &[plan(
+            &domain,
+            &operators,
+            Some(said_channel),
+            often(&domain),
+        )],
         1,
         &|_| {},
     )
@@ -107,15 +119,11 @@ fn a_plan_without_goal_changes_runs_as_before() {
 
 #[test]
 fn goal_changes_are_refused_on_a_domain_that_does_not_model_them() {
-    // The toy domain without its goal-change hook.
-    let domain = Bare(steady());
-    let operators = [("any".to_owned(), ())];
-    let err = run_experiments(&[plan(&domain, &operators, None, often())], 1, &|_| {})
-        .err()
-        .unwrap();
-    assert!(matches!(err, PlanError::GoalChangesNotModelled { .. }));
+    // The toy domain without its capabilities: a plan written in Rust could not hold it
+    // as `GoalChanging` (the compiler refuses), and a plan read from a file asks it.
+    let err = check_goal_changes(&Bare(steady())).err().unwrap();
     assert_eq!(
         err.to_string(),
-        "steady: domain `steady` does not model goal changes: it keeps the default `Domain::run_redirected`, so no command could be cut by one; `goal_changes` needs a domain that overrides `Domain::run_redirected` (docs/plugin-guide.md)"
+        "domain `steady` does not model goal changes: it does not implement `GoalChanging` (its `Domain::goal_changing` answers None), so no command could be cut by one; `goal_changes` needs a domain that models them (docs/plugin-guide.md)"
     );
 }

@@ -11,11 +11,12 @@ use lab::mission::summary::{
     MissionSummary, OracleFigure, OracleSummary, harm_comparisons, oracle_multiple,
 };
 use lab::mission::{
-    ChangeKind, Changes, Complacency, MissionPlan, MissionRecord, MissionResult, run_missions,
+    ChangeKind, Changes, Complacency, ComplacencyOn, MissionPlan, MissionRecord, MissionResult,
+    run_missions,
 };
 use lab::reference::known_operator::LimitSettings;
 use lab::testing::{Bare, ToyDomain};
-use lab::{Domain, Judgement, PlanError};
+use lab::{Domain, Judgement, PlanError, check_attention};
 use rand::Rng;
 use trust::AdapterConfig;
 use trust::{Cause, Evaluated, Observations, RetrieverKind, TrustCaseBase, first_guess};
@@ -68,29 +69,29 @@ fn arms() -> Vec<Arm> {
         .collect()
 }
 
-fn run<D: Domain<Operator = Favourite>>(
-    domain: &D,
-    operators: &[(String, Favourite)],
-    complacency: Option<Complacency>,
+fn run<'a, D: Domain<Operator = Favourite>>(
+    domain: &'a D,
+    operators: &'a [(String, Favourite)],
+    complacency: Option<ComplacencyOn<'a, Favourite>>,
     threads: usize,
 ) -> Vec<MissionResult> {
     run_arms(domain, operators, complacency, threads, arms())
 }
 
-fn run_arms<D: Domain<Operator = Favourite>>(
-    domain: &D,
-    operators: &[(String, Favourite)],
-    complacency: Option<Complacency>,
+fn run_arms<'a, D: Domain<Operator = Favourite>>(
+    domain: &'a D,
+    operators: &'a [(String, Favourite)],
+    complacency: Option<ComplacencyOn<'a, Favourite>>,
     threads: usize,
     arms: Vec<Arm>,
 ) -> Vec<MissionResult> {
     try_run_arms(domain, operators, complacency, threads, arms).unwrap()
 }
 
-fn try_run_arms<D: Domain<Operator = Favourite>>(
-    domain: &D,
-    operators: &[(String, Favourite)],
-    complacency: Option<Complacency>,
+fn try_run_arms<'a, D: Domain<Operator = Favourite>>(
+    domain: &'a D,
+    operators: &'a [(String, Favourite)],
+    complacency: Option<ComplacencyOn<'a, Favourite>>,
     threads: usize,
     arms: Vec<Arm>,
 ) -> Result<Vec<MissionResult>, PlanError> {
@@ -220,10 +221,13 @@ fn missions_are_paired_across_arms_and_independent_of_the_thread_count() {
 #[test]
 fn complacent_operators_overlook_bumps_and_answered_alerts_are_paired() {
     let (domain, operators) = (toy(), operators());
-    let complacency = Complacency {
-        memory: 20.0,
-        floor: 0.3,
-    };
+    let complacency = ComplacencyOn::attentive(
+        Complacency {
+            memory: 20.0,
+            floor: 0.3,
+        },
+        &domain,
+    );
     let results = run(&domain, &operators, Some(complacency), 2);
     let result = &results[0];
     assert!(result.complacency);
@@ -333,18 +337,13 @@ fn a_learned_start_arm_starts_its_missions_from_the_memory_s_guess() {
 
 #[test]
 fn complacency_is_refused_on_a_domain_that_does_not_model_attention() {
-    // The toy domain without its attending hook: its operators' attention is not modelled.
+    // The toy domain without its capabilities: a plan written in Rust could not hold it
+    // as `Attentive` (the compiler refuses), and a plan read from a file asks it.
     let (domain, operators) = (Bare(toy()), operators());
-    let complacency = Complacency {
-        memory: 20.0,
-        floor: 0.3,
-    };
-    let err = try_run_arms(&domain, &operators, Some(complacency), 1, arms())
-        .unwrap_err()
-        .to_string();
+    let err = check_attention(&domain).err().unwrap().to_string();
     assert!(
-        err.starts_with("toy: domain `toy` does not model its operators' attention")
-            && err.contains("overrides `Domain::run_attending`"),
+        err.starts_with("domain `toy` does not model its operators' attention")
+            && err.contains("does not implement `Attentive`"),
         "{err}"
     );
     // Attentive operators need no attention model: the same missions as the toy's.
