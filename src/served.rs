@@ -6,7 +6,7 @@ use crate::catalog::Catalog;
 use crate::suite::arm_named;
 use cbr_core::Behavior;
 use lab::Domain;
-use lab::{ArmName, Initial, NameOptions, PREFERS_COMPETENT};
+use lab::{ArmName, Initial, NameOptions, PREFERS_COMPETENT, check_self_judging};
 use service::DomainDefinition;
 use std::sync::Arc;
 use trust::{AdapterConfig, CompetenceStandard, Predictor};
@@ -150,13 +150,10 @@ pub fn judging_competence<C: Catalog>(
     };
     let standard =
         CompetenceStandard::uniform(at_most).map_err(|e| anyhow::anyhow!("{option}: {e}"))?;
-    let Some(judging) = robot.self_judging() else {
-        anyhow::bail!(
-            "{option}: scenario `{}` does not model its robot's competence (its domain does not implement `SelfJudging`)",
-            domain.name
-        );
-    };
-    let parts = judging.competence_parts().to_vec();
+    let parts = check_self_judging(&robot)
+        .map_err(|e| anyhow::anyhow!("{option}: {e}"))?
+        .competence_parts()
+        .to_vec();
     let predict: Predictor<'static> = Arc::new(move |behavior: &Behavior| {
         let judging = robot.self_judging().expect("asked above");
         judging.predict_competence(behavior)

@@ -23,7 +23,8 @@ pub mod targets;
 pub mod testing;
 
 pub use contract::capability::{
-    AttentionNotModelled, GoalChangesNotModelled, check_attention, check_goal_changes,
+    AttentionNotModelled, GoalChangesNotModelled, SelfJudgingNotModelled, check_attention,
+    check_goal_changes, check_self_judging,
 };
 pub use contract::domain::{Attentive, Domain, GoalChanging, SelfJudging, vocabulary};
 pub use contract::feedback::{FeedbackChannel, FeedbackError};

@@ -12,8 +12,7 @@
 //! `trustcbr`'s `testing` feature). The UGV's movement and patrol domains and the warehouse example pass it
 //! (`domains/tests/integration/conformance.rs`, `examples/warehouse/tests/model.rs`).
 
-use crate::contract::domain::Domain;
-use crate::contract::domain::{Attentive, GoalChanging};
+use crate::contract::domain::{Attentive, Domain, GoalChanging};
 use crate::contract::judgement::Judgement;
 use crate::contract::operator::SimulatedOperator;
 use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, NamedComponent};

@@ -18,13 +18,14 @@ pub struct Judgement {
     /// completion.
     pub truth: Option<Cause>,
     /// A problem an attentive operator would have reacted to but this one overlooked (its
-    /// attention was low: [`Attentive::run_attending`](crate::Attentive::run_attending)); the run went on past it.
-    /// `None` for an attentive operator. For evaluation only, as the truth.
+    /// attention was low: [`Attentive::run_attending`](crate::Attentive::run_attending));
+    /// the run went on past it. `None` for an attentive operator. For evaluation only, as
+    /// the truth.
     pub overlooked: Option<Cause>,
     /// The operator stopped the command because its goals changed, not because of the
-    /// behavior ([`GoalChanging::run_redirected`](crate::GoalChanging::run_redirected)); `truth` is then `None`. For evaluation only,
-    /// as the truth: the robot is told only if the operator says so
-    /// ([`trust::Outcome::goal_change`]).
+    /// behavior ([`GoalChanging::run_redirected`](crate::GoalChanging::run_redirected));
+    /// `truth` is then `None`. For evaluation only, as the truth: the robot is told only if
+    /// the operator says so ([`trust::Outcome::goal_change`]).
     pub redirected: bool,
 }
 

@@ -1,6 +1,7 @@
 //! The contract a domain implements: the [`Domain`](domain::Domain) trait, the
-//! capabilities a domain may add ([`capability`]) and what its runs return ([`Judgement`](judgement::Judgement)), and the operator it simulates: the
-//! standard fields every operator has ([`operator`]), operator files read and checked
+//! capabilities a domain may add ([`capability`]) and what its runs return
+//! ([`Judgement`](judgement::Judgement)), and the operator it simulates: the standard
+//! fields every operator has ([`operator`]), operator files read and checked
 //! ([`operator_file`]), patience and attention ([`patience`], [`attention`]), the reasons an
 //! operator states ([`feedback`]) and what it states up front ([`stating`]).
 //!

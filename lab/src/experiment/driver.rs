@@ -184,9 +184,11 @@ impl<'a, D: Domain> Drive<'a, D> {
 
     /// Runs one command with `behavior` in front of `operator` and records it with
     /// `adapter`: an attentive operator's ([`Domain::run`]) when `attention` is `None`, else
-    /// one at that attention ([`crate::Attentive::run_attending`]); with goal changes, the moment of the next is drawn first
-    /// and the domain runs the command up to it ([`crate::GoalChanging::run_redirected`]). A truth the domain does not declare stops the plan, and
-    /// so does a decision that breaks the searcher's contract ([`Drive::check_contract`]).
+    /// one at that attention ([`crate::Attentive::run_attending`]); with goal changes, the
+    /// moment of the next is drawn first and the domain runs the command up to it
+    /// ([`crate::GoalChanging::run_redirected`]). A truth the domain does not declare stops
+    /// the plan, and so does a decision that breaks the searcher's contract
+    /// ([`Drive::check_contract`]).
     pub(crate) fn command<A: Records>(
         &mut self,
         adapter: &mut A,

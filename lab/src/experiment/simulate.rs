@@ -68,11 +68,11 @@ pub(crate) struct Conditions<'c, O> {
 
 /// Runs one command of `domain` with `behavior` in front of `operator`, the paper's
 /// attentive one ([`Domain::run`]) when its `attention` is `None`, else one at that
-/// attention ([`crate::Attentive::run_attending`]); with `goal_change_at`, the operator's goals
-/// change that many seconds in ([`crate::GoalChanging::run_redirected`], at `attention` or 1). The run draws from
-/// `runs`; `channel` states a reason, or says a goal change, from `stated`. A truth the
-/// domain does not declare is refused (the runs stream has drawn the run; nothing is
-/// drawn from `stated`).
+/// attention ([`crate::Attentive::run_attending`]); with `goal_change_at`, the operator's
+/// goals change that many seconds in ([`crate::GoalChanging::run_redirected`], at
+/// `attention` or 1). The run draws from `runs`; `channel` states a reason, or says a goal
+/// change, from `stated`. A truth the domain does not declare is refused (the runs stream
+/// has drawn the run; nothing is drawn from `stated`).
 pub(crate) fn command<D: Domain + ?Sized>(
     domain: &D,
     behavior: &Behavior,

@@ -237,9 +237,7 @@ impl MissionOracle {
                     episode = Some(fresh);
                 }
             }
-            let attention = plan
-                .complacency
-                .map(|c| (c.setting.attention(felt), c.capability));
+            let attention = plan.complacency.map(|c| c.attention(felt));
             let operator = judges.judge(member, context);
             let channel = plan
                 .feedback

@@ -5,6 +5,7 @@
 use crate::contract::capability::{Needing, check_self_judging};
 use crate::experiment::arm::Arm;
 use crate::experiment::plan::PlanError;
+use crate::experiment::simulate::Attention;
 use crate::reference::competence_truth::{CompetenceError, empty_record};
 use crate::reference::known_operator::LimitSettings;
 use crate::{Attentive, SelfJudging};
@@ -143,6 +144,14 @@ impl Changes {
 /// ([`crate::contract::capability`]: a plan over a domain that does not is refused by the
 /// compiler, or where a file's plan enters).
 pub type ComplacencyOn<'a, O> = Needing<'a, Complacency, dyn Attentive<Operator = O> + 'a>;
+
+impl<'a, O> ComplacencyOn<'a, O> {
+    /// The operator's attention at its own trust `felt` ([`Complacency::attention`]),
+    /// with the domain that models it.
+    pub(crate) fn attention(&self, felt: f64) -> Attention<'a, O> {
+        (self.setting.attention(felt), self.capability)
+    }
+}
 
 /// A competence standard, with the plan's domain as one whose robot judges itself.
 pub type CompetenceOn<'a, O> = Needing<'a, CompetenceStandard, dyn SelfJudging<Operator = O> + 'a>;

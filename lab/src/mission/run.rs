@@ -23,6 +23,7 @@
 //! The missions of one arm form a chain (the case base carries from one to the next);
 //! chains run in parallel. Every draw comes from a stream named by (seed, mission plan,
 //! mission, purpose), the same for every arm.
+use crate::contract::capability::Needing;
 use crate::experiment::arm::{Arm, Initial};
 use crate::experiment::driver::{Command, Drive, first_behavior};
 use crate::experiment::plan::{PlanError, fresh_adapter};
@@ -66,19 +67,18 @@ impl<'p, 'a, D: Domain> CompetenceTruth<'p, 'a, D> {
         let plan = self.plan;
         let (seed, index) = (self.seed, self.index);
         *self.known.entry(behavior).or_insert_with(|| {
-            let standard = plan.competence.as_ref().expect("a plan with a standard");
+            let Needing {
+                setting: standard,
+                capability: judging,
+            } = plan.competence.as_ref().expect("a plan with a standard");
             let mut rng = stream(
                 seed,
                 index,
                 plan.domain.space().rank(&behavior),
                 Purpose::CompetenceTruth,
             );
-            let judging = plan
-                .domain
-                .self_judging()
-                .expect("checked by MissionPlan::validate");
-            let rates = true_rates(judging, &behavior, plan.truth_runs, &mut rng);
-            standard.setting.met_by(&true_competence(
+            let rates = true_rates(*judging, &behavior, plan.truth_runs, &mut rng);
+            standard.met_by(&true_competence(
                 judging.competence_parts(),
                 behavior,
                 &rates,
@@ -436,12 +436,10 @@ impl<'r, 'a: 'r, D: Domain> MissionRun<'r, 'a, D> {
     /// recording a complacency onset when it falls below [`COMPLACENT_BELOW`] and ending
     /// it when it is back at [`RECOVERED_AT`].
     fn attend(&mut self, c: u32, marks: &mut Vec<Mark>) -> Option<Attention<'a, D::Operator>> {
-        let attention = self.plan.complacency.map(|complacent| {
-            (
-                complacent.setting.attention(self.state.felt),
-                complacent.capability,
-            )
-        });
+        let attention = self
+            .plan
+            .complacency
+            .map(|complacent| complacent.attention(self.state.felt));
         let level = attention.map_or(1.0, |(level, _)| level);
         if level < COMPLACENT_BELOW && self.state.onset.is_none() {
             self.state.onset = Some(self.record.onsets.len());
