@@ -501,8 +501,9 @@ fn check_behavior(space: &BehaviorSpace, behavior: &Behavior) -> Result<(), Stri
 
 /// A case as a database row holds it: the evaluated pairs and the solution, as JSON. An
 /// import compares cases by their rows in every build; reading rows back is the
-/// databases' alone (the `sqlite` and `postgres` features).
-pub(crate) mod row {
+/// databases' alone (the `sqlite` and `postgres` features). Other stores of cases (a trust
+/// study's, in the `console` crate) write and read their rows with the same functions.
+pub mod row {
     #[cfg(any(feature = "sqlite", feature = "postgres"))]
     use super::{StoreError, StoreId, StoredCase};
     use trust::TrustCase;
