@@ -274,6 +274,14 @@ pub trait Catalog: Send + Sync {
     /// The suite config (RON) `reproduce` runs and `config` prints.
     fn default_suite(&self) -> &str;
 
+    /// The stage a person watches `scenario`'s runs on, for `console` (default: none, the
+    /// scenario's runs cannot be shown to a person).
+    #[cfg(feature = "console")]
+    fn stage(&self, scenario: &str) -> Option<std::sync::Arc<dyn console::Stage>> {
+        let _ = scenario;
+        None
+    }
+
     /// One run of `behavior` under `operator` drawn as SVG, for `render` (default: the
     /// domain has no picture).
     fn render(
@@ -380,6 +388,11 @@ impl<C: Catalog> Catalog for WithArms<C> {
         seed: u64,
     ) -> Option<String> {
         self.inner.render(domain, behavior, operator, seed)
+    }
+
+    #[cfg(feature = "console")]
+    fn stage(&self, scenario: &str) -> Option<std::sync::Arc<dyn console::Stage>> {
+        self.inner.stage(scenario)
     }
 }
 

@@ -20,12 +20,15 @@
 //! - [`served`]: the domain and strategy `serve` serves;
 //! - [`simulate`]: a simulated command as `simulate` prints it;
 //! - [`cli`]: the command line;
+//! - `console_stage`: the UGV world as a stage a person watches in a trust study (the
+//!   `console` and `ugv` features; `console` is the study's server);
 //! - `ugv`: the built-in catalog (the `ugv` feature; plain names here, not links, so the
 //!   docs of a build without it link nothing missing).
 //!
 //! Cargo features, all but `testing` on by default: `ugv` (the built-in catalog and the
 //! `trustcbr` binary, over the `domains` crate), `sqlite` and `postgres` (the case stores
-//! of `serve --cases` and `cases`, `service`'s features of the same names), `testing` (the
+//! of `serve --cases` and `cases`, `service`'s features of the same names), `console` (a
+//! trust study served to browsers, the `console` crate), `testing` (the
 //! conformance kits, and `testing`: a plug-in's tool run on a suite as a real process). A plug-in's tool depends on this crate with `default-features =
 //! false` and the stores it opens; a store left out is refused when a command opens one
 //! ("this tool was built without the `postgres` feature"). The plug-in guide's *Building
@@ -36,6 +39,8 @@
 pub mod catalog;
 pub mod cli;
 pub mod config_file;
+#[cfg(all(feature = "console", feature = "ugv"))]
+pub mod console_stage;
 pub mod limits;
 pub mod mission_suite;
 pub mod own_files;
@@ -76,6 +81,8 @@ pub use ugv::UgvCatalog;
 // a plug-in's own families, priors and tests), `serde` and `ron` for its files (derive
 // with `#[serde(crate = "trustcbr::serde")]`), `service` to serve it by hand.
 pub use cbr_core;
+#[cfg(feature = "console")]
+pub use console;
 pub use files;
 pub use lab;
 pub use rand;

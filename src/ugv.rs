@@ -137,6 +137,14 @@ impl Catalog for UgvCatalog {
         domains::PAPER_CONFIG
     }
 
+    #[cfg(feature = "console")]
+    fn stage(&self, scenario: &str) -> Option<std::sync::Arc<dyn console::Stage>> {
+        let scenario = scenario.parse::<Scenario>().ok()?;
+        Some(std::sync::Arc::new(crate::console_stage::UgvStage::new(
+            scenario,
+        )))
+    }
+
     fn render(
         &self,
         domain: &UgvDomain,

@@ -24,6 +24,8 @@ use std::num::{NonZeroU32, NonZeroU64, NonZeroUsize};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+#[cfg(feature = "console")]
+mod console;
 mod experiments;
 mod inspect;
 mod robot;
@@ -82,6 +84,10 @@ enum Command {
     /// Tell one trial of a report: every behavior, its commands, the trust estimate after
     /// each, and the explanation of every switch (replayed from the report's config).
     Explain(ExplainArgs),
+    /// Serve a trust study to participants' browsers: a person is the operator
+    /// (docs/studies.md); `console export` and `console report` read a study's database.
+    #[cfg(feature = "console")]
+    Console(console::ConsoleArgs),
 }
 
 /// The protocol `serve` speaks, in short, for `serve --help`: a plug-in's user has the tool,
@@ -465,6 +471,8 @@ pub fn main<C: Catalog>(catalog: C) -> ExitCode {
         Err(e) => e.exit(),
     };
     let result = match cli.command {
+        #[cfg(feature = "console")]
+        Command::Console(args) => console::console(&catalog, args),
         Command::Reproduce(options) => SuiteConfig::embedded(&catalog)
             .map_err(Into::into)
             .and_then(|suite| {

@@ -19,6 +19,8 @@ mod cli_render;
 mod cli_simulate;
 mod cli_stated;
 mod cli_sweep;
+#[cfg(feature = "console")]
+mod console_cli;
 mod controller_example;
 mod hostile_arms;
 mod hostile_bounds;

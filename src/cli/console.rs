@@ -1,0 +1,166 @@
+//! `console`: a trust study served to participants' browsers (docs/studies.md), and
+//! `console export` / `console report`, which read a study's database.
+
+use crate::catalog::Catalog;
+use crate::served::{Spelling, served_domain, serving_arm};
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand};
+use console::participant::Conduct;
+use console::{Study, StudyError, server};
+use std::io::Write;
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The environment variable that holds the researcher's admin token.
+const ADMIN_TOKEN_VAR: &str = "TRUSTCBR_CONSOLE_ADMIN_TOKEN";
+/// The shortest admin token a researcher may set.
+const MIN_ADMIN_TOKEN: usize = 16;
+
+#[derive(Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub(super) struct ConsoleArgs {
+    #[command(subcommand)]
+    action: Option<ConsoleAction>,
+    /// The study file (RON): domain, conditions, assignment, ratings, consent
+    /// (domains/studies/pilot.ron is an example).
+    #[arg(long, required = true)]
+    study: Option<PathBuf>,
+    /// The study's database: an SQLite file (made when absent) or a postgres:// URL
+    /// (several consoles, one study). It holds one study: another is refused.
+    #[arg(long, required = true, value_parser = super::text())]
+    db: Option<String>,
+    /// The address to serve on (port 0 picks one). Loopback unless --public.
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    listen: SocketAddr,
+    /// Serve on a non-loopback address, to participants on other machines; needs the
+    /// admin token in TRUSTCBR_CONSOLE_ADMIN_TOKEN (at least 16 characters).
+    #[arg(long)]
+    public: bool,
+}
+
+#[derive(Subcommand)]
+enum ConsoleAction {
+    /// Write a study's records: events.jsonl, ratings.csv and episodes.jsonl (each
+    /// participant's episode as a line of a report's trials.jsonl).
+    Export {
+        /// The study's database (an SQLite file or a postgres:// URL).
+        #[arg(value_parser = super::text())]
+        db: String,
+        /// The folder to write (made when absent).
+        out: PathBuf,
+    },
+    /// Write a study's report: per condition, behaviors evaluated, stops, and the rank
+    /// correlation of the robot's trust estimate with the participants' ratings.
+    Report {
+        /// The study's database (an SQLite file or a postgres:// URL).
+        #[arg(value_parser = super::text())]
+        db: String,
+        /// The folder to write report.md and report.json in (made when absent).
+        out: PathBuf,
+    },
+}
+
+/// Runs `console` and its subcommands.
+pub(super) fn console<C: Catalog>(catalog: &C, args: ConsoleArgs) -> Result<()> {
+    match args.action {
+        Some(ConsoleAction::Export { db, out }) => {
+            let n = console::export::export(&db, &out)?;
+            println!("wrote {} ({n} participants)", out.display());
+            Ok(())
+        }
+        Some(ConsoleAction::Report { db, out }) => {
+            console::report::report(&db, &out)?;
+            println!("wrote {}", out.join("report.md").display());
+            Ok(())
+        }
+        None => {
+            let study = args.study.context("--study is required")?;
+            let db = args.db.context("--db is required")?;
+            serve_study(catalog, &study, &db, args.listen, args.public)
+        }
+    }
+}
+
+/// The conduct of the study at `path`: every check made before anything is stored.
+fn conduct<C: Catalog>(catalog: &C, path: &Path, db: &str) -> Result<Conduct> {
+    let (study, text) = Study::load(path)?;
+    let refuse = |field: String, needle: &str, reason: String| {
+        StudyError::at(&text, path, field, needle, reason)
+    };
+    let domain_needle = format!("\"{}\"", study.domain);
+    let stage = catalog.stage(&study.domain).ok_or_else(|| {
+        refuse(
+            "domain".into(),
+            &domain_needle,
+            format!(
+                "`{}` is not a scenario {} can show a person: allowed {}",
+                study.domain,
+                catalog.tool().name,
+                catalog
+                    .scenarios()
+                    .into_iter()
+                    .filter(|s| catalog.stage(s).is_some())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )
+    })?;
+    let domain = served_domain(catalog, &study.domain)?;
+    let mut conditions = Vec::new();
+    for (i, condition) in study.conditions.iter().enumerate() {
+        let served = serving_arm(
+            catalog,
+            domain.clone(),
+            &condition.arm,
+            Spelling::CommandLine,
+        )
+        .map_err(|e| {
+            refuse(
+                format!("conditions[{i}].arm"),
+                &format!("\"{}\"", condition.arm),
+                format!("{e:#}").replace("--arm ", ""),
+            )
+        })?;
+        conditions.push(served);
+    }
+    let origin = path.display().to_string();
+    let database = console::db::open(db, &study, &text, &origin)?;
+    Ok(Conduct {
+        study,
+        conditions,
+        stage,
+        db: Arc::from(database),
+    })
+}
+
+/// Serves the study until the process is stopped.
+fn serve_study<C: Catalog>(
+    catalog: &C,
+    path: &Path,
+    db: &str,
+    listen: SocketAddr,
+    public: bool,
+) -> Result<()> {
+    let given = std::env::var(ADMIN_TOKEN_VAR).ok();
+    if let Some(token) = &given {
+        anyhow::ensure!(
+            token.chars().count() >= MIN_ADMIN_TOKEN,
+            "{ADMIN_TOKEN_VAR}: at least {MIN_ADMIN_TOKEN} characters"
+        );
+    }
+    server::check_listen(listen, public, given.is_some()).map_err(anyhow::Error::msg)?;
+    let conduct = conduct(catalog, path, db)?;
+    let admin_token = given.clone().unwrap_or_else(server::new_token);
+    let router = server::router(conduct, admin_token.clone());
+    server::run(listen, router, |addr| {
+        if given.is_none() {
+            eprintln!("admin token: {admin_token}");
+        }
+        eprintln!("the researcher's page: http://{addr}/admin");
+        let mut out = std::io::stdout().lock();
+        writeln!(out, "listening on http://{addr}")?;
+        out.flush()
+    })
+    .with_context(|| format!("serving the study on {listen}"))
+}
