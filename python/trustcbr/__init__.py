@@ -52,6 +52,7 @@ from trustcbr._results import (
     load_mission_report,
     load_report,
 )
+from trustcbr._study import StudyResults, load_study
 from trustcbr._types import (
     Behavior,
     ContextSwitch,
@@ -89,6 +90,7 @@ __all__ = [
     "SimulatedOutcome",
     "Space",
     "Strategy",
+    "StudyResults",
     "Suite",
     "Summary",
     "Trial",
@@ -100,6 +102,7 @@ __all__ = [
     "landscape",
     "load",
     "load_missions",
+    "load_study",
     "operators",
     "run",
     "run_missions",

@@ -419,6 +419,11 @@ def _read(path: str) -> str:
 def _report_folder(report_dir: PathArg) -> str:
     root = os.fspath(report_dir)
     if not os.path.isfile(os.path.join(root, "config.ron")):
+        if os.path.isfile(os.path.join(root, "episodes.jsonl")):
+            raise TrustcbrError(
+                f"{root}: a trust study's export: read it with trustcbr.load_study(), "
+                "which returns StudyResults"
+            )
         raise TrustcbrError(f"{root}: not a report folder (it has no config.ron)")
     return root
 
