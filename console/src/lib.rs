@@ -10,6 +10,7 @@ pub mod participant;
 pub mod report;
 pub mod server;
 pub mod stage;
+pub mod story;
 pub mod study;
 
 pub use db::{Db, DbError};

@@ -541,7 +541,8 @@ impl Conduct {
                         "number": number,
                         "after_command": due.after_command,
                         "behaviors": due.behaviors,
-                        "value": value,
+                        // A whole number (checked above), stored as one.
+                        "value": value as i64,
                         "estimate": due.estimate,
                     }),
                 }]))

@@ -221,7 +221,7 @@ fn hand_computed_session(conduct: &Conduct) -> String {
         .map(|e| json!([e.body["value"], e.body["estimate"], e.body["after_command"]]))
         .collect();
     // The estimates are the sums of the rated behaviors' outcomes: -1 -1, then +1 +1 +1.
-    assert_eq!(ratings, [json!([2.0, -2.0, 1]), json!([6.0, 3.0, 4])]);
+    assert_eq!(ratings, [json!([2, -2.0, 1]), json!([6, 3.0, 4])]);
     token
 }
 
@@ -231,6 +231,19 @@ fn a_hand_computed_session_in_sqlite() {
     let location = dir.path().join("study.db");
     let conduct = conduct(location.to_str().unwrap(), &study_text("EachEmpty", true)).unwrap();
     hand_computed_session(&conduct);
+    let participant = &conduct.db.participants().unwrap()[0];
+    let story = console::story::story(&conduct.study, participant, &conduct.db.events(0).unwrap());
+    let lines: Vec<&str> = story.lines().collect();
+    assert_eq!(
+        lines[0],
+        "study/a, arm case-based, participant P001: 5 commands, 2 untrustworthy, 2 behaviors; settled on a behavior the participant trusts, by the estimate"
+    );
+    assert_eq!(lines[3], "  #  outcome      at (s)  perceived  stated     estimate");
+    assert_eq!(lines[4], "  1  interrupted  2.5     -          collision  -1");
+    assert_eq!(lines[5], "  2  interrupted  4.0     -          -          -2");
+    assert!(lines[6].starts_with("  -> Gave up"), "{story}");
+    assert_eq!(lines[7], "  rated 2 (the estimate was -2)");
+    assert_eq!(lines.last(), Some(&"  rated 6 (the estimate was +3)"));
 }
 
 #[test]

@@ -50,6 +50,16 @@ enum ConsoleAction {
         /// The folder to write (made when absent).
         out: PathBuf,
     },
+    /// Tell one participant's session: each behavior, its commands, the adapter's
+    /// explanations and the ratings, after replaying it through the adapter.
+    Explain {
+        /// The study's database (an SQLite file or a postgres:// URL).
+        #[arg(value_parser = super::text())]
+        db: String,
+        /// The participant's pseudonym (P001, P002, ...).
+        #[arg(value_parser = super::text())]
+        participant: String,
+    },
     /// Write a study's report: per condition, behaviors evaluated, stops, and the rank
     /// correlation of the robot's trust estimate with the participants' ratings.
     Report {
@@ -69,6 +79,7 @@ pub(super) fn console<C: Catalog>(catalog: &C, args: ConsoleArgs) -> Result<()> 
             println!("wrote {} ({n} participants)", out.display());
             Ok(())
         }
+        Some(ConsoleAction::Explain { db, participant }) => explain(catalog, &db, &participant),
         Some(ConsoleAction::Report { db, out }) => {
             console::report::report(&db, &out)?;
             println!("wrote {}", out.join("report.md").display());
@@ -82,17 +93,36 @@ pub(super) fn console<C: Catalog>(catalog: &C, args: ConsoleArgs) -> Result<()> 
     }
 }
 
-/// The conduct of the study at `path`: every check made before anything is stored.
+/// The conduct of the study at `path` over the database at `db`: every check is made
+/// before the database is opened, so a refused study stores nothing.
 fn conduct<C: Catalog>(catalog: &C, path: &Path, db: &str) -> Result<Conduct> {
     let (study, text) = Study::load(path)?;
+    let (stage, conditions) = served(catalog, &study, &text, path)?;
+    let database = console::db::open(db, &study, &text, &path.display().to_string())?;
+    Ok(Conduct {
+        study,
+        conditions,
+        stage,
+        db: Arc::from(database),
+    })
+}
+
+/// The stage `study` is shown on and each condition's served domain, refused with the
+/// study file's place (`text`, read from `path`) when the catalog cannot show its domain
+/// or serve an arm.
+fn served<C: Catalog>(
+    catalog: &C,
+    study: &Study,
+    text: &str,
+    path: &Path,
+) -> Result<(Arc<dyn console::Stage>, Vec<service::DomainDefinition>)> {
     let refuse = |field: String, needle: &str, reason: String| {
-        StudyError::at(&text, path, field, needle, reason)
+        StudyError::at(text, path, field, needle, reason)
     };
-    let domain_needle = format!("\"{}\"", study.domain);
     let stage = catalog.stage(&study.domain).ok_or_else(|| {
         refuse(
             "domain".into(),
-            &domain_needle,
+            &format!("\"{}\"", study.domain),
             format!(
                 "`{}` is not a scenario {} can show a person: allowed {}",
                 study.domain,
@@ -119,19 +149,50 @@ fn conduct<C: Catalog>(catalog: &C, path: &Path, db: &str) -> Result<Conduct> {
             refuse(
                 format!("conditions[{i}].arm"),
                 &format!("\"{}\"", condition.arm),
-                format!("{e:#}").replace("--arm ", ""),
+                // The arm is the study's field, not a flag.
+                format!("{e:#}")
+                    .replacen("--arm: ", "", 1)
+                    .replace("--arm ", "`arm` "),
             )
         })?;
         conditions.push(served);
     }
-    let origin = path.display().to_string();
-    let database = console::db::open(db, &study, &text, &origin)?;
-    Ok(Conduct {
-        study,
+    Ok((stage, conditions))
+}
+
+/// Prints the story of one participant's session, replayed through the adapter first so
+/// that a record the adapter no longer decides alike is refused, not told.
+fn explain<C: Catalog>(catalog: &C, db: &str, wanted: &str) -> Result<()> {
+    let recorded = console::export::Recorded::open(db)?;
+    let text = recorded.db.study_text()?;
+    let origin = PathBuf::from(format!("{db} (its study)"));
+    let (stage, conditions) = served(catalog, &recorded.study, &text, &origin)?;
+    let conduct = Conduct {
+        study: recorded.study,
         conditions,
         stage,
-        db: Arc::from(database),
-    })
+        db: Arc::from(recorded.db),
+    };
+    let participants = conduct.db.participants()?;
+    let participant = participants
+        .iter()
+        .find(|p| p.pseudonym() == wanted)
+        .with_context(|| {
+            format!(
+                "{db} has no participant {wanted} (it has {})",
+                match participants.len() {
+                    0 => "none".to_owned(),
+                    n => format!("P001 to {}", participants[n - 1].pseudonym()),
+                }
+            )
+        })?;
+    let events = conduct.db.events(participant.number)?;
+    conduct.replay(participant, &events)?;
+    print!(
+        "{}",
+        console::story::story(&conduct.study, participant, &events)
+    );
+    Ok(())
 }
 
 /// Serves the study until the process is stopped.

@@ -271,6 +271,14 @@ fn a_killed_console_loses_nothing_it_acknowledged_and_the_export_holds_it_all() 
         )
     );
     assert_eq!(first["true_causes"], json!({"too-close": 1}));
+    let told = succeed(trustcbr().args(["console", "explain"]).arg(&db).arg("P001"));
+    assert!(
+        told.starts_with("study/explained, arm case-based, participant P001: 1 commands, 1 untrustworthy, 1 behaviors; the session is under way"),
+        "{told}"
+    );
+    assert!(told.contains("too-close"), "{told}");
+    let unknown = refused(trustcbr().args(["console", "explain"]).arg(&db).arg("P009"));
+    assert!(unknown.contains("has no participant P009 (it has P001 to P002)"), "{unknown}");
     let report = dir.path().join("report");
     succeed(trustcbr().args(["console", "report"]).arg(&db).arg(&report));
     let summary: Value =
