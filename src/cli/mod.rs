@@ -2,14 +2,15 @@
 //! done by the suite, the sweep and the `trust` and `service` libraries.
 //!
 //! [`main`] is the whole tool: `reproduce`, `run`, `config`, `sweep`, `render`,
-//! `simulate`, `landscape`, `competence`, `population`, `serve`, `cases` and `explain`, for
-//! the catalog's scenarios. The shipped `trustcbr` binary is `main(UgvCatalog)`; a user's
-//! crate gets the same tool for its own domains with `fn main() -> ExitCode {
-//! trustcbr::cli::main(MyCatalog) }`.
+//! `simulate`, `landscape`, `competence`, `population`, `serve`, `cases`, `explain` and
+//! (with the `console` feature) `console`, for the catalog's scenarios. The shipped
+//! `trustcbr` binary is `main(UgvCatalog)`; a user's crate gets the same tool for its own
+//! domains with `fn main() -> ExitCode { trustcbr::cli::main(MyCatalog) }`.
 //!
 //! This module holds the command line's definitions and `main`; each command's handler
 //! lives with its family: the suites in `experiments`, the robot-facing commands in
-//! `robot`, the looks at one piece of the simulation in `inspect`.
+//! `robot`, the looks at one piece of the simulation in `inspect`, trust studies with
+//! people in `console`.
 
 use crate::catalog::Catalog;
 use crate::limits::{LANDSCAPE_RUNS, RUNS_PER_BEHAVIOR, SIMULATED_COMMANDS, THREADS, TRIALS};
