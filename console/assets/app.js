@@ -69,7 +69,8 @@
     });
   }
 
-  /** Sends one request and returns its JSON. On any failure it shows an alert with Retry and
+  /** Sends one request and returns its JSON. A request the session refuses (409) is answered
+   *  with the session's state instead; on any other failure it shows an alert with Retry and
    *  repeats the same request when asked (repeats are harmless server-side), so it never rejects. */
   async function api(method, path, body) {
     for (;;) {
@@ -90,6 +91,12 @@
         let data = null;
         try { data = text ? JSON.parse(text) : null; } catch (e) { data = null; }
         if (res.ok) return data;
+        if (status === 409 && token && path !== "/api/session") {
+          // The request no longer fits the session (another tab moved it on, a key press
+          // that came too late): take the session up where the server has it. Every POST
+          // answers with the state, so the caller renders this one alike.
+          return api("GET", "/api/session");
+        }
         const why = data && typeof data.error === "string" ? data.error : "HTTP " + res.status;
         message = "The server refused the request: " + why + ".";
       } catch (e) {
@@ -300,7 +307,10 @@
     if (a.raf) cancelAnimationFrame(a.raf);
     interruptBtn.disabled = true;
     showAt(a, t);
-    const reply = await api("POST", "/api/stop", { command: a.index, at_s: Math.round(t * 1000) / 1000 });
+    // Rounded to the millisecond, never past the run's end (the server refuses a moment
+    // outside the run).
+    const atS = Math.min(a.run.duration_s, Math.round(t * 1000) / 1000);
+    const reply = await api("POST", "/api/stop", { command: a.index, at_s: atS });
     if (anim === a) render(reply);
   }
 
