@@ -27,6 +27,18 @@ pub struct Participant {
 }
 
 impl Participant {
+    /// The participant numbered `number` (from 0) who starts with `token` and the cases
+    /// up to `snapshot`: their condition by the study's assignment, their seed by its seed.
+    pub fn enrolled(study: &Study, number: u64, token: &str, snapshot: StoreId) -> Self {
+        Self {
+            number,
+            token: token.to_owned(),
+            condition: study.condition_of(number),
+            seed: study.participant_seed(number),
+            snapshot,
+        }
+    }
+
     /// Their pseudonym in exports: `P001`, `P002`, ...
     pub fn pseudonym(&self) -> String {
         format!("P{:03}", self.number + 1)
@@ -164,6 +176,25 @@ pub trait Db: Send + Sync {
 /// form, so comments and layout may change.
 pub fn study_identity(study: &Study) -> String {
     serde_json::to_string(study).expect("a study serializes")
+}
+
+/// Whether the study `identity` (read from `origin`) must be recorded in the database at
+/// `location`, which holds `recorded`: yes when it holds none, no when it holds this
+/// one, and an error when it holds another.
+pub(crate) fn needs_recording(
+    recorded: Option<String>,
+    identity: &str,
+    location: &str,
+    origin: &str,
+) -> Result<bool, DbError> {
+    match recorded {
+        None => Ok(true),
+        Some(recorded) if recorded == identity => Ok(false),
+        Some(_) => Err(DbError::OtherStudy {
+            location: location.to_owned(),
+            study: origin.to_owned(),
+        }),
+    }
 }
 
 /// A case from its row, as the case stores decode theirs.

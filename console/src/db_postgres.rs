@@ -5,7 +5,7 @@
 
 use crate::db::{
     Db, DbError, Event, NewEvent, Participant, Recording, SCHEMA, decode_body, decode_case,
-    seed_from_i64, seed_to_i64, study_identity,
+    needs_recording, seed_from_i64, seed_to_i64, study_identity,
 };
 use crate::study::{CaseSharing, Study};
 use postgres::{Client, NoTls};
@@ -60,21 +60,12 @@ impl PostgresDb {
                 .query_opt("SELECT identity FROM console_study", &[])
                 .map_err(|e| db.pg(e))?
                 .map(|row| row.get::<_, String>(0));
-            match recorded {
-                Some(recorded) if recorded != identity => {
-                    return Err(DbError::OtherStudy {
-                        location: db.location.clone(),
-                        study: origin.to_owned(),
-                    });
-                }
-                Some(_) => {}
-                None => {
-                    tx.execute(
-                        "INSERT INTO console_study (one, identity, text) VALUES (1, $1, $2)",
-                        &[&identity, &text],
-                    )
-                    .map_err(|e| db.pg(e))?;
-                }
+            if needs_recording(recorded, &identity, &db.location, origin)? {
+                tx.execute(
+                    "INSERT INTO console_study (one, identity, text) VALUES (1, $1, $2)",
+                    &[&identity, &text],
+                )
+                .map_err(|e| db.pg(e))?;
             }
             tx.commit().map_err(|e| db.pg(e))?;
         }
@@ -150,13 +141,7 @@ impl Db for PostgresDb {
                 .get(0),
             CaseSharing::EachEmpty => 0,
         };
-        let participant = Participant {
-            number,
-            token: token.to_owned(),
-            condition,
-            seed: study.participant_seed(number),
-            snapshot,
-        };
+        let participant = Participant::enrolled(study, number, token, snapshot);
         tx.execute(
             "INSERT INTO console_participants (number, token, condition, seed, snapshot) VALUES ($1, $2, $3, $4, $5)",
             &[

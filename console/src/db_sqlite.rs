@@ -3,7 +3,7 @@
 
 use crate::db::{
     Db, DbError, Event, NewEvent, Participant, Recording, SCHEMA, decode_body, decode_case,
-    seed_from_i64, seed_to_i64, study_identity,
+    needs_recording, seed_from_i64, seed_to_i64, study_identity,
 };
 use crate::study::{CaseSharing, Study};
 use rusqlite::{Connection, OpenFlags, OptionalExtension, TransactionBehavior, params};
@@ -84,21 +84,12 @@ impl SqliteDb {
             .query_row("SELECT identity FROM console_study", [], |row| row.get(0))
             .optional()
             .map_err(|e| self.sqlite(e))?;
-        match recorded {
-            Some(recorded) if recorded != identity => {
-                return Err(DbError::OtherStudy {
-                    location: self.location.clone(),
-                    study: origin.to_owned(),
-                });
-            }
-            Some(_) => {}
-            None => {
-                tx.execute(
-                    "INSERT INTO console_study (one, identity, text) VALUES (1, ?1, ?2)",
-                    params![identity, text],
-                )
-                .map_err(|e| self.sqlite(e))?;
-            }
+        if needs_recording(recorded, &identity, &self.location, origin)? {
+            tx.execute(
+                "INSERT INTO console_study (one, identity, text) VALUES (1, ?1, ?2)",
+                params![identity, text],
+            )
+            .map_err(|e| self.sqlite(e))?;
         }
         tx.commit().map_err(|e| self.sqlite(e))
     }
@@ -161,13 +152,7 @@ impl Db for SqliteDb {
                 .map_err(|e| self.sqlite(e))?,
             CaseSharing::EachEmpty => 0,
         };
-        let participant = Participant {
-            number,
-            token: token.to_owned(),
-            condition,
-            seed: study.participant_seed(number),
-            snapshot,
-        };
+        let participant = Participant::enrolled(study, number, token, snapshot);
         tx.execute(
             "INSERT INTO console_participants (number, token, condition, seed, snapshot) VALUES (?1, ?2, ?3, ?4, ?5)",
             params![

@@ -238,9 +238,18 @@ fn a_hand_computed_session_in_sqlite() {
         lines[0],
         "study/a, arm case-based, participant P001: 5 commands, 2 untrustworthy, 2 behaviors; settled on a behavior the participant trusts, by the estimate"
     );
-    assert_eq!(lines[3], "  #  outcome      at (s)  perceived  stated     estimate");
-    assert_eq!(lines[4], "  1  interrupted  2.5     -          collision  -1");
-    assert_eq!(lines[5], "  2  interrupted  4.0     -          -          -2");
+    assert_eq!(
+        lines[3],
+        "  #  outcome      at (s)  perceived  stated     estimate"
+    );
+    assert_eq!(
+        lines[4],
+        "  1  interrupted  2.5     -          collision  -1"
+    );
+    assert_eq!(
+        lines[5],
+        "  2  interrupted  4.0     -          -          -2"
+    );
     assert!(lines[6].starts_with("  -> Gave up"), "{story}");
     assert_eq!(lines[7], "  rated 2 (the estimate was -2)");
     assert_eq!(lines.last(), Some(&"  rated 6 (the estimate was +3)"));

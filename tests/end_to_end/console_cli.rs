@@ -278,7 +278,10 @@ fn a_killed_console_loses_nothing_it_acknowledged_and_the_export_holds_it_all() 
     );
     assert!(told.contains("too-close"), "{told}");
     let unknown = refused(trustcbr().args(["console", "explain"]).arg(&db).arg("P009"));
-    assert!(unknown.contains("has no participant P009 (it has P001 to P002)"), "{unknown}");
+    assert!(
+        unknown.contains("has no participant P009 (it has P001 to P002)"),
+        "{unknown}"
+    );
     let report = dir.path().join("report");
     succeed(trustcbr().args(["console", "report"]).arg(&db).arg(&report));
     let summary: Value =
