@@ -4,11 +4,12 @@
 //! what was recorded, not what a replay would give.
 
 use crate::db::{Db, DbError, Event, Participant, open_existing};
-use crate::participant::{Conduct, ConductError};
+use crate::participant::{Conduct, ConductError, outcome_kind};
 use crate::study::{Study, StudyError};
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;
 use std::path::Path;
+use trust::OutcomeKind;
 
 /// Why a study could not be exported or reported.
 #[derive(Debug, thiserror::Error)]
@@ -156,7 +157,7 @@ pub fn summarize(study: &Study, participant: &Participant, events: &[Event]) -> 
             )),
             "decision" => {
                 summary.commands += 1;
-                if body["report"]["outcome"] != "completed" {
+                if outcome_kind(&body["report"]) != Some(OutcomeKind::Completed) {
                     summary.untrustworthy += 1;
                 }
                 let reply = &body["reply"];

@@ -13,7 +13,7 @@ use serde_json::{Value, json};
 use service::store::Identity;
 use service::{DomainDefinition, Session, SessionError, SharedCases};
 use std::sync::Arc;
-use trust::TrustCaseBase;
+use trust::{OutcomeKind, TrustCaseBase};
 
 /// A study being run: the study, each condition's served domain (its arm applied), the
 /// stage its runs are shown on, and its database.
@@ -143,6 +143,17 @@ pub struct Replayed {
 }
 
 impl Replayed {
+    /// Takes in an event that is not a decision (decisions go through the adapter:
+    /// `Conduct::close`): a run shown, a stop, a rating; the others change nothing here.
+    fn note(&mut self, kind: &str, body: &Value) {
+        match kind {
+            "shown" => self.shown = true,
+            "stop" => self.stopped_at = body["at_s"].as_f64(),
+            "rating" => self.rated += 1,
+            _ => {}
+        }
+    }
+
     /// Where the session stands.
     pub fn phase(&self, conduct: &Conduct, condition: usize) -> Phase {
         if self.due.len() > self.rated {
@@ -165,6 +176,18 @@ pub fn enrolled_body(study: &Study, participant: &Participant) -> Value {
         "seed": participant.seed,
         "snapshot": participant.snapshot,
     })
+}
+
+/// How the command an outcome report closed ended (`None` when it does not say).
+pub fn outcome_kind(report: &Value) -> Option<OutcomeKind> {
+    serde_json::from_value(report["outcome"].clone()).ok()
+}
+
+/// What the command an outcome report closed adds to its behavior's inverse trust
+/// estimate: its weight times the sign of how it ended (`OutcomeKind::sign`).
+pub fn contribution(report: &Value) -> f64 {
+    let sign = outcome_kind(report).map_or(-1.0, OutcomeKind::sign);
+    sign * report["weight"].as_f64().unwrap_or(1.0)
 }
 
 /// The seed of the run shown as command `command` of the participant seeded `seed`.
@@ -242,11 +265,8 @@ impl Conduct {
         for event in events {
             replayed.next_seq = event.seq + 1;
             match event.kind.as_str() {
-                "shown" => replayed.shown = true,
-                "stop" => replayed.stopped_at = event.body["at_s"].as_f64(),
-                "rating" => replayed.rated += 1,
                 "decision" => self.replay_decision(participant, &mut replayed, event)?,
-                _ => {}
+                kind => replayed.note(kind, &event.body),
             }
         }
         Ok(replayed)
@@ -298,12 +318,7 @@ impl Conduct {
     ) {
         let command = replayed.commands;
         let outcome = report["outcome"].as_str().unwrap_or_default().to_owned();
-        let weight = report["weight"].as_f64().unwrap_or(1.0);
-        replayed.estimate += if outcome == "completed" {
-            weight
-        } else {
-            -weight
-        };
+        replayed.estimate += contribution(report);
         replayed.commands += 1;
         replayed.shown = false;
         replayed.stopped_at = None;
@@ -413,8 +428,9 @@ impl Conduct {
         state
     }
 
-    /// The events an action adds to `replayed`'s session, checked against it; `None` when
-    /// the action was already recorded (a repeated request).
+    /// The events an action adds to `replayed`'s session, checked against it, each taken
+    /// into `replayed` as it is made (as a replay would take it in); `None` when the action
+    /// was already recorded (a repeated request).
     pub fn act(
         &self,
         participant: &Participant,
@@ -440,14 +456,13 @@ impl Conduct {
                 self.check_open(phase, Phase::Watch, command, open)?;
                 let kind = if replayed.shown { "resumed" } else { "shown" };
                 let domain = &self.conditions[participant.condition];
-                Ok(Some(vec![NewEvent {
-                    kind,
-                    body: json!({
-                        "command": command,
-                        "behavior": domain.space.display(&replayed.behavior).to_string(),
-                        "run_seed": run_seed(participant.seed, command),
-                    }),
-                }]))
+                let body = json!({
+                    "command": command,
+                    "behavior": domain.space.display(&replayed.behavior).to_string(),
+                    "run_seed": run_seed(participant.seed, command),
+                });
+                replayed.note(kind, &body);
+                Ok(Some(vec![NewEvent { kind, body }]))
             }
             Action::Stop { command, at_s } => {
                 if command < open || phase == Phase::StateCause && command == open {
@@ -465,6 +480,7 @@ impl Conduct {
                     kind: "stop",
                     body: json!({"command": command, "at_s": at_s}),
                 };
+                replayed.note(stop.kind, &stop.body);
                 if condition.statements {
                     Ok(Some(vec![stop]))
                 } else {
@@ -535,7 +551,7 @@ impl Conduct {
                     ));
                 }
                 let due = replayed.due[number];
-                Ok(Some(vec![NewEvent {
+                let rating = NewEvent {
                     kind: "rating",
                     body: json!({
                         "number": number,
@@ -545,7 +561,9 @@ impl Conduct {
                         "value": value as i64,
                         "estimate": due.estimate,
                     }),
-                }]))
+                };
+                replayed.note(rating.kind, &rating.body);
+                Ok(Some(vec![rating]))
             }
         }
     }
@@ -679,18 +697,6 @@ pub fn perform(
             .db
             .append(participant.number, replayed.next_seq, &new, now_ms)?
         {
-            // A `stop` without its decision changed the session's place only.
-            if let [stop] = new.as_slice()
-                && stop.kind == "stop"
-            {
-                replayed.stopped_at = stop.body["at_s"].as_f64();
-            }
-            if new.iter().any(|e| e.kind == "rating") {
-                replayed.rated += 1;
-            }
-            if new.iter().any(|e| e.kind == "shown") {
-                replayed.shown = true;
-            }
             return Ok(conduct.state(&participant, &replayed));
         }
     }

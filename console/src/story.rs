@@ -5,8 +5,10 @@
 //! replayed them (so the story is what the adapter decides).
 
 use crate::db::{Event, Participant};
+use crate::participant::{contribution, outcome_kind};
 use crate::study::Study;
 use std::fmt::Write;
+use trust::OutcomeKind;
 
 const HEADER: [&str; 6] = ["#", "outcome", "at (s)", "perceived", "stated", "estimate"];
 
@@ -44,14 +46,9 @@ pub fn story(study: &Study, participant: &Participant, events: &[Event]) -> Stri
                 }
                 let report = &body["report"];
                 let outcome = report["outcome"].as_str().unwrap_or_default();
-                let weight = report["weight"].as_f64().unwrap_or(1.0);
-                estimate += if outcome == "completed" {
-                    weight
-                } else {
-                    -weight
-                };
+                estimate += contribution(report);
                 commands += 1;
-                if outcome != "completed" {
+                if outcome_kind(report) != Some(OutcomeKind::Completed) {
                     untrustworthy += 1;
                 }
                 let perceived: Vec<&str> = report["observed"]
