@@ -36,70 +36,20 @@ import json
 import os
 import random
 import re
-import secrets
 import subprocess
 import sys
 import tempfile
 import threading
 import time
-import urllib.error
-import urllib.request
 from collections import Counter
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "tests" / "browser" / "study.ron"
-
-
-class Console:
-    """A ``trustcbr console`` process on a temporary database."""
-
-    def __init__(self, binary: str, study: Path, folder: Path) -> None:
-        self.db = folder / "study.db"
-        self.admin = secrets.token_hex(16)
-        self.stderr = open(folder / "console.stderr", "wb")
-        env = dict(os.environ, TRUSTCBR_CONSOLE_ADMIN_TOKEN=self.admin)
-        self.process = subprocess.Popen(
-            [binary, "console", "--study", str(study), "--db", str(self.db)]
-            + ["--listen", "127.0.0.1:0"],
-            stdout=subprocess.PIPE,
-            stderr=self.stderr,
-            env=env,
-        )
-        assert self.process.stdout is not None
-        line = self.process.stdout.readline().decode().strip()
-        match = re.fullmatch(r"listening on (http://\S+)", line)
-        if not match:
-            self.stop()
-            sys.exit(f"console did not start: {line!r}")
-        self.url = match.group(1)
-
-    def stop(self) -> None:
-        if self.process.poll() is None:
-            self.process.terminate()
-            self.process.wait(10)
-        self.stderr.close()
-
-    def request(
-        self, method: str, path: str, body: Any = None, token: Optional[str] = None
-    ) -> Tuple[int, Any, float]:
-        """(status, parsed reply or None, seconds the round trip took)."""
-        data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.url + path, data=data, method=method)
-        req.add_header("Content-Type", "application/json")
-        if token is not None:
-            req.add_header("Authorization", f"Bearer {token}")
-        started = time.perf_counter()
-        try:
-            with urllib.request.urlopen(req, timeout=60) as reply:
-                text = reply.read()
-                status = reply.status
-        except urllib.error.HTTPError as e:
-            text = e.read()
-            status = e.code
-        took = time.perf_counter() - started
-        return status, json.loads(text) if text else None, took
+# The console process the browser test starts, started here the same way.
+sys.path.insert(0, str(ROOT / "tests" / "browser"))
+from console_process import Console  # noqa: E402
 
 
 def variant(folder: Path, commands: int, behaviors: int, speedup: Optional[float]) -> Path:
@@ -155,7 +105,9 @@ class Participant(threading.Thread):
         self.failure: Optional[str] = None
 
     def call(self, method: str, path: str, body: Any = None, token: Optional[str] = None) -> Any:
-        status, reply, took = self.console.request(method, path, body, token)
+        started = time.perf_counter()
+        status, reply = self.console.request(method, path, body, token)
+        took = time.perf_counter() - started
         self.timings.setdefault(f"{method} {path}", []).append(took)
         if status >= 300 and not (status == 204 and path == "/api/leave"):
             raise RuntimeError(f"{method} {path} {body}: {status} {reply}")
@@ -395,7 +347,7 @@ def browser_latency(binary: str, stops: int, seed: int) -> int:
                     continue
                 pressed = float(keys[-1])
                 replied = float(page.evaluate("window.__replies")[-1])
-                _, events, _ = console.request(
+                _, events = console.request(
                     "GET",
                     f"/api/admin/events?participant={pseudonym(page, console)}",
                     token=console.admin,
@@ -421,7 +373,7 @@ def browser_latency(binary: str, stops: int, seed: int) -> int:
 
     def pseudonym(page: Page, console: Console) -> str:
         token = page.evaluate("localStorage.getItem('trustcbr-console-token')")
-        _, state, _ = console.request("GET", "/api/session", token=token)
+        _, state = console.request("GET", "/api/session", token=token)
         return str(state["participant"])
 
     with tempfile.TemporaryDirectory(prefix="console-latency-") as scratch:

@@ -61,12 +61,11 @@ import sys
 import tempfile
 import time
 import traceback
-import urllib.error
-import urllib.request
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Tuple
 
+from console_process import Console, ConsoleStartError
 from playwright.async_api import (
     Browser,
     BrowserContext,
@@ -217,64 +216,6 @@ class Record:
 
 
 # ---------------------------------------------------------------------- the server
-
-
-class Console:
-    """A ``trustcbr console`` process on a temporary database."""
-
-    def __init__(self, binary: str, study: Path, folder: Path) -> None:
-        self.binary = binary
-        self.db = folder / "study.db"
-        self.admin = secrets.token_hex(16)
-        self.stderr_path = folder / "console.stderr"
-        env = dict(os.environ, TRUSTCBR_CONSOLE_ADMIN_TOKEN=self.admin)
-        self.stderr = open(self.stderr_path, "wb")
-        command = [binary, "console", "--study", str(study), "--db", str(self.db)]
-        self.process = subprocess.Popen(
-            [*command, "--listen", "127.0.0.1:0"],
-            stdout=subprocess.PIPE,
-            stderr=self.stderr,
-            env=env,
-        )
-        assert self.process.stdout is not None
-        line = self.process.stdout.readline().decode().strip()
-        match = re.fullmatch(r"listening on (http://\S+)", line)
-        if not match:
-            self.stop()
-            raise Failure(f"console did not start: {line!r}; {self.stderr_text()}")
-        self.url = match.group(1)
-
-    def stderr_text(self) -> str:
-        if not self.stderr.closed:
-            self.stderr.flush()
-        return self.stderr_path.read_text(errors="replace")
-
-    def stop(self) -> None:
-        if self.process.poll() is None:
-            self.process.terminate()
-            try:
-                self.process.wait(10)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
-        self.stderr.close()
-
-    def request(
-        self, method: str, path: str, body: Any = None, token: Optional[str] = None
-    ) -> Tuple[int, Any]:
-        """(status, parsed JSON reply or None)."""
-        data = None if body is None else json.dumps(body).encode()
-        req = urllib.request.Request(self.url + path, data=data, method=method)
-        req.add_header("Content-Type", "application/json")
-        if token is not None:
-            req.add_header("Authorization", f"Bearer {token}")
-        try:
-            with urllib.request.urlopen(req, timeout=30) as reply:
-                text = reply.read()
-                return reply.status, json.loads(text) if text else None
-        except urllib.error.HTTPError as e:
-            text = e.read()
-            return e.code, json.loads(text) if text else None
 
 
 # ---------------------------------------------------------------------- one participant
@@ -1044,6 +985,6 @@ def main() -> int:
 if __name__ == "__main__":
     try:
         sys.exit(main())
-    except Failure as e:
+    except (Failure, ConsoleStartError) as e:
         print(f"console browser test FAILED: {e}", file=sys.stderr)
         sys.exit(1)
