@@ -232,6 +232,16 @@ pub const LIMIT_RUNS: Bound = Bound {
     why: "",
 };
 
+/// Episodes per member the population reference is simulated over
+/// (`limit.reference_episodes`): 100 times the default's 1,000, which takes about 12 s of
+/// the two cores for patrol's 20 benchmark populations.
+pub const REFERENCE_EPISODES: Bound = Bound {
+    counts: "episodes",
+    min: 0,
+    max: 100_000,
+    why: "",
+};
+
 /// Members of a population drawn from a family (`family.size`): each needs its own
 /// landscape for the report's limit.
 pub const FAMILY_SIZE: Bound = Bound {
@@ -391,6 +401,7 @@ pub const TABLE: &[(&str, Bound)] = &[
     ("LANDSCAPE_RUNS", LANDSCAPE_RUNS),
     ("RUNS_PER_BEHAVIOR", RUNS_PER_BEHAVIOR),
     ("LIMIT_RUNS", LIMIT_RUNS),
+    ("REFERENCE_EPISODES", REFERENCE_EPISODES),
     ("FAMILY_SIZE", FAMILY_SIZE),
     ("OPERATOR_FILES", OPERATOR_FILES),
     ("CONTEXT_CYCLE", CONTEXT_CYCLE),

@@ -55,6 +55,9 @@ pub enum Purpose {
     /// What the trial's operator states up front ([`crate::contract::stating`]), drawn only by
     /// experiments with `stated`.
     Statements = 15,
+    /// The population reference's episodes ([`crate::reference::population_reference`]):
+    /// here "experiment" is the member faced, "trial" the episode.
+    PopulationReference = 16,
 }
 
 /// SplitMix64's finaliser: a bijective mix of 64 bits.

@@ -11,6 +11,7 @@ use lab::reference::known_operator::{
     ExperimentLimit, KnownLimitError, KnownOperator, known_operator,
 };
 use lab::reference::landscape::Landscape;
+use lab::reference::population_reference::ReferencePlan;
 use lab::report::finals_landscapes;
 use lab::seeds::{Purpose, stream_seed};
 use std::path::Path;
@@ -131,8 +132,15 @@ pub(super) fn estimate_parts<C: Catalog>(
                 .zip(&of_each)
                 .map(|((name, _), &i)| (name.as_str(), &operator_limits.known[i].1))
                 .collect();
+            // The population reference of experiment `k` draws from the seed
+            // `stream_seed(seed, k, 0, PopulationReference)`.
+            let reference = ReferencePlan {
+                thresholds: config.adapter.thresholds,
+                episodes: config.limit.reference_episodes,
+                seed: stream_seed(config.seed, k as u64, 0, Purpose::PopulationReference),
+            };
             limits.push(Some(
-                ExperimentLimit::of(&known).map_err(|e| fail(e.to_string()))?,
+                ExperimentLimit::of(&known, Some(reference)).map_err(|e| fail(e.to_string()))?,
             ));
         }
     }

@@ -70,6 +70,7 @@ pub fn report_benchmark(
                     result: e.result,
                     limit: limit.limit.paper,
                     limit_law: &limit.law,
+                    population_reference: limit.population_reference.map(|r| r.paper),
                 })
             })
             .collect();

@@ -13,7 +13,7 @@ use super::{ExperimentSpec, RANDOM_OPERATOR, SuiteConfig, SuiteError, arm_named,
 use crate::catalog::{Catalog, OperatorOf, Readings, domain_of, resolve_readings};
 use crate::limits::{
     self, BoundError, EXPERIMENTS, FAMILY_SIZE, LANDSCAPE_RUNS, LIMIT_RUNS, MAX_COMMANDS,
-    OPERATOR_FILES, OPERATORS_IN_CONTEXTS, SUITE_TRIALS, TRIALS, shown,
+    OPERATOR_FILES, OPERATORS_IN_CONTEXTS, REFERENCE_EPISODES, SUITE_TRIALS, TRIALS, shown,
 };
 use files::name::check_file_name;
 use lab::{
@@ -73,6 +73,19 @@ impl SuiteConfig {
                 String::new(),
             )
             .map_err(over)?;
+        REFERENCE_EPISODES
+            .check(
+                "limit.reference_episodes",
+                self.limit.reference_episodes as u64,
+            )
+            .map_err(over)?;
+        if self.limit.reference_episodes == 1 {
+            return Err(invalid(
+                "limit.reference_episodes".into(),
+                "got 1; must be 0 (no population reference) or at least 2 (one episode has no standard error)"
+                    .into(),
+            ));
+        }
         check_adapter(&self.adapter, origin)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
         if let Some(i) = self.arms.iter().position(|a| a.options().prefers_competent) {

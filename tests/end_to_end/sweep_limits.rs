@@ -220,6 +220,14 @@ fn a_suite_too_large_is_refused_before_any_work() {
             "(candidates: 100000, candidate_runs: 100000)",
             "limit.candidates x limit.candidate_runs: 10000000000 runs; at most 8000000",
         ),
+        (
+            "(reference_episodes: 100001)",
+            "limit.reference_episodes: must be 0 to 100000, got 100001",
+        ),
+        (
+            "(reference_episodes: 1)",
+            "limit.reference_episodes: got 1; must be 0 (no population reference) or at least 2",
+        ),
     ] {
         std::fs::write(
             &landscapes,

@@ -398,6 +398,7 @@ mod tests {
                 budget: 80,
                 candidates: 0,
                 candidate_runs: 0,
+                reference_episodes: 0,
             },
             competence: None,
             offer_safer: false,

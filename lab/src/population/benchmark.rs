@@ -121,6 +121,9 @@ pub struct BenchmarkPopulation<'a> {
     /// The law of its limit agent's untrustworthy commands (the paper's protocol), whose
     /// mean is `limit.untrustworthy`.
     pub limit_law: &'a UntrustworthyLaw,
+    /// Its population reference (the paper's protocol), when it has one
+    /// ([`crate::reference::population_reference`]).
+    pub population_reference: Option<Costs>,
 }
 
 /// An arm's geometric mean ratio to the limit, with the populations it is over.
@@ -246,6 +249,9 @@ pub struct ArmBenchmark {
     /// Per [`Metric::ALL`], the geometric mean ratio to the limit (`None`: no population
     /// has a usable ratio).
     pub to_limit: [Option<LimitRatio>; 3],
+    /// Per [`Metric::ALL`], the geometric mean ratio to the population reference over the
+    /// populations that have one: what learning costs the arm.
+    pub to_population_reference: [Option<LimitRatio>; 3],
     /// Per reference arm of the scenario ([`ScenarioBenchmark::references`]), the wins,
     /// ties and losses against it (`None` for the reference itself).
     pub versus: Vec<Option<WinsTiesLosses>>,
@@ -267,6 +273,9 @@ pub struct ScenarioBenchmark {
     pub references: Vec<String>,
     /// The windows of trials the ratio to the limit is followed over.
     pub windows: Vec<TrialRange>,
+    /// Per [`Metric::ALL`], the geometric mean ratio of the population reference to the
+    /// limit over the populations that have one: what telling members apart costs.
+    pub population_reference_to_limit: [Option<LimitRatio>; 3],
     /// The mean over populations of the limit's expected untrustworthy commands (paper
     /// protocol).
     pub limit_untrustworthy: f64,
@@ -346,15 +355,27 @@ fn per_trial(arm: &ArmResult, metric: Metric, window: TrialRange) -> Vec<f64> {
         .collect()
 }
 
-/// The arm's mean `metric` over the trials `window` holds as a ratio to the limit's.
-fn ratio_to_limit(
-    arm: &ArmResult,
-    limit: &Costs,
-    metric: Metric,
-    window: TrialRange,
-) -> Option<f64> {
-    mean(&per_trial(arm, metric, window)).map(|m| m / metric.of_limit(limit))
+/// The arm's mean `metric` over the trials `window` holds as a ratio to `costs` (the
+/// limit's or the population reference's).
+fn ratio_to(arm: &ArmResult, costs: &Costs, metric: Metric, window: TrialRange) -> Option<f64> {
+    mean(&per_trial(arm, metric, window)).map(|m| m / metric.of_limit(costs))
 }
+
+/// The geometric mean of usable `ratios` with its bootstrap interval, from the stream of
+/// (`seed`, `experiment`, `trial`) for the benchmark.
+fn bootstrapped(ratios: &[f64], seed: u64, experiment: u64, trial: u64) -> Option<LimitRatio> {
+    let ratios = usable(ratios.iter().copied());
+    let mut rng = stream(seed, experiment, trial, Purpose::Benchmark);
+    bootstrap_geometric_mean(&ratios, BOOTSTRAP_RESAMPLES, &mut rng).map(|ratio| LimitRatio {
+        ratio,
+        populations: ratios.len(),
+    })
+}
+
+/// Where the bootstraps of ratios to the population reference draw from: the scenario's
+/// index plus this as the stream's "experiment" (the ratios to the limit use the index
+/// alone, so their intervals are what they were before the reference was reported).
+const REFERENCE_STREAMS: u64 = 1 << 32;
 
 /// The benchmark of every scenario of `populations` (in the order each first appears),
 /// its bootstraps drawn from streams of `seed`.
@@ -415,23 +436,26 @@ fn scenario_benchmark(
             let geometric_ratio = |metric: Metric, window: TrialRange| {
                 usable(
                     runs.iter()
-                        .filter_map(|(p, arm)| ratio_to_limit(arm, &p.limit, metric, window)),
+                        .filter_map(|(p, arm)| ratio_to(arm, &p.limit, metric, window)),
                 )
             };
+            let trial = |metric: Metric| (a * Metric::ALL.len()) as u64 + metric as u64;
             let to_limit = Metric::ALL.map(|metric| {
-                let ratios = geometric_ratio(metric, every_trial);
-                let mut rng = stream(
+                bootstrapped(
+                    &geometric_ratio(metric, every_trial),
                     seed,
                     index,
-                    (a * Metric::ALL.len()) as u64 + metric as u64,
-                    Purpose::Benchmark,
-                );
-                bootstrap_geometric_mean(&ratios, BOOTSTRAP_RESAMPLES, &mut rng).map(|ratio| {
-                    LimitRatio {
-                        ratio,
-                        populations: ratios.len(),
-                    }
-                })
+                    trial(metric),
+                )
+            });
+            let to_population_reference = Metric::ALL.map(|metric| {
+                let ratios: Vec<f64> = runs
+                    .iter()
+                    .filter_map(|(p, arm)| {
+                        ratio_to(arm, p.population_reference.as_ref()?, metric, every_trial)
+                    })
+                    .collect();
+                bootstrapped(&ratios, seed, index + REFERENCE_STREAMS, trial(metric))
             });
             let versus = references
                 .iter()
@@ -463,17 +487,31 @@ fn scenario_benchmark(
             ArmBenchmark {
                 arm: (*name).clone(),
                 to_limit,
+                to_population_reference,
                 versus,
                 ecdf,
                 windows,
             }
         })
         .collect();
+    let population_reference_to_limit = Metric::ALL.map(|metric| {
+        let ratios: Vec<f64> = populations
+            .iter()
+            .filter_map(|p| {
+                let reference = p.population_reference.as_ref()?;
+                Some(metric.of_limit(reference) / metric.of_limit(&p.limit))
+            })
+            .collect();
+        // After every arm's streams, in the reference's range.
+        let trial = (arm_names.len() * Metric::ALL.len()) as u64 + metric as u64;
+        bootstrapped(&ratios, seed, index + REFERENCE_STREAMS, trial)
+    });
     ScenarioBenchmark {
         scenario: scenario.to_owned(),
         populations: populations.iter().map(|p| p.result.name.clone()).collect(),
         references: references.iter().map(|r| (*r).to_owned()).collect(),
         windows,
+        population_reference_to_limit,
         limit_untrustworthy: mean(
             &populations
                 .iter()
@@ -645,12 +683,19 @@ mod tests {
                 result: &p,
                 limit: limit(2.0),
                 limit_law: &p_law,
+                // p's population reference: 1.5 behaviors, 7.5 commands, 3 untrustworthy.
+                population_reference: Some(Costs {
+                    behaviors: 1.5,
+                    commands: 7.5,
+                    untrustworthy: 3.0,
+                }),
             },
             BenchmarkPopulation {
                 scenario: "s",
                 result: &q,
                 limit: limit(4.0),
                 limit_law: &q_law,
+                population_reference: None,
             },
         ];
         let [s] = benchmarks(&populations, 1).try_into().unwrap();
@@ -674,6 +719,17 @@ mod tests {
             other.windows,
             vec![other.to_limit.map(|r| Some(r.unwrap().ratio.ratio))]
         );
+        // Over the population reference, on p alone (q has none): untrustworthy 4.5 / 3,
+        // behaviors 2 / 1.5, commands 10 / 7.5; the reference over p's limit: 1.5 each.
+        let over = other.to_population_reference.map(Option::unwrap);
+        let expected = [4.0 / 3.0, 4.0 / 3.0, 1.5];
+        for (ratio, expected) in over.iter().zip(expected) {
+            assert!((ratio.ratio.ratio - expected).abs() < 1e-12);
+            assert_eq!(ratio.populations, 1);
+        }
+        for ratio in s.population_reference_to_limit.map(Option::unwrap) {
+            assert!((ratio.ratio.ratio - 1.5).abs() < 1e-12);
+        }
         // Against `uniform`: one win (p), one loss (q); `uniform` against itself: none.
         assert_eq!(
             other.versus,
@@ -729,12 +785,14 @@ mod tests {
                 result: &p,
                 limit,
                 limit_law: &at_zero,
+                population_reference: None,
             },
             BenchmarkPopulation {
                 scenario: "s",
                 result: &q,
                 limit,
                 limit_law: &half_at_three,
+                population_reference: None,
             },
         ];
         let [s] = benchmarks(&populations, 1).try_into().unwrap();

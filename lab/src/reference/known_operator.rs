@@ -29,6 +29,9 @@ use crate::Domain;
 use crate::reference::landscape::{self, LandscapeError, Tally};
 use crate::reference::limit::{self, DEFAULT_MAX_STATES, Limit, LimitError, Step, WalkOutcome};
 use crate::reference::limit_law::{self, UntrustworthyLaw, WalkLaw};
+use crate::reference::population_reference::{
+    Member, PopulationReference, ReferenceError, ReferencePlan, population_reference,
+};
 use crate::seeds::{Purpose, stream_seed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -52,6 +55,9 @@ pub struct LimitSettings {
     pub candidates: usize,
     /// Runs per candidate of the second estimate.
     pub candidate_runs: u32,
+    /// Episodes per member the population reference of a population of several operators
+    /// is simulated over ([`crate::reference::population_reference`]; 0: none is).
+    pub reference_episodes: usize,
 }
 
 impl Default for LimitSettings {
@@ -61,6 +67,7 @@ impl Default for LimitSettings {
             budget: 160_000,
             candidates: 32,
             candidate_runs: 400,
+            reference_episodes: 1000,
         }
     }
 }
@@ -75,6 +82,9 @@ pub enum KnownLimitError {
     /// A walk or the limit could not be solved.
     #[error("the known-operator limit: {0}")]
     Limit(#[from] LimitError),
+    /// The population reference could not be simulated.
+    #[error("the population reference: {0}")]
+    Reference(#[from] ReferenceError),
 }
 
 /// What the estimate tells of one operator: its limit and its trustworthy region.
@@ -95,9 +105,49 @@ pub struct KnownOperator {
     /// Per behavior (in rank order), the estimated probability that a command is
     /// untrustworthy (anything but a completion).
     pub untrustworthy_rate: Vec<f64>,
+    /// The distinct step laws of the estimate (behaviors whose runs were counted alike
+    /// share one): what the population reference simulates and weighs evidence with
+    /// ([`crate::reference::population_reference`]).
+    pub laws: Vec<Vec<Step>>,
+    /// Per behavior (in rank order), which of [`KnownOperator::laws`] is its step law.
+    pub law_of: Vec<usize>,
 }
 
 impl KnownOperator {
+    /// The operator of these step laws (`laws`, and per behavior in rank order which of
+    /// them is its law, `law_of`) with its trustworthy region and untrustworthy rates as
+    /// counted from its runs: each distinct law's walk solved under `thresholds`, the limit
+    /// and its law.
+    fn assemble(
+        laws: Vec<Vec<Step>>,
+        law_of: Vec<usize>,
+        trusted: Vec<bool>,
+        untrustworthy_rate: Vec<f64>,
+        thresholds: Thresholds,
+    ) -> Result<Self, KnownLimitError> {
+        let walks = solve_laws(&laws, &law_of, thresholds)?;
+        Ok(Self {
+            limit: Limit::from_outcomes(&walks)?,
+            law: paper_law(&laws, &law_of, &walks, thresholds)?,
+            trusted,
+            untrustworthy_rate,
+            walks,
+            laws,
+            law_of,
+        })
+    }
+
+    /// The operator as a member of a population met `weight` times as often as a member
+    /// of weight 1: what the population reference knows of it.
+    pub fn as_member(&self, weight: f64) -> Member<'_> {
+        Member {
+            weight,
+            walks: &self.walks,
+            laws: &self.laws,
+            law_of: &self.law_of,
+        }
+    }
+
     /// Per behavior (in rank order), the estimated probability that a command completes:
     /// one minus [`KnownOperator::untrustworthy_rate`].
     pub fn completion_rate(&self) -> Vec<f64> {
@@ -198,12 +248,20 @@ pub struct ExperimentLimit {
     /// Each operator's name and trustworthy region ([`KnownOperator::trusted`]), in the
     /// order given: what a report judges a given-up behavior against.
     pub regions: Vec<(String, Vec<bool>)>,
+    /// The population reference: the agent that knows every operator but not which it
+    /// faces ([`crate::reference::population_reference`]); `None` for one operator (it is
+    /// the limit's agent then) or when none was asked for.
+    pub population_reference: Option<PopulationReference>,
 }
 
 impl ExperimentLimit {
-    /// The limit of an experiment whose trials draw from these operators, each with its
-    /// name.
-    pub fn of(operators: &[(&str, &KnownOperator)]) -> Result<Self, KnownLimitError> {
+    /// The limit of an experiment whose trials draw from these operators (equally often),
+    /// each with its name; with several, and a `reference` plan of some episodes, its
+    /// population reference too.
+    pub fn of(
+        operators: &[(&str, &KnownOperator)],
+        reference: Option<ReferencePlan>,
+    ) -> Result<Self, KnownLimitError> {
         let limits: Vec<Limit> = operators.iter().map(|(_, o)| o.limit).collect();
         let rates: Vec<Vec<f64>> = operators.iter().map(|(_, o)| o.completion_rate()).collect();
         let members: Vec<(&[bool], &[f64])> = operators
@@ -211,7 +269,16 @@ impl ExperimentLimit {
             .zip(&rates)
             .map(|((_, o), rates)| (o.trusted.as_slice(), rates.as_slice()))
             .collect();
+        let population_reference = match reference {
+            Some(plan) if operators.len() > 1 && plan.episodes > 0 => {
+                let members: Vec<Member<'_>> =
+                    operators.iter().map(|(_, o)| o.as_member(1.0)).collect();
+                Some(population_reference(&members, plan)?)
+            }
+            _ => None,
+        };
         Ok(Self {
+            population_reference,
             limit: Limit::mean_of(&limits)?,
             law: UntrustworthyLaw::mixture(operators.iter().map(|(_, o)| (1.0, &o.law))),
             operators: operators.len(),
@@ -280,6 +347,16 @@ fn solve_all(
     thresholds: Thresholds,
 ) -> Result<Vec<WalkOutcome>, KnownLimitError> {
     let (distinct, which) = distinct_steps(tallies);
+    solve_laws(&distinct, &which, thresholds)
+}
+
+/// The walk of every behavior whose step law is `distinct[which[rank]]`, each distinct law
+/// solved once.
+fn solve_laws(
+    distinct: &[Vec<Step>],
+    which: &[usize],
+    thresholds: Thresholds,
+) -> Result<Vec<WalkOutcome>, KnownLimitError> {
     let solved = distinct
         .iter()
         .map(|steps| limit::solve_walk(steps, thresholds, DEFAULT_MAX_STATES))
@@ -288,20 +365,21 @@ fn solve_all(
 }
 
 /// The law of the paper-protocol agent's untrustworthy commands over behaviors with these
-/// tallies and walks; tallies with the same step counts share one walk's law.
+/// walks, whose step laws are `distinct[which[rank]]`: behaviors that share a step law
+/// share one walk's law.
 fn paper_law(
-    tallies: &[Tally],
+    distinct: &[Vec<Step>],
+    which: &[usize],
     walks: &[WalkOutcome],
     thresholds: Thresholds,
 ) -> Result<UntrustworthyLaw, KnownLimitError> {
-    let (distinct, which) = distinct_steps(tallies);
     let laws = distinct
         .par_iter()
         .map(|steps| limit_law::walk_law(steps, thresholds, DEFAULT_MAX_STATES))
         .collect::<Result<Vec<WalkLaw>, _>>()?;
     let walks: Vec<(WalkOutcome, &WalkLaw)> = walks
         .iter()
-        .zip(&which)
+        .zip(which)
         .map(|(&walk, &i)| (walk, &laws[i]))
         .collect();
     Ok(limit_law::paper_protocol_law(&walks)?)
@@ -341,7 +419,7 @@ pub fn known_operator<D: Domain>(
     let runs = settings.runs.max(spread);
     let first = landscape::estimate(domain, &[operator], &every, runs, seed, &|| {})?;
     let mut tallies = first.cells;
-    let mut walks = solve_all(&tallies, thresholds)?;
+    let walks = solve_all(&tallies, thresholds)?;
     if settings.candidates > 0 && settings.candidate_runs > 0 {
         let again = stream_seed(seed, 0, 0, Purpose::Landscape);
         let ranks = candidates(&walks, settings.candidates);
@@ -360,19 +438,18 @@ pub fn known_operator<D: Domain>(
             })
             .collect::<Result<_, crate::Interrupted>>()
             .map_err(LandscapeError::from)?;
-        let fresh_walks = solve_all(&fresh, thresholds)?;
-        for ((&rank, tally), walk) in ranks.iter().zip(fresh).zip(fresh_walks) {
+        for (&rank, tally) in ranks.iter().zip(fresh) {
             tallies[rank] = tally;
-            walks[rank] = walk;
         }
     }
-    Ok(KnownOperator {
-        limit: Limit::from_outcomes(&walks)?,
-        law: paper_law(&tallies, &walks, thresholds)?,
-        trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
-        untrustworthy_rate: tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
-        walks,
-    })
+    let (laws, law_of) = distinct_steps(&tallies);
+    KnownOperator::assemble(
+        laws,
+        law_of,
+        tallies.iter().map(Tally::trusted_on_average).collect(),
+        tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
+        thresholds,
+    )
 }
 
 #[cfg(test)]

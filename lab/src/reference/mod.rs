@@ -1,5 +1,6 @@
 //! What an arm is measured against: the known-operator limit ([`limit`], its law
-//! [`limit_law`], estimated for a domain's operator by [`known_operator`]), the operator's
+//! [`limit_law`], estimated for a domain's operator by [`known_operator`]), the agent that
+//! knows a population's members but not which it faces ([`population_reference`]), the operator's
 //! landscape over the behavior space ([`landscape`]), and the robot's true competence
 //! ([`competence_truth`]).
 //!
@@ -11,3 +12,4 @@ pub mod known_operator;
 pub mod landscape;
 pub mod limit;
 pub mod limit_law;
+pub mod population_reference;

@@ -19,6 +19,7 @@
 //!
 //! Imports every folder but [`mission`](crate::mission).
 
+mod benchmark_tables;
 mod effects;
 mod entry;
 mod figures;
@@ -32,14 +33,15 @@ pub mod timeline;
 mod trials_jsonl;
 
 pub use crate::report::plot::category_label;
+pub use benchmark_tables::{benchmark_split_table, benchmark_table};
 pub use effects::{all_effect_sizes, effect_sizes, versus_reference};
 pub use entry::{Provenance, Replay, ReportEntry, ReportError};
 pub use figures::{FINALS_LANDSCAPE_RUNS, component_pairs, finals_landscapes};
 pub use files::name::file_stems;
 pub use summary_json::summary;
 pub use tables::{
-    arms_table, benchmark_table, best_arms, effects_table, explanations_table, free_first_table,
-    goal_changes_table, limit_table, population_table, sample_explanations, table,
+    arms_table, best_arms, effects_table, explanations_table, free_first_table, goal_changes_table,
+    limit_table, population_table, sample_explanations, table,
 };
 pub use trials_jsonl::trials_jsonl;
 

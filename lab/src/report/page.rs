@@ -2,12 +2,15 @@
 //! a contents list, the glossary of arms and metrics, every table (a benchmark suite's
 //! benchmark among them), every figure with its caption, the config and the provenance.
 
+use super::benchmark_tables::{
+    BENCHMARK_NOTE, BENCHMARK_TITLE, NO_BENCHMARK, SPLIT_NOTE, benchmark_split_table,
+    benchmark_table, benchmark_title,
+};
 use super::entry::{Provenance, ReportEntry};
 use super::tables::{
-    BENCHMARK_NOTE, BENCHMARK_TITLE, CONTEXTS_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE,
-    NO_BENCHMARK, POPULATION_TITLE, arms_table, benchmark_table, benchmark_title, contexts_table,
-    effects_table, explanations_table, found_note, free_first_table, goal_changes_table,
-    limit_table, population_table, sample_explanations, table,
+    CONTEXTS_TITLE, FREE_FIRST_TITLE, GOAL_CHANGES_TITLE, POPULATION_TITLE, arms_table,
+    contexts_table, effects_table, explanations_table, found_note, free_first_table,
+    goal_changes_table, limit_table, population_table, sample_explanations, table,
 };
 use crate::experiment::arm::Initial;
 use crate::population::benchmark::ScenarioBenchmark;
@@ -332,6 +335,15 @@ fn benchmark_html(benchmarks: &[ScenarioBenchmark]) -> String {
             escape(&benchmark_title(benchmark)),
             html_table(&benchmark_table(benchmark))
         );
+        let split = benchmark_split_table(benchmark);
+        if !split.is_empty() {
+            let _ = write!(
+                html,
+                "<p>{}</p>\n{}",
+                escape(SPLIT_NOTE),
+                html_table(&split)
+            );
+        }
     }
     html
 }

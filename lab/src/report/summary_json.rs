@@ -81,6 +81,10 @@ pub(super) fn summary_of(
                 };
                 if let Some(limit) = e.limit {
                     summary["ratio_to_limit"] = ratio_json(ratios(arm, &limit.limit.paper));
+                    if let Some(reference) = limit.population_reference {
+                        summary["ratio_to_population_reference"] =
+                            ratio_json(ratios(arm, &reference.paper));
+                    }
                 }
                 // Only where an arm starts from the memory's guess, so that other reports
                 // stay as they were.
@@ -109,6 +113,17 @@ pub(super) fn summary_of(
                     })
                 };
                 let conflict = &l.conflict;
+                let reference = l.population_reference.map(|r| {
+                    json!({
+                        "paper_protocol": costs(&r.paper),
+                        "free_first_choice": costs(&r.free_first),
+                        "standard_error": {
+                            "paper_protocol": costs(&r.paper_error),
+                            "free_first_choice": costs(&r.free_first_error),
+                        },
+                        "episodes_per_operator": r.episodes,
+                    })
+                });
                 json!({
                     "paper_protocol": costs(&l.limit.paper),
                     "free_first_choice": costs(&l.limit.free_first),
@@ -123,6 +138,7 @@ pub(super) fn summary_of(
                         "pairwise_jaccard": conflict.jaccard,
                         "pairwise_rate_gap": conflict.rate_gap_share,
                     },
+                    "population_reference": reference,
                 })
             });
             json!({
@@ -179,8 +195,30 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
             "untrustworthy_mean": benchmark.limit_law.mean(),
         },
         "windows": windows,
+        "population_reference_to_limit": ratios_json(&benchmark.population_reference_to_limit),
         "arms": arms,
     })
+}
+
+/// Geometric mean ratios per [`Metric::ALL`] for `summary.json`, each with its interval and
+/// the populations it is over (`null`: none).
+fn ratios_json(ratios: &[Option<LimitRatio>; 3]) -> Value {
+    Metric::ALL
+        .iter()
+        .zip(ratios)
+        .map(|(metric, ratio)| {
+            let value = ratio.map_or(Value::Null, |LimitRatio { ratio, populations }| {
+                json!({
+                    "geometric_mean": ratio.ratio,
+                    "ci95_low": ratio.low,
+                    "ci95_high": ratio.high,
+                    "populations": populations,
+                })
+            });
+            (metric.key().to_owned(), value)
+        })
+        .collect::<Map<String, Value>>()
+        .into()
 }
 
 /// One arm of a scenario's benchmark for `summary.json`.
@@ -197,16 +235,7 @@ fn arm_benchmark_summary(
             .collect::<Map<String, Value>>()
             .into()
     };
-    let to_limit = per_metric(arm.to_limit.map(|ratio| {
-        ratio.map_or(Value::Null, |LimitRatio { ratio, populations }| {
-            json!({
-                "geometric_mean": ratio.ratio,
-                "ci95_low": ratio.low,
-                "ci95_high": ratio.high,
-                "populations": populations,
-            })
-        })
-    }));
+    let to_limit = ratios_json(&arm.to_limit);
     let versus: Map<String, Value> = benchmark
         .references
         .iter()
@@ -231,6 +260,7 @@ fn arm_benchmark_summary(
         .collect();
     json!({
         "ratio_to_limit": to_limit,
+        "ratio_to_population_reference": ratios_json(&arm.to_population_reference),
         "versus": versus,
         "ecdf": {
             "pairs": arm.ecdf.pairs,

@@ -3,17 +3,19 @@
 //! (with sample explanations), every arm against the known-operator limit (the paper's
 //! protocol, and free to choose the first behavior) and how much each population
 //! disagrees; goal changes, when an experiment has them; each arm by context, against its
-//! blind twin, when trials ran in contexts; every arm over the populations of a scenario
-//! (a benchmark suite's); and the one line per experiment printed after a run.
+//! blind twin, when trials ran in contexts; and the one line per experiment printed after a
+//! run. A benchmark suite's tables are [`super::benchmark_tables`]'.
 
+use super::benchmark_tables::{benchmark_section, ratio_cell};
 use super::effects::versus_reference;
 use super::entry::ReportEntry;
 use crate::experiment::arm::Initial;
 use crate::experiment::record::ArmResult;
 use crate::experiment::trial_contexts::{any_contexts, by_context};
-use crate::population::benchmark::{LimitRatio, ScenarioBenchmark, WinsTiesLosses};
+use crate::population::benchmark::ScenarioBenchmark;
 use crate::reference::known_operator::{ExperimentLimit, RATE_GAP};
 use crate::reference::limit::Costs;
+use crate::reference::population_reference::PopulationReference;
 use crate::report::goal_changes::{ArmGoalChanges, any_goal_changes};
 use crate::stats::{MeanCi, RatioCi};
 use std::fmt::Write as _;
@@ -385,19 +387,13 @@ pub(super) fn ratios(arm: &ArmResult, limit: &Costs) -> [f64; 3] {
     ]
 }
 
-/// A ratio to the limit, `—` when the limit is 0 (nothing to divide by).
-fn ratio_cell(ratio: f64) -> String {
-    if ratio.is_finite() {
-        format!("{ratio:.2}")
-    } else {
-        "—".to_owned()
-    }
-}
-
 /// Every arm against the known-operator limit of its experiment: the limit (an agent that
 /// knows the operator's outcome distribution of every behavior, starting from the
-/// paper's random behavior; and free to choose its first), then each arm's behaviors,
-/// commands and untrustworthy commands as multiples of the limit's. Experiments without a
+/// paper's random behavior; and free to choose its first), the population reference where
+/// the experiment has one (its costs, and its multiples of the limit's: what telling
+/// operators apart costs), then each arm's behaviors, commands and untrustworthy commands
+/// as multiples of the limit's and of the population reference's (what learning costs).
+/// Experiments without a
 /// limit are left out; empty when none has one.
 pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
     let mut out = String::new();
@@ -426,20 +422,66 @@ pub fn limit_table(entries: &[ReportEntry<'_>]) -> String {
             "| {} | the same, free to choose its first | {:.2} | {:.1} | {:.1} |",
             e.result.name, free.behaviors, free.commands, free.untrustworthy
         );
+        let reference = limit.population_reference;
+        if let Some(r) = reference {
+            reference_rows(&mut out, &e.result.name, &r, &paper);
+        }
         for arm in &e.result.arms {
-            let [b, c, u] = ratios(arm, &paper);
-            let _ = writeln!(
-                out,
-                "| {} | {} (× limit) | {} | {} | {} |",
-                e.result.name,
-                arm.name,
-                ratio_cell(b),
-                ratio_cell(c),
-                ratio_cell(u)
-            );
+            let mut multiples = |of: &str, costs: &Costs| {
+                let [b, c, u] = ratios(arm, costs);
+                let _ = writeln!(
+                    out,
+                    "| {} | {} (× {of}) | {} | {} | {} |",
+                    e.result.name,
+                    arm.name,
+                    ratio_cell(b),
+                    ratio_cell(c),
+                    ratio_cell(u)
+                );
+            };
+            multiples("limit", &paper);
+            if let Some(r) = reference {
+                multiples("population reference", &r.paper);
+            }
         }
     }
     out
+}
+
+/// The limit table's rows of an experiment's population reference: its costs with their
+/// standard errors under both protocols, and its multiples of the limit's (`paper`).
+fn reference_rows(out: &mut String, experiment: &str, r: &PopulationReference, paper: &Costs) {
+    for (protocol, costs, error) in [
+        (
+            "population reference (knows each operator, not which it faces; mean ± standard error of its simulation), random first behavior",
+            r.paper,
+            r.paper_error,
+        ),
+        (
+            "the same, free to choose its first",
+            r.free_first,
+            r.free_first_error,
+        ),
+    ] {
+        let _ = writeln!(
+            out,
+            "| {experiment} | {protocol} | {:.2} ± {:.2} | {:.1} ± {:.1} | {:.1} ± {:.1} |",
+            costs.behaviors,
+            error.behaviors,
+            costs.commands,
+            error.commands,
+            costs.untrustworthy,
+            error.untrustworthy
+        );
+    }
+    let cell = |of: fn(&Costs) -> f64| ratio_cell(of(&r.paper) / of(paper));
+    let _ = writeln!(
+        out,
+        "| {experiment} | population reference (× limit) | {} | {} | {} |",
+        cell(|c| c.behaviors),
+        cell(|c| c.commands),
+        cell(|c| c.untrustworthy)
+    );
 }
 
 /// Whether an experiment has an arm that starts each episode from the case memory's guess.
@@ -557,110 +599,6 @@ fn format_p(p: f64) -> String {
     } else {
         format!("{p:.4}")
     }
-}
-
-/// A geometric mean ratio to the limit with its interval, `1.59 [1.13, 2.25]`, and the
-/// populations it is over when some had no usable ratio; `—` when none had.
-fn limit_ratio_cell(ratio: Option<LimitRatio>, populations: usize) -> String {
-    let Some(LimitRatio {
-        ratio,
-        populations: counted,
-    }) = ratio
-    else {
-        return "—".to_owned();
-    };
-    let cell = format!("{:.2} [{:.2}, {:.2}]", ratio.ratio, ratio.low, ratio.high);
-    if counted < populations {
-        format!("{cell} ({counted} of {populations} populations)")
-    } else {
-        cell
-    }
-}
-
-/// Wins, ties and losses as `3/1/0`; `—` for a reference against itself.
-fn wins_ties_losses_cell(tally: Option<WinsTiesLosses>) -> String {
-    tally.map_or("—".to_owned(), |t| {
-        format!("{}/{}/{}", t.wins, t.ties, t.losses)
-    })
-}
-
-/// A scenario's benchmark ([`crate::population::benchmark`]), one row per arm: its geometric mean
-/// ratios to the limit over the populations with their bootstrap intervals, its wins,
-/// ties and losses against each reference arm that ran, and its untrustworthy commands'
-/// ratio to the limit over the windows of trials.
-pub fn benchmark_table(benchmark: &ScenarioBenchmark) -> String {
-    let mut out = String::from(
-        "| Arm | Behaviors × limit [95% CI] | Commands × limit [95% CI] | Untrustworthy × limit [95% CI] |",
-    );
-    for reference in &benchmark.references {
-        let _ = write!(out, " W/T/L vs {reference} |");
-    }
-    for window in &benchmark.windows {
-        let _ = write!(
-            out,
-            " Untrustworthy × limit, trials {}–{} |",
-            window.first, window.last
-        );
-    }
-    out.push_str("\n|---|");
-    out.push_str(&"---:|".repeat(3 + benchmark.references.len() + benchmark.windows.len()));
-    out.push('\n');
-    let populations = benchmark.populations.len();
-    for arm in &benchmark.arms {
-        let _ = write!(out, "| {} |", arm.arm);
-        for ratio in arm.to_limit {
-            let _ = write!(out, " {} |", limit_ratio_cell(ratio, populations));
-        }
-        for tally in &arm.versus {
-            let _ = write!(out, " {} |", wins_ties_losses_cell(*tally));
-        }
-        for [_, _, untrustworthy] in &arm.windows {
-            let _ = write!(
-                out,
-                " {} |",
-                untrustworthy.map_or("—".to_owned(), ratio_cell)
-            );
-        }
-        out.push('\n');
-    }
-    out
-}
-
-/// The title of a scenario's benchmark table.
-pub(super) fn benchmark_title(benchmark: &ScenarioBenchmark) -> String {
-    format!(
-        "{}: {} populations",
-        benchmark.scenario,
-        benchmark.populations.len()
-    )
-}
-
-/// The title of the benchmark's section.
-pub(super) const BENCHMARK_TITLE: &str = "Benchmark: every arm over the populations of each scenario, against their known-operator limits";
-
-/// What the benchmark's numbers are, in one paragraph (Markdown and the page).
-pub(super) const BENCHMARK_NOTE: &str = "Each ratio is an arm's mean per trial on a population divided by that population's known-operator limit (a random first behavior); the table gives their geometric mean over the populations with a 95% percentile bootstrap interval over populations. W/T/L counts the populations where the arm's untrustworthy commands were significantly fewer, not significantly different, or significantly more than the reference arm's (Wilcoxon signed-rank test, trial by trial, p < 0.05).";
-
-/// What the benchmark's section says when no population experiment had a limit.
-pub(super) const NO_BENCHMARK: &str =
-    "No population experiment has a known-operator limit to measure against.";
-
-/// The benchmark's section of `table.md`: the note, then a table per scenario; a sentence
-/// when no population had a limit.
-fn benchmark_section(benchmarks: &[ScenarioBenchmark]) -> String {
-    let mut out = format!("\n## {BENCHMARK_TITLE}\n\n{BENCHMARK_NOTE}\n");
-    if benchmarks.is_empty() {
-        let _ = writeln!(out, "\n{NO_BENCHMARK}");
-    }
-    for benchmark in benchmarks {
-        let _ = write!(
-            out,
-            "\n### {}\n\n{}",
-            benchmark_title(benchmark),
-            benchmark_table(benchmark)
-        );
-    }
-    out
 }
 
 /// [`goal_changes_table`] under its title, or nothing when no experiment has goal

@@ -4,9 +4,10 @@
 use cbr_core::{Behavior, BehaviorSpace};
 use cbr_core::{LinearRetriever, Proposal, Searcher};
 use lab::reference::known_operator::{ExperimentLimit, LimitSettings, known_operator};
+use lab::reference::population_reference::ReferencePlan;
 use lab::report::{
-    Provenance, ReportEntry, arms_table, population_table, summary, table, trials_jsonl,
-    versus_reference, write_report,
+    Provenance, ReportEntry, arms_table, limit_table, population_table, summary, table,
+    trials_jsonl, versus_reference, write_report,
 };
 use lab::testing::ToyDomain;
 use lab::{Arm, ExperimentPlan, ExperimentResult, OperatorChoice, run_experiments};
@@ -266,9 +267,10 @@ fn the_report_folder_holds_every_file() {
         budget: 0,
         candidates: 4,
         candidate_runs: 400,
+        reference_episodes: 0,
     };
     let low = known_operator(&toy, &ops[0].1, Thresholds::default(), settings, 9).unwrap();
-    let limit = ExperimentLimit::of(&[("low", &low)]).unwrap();
+    let limit = ExperimentLimit::of(&[("low", &low)], None).unwrap();
     assert_eq!(limit.conflict.trusted_by_all, 1);
     assert!((limit.limit.paper.behaviors - (1.0 + 35.0 / 36.0)).abs() < 0.02);
     assert!((limit.limit.free_first.behaviors - 1.0).abs() < 1e-9);
@@ -369,13 +371,32 @@ fn the_disagreement_table_and_summary_say_how_far_apart_the_operators_rates_are(
         budget: 0,
         candidates: 0,
         candidate_runs: 0,
+        reference_episodes: 0,
     };
     let known: Vec<_> = ops
         .iter()
         .map(|(_, o)| known_operator(&toy, o, Thresholds::default(), settings, 9).unwrap())
         .collect();
-    let limit = ExperimentLimit::of(&[("low", &known[0]), ("high", &known[1])]).unwrap();
-    assert_eq!(limit.conflict.rate_gap_share, vec![2.0 / 36.0]);
+    let plan = ReferencePlan {
+        thresholds: Thresholds::default(),
+        episodes: 200,
+        seed: 3,
+    };
+    let limit =
+        ExperimentLimit::of(&[("low", &known[0]), ("high", &known[1])], Some(plan)).unwrap();
+    // The population reference, free to choose its first, takes `low`'s favourite (the
+    // lower rank of two equal bets): facing `low` it is accepted; facing `high` it fails
+    // (which `low` never lets happen, so `high` is known) and `high`'s favourite follows.
+    // Half 1, half 2 behaviors; the limit takes each favourite at once.
+    let reference = limit.population_reference.unwrap();
+    assert!(
+        (reference.free_first.behaviors - 1.5).abs() < 0.01,
+        "{reference:?}"
+    );
+    assert!((limit.limit.free_first.behaviors - 1.0).abs() < 1e-9);
+    assert!(reference.paper.untrustworthy > limit.limit.paper.untrustworthy);
+    assert!(limit_table(&[]).is_empty());
+    assert_eq!(reference.episodes, 200);
     assert_eq!(limit.conflict.jaccard, vec![0.0]);
     entries[0].limit = Some(&limit);
     let table = population_table(&entries);
@@ -394,6 +415,20 @@ fn the_disagreement_table_and_summary_say_how_far_apart_the_operators_rates_are(
         serde_json::json!([2.0 / 36.0])
     );
     assert_eq!(population["pairwise_jaccard"], serde_json::json!([0.0]));
+    let reference = &summary["experiments"][0]["limit"]["population_reference"];
+    assert_eq!(reference["episodes_per_operator"], 200);
+    assert_eq!(
+        reference["free_first_choice"]["behaviors"],
+        serde_json::json!(limit.population_reference.unwrap().free_first.behaviors)
+    );
+    let arm = &summary["experiments"][0]["strategies"]["case-based"];
+    assert!(arm["ratio_to_population_reference"]["behaviors"].is_number());
+    let limits = limit_table(&entries);
+    assert!(
+        limits.contains("| toy/low | population reference (× limit) |"),
+        "{limits}"
+    );
+    assert!(limits.contains("(× population reference)"), "{limits}");
 }
 
 #[test]
