@@ -193,7 +193,7 @@ mod tests {
             err.contains("arms[0]")
                 && err.contains("unknown arm `yours`")
                 && err.ends_with(
-                    "case-based+conditioned, hedged, case-based+hedged, mine; each also as NAME+context-blind, NAME+ignores-statements, NAME+learned-start and NAME+competent)"
+                    "case-based+conditioned, hedged, case-based+hedged, bandit, case-based+bandit, mine; each also as NAME+context-blind, NAME+ignores-statements, NAME+learned-start and NAME+competent)"
                 ),
             "{err}"
         );

@@ -415,6 +415,8 @@ mod tests {
                 "case-based+conditioned",
                 "hedged",
                 "case-based+hedged",
+                "bandit",
+                "case-based+bandit",
             ],
             "each strategy alone, then after case reuse where it is offered so"
         );

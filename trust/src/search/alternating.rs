@@ -16,6 +16,7 @@
 //!
 //! The turns restart with every episode, the first strategy first.
 
+use super::pair::Pair;
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement};
 use rand::RngCore;
@@ -23,22 +24,17 @@ use rand::RngCore;
 /// Two searchers proposing in turn (see the module documentation).
 #[derive(Clone, Debug, Default)]
 pub struct Alternating<A, B> {
-    first: A,
-    second: B,
+    pair: Pair<A, B>,
     /// Whether the next proposal is the second strategy's.
     second_next: bool,
-    /// Whether the last proposal was the second strategy's (for its rationale).
-    second_last: bool,
 }
 
 impl<A, B> Alternating<A, B> {
     /// `first` and `second` taking turns, `first` first in every episode.
     pub fn new(first: A, second: B) -> Self {
         Self {
-            first,
-            second,
+            pair: Pair::new(first, second),
             second_next: false,
-            second_last: false,
         }
     }
 }
@@ -56,31 +52,28 @@ where
     }
 
     fn learns_across_episodes(&self) -> bool {
-        self.first.learns_across_episodes() || self.second.learns_across_episodes()
+        self.pair.learns_across_episodes()
     }
 
     fn reads_context(&self) -> bool {
-        self.first.reads_context() || self.second.reads_context()
+        self.pair.reads_context()
     }
 
     fn hears_statements(&self) -> bool {
-        self.first.hears_statements() || self.second.hears_statements()
+        self.pair.hears_statements()
     }
 
     fn enter_context(&mut self, context: &Context) {
-        self.first.enter_context(context);
-        self.second.enter_context(context);
+        self.pair.enter_context(context);
     }
 
     fn hear(&mut self, stated: &[Statement]) {
-        self.first.hear(stated);
-        self.second.hear(stated);
+        self.pair.hear(stated);
     }
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
         self.second_next = false;
-        self.first.begin_episode(space, initial);
-        self.second.begin_episode(space, initial);
+        self.pair.begin_episode(space, initial);
     }
 
     fn propose(
@@ -89,70 +82,30 @@ where
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Proposal {
-        self.second_last = self.second_next;
-        self.second_next = !self.second_next;
-        if self.second_last {
-            self.second.propose(space, evaluated, rng)
-        } else {
-            self.first.propose(space, evaluated, rng)
-        }
+        let second = self.second_next;
+        self.second_next = !second;
+        self.pair.propose(second, space, evaluated, rng)
     }
 
     fn rationale(&self, proposed: &Behavior) -> Rationale {
-        if self.second_last {
-            self.second.rationale(proposed)
-        } else {
-            self.first.rationale(proposed)
-        }
+        self.pair.rationale(proposed)
     }
 
     fn observe(&mut self, behavior: &Behavior, outcome: &Outcome) {
-        self.first.observe(behavior, outcome);
-        self.second.observe(behavior, outcome);
+        self.pair.observe(behavior, outcome);
     }
 
     fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
-        self.first.end_episode(evaluated, settled);
-        self.second.end_episode(evaluated, settled);
+        self.pair.end_episode(evaluated, settled);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::search::{Uniform, grid};
+    use crate::search::{Fixed, Uniform, grid};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-
-    /// Always proposes one fixed behavior, and counts what it is told.
-    #[derive(Default)]
-    struct Fixed {
-        at: u16,
-        observed: usize,
-        ended: usize,
-    }
-
-    impl Searcher for Fixed {
-        type Evidence = Evaluated;
-        type Feedback = Outcome;
-        fn name(&self) -> &str {
-            "fixed"
-        }
-        fn propose(&mut self, _: &BehaviorSpace, _: &[Evaluated], _: &mut dyn RngCore) -> Proposal {
-            Proposal::Next(Behavior::new(&[self.at]))
-        }
-        fn rationale(&self, _: &Behavior) -> Rationale {
-            Rationale::Explores {
-                how: format!("always {}", self.at).into(),
-            }
-        }
-        fn observe(&mut self, _: &Behavior, _: &Outcome) {
-            self.observed += 1;
-        }
-        fn end_episode(&mut self, _: &[Evaluated], _: Option<&Behavior>) {
-            self.ended += 1;
-        }
-    }
 
     #[test]
     fn they_take_turns_and_both_hear_everything() {
@@ -188,8 +141,11 @@ mod tests {
         assert_eq!(proposed, [1, 2, 1]);
         both.observe(&Behavior::new(&[1]), &Outcome::completed(1.0, 1.0));
         both.end_episode(&evidence, None);
-        assert_eq!((both.first.observed, both.second.observed), (1, 1));
-        assert_eq!((both.first.ended, both.second.ended), (1, 1));
+        assert_eq!(
+            (both.pair.first.observed, both.pair.second.observed),
+            (1, 1)
+        );
+        assert_eq!((both.pair.first.ended, both.pair.second.ended), (1, 1));
         // A new episode starts with the first again.
         both.begin_episode(&space, &Behavior::new(&[0]));
         assert_eq!(

@@ -190,7 +190,7 @@ impl Conditioned<HedgedFallback> {
 impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
     /// A conditioned searcher named `name`, searching with `fallback` when no remembered
     /// behavior is expected to be accepted.
-    fn with_fallback(name: &'static str, fallback: F) -> Self {
+    pub(super) fn with_fallback(name: &'static str, fallback: F) -> Self {
         Self {
             name,
             profiles: Vec::new(),

@@ -11,16 +11,20 @@
 //! - [`Conditioned`]: what earlier operators trusted, weighed by how consistent each is
 //!   with this episode's rejections (the operators who disagree are told apart); as
 //!   `hedged` (the `model-based` feature) it falls back to the cause-aware and the
-//!   model-based searches taking turns ([`Alternating`]).
+//!   model-based searches taking turns ([`Alternating`]); as `bandit` (the same feature)
+//!   the two share the proposals under a lead learned across episodes ([`Bandit`]).
 //!
 //! Each file declares its strategy (`STRATEGY`), registered in one place
 //! ([`registry::strategies`]); [`SearchKind`] names a registered one in configs.
 
 pub mod alternating;
+#[cfg(feature = "model-based")]
+pub mod bandit;
 pub mod cause_aware;
 pub mod conditioned;
 #[cfg(feature = "model-based")]
 pub mod model_based;
+mod pair;
 pub mod random_walk;
 pub mod registry;
 pub mod uniform;
@@ -28,6 +32,8 @@ mod untried;
 pub mod value_counts;
 
 pub use alternating::Alternating;
+#[cfg(feature = "model-based")]
+pub use bandit::Bandit;
 pub use cause_aware::CauseAware;
 pub use conditioned::Conditioned;
 #[cfg(feature = "model-based")]
@@ -202,4 +208,37 @@ pub(crate) fn grid(sizes: &[u16]) -> BehaviorSpace {
             .collect(),
     )
     .expect("a valid space")
+}
+
+/// Always proposes one fixed behavior, and counts what it is told: a searcher whose
+/// proposals a combining searcher's unit test can tell apart.
+#[cfg(test)]
+#[derive(Default)]
+pub(crate) struct Fixed {
+    pub(crate) at: u16,
+    pub(crate) observed: usize,
+    pub(crate) ended: usize,
+}
+
+#[cfg(test)]
+impl Searcher for Fixed {
+    type Evidence = Evaluated;
+    type Feedback = Outcome;
+    fn name(&self) -> &str {
+        "fixed"
+    }
+    fn propose(&mut self, _: &BehaviorSpace, _: &[Evaluated], _: &mut dyn RngCore) -> Proposal {
+        Proposal::Next(Behavior::new(&[self.at]))
+    }
+    fn rationale(&self, _: &Behavior) -> cbr_core::Rationale {
+        cbr_core::Rationale::Explores {
+            how: format!("always {}", self.at).into(),
+        }
+    }
+    fn observe(&mut self, _: &Behavior, _: &Outcome) {
+        self.observed += 1;
+    }
+    fn end_episode(&mut self, _: &[Evaluated], _: Option<&Behavior>) {
+        self.ended += 1;
+    }
 }

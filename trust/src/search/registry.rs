@@ -119,6 +119,8 @@ pub fn strategies() -> &'static [Strategy] {
         all.push(super::conditioned::STRATEGY);
         #[cfg(feature = "model-based")]
         all.push(super::conditioned::HEDGED);
+        #[cfg(feature = "model-based")]
+        all.push(super::bandit::STRATEGY);
         all
     });
     &ALL
