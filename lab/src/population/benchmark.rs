@@ -40,6 +40,12 @@
 //!   populations of the arm's mean over the trials of a window divided by the limit, for
 //!   trials 1–50, 51–200 and 201 to the end (a window with no trial is left out): how an
 //!   arm that learns across episodes closes on the limit.
+//! - **the split of the excess**, where populations have a population reference
+//!   ([`crate::reference::population_reference`]): the geometric mean over populations of
+//!   the reference's ratio to the limit (what telling members apart costs,
+//!   [`ScenarioBenchmark::population_reference_to_limit`]) and of each arm's ratio to the
+//!   reference (what learning costs, [`ArmBenchmark::to_population_reference`]), with
+//!   their bootstrap intervals over the populations that have one.
 //!
 //! Everything here is computed from results; the report draws and writes it
 //! ([`crate::report`]).
