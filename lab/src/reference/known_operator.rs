@@ -114,29 +114,6 @@ pub struct KnownOperator {
 }
 
 impl KnownOperator {
-    /// The operator of these step laws (`laws`, and per behavior in rank order which of
-    /// them is its law, `law_of`) with its trustworthy region and untrustworthy rates as
-    /// counted from its runs: each distinct law's walk solved under `thresholds`, the limit
-    /// and its law.
-    fn assemble(
-        laws: Vec<Vec<Step>>,
-        law_of: Vec<usize>,
-        trusted: Vec<bool>,
-        untrustworthy_rate: Vec<f64>,
-        thresholds: Thresholds,
-    ) -> Result<Self, KnownLimitError> {
-        let walks = solve_laws(&laws, &law_of, thresholds)?;
-        Ok(Self {
-            limit: Limit::from_outcomes(&walks)?,
-            law: paper_law(&laws, &law_of, &walks, thresholds)?,
-            trusted,
-            untrustworthy_rate,
-            walks,
-            laws,
-            law_of,
-        })
-    }
-
     /// The operator as a member of a population met `weight` times as often as a member
     /// of weight 1: what the population reference knows of it.
     pub fn as_member(&self, weight: f64) -> Member<'_> {
@@ -347,16 +324,6 @@ fn solve_all(
     thresholds: Thresholds,
 ) -> Result<Vec<WalkOutcome>, KnownLimitError> {
     let (distinct, which) = distinct_steps(tallies);
-    solve_laws(&distinct, &which, thresholds)
-}
-
-/// The walk of every behavior whose step law is `distinct[which[rank]]`, each distinct law
-/// solved once.
-fn solve_laws(
-    distinct: &[Vec<Step>],
-    which: &[usize],
-    thresholds: Thresholds,
-) -> Result<Vec<WalkOutcome>, KnownLimitError> {
     let solved = distinct
         .iter()
         .map(|steps| limit::solve_walk(steps, thresholds, DEFAULT_MAX_STATES))
@@ -419,7 +386,7 @@ pub fn known_operator<D: Domain>(
     let runs = settings.runs.max(spread);
     let first = landscape::estimate(domain, &[operator], &every, runs, seed, &|| {})?;
     let mut tallies = first.cells;
-    let walks = solve_all(&tallies, thresholds)?;
+    let mut walks = solve_all(&tallies, thresholds)?;
     if settings.candidates > 0 && settings.candidate_runs > 0 {
         let again = stream_seed(seed, 0, 0, Purpose::Landscape);
         let ranks = candidates(&walks, settings.candidates);
@@ -438,18 +405,22 @@ pub fn known_operator<D: Domain>(
             })
             .collect::<Result<_, crate::Interrupted>>()
             .map_err(LandscapeError::from)?;
-        for (&rank, tally) in ranks.iter().zip(fresh) {
+        let fresh_walks = solve_all(&fresh, thresholds)?;
+        for ((&rank, tally), walk) in ranks.iter().zip(fresh).zip(fresh_walks) {
             tallies[rank] = tally;
+            walks[rank] = walk;
         }
     }
     let (laws, law_of) = distinct_steps(&tallies);
-    KnownOperator::assemble(
+    Ok(KnownOperator {
+        limit: Limit::from_outcomes(&walks)?,
+        law: paper_law(&laws, &law_of, &walks, thresholds)?,
+        trusted: tallies.iter().map(Tally::trusted_on_average).collect(),
+        untrustworthy_rate: tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
+        walks,
         laws,
         law_of,
-        tallies.iter().map(Tally::trusted_on_average).collect(),
-        tallies.iter().map(|t| 1.0 - t.p_complete()).collect(),
-        thresholds,
-    )
+    })
 }
 
 #[cfg(test)]
