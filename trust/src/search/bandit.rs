@@ -40,7 +40,7 @@ use super::registry::{Look, Marker, Strategy, WithCases};
 use super::{CauseAware, Conditioned, ModelBased};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement};
-use rand::RngCore;
+use rand::{Rng, RngCore};
 use std::collections::HashSet;
 
 /// The conditioned search whose own search, when nothing remembered fits, is the
@@ -132,11 +132,6 @@ impl<A, B> Bandit<A, B> {
     }
 }
 
-/// A number in `[0, 1)` from 53 random bits.
-fn unit(rng: &mut dyn RngCore) -> f64 {
-    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-}
-
 impl<A, B> Searcher for Bandit<A, B>
 where
     A: Searcher<Evidence = Evaluated, Feedback = Outcome>,
@@ -186,7 +181,7 @@ where
             Some((leader, _)) => leader,
             None => {
                 let [first, second] = self.lead_probabilities();
-                let drawn = if unit(rng) < first {
+                let drawn = if rng.random::<f64>() < first {
                     (0, first)
                 } else {
                     (1, second)
@@ -195,7 +190,7 @@ where
                 drawn.0
             }
         };
-        let follows = unit(rng) < FOLLOWER_SHARE;
+        let follows = rng.random::<f64>() < FOLLOWER_SHARE;
         let proposal = self
             .pair
             .propose((leader == 1) != follows, space, evaluated, rng);
