@@ -36,7 +36,6 @@ import json
 import os
 import random
 import re
-import subprocess
 import sys
 import tempfile
 import threading
@@ -241,12 +240,7 @@ def api_load(binary: str, participants: int, commands: int, seed: int, paced: bo
             print("\n".join(failures), file=sys.stderr)
             return 1
         out = folder / "export"
-        subprocess.run(
-            [binary, "console", "export", str(console.db), str(out)],
-            check=True,
-            stdout=subprocess.DEVNULL,
-        )
-        events = [json.loads(line) for line in (out / "events.jsonl").read_text().splitlines()]
+        events = console.export_events(out)
         errors = "\n".join(
             line
             for line in (folder / "console.stderr").read_text(errors="replace").splitlines()

@@ -11,7 +11,7 @@ import subprocess
 import urllib.error
 import urllib.request
 from pathlib import Path
-from typing import Any, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 
 class ConsoleStartError(RuntimeError):
@@ -47,6 +47,16 @@ class Console:
         if not self.stderr.closed:
             self.stderr.flush()
         return self.stderr_path.read_text(errors="replace")
+
+    def export_events(self, out: Path) -> List[Dict[str, Any]]:
+        """Writes the study's records into ``out`` with ``console export`` and returns the
+        events of its ``events.jsonl``, in the file's order."""
+        subprocess.run(
+            [self.binary, "console", "export", str(self.db), str(out)],
+            check=True,
+            stdout=subprocess.DEVNULL,
+        )
+        return [json.loads(line) for line in (out / "events.jsonl").read_text().splitlines()]
 
     def stop(self) -> None:
         if self.process.poll() is None:

@@ -904,12 +904,7 @@ def main() -> int:
         finally:
             console.stop()
         out = folder / "export"
-        subprocess.run(
-            [binary, "console", "export", str(console.db), str(out)],
-            check=True,
-            stdout=subprocess.DEVNULL,
-        )
-        lines = [json.loads(line) for line in (out / "events.jsonl").read_text().splitlines()]
+        lines = console.export_events(out)
         keep = os.environ.get("CONSOLE_STUDY_KEEP")
         if keep:
             shutil.copytree(out, keep, dirs_exist_ok=True)
