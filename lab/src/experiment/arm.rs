@@ -417,6 +417,8 @@ mod tests {
                 "case-based+hedged",
                 "bandit",
                 "case-based+bandit",
+                "reliable",
+                "case-based+reliable",
             ],
             "each strategy alone, then after case reuse where it is offered so"
         );

@@ -41,10 +41,13 @@ use super::CauseAware;
 use super::propose_untried;
 use super::registry::{Look, Marker, Strategy, WithCases};
 #[cfg(feature = "model-based")]
+use super::reliable::{NEIGHBOURHOODS, PopulationReliability, RELIABLE_CANDIDATES};
+#[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
 use cbr_core::{Behavior, BehaviorSpace, Context, Proposal, Rationale, Searcher, Statement};
 use rand::RngCore;
+use std::collections::HashSet;
 
 /// The kernel's scale in behavior similarity: the paper's `1 - lambda`.
 pub const KERNEL_SCALE: f64 = 0.05;
@@ -115,6 +118,9 @@ pub struct Conditioned<F = CauseAware> {
     /// The last remembered behavior proposed and its probability of acceptance (for its
     /// rationale); `None` when the last proposal was the fallback's.
     last: Option<(Behavior, f64)>,
+    /// The population's reliability, for `reliable` (`None`: each profile's own record).
+    #[cfg(feature = "model-based")]
+    population: Option<PopulationReliability>,
 }
 
 impl Default for Conditioned {
@@ -197,16 +203,31 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             episode: Vec::new(),
             fallback,
             last: None,
+            #[cfg(feature = "model-based")]
+            population: None,
         }
     }
 
-    /// The untried remembered behavior the profiles consistent with `evaluated` most
-    /// expect to be accepted, if it beats even odds, with its probability of acceptance.
+    /// A conditioned searcher named `name` that ranks what it may propose by the
+    /// population's reliability ([`PopulationReliability`], `reliable`), searching with
+    /// `fallback` when nothing is expected to be accepted.
+    #[cfg(feature = "model-based")]
+    pub(super) fn with_population(name: &'static str, fallback: F) -> Self {
+        Self {
+            population: Some(PopulationReliability::default()),
+            ..Self::with_fallback(name, fallback)
+        }
+    }
+
+    /// The untried behavior the profiles consistent with `evaluated` most expect to be
+    /// accepted, weighed by its reliability, if it beats even odds, with its probability of
+    /// acceptance.
     fn best_remembered(
         &self,
         space: &BehaviorSpace,
         evaluated: &[Evaluated],
-        tried: &std::collections::HashSet<Behavior>,
+        tried: &HashSet<Behavior>,
+        rng: &mut dyn RngCore,
     ) -> Option<(f64, Behavior)> {
         let weights: Vec<f64> = self
             .profiles
@@ -230,23 +251,23 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             .collect();
         likely.sort_by(|a, b| b.0.total_cmp(&a.0));
         likely.truncate(CANDIDATES);
-        likely
+        let accept_at = |b: &Behavior| {
+            let near = near_rejections(space, b, evaluated);
+            let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
+            (self
+                .profiles
+                .iter()
+                .zip(&weights)
+                .map(|(p, w)| w * (1.0 - p.p_reject(space, b, evaluated)))
+                .sum::<f64>()
+                + unknown * unknown_accept)
+                / total
+        };
+        self.candidates(space, &likely, tried)
             .into_iter()
-            .map(|(_, candidate)| {
-                let b = candidate.trusted;
-                let near = near_rejections(space, &b, evaluated);
-                let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
-                let accept: f64 = (self
-                    .profiles
-                    .iter()
-                    .zip(&weights)
-                    .map(|(p, w)| w * (1.0 - p.p_reject(space, &b, evaluated)))
-                    .sum::<f64>()
-                    + unknown * unknown_accept)
-                    / total;
-                (accept, accept * candidate.reliability(), b)
-            })
+            .map(|(b, own)| (accept_at(&b), b, own))
             .filter(|&(accept, _, _)| accept > 0.5)
+            .map(|(accept, b, own)| (accept, accept * self.reliability(&b, own, rng), b))
             .fold(
                 None,
                 |best: Option<(f64, f64, Behavior)>, (accept, score, b)| match best {
@@ -255,6 +276,60 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
                 },
             )
             .map(|(accept, _, b)| (accept, b))
+    }
+
+    /// What may be proposed, each with its profile's own reliability when it is a
+    /// profile's trusted behavior: the `likely` profiles' trusted behaviors; with the
+    /// population's reliability also their untried neighbours and the behaviors the
+    /// population found most reliable.
+    #[cfg_attr(not(feature = "model-based"), allow(unused_variables, unused_mut))]
+    fn candidates(
+        &self,
+        space: &BehaviorSpace,
+        likely: &[(f64, &Profile)],
+        tried: &HashSet<Behavior>,
+    ) -> Vec<(Behavior, Option<f64>)> {
+        let mut candidates: Vec<(Behavior, Option<f64>)> = likely
+            .iter()
+            .map(|(_, p)| (p.trusted, Some(p.reliability())))
+            .collect();
+        #[cfg(feature = "model-based")]
+        if let Some(population) = &self.population {
+            let mut seen: HashSet<Behavior> = candidates.iter().map(|c| c.0).collect();
+            for (_, profile) in likely.iter().take(NEIGHBOURHOODS) {
+                for n in space.neighbours(&profile.trusted) {
+                    if !tried.contains(&n) && seen.insert(n) {
+                        candidates.push((n, None));
+                    }
+                }
+            }
+            let reliable = population.most_reliable(RELIABLE_CANDIDATES, |b| {
+                tried.contains(b) || seen.contains(b)
+            });
+            candidates.extend(reliable.into_iter().map(|b| (b, None)));
+        }
+        candidates
+    }
+
+    /// What a proposal of a remembered behavior expects, in its rationale.
+    fn expected(&self) -> &'static str {
+        #[cfg(feature = "model-based")]
+        if self.population.is_some() {
+            return "acceptance: earlier operators like this one trusted it or a behavior one \
+                    change away, and operators complete commands with it";
+        }
+        "acceptance: earlier operators like this one trusted it"
+    }
+
+    /// A candidate's reliability: a draw from the population's posterior for `reliable`,
+    /// its profile's own record otherwise.
+    #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
+    fn reliability(&self, b: &Behavior, own: Option<f64>, rng: &mut dyn RngCore) -> f64 {
+        #[cfg(feature = "model-based")]
+        if let Some(population) = &self.population {
+            return population.draw(b, rng);
+        }
+        own.unwrap_or(0.5)
     }
 }
 
@@ -306,11 +381,12 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
             return self.fallback.propose(space, evaluated, rng);
         }
         let mut accept = 0.0;
-        let remembered = propose_untried(space, evaluated, rng, |tried, _| {
-            self.best_remembered(space, evaluated, tried).map(|(p, b)| {
-                accept = p;
-                b
-            })
+        let remembered = propose_untried(space, evaluated, rng, |tried, rng| {
+            self.best_remembered(space, evaluated, tried, rng)
+                .map(|(p, b)| {
+                    accept = p;
+                    b
+                })
         });
         match remembered {
             Proposal::Next(b) => {
@@ -324,7 +400,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
     fn rationale(&self, proposed: &Behavior) -> Rationale {
         match self.last {
             Some((b, accept)) if b == *proposed => Rationale::Expects {
-                what: "acceptance: earlier operators like this one trusted it".into(),
+                what: self.expected().into(),
                 confidence: Some(accept),
             },
             _ => self.fallback.rationale(proposed),
@@ -333,6 +409,12 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
 
     fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
         self.fallback.end_episode(evaluated, settled);
+        #[cfg(feature = "model-based")]
+        if let Some(population) = &mut self.population {
+            for (b, commands, completed) in &self.episode {
+                population.add(b, *commands, *completed);
+            }
+        }
         // Only a behavior the operator trusted is a profile: one kept because every
         // behavior was tried is among the rejected ones.
         let Some(&trusted) = settled.filter(|s| !evaluated.iter().any(|e| e.behavior == **s))
@@ -449,7 +531,12 @@ mod tests {
         let tried = crate::search::evaluated_set(&evaluated);
         assert_eq!(
             searcher
-                .best_remembered(&space, &evaluated, &tried)
+                .best_remembered(
+                    &space,
+                    &evaluated,
+                    &tried,
+                    &mut ChaCha8Rng::seed_from_u64(1)
+                )
                 .map(|(_, b)| b),
             Some(Behavior::new(&[12]))
         );
@@ -467,7 +554,8 @@ mod tests {
             searcher.best_remembered(
                 &space,
                 &evaluated,
-                &crate::search::evaluated_set(&evaluated)
+                &crate::search::evaluated_set(&evaluated),
+                &mut ChaCha8Rng::seed_from_u64(1)
             ),
             None
         );

@@ -12,7 +12,9 @@
 //!   with this episode's rejections (the operators who disagree are told apart); as
 //!   `hedged` (the `model-based` feature) it falls back to the cause-aware and the
 //!   model-based searches taking turns ([`Alternating`]); as `bandit` (the same feature)
-//!   the two share the proposals under a lead learned across episodes ([`Bandit`]).
+//!   the two share the proposals under a lead learned across episodes ([`Bandit`]); as
+//!   `reliable` (the same feature) it ranks what it may propose by how often the whole
+//!   population lets each behavior complete ([`reliable::PopulationReliability`]).
 //!
 //! Each file declares its strategy (`STRATEGY`), registered in one place
 //! ([`registry::strategies`]); [`SearchKind`] names a registered one in configs.
@@ -27,6 +29,8 @@ pub mod model_based;
 mod pair;
 pub mod random_walk;
 pub mod registry;
+#[cfg(feature = "model-based")]
+pub mod reliable;
 pub mod uniform;
 mod untried;
 pub mod value_counts;

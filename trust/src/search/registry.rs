@@ -121,6 +121,8 @@ pub fn strategies() -> &'static [Strategy] {
         all.push(super::conditioned::HEDGED);
         #[cfg(feature = "model-based")]
         all.push(super::bandit::STRATEGY);
+        #[cfg(feature = "model-based")]
+        all.push(super::reliable::STRATEGY);
         all
     });
     &ALL

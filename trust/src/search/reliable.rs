@@ -1,0 +1,324 @@
+//! Reliability learned across the population: how often operators like the ones served so
+//! far let each behavior complete its commands, and a search that proposes, among what the
+//! current operator is expected to accept, what the population finds reliable.
+//!
+//! The conditioned search ([`Conditioned`]) remembers which behavior each earlier operator
+//! trusted and ranks them by the share of commands that behavior completed *for the
+//! operators who trusted it*. An episode ends on the first behavior its operator trusts,
+//! so what it remembers is what the search met first: a behavior one member trusted after
+//! completing half its commands is proposed to the next member as readily as one that
+//! every member lets complete. This searcher keeps, beside the profiles, every command of
+//! every episode (trusted and rejected behaviors alike) in one model of the population:
+//!
+//! - **Pooled and shrunk.** A behavior `b`'s completion rate `theta_b` has the prior
+//!   `Beta(s m_b, s (1 - m_b))`, `s =` [`BEHAVIOR_PRIOR`] commands, centred on a
+//!   main-effects model over component values, `m_b = r + sum_k (r_k(b_k) - r)` (clamped
+//!   to `[0.01, 0.99]`): `r` the population's completion rate (Laplace's rule), `r_k(v)`
+//!   the rate of commands run with component `k` at `v`, shrunk towards `r` with
+//!   [`VALUE_PRIOR`] commands' weight. Its posterior adds the commands `b` itself ran, for
+//!   every operator: `Beta(s m_b + C_b, s (1 - m_b) + N_b - C_b)`. Behaviors never run
+//!   borrow strength from every command run with their component values; their
+//!   uncertainty is the prior's.
+//! - **Where it looks.** Candidates are the trusted behaviors of the profiles most
+//!   consistent with the episode so far (as the conditioned search), their untried
+//!   neighbours (one component one step away: "among what a pleased member trusts"), and
+//!   the behaviors the population ran with the highest posterior means ("what pleases more
+//!   members").
+//! - **How it chooses: Thompson sampling.** Each candidate's score is `P(accept) *
+//!   theta~_b`, `P(accept)` the conditioned search's probability that the current operator
+//!   accepts it (kept above even odds, as there) and `theta~_b` one draw from its posterior.
+//!   The derivation (docs/search-strategies.md, "`reliable`") in short: the cost of trying
+//!   a behavior until its operator trusts it, in untrustworthy commands per trusted
+//!   behavior found, falls as its completion rate rises, so the behavior to try is the one
+//!   most likely to have the highest rate; drawing from the posterior and taking the best
+//!   draw proposes each candidate with exactly that probability (Thompson, 1933), so a
+//!   proven behavior is kept while an untried one is unlikely to beat it, and an untried
+//!   neighbour is tried in proportion to its chance of being better: the expected saving
+//!   for later operators against the rejections now. Thompson sampling's expected regret
+//!   on Bernoulli arms is logarithmic in the rounds (Agrawal and Goyal, *Analysis of
+//!   Thompson Sampling for the Multi-armed Bandit Problem*, COLT 2012).
+//!
+//! When no candidate beats even odds, the search is `hedged`'s: the cause-aware and the
+//! model-based searches in turn.
+
+use super::registry::{Look, Marker, Strategy, WithCases};
+use super::{Alternating, CauseAware, Conditioned, ModelBased};
+use cbr_core::Behavior;
+use rand::RngCore;
+use rand_distr::{Beta, Distribution};
+use std::collections::HashMap;
+
+/// Weight of a behavior's prior (the component-value model) in its posterior, in commands.
+/// Set a priori: two commands, so that a behavior's prior at even odds is Laplace's
+/// `Beta(1, 1)`, and its own first commands outweigh what its component values suggest.
+pub const BEHAVIOR_PRIOR: f64 = 2.0;
+
+/// Weight of the population's rate in each component value's rate, in commands (as the
+/// cause-aware and model-based searches' per-value means).
+pub const VALUE_PRIOR: f64 = 20.0;
+
+/// Behaviors with the highest posterior means among those the population ran that join
+/// each proposal's candidates.
+pub const RELIABLE_CANDIDATES: usize = 16;
+
+/// Profiles (the most consistent with the episode) whose trusted behavior's untried
+/// neighbours join each proposal's candidates.
+pub const NEIGHBOURHOODS: usize = 4;
+
+/// The reliable search as the tool offers it, alone and after case reuse.
+pub const STRATEGY: Strategy = Strategy {
+    name: "reliable",
+    description: "the conditioned search choosing, among what the current operator is expected to accept, what the whole population lets complete (a pooled model of completion over behaviors and component values, Thompson sampling); the cause-aware and model-based searches in turn when nothing fits",
+    look: Look {
+        colour: [230, 159, 0],
+        marker: Marker::Diamond,
+    },
+    with_cases: Some(WithCases {
+        name: "case-based+reliable",
+        description: "case reuse first, the reliable search when no case fits",
+        look: Look {
+            colour: [0, 0, 0],
+            marker: Marker::Star,
+        },
+    }),
+    build: || Box::new(reliable()),
+};
+
+/// The searcher of [`STRATEGY`]: a conditioned searcher with the population's reliability,
+/// falling back to the cause-aware and the model-based searches in turn.
+pub fn reliable() -> Conditioned<Alternating<CauseAware, ModelBased>> {
+    Conditioned::with_population(
+        STRATEGY.name,
+        Alternating::new(CauseAware::new(), ModelBased::new()),
+    )
+}
+
+/// Commands and completions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Record {
+    commands: f64,
+    completed: f64,
+}
+
+impl Record {
+    fn add(&mut self, commands: f64, completed: f64) {
+        self.commands += commands;
+        self.completed += completed;
+    }
+}
+
+/// How often the population let each behavior, and each component value, complete (see
+/// the module documentation).
+#[derive(Clone, Debug, Default)]
+pub struct PopulationReliability {
+    overall: Record,
+    by_behavior: HashMap<Behavior, Record>,
+    /// `by_value[k][v]`: commands run with component `k` at value `v`.
+    by_value: Vec<Vec<Record>>,
+}
+
+impl PopulationReliability {
+    /// Adds `commands` run on `behavior`, `completed` of them completed.
+    pub fn add(&mut self, behavior: &Behavior, commands: f64, completed: f64) {
+        self.overall.add(commands, completed);
+        self.by_behavior
+            .entry(*behavior)
+            .or_default()
+            .add(commands, completed);
+        if self.by_value.len() < behavior.len() {
+            self.by_value.resize(behavior.len(), Vec::new());
+        }
+        for (k, &v) in behavior.indices().iter().enumerate() {
+            let values = &mut self.by_value[k];
+            let v = usize::from(v);
+            if values.len() <= v {
+                values.resize(v + 1, Record::default());
+            }
+            values[v].add(commands, completed);
+        }
+    }
+
+    /// The prior mean completion rate at `behavior`: the main-effects model over its
+    /// component values, clamped to `[0.01, 0.99]`.
+    pub fn prior_mean(&self, behavior: &Behavior) -> f64 {
+        let overall = (self.overall.completed + 1.0) / (self.overall.commands + 2.0);
+        let effects: f64 = behavior
+            .indices()
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| {
+                let r = self
+                    .by_value
+                    .get(k)
+                    .and_then(|values| values.get(usize::from(v)))
+                    .copied()
+                    .unwrap_or_default();
+                (r.completed + VALUE_PRIOR * overall) / (r.commands + VALUE_PRIOR) - overall
+            })
+            .sum();
+        (overall + effects).clamp(0.01, 0.99)
+    }
+
+    /// The posterior `Beta(alpha, beta)` of `behavior`'s completion rate.
+    pub fn posterior(&self, behavior: &Behavior) -> (f64, f64) {
+        let m = self.prior_mean(behavior);
+        let own = self.by_behavior.get(behavior).copied().unwrap_or_default();
+        (
+            BEHAVIOR_PRIOR * m + own.completed,
+            BEHAVIOR_PRIOR * (1.0 - m) + own.commands - own.completed,
+        )
+    }
+
+    /// One draw of `behavior`'s completion rate from its posterior.
+    pub fn draw(&self, behavior: &Behavior, rng: &mut dyn RngCore) -> f64 {
+        let (alpha, beta) = self.posterior(behavior);
+        Beta::new(alpha, beta).map_or(alpha / (alpha + beta), |d| d.sample(rng))
+    }
+
+    /// Up to `count` behaviors the population ran, not in `excluded`, with the highest
+    /// posterior means (ties by behavior, so the order never depends on hashing).
+    pub fn most_reliable(
+        &self,
+        count: usize,
+        excluded: impl Fn(&Behavior) -> bool,
+    ) -> Vec<Behavior> {
+        let mut ran: Vec<(f64, Behavior)> = self
+            .by_behavior
+            .keys()
+            .filter(|b| !excluded(b))
+            .map(|b| {
+                let (alpha, beta) = self.posterior(b);
+                (alpha / (alpha + beta), *b)
+            })
+            .collect();
+        ran.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        ran.into_iter().take(count).map(|(_, b)| b).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use cbr_core::Searcher;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn the_pooled_model_by_hand() {
+        // Two components of three values. Behavior (0, 0) ran 10 commands, 9 completed;
+        // (2, 1) ran 10, 1 completed.
+        let mut model = PopulationReliability::default();
+        let (good, bad) = (Behavior::new(&[0, 0]), Behavior::new(&[2, 1]));
+        model.add(&good, 10.0, 9.0);
+        model.add(&bad, 10.0, 1.0);
+        // Overall: (10 + 1) / (20 + 2) = 1/2.
+        // Component 0 at 0: (9 + 20 * 0.5) / (10 + 20) = 19/30; component 1 at 0 likewise.
+        // Prior mean at (0, 0): 1/2 + 2 * (19/30 - 1/2) = 23/30.
+        assert!((model.prior_mean(&good) - 23.0 / 30.0).abs() < 1e-12);
+        // Its posterior: Beta(2 * 23/30 + 9, 2 * 7/30 + 1).
+        let (alpha, beta) = model.posterior(&good);
+        assert!((alpha - (46.0 / 30.0 + 9.0)).abs() < 1e-12);
+        assert!((beta - (14.0 / 30.0 + 1.0)).abs() < 1e-12);
+        // A behavior never run borrows its values' rates: (0, 1) has component 0 at 0
+        // (19/30) and component 1 at 1 ((1 + 10) / 30 = 11/30): 1/2 + 4/30 - 4/30 = 1/2.
+        let unseen = Behavior::new(&[0, 1]);
+        assert!((model.prior_mean(&unseen) - 0.5).abs() < 1e-12);
+        let (alpha, beta) = model.posterior(&unseen);
+        assert!((alpha - 1.0).abs() < 1e-12 && (beta - 1.0).abs() < 1e-12);
+        // A value nobody ran keeps the population's rate.
+        assert!((model.prior_mean(&Behavior::new(&[1, 2])) - 0.5).abs() < 1e-12);
+        // The most reliable first, the excluded left out.
+        assert_eq!(model.most_reliable(5, |_| false), vec![good, bad]);
+        assert_eq!(model.most_reliable(5, |b| *b == good), vec![bad]);
+    }
+
+    /// Runs one finished episode on `searcher`: `rejected` first, then `trusted` for
+    /// `commands` commands of which `completed` completed.
+    fn episode<S: Searcher<Evidence = crate::Evaluated, Feedback = crate::Outcome>>(
+        searcher: &mut S,
+        space: &cbr_core::BehaviorSpace,
+        rejected: Behavior,
+        trusted: Behavior,
+        (commands, completed): (usize, usize),
+    ) {
+        searcher.begin_episode(space, &rejected);
+        searcher.observe(&rejected, &crate::Outcome::failed(1.0, 1.0));
+        for k in 0..commands {
+            let outcome = if k < completed {
+                crate::Outcome::completed(1.0, 1.0)
+            } else {
+                crate::Outcome::failed(1.0, 1.0)
+            };
+            searcher.observe(&trusted, &outcome);
+        }
+        let evaluated = [crate::Evaluated {
+            behavior: rejected,
+            time: 1.0,
+        }];
+        searcher.end_episode(&evaluated, Some(&trusted));
+    }
+
+    #[test]
+    fn among_what_a_pleased_member_trusts_it_looks_for_what_pleases_more() {
+        // A 21 x 21 grid. One operator trusted (5, 0) after completing half of 30
+        // commands; another, far away, trusted (15, 1) completing all 30. The current
+        // operator rejected (16, 1), next to the second one's: it is expected to accept
+        // what the first trusted and, a little less surely, its neighbours. The
+        // conditioned search proposes (5, 0), the coin toss; the reliable one mostly
+        // proposes (5, 1), one change away, whose component value `1` the population
+        // lets complete.
+        let space = crate::search::grid(&[21, 21]);
+        let mut conditioned = Conditioned::new();
+        let mut pooled = reliable();
+        let first = (Behavior::new(&[0, 20]), Behavior::new(&[5, 0]), (30, 15));
+        let second = (Behavior::new(&[20, 20]), Behavior::new(&[15, 1]), (30, 30));
+        for (rejected, trusted, record) in [first, second] {
+            episode(&mut conditioned, &space, rejected, trusted, record);
+            episode(&mut pooled, &space, rejected, trusted, record);
+        }
+        let current = [crate::Evaluated {
+            behavior: Behavior::new(&[16, 1]),
+            time: 1.0,
+        }];
+        let (coin_toss, neighbour) = (Behavior::new(&[5, 0]), Behavior::new(&[5, 1]));
+        let mut chosen = HashMap::new();
+        for seed in 0..200 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            assert_eq!(
+                conditioned.propose(&space, &current, &mut rng),
+                cbr_core::Proposal::Next(coin_toss)
+            );
+            if let cbr_core::Proposal::Next(b) = pooled.propose(&space, &current, &mut rng) {
+                *chosen.entry(b).or_insert(0) += 1;
+            }
+        }
+        let count = |b: &Behavior| chosen.get(b).copied().unwrap_or(0);
+        assert!(
+            count(&neighbour) > 100 && count(&neighbour) > 2 * count(&coin_toss),
+            "{chosen:?}"
+        );
+        // What is proposed is never the far operator's behavior, which this one is not.
+        assert_eq!(count(&Behavior::new(&[15, 1])), 0, "{chosen:?}");
+    }
+
+    #[test]
+    fn draws_follow_the_posterior() {
+        let mut model = PopulationReliability::default();
+        let b = Behavior::new(&[0]);
+        model.add(&b, 40.0, 30.0);
+        let (alpha, beta) = model.posterior(&b);
+        let mean = alpha / (alpha + beta);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let n = 20_000;
+        let draws: Vec<f64> = (0..n).map(|_| model.draw(&b, &mut rng)).collect();
+        let sample_mean = draws.iter().sum::<f64>() / f64::from(n);
+        // The Beta's variance is mean (1 - mean) / (alpha + beta + 1); the sample mean's
+        // standard error is its root over n: four of them bound the difference.
+        let se = (mean * (1.0 - mean) / (alpha + beta + 1.0) / f64::from(n)).sqrt();
+        assert!(
+            (sample_mean - mean).abs() < 4.0 * se,
+            "{sample_mean} vs {mean}"
+        );
+        assert!(draws.iter().all(|d| (0.0..=1.0).contains(d)));
+    }
+}
