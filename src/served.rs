@@ -55,16 +55,24 @@ pub fn served_domain<C: Catalog>(
     })
 }
 
+/// The name `--arm` (Python's `arm=`) takes for the domain's own adapter config (its
+/// `search`, `reuse_cases` and retriever) instead of an arm's.
+pub const DOMAIN_CONFIG: &str = "domain";
+
 /// `domain` served with the strategy of the arm `name` (the catalog's own arms, then the
-/// built-in ones): its searcher, its retriever and whether it reuses cases. An arm that
-/// starts from the case memory's guess is refused: the controller's `begin` chooses.
-/// Errors name the option as `spelling` writes it.
+/// built-in ones): its searcher, its retriever and whether it reuses cases; served as its
+/// adapter config says when `name` is [`DOMAIN_CONFIG`]. An arm that starts from the case
+/// memory's guess is refused: the controller's `begin` chooses. Errors name the option as
+/// `spelling` writes it.
 pub fn serving_arm<C: Catalog>(
     catalog: &C,
     mut domain: DomainDefinition,
     name: &str,
     spelling: Spelling,
 ) -> anyhow::Result<DomainDefinition> {
+    if name == DOMAIN_CONFIG {
+        return Ok(domain);
+    }
     let option = spelling.of("--arm", "arm");
     // The options `serve` refuses are looked for first, in the name as it was evidently
     // meant (however it orders or repeats its suffixes), so that the name it suggests is

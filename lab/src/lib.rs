@@ -32,7 +32,8 @@ pub use contract::judgement::Judgement;
 pub use contract::operator::{GiveUpFactor, SimulatedOperator, StandardFields};
 pub use contract::operator_file::{OperatorFileError, UnperceivedWeight};
 pub use experiment::arm::{
-    Arm, BuiltinArm, COMPETENT_PASSES, UnknownArm, builtin_arm, builtin_arm_names, builtin_arms,
+    Arm, BuiltinArm, COMPETENT_PASSES, RECOMMENDED_ARM, UnknownArm, builtin_arm, builtin_arm_names,
+    builtin_arms,
 };
 pub use experiment::arm_name::{
     ArmName, ArmNameError, CONTEXT_BLIND, IGNORES_STATEMENTS, Initial, LEARNED_START, NameOptions,

@@ -97,7 +97,15 @@ impl Session {
                 definition = serving_arm(&with, definition, &served, Spelling::Python)
                     .map_err(|e| anyhow_error(&e))?;
             }
-            (None, None) => {}
+            (None, None) => {
+                definition = serving_arm(
+                    catalog,
+                    definition,
+                    trustcbr::lab::RECOMMENDED_ARM,
+                    Spelling::Python,
+                )
+                .map_err(|e| anyhow_error(&e))?;
+            }
         }
         if mode.mission {
             definition = definition.in_mission_mode();

@@ -74,6 +74,7 @@ macro_rules! catalog_module {
             fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
                 m.add("__version__", env!("CARGO_PKG_VERSION"))?;
                 m.add("tool", $crate::trustcbr::Catalog::tool(&$catalog).name)?;
+                m.add("RECOMMENDED_ARM", $crate::trustcbr::lab::RECOMMENDED_ARM)?;
                 Ok(())
             }
 

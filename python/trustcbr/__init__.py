@@ -69,6 +69,7 @@ from trustcbr._types import (
 __version__: str = _native.__version__
 
 __all__ = [
+    "RECOMMENDED_ARM",
     "Adapter",
     "ArmSummary",
     "Behavior",
@@ -111,6 +112,11 @@ __all__ = [
     "space",
     "strategies",
 ]
+
+RECOMMENDED_ARM: str = _native.RECOMMENDED_ARM
+"""The recommended arm (``case-based+reliable``): the default of :class:`Adapter`'s ``arm``,
+chosen on the benchmark's development instances (docs/search-strategies.md, *The
+recommended arm*)."""
 
 Catalog = Optional[ModuleType]
 """A catalog's extension module (``None``: the built-in UGV catalog, ``trustcbr._native``)."""
@@ -244,8 +250,10 @@ class Adapter:
     ``domain`` is a scenario (``"movement"``, ``"patrol"``) or a RON domain file;
     ``cases`` is the case base: an SQLite file (created when absent), a ``postgres://`` URL,
     or a ``.ron`` file (read-only). ``seed`` drives the search and the behaviors the
-    adapter draws. ``arm`` serves a built-in arm's strategy instead of the domain's;
-    ``strategy`` serves a strategy written in Python instead: the factory
+    adapter draws. ``arm`` names the arm whose strategy is served: any built-in arm, by
+    default the recommended one (``trustcbr.RECOMMENDED_ARM``), or ``"domain"`` for the
+    domain file's own adapter config; ``strategy`` serves a strategy written in Python
+    instead: the factory
     :func:`run` takes for ``python_arms`` (or a :class:`PythonArm`, to reuse cases first),
     so what is evaluated offline is deployed through the same API.
     With ``mission`` (``trustcbr serve --mission``) outcomes keep coming after an episode

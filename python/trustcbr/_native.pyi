@@ -6,6 +6,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 
 __version__: str
 tool: str
+RECOMMENDED_ARM: str
 
 class Session:
     """One controller's adapter over a case base (``trustcbr serve`` for one controller)."""

@@ -413,11 +413,12 @@ struct ServeArgs {
     /// file (served read-only).
     #[arg(long, value_parser = text())]
     cases: String,
-    /// Serve an arm's strategy instead of the domain's adapter config: a built-in arm or
-    /// one the tool's catalog adds (the same names as `--arms`), e.g. `case-based+conditioned`
-    /// (its searcher, its retriever, whether it reuses cases).
-    #[arg(long, value_name = "NAME", value_parser = text())]
-    arm: Option<String>,
+    /// The arm whose strategy is served: a built-in arm or one the tool's catalog adds (the
+    /// same names as `--arms`), e.g. `case-based+conditioned` (its searcher, its retriever,
+    /// whether it reuses cases); `domain` serves the domain's own adapter config. The
+    /// default is the recommended arm (README, "Which arm").
+    #[arg(long, value_name = "NAME", value_parser = text(), default_value = lab::RECOMMENDED_ARM)]
+    arm: String,
     /// Mission mode: after an episode settles, keep answering outcomes for the settled
     /// behavior, adapt again when its trust falls, and alert when the operator trusts it
     /// while the robot's own record says it should not (a domain file's deprecated

@@ -51,9 +51,7 @@ pub(super) fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result
         write_timeout: timeout("--write-timeout", args.write_timeout)?,
     };
     let mut domain = served_domain(catalog, &args.domain)?;
-    if let Some(name) = &args.arm {
-        domain = serving_arm(catalog, domain, name, Spelling::CommandLine)?;
-    }
+    domain = serving_arm(catalog, domain, &args.arm, Spelling::CommandLine)?;
     if args.mission {
         domain = domain.in_mission_mode();
     }

@@ -59,11 +59,20 @@ pub struct MissionSuiteConfig {
     )]
     pub readings: BTreeMap<String, String>,
     /// The arms, by name, written as an experiment suite writes them (a name, or
-    /// `(name: NAME, initial: learned)`).
-    #[serde(deserialize_with = "arm_names")]
+    /// `(name: NAME, initial: learned)`); default: the recommended arm
+    /// ([`lab::RECOMMENDED_ARM`]) alone.
+    #[serde(default = "recommended_arm", deserialize_with = "arm_names")]
     pub arms: Vec<ArmName>,
     /// The mission plans, in report order.
     pub missions: Vec<MissionSpec>,
+}
+
+/// A mission suite's arms when it lists none: the recommended arm alone.
+fn recommended_arm() -> Vec<ArmName> {
+    vec![ArmName::new(
+        lab::RECOMMENDED_ARM,
+        lab::NameOptions::default(),
+    )]
 }
 
 /// Whether `text` is a mission suite: a RON structure with a `missions` field.

@@ -42,6 +42,7 @@ fn run_writes_a_complete_report() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert!(summary["elapsed_s"].as_f64().unwrap() > 0.0);
+    assert_eq!(summary["recommended"], trustcbr::lab::RECOMMENDED_ARM);
     let experiments = summary["experiments"].as_array().unwrap();
     assert_eq!(experiments.len(), 2);
     assert_eq!(experiments[1]["scenario"], "patrol");

@@ -95,6 +95,7 @@ fn a_mission_suite_writes_its_report_and_reruns_into_the_same_folder() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary[0]["plan"], "movement/paper");
+    assert_eq!(summary[0]["recommended"], trustcbr::lab::RECOMMENDED_ARM);
     assert_eq!(summary[1]["arms"].as_array().unwrap().len(), 4);
     assert_eq!(
         std::fs::read_to_string(out.join("missions.jsonl"))
@@ -116,6 +117,27 @@ fn a_mission_suite_writes_its_report_and_reruns_into_the_same_folder() {
         std::fs::read_to_string(out.join("missions.md")).unwrap(),
         md
     );
+}
+
+#[test]
+fn a_mission_suite_that_lists_no_arms_runs_the_recommended_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("missions.ron");
+    let suite = crate::support::one_mission_suite(r#"(scenario: "movement", operator: "random")"#)
+        .replace("    arms: [\"uniform\"],\n", "");
+    assert!(!suite.contains("arms"));
+    std::fs::write(&config, suite).unwrap();
+    let out = dir.path().join("report");
+    succeeded(&run(&config, &out, &[]));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let arms: Vec<&str> = summary[0]["arms"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a["arm"].as_str().unwrap())
+        .collect();
+    assert_eq!(arms, [trustcbr::lab::RECOMMENDED_ARM]);
 }
 
 #[test]

@@ -298,6 +298,46 @@ fn request_ids_come_back_byte_for_byte_as_sent() {
     );
 }
 
+/// The `config` reply of `serve` over `cases` with `args`.
+fn served_config(args: &[&str], cases: &Path) -> Value {
+    let mut child = serve(args, cases)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"{\"request\":\"config\"}\n")
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    serde_json::from_str(stdout.lines().next().unwrap()).unwrap()
+}
+
+#[test]
+fn serve_serves_the_recommended_arm_unless_told_another_or_the_domain_s_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let help = support::succeed(support::trustcbr().args(["serve", "--help"]));
+    assert!(
+        help.contains(&format!("[default: {}]", trustcbr::lab::RECOMMENDED_ARM)),
+        "{help}"
+    );
+    let recommended = served_config(&["--domain", "movement"], &dir.path().join("a.db"));
+    assert_eq!(recommended["strategy"], "reliable");
+    assert_eq!(recommended["adapter"]["reuse_cases"], true);
+    // `domain` serves the domain's own config: a built-in scenario's is the paper's.
+    let own = served_config(
+        &["--domain", "movement", "--arm", "domain"],
+        &dir.path().join("b.db"),
+    );
+    assert_eq!(own["strategy"], "random-walk");
+    assert_eq!(own["adapter"]["search"], "random_walk");
+    assert_eq!(own["adapter"]["reuse_cases"], true);
+}
+
 #[test]
 fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base() {
     let dir = tempfile::tempdir().unwrap();
@@ -338,27 +378,7 @@ fn serve_runs_any_arm_by_name_and_refuses_an_unknown_one_before_creating_a_base(
     assert_eq!(switch["ok"], "switch");
     assert_eq!(switch["explanation"]["next"]["strategy"], "conditioned");
     // A search-only arm reuses no case.
-    let mut search_only = serve(&["--domain", "movement", "--arm", "uniform"], &cases)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    search_only
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(b"{\"request\":\"config\"}\n")
-        .unwrap();
-    let output = search_only.wait_with_output().unwrap();
-    let config: Value = serde_json::from_str(
-        String::from_utf8(output.stdout)
-            .unwrap()
-            .lines()
-            .next()
-            .unwrap(),
-    )
-    .unwrap();
+    let config = served_config(&["--domain", "movement", "--arm", "uniform"], &cases);
     assert_eq!(config["strategy"], "uniform");
     assert_eq!(config["adapter"]["reuse_cases"], false);
     // An unknown arm is refused, naming the known ones, and creates no case base.

@@ -72,6 +72,14 @@ pub fn builtin_arms() -> &'static [BuiltinArm] {
     &ARMS
 }
 
+/// The arm the tool recommends: the default of `serve --arm`, of Python's `Adapter` and of
+/// a mission suite that lists no arms, and `"recommended"` in every report's
+/// `summary.json`. Chosen on the benchmark's development instances only (the fewest
+/// untrustworthy commands over the known-operator limit, geometric mean over patrol's and
+/// movement's populations); its figures on the evaluation instances are in
+/// docs/search-strategies.md, "The recommended arm".
+pub const RECOMMENDED_ARM: &str = "case-based+reliable";
+
 /// The built-in arm named `name` (without suffixes).
 pub fn builtin_arm(name: &str) -> Option<&'static BuiltinArm> {
     builtin_arms().iter().find(|a| a.name == name)
@@ -422,6 +430,8 @@ mod tests {
             ],
             "each strategy alone, then after case reuse where it is offered so"
         );
+        let recommended = builtin_arm(RECOMMENDED_ARM).expect("the recommended arm is built in");
+        assert!(recommended.reuses_cases && recommended.strategy.learns_across_episodes());
         for name in names {
             let arm = Arm::builtin(name, RetrieverKind::Linear).unwrap();
             assert_eq!(arm.name(), name);

@@ -166,6 +166,7 @@ pub fn missions_json(results: &[MissionResult]) -> Value {
                 let oracle = OracleSummary::of(&result.oracle);
                 let mut plan = json!({
                     "plan": result.name,
+                    "recommended": crate::RECOMMENDED_ARM,
                     "oracle": {
                         "missions": oracle.missions,
                         "changes": oracle.figures.changes,

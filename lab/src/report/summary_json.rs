@@ -154,8 +154,7 @@ pub(super) fn summary_of(
             })
         })
         .collect();
-    let mut document =
-        json!({ "provenance": provenance, "elapsed_s": elapsed_s, "experiments": experiments });
+    let mut document = json!({ "provenance": provenance, "elapsed_s": elapsed_s, "recommended": crate::RECOMMENDED_ARM, "experiments": experiments });
     if let Some(benchmark) = benchmark {
         document["benchmark"] = benchmark.iter().map(benchmark_summary).collect();
     }

@@ -300,6 +300,7 @@ fn the_report_folder_holds_every_file() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["elapsed_s"], 1.5);
+    assert_eq!(summary["recommended"], lab::RECOMMENDED_ARM);
     assert_eq!(summary["provenance"]["command_line"][1], "run");
     let first = &summary["experiments"][0];
     assert_eq!(first["limit"]["operators"], 1);
