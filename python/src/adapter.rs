@@ -41,6 +41,8 @@ pub struct MissionMode {
     pub mission: bool,
     /// The most each part of the robot's competence may fall short per command.
     pub competence: Option<f64>,
+    /// A change detector beside the thresholds (`serve --detect-changes`).
+    pub detect_changes: bool,
 }
 
 impl Session {
@@ -109,6 +111,14 @@ impl Session {
         }
         if mode.mission {
             definition = definition.in_mission_mode();
+        }
+        if mode.detect_changes {
+            if !mode.mission {
+                return Err(error(
+                    "detect_changes: a change detector watches a settled behavior in mission mode: pass mission=True",
+                ));
+            }
+            definition = definition.detecting_changes(trustcbr::trust::ChangeDetector::default());
         }
         if let Some(at_most) = mode.competence {
             if !mode.mission {

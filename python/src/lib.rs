@@ -185,10 +185,12 @@ macro_rules! catalog_module {
                 strategy: Option<(String, Py<PyAny>, bool)>,
                 mission: bool,
                 competence: Option<f64>,
+                detect_changes: bool,
             ) -> PyResult<Session> {
                 let mode = $crate::adapter::MissionMode {
                     mission,
                     competence,
+                    detect_changes,
                 };
                 Session::open(&$catalog, domain, cases, seed, arm, strategy, mode)
             }

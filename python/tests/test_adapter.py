@@ -126,6 +126,28 @@ def test_simulated_outcomes_can_be_told_to_the_adapter(tmp_path: Path) -> None:
     assert decision.kind == "settled"
 
 
+def test_a_change_detector_gives_a_long_trusted_behavior_up_sooner(tmp_path: Path) -> None:
+    def fourth_interruption(path: Path, detect_changes: bool) -> str:
+        adapter = trustcbr.Adapter(
+            "movement", path, seed=3, mission=True, detect_changes=detect_changes
+        )
+        adapter.begin({"speed": 3.5, "padding": 0.4})
+        # Settled after five completions, then trusted for a hundred more: the detector
+        # bounds the behavior's rate of untrustworthy commands at 0.028, and four
+        # interruptions in a row pass its threshold; the paper's watch needs ten.
+        for _ in range(105):
+            adapter.tell("completed", duration_s=2.0)
+        kinds = [adapter.tell("interrupted", duration_s=2.0).kind for _ in range(4)]
+        assert kinds[:3] == ["keep"] * 3
+        return kinds[3]
+
+    assert fourth_interruption(tmp_path / "a.db", True) == "switch"
+    assert fourth_interruption(tmp_path / "b.db", False) == "keep"
+    with pytest.raises(trustcbr.TrustcbrError, match="^detect_changes: .* pass mission=True$"):
+        trustcbr.Adapter("movement", tmp_path / "c.db", detect_changes=True)
+    assert not (tmp_path / "c.db").exists()
+
+
 def test_a_mission_keeps_listening_after_settling_and_alerts(tmp_path: Path) -> None:
     adapter = trustcbr.Adapter("movement", tmp_path / "cases.db", seed=3, mission=True)
     assert adapter.config()["adapter"]["mode"] == "mission"

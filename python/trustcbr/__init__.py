@@ -262,7 +262,10 @@ class Adapter:
     as well (``trustcbr serve --mission --competence``, a scenario's robot only) the robot
     judges its own competence, at most ``competence`` per command in every part, and an
     ``overtrust`` decision asks the operator to choose, once for a settled behavior it
-    trusts while the robot is surely short of that.
+    trusts while the robot is surely short of that. With ``detect_changes`` as well
+    (``trustcbr serve --mission --detect-changes``) a settled behavior is also given up when
+    a sequential test of its own record (a CUSUM) finds its rate of untrustworthy commands
+    has risen (docs/missions.md, *A change detector*).
     Several adapters (processes, robots) may share one SQLite or PostgreSQL case base; an
     adapter belongs to the thread that made it (another thread's call raises
     :class:`TrustcbrError`).
@@ -281,6 +284,7 @@ class Adapter:
         strategy: Union[None, PythonArm, SearcherFactory] = None,
         mission: bool = False,
         competence: Optional[float] = None,
+        detect_changes: bool = False,
         catalog: Catalog = None,
     ) -> None:
         served = None
@@ -291,7 +295,14 @@ class Adapter:
             name = getattr(strategy.factory, "__name__", "python")
             served = (str(name), strategy.factory, strategy.reuses_cases)
         self._session = _module(catalog).session(
-            str(domain), os.fspath(cases), seed, arm, served, mission, competence
+            str(domain),
+            os.fspath(cases),
+            seed,
+            arm,
+            served,
+            mission,
+            competence,
+            bool(detect_changes),
         )
 
     def _request(self, request: Mapping[str, Any]) -> Dict[str, Any]:

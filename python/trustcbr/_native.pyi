@@ -71,6 +71,7 @@ def session(
     strategy: Optional[Tuple[str, Callable[..., Any], bool]],
     mission: bool,
     competence: Optional[float],
+    detect_changes: bool,
 ) -> Session: ...
 def rasterize(svg: str) -> Tuple[int, int, bytes]:
     """An SVG drawing as pixels: width, height and RGBA bytes row by row."""

@@ -57,6 +57,7 @@ use serde::Deserialize;
 use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
+use trust::ChangeDetector;
 use trust::search::SearchKind;
 use trust::search::TrustSearcher;
 use trust::{
@@ -106,6 +107,8 @@ pub struct DomainDefinition {
     competence: Option<JudgedCompetence>,
     /// Trusted behaviors an episode passes over for being surely not competent.
     competent_passes: u32,
+    /// The change detector of mission sessions; `None`: the thresholds alone.
+    change_detector: Option<ChangeDetector>,
     /// A user's search strategy; `None`: the kind `adapter.search` names.
     searcher: Option<SearcherFactory>,
     /// A user's retriever; `None`: the kind `adapter.retriever` names.
@@ -126,6 +129,7 @@ impl fmt::Debug for DomainDefinition {
             .field("mission", &self.mission)
             .field("judges_competence", &self.competence.is_some())
             .field("competent_passes", &self.competent_passes)
+            .field("change_detector", &self.change_detector)
             .field("own_searcher", &self.searcher.is_some())
             .field("own_retriever", &self.retriever.is_some())
             .finish()
@@ -358,6 +362,7 @@ impl DomainDefinition {
             mission: false,
             competence: None,
             competent_passes: 0,
+            change_detector: None,
             searcher: None,
             retriever: None,
         }
@@ -451,6 +456,22 @@ impl DomainDefinition {
             competent_passes: passes,
             ..self
         }
+    }
+
+    /// The same domain whose mission sessions watch a settled behavior with `detector`
+    /// beside the thresholds (`serve --mission --detect-changes`,
+    /// [`trust::MissionAdaptation::detecting_changes`]). It takes effect in mission mode.
+    #[must_use]
+    pub fn detecting_changes(self, detector: ChangeDetector) -> Self {
+        Self {
+            change_detector: Some(detector),
+            ..self
+        }
+    }
+
+    /// The change detector of mission sessions ([`DomainDefinition::detecting_changes`]).
+    pub fn change_detector(&self) -> Option<ChangeDetector> {
+        self.change_detector
     }
 
     /// Trusted behaviors an episode passes over ([`DomainDefinition::preferring_competent`]).

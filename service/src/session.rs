@@ -189,7 +189,10 @@ impl Session {
         )?
         .with_vocabulary(domain.vocabulary());
         let adapting = if domain.mission() {
-            let mission = MissionAdaptation::new(adaptation);
+            let mut mission = MissionAdaptation::new(adaptation);
+            if let Some(detector) = domain.change_detector() {
+                mission = mission.detecting_changes(detector);
+            }
             Adapting::Mission(match domain.competence_judge() {
                 Some(judge) => mission
                     .with_competence(judge)

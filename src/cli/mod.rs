@@ -437,6 +437,12 @@ struct ServeArgs {
         allow_negative_numbers = true
     )]
     competence: Option<f64>,
+    /// With --mission, a change detector beside the thresholds: a settled behavior is also
+    /// given up when a sequential test of its own record finds its rate of untrustworthy
+    /// commands has risen (a CUSUM allowing one false alarm per 8,000 watched commands;
+    /// docs/missions.md#a-change-detector).
+    #[arg(long, requires = "mission")]
+    detect_changes: bool,
     /// Listen on this loopback address (e.g. 127.0.0.1:7878; port 0 picks one) instead of
     /// stdin/stdout. Each connection is its own controller, served concurrently.
     #[arg(long)]

@@ -55,6 +55,9 @@ pub(super) fn serve<C: Catalog>(catalog: &C, args: &ServeArgs) -> anyhow::Result
     if args.mission {
         domain = domain.in_mission_mode();
     }
+    if args.detect_changes {
+        domain = domain.detecting_changes(trust::ChangeDetector::default());
+    }
     if let Some(at_most) = args.competence {
         domain = judging_competence(catalog, domain, at_most, Spelling::CommandLine)?;
     }

@@ -63,6 +63,11 @@ pub struct MissionSuiteConfig {
     /// ([`lab::RECOMMENDED_ARM`]) alone.
     #[serde(default = "recommended_arm", deserialize_with = "arm_names")]
     pub arms: Vec<ArmName>,
+    /// A change detector beside the paper's thresholds for every arm
+    /// (`change_detector: Some((commands_per_false_alarm: 8000.0))`, docs/missions.md, "A change
+    /// detector"); absent: the thresholds alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub change_detector: Option<trust::ChangeDetector>,
     /// The mission plans, in report order.
     pub missions: Vec<MissionSpec>,
 }
@@ -108,6 +113,9 @@ impl MissionSuiteConfig {
             .check("missions", self.missions.len() as u64)
             .map_err(over)?;
         check_arms(catalog, &self.arms, self.adapter.retriever, origin)?;
+        if let Some(Err(reason)) = self.change_detector.map(|d| d.validate()) {
+            return Err(invalid("change_detector".into(), reason.to_string()));
+        }
         if !self.missions.iter().any(|m| m.context_switches.is_some())
             && let Some(i) = self.arms.iter().position(|a| a.options().context_blind)
         {
@@ -308,6 +316,7 @@ pub fn run_mission_suite<C: Catalog>(
                 feedback: spec.operators.feedback,
                 truth_runs: TRUTH_RUNS,
                 limit: LimitSettings::default(),
+                change_detector: config.change_detector,
             })
         })
         .collect::<Result<Vec<MissionPlan<'_, C::Domain>>, SuiteError>>()?;

@@ -453,3 +453,41 @@ fn a_switch_back_never_resumes_a_behavior_given_up_in_that_context() {
     assert_eq!(r[40]["episode"]["behavior"], there, "{}", r[40]);
     assert_eq!(r[40]["episode"]["commands"], 0, "{}", r[40]);
 }
+
+#[test]
+fn a_change_detector_gives_a_long_trusted_behavior_up_sooner_and_needs_mission_mode() {
+    // Settled after five completions and trusted for a hundred more: the record bounds its
+    // rate of untrustworthy commands at 1 - 0.05^(1/105) = 0.028 (bounded afresh at 104
+    // commands), so an interruption adds ln(0.5 / 0.028) = 2.88 and the fourth in a row
+    // passes ln(8000) = 8.99, where the paper's watch needs ten.
+    let lines: Vec<&str> = [BEGIN]
+        .into_iter()
+        .chain(repeat(DONE, 105))
+        .chain(repeat(STOPPED, 4))
+        .collect();
+    let detecting = exchange_with(&["--mission", "--detect-changes"], &lines);
+    assert_eq!(detecting[5]["ok"], "settled");
+    assert!(detecting[106..109].iter().all(|r| r["ok"] == "keep"));
+    assert_eq!(detecting[109]["ok"], "switch", "{}", detecting[109]);
+    assert_eq!(
+        detecting[109]["explanation"]["given_up"]["untrustworthy"],
+        4
+    );
+    let plain = exchange(true, &lines);
+    assert_eq!(plain[109]["ok"], "keep");
+    // The detector watches a settled behavior: refused without mission mode.
+    let dir = tempfile::tempdir().unwrap();
+    let refused = support::refused(
+        support::trustcbr()
+            .args([
+                "serve",
+                "--domain",
+                "movement",
+                "--detect-changes",
+                "--cases",
+            ])
+            .arg(dir.path().join("cases.db")),
+    );
+    assert!(refused.contains("--mission"), "{refused}");
+    assert!(!dir.path().join("cases.db").exists());
+}

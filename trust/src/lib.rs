@@ -3,6 +3,7 @@
 
 pub mod adapter;
 pub mod cause;
+pub mod change;
 pub mod competence;
 pub mod estimate;
 pub mod evaluated;
@@ -28,6 +29,7 @@ pub use adapter::{
 pub use cause::{
     Cause, CauseError, DeclaredCause, DefaultWeightError, UndeclaredCause, find_declared,
 };
+pub use change::{ChangeDetector, ChangeDetectorError, Cusum};
 pub use competence::{
     Calibration, Competence, CompetenceAlert, CompetenceJudge, CompetencePart, CompetenceRecord,
     CompetenceStandard, PartEstimate, Predictor, calibrate,

@@ -11,6 +11,10 @@
 //!   to the untrustworthy threshold begins a new episode from it, given up at once
 //!   ([`Adaptation::give_up_kept`]), which goes on as any episode does (cases reused, a
 //!   case retained when it settles) and whose end is watched in turn;
+//! - **a change detector**, when the mission is given one
+//!   ([`MissionAdapter::detecting_changes`], [`crate::change`]): a sequential test of the
+//!   watched behavior's own record beside the thresholds, which gives it up as a fall
+//!   does when its rate of untrustworthy commands has risen;
 //! - **the robot's own record** ([`crate::overtrust`]): learned from every command of an
 //!   episode, weighed over the commands of the watched behavior, and an [`Alert`] when the
 //!   operator's trust is high while that record says the behavior is not earning it;
@@ -42,6 +46,7 @@
 //! answers are [`MissionDecision`]s: the episode machine's decision, or an alert.
 
 use crate::adapter::{Adaptation, AdapterError, Decision, EpisodeReport, TrustAdapter};
+use crate::change::{ChangeDetector, Cusum};
 use crate::competence::{CompetenceAlert, CompetenceJudge};
 use crate::explain::Account;
 use crate::overtrust::{Alert, OwnRecord};
@@ -145,6 +150,13 @@ struct Mission<'p> {
     /// Per context, the behavior the robot last settled on, trusted, in it since its
     /// operator began; forgotten once given up there (`forget_settled`).
     settled_in: Vec<(Context, Behavior)>,
+    /// The change detector, if the mission was given one.
+    detector: Option<ChangeDetector>,
+    /// Its test of the watched behavior.
+    test: Option<Cusum>,
+    /// The behavior in use in the episode under way, with its commands and untrustworthy
+    /// commands so far: the record a change test starts from when the episode settles.
+    settling: Option<(Behavior, u64, u64)>,
 }
 
 impl<'p> Mission<'p> {
@@ -263,6 +275,15 @@ impl<'p> Mission<'p> {
         if self.watch.is_some() {
             return Ok(self.watched(adaptation, outcome, memory));
         }
+        let (commands, untrustworthy) = match self.settling {
+            Some((b, n, f)) if b == in_use => (n, f),
+            _ => (0, 0),
+        };
+        self.settling = Some((
+            in_use,
+            commands + 1,
+            untrustworthy + u64::from(outcome.is_untrustworthy()),
+        ));
         // During an episode the operator is taken to be attentive: the record learns how
         // it reacts.
         self.own_record.learn(outcome);
@@ -303,12 +324,21 @@ impl<'p> Mission<'p> {
         }
         self.own_record.record(outcome);
         let watch = *watch;
-        if watch.fallen(&thresholds) {
+        let changed = self.test.as_mut().is_some_and(|test| test.record(outcome));
+        if watch.fallen(&thresholds) || changed {
             self.watch = None;
             self.forget_settled(adaptation, watch.behavior);
-            let decision = adaptation
-                .give_up_kept(watch.behavior, watch.estimate, watch.untrustworthy, memory)
-                .expect("no episode runs while a behavior of the space is watched, and it fell");
+            let decision = if watch.fallen(&thresholds) {
+                adaptation.give_up_kept(watch.behavior, watch.estimate, watch.untrustworthy, memory)
+            } else {
+                adaptation.give_up_changed(
+                    watch.behavior,
+                    watch.estimate,
+                    watch.untrustworthy,
+                    memory,
+                )
+            }
+            .expect("no episode runs while a behavior of the space is watched");
             self.after(adaptation, &decision);
             return decision.into();
         }
@@ -391,6 +421,13 @@ impl<'p> Mission<'p> {
             trustworthy,
             &adaptation.parameters().thresholds,
         ));
+        let (commands, untrustworthy) = match self.settling.take() {
+            Some((b, n, f)) if b == behavior => (n, f),
+            _ => (0, 0),
+        };
+        self.test = self
+            .detector
+            .map(|detector| detector.watch(commands, untrustworthy));
         self.own_record.restart();
         self.judged = false;
     }
@@ -551,6 +588,15 @@ impl<'p, M: EpisodeMachine> MissionAdapter<'p, M> {
     #[must_use]
     pub fn preferring_competent(mut self, passes: u32) -> Self {
         self.mission.passes = passes;
+        self
+    }
+
+    /// The same mission with a change detector beside the paper's thresholds
+    /// ([`crate::change`]): a watched behavior is also given up when the test of its own
+    /// record finds that its rate of untrustworthy commands rose.
+    #[must_use]
+    pub fn detecting_changes(mut self, detector: ChangeDetector) -> Self {
+        self.mission.detector = Some(detector);
         self
     }
 

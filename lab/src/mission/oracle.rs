@@ -402,6 +402,7 @@ mod tests {
             },
             competence: None,
             offer_safer: false,
+            change_detector: None,
         }
     }
 

@@ -199,6 +199,9 @@ pub struct MissionPlan<'a, D: Domain> {
     /// too (judged on [`MissionPlan::truth_runs`] commands, as a change's need is);
     /// `false`: the operator only looks afresh.
     pub offer_safer: bool,
+    /// A change detector beside the paper's thresholds for every arm
+    /// ([`trust::MissionAdapter::detecting_changes`]; `None`: the thresholds alone).
+    pub change_detector: Option<trust::ChangeDetector>,
 }
 
 impl<D: Domain> MissionPlan<'_, D> {

@@ -151,6 +151,9 @@ fn run_chain<D: Domain>(
             reason,
         })?;
     let mut adapter = MissionAdapter::new(adapter);
+    if let Some(detector) = plan.change_detector {
+        adapter = adapter.detecting_changes(detector);
+    }
     if let Some(judge) = plan.judge() {
         adapter = adapter
             .with_competence(judge)

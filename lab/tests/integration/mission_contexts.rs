@@ -104,6 +104,7 @@ fn plan<'a>(
         limit: LimitSettings::default(),
         competence: None,
         offer_safer: false,
+        change_detector: None,
     }
 }
 

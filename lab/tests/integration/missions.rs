@@ -114,6 +114,7 @@ fn try_run_arms<'a, D: Domain<Operator = Favourite>>(
         limit: LimitSettings::default(),
         competence: None,
         offer_safer: false,
+        change_detector: None,
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

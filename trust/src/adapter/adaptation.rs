@@ -305,6 +305,20 @@ impl Adaptation {
                 estimate: estimate.value,
             });
         }
+        self.give_up_changed(kept, estimate, untrustworthy, memory)
+    }
+
+    /// [`Adaptation::give_up_kept`] for a kept behavior whose estimate has not fallen but
+    /// whose own record a change detector ([`crate::change`]) found changed: it is given
+    /// up at its estimate as it stands.
+    pub fn give_up_changed(
+        &mut self,
+        kept: Behavior,
+        estimate: TrustEstimate,
+        untrustworthy: u64,
+        memory: &TrustMemory,
+    ) -> Result<Decision, AdapterError> {
+        self.check_beginning(&kept)?;
         self.start_episode(kept, estimate, untrustworthy);
         Ok(self.give_up(memory))
     }

@@ -5,9 +5,10 @@ use cbr_core::{Behavior, BehaviorSpace, Context, ContextSpace, ContextVariable, 
 use proptest::prelude::*;
 use std::sync::Arc;
 use trust::{
-    AdapterConfig, AdapterError, Cause, CompetenceJudge, CompetencePart, CompetenceRecord,
-    CompetenceStandard, Decision, Evaluated, MissionAdapter, MissionDecision, Observations,
-    Outcome, Predictor, Source, SwitchStart, TrustAdapter, TrustCaseBase, TrustEstimate,
+    AdapterConfig, AdapterError, Cause, ChangeDetector, CompetenceJudge, CompetencePart,
+    CompetenceRecord, CompetenceStandard, Decision, Evaluated, MissionAdapter, MissionDecision,
+    Observations, Outcome, Predictor, Source, SwitchStart, TrustAdapter, TrustCaseBase,
+    TrustEstimate,
 };
 
 fn grid() -> Arc<BehaviorSpace> {
@@ -181,6 +182,56 @@ fn a_mission_keeps_watching_and_readapts_after_ten_net_untrustworthy_commands() 
         a.adapter().cases().cases()[0].problem.evaluated,
         episode_pairs(b0)
     );
+}
+
+#[test]
+fn a_change_detector_gives_a_watched_behavior_up_sooner_and_keeps_a_steady_one() {
+    // At the paper's weights of 1/3, fifteen completions settle a behavior: its rate of
+    // untrustworthy commands is at most q0 = 1 - 0.05^(1/16) = 0.1707 (the 95% bound of
+    // Beta(1, 16)), so an interruption adds ln(0.5 / q0) = 1.0747 and a completion
+    // ln(0.5 / (1 - q0)) = -0.5046; the threshold is ln(8000) = 8.987: nine interruptions
+    // in a row raise it, where the paper's watch needs thirty.
+    let third = |outcome: Outcome| Outcome {
+        weight: 1.0 / 3.0,
+        ..outcome
+    };
+    let settle_in_thirds = |a: &mut MissionAdapter| {
+        for _ in 0..14 {
+            assert_eq!(a.record(&third(DONE)).unwrap(), KEEP);
+        }
+        assert!(matches!(
+            a.record(&third(DONE)).unwrap(),
+            MissionDecision::Episode(Decision::Settled(r)) if r.found_trustworthy
+        ));
+    };
+    let mut a = mission_adapter().detecting_changes(ChangeDetector::default());
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    settle_in_thirds(&mut a);
+    // A steady behavior, one interruption in seven over 700 commands: kept throughout
+    // (the statistic falls by 1.95 every seven commands).
+    for k in 0..700 {
+        let outcome = if k % 7 == 0 { STOPPED } else { DONE };
+        assert_eq!(a.record(&third(outcome)).unwrap(), KEEP, "command {k}");
+    }
+    for _ in 0..8 {
+        assert_eq!(a.record(&third(STOPPED)).unwrap(), KEEP);
+    }
+    let MissionDecision::Episode(Decision::Switch { explanation, .. }) =
+        a.record(&third(STOPPED)).unwrap()
+    else {
+        panic!("expected the ninth interruption to give the behavior up");
+    };
+    let given_up = explanation.given_up.unwrap();
+    assert_eq!((given_up.behavior, given_up.untrustworthy), (b0, 9));
+    assert!((given_up.estimate - 2.0).abs() < 1e-9, "5 - 9/3");
+    // Without a detector the same commands keep it.
+    let mut plain = mission_adapter();
+    plain.begin_episode(b0).unwrap();
+    settle_in_thirds(&mut plain);
+    for _ in 0..9 {
+        assert_eq!(plain.record(&third(STOPPED)).unwrap(), KEEP);
+    }
 }
 
 #[test]
