@@ -25,12 +25,11 @@ arm's ratio to the known-operator limit, and writes the report folder.
 
 from __future__ import annotations
 
-import argparse
 import random
-import time
 from typing import Any, Dict, List, Optional, Tuple
 
 import optuna
+from arm_script import run_arms  # beside this file
 
 import trustcbr
 
@@ -159,33 +158,14 @@ ARMS = [
 ]
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--trials", type=int, default=500)
-    parser.add_argument("--suite", help="a suite file (default: the paper's seven experiments)")
-    parser.add_argument("--out", help="write the report folder here")
-    parser.add_argument("--seed", type=int, default=None)
-    parser.add_argument(
-        "--arms",
-        help="the arms to run, separated by commas (default: "
-        + ", ".join(ARMS)
-        + "); every trial is paired across arms whichever run",
-    )
-    args = parser.parse_args()
-    arms = args.arms.split(",") if args.arms else ARMS
+def tpe_arms(arms: List[str]) -> Dict[str, trustcbr.SearcherFactory]:
+    """The factories of the TPE arms named in ``arms``."""
     optuna.logging.set_verbosity(optuna.logging.WARNING)
-    started = time.perf_counter()
-    results = trustcbr.run(
-        args.suite,
-        trials=args.trials,
-        seed=args.seed,
-        arms=arms,
-        out=args.out,
-        python_arms={name: factory for name, factory in TPE_ARMS.items() if name in arms},
-    )
-    elapsed = time.perf_counter() - started
-    print(table(results, arms))
-    print(f"\n{args.trials} trials per experiment and arm in {elapsed:.0f} s")
+    return {name: factory for name, factory in TPE_ARMS.items() if name in arms}
+
+
+def main() -> None:
+    run_arms(__doc__.split("\n\n")[0], ARMS, 500, tpe_arms, table)
 
 
 def table(results: trustcbr.Results, arms: List[str]) -> str:
