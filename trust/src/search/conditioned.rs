@@ -41,7 +41,7 @@ use super::CauseAware;
 use super::propose_untried;
 use super::registry::{Look, Marker, Strategy, WithCases};
 #[cfg(feature = "model-based")]
-use super::reliable::{NEIGHBOURHOODS, PopulationReliability, RELIABLE_CANDIDATES};
+use super::reliable::{NEIGHBOURHOODS, PopulationReliability, RELIABLE_CANDIDATES, draw_beta};
 #[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
@@ -103,6 +103,29 @@ impl Profile {
 /// The similarity kernel between two behaviors.
 fn kernel(space: &BehaviorSpace, a: &Behavior, b: &Behavior) -> f64 {
     (-(1.0 - space.similarity(a, b)) / KERNEL_SCALE).exp()
+}
+
+/// A candidate's reliability: its profile's own record, or the population's posterior.
+#[derive(Clone, Copy, Debug)]
+enum Reliability {
+    /// Its profile's own record ([`Profile::reliability`]).
+    Own(f64),
+    /// The population's posterior `Beta(alpha, beta)` of its completion rate (`reliable`).
+    #[cfg(feature = "model-based")]
+    Pooled(f64, f64),
+}
+
+impl Reliability {
+    /// The reliability to weigh the candidate by: the record, or one draw from the
+    /// posterior.
+    #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
+    fn value(self, rng: &mut dyn RngCore) -> f64 {
+        match self {
+            Self::Own(reliability) => reliability,
+            #[cfg(feature = "model-based")]
+            Self::Pooled(alpha, beta) => draw_beta(alpha, beta, rng),
+        }
+    }
 }
 
 /// The conditioned searcher, searching with `F` when no remembered behavior is expected
@@ -265,9 +288,9 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
         };
         self.candidates(space, &likely, tried)
             .into_iter()
-            .map(|(b, own)| (accept_at(&b), b, own))
+            .map(|(b, reliability)| (accept_at(&b), b, reliability))
             .filter(|&(accept, _, _)| accept > 0.5)
-            .map(|(accept, b, own)| (accept, accept * self.reliability(&b, own, rng), b))
+            .map(|(accept, b, reliability)| (accept, accept * reliability.value(rng), b))
             .fold(
                 None,
                 |best: Option<(f64, f64, Behavior)>, (accept, score, b)| match best {
@@ -278,37 +301,43 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             .map(|(accept, _, b)| (accept, b))
     }
 
-    /// What may be proposed, each with its profile's own reliability when it is a
-    /// profile's trusted behavior: the `likely` profiles' trusted behaviors; with the
-    /// population's reliability also their untried neighbours and the behaviors the
-    /// population found most reliable.
-    #[cfg_attr(not(feature = "model-based"), allow(unused_variables, unused_mut))]
+    /// What may be proposed, each with where its reliability comes from: the `likely`
+    /// profiles' trusted behaviors, each with its profile's own record; with the
+    /// population's reliability instead, also their untried neighbours and the behaviors
+    /// the population found most reliable.
+    #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
     fn candidates(
         &self,
         space: &BehaviorSpace,
         likely: &[(f64, &Profile)],
         tried: &HashSet<Behavior>,
-    ) -> Vec<(Behavior, Option<f64>)> {
-        let mut candidates: Vec<(Behavior, Option<f64>)> = likely
-            .iter()
-            .map(|(_, p)| (p.trusted, Some(p.reliability())))
-            .collect();
+    ) -> Vec<(Behavior, Reliability)> {
         #[cfg(feature = "model-based")]
         if let Some(population) = &self.population {
+            let pooled = |b: Behavior| {
+                let (alpha, beta) = population.posterior(&b);
+                (b, Reliability::Pooled(alpha, beta))
+            };
+            let mut candidates: Vec<(Behavior, Reliability)> =
+                likely.iter().map(|(_, p)| pooled(p.trusted)).collect();
             let mut seen: HashSet<Behavior> = candidates.iter().map(|c| c.0).collect();
             for (_, profile) in likely.iter().take(NEIGHBOURHOODS) {
                 for n in space.neighbours(&profile.trusted) {
                     if !tried.contains(&n) && seen.insert(n) {
-                        candidates.push((n, None));
+                        candidates.push(pooled(n));
                     }
                 }
             }
             let reliable = population.most_reliable(RELIABLE_CANDIDATES, |b| {
                 tried.contains(b) || seen.contains(b)
             });
-            candidates.extend(reliable.into_iter().map(|b| (b, None)));
+            candidates.extend(reliable.into_iter().map(pooled));
+            return candidates;
         }
-        candidates
+        likely
+            .iter()
+            .map(|(_, p)| (p.trusted, Reliability::Own(p.reliability())))
+            .collect()
     }
 
     /// What a proposal of a remembered behavior expects, in its rationale.
@@ -319,17 +348,6 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
                     change away, and operators complete commands with it";
         }
         "acceptance: earlier operators like this one trusted it"
-    }
-
-    /// A candidate's reliability: a draw from the population's posterior for `reliable`,
-    /// its profile's own record otherwise.
-    #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
-    fn reliability(&self, b: &Behavior, own: Option<f64>, rng: &mut dyn RngCore) -> f64 {
-        #[cfg(feature = "model-based")]
-        if let Some(population) = &self.population {
-            return population.draw(b, rng);
-        }
-        own.unwrap_or(0.5)
     }
 }
 

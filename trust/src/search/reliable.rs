@@ -93,6 +93,11 @@ pub fn reliable() -> Conditioned<Alternating<CauseAware, ModelBased>> {
     )
 }
 
+/// One draw from `Beta(alpha, beta)` (its mean when the parameters admit no draw).
+pub(super) fn draw_beta(alpha: f64, beta: f64, rng: &mut dyn RngCore) -> f64 {
+    Beta::new(alpha, beta).map_or(alpha / (alpha + beta), |d| d.sample(rng))
+}
+
 /// Commands and completions.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Record {
@@ -172,7 +177,7 @@ impl PopulationReliability {
     /// One draw of `behavior`'s completion rate from its posterior.
     pub fn draw(&self, behavior: &Behavior, rng: &mut dyn RngCore) -> f64 {
         let (alpha, beta) = self.posterior(behavior);
-        Beta::new(alpha, beta).map_or(alpha / (alpha + beta), |d| d.sample(rng))
+        draw_beta(alpha, beta, rng)
     }
 
     /// Up to `count` behaviors the population ran, not in `excluded`, with the highest
