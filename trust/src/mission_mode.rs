@@ -155,7 +155,9 @@ struct Mission<'p> {
     /// Its test of the watched behavior.
     test: Option<Cusum>,
     /// The behavior in use in the episode under way, with its commands and untrustworthy
-    /// commands so far: the record a change test starts from when the episode settles.
+    /// commands so far in that episode: the record a change test starts from when the
+    /// episode settles (cleared when an episode begins, so an abandoned episode's commands
+    /// never join it).
     settling: Option<(Behavior, u64, u64)>,
 }
 
@@ -170,6 +172,7 @@ impl<'p> Mission<'p> {
     ) -> Result<(), AdapterError> {
         adaptation.begin_episode_hearing(initial, stated)?;
         self.watch = None;
+        self.settling = None;
         self.passed = 0;
         self.own_record.forget_operator();
         self.settled_in.clear();
@@ -223,6 +226,7 @@ impl<'p> Mission<'p> {
         };
         adaptation.begin_episode(behavior)?;
         self.watch = None;
+        self.settling = None;
         self.passed = 0;
         Ok(ContextSwitch {
             behavior,

@@ -58,6 +58,25 @@ fn settle(a: &mut MissionAdapter) {
     ));
 }
 
+/// `outcome` at the paper's weight of 1/3.
+fn third(outcome: Outcome) -> Outcome {
+    Outcome {
+        weight: 1.0 / 3.0,
+        ..outcome
+    }
+}
+
+/// Fifteen completions of weight 1/3 settle the behavior in use.
+fn settle_in_thirds(a: &mut MissionAdapter) {
+    for _ in 0..14 {
+        assert_eq!(a.record(&third(DONE)).unwrap(), KEEP);
+    }
+    assert!(matches!(
+        a.record(&third(DONE)).unwrap(),
+        MissionDecision::Episode(Decision::Settled(r)) if r.found_trustworthy
+    ));
+}
+
 #[test]
 fn the_paper_s_episode_machine_stops_listening() {
     let mut a = episode_adapter();
@@ -191,19 +210,6 @@ fn a_change_detector_gives_a_watched_behavior_up_sooner_and_keeps_a_steady_one()
     // Beta(1, 16)), so an interruption adds ln(0.5 / q0) = 1.0747 and a completion
     // ln(0.5 / (1 - q0)) = -0.5046; the threshold is ln(8000) = 8.987: nine interruptions
     // in a row raise it, where the paper's watch needs thirty.
-    let third = |outcome: Outcome| Outcome {
-        weight: 1.0 / 3.0,
-        ..outcome
-    };
-    let settle_in_thirds = |a: &mut MissionAdapter| {
-        for _ in 0..14 {
-            assert_eq!(a.record(&third(DONE)).unwrap(), KEEP);
-        }
-        assert!(matches!(
-            a.record(&third(DONE)).unwrap(),
-            MissionDecision::Episode(Decision::Settled(r)) if r.found_trustworthy
-        ));
-    };
     let mut a = mission_adapter().detecting_changes(ChangeDetector::default());
     let b0 = Behavior::new(&[1, 1]);
     a.begin_episode(b0).unwrap();
@@ -232,6 +238,31 @@ fn a_change_detector_gives_a_watched_behavior_up_sooner_and_keeps_a_steady_one()
     for _ in 0..9 {
         assert_eq!(plain.record(&third(STOPPED)).unwrap(), KEEP);
     }
+}
+
+#[test]
+fn a_change_test_starts_from_the_settling_episode_alone() {
+    // Eight interruptions of a first operator who left, on the behavior the next
+    // operator's episode begins on, are not that episode's: settled after fifteen completions, the
+    // behavior is tested from q0 = 0.1707 and given up at the ninth interruption, as in
+    // the test above. Counted in, the record (23 commands, 8 untrustworthy) would bound
+    // q0 at the 95% quantile of Beta(9, 16), about 0.52, and the test would wait.
+    let mut a = mission_adapter().detecting_changes(ChangeDetector::default());
+    let b0 = Behavior::new(&[1, 1]);
+    a.begin_episode(b0).unwrap();
+    for _ in 0..8 {
+        assert_eq!(a.record(&third(STOPPED)).unwrap(), KEEP);
+    }
+    assert!(a.abandon_episode().is_some(), "the first operator left");
+    a.begin_episode(b0).unwrap();
+    settle_in_thirds(&mut a);
+    for _ in 0..8 {
+        assert_eq!(a.record(&third(STOPPED)).unwrap(), KEEP);
+    }
+    assert!(matches!(
+        a.record(&third(STOPPED)).unwrap(),
+        MissionDecision::Episode(Decision::Switch { .. })
+    ));
 }
 
 #[test]
