@@ -13,11 +13,11 @@ What runs, by the fence's language (its first word):
   folder (the blocks must run from any working directory);
 - `sh`, `bash`, `console`: each block with `bash -e -o pipefail` (a `console` block's
   commands are its lines starting with `$ `), in a scratch folder that mirrors the
-  repository's root (a symlink per entry), so paths the text gives from the root work and
-  what the commands write stays out of the checkout. `cargo run --release --` and
-  `target/release/trustcbr` are run as `trustcbr`, the binary CI built from the same
-  source (a release build would cost CI minutes for the same code), and a `cargo build
-  --release` line is skipped for that reason;
+  repository's root (a symlink per entry but those git ignores), so paths the text gives
+  from the root work and what the commands write stays out of the checkout. `cargo run
+  --release --` and `target/release/trustcbr` are run as `trustcbr`, the binary CI built
+  from the same source (a release build would cost CI minutes for the same code), and a
+  `cargo build --release` line is skipped for that reason;
 - `rust`: compiled and run as doctests: the page must be included in src/lib.rs with
   `#[doc = include_str!(...)]` (`cargo test` runs them); this script checks it is;
 - anything else (`json`, `text`, `ron`, `toml`, none) is data or output, not run.
@@ -129,9 +129,19 @@ def prepared(block: Block) -> str:
 
 
 def mirror_of_repo(root: Path) -> None:
-    """Fills `root` with a symlink to each entry of the repository's root."""
-    for entry in REPO.iterdir():
-        if entry.name not in {"target", ".git"}:
+    """Fills `root` with a symlink to each entry of the repository's root, but those git
+    ignores: what a reader's own runs left there (`results/` of the README's first
+    command, build folders) is not the repository, and a block writing to the same place
+    must find it free."""
+    entries = [e for e in REPO.iterdir() if e.name != ".git"]
+    ignored = subprocess.run(
+        ["git", "-C", str(REPO), "check-ignore", "--stdin"],
+        input="\n".join(e.name for e in entries),
+        capture_output=True,
+        text=True,
+    ).stdout.split("\n")
+    for entry in entries:
+        if entry.name not in ignored and entry.name != "target":
             (root / entry.name).symlink_to(entry)
 
 
