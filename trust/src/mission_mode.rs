@@ -154,11 +154,6 @@ struct Mission<'p> {
     detector: Option<ChangeDetector>,
     /// Its test of the watched behavior.
     test: Option<Cusum>,
-    /// The behavior in use in the episode under way, with its commands and untrustworthy
-    /// commands so far in that episode: the record a change test starts from when the
-    /// episode settles (cleared when an episode begins, so an abandoned episode's commands
-    /// never join it).
-    settling: Option<(Behavior, u64, u64)>,
 }
 
 impl<'p> Mission<'p> {
@@ -172,7 +167,6 @@ impl<'p> Mission<'p> {
     ) -> Result<(), AdapterError> {
         adaptation.begin_episode_hearing(initial, stated)?;
         self.watch = None;
-        self.settling = None;
         self.passed = 0;
         self.own_record.forget_operator();
         self.settled_in.clear();
@@ -226,7 +220,6 @@ impl<'p> Mission<'p> {
         };
         adaptation.begin_episode(behavior)?;
         self.watch = None;
-        self.settling = None;
         self.passed = 0;
         Ok(ContextSwitch {
             behavior,
@@ -279,15 +272,18 @@ impl<'p> Mission<'p> {
         if self.watch.is_some() {
             return Ok(self.watched(adaptation, outcome, memory));
         }
-        let (commands, untrustworthy) = match self.settling {
-            Some((b, n, f)) if b == in_use => (n, f),
-            _ => (0, 0),
-        };
-        self.settling = Some((
-            in_use,
-            commands + 1,
-            untrustworthy + u64::from(outcome.is_untrustworthy()),
-        ));
+        // The record a change test starts from should this command settle the episode on
+        // the behavior in use: its commands in this episode, this one included.
+        let settling = adaptation
+            .episode()
+            .map(|e| {
+                (
+                    e.current,
+                    u64::from(e.estimate.commands) + 1,
+                    e.current_untrustworthy + u64::from(outcome.is_untrustworthy()),
+                )
+            })
+            .ok_or(AdapterError::NoEpisode)?;
         // During an episode the operator is taken to be attentive: the record learns how
         // it reacts.
         self.own_record.learn(outcome);
@@ -306,7 +302,7 @@ impl<'p> Mission<'p> {
         if gives_up(&decision) {
             self.forget_settled(adaptation, in_use);
         }
-        self.after(adaptation, &decision);
+        self.after(adaptation, &decision, Some(settling));
         Ok(decision.into())
     }
 
@@ -343,7 +339,7 @@ impl<'p> Mission<'p> {
                 )
             }
             .expect("no episode runs while a behavior of the space is watched");
-            self.after(adaptation, &decision);
+            self.after(adaptation, &decision, None);
             return decision.into();
         }
         if let Some(alert) = self.own_record.alert(watch.behavior, watch.estimate.value) {
@@ -400,16 +396,27 @@ impl<'p> Mission<'p> {
         if !adaptation.space().contains(&offer) {
             return Err(AdapterError::ForeignBehavior);
         }
-        self.watch_settled(offer, true, adaptation);
+        self.watch_settled(offer, true, (0, 0), adaptation);
         self.remember_settled(adaptation, offer);
         adaptation.restart_account();
         Ok(())
     }
 
-    /// An episode that settled puts its behavior under watch, with a new own record.
-    fn after(&mut self, adaptation: &Adaptation, decision: &Decision) {
+    /// An episode that settled puts its behavior under watch, with a new own record;
+    /// `settling` is the behavior the decision was made on, with its commands and
+    /// untrustworthy commands in the episode (the record a change test starts from when
+    /// the episode settles on it).
+    fn after(
+        &mut self,
+        adaptation: &Adaptation,
+        decision: &Decision,
+        settling: Option<(Behavior, u64, u64)>,
+    ) {
         if let Decision::Settled(report) = decision {
-            self.watch_settled(report.settled, report.found_trustworthy, adaptation);
+            let record = settling
+                .filter(|&(b, _, _)| b == report.settled)
+                .map_or((0, 0), |(_, n, f)| (n, f));
+            self.watch_settled(report.settled, report.found_trustworthy, record, adaptation);
             if report.found_trustworthy {
                 self.remember_settled(adaptation, report.settled);
             }
@@ -418,17 +425,20 @@ impl<'p> Mission<'p> {
     }
 
     /// Watches `behavior` as a settled one (`trustworthy`: it reached the threshold), with
-    /// a new own record and its overtrust alert still to come.
-    fn watch_settled(&mut self, behavior: Behavior, trustworthy: bool, adaptation: &Adaptation) {
+    /// a new own record and its overtrust alert still to come; a change test starts from
+    /// `(commands, untrustworthy)`, its record when it settled.
+    fn watch_settled(
+        &mut self,
+        behavior: Behavior,
+        trustworthy: bool,
+        (commands, untrustworthy): (u64, u64),
+        adaptation: &Adaptation,
+    ) {
         self.watch = Some(Watch::settled(
             behavior,
             trustworthy,
             &adaptation.parameters().thresholds,
         ));
-        let (commands, untrustworthy) = match self.settling.take() {
-            Some((b, n, f)) if b == behavior => (n, f),
-            _ => (0, 0),
-        };
         self.test = self
             .detector
             .map(|detector| detector.watch(commands, untrustworthy));

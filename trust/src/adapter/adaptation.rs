@@ -487,6 +487,7 @@ impl Adaptation {
         self.episode.as_ref().map(|e| EpisodeView {
             current: e.current,
             estimate: e.estimate,
+            current_untrustworthy: e.current_untrustworthy,
             evaluated: &e.problem.evaluated,
             context: &e.problem.context,
             commands: e.commands,

@@ -119,6 +119,9 @@ pub struct EpisodeView<'a> {
     pub current: Behavior,
     /// Its trust estimate so far.
     pub estimate: TrustEstimate,
+    /// Those of its commands that failed or were interrupted (`estimate.commands` counts
+    /// them all).
+    pub current_untrustworthy: u64,
     /// The pairs evaluated so far.
     pub evaluated: &'a [Evaluated],
     /// The context the episode runs in.
