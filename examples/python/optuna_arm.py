@@ -26,14 +26,12 @@ arm's ratio to the known-operator limit, and writes the report folder.
 from __future__ import annotations
 
 import random
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional
 
 import optuna
-from arm_script import run_arms  # beside this file
+from arm_script import Indexed, Params, run_arms  # beside this file
 
 import trustcbr
-
-Params = Tuple[int, ...]
 
 # TPE draws its first behaviors of a study at random; fewer than Optuna's default of 10,
 # because an episode rarely tries ten.
@@ -46,30 +44,22 @@ class TpeSearcher:
     """A TPE study proposing behaviors; ``warm`` keeps one study across episodes."""
 
     def __init__(self, space: trustcbr.Space, warm: bool) -> None:
-        self.names = [c["name"] for c in space["components"]]
-        self.values = [c["values"] for c in space["components"]]
-        self.size = space["behaviors"]
+        self.space = Indexed(space)
         self.warm = warm
         self.learns_across_episodes = warm
         self.distributions: Dict[str, optuna.distributions.BaseDistribution] = {
             name: optuna.distributions.IntDistribution(0, len(values) - 1)
-            for name, values in zip(self.names, self.values)
+            for name, values in zip(self.space.names, self.space.values)
         }
         self.study: Optional[optuna.Study] = None
         self.best = 1.0
-
-    def _params(self, behavior: trustcbr.Behavior) -> Params:
-        return tuple(vs.index(behavior[n]) for n, vs in zip(self.names, self.values))
-
-    def _behavior(self, params: Params) -> trustcbr.Behavior:
-        return {n: vs[i] for n, vs, i in zip(self.names, self.values, params)}
 
     def _record(self, params: Params, value: float) -> None:
         assert self.study is not None
         self.best = max(self.best, value)
         self.study.add_trial(
             optuna.trial.create_trial(
-                params=dict(zip(self.names, params)),
+                params=dict(zip(self.space.names, params)),
                 distributions=self.distributions,
                 value=value,
             )
@@ -94,26 +84,22 @@ class TpeSearcher:
         study = self._study(rng)
         # Tell the study what it has not heard yet: the behaviors given up since.
         for e in evaluated[self.told :]:
-            self._record(self._params(e["behavior"]), e["time"])
+            self._record(self.space.params(e["behavior"]), e["time"])
         self.told = len(evaluated)
-        tried: Dict[Params, float] = {self._params(e["behavior"]): e["time"] for e in evaluated}
-        if len(tried) >= self.size:
+        tried: Dict[Params, float] = {
+            self.space.params(e["behavior"]): e["time"] for e in evaluated
+        }
+        if len(tried) >= self.space.size:
             return None
         for _ in range(RETRIES):
             trial = study.ask(self.distributions)
-            params = tuple(trial.params[n] for n in self.names)
+            params = tuple(trial.params[n] for n in self.space.names)
             if params not in tried:
                 study.tell(trial, state=optuna.trial.TrialState.FAIL)
-                return self._behavior(params)
+                return self.space.behavior(params)
             study.tell(trial, tried[params])
-        untried = [p for p in self._all() if p not in tried]
-        return self._behavior(rng.choice(untried))
-
-    def _all(self) -> List[Params]:
-        out: List[Params] = [()]
-        for values in self.values:
-            out = [p + (i,) for p in out for i in range(len(values))]
-        return out
+        untried = [p for p in self.space.every() if p not in tried]
+        return self.space.behavior(rng.choice(untried))
 
     def end_episode(
         self, evaluated: List[trustcbr.Evaluated], settled: Optional[trustcbr.Behavior]
@@ -121,11 +107,11 @@ class TpeSearcher:
         if not self.warm or self.study is None:
             return
         for e in evaluated[self.told :]:
-            self._record(self._params(e["behavior"]), e["time"])
-        trusted = {self._params(e["behavior"]) for e in evaluated}
-        if settled is not None and self._params(settled) not in trusted:
+            self._record(self.space.params(e["behavior"]), e["time"])
+        trusted = {self.space.params(e["behavior"]) for e in evaluated}
+        if settled is not None and self.space.params(settled) not in trusted:
             # Trusted: scored above any time a rejected behavior resisted.
-            self._record(self._params(settled), 2.0 * self.best)
+            self._record(self.space.params(settled), 2.0 * self.best)
         self.told = 0
 
     def rationale(self, proposed: trustcbr.Behavior) -> str:

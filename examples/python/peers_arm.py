@@ -63,18 +63,16 @@ from __future__ import annotations
 
 import random
 import warnings
-from typing import Any, Collection, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 import sklearn  # type: ignore[import-untyped]
 import vowpalwabbit  # type: ignore[import-untyped]
-from arm_script import run_arms  # beside this file
+from arm_script import Indexed, Params, run_arms  # beside this file
 from skopt import Optimizer  # type: ignore[import-untyped]
 from skopt.learning import ExtraTreesRegressor  # type: ignore[import-untyped]
 from skopt.space import Integer  # type: ignore[import-untyped]
 
 import trustcbr
-
-Params = Tuple[int, ...]
 
 # The pool of actions a proposal of `vw` chooses from: uniform draws, and the untried
 # behaviors the most recent episodes settled on.
@@ -89,54 +87,6 @@ STARTUP = 4
 TREES = 10
 ACQUISITION_POINTS = 1000
 RETRIES = 8
-
-
-class Indexed:
-    """A space's behaviors as tuples of value indices."""
-
-    def __init__(self, space: trustcbr.Space) -> None:
-        self.names = [c["name"] for c in space["components"]]
-        self.values = [c["values"] for c in space["components"]]
-        self.size = space["behaviors"]
-
-    def params(self, behavior: trustcbr.Behavior) -> Params:
-        return tuple(vs.index(behavior[n]) for n, vs in zip(self.names, self.values))
-
-    def behavior(self, params: Params) -> trustcbr.Behavior:
-        return {n: vs[i] for n, vs, i in zip(self.names, self.values, params)}
-
-    def draw(self, rng: random.Random) -> Params:
-        return tuple(rng.randrange(len(vs)) for vs in self.values)
-
-    def untried(self, tried: Collection[Params], count: int, rng: random.Random) -> List[Params]:
-        """Up to ``count`` distinct untried behaviors drawn uniformly (every untried one, in
-        a random order, when there are no more than ``count``)."""
-        if self.size - len(tried) <= count:
-            out = [p for p in self.every() if p not in tried]
-            rng.shuffle(out)
-            return out
-        drawn: Dict[Params, None] = {}
-        while len(drawn) < count:
-            p = self.draw(rng)
-            if p not in tried:
-                drawn[p] = None
-        return list(drawn)
-
-    def neighbours(self, params: Params) -> List[Params]:
-        """The behaviors one value away from ``params`` in one component."""
-        out = []
-        for k, values in enumerate(self.values):
-            for step in (-1, 1):
-                i = params[k] + step
-                if 0 <= i < len(values):
-                    out.append(params[:k] + (i,) + params[k + 1 :])
-        return out
-
-    def every(self) -> List[Params]:
-        out: List[Params] = [()]
-        for values in self.values:
-            out = [p + (i,) for p in out for i in range(len(values))]
-        return out
 
 
 class VwSearcher:
