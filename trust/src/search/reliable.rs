@@ -110,6 +110,12 @@ impl Record {
         self.commands += commands;
         self.completed += completed;
     }
+
+    /// The rate of these commands, shrunk towards `toward` with [`VALUE_PRIOR`] commands'
+    /// weight.
+    fn shrunk_to(self, toward: f64) -> f64 {
+        (self.completed + VALUE_PRIOR * toward) / (self.commands + VALUE_PRIOR)
+    }
 }
 
 /// How often the population let each behavior, and each component value, complete (see
@@ -146,22 +152,47 @@ impl PopulationReliability {
     /// The prior mean completion rate at `behavior`: the main-effects model over its
     /// component values, clamped to `[0.01, 0.99]`.
     pub fn prior_mean(&self, behavior: &Behavior) -> f64 {
-        let overall = (self.overall.completed + 1.0) / (self.overall.commands + 2.0);
+        let overall = self.overall_rate();
         let effects: f64 = behavior
             .indices()
             .iter()
             .enumerate()
-            .map(|(k, &v)| {
-                let r = self
-                    .by_value
-                    .get(k)
-                    .and_then(|values| values.get(usize::from(v)))
-                    .copied()
-                    .unwrap_or_default();
-                (r.completed + VALUE_PRIOR * overall) / (r.commands + VALUE_PRIOR) - overall
-            })
+            .map(|(k, &v)| self.value_rate(k, v, overall) - overall)
             .sum();
         (overall + effects).clamp(0.01, 0.99)
+    }
+
+    /// The main-effects mean completion rate at `behavior` for the operator whose own
+    /// commands are `own` (one episode's): the overall rate and each component value's
+    /// rate are `own`'s, shrunk towards this population's with [`VALUE_PRIOR`] commands'
+    /// weight, clamped to `[0.01, 0.99]`. For an operator with no commands yet it is
+    /// [`Self::prior_mean`].
+    pub fn mean_for(&self, own: &PopulationReliability, behavior: &Behavior) -> f64 {
+        let population = self.overall_rate();
+        let overall = own.overall.shrunk_to(population);
+        let effects: f64 = behavior
+            .indices()
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| own.value_rate(k, v, self.value_rate(k, v, population)) - overall)
+            .sum();
+        (overall + effects).clamp(0.01, 0.99)
+    }
+
+    /// The population's completion rate (Laplace's rule).
+    fn overall_rate(&self) -> f64 {
+        (self.overall.completed + 1.0) / (self.overall.commands + 2.0)
+    }
+
+    /// The rate of the commands run with component `k` at value `v`, shrunk towards
+    /// `toward` with [`VALUE_PRIOR`] commands' weight.
+    fn value_rate(&self, k: usize, v: u16, toward: f64) -> f64 {
+        self.by_value
+            .get(k)
+            .and_then(|values| values.get(usize::from(v)))
+            .copied()
+            .unwrap_or_default()
+            .shrunk_to(toward)
     }
 
     /// The posterior `Beta(alpha, beta)` of `behavior`'s completion rate.
@@ -232,6 +263,20 @@ mod tests {
         assert!((alpha - 1.0).abs() < 1e-12 && (beta - 1.0).abs() < 1e-12);
         // A value nobody ran keeps the population's rate.
         assert!((model.prior_mean(&Behavior::new(&[1, 2])) - 0.5).abs() < 1e-12);
+        // For an operator whose one command so far, on (2, 1), failed: overall
+        // (0 + 20 * 1/2) / 21 = 10/21; component 0 at 0 keeps the population's 19/30 and
+        // component 1 at 0 likewise (it ran neither): 10/21 + 2 * (19/30 - 10/21).
+        let mut own = PopulationReliability::default();
+        own.add(&bad, 1.0, 0.0);
+        let expected = 10.0 / 21.0 + 2.0 * (19.0 / 30.0 - 10.0 / 21.0);
+        assert!((model.mean_for(&own, &good) - expected).abs() < 1e-12);
+        // At (2, 1) its own failure counts: each value (0 + 20 * r) / 21, r the
+        // population's rate for it ((1 + 10) / 30 = 11/30 for both).
+        let at_bad = 10.0 / 21.0 + 2.0 * (20.0 * 11.0 / 30.0 / 21.0 - 10.0 / 21.0);
+        assert!((model.mean_for(&own, &bad) - at_bad).abs() < 1e-12);
+        // With no commands of its own, the operator is the population.
+        let nobody = PopulationReliability::default();
+        assert!((model.mean_for(&nobody, &good) - model.prior_mean(&good)).abs() < 1e-12);
         // The most reliable first, the excluded left out.
         assert_eq!(model.most_reliable(5, |_| false), vec![good, bad]);
         assert_eq!(model.most_reliable(5, |b| *b == good), vec![bad]);
