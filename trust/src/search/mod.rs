@@ -14,7 +14,9 @@
 //!   model-based searches taking turns ([`Alternating`]); as `bandit` (the same feature)
 //!   the two share the proposals under a lead learned across episodes ([`Bandit`]); as
 //!   `reliable` (the same feature) it ranks what it may propose by how often the whole
-//!   population lets each behavior complete ([`reliable::PopulationReliability`]).
+//!   population lets each behavior complete ([`reliable::PopulationReliability`]); as
+//!   `nested` (the same feature) that one's fallback shares its turns with a search
+//!   nearest to what earlier operators trusted ([`Nested`]).
 //!
 //! Each file declares its strategy (`STRATEGY`), registered in one place
 //! ([`registry::strategies`]); [`SearchKind`] names a registered one in configs.
@@ -26,6 +28,8 @@ pub mod cause_aware;
 pub mod conditioned;
 #[cfg(feature = "model-based")]
 pub mod model_based;
+#[cfg(feature = "model-based")]
+pub mod nested;
 mod pair;
 pub mod random_walk;
 pub mod registry;
@@ -42,6 +46,8 @@ pub use cause_aware::CauseAware;
 pub use conditioned::Conditioned;
 #[cfg(feature = "model-based")]
 pub use model_based::ModelBased;
+#[cfg(feature = "model-based")]
+pub use nested::Nested;
 pub use random_walk::RandomWalk;
 pub use registry::{Look, Marker, Rgb, Strategy, WithCases, strategies, strategy};
 pub use uniform::Uniform;

@@ -123,6 +123,8 @@ pub fn strategies() -> &'static [Strategy] {
         all.push(super::bandit::STRATEGY);
         #[cfg(feature = "model-based")]
         all.push(super::reliable::STRATEGY);
+        #[cfg(feature = "model-based")]
+        all.push(super::nested::STRATEGY);
         all
     });
     &ALL
