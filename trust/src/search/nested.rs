@@ -6,10 +6,11 @@
 //! lies inside the lenient one's, or next to it. On patrol's development instances every
 //! member that trusts at most 35 of the 16,000 behaviors has its region, or part of it,
 //! inside or one change from another member's (`dev-4`'s two members of 3 behaviors each
-//! lie wholly inside the other two members' 449; docs/search-strategies.md, "`nested`").
-//! The fallback searches have no lead to such a region and meet it about as often as
-//! uniform sampling does, one behavior in thousands; a search outward from the behaviors
-//! earlier operators trusted meets it within some dozens.
+//! lie wholly inside the other two members' regions; docs/search-strategies.md,
+//! "`nested`", and `docs/probes/nested_regions.py`). The fallback searches have no lead to
+//! such a region and meet it about as often as uniform sampling does, one behavior in
+//! thousands; a search outward from the behaviors earlier operators trusted meets most of
+//! them within some dozens.
 //!
 //! **The rule.** Every behavior an episode settled on is remembered. A nested proposal
 //! takes the untried behaviors nearest to the remembered ones (fewest component changes,
