@@ -87,10 +87,10 @@ def test_a_domain_file_and_an_arm_are_served(tmp_path: Path) -> None:
 def test_the_recommended_arm_is_served_unless_another_or_the_domain_s_own_is_named(
     tmp_path: Path,
 ) -> None:
-    assert trustcbr.RECOMMENDED_ARM == "case-based+reliable"
+    assert trustcbr.RECOMMENDED_ARM == "case-based+nested"
     assert trustcbr.RECOMMENDED_ARM in trustcbr.builtin_arms()
     served = trustcbr.Adapter("movement", tmp_path / "a.db").config()
-    assert served["strategy"] == "reliable"
+    assert served["strategy"] == "nested"
     assert served["adapter"]["reuse_cases"] is True
     # The paper's arms by name, and the domain's own config (the paper's case-based
     # strategy for a built-in scenario) with "domain".

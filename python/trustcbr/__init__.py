@@ -114,7 +114,7 @@ __all__ = [
 ]
 
 RECOMMENDED_ARM: str = _native.RECOMMENDED_ARM
-"""The recommended arm (``case-based+reliable``): the default of :class:`Adapter`'s ``arm``,
+"""The recommended arm (``case-based+nested``): the default of :class:`Adapter`'s ``arm``,
 chosen on the benchmark's development instances (docs/search-strategies.md, *The
 recommended arm*)."""
 

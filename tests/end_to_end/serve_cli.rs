@@ -326,7 +326,7 @@ fn serve_serves_the_recommended_arm_unless_told_another_or_the_domain_s_own() {
         "{help}"
     );
     let recommended = served_config(&["--domain", "movement"], &dir.path().join("a.db"));
-    assert_eq!(recommended["strategy"], "reliable");
+    assert_eq!(recommended["strategy"], "nested");
     assert_eq!(recommended["adapter"]["reuse_cases"], true);
     // `domain` serves the domain's own config: a built-in scenario's is the paper's.
     let own = served_config(

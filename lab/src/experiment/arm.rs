@@ -78,7 +78,7 @@ pub fn builtin_arms() -> &'static [BuiltinArm] {
 /// untrustworthy commands over the known-operator limit, geometric mean over patrol's and
 /// movement's populations); its figures on the evaluation instances are in
 /// docs/search-strategies.md, "The recommended arm".
-pub const RECOMMENDED_ARM: &str = "case-based+reliable";
+pub const RECOMMENDED_ARM: &str = "case-based+nested";
 
 /// The built-in arm named `name` (without suffixes).
 pub fn builtin_arm(name: &str) -> Option<&'static BuiltinArm> {
@@ -427,6 +427,8 @@ mod tests {
                 "case-based+bandit",
                 "reliable",
                 "case-based+reliable",
+                "nested",
+                "case-based+nested",
             ],
             "each strategy alone, then after case reuse where it is offered so"
         );
