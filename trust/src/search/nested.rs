@@ -101,23 +101,19 @@ impl<F> Nested<F> {
         }
     }
 
-    /// The behaviors not in `tried` at the smallest lattice distance from the remembered
+    /// The behaviors not `tried` at the smallest lattice distance from the remembered
     /// ones that has any, with that distance; `None` when nothing is remembered or every
-    /// behavior reachable is in `tried`.
+    /// behavior reachable is `tried`.
     fn nearest_untried(
         &self,
         space: &BehaviorSpace,
-        tried: &HashSet<Behavior>,
+        tried: impl Fn(&Behavior) -> bool,
     ) -> Option<(u32, Vec<Behavior>)> {
         let mut seen = self.known.clone();
         let mut layer = self.remembered.clone();
         let mut distance = 0;
         while !layer.is_empty() {
-            let untried: Vec<Behavior> = layer
-                .iter()
-                .filter(|b| !tried.contains(b))
-                .copied()
-                .collect();
+            let untried: Vec<Behavior> = layer.iter().filter(|b| !tried(b)).copied().collect();
             if !untried.is_empty() {
                 return Some((distance, untried));
             }
@@ -138,9 +134,10 @@ impl<F> Nested<F> {
         evaluated: &[Evaluated],
         rng: &mut dyn RngCore,
     ) -> Option<(u32, Behavior)> {
-        let mut tried = evaluated_set(evaluated);
-        tried.extend(self.unserved.iter().copied());
-        let (distance, layer) = self.nearest_untried(space, &tried)?;
+        let evaluated = evaluated_set(evaluated);
+        let (distance, layer) = self.nearest_untried(space, |b| {
+            evaluated.contains(b) || self.unserved.contains(b)
+        })?;
         // The highest rate for this operator; equal rates in a random order.
         layer
             .into_iter()
