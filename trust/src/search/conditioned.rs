@@ -72,15 +72,17 @@ struct Profile {
 }
 
 impl Profile {
-    /// `P(reject b)` under this profile's operator, its data joined by `current` (the
-    /// behaviors the current episode rejected; see the module documentation).
-    fn p_reject(&self, space: &BehaviorSpace, b: &Behavior, current: &[Evaluated]) -> f64 {
+    /// `P(reject b)` under this profile's operator, its data joined by the current
+    /// episode's rejections, whose summed kernel to `b` is `near` ([`near_rejections`],
+    /// the same for every profile, so a caller judging many profiles sums it once; see
+    /// the module documentation).
+    fn p_reject(&self, space: &BehaviorSpace, b: &Behavior, near: f64) -> f64 {
         let rejected = self
             .rejected
             .iter()
             .map(|r| kernel(space, b, r))
             .sum::<f64>()
-            + near_rejections(space, b, current);
+            + near;
         let accepted = self.episodes * kernel(space, b, &self.trusted);
         (1.0 + rejected) / (2.0 + rejected + accepted)
     }
@@ -103,6 +105,49 @@ impl Profile {
 /// The similarity kernel between two behaviors.
 fn kernel(space: &BehaviorSpace, a: &Behavior, b: &Behavior) -> f64 {
     (-(1.0 - space.similarity(a, b)) / KERNEL_SCALE).exp()
+}
+
+/// Each profile's likelihood of an episode's rejections, the product over them of its
+/// `P(reject)`, kept between proposals: an episode's evidence grows by one rejection per
+/// proposal, so each proposal multiplies in only the rejections since the last one (the
+/// products' factors and their order are those of a product taken afresh, so the weights
+/// are the same to the last bit).
+#[derive(Clone, Debug, Default)]
+struct Likelihoods {
+    /// The rejected behaviors the products cover, in order.
+    covered: Vec<Behavior>,
+    /// Per profile, the product of its `P(reject)` over `covered`.
+    products: Vec<f64>,
+}
+
+impl Likelihoods {
+    /// Brings the products up to `evaluated`, starting afresh unless the behaviors covered
+    /// so far begin `evaluated` and the profiles are the ones covered.
+    fn cover(&mut self, space: &BehaviorSpace, profiles: &[Profile], evaluated: &[Evaluated]) {
+        let extends = self.products.len() == profiles.len()
+            && self.covered.len() <= evaluated.len()
+            && self
+                .covered
+                .iter()
+                .zip(evaluated)
+                .all(|(c, e)| *c == e.behavior);
+        if !extends {
+            self.forget();
+            self.products.resize(profiles.len(), 1.0);
+        }
+        for e in &evaluated[self.covered.len()..] {
+            for (product, profile) in self.products.iter_mut().zip(profiles) {
+                *product *= profile.p_reject(space, &e.behavior, 0.0);
+            }
+            self.covered.push(e.behavior);
+        }
+    }
+
+    /// Forgets every product (the profiles changed, or a new episode began).
+    fn forget(&mut self) {
+        self.covered.clear();
+        self.products.clear();
+    }
 }
 
 /// A candidate's reliability: its profile's own record, or the population's posterior.
@@ -141,6 +186,8 @@ pub struct Conditioned<F = CauseAware> {
     /// The last remembered behavior proposed and its probability of acceptance (for its
     /// rationale); `None` when the last proposal was the fallback's.
     last: Option<(Behavior, f64)>,
+    /// The profiles' likelihoods of the current episode's rejections so far.
+    likelihoods: Likelihoods,
     /// The population's reliability, for `reliable` (`None`: each profile's own record).
     #[cfg(feature = "model-based")]
     population: Option<PopulationReliability>,
@@ -226,6 +273,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             episode: Vec::new(),
             fallback,
             last: None,
+            likelihoods: Likelihoods::default(),
             #[cfg(feature = "model-based")]
             population: None,
         }
@@ -244,24 +292,21 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
 
     /// The untried behavior the profiles consistent with `evaluated` most expect to be
     /// accepted, weighed by its reliability, if it beats even odds, with its probability of
-    /// acceptance.
+    /// acceptance; `likelihoods` are the profiles' likelihoods of `evaluated`
+    /// ([`Likelihoods`]).
     fn best_remembered(
         &self,
         space: &BehaviorSpace,
         evaluated: &[Evaluated],
+        likelihoods: &[f64],
         tried: &HashSet<Behavior>,
         rng: &mut dyn RngCore,
     ) -> Option<(f64, Behavior)> {
         let weights: Vec<f64> = self
             .profiles
             .iter()
-            .map(|p| {
-                evaluated
-                    .iter()
-                    .map(|e| p.p_reject(space, &e.behavior, &[]))
-                    .product::<f64>()
-                    * p.episodes
-            })
+            .zip(likelihoods)
+            .map(|(p, likelihood)| likelihood * p.episodes)
             .collect();
         let unknown = 0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX));
         let total: f64 = weights.iter().sum::<f64>() + unknown;
@@ -281,7 +326,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
                 .profiles
                 .iter()
                 .zip(&weights)
-                .map(|(p, w)| w * (1.0 - p.p_reject(space, b, evaluated)))
+                .map(|(p, w)| w * (1.0 - p.p_reject(space, b, near)))
                 .sum::<f64>()
                 + unknown * unknown_accept)
                 / total
@@ -373,6 +418,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
 
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
         self.episode.clear();
+        self.likelihoods.forget();
         self.fallback.begin_episode(space, initial);
     }
 
@@ -398,9 +444,11 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
         if evaluated.is_empty() {
             return self.fallback.propose(space, evaluated, rng);
         }
+        self.likelihoods.cover(space, &self.profiles, evaluated);
+        let likelihoods = &self.likelihoods.products;
         let mut accept = 0.0;
         let remembered = propose_untried(space, evaluated, rng, |tried, rng| {
-            self.best_remembered(space, evaluated, tried, rng)
+            self.best_remembered(space, evaluated, likelihoods, tried, rng)
                 .map(|(p, b)| {
                     accept = p;
                     b
@@ -427,6 +475,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
 
     fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
         self.fallback.end_episode(evaluated, settled);
+        self.likelihoods.forget();
         #[cfg(feature = "model-based")]
         if let Some(population) = &mut self.population {
             for (b, commands, completed) in &self.episode {
@@ -494,13 +543,15 @@ mod tests {
         };
         // Six of eight commands completed: (6 + 1) / (8 + 2).
         assert!((profile.reliability() - 0.7).abs() < 1e-12);
-        assert!((profile.p_reject(&space, &a, &[]) - 1.0 / 3.0).abs() < 1e-12);
+        assert!((profile.p_reject(&space, &a, 0.0) - 1.0 / 3.0).abs() < 1e-12);
         // Far away the prior's even odds come back.
         let far = Behavior::new(&[20]);
-        assert!((profile.p_reject(&space, &far, &[]) - 0.5).abs() < 1e-6);
+        assert!((profile.p_reject(&space, &far, 0.0) - 0.5).abs() < 1e-6);
         // The current episode rejected `b`: with it, (1 + 1/e) / (2 + 1/e + 1) at `a`.
         let e = (-1.0f64).exp();
-        assert!((profile.p_reject(&space, &a, &[pair(b)]) - (1.0 + e) / (3.0 + e)).abs() < 1e-12);
+        let near = near_rejections(&space, &a, &[pair(b)]);
+        assert!((near - e).abs() < 1e-12);
+        assert!((profile.p_reject(&space, &a, near) - (1.0 + e) / (3.0 + e)).abs() < 1e-12);
     }
 
     #[test]
@@ -547,17 +598,58 @@ mod tests {
         assert!((reliability[1] - 16.0 / 27.0).abs() < 1e-12);
         let evaluated = [pair(Behavior::new(&[3]))];
         let tried = crate::search::evaluated_set(&evaluated);
+        searcher
+            .likelihoods
+            .cover(&space, &searcher.profiles, &evaluated);
         assert_eq!(
             searcher
                 .best_remembered(
                     &space,
                     &evaluated,
+                    &searcher.likelihoods.products,
                     &tried,
                     &mut ChaCha8Rng::seed_from_u64(1)
                 )
                 .map(|(_, b)| b),
             Some(Behavior::new(&[12]))
         );
+    }
+
+    #[test]
+    fn likelihoods_kept_between_proposals_are_those_taken_afresh() {
+        // Two profiles on a 21-value line; an episode rejects 5, 6, 7 one at a time.
+        let space = crate::search::grid(&[21]);
+        let mut searcher = Conditioned::new();
+        searcher.end_episode(&[pair(Behavior::new(&[17]))], Some(&Behavior::new(&[2])));
+        searcher.end_episode(&[pair(Behavior::new(&[3]))], Some(&Behavior::new(&[18])));
+        let afresh = |evaluated: &[Evaluated]| -> Vec<f64> {
+            let profiles = &searcher.profiles;
+            profiles
+                .iter()
+                .map(|p| {
+                    evaluated
+                        .iter()
+                        .map(|e| p.p_reject(&space, &e.behavior, 0.0))
+                        .product()
+                })
+                .collect()
+        };
+        let evaluated = [5, 6, 7].map(|v| pair(Behavior::new(&[v])));
+        let mut kept = Likelihoods::default();
+        for n in 1..=evaluated.len() {
+            kept.cover(&space, &searcher.profiles, &evaluated[..n]);
+            assert_eq!(kept.products, afresh(&evaluated[..n]));
+            assert_eq!(kept.covered.len(), n);
+        }
+        // Evidence that does not extend what is covered starts afresh.
+        let other = [pair(Behavior::new(&[5])), pair(Behavior::new(&[9]))];
+        kept.cover(&space, &searcher.profiles, &other);
+        assert_eq!(kept.products, afresh(&other));
+        // By hand, profile "trusted 2, rejected 17" at 5: kernel(5, 2) = e^-3 (the line's
+        // similarity falls by 1/20 a step), kernel(5, 17) = e^-12.
+        let (k2, k17) = ((-3.0f64).exp(), (-12.0f64).exp());
+        let by_hand = (1.0 + k17) / (2.0 + k17 + k2);
+        assert!((afresh(&evaluated[..1])[0] - by_hand).abs() < 1e-12);
     }
 
     #[test]
@@ -568,10 +660,14 @@ mod tests {
         let mut searcher = Conditioned::new();
         searcher.end_episode(&[pair(Behavior::new(&[0]))], Some(&Behavior::new(&[10])));
         let evaluated = [8, 9, 11, 12].map(|v| pair(Behavior::new(&[v])));
+        searcher
+            .likelihoods
+            .cover(&space, &searcher.profiles, &evaluated);
         assert_eq!(
             searcher.best_remembered(
                 &space,
                 &evaluated,
+                &searcher.likelihoods.products,
                 &crate::search::evaluated_set(&evaluated),
                 &mut ChaCha8Rng::seed_from_u64(1)
             ),
