@@ -652,6 +652,45 @@ mod tests {
         assert!((afresh(&evaluated[..1])[0] - by_hand).abs() < 1e-12);
     }
 
+    proptest::proptest! {
+        #[test]
+        fn proposals_with_kept_likelihoods_are_those_with_likelihoods_taken_afresh(
+            earlier in proptest::collection::vec(
+                (proptest::collection::vec((0u16..7, 0u16..7), 0..6), (0u16..7, 0u16..7)),
+                0..8,
+            ),
+            current in proptest::collection::vec((0u16..7, 0u16..7), 1..10),
+            seed in proptest::prelude::any::<u64>(),
+        ) {
+            // Earlier episodes (rejections, then a settled behavior) make the profiles;
+            // then one episode's evidence grows a behavior at a time. One searcher keeps
+            // its likelihoods between proposals, its twin forgets them before each: the
+            // products are equal to the bit and so are the proposals.
+            let space = crate::search::grid(&[7, 7]);
+            let pairs = |bs: &[(u16, u16)]| -> Vec<Evaluated> {
+                bs.iter().map(|&(a, b)| pair(Behavior::new(&[a, b]))).collect()
+            };
+            let mut kept = Conditioned::new();
+            for (rejected, (a, b)) in &earlier {
+                kept.end_episode(&pairs(rejected), Some(&Behavior::new(&[*a, *b])));
+            }
+            let mut afresh = kept.clone();
+            let start = Behavior::new(&[current[0].0, current[0].1]);
+            kept.begin_episode(&space, &start);
+            afresh.begin_episode(&space, &start);
+            let evidence = pairs(&current);
+            for n in 1..=evidence.len() {
+                afresh.likelihoods.forget();
+                let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(n as u64));
+                let mut twin_rng = rng.clone();
+                let proposal = kept.propose(&space, &evidence[..n], &mut rng);
+                let twin = afresh.propose(&space, &evidence[..n], &mut twin_rng);
+                proptest::prop_assert_eq!(proposal, twin);
+                proptest::prop_assert_eq!(&kept.likelihoods.products, &afresh.likelihoods.products);
+            }
+        }
+    }
+
     #[test]
     fn without_evidence_for_acceptance_it_searches() {
         // The only remembered operator trusted 10; this one rejected 10's four nearest
