@@ -160,6 +160,20 @@ pub trait Searcher: Send {
         Rationale::unstated()
     }
 
+    /// Whether, given this episode's evidence so far, the strategy expects `behavior` to be
+    /// found untrustworthy: case reuse then passes over every case proposing it, to the
+    /// next most similar case or to [`Searcher::propose`]. Asked before a case is reused,
+    /// once per distinct behavior; it must not change what the strategy proposes later.
+    /// The default doubts nothing (the paper's case reuse).
+    fn doubts(
+        &mut self,
+        _space: &BehaviorSpace,
+        _evaluated: &[Self::Evidence],
+        _behavior: &Behavior,
+    ) -> bool {
+        false
+    }
+
     /// Called for every piece of feedback about the behavior in use.
     fn observe(&mut self, _behavior: &Behavior, _feedback: &Self::Feedback) {}
 

@@ -297,6 +297,30 @@ impl Searcher for PySearcher {
         }
     }
 
+    fn doubts(&mut self, space: &BehaviorSpace, evaluated: &[Evaluated], behavior: &Behavior) -> bool {
+        let Some(object) = self.live() else {
+            return false;
+        };
+        let (list, candidate) = (
+            reply::evaluated(space, evaluated),
+            reply::behavior(space, behavior),
+        );
+        let label = self.label.clone();
+        let doubted = self.caller.call(move |py| -> PyResult<bool> {
+            match object.bind(py).getattr_opt("doubts")? {
+                Some(f) => f
+                    .call1((to_py(py, &list)?, to_py(py, &candidate)?))
+                    .and_then(|answer| answer.is_truthy())
+                    .map_err(|e| noted(py, e, format!("raised by doubts() of {label}"))),
+                None => Ok(false),
+            }
+        });
+        doubted.unwrap_or_else(|e| {
+            self.errors.keep(e);
+            false
+        })
+    }
+
     fn observe(&mut self, behavior: &Behavior, feedback: &Outcome) {
         let Some(space) = self.space.clone() else {
             return;

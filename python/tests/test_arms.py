@@ -57,6 +57,32 @@ def test_a_case_reusing_python_arm() -> None:
     assert arm["cases_acquired"] > 0
 
 
+def test_case_reuse_passes_over_what_a_python_searcher_doubts() -> None:
+    asked: List[Any] = []
+
+    class Doubting(UniformSearcher):
+        def doubts(self, evaluated: List[Any], behavior: Any) -> bool:
+            asked.append((len(evaluated), behavior))
+            return True
+
+    results = trustcbr.run(
+        small_suite(arms=["case-based+py", "case-based+doubting"], trials=40),
+        python_arms={
+            "case-based+py": trustcbr.PythonArm(UniformSearcher, reuses_cases=True),
+            "case-based+doubting": trustcbr.PythonArm(Doubting, reuses_cases=True),
+        },
+    )
+    reused = {
+        arm: sum(t["reused"] for t in results.trials if t["arm"] == arm)
+        for arm in ("case-based+py", "case-based+doubting")
+    }
+    assert reused["case-based+py"] > 0
+    # Every case was doubted: none reused, and the searcher was asked about each solution
+    # after at least one rejection, as a behavior of the space.
+    assert reused["case-based+doubting"] == 0
+    assert asked and all(n >= 1 and set(b) == {"speed", "padding"} for n, b in asked)
+
+
 def test_the_searcher_sees_outcomes_and_episodes() -> None:
     seen: List[UniformSearcher] = []
 

@@ -180,6 +180,8 @@ class Searcher(Protocol):
     ``end_episode(evaluated, settled)``, ``rationale(proposed)`` (a str, one plain line
     saying how it explores, or a dict ``{"expects": what, "confidence": p}`` saying what it
     expects of the proposal, ``p`` a probability or ``None``),
+    ``doubts(evaluated, behavior)`` (true when it expects ``behavior`` to be found
+    untrustworthy: an arm that reuses cases then passes over every case proposing it),
     and ``learns_across_episodes = True`` for a strategy that carries anything from one
     episode into the next.
     """
