@@ -36,6 +36,16 @@
 //! the cause-aware and the model-based searches taking turns
 //! ([`super::Alternating`]: which of the two fits an operator met for the first time
 //! cannot be known in advance, and each fails on operators the other finds).
+//!
+//! **Vouching for case reuse** (`nested`'s searcher). Algorithm 1 reuses the most similar
+//! case, and a case's final behavior is one of the remembered behaviors this searcher
+//! weighs, judged there by one resemblance only. A searcher that vouches
+//! ([`Conditioned::vouching`]) doubts a case's behavior unless its posterior ranks it
+//! first: among what it may propose, its acceptance beats even odds and no candidate's
+//! acceptance times expected reliability is higher. Case reuse then passes over it to the
+//! next case, or to this searcher. It doubts only what a remembered operator trusted, so
+//! cases written by another robot of a fleet, or before a restart, are reused as the paper
+//! reuses them.
 
 use super::CauseAware;
 use super::propose_untried;
@@ -161,6 +171,15 @@ enum Reliability {
 }
 
 impl Reliability {
+    /// The reliability expected: the record, or the posterior's mean.
+    fn mean(self) -> f64 {
+        match self {
+            Self::Own(reliability) => reliability,
+            #[cfg(feature = "model-based")]
+            Self::Pooled(alpha, beta) => alpha / (alpha + beta),
+        }
+    }
+
     /// The reliability to weigh the candidate by: the record, or one draw from the
     /// posterior.
     #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
@@ -191,6 +210,20 @@ pub struct Conditioned<F = CauseAware> {
     /// The population's reliability, for `reliable` (`None`: each profile's own record).
     #[cfg(feature = "model-based")]
     population: Option<PopulationReliability>,
+    /// Whether case reuse must be vouched for ([`Conditioned::vouching`]), and the
+    /// scores of the evidence it was last asked about (`None`: the paper's case reuse).
+    vouching: Option<Vouching>,
+}
+
+/// The scores case reuse is vetted against ([`Conditioned::doubts`]), kept while the
+/// evidence stays the same: one selection may pass over several cases.
+#[derive(Clone, Debug, Default)]
+struct Vouching {
+    /// The rejections the scores are for (`None`: none computed since the profiles or
+    /// the episode changed).
+    covered: Option<usize>,
+    /// What the evidence favours, each with its score ([`Conditioned::favoured`]).
+    scores: Vec<(Behavior, f64)>,
 }
 
 impl Default for Conditioned {
@@ -276,6 +309,26 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             likelihoods: Likelihoods::default(),
             #[cfg(feature = "model-based")]
             population: None,
+            vouching: None,
+        }
+    }
+
+    /// This searcher, vouching for case reuse: Algorithm 1 reuses a case only when its
+    /// solution is what this searcher's posterior ranks first among what it may propose
+    /// ([`Conditioned::doubts`]; `case-based+nested`).
+    #[cfg(any(test, feature = "model-based"))]
+    pub(super) fn vouching(self) -> Self {
+        Self {
+            vouching: Some(Vouching::default()),
+            ..self
+        }
+    }
+
+    /// Forgets the scores case reuse was vetted against (the evidence starts afresh or the
+    /// profiles changed).
+    fn forget_vouching(&mut self) {
+        if let Some(vouching) = &mut self.vouching {
+            *vouching = Vouching::default();
         }
     }
 
@@ -302,35 +355,9 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
         tried: &HashSet<Behavior>,
         rng: &mut dyn RngCore,
     ) -> Option<(f64, Behavior)> {
-        let weights: Vec<f64> = self
-            .profiles
-            .iter()
-            .zip(likelihoods)
-            .map(|(p, likelihood)| likelihood * p.episodes)
-            .collect();
-        let unknown = 0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX));
-        let total: f64 = weights.iter().sum::<f64>() + unknown;
-        let mut likely: Vec<(f64, &Profile)> = self
-            .profiles
-            .iter()
-            .zip(&weights)
-            .filter(|(p, _)| !tried.contains(&p.trusted))
-            .map(|(p, &w)| (w, p))
-            .collect();
-        likely.sort_by(|a, b| b.0.total_cmp(&a.0));
-        likely.truncate(CANDIDATES);
-        let accept_at = |b: &Behavior| {
-            let near = near_rejections(space, b, evaluated);
-            let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
-            (self
-                .profiles
-                .iter()
-                .zip(&weights)
-                .map(|(p, w)| w * (1.0 - p.p_reject(space, b, near)))
-                .sum::<f64>()
-                + unknown * unknown_accept)
-                / total
-        };
+        let weights = self.weights(likelihoods);
+        let likely = self.likely(&weights, tried);
+        let accept_at = |b: &Behavior| self.acceptance(space, evaluated, &weights, b);
         self.candidates(space, &likely, tried)
             .into_iter()
             .map(|(b, reliability)| (accept_at(&b), b, reliability))
@@ -344,6 +371,72 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
                 },
             )
             .map(|(accept, _, b)| (accept, b))
+    }
+
+    /// The most probable profiles (at most [`CANDIDATES`]) whose trusted behavior is not
+    /// `tried`, most probable first, each with its weight.
+    fn likely<'a>(&'a self, weights: &[f64], tried: &HashSet<Behavior>) -> Vec<(f64, &'a Profile)> {
+        let mut likely: Vec<(f64, &Profile)> = self
+            .profiles
+            .iter()
+            .zip(weights)
+            .filter(|(p, _)| !tried.contains(&p.trusted))
+            .map(|(p, &w)| (w, p))
+            .collect();
+        likely.sort_by(|a, b| b.0.total_cmp(&a.0));
+        likely.truncate(CANDIDATES);
+        likely
+    }
+
+    /// What may be proposed after an episode rejected `evaluated` and the evidence favours
+    /// (acceptance above even odds), each with its acceptance times its expected
+    /// reliability: the scores [`Conditioned::doubts`] compares.
+    fn favoured(&mut self, space: &BehaviorSpace, evaluated: &[Evaluated]) -> Vec<(Behavior, f64)> {
+        self.likelihoods.cover(space, &self.profiles, evaluated);
+        let weights = self.weights(&self.likelihoods.products);
+        let tried = super::evaluated_set(evaluated);
+        let likely = self.likely(&weights, &tried);
+        self.candidates(space, &likely, &tried)
+            .into_iter()
+            .filter_map(|(b, reliability)| {
+                let accept = self.acceptance(space, evaluated, &weights, &b);
+                (accept > 0.5).then_some((b, accept * reliability.mean()))
+            })
+            .collect()
+    }
+
+    /// Each profile's weight: its episodes times its `likelihood` of the episode's
+    /// rejections.
+    fn weights(&self, likelihoods: &[f64]) -> Vec<f64> {
+        self.profiles
+            .iter()
+            .zip(likelihoods)
+            .map(|(p, likelihood)| likelihood * p.episodes)
+            .collect()
+    }
+
+    /// The probability that the operator of an episode that rejected `evaluated` accepts
+    /// `b`: the hypotheses' `P(accept b)` weighed by the profiles' `weights` and the unknown
+    /// operator's (see the module documentation).
+    fn acceptance(
+        &self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        weights: &[f64],
+        b: &Behavior,
+    ) -> f64 {
+        let unknown = 0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX));
+        let total: f64 = weights.iter().sum::<f64>() + unknown;
+        let near = near_rejections(space, b, evaluated);
+        let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
+        (self
+            .profiles
+            .iter()
+            .zip(weights)
+            .map(|(p, w)| w * (1.0 - p.p_reject(space, b, near)))
+            .sum::<f64>()
+            + unknown * unknown_accept)
+            / total
     }
 
     /// What may be proposed, each with where its reliability comes from: the `likely`
@@ -419,6 +512,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
     fn begin_episode(&mut self, space: &BehaviorSpace, initial: &Behavior) {
         self.episode.clear();
         self.likelihoods.forget();
+        self.forget_vouching();
         self.fallback.begin_episode(space, initial);
     }
 
@@ -463,6 +557,34 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
         }
     }
 
+    /// With [`Conditioned::vouching`] set, doubts a remembered operator's trusted behavior
+    /// `b` unless the posterior ranks it first: among what this searcher may propose, its
+    /// acceptance above even odds, and no other candidate's acceptance times expected
+    /// reliability above its own. A behavior no remembered operator trusted (a case another
+    /// robot of a fleet wrote, or one from before a restart) is left to case reuse.
+    fn doubts(&mut self, space: &BehaviorSpace, evaluated: &[Evaluated], b: &Behavior) -> bool {
+        let covered = match &self.vouching {
+            None => return false,
+            Some(vouching) => vouching.covered,
+        };
+        if evaluated.is_empty() || !self.profiles.iter().any(|p| p.trusted == *b) {
+            return false;
+        }
+        if covered != Some(evaluated.len()) {
+            let scores = self.favoured(space, evaluated);
+            self.vouching = Some(Vouching {
+                covered: Some(evaluated.len()),
+                scores,
+            });
+        }
+        let scores = self.vouching.as_ref().map_or(&[][..], |v| &v.scores[..]);
+        let best = scores.iter().map(|s| s.1).fold(f64::NEG_INFINITY, f64::max);
+        scores
+            .iter()
+            .find(|(c, _)| c == b)
+            .is_none_or(|(_, score)| *score < best)
+    }
+
     fn rationale(&self, proposed: &Behavior) -> Rationale {
         match self.last {
             Some((b, accept)) if b == *proposed => Rationale::Expects {
@@ -476,6 +598,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
     fn end_episode(&mut self, evaluated: &[Evaluated], settled: Option<&Behavior>) {
         self.fallback.end_episode(evaluated, settled);
         self.likelihoods.forget();
+        self.forget_vouching();
         #[cfg(feature = "model-based")]
         if let Some(population) = &mut self.population {
             for (b, commands, completed) in &self.episode {
@@ -654,7 +777,7 @@ mod tests {
 
     proptest::proptest! {
         #[test]
-        fn proposals_with_kept_likelihoods_are_those_with_likelihoods_taken_afresh(
+        fn proposals_with_kept_likelihoods_are_those_taken_afresh_and_those_asked_to_vouch(
             earlier in proptest::collection::vec(
                 (proptest::collection::vec((0u16..7, 0u16..7), 0..6), (0u16..7, 0u16..7)),
                 0..8,
@@ -665,7 +788,9 @@ mod tests {
             // Earlier episodes (rejections, then a settled behavior) make the profiles;
             // then one episode's evidence grows a behavior at a time. One searcher keeps
             // its likelihoods between proposals, its twin forgets them before each: the
-            // products are equal to the bit and so are the proposals.
+            // products are equal to the bit and so are the proposals. A third twin vouches
+            // for case reuse and is asked, before each proposal, about every behavior an
+            // earlier episode settled on: asking changes none of its proposals.
             let space = crate::search::grid(&[7, 7]);
             let pairs = |bs: &[(u16, u16)]| -> Vec<Evaluated> {
                 bs.iter().map(|&(a, b)| pair(Behavior::new(&[a, b]))).collect()
@@ -675,20 +800,62 @@ mod tests {
                 kept.end_episode(&pairs(rejected), Some(&Behavior::new(&[*a, *b])));
             }
             let mut afresh = kept.clone();
+            let mut asked = kept.clone().vouching();
             let start = Behavior::new(&[current[0].0, current[0].1]);
-            kept.begin_episode(&space, &start);
-            afresh.begin_episode(&space, &start);
+            for searcher in [&mut kept, &mut afresh, &mut asked] {
+                searcher.begin_episode(&space, &start);
+            }
             let evidence = pairs(&current);
             for n in 1..=evidence.len() {
                 afresh.likelihoods.forget();
+                for (_, (a, b)) in &earlier {
+                    asked.doubts(&space, &evidence[..n], &Behavior::new(&[*a, *b]));
+                }
                 let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(n as u64));
-                let mut twin_rng = rng.clone();
+                let (mut twin_rng, mut asked_rng) = (rng.clone(), rng.clone());
                 let proposal = kept.propose(&space, &evidence[..n], &mut rng);
                 let twin = afresh.propose(&space, &evidence[..n], &mut twin_rng);
                 proptest::prop_assert_eq!(proposal, twin);
                 proptest::prop_assert_eq!(&kept.likelihoods.products, &afresh.likelihoods.products);
+                proptest::prop_assert_eq!(proposal, asked.propose(&space, &evidence[..n], &mut asked_rng));
             }
         }
+    }
+
+    #[test]
+    fn a_vouching_searcher_doubts_what_its_posterior_does_not_rank_first() {
+        // Operator A trusted 10 after rejecting 0; operator B trusted 20 at once. This one
+        // rejected 0 too. By hand (the kernel e^-10 ten steps away, about 0): A's weight
+        // P_A(reject 0) = 2/3, B's 1/2, the unknown operator's 1/2; then
+        // P(accept 10) = (2/3 * 2/3 + 1/2 * 1/2 + 1/2 * 1/2) / (5/3) = 0.5667 and
+        // P(accept 20) = (2/3 * 1/2 + 1/2 * 2/3 + 1/2 * 1/2) / (5/3) = 0.5500. Both beat
+        // even odds and neither has a record (reliability 1/2 each), so 10 ranks first: a
+        // case proposing 20 is doubted, one proposing 10 is not.
+        let space = crate::search::grid(&[21]);
+        let b = |v: u16| Behavior::new(&[v]);
+        let mut plain = Conditioned::new();
+        let evaluated = [pair(b(0))];
+        assert!(
+            !plain.clone().vouching().doubts(&space, &evaluated, &b(20)),
+            "no profile yet"
+        );
+        plain.end_episode(&[pair(b(0))], Some(&b(10)));
+        plain.end_episode(&[], Some(&b(20)));
+        let mut vouching = plain.clone().vouching();
+        vouching
+            .likelihoods
+            .cover(&space, &vouching.profiles, &evaluated);
+        let weights = vouching.weights(&vouching.likelihoods.products);
+        let accept = |v| vouching.acceptance(&space, &evaluated, &weights, &b(v));
+        assert!((accept(10) - 0.5667).abs() < 1e-4, "{}", accept(10));
+        assert!((accept(20) - 0.5500).abs() < 1e-4, "{}", accept(20));
+        assert!(!vouching.doubts(&space, &evaluated, &b(10)));
+        assert!(vouching.doubts(&space, &evaluated, &b(20)));
+        // A behavior no remembered operator trusted is left to case reuse (a case another
+        // robot of a fleet wrote).
+        assert!(!vouching.doubts(&space, &evaluated, &b(3)));
+        // Without vouching nothing is doubted: the paper's case reuse.
+        assert!(!plain.doubts(&space, &evaluated, &b(20)));
     }
 
     #[test]

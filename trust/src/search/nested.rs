@@ -26,6 +26,11 @@
 //! has been tried. An operator whose region lies far from every earlier one's costs at
 //! most about twice what the wrapped search alone would cost (the argument of
 //! [`super::Alternating`]).
+//!
+//! **Its case reuse.** The conditioned search around it vouches for case reuse
+//! ([`Conditioned::vouching`]): `case-based+nested` reuses a case only when its behavior is
+//! what the posterior over earlier operators ranks first, so the case met first no longer
+//! outranks the behavior the evidence favours.
 
 use super::registry::{Look, Marker, Strategy, WithCases};
 use super::reliable::PopulationReliability;
@@ -46,7 +51,7 @@ pub const STRATEGY: Strategy = Strategy {
     },
     with_cases: Some(WithCases {
         name: "case-based+nested",
-        description: "case reuse first, the nested search when no case fits",
+        description: "case reuse first where the nested search's posterior vouches for the case, the nested search otherwise",
         look: Look {
             colour: [0, 158, 115],
             marker: Marker::Hexagon,
@@ -63,6 +68,7 @@ pub fn nested() -> Conditioned<Nested<Alternating<CauseAware, ModelBased>>> {
         STRATEGY.name,
         Nested::new(Alternating::new(CauseAware::new(), ModelBased::new())),
     )
+    .vouching()
 }
 
 /// Proposes nearest to what earlier operators trusted on every other turn, and `F`'s
