@@ -11,7 +11,11 @@
 //! keeps its profiles' likelihoods from one proposal to the next); an extra untimed
 //! proposal every other iteration shifts the timed ones' parity, so that they fall on both
 //! of `nested`'s alternating turns (its nested search and its fallback) and its figure is
-//! their mean.
+//! their mean. `vouch/nested/<distinct>` is what vouching for case reuse adds to a
+//! selection of `case-based+nested` in the served setting: the searcher asked whether it
+//! doubts a remembered trusted behavior at the 200th behavior's evidence, right after the
+//! same question at 199 (the first question of a selection; later ones on the same evidence
+//! reuse its scores).
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
 use cbr_core::{Behavior, BehaviorSpace, Searcher};
@@ -101,9 +105,53 @@ fn propose_after(c: &mut Criterion, group: &str, served: bool) {
     group.finish();
 }
 
+/// One question of `nested`'s vouching for case reuse after 50 earlier episodes, every
+/// other one settled on a trusted behavior: does it doubt the first of them?
+fn vouch(c: &mut Criterion) {
+    let space = domains::spaces::patrol_space();
+    let kind = SearchKind::all()
+        .find(|k| k.name() == "nested")
+        .expect("the nested strategy is built in");
+    let mut group = c.benchmark_group("vouch");
+    for distinct in [40usize, 200] {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut searcher = kind.build();
+        let mut remembered = Vec::new();
+        for earlier in 0..50 {
+            let evaluated = episode(searcher.as_mut(), &space, 200, 40, &mut rng);
+            let settled = (earlier % 2 == 0)
+                .then(|| space.draw(&mut rng))
+                .filter(|t| !evaluated.iter().any(|e| e.behavior == *t));
+            remembered.extend(settled);
+            searcher.end_episode(&evaluated, settled.as_ref());
+        }
+        let asked = remembered[0];
+        let evaluated = episode(searcher.as_mut(), &space, 200, distinct, &mut rng);
+        let before = &evaluated[..evaluated.len() - 1];
+        group.bench_with_input(
+            BenchmarkId::new(kind.name(), distinct),
+            &distinct,
+            |b, _| {
+                b.iter_custom(|iterations| {
+                    let mut timed = Duration::ZERO;
+                    for _ in 0..iterations {
+                        black_box(searcher.doubts(&space, before, &asked));
+                        let start = Instant::now();
+                        black_box(searcher.doubts(&space, black_box(&evaluated), &asked));
+                        timed += start.elapsed();
+                    }
+                    timed
+                })
+            },
+        );
+    }
+    group.finish();
+}
+
 fn propose(c: &mut Criterion) {
     propose_after(c, "search", false);
     propose_after(c, "search-served", true);
+    vouch(c);
 }
 
 criterion_group!(benches, propose);

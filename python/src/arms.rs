@@ -297,7 +297,12 @@ impl Searcher for PySearcher {
         }
     }
 
-    fn doubts(&mut self, space: &BehaviorSpace, evaluated: &[Evaluated], behavior: &Behavior) -> bool {
+    fn doubts(
+        &mut self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        behavior: &Behavior,
+    ) -> bool {
         let Some(object) = self.live() else {
             return false;
         };

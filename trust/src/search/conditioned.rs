@@ -40,7 +40,7 @@
 //! **Vouching for case reuse** (`nested`'s searcher). Algorithm 1 reuses the most similar
 //! case, and a case's final behavior is one of the remembered behaviors this searcher
 //! weighs, judged there by one resemblance only. A searcher that vouches
-//! ([`Conditioned::vouching`]) doubts a case's behavior unless its posterior ranks it
+//! (`Conditioned::vouching`) doubts a case's behavior unless its posterior ranks it
 //! first: among what it may propose, its acceptance beats even odds and no candidate's
 //! acceptance times expected reliability is higher. Case reuse then passes over it to the
 //! next case, or to this searcher. It doubts only what a remembered operator trusted, so
@@ -210,7 +210,7 @@ pub struct Conditioned<F = CauseAware> {
     /// The population's reliability, for `reliable` (`None`: each profile's own record).
     #[cfg(feature = "model-based")]
     population: Option<PopulationReliability>,
-    /// Whether case reuse must be vouched for ([`Conditioned::vouching`]), and the
+    /// Whether case reuse must be vouched for (`Conditioned::vouching`), and the
     /// scores of the evidence it was last asked about (`None`: the paper's case reuse).
     vouching: Option<Vouching>,
 }
@@ -557,7 +557,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
         }
     }
 
-    /// With [`Conditioned::vouching`] set, doubts a remembered operator's trusted behavior
+    /// With `Conditioned::vouching` set, doubts a remembered operator's trusted behavior
     /// `b` unless the posterior ranks it first: among what this searcher may propose, its
     /// acceptance above even odds, and no other candidate's acceptance times expected
     /// reliability above its own. A behavior no remembered operator trusted (a case another

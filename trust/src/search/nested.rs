@@ -28,7 +28,7 @@
 //! [`super::Alternating`]).
 //!
 //! **Its case reuse.** The conditioned search around it vouches for case reuse
-//! ([`Conditioned::vouching`]): `case-based+nested` reuses a case only when its behavior is
+//! (`Conditioned::vouching`): `case-based+nested` reuses a case only when its behavior is
 //! what the posterior over earlier operators ranks first, so the case met first no longer
 //! outranks the behavior the evidence favours.
 
