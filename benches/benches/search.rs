@@ -24,7 +24,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use trust::{Evaluated, Outcome, SearchKind};
+use trust::{Evaluated, Outcome, SearchKind, TrustSearcher};
 
 /// Outcomes of a synthetic operator that dislikes slow and careless behaviors.
 fn outcome(space: &BehaviorSpace, b: &Behavior, rng: &mut ChaCha8Rng) -> Outcome {
@@ -64,6 +64,46 @@ fn episode(
     evaluated
 }
 
+/// A searcher in the middle of an episode, and what made it.
+struct AfterEarlier {
+    searcher: Box<TrustSearcher>,
+    /// The behaviors the earlier episodes settled on, in order.
+    settled_on: Vec<Behavior>,
+    /// The episode's evidence.
+    evaluated: Vec<Evaluated>,
+    /// The randomness left.
+    rng: ChaCha8Rng,
+}
+
+/// A searcher of `kind` after 50 earlier episodes of 200 outcomes over 40 behaviors, of
+/// which every other one settled on a trusted behavior when `served` (none otherwise),
+/// then fed an episode of 200 outcomes over `distinct` behaviors.
+fn after_earlier(
+    kind: SearchKind,
+    space: &BehaviorSpace,
+    served: bool,
+    distinct: usize,
+) -> AfterEarlier {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut searcher = kind.build();
+    let mut settled_on = Vec::new();
+    for earlier in 0..50 {
+        let evaluated = episode(searcher.as_mut(), space, 200, 40, &mut rng);
+        let settled = (served && earlier % 2 == 0)
+            .then(|| space.draw(&mut rng))
+            .filter(|t| !evaluated.iter().any(|e| e.behavior == *t));
+        settled_on.extend(settled);
+        searcher.end_episode(&evaluated, settled.as_ref());
+    }
+    let evaluated = episode(searcher.as_mut(), space, 200, distinct, &mut rng);
+    AfterEarlier {
+        searcher,
+        settled_on,
+        evaluated,
+        rng,
+    }
+}
+
 /// One proposal of every strategy after 50 earlier episodes, of which every other one
 /// settled on a trusted behavior when `served`, none otherwise.
 fn propose_after(c: &mut Criterion, group: &str, served: bool) {
@@ -71,16 +111,12 @@ fn propose_after(c: &mut Criterion, group: &str, served: bool) {
     let mut group = c.benchmark_group(group);
     for kind in SearchKind::all() {
         for distinct in [40usize, 200] {
-            let mut rng = ChaCha8Rng::seed_from_u64(5);
-            let mut searcher = kind.build();
-            for earlier in 0..50 {
-                let evaluated = episode(searcher.as_mut(), &space, 200, 40, &mut rng);
-                let settled = (served && earlier % 2 == 0)
-                    .then(|| space.draw(&mut rng))
-                    .filter(|t| !evaluated.iter().any(|e| e.behavior == *t));
-                searcher.end_episode(&evaluated, settled.as_ref());
-            }
-            let evaluated = episode(searcher.as_mut(), &space, 200, distinct, &mut rng);
+            let AfterEarlier {
+                mut searcher,
+                evaluated,
+                mut rng,
+                ..
+            } = after_earlier(kind, &space, served, distinct);
             let before = &evaluated[..evaluated.len() - 1];
             group.bench_with_input(
                 BenchmarkId::new(kind.name(), distinct),
@@ -114,19 +150,13 @@ fn vouch(c: &mut Criterion) {
         .expect("the nested strategy is built in");
     let mut group = c.benchmark_group("vouch");
     for distinct in [40usize, 200] {
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let mut searcher = kind.build();
-        let mut remembered = Vec::new();
-        for earlier in 0..50 {
-            let evaluated = episode(searcher.as_mut(), &space, 200, 40, &mut rng);
-            let settled = (earlier % 2 == 0)
-                .then(|| space.draw(&mut rng))
-                .filter(|t| !evaluated.iter().any(|e| e.behavior == *t));
-            remembered.extend(settled);
-            searcher.end_episode(&evaluated, settled.as_ref());
-        }
-        let asked = remembered[0];
-        let evaluated = episode(searcher.as_mut(), &space, 200, distinct, &mut rng);
+        let AfterEarlier {
+            mut searcher,
+            settled_on,
+            evaluated,
+            ..
+        } = after_earlier(kind, &space, true, distinct);
+        let asked = settled_on[0];
         let before = &evaluated[..evaluated.len() - 1];
         group.bench_with_input(
             BenchmarkId::new(kind.name(), distinct),

@@ -355,13 +355,8 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
         tried: &HashSet<Behavior>,
         rng: &mut dyn RngCore,
     ) -> Option<(f64, Behavior)> {
-        let weights = self.weights(likelihoods);
-        let likely = self.likely(&weights, tried);
-        let accept_at = |b: &Behavior| self.acceptance(space, evaluated, &weights, b);
-        self.candidates(space, &likely, tried)
+        self.above_even_odds(space, evaluated, likelihoods, tried)
             .into_iter()
-            .map(|(b, reliability)| (accept_at(&b), b, reliability))
-            .filter(|&(accept, _, _)| accept > 0.5)
             .map(|(accept, b, reliability)| (accept, accept * reliability.value(rng), b))
             .fold(
                 None,
@@ -373,35 +368,49 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             .map(|(accept, _, b)| (accept, b))
     }
 
-    /// The most probable profiles (at most [`CANDIDATES`]) whose trusted behavior is not
-    /// `tried`, most probable first, each with its weight.
-    fn likely<'a>(&'a self, weights: &[f64], tried: &HashSet<Behavior>) -> Vec<(f64, &'a Profile)> {
+    /// What may be proposed ([`Conditioned::candidates`], from the most probable profiles,
+    /// at most [`CANDIDATES`], whose trusted behavior is not `tried`) that the evidence
+    /// favours: each with its probability of acceptance, above even odds, and where its
+    /// reliability comes from, in the candidates' order.
+    fn above_even_odds(
+        &self,
+        space: &BehaviorSpace,
+        evaluated: &[Evaluated],
+        likelihoods: &[f64],
+        tried: &HashSet<Behavior>,
+    ) -> Vec<(f64, Behavior, Reliability)> {
+        let weights = self.weights(likelihoods);
         let mut likely: Vec<(f64, &Profile)> = self
             .profiles
             .iter()
-            .zip(weights)
+            .zip(&weights)
             .filter(|(p, _)| !tried.contains(&p.trusted))
             .map(|(p, &w)| (w, p))
             .collect();
         likely.sort_by(|a, b| b.0.total_cmp(&a.0));
         likely.truncate(CANDIDATES);
-        likely
+        self.candidates(space, &likely, tried)
+            .into_iter()
+            .map(|(b, reliability)| {
+                (
+                    self.acceptance(space, evaluated, &weights, &b),
+                    b,
+                    reliability,
+                )
+            })
+            .filter(|&(accept, _, _)| accept > 0.5)
+            .collect()
     }
 
-    /// What may be proposed after an episode rejected `evaluated` and the evidence favours
-    /// (acceptance above even odds), each with its acceptance times its expected
-    /// reliability: the scores [`Conditioned::doubts`] compares.
+    /// What may be proposed after an episode rejected `evaluated` and the evidence favours,
+    /// each with its acceptance times its expected reliability: the scores
+    /// [`Conditioned::doubts`] compares.
     fn favoured(&mut self, space: &BehaviorSpace, evaluated: &[Evaluated]) -> Vec<(Behavior, f64)> {
         self.likelihoods.cover(space, &self.profiles, evaluated);
-        let weights = self.weights(&self.likelihoods.products);
         let tried = super::evaluated_set(evaluated);
-        let likely = self.likely(&weights, &tried);
-        self.candidates(space, &likely, &tried)
+        self.above_even_odds(space, evaluated, &self.likelihoods.products, &tried)
             .into_iter()
-            .filter_map(|(b, reliability)| {
-                let accept = self.acceptance(space, evaluated, &weights, &b);
-                (accept > 0.5).then_some((b, accept * reliability.mean()))
-            })
+            .map(|(accept, b, reliability)| (b, accept * reliability.mean()))
             .collect()
     }
 
@@ -577,7 +586,9 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
                 scores,
             });
         }
-        let scores = self.vouching.as_ref().map_or(&[][..], |v| &v.scores[..]);
+        let Some(Vouching { scores, .. }) = &self.vouching else {
+            return false;
+        };
         let best = scores.iter().map(|s| s.1).fold(f64::NEG_INFINITY, f64::max);
         scores
             .iter()
