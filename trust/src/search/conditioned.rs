@@ -51,7 +51,9 @@ use super::CauseAware;
 use super::propose_untried;
 use super::registry::{Look, Marker, Strategy, WithCases};
 #[cfg(feature = "model-based")]
-use super::reliable::{NEIGHBOURHOODS, PopulationReliability, RELIABLE_CANDIDATES, draw_beta};
+use super::reliable::{
+    ByOperator, NEIGHBOURHOODS, PopulationReliability, RELIABLE_CANDIDATES, draw_beta,
+};
 #[cfg(feature = "model-based")]
 use super::{Alternating, ModelBased};
 use crate::{Evaluated, Outcome};
@@ -110,6 +112,12 @@ impl Profile {
     fn reliability(&self) -> f64 {
         (self.completed + 1.0) / (self.commands + 2.0)
     }
+}
+
+/// The unknown operator's weight after an episode rejected `evaluated`: one episode's,
+/// times `P(reject) = 1/2` per rejection.
+fn unknown_weight(evaluated: &[Evaluated]) -> f64 {
+    0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX))
 }
 
 /// The similarity kernel between two behaviors.
@@ -210,6 +218,10 @@ pub struct Conditioned<F = CauseAware> {
     /// The population's reliability, for `reliable` (`None`: each profile's own record).
     #[cfg(feature = "model-based")]
     population: Option<PopulationReliability>,
+    /// What each profile's episodes ran, when the population's reliability is conditioned
+    /// on the operator (`nested`; `None`: pooled over the population).
+    #[cfg(feature = "model-based")]
+    by_operator: Option<ByOperator>,
     /// Whether case reuse must be vouched for (`Conditioned::vouching`), and the
     /// scores of the evidence it was last asked about (`None`: the paper's case reuse).
     vouching: Option<Vouching>,
@@ -309,6 +321,8 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             likelihoods: Likelihoods::default(),
             #[cfg(feature = "model-based")]
             population: None,
+            #[cfg(feature = "model-based")]
+            by_operator: None,
             vouching: None,
         }
     }
@@ -320,6 +334,17 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
     pub(super) fn vouching(self) -> Self {
         Self {
             vouching: Some(Vouching::default()),
+            ..self
+        }
+    }
+
+    /// This searcher, its reliability conditioned on the operator: each command the
+    /// population ran weighed by how likely its operator is to be of the current one's kind
+    /// ([`ByOperator::posterior`]; `nested`).
+    #[cfg(feature = "model-based")]
+    pub(super) fn conditioned_on_operator(self) -> Self {
+        Self {
+            by_operator: Some(ByOperator::default()),
             ..self
         }
     }
@@ -389,17 +414,22 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
             .collect();
         likely.sort_by(|a, b| b.0.total_cmp(&a.0));
         likely.truncate(CANDIDATES);
-        self.candidates(space, &likely, tried)
-            .into_iter()
-            .map(|(b, reliability)| {
-                (
-                    self.acceptance(space, evaluated, &weights, &b),
-                    b,
-                    reliability,
-                )
-            })
-            .filter(|&(accept, _, _)| accept > 0.5)
-            .collect()
+        self.candidates(
+            space,
+            &likely,
+            tried,
+            (likelihoods, unknown_weight(evaluated)),
+        )
+        .into_iter()
+        .map(|(b, reliability)| {
+            (
+                self.acceptance(space, evaluated, &weights, &b),
+                b,
+                reliability,
+            )
+        })
+        .filter(|&(accept, _, _)| accept > 0.5)
+        .collect()
     }
 
     /// What may be proposed after an episode rejected `evaluated` and the evidence favours,
@@ -434,7 +464,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
         weights: &[f64],
         b: &Behavior,
     ) -> f64 {
-        let unknown = 0.5f64.powi(i32::try_from(evaluated.len()).unwrap_or(i32::MAX));
+        let unknown = unknown_weight(evaluated);
         let total: f64 = weights.iter().sum::<f64>() + unknown;
         let near = near_rejections(space, b, evaluated);
         let unknown_accept = 1.0 - (1.0 + near) / (2.0 + near);
@@ -451,18 +481,29 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
     /// What may be proposed, each with where its reliability comes from: the `likely`
     /// profiles' trusted behaviors, each with its profile's own record; with the
     /// population's reliability instead, also their untried neighbours and the behaviors
-    /// the population found most reliable.
+    /// the population found most reliable. `hypotheses` are the profiles' likelihoods of the
+    /// episode's rejections and the unknown operator's, by which a reliability conditioned
+    /// on the operator weighs the commands behind it.
     #[cfg_attr(not(feature = "model-based"), allow(unused_variables))]
     fn candidates(
         &self,
         space: &BehaviorSpace,
         likely: &[(f64, &Profile)],
         tried: &HashSet<Behavior>,
+        hypotheses: (&[f64], f64),
     ) -> Vec<(Behavior, Reliability)> {
         #[cfg(feature = "model-based")]
         if let Some(population) = &self.population {
+            let (likelihoods, unknown) = hypotheses;
+            let top = likelihoods.iter().copied().fold(unknown, f64::max);
+            let relative: Vec<f64> = likelihoods.iter().map(|l| l / top).collect();
             let pooled = |b: Behavior| {
-                let (alpha, beta) = population.posterior(&b);
+                let (alpha, beta) = match &self.by_operator {
+                    Some(by_operator) => {
+                        by_operator.posterior(population, &b, &relative, unknown / top)
+                    }
+                    None => population.posterior(&b),
+                };
                 (b, Reliability::Pooled(alpha, beta))
             };
             let mut candidates: Vec<(Behavior, Reliability)> =
@@ -618,8 +659,18 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
         }
         // Only a behavior the operator trusted is a profile: one kept because every
         // behavior was tried is among the rejected ones.
-        let Some(&trusted) = settled.filter(|s| !evaluated.iter().any(|e| e.behavior == **s))
-        else {
+        let trusted = settled.filter(|s| !evaluated.iter().any(|e| e.behavior == **s));
+        #[cfg(feature = "model-based")]
+        if let Some(by_operator) = &mut self.by_operator {
+            let profile = trusted.map(|t| {
+                self.profiles
+                    .iter()
+                    .position(|p| p.trusted == *t)
+                    .unwrap_or(self.profiles.len())
+            });
+            by_operator.add(profile, &self.episode);
+        }
+        let Some(&trusted) = trusted else {
             return;
         };
         let rejected = evaluated.iter().map(|e| e.behavior);

@@ -31,6 +31,13 @@
 //! (`Conditioned::vouching`): `case-based+nested` reuses a case only when its behavior is
 //! what the posterior over earlier operators ranks first, so the case met first no longer
 //! outranks the behavior the evidence favours.
+//!
+//! **Its reliability, conditioned on the operator.** The candidates' expected reliability
+//! is not the population's pooled record but each profile's commands weighed by how
+//! likely the current episode's rejections are under that profile's operator, over the
+//! likeliest (`ByOperator::posterior`): on a population whose members' regions are
+//! disjoint, what another kind of operator completed or failed no longer ranks what this
+//! kind trusts.
 
 use super::registry::{Look, Marker, Strategy, WithCases};
 use super::reliable::PopulationReliability;
@@ -68,6 +75,7 @@ pub fn nested() -> Conditioned<Nested<Alternating<CauseAware, ModelBased>>> {
         STRATEGY.name,
         Nested::new(Alternating::new(CauseAware::new(), ModelBased::new())),
     )
+    .conditioned_on_operator()
     .vouching()
 }
 

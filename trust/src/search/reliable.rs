@@ -19,6 +19,11 @@
 //!   every operator: `Beta(s m_b + C_b, s (1 - m_b) + N_b - C_b)`. Behaviors never run
 //!   borrow strength from every command run with their component values; their
 //!   uncertainty is the prior's.
+//! - **Conditioned on the operator** (`nested`'s searcher, [`ByOperator`]). The commands
+//!   `C_b` and `N_b` are each earlier operator's weighed by how likely the current
+//!   episode's rejections are under that operator's profile, over the likeliest: the
+//!   commands of operators unlike this one fade from its reliability as they fade from its
+//!   acceptance. `reliable` itself keeps the pooled record.
 //! - **Where it looks.** Candidates are the trusted behaviors of the profiles most
 //!   consistent with the episode so far (as the conditioned search), their untried
 //!   neighbours (one component one step away: "among what a pleased member trusts"), and
@@ -232,6 +237,75 @@ impl PopulationReliability {
     }
 }
 
+/// What each remembered operator's episodes ran, for a reliability conditioned on the
+/// operator instead of pooled over the population ([`ByOperator::posterior`], `nested`).
+///
+/// The population's posterior counts every command alike. On a population whose members'
+/// trustworthy regions are disjoint, a behavior one member trusts but often fails is
+/// completed by another member who passes through it, and the pooled record ranks it above
+/// what the first member completes; the conditioned record weighs each command by how
+/// likely its operator is to be of the current operator's kind.
+#[derive(Clone, Debug, Default)]
+pub struct ByOperator {
+    /// Per profile of the conditioned searcher, in its order: commands per behavior.
+    profiles: Vec<HashMap<Behavior, Record>>,
+    /// Commands of the episodes that trusted nothing (operators no profile stands for).
+    unserved: HashMap<Behavior, Record>,
+}
+
+impl ByOperator {
+    /// Adds an episode's commands, `(behavior, commands, completed)`, to the record of
+    /// profile `profile` (the conditioned searcher's index; one past the last adds a
+    /// profile), or to the unserved operators' record.
+    pub fn add(&mut self, profile: Option<usize>, episode: &[(Behavior, f64, f64)]) {
+        let record = match profile {
+            Some(index) => {
+                if self.profiles.len() <= index {
+                    self.profiles.resize_with(index + 1, HashMap::new);
+                }
+                &mut self.profiles[index]
+            }
+            None => &mut self.unserved,
+        };
+        for (b, commands, completed) in episode {
+            record.entry(*b).or_default().add(*commands, *completed);
+        }
+    }
+
+    /// The posterior `Beta(alpha, beta)` of `behavior`'s completion rate for the current
+    /// operator: the population's prior at it ([`PopulationReliability::prior_mean`],
+    /// [`BEHAVIOR_PRIOR`] commands), updated with each profile's commands on it weighed by
+    /// `weights[p]` (the likelihood of the current episode's evidence under the profile's
+    /// operator, over the largest likelihood, so in `[0, 1]`: commands of the operators the
+    /// evidence favours most count in full, those of unlikely ones fade), and the unserved
+    /// operators' commands weighed by `unserved` likewise. With every weight 1 it is the
+    /// population's posterior ([`PopulationReliability::posterior`]).
+    pub fn posterior(
+        &self,
+        population: &PopulationReliability,
+        behavior: &Behavior,
+        weights: &[f64],
+        unserved: f64,
+    ) -> (f64, f64) {
+        let m = population.prior_mean(behavior);
+        let mut weighed = Record::default();
+        let records = self
+            .profiles
+            .iter()
+            .zip(weights)
+            .chain(std::iter::once((&self.unserved, &unserved)));
+        for (record, &weight) in records {
+            if let Some(ran) = record.get(behavior) {
+                weighed.add(weight * ran.commands, weight * ran.completed);
+            }
+        }
+        (
+            BEHAVIOR_PRIOR * m + weighed.completed,
+            BEHAVIOR_PRIOR * (1.0 - m) + weighed.commands - weighed.completed,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,21 +365,146 @@ mod tests {
         trusted: Behavior,
         (commands, completed): (usize, usize),
     ) {
-        searcher.begin_episode(space, &rejected);
-        searcher.observe(&rejected, &crate::Outcome::failed(1.0, 1.0));
-        for k in 0..commands {
-            let outcome = if k < completed {
-                crate::Outcome::completed(1.0, 1.0)
-            } else {
-                crate::Outcome::failed(1.0, 1.0)
-            };
-            searcher.observe(&trusted, &outcome);
+        run(
+            searcher,
+            space,
+            &[(rejected, 1, 0), (trusted, commands, completed)],
+        );
+    }
+
+    /// Runs one finished episode on `searcher` that ran each `(behavior, commands,
+    /// completed)` in turn and settled on the last, every one before it rejected.
+    fn run<S: Searcher<Evidence = crate::Evaluated, Feedback = crate::Outcome>>(
+        searcher: &mut S,
+        space: &cbr_core::BehaviorSpace,
+        ran: &[(Behavior, usize, usize)],
+    ) {
+        searcher.begin_episode(space, &ran[0].0);
+        for &(behavior, commands, completed) in ran {
+            for k in 0..commands {
+                let outcome = if k < completed {
+                    crate::Outcome::completed(1.0, 1.0)
+                } else {
+                    crate::Outcome::failed(1.0, 1.0)
+                };
+                searcher.observe(&behavior, &outcome);
+            }
         }
-        let evaluated = [crate::Evaluated {
-            behavior: rejected,
+        let (settled, rejected) = ran.split_last().expect("an episode runs a behavior");
+        let evaluated: Vec<crate::Evaluated> = rejected
+            .iter()
+            .map(|&(behavior, _, _)| crate::Evaluated {
+                behavior,
+                time: 1.0,
+            })
+            .collect();
+        searcher.end_episode(&evaluated, Some(&settled.0));
+    }
+
+    #[test]
+    fn the_record_conditioned_on_the_operator_by_hand() {
+        // The population of `the_pooled_model_by_hand`: (0, 0) ran 10 commands, 9
+        // completed, (2, 1) ran 10, 1 completed; its prior mean at (0, 0) is 23/30 and at
+        // (2, 1) 1/2 - 2 * (1/2 - 11/30) = 7/30. The commands on (0, 0) were one
+        // profile's 4 (3 completed) and another's 6 (all completed); those on (2, 1) an
+        // episode's that trusted nothing.
+        let mut population = PopulationReliability::default();
+        let (good, bad) = (Behavior::new(&[0, 0]), Behavior::new(&[2, 1]));
+        let mut by_operator = ByOperator::default();
+        for (profile, behavior, commands, completed) in [
+            (Some(0), good, 4.0, 3.0),
+            (Some(1), good, 6.0, 6.0),
+            (None, bad, 10.0, 1.0),
+        ] {
+            population.add(&behavior, commands, completed);
+            by_operator.add(profile, &[(behavior, commands, completed)]);
+        }
+        // With every operator as likely, the record is the population's.
+        for b in [good, bad] {
+            let (alpha, beta) = by_operator.posterior(&population, &b, &[1.0, 1.0], 1.0);
+            let (pooled_alpha, pooled_beta) = population.posterior(&b);
+            assert!((alpha - pooled_alpha).abs() < 1e-12 && (beta - pooled_beta).abs() < 1e-12);
+        }
+        // The second profile half as likely as the first: Beta(2 * 23/30 + 3 + 6/2,
+        // 2 * 7/30 + 1 + 0).
+        let (alpha, beta) = by_operator.posterior(&population, &good, &[1.0, 0.5], 1.0);
+        assert!((alpha - (46.0 / 30.0 + 6.0)).abs() < 1e-12);
+        assert!((beta - (14.0 / 30.0 + 1.0)).abs() < 1e-12);
+        // The unserved operators unlikely: (2, 1) keeps its prior, Beta(2 * 7/30, 2 * 23/30).
+        let (alpha, beta) = by_operator.posterior(&population, &bad, &[1.0, 1.0], 0.0);
+        assert!((alpha - 14.0 / 30.0).abs() < 1e-12 && (beta - 46.0 / 30.0).abs() < 1e-12);
+    }
+
+    proptest::proptest! {
+        /// Weighing commands can only take evidence away: the conditioned posterior's
+        /// commands lie between the prior's alone and the population's, equal to the
+        /// population's with every weight 1, and its mean stays a rate.
+        #[test]
+        fn the_conditioned_record_lies_between_the_prior_and_the_population(
+            episodes in proptest::collection::vec(
+                (proptest::option::of(0usize..4), 0u16..5, 0u8..12, 0u8..12),
+                1..20,
+            ),
+            weights in proptest::collection::vec(0.0f64..=1.0, 4),
+            unserved in 0.0f64..=1.0,
+            at in 0u16..5,
+        ) {
+            let mut population = PopulationReliability::default();
+            let mut by_operator = ByOperator::default();
+            for (profile, v, commands, completed) in episodes {
+                let b = Behavior::new(&[v, 0]);
+                let (n, c) = (f64::from(commands), f64::from(completed.min(commands)));
+                population.add(&b, n, c);
+                by_operator.add(profile, &[(b, n, c)]);
+            }
+            let b = Behavior::new(&[at, 0]);
+            let (alpha, beta) = by_operator.posterior(&population, &b, &weights, unserved);
+            let (pooled_alpha, pooled_beta) = population.posterior(&b);
+            proptest::prop_assert!(alpha + beta >= BEHAVIOR_PRIOR - 1e-9);
+            proptest::prop_assert!(alpha + beta <= pooled_alpha + pooled_beta + 1e-9);
+            proptest::prop_assert!(alpha > 0.0 && beta > 0.0);
+            let (alpha, beta) = by_operator.posterior(&population, &b, &[1.0; 4], 1.0);
+            proptest::prop_assert!((alpha - pooled_alpha).abs() < 1e-9);
+            proptest::prop_assert!((beta - pooled_beta).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn what_operators_of_another_kind_failed_does_not_count_against_this_kind() {
+        // A line of 21 behaviors. Strict operators trusted 4 (7 of 10 commands completed)
+        // once and 8 (all 10) three times, each after rejecting 18; lenient ones trusted
+        // 18 four times, three of them after 8 failed 9 of 10 commands. Over the
+        // population 8 completed 33 of 60 commands and 4 7 of 10, so the pooled record
+        // ranks 8 below 4 (and below 8's untried neighbours, whose prior is the
+        // population's rate: a search that has never run them). The current operator rejected 18, as strict operators do: the
+        // likelihood of that is 1/6 under the lenient profile (the kernel more than five
+        // steps away, about 0: 1 / (2 + 4)), 2/3 and 4/5 under the strict ones, so the
+        // lenient operators' commands on 8 count (1/6) / (4/5) = 0.21 each, and 8,
+        // completed by every operator of the current one's kind, ranks first.
+        let space = crate::search::grid(&[21]);
+        let b = |v: u16| Behavior::new(&[v]);
+        let mut pooled = reliable().vouching();
+        let mut conditioned = Conditioned::with_population(
+            "conditioned on the operator",
+            Alternating::new(CauseAware::new(), ModelBased::new()),
+        )
+        .conditioned_on_operator()
+        .vouching();
+        let mut episodes = vec![[(b(18), 1, 0), (b(4), 10, 7)]];
+        episodes.extend([[(b(18), 1, 0), (b(8), 10, 10)]; 3]);
+        episodes.extend([[(b(8), 10, 1), (b(18), 10, 10)]; 3]);
+        episodes.push([(b(12), 1, 0), (b(18), 10, 10)]);
+        for ran in &episodes {
+            run(&mut pooled, &space, ran);
+            run(&mut conditioned, &space, ran);
+        }
+        let current = [crate::Evaluated {
+            behavior: b(18),
             time: 1.0,
         }];
-        searcher.end_episode(&evaluated, Some(&trusted));
+        assert!(pooled.doubts(&space, &current, &b(8)));
+        assert!(!conditioned.doubts(&space, &current, &b(8)));
+        assert!(conditioned.doubts(&space, &current, &b(4)));
     }
 
     #[test]
