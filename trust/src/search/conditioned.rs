@@ -494,13 +494,17 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Conditioned<F> {
     ) -> Vec<(Behavior, Reliability)> {
         #[cfg(feature = "model-based")]
         if let Some(population) = &self.population {
-            let (likelihoods, unknown) = hypotheses;
-            let top = likelihoods.iter().copied().fold(unknown, f64::max);
-            let relative: Vec<f64> = likelihoods.iter().map(|l| l / top).collect();
+            // Conditioned on the operator: each hypothesis's likelihood over the likeliest.
+            let conditioned = self.by_operator.as_ref().map(|by_operator| {
+                let (likelihoods, unknown) = hypotheses;
+                let top = likelihoods.iter().copied().fold(unknown, f64::max);
+                let relative: Vec<f64> = likelihoods.iter().map(|l| l / top).collect();
+                (by_operator, relative, unknown / top)
+            });
             let pooled = |b: Behavior| {
-                let (alpha, beta) = match &self.by_operator {
-                    Some(by_operator) => {
-                        by_operator.posterior(population, &b, &relative, unknown / top)
+                let (alpha, beta) = match &conditioned {
+                    Some((by_operator, relative, unserved)) => {
+                        by_operator.posterior(population, &b, relative, *unserved)
                     }
                     None => population.posterior(&b),
                 };
@@ -659,18 +663,18 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
         }
         // Only a behavior the operator trusted is a profile: one kept because every
         // behavior was tried is among the rejected ones.
-        let trusted = settled.filter(|s| !evaluated.iter().any(|e| e.behavior == **s));
+        // Its profile's index: an earlier one that trusted it, or one past the last.
+        let trusted = settled
+            .filter(|s| !evaluated.iter().any(|e| e.behavior == **s))
+            .map(|&t| {
+                let index = self.profiles.iter().position(|p| p.trusted == t);
+                (t, index.unwrap_or(self.profiles.len()))
+            });
         #[cfg(feature = "model-based")]
         if let Some(by_operator) = &mut self.by_operator {
-            let profile = trusted.map(|t| {
-                self.profiles
-                    .iter()
-                    .position(|p| p.trusted == *t)
-                    .unwrap_or(self.profiles.len())
-            });
-            by_operator.add(profile, &self.episode);
+            by_operator.add(trusted.map(|(_, index)| index), &self.episode);
         }
-        let Some(&trusted) = trusted else {
+        let Some((trusted, index)) = trusted else {
             return;
         };
         let rejected = evaluated.iter().map(|e| e.behavior);
@@ -680,7 +684,7 @@ impl<F: Searcher<Evidence = Evaluated, Feedback = Outcome>> Searcher for Conditi
             .find(|(b, _, _)| *b == trusted)
             .map_or((0.0, 0.0), |&(_, n, c)| (n, c));
         self.episode.clear();
-        match self.profiles.iter_mut().find(|p| p.trusted == trusted) {
+        match self.profiles.get_mut(index) {
             Some(profile) => {
                 profile.episodes += 1.0;
                 profile.rejected.extend(rejected);
