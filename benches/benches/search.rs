@@ -123,16 +123,18 @@ fn propose_after(c: &mut Criterion, group: &str, served: bool) {
                 &distinct,
                 |b, _| {
                     b.iter_custom(|iterations| {
-                        let mut timed = Duration::ZERO;
-                        for i in 0..iterations {
-                            for _ in 0..1 + i % 2 {
-                                black_box(searcher.propose(&space, before, &mut rng));
-                            }
-                            let start = Instant::now();
-                            black_box(searcher.propose(&space, black_box(&evaluated), &mut rng));
-                            timed += start.elapsed();
-                        }
-                        timed
+                        timed_after(
+                            iterations,
+                            (&mut searcher, &mut rng),
+                            |(searcher, rng), i| {
+                                for _ in 0..1 + i % 2 {
+                                    black_box(searcher.propose(&space, before, rng));
+                                }
+                            },
+                            |(searcher, rng)| {
+                                black_box(searcher.propose(&space, black_box(&evaluated), rng));
+                            },
+                        )
                     })
                 },
             );
@@ -163,19 +165,39 @@ fn vouch(c: &mut Criterion) {
             &distinct,
             |b, _| {
                 b.iter_custom(|iterations| {
-                    let mut timed = Duration::ZERO;
-                    for _ in 0..iterations {
-                        black_box(searcher.doubts(&space, before, &asked));
-                        let start = Instant::now();
-                        black_box(searcher.doubts(&space, black_box(&evaluated), &asked));
-                        timed += start.elapsed();
-                    }
-                    timed
+                    timed_after(
+                        iterations,
+                        &mut searcher,
+                        |searcher, _| {
+                            black_box(searcher.doubts(&space, before, &asked));
+                        },
+                        |searcher| {
+                            black_box(searcher.doubts(&space, black_box(&evaluated), &asked));
+                        },
+                    )
                 })
             },
         );
     }
     group.finish();
+}
+
+/// The time `measured` takes over `iterations` runs, each after an untimed `prepare` (given
+/// the iteration's index) that brings `state` to where the measured call starts.
+fn timed_after<S>(
+    iterations: u64,
+    mut state: S,
+    mut prepare: impl FnMut(&mut S, u64),
+    mut measured: impl FnMut(&mut S),
+) -> Duration {
+    let mut timed = Duration::ZERO;
+    for i in 0..iterations {
+        prepare(&mut state, i);
+        let start = Instant::now();
+        measured(&mut state);
+        timed += start.elapsed();
+    }
+    timed
 }
 
 fn propose(c: &mut Criterion) {
