@@ -105,6 +105,43 @@ fn a_benchmark_suite_reports_every_arm_over_its_populations() {
         ((own[0] * own[1]).sqrt() - mean).abs() < 1e-9,
         "{own:?} {mean}"
     );
+    // The best arm of each population, after the fact: the geometric mean over the two
+    // populations of the lowest ratio any of the three arms reached there.
+    let lowest: Vec<f64> = summary["experiments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            ["random-walk", "case-based", "uniform"]
+                .map(|arm| {
+                    e["strategies"][arm]["ratio_to_limit"]["untrustworthy"]
+                        .as_f64()
+                        .unwrap()
+                })
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect();
+    let best = &movement["best_of_each_population"];
+    let envelope = best["ratio_to_limit"]["untrustworthy"].as_f64().unwrap();
+    assert!(
+        ((lowest[0] * lowest[1]).sqrt() - envelope).abs() < 1e-9,
+        "{lowest:?} {best}"
+    );
+    assert_eq!(
+        best["ratio_to_limit_over_trials"][0]["trials"],
+        serde_json::json!([1, 6])
+    );
+    let best_row = table
+        .lines()
+        .find(|l| l.starts_with("| best arm of each population, after the fact (not an arm) |"))
+        .unwrap();
+    // No test against the reference arms: a dash for each.
+    assert_eq!(best_row.matches(" — |").count(), 2, "{best_row}");
+    assert!(
+        best_row.contains(&format!(" {envelope:.2} |")),
+        "{best_row}"
+    );
     assert_eq!(random_walk["ecdf"]["pairs"], 12);
     // The limit's curve: its points climb to at most 1, and its mean is the limit's (both
     // populations ran 6 trials, so they weigh alike in both).
@@ -132,6 +169,10 @@ fn a_benchmark_suite_reports_every_arm_over_its_populations() {
     assert!(
         page.contains("<h2 id=\"benchmark\">"),
         "the page has the benchmark section"
+    );
+    assert!(
+        page.contains("best arm of each population, after the fact"),
+        "the page has the best arm of each population"
     );
     assert!(read("config.ron").contains("benchmark: true"));
 }

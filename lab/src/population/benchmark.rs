@@ -46,6 +46,12 @@
 //!   [`ScenarioBenchmark::population_reference_to_limit`]) and of each arm's ratio to the
 //!   reference (what learning costs, [`ArmBenchmark::to_population_reference`]), with
 //!   their bootstrap intervals over the populations that have one.
+//! - **the best arm of each population, after the fact** ([`BestOfEachPopulation`]): on
+//!   each population the lowest ratio to the limit any arm reached, and the geometric mean
+//!   of those minima over populations, per metric and window. It is what algorithm
+//!   selection benchmarks call the virtual best solver: no arm, since no rule fixed before
+//!   the trials picks a different arm on each population, and the least of many noisy
+//!   means flatters itself; it says how far an arm is from everything the suite ran.
 //!
 //! Everything here is computed from results; the report draws and writes it
 //! ([`crate::report`]).
@@ -268,6 +274,17 @@ pub struct ArmBenchmark {
     pub windows: Vec<[Option<f64>; 3]>,
 }
 
+/// The best arm of each population, picked after the fact: per population the lowest
+/// ratio to the limit of any arm, and the geometric mean of those minima over the
+/// populations where some arm's ratio was usable. Not an arm (see the module's doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BestOfEachPopulation {
+    /// Per [`Metric::ALL`], over every trial.
+    pub to_limit: [Option<f64>; 3],
+    /// Per window of [`ScenarioBenchmark::windows`], per [`Metric::ALL`].
+    pub windows: Vec<[Option<f64>; 3]>,
+}
+
 /// The benchmark of one scenario: every arm over its populations.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScenarioBenchmark {
@@ -291,6 +308,8 @@ pub struct ScenarioBenchmark {
     pub limit_law: UntrustworthyLaw,
     /// Every arm, in the experiments' order.
     pub arms: Vec<ArmBenchmark>,
+    /// The best arm of each population, after the fact.
+    pub best_of_each_population: BestOfEachPopulation,
 }
 
 /// The ratios that have a logarithm: finite and above 0.
@@ -365,6 +384,28 @@ fn per_trial(arm: &ArmResult, metric: Metric, window: TrialRange) -> Vec<f64> {
 /// limit's or the population reference's).
 fn ratio_to(arm: &ArmResult, costs: &Costs, metric: Metric, window: TrialRange) -> Option<f64> {
     mean(&per_trial(arm, metric, window)).map(|m| m / metric.of_limit(costs))
+}
+
+/// Per population, the lowest usable ratio to the limit of any of its arms over the
+/// trials `window` holds (populations where no arm's ratio is usable are left out).
+fn lowest_ratios(
+    populations: &[&BenchmarkPopulation<'_>],
+    metric: Metric,
+    window: TrialRange,
+) -> Vec<f64> {
+    populations
+        .iter()
+        .filter_map(|p| {
+            usable(
+                p.result
+                    .arms
+                    .iter()
+                    .filter_map(|arm| ratio_to(arm, &p.limit, metric, window)),
+            )
+            .into_iter()
+            .reduce(f64::min)
+        })
+        .collect()
 }
 
 /// The geometric mean of usable `ratios` with its bootstrap interval, from the stream of
@@ -500,6 +541,13 @@ fn scenario_benchmark(
             }
         })
         .collect();
+    let best_of = |window: TrialRange| {
+        Metric::ALL.map(|metric| geometric_mean(&lowest_ratios(populations, metric, window)))
+    };
+    let best_of_each_population = BestOfEachPopulation {
+        to_limit: best_of(every_trial),
+        windows: windows.iter().map(|&window| best_of(window)).collect(),
+    };
     let population_reference_to_limit = Metric::ALL.map(|metric| {
         let ratios: Vec<f64> = populations
             .iter()
@@ -531,6 +579,7 @@ fn scenario_benchmark(
                 .map(|p| (p.result.trials() as f64, p.limit_law)),
         ),
         arms,
+        best_of_each_population,
     }
 }
 
@@ -746,6 +795,15 @@ mod tests {
             })]
         );
         assert_eq!(uniform.versus, vec![None]);
+        // The best arm of each population, after the fact: on p `other` (4.5 / 2 = 2.25
+        // against `uniform`'s 8 / 2 = 4), on q `uniform` (1 / 4 = 0.25 against 4.5 / 4):
+        // sqrt(2.25 * 0.25) = 0.75, below both arms (`uniform` sqrt(4 * 0.25) = 1); both
+        // arms evaluate 2 behaviors in 10 commands everywhere: 2 and 2.
+        let best = &s.best_of_each_population;
+        let [behaviors, commands, untrustworthy] = best.to_limit.map(Option::unwrap);
+        assert!((untrustworthy - 0.75).abs() < 1e-12);
+        assert!((behaviors - 2.0).abs() < 1e-12 && (commands - 2.0).abs() < 1e-12);
+        assert_eq!(best.windows, vec![best.to_limit]);
         // Twelve pairs of `other`, eleven settled; the one that did not stays out.
         assert_eq!(other.ecdf.pairs, 12);
         assert_eq!(other.ecdf.share_within(4), 6.0 / 12.0);

@@ -62,17 +62,36 @@ pub fn benchmark_table(benchmark: &ScenarioBenchmark) -> String {
         for tally in &arm.versus {
             let _ = write!(out, " {} |", wins_ties_losses_cell(*tally));
         }
-        for [_, _, untrustworthy] in &arm.windows {
-            let _ = write!(
-                out,
-                " {} |",
-                untrustworthy.map_or("—".to_owned(), ratio_cell)
-            );
+        untrustworthy_window_cells(&mut out, &arm.windows);
+    }
+    if benchmark.arms.len() > 1 {
+        let best = &benchmark.best_of_each_population;
+        let _ = write!(out, "| {BEST_OF_EACH_POPULATION} |");
+        for ratio in best.to_limit {
+            let _ = write!(out, " {} |", optional_ratio_cell(ratio));
         }
-        out.push('\n');
+        out.push_str(&" — |".repeat(benchmark.references.len()));
+        untrustworthy_window_cells(&mut out, &best.windows);
     }
     out
 }
+
+/// A row's last cells: the untrustworthy commands' ratio over each window of trials
+/// (per window, per [`crate::population::benchmark::Metric::ALL`]), then the row's end.
+fn untrustworthy_window_cells(out: &mut String, windows: &[[Option<f64>; 3]]) {
+    for [_, _, untrustworthy] in windows {
+        let _ = write!(out, " {} |", optional_ratio_cell(*untrustworthy));
+    }
+    out.push('\n');
+}
+
+/// A ratio to two decimals, `—` when there is none.
+fn optional_ratio_cell(ratio: Option<f64>) -> String {
+    ratio.map_or("—".to_owned(), ratio_cell)
+}
+
+/// The label of the benchmark table's last row.
+const BEST_OF_EACH_POPULATION: &str = "best arm of each population, after the fact (not an arm)";
 
 /// A scenario's excess over the limit split in two, when its populations have a population
 /// reference: the reference's geometric mean ratio to the limit (what telling members
@@ -126,7 +145,7 @@ pub(super) fn benchmark_title(benchmark: &ScenarioBenchmark) -> String {
 pub(super) const BENCHMARK_TITLE: &str = "Benchmark: every arm over the populations of each scenario, against their known-operator limits";
 
 /// What the benchmark's numbers are, in one paragraph (Markdown and the page).
-pub(super) const BENCHMARK_NOTE: &str = "Each ratio is an arm's mean per trial on a population divided by that population's known-operator limit (a random first behavior); the table gives their geometric mean over the populations with a 95% percentile bootstrap interval over populations. W/T/L counts the populations where the arm's untrustworthy commands were significantly fewer, not significantly different, or significantly more than the reference arm's (Wilcoxon signed-rank test, trial by trial, p < 0.05).";
+pub(super) const BENCHMARK_NOTE: &str = "Each ratio is an arm's mean per trial on a population divided by that population's known-operator limit (a random first behavior); the table gives their geometric mean over the populations with a 95% percentile bootstrap interval over populations. W/T/L counts the populations where the arm's untrustworthy commands were significantly fewer, not significantly different, or significantly more than the reference arm's (Wilcoxon signed-rank test, trial by trial, p < 0.05). The last row takes on each population the lowest ratio of any arm, picked after seeing the trials, and gives the geometric mean of those minima: how far each arm is from everything the suite ran. It is not an arm (no rule fixed in advance picks a different arm on each population, and the least of many noisy means flatters itself), so it has no interval and no test.";
 
 /// What the benchmark's section says when no population experiment had a limit.
 pub(super) const NO_BENCHMARK: &str =

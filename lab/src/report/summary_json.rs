@@ -11,7 +11,9 @@ use super::tables::ratios;
 use crate::experiment::arm::Initial;
 use crate::experiment::record::{ArmResult, ExplanationCheck};
 use crate::experiment::trial_contexts::{ArmInContext, any_contexts, by_context};
-use crate::population::benchmark::{ArmBenchmark, LimitRatio, Metric, ScenarioBenchmark};
+use crate::population::benchmark::{
+    ArmBenchmark, BestOfEachPopulation, LimitRatio, Metric, ScenarioBenchmark,
+};
 use crate::reference::limit::Costs;
 use crate::report::goal_changes::{ArmGoalChanges, any_goal_changes};
 use crate::stats::RatioCi;
@@ -196,6 +198,10 @@ fn benchmark_summary(benchmark: &ScenarioBenchmark) -> Value {
         "windows": windows,
         "population_reference_to_limit": ratios_json(&benchmark.population_reference_to_limit),
         "arms": arms,
+        "best_of_each_population": best_of_each_population_summary(
+            &benchmark.best_of_each_population,
+            &windows,
+        ),
     })
 }
 
@@ -220,20 +226,49 @@ fn ratios_json(ratios: &[Option<LimitRatio>; 3]) -> Value {
         .into()
 }
 
+/// Ratios per [`Metric::ALL`], keyed by the metric's name (`null`: none, or not finite).
+fn per_metric(ratios: [Option<f64>; 3]) -> Value {
+    Metric::ALL
+        .iter()
+        .zip(ratios)
+        .map(|(metric, ratio)| {
+            (
+                metric.key().to_owned(),
+                ratio.map_or(Value::Null, finite_or_null),
+            )
+        })
+        .collect::<Map<String, Value>>()
+        .into()
+}
+
+/// Ratios per window of trials (`windows`, each `[first, last]`) and metric, each window's
+/// object with its `trials`.
+fn over_trials_json(windows: &[[u32; 2]], ratios: &[[Option<f64>; 3]]) -> Vec<Value> {
+    windows
+        .iter()
+        .zip(ratios)
+        .map(|(trials, ratios)| {
+            let mut window = per_metric(*ratios);
+            window["trials"] = json!(trials);
+            window
+        })
+        .collect()
+}
+
+/// The best arm of each population, after the fact, for `summary.json`.
+fn best_of_each_population_summary(best: &BestOfEachPopulation, windows: &[[u32; 2]]) -> Value {
+    json!({
+        "ratio_to_limit": per_metric(best.to_limit),
+        "ratio_to_limit_over_trials": over_trials_json(windows, &best.windows),
+    })
+}
+
 /// One arm of a scenario's benchmark for `summary.json`.
 fn arm_benchmark_summary(
     arm: &ArmBenchmark,
     benchmark: &ScenarioBenchmark,
     windows: &[[u32; 2]],
 ) -> Value {
-    let per_metric = |values: [Value; 3]| -> Value {
-        Metric::ALL
-            .iter()
-            .zip(values)
-            .map(|(metric, value)| (metric.key().to_owned(), value))
-            .collect::<Map<String, Value>>()
-            .into()
-    };
     let to_limit = ratios_json(&arm.to_limit);
     let versus: Map<String, Value> = benchmark
         .references
@@ -248,15 +283,7 @@ fn arm_benchmark_summary(
             })
         })
         .collect();
-    let over_trials: Vec<Value> = windows
-        .iter()
-        .zip(&arm.windows)
-        .map(|(trials, ratios)| {
-            let mut window = per_metric(ratios.map(|r| r.map_or(Value::Null, finite_or_null)));
-            window["trials"] = json!(trials);
-            window
-        })
-        .collect();
+    let over_trials = over_trials_json(windows, &arm.windows);
     json!({
         "ratio_to_limit": to_limit,
         "ratio_to_population_reference": ratios_json(&arm.to_population_reference),
