@@ -202,11 +202,18 @@ impl PopulationReliability {
 
     /// The posterior `Beta(alpha, beta)` of `behavior`'s completion rate.
     pub fn posterior(&self, behavior: &Behavior) -> (f64, f64) {
-        let m = self.prior_mean(behavior);
         let own = self.by_behavior.get(behavior).copied().unwrap_or_default();
+        self.posterior_with(behavior, own)
+    }
+
+    /// The posterior `Beta(alpha, beta)` of `behavior`'s completion rate after the commands
+    /// of `ran`: the prior at it ([`Self::prior_mean`], [`BEHAVIOR_PRIOR`] commands'
+    /// weight), updated with them.
+    fn posterior_with(&self, behavior: &Behavior, ran: Record) -> (f64, f64) {
+        let m = self.prior_mean(behavior);
         (
-            BEHAVIOR_PRIOR * m + own.completed,
-            BEHAVIOR_PRIOR * (1.0 - m) + own.commands - own.completed,
+            BEHAVIOR_PRIOR * m + ran.completed,
+            BEHAVIOR_PRIOR * (1.0 - m) + ran.commands - ran.completed,
         )
     }
 
@@ -287,7 +294,6 @@ impl ByOperator {
         weights: &[f64],
         unserved: f64,
     ) -> (f64, f64) {
-        let m = population.prior_mean(behavior);
         let mut weighed = Record::default();
         let records = self
             .profiles
@@ -299,10 +305,7 @@ impl ByOperator {
                 weighed.add(weight * ran.commands, weight * ran.completed);
             }
         }
-        (
-            BEHAVIOR_PRIOR * m + weighed.completed,
-            BEHAVIOR_PRIOR * (1.0 - m) + weighed.commands - weighed.completed,
-        )
+        population.posterior_with(behavior, weighed)
     }
 }
 
